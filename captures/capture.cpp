@@ -1,0 +1,418 @@
+#include "captures/capture.h"
+
+#include <OpenImageIO/imageio.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <bit>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <thread>
+#include <cstring>
+
+#include "captures/hash.h"
+
+namespace nightcap {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr uint64_t kMaxResourceBytes = uint64_t(4) << 30;
+
+[[noreturn]] void fail(const std::string& file, const std::string& where, const std::string& problem) {
+  throw CaptureError(file + ": " + (where.empty() ? "" : where + ": ") + problem);
+}
+
+bool safe_name(const std::string& name) {
+  if (name.empty() || name.size() > 256) return false;
+  for (char c : name)
+    if (c < 0x21 || c > 0x7e || c == '/' || c == '\\') return false;
+  return true;
+}
+
+// A blob path stays inside the capture: blobs/<hash>.<ext>, nothing else.
+bool safe_blob_path(const std::string& blob, const std::string& hash) {
+  if (blob.rfind("blobs/", 0) != 0 || blob.size() > 128) return false;
+  for (char c : blob)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-' || c == '/')) return false;
+  const std::string name = blob.substr(6);
+  if (name.find('/') != std::string::npos || name.find("..") != std::string::npos) return false;
+  return name.rfind(hash + ".", 0) == 0;
+}
+
+template <typename T>
+T field(const json& object, const char* key, const std::string& file, const std::string& where) {
+  if (!object.is_object() || !object.contains(key)) fail(file, where, std::string("missing \"") + key + "\"");
+  try {
+    return object.at(key).get<T>();
+  } catch (const json::exception&) {
+    fail(file, where, std::string("\"") + key + "\" has the wrong type");
+  }
+}
+
+uint32_t bounded(const json& object, const char* key, uint32_t max, const std::string& file, const std::string& where) {
+  const json& value = object.contains(key) ? object.at(key) : json();
+  if (!value.is_number_integer()) fail(file, where, std::string("\"") + key + "\" must be an integer");
+  const int64_t v = value.get<int64_t>();
+  if (v < 1 || v > int64_t(max))
+    fail(file, where, std::string(key) + " " + std::to_string(v) + " outside 1.." + std::to_string(max));
+  return uint32_t(v);
+}
+
+ResourceRecord resource_from_json(const json& j, const std::string& file, const std::string& where) {
+  ResourceRecord r;
+  r.resource = field<std::string>(j, "resource", file, where);
+  if (!safe_name(r.resource)) fail(file, where, "bad resource name");
+  const std::string kind = field<std::string>(j, "kind", file, where);
+  auto k = kind_by_name(kind);
+  if (!k) fail(file, where, "unknown kind '" + kind + "'");
+  r.kind = *k;
+  const std::string format = field<std::string>(j, "format", file, where);
+  r.hash = field<std::string>(j, "hash", file, where);
+  r.blob = field<std::string>(j, "blob", file, where);
+  if (!is_content_hash(r.hash)) fail(file, where, "hash '" + r.hash + "' is not a content hash");
+  if (!safe_blob_path(r.blob, r.hash)) fail(file, where, "blob path '" + r.blob + "' leaves blobs/ or does not match its hash");
+  const uint64_t bytes = [&] {
+    const json& b = j.contains("bytes") ? j.at("bytes") : json();
+    if (!b.is_number_unsigned() && !b.is_number_integer()) fail(file, where, "\"bytes\" must be an integer");
+    if (b.is_number_integer() && b.get<int64_t>() < 0) fail(file, where, "\"bytes\" is negative");
+    return b.get<uint64_t>();
+  }();
+  if (format == "BUFFER") {
+    r.is_buffer = true;
+    if (bytes > kMaxResourceBytes) fail(file, where, "buffer of " + std::to_string(bytes) + " bytes is too large");
+    r.buffer_size = bytes;
+    return r;
+  }
+  auto info = format_by_name(format);
+  if (!info) fail(file, where, "unknown format '" + format + "'");
+  r.is_buffer = false;
+  r.format = info->vk;
+  r.extent.width = bounded(j, "width", kMaxImageSide, file, where);
+  r.extent.height = bounded(j, "height", kMaxImageSide, file, where);
+  r.extent.depth = j.contains("depth") ? bounded(j, "depth", 4096, file, where) : 1;
+  r.extent.layers = bounded(j, "layers", 2048, file, where);
+  const uint32_t max_mips = uint32_t(std::bit_width(std::max({r.extent.width, r.extent.height, r.extent.depth})));
+  r.extent.mips = bounded(j, "mips", max_mips, file, where);
+  uint64_t texels = 0;
+  if (__builtin_mul_overflow(uint64_t(r.extent.width), uint64_t(r.extent.height), &texels) ||
+      __builtin_mul_overflow(texels, uint64_t(r.extent.depth), &texels) ||
+      __builtin_mul_overflow(texels, uint64_t(r.extent.layers), &texels) ||
+      __builtin_mul_overflow(texels, uint64_t(info->texel_bytes + (info->has_stencil ? 1 : 0)), &texels) ||
+      texels > kMaxResourceBytes)
+    fail(file, where, "image of " + std::to_string(r.extent.width) + "x" + std::to_string(r.extent.height) + "x" +
+                          std::to_string(r.extent.layers) + " is too large");
+  if (bytes != r.raw_bytes()) fail(file, where, "\"bytes\" " + std::to_string(bytes) + " does not match the size");
+  return r;
+}
+
+void fsync_path(const fs::path& path, bool directory) {
+  const int fd = ::open(path.c_str(), directory ? O_RDONLY | O_DIRECTORY : O_RDONLY);
+  if (fd >= 0) {
+    ::fsync(fd);
+    ::close(fd);
+  }
+}
+
+std::vector<uint8_t> read_file(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw CaptureError(file.string() + ": cannot open");
+  return std::vector<uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+uint64_t ResourceRecord::raw_bytes() const {
+  return is_buffer ? buffer_size : raw_image_bytes(*format_info(format), extent);
+}
+
+json to_json(const ResourceRecord& r) {
+  json j = {{"resource", r.resource}, {"kind", kind_name(r.kind)}};
+  if (r.is_buffer) {
+    j["format"] = "BUFFER";
+    j["width"] = r.buffer_size;
+    j["height"] = j["depth"] = j["mips"] = j["layers"] = 1;
+  } else {
+    j["format"] = format_info(r.format)->name;
+    j["width"] = r.extent.width;
+    j["height"] = r.extent.height;
+    j["depth"] = r.extent.depth;
+    j["mips"] = r.extent.mips;
+    j["layers"] = r.extent.layers;
+  }
+  j["bytes"] = r.raw_bytes();
+  j["hash"] = r.hash;
+  j["blob"] = r.blob;
+  return j;
+}
+
+json to_json(const CaptureManifest& m) {
+  json frames = json::array();
+  for (const FrameRecord& f : m.frames) {
+    json passes = json::array();
+    for (const PassRecord& p : f.passes) {
+      json pass = {{"name", p.name}, {"status", p.ran ? "ran" : "skipped"}};
+      if (!p.ran) pass["reason"] = p.reason;
+      pass["gpu_ms"] = p.gpu_ms ? json(*p.gpu_ms) : json(nullptr);
+      pass["cpu_ms"] = p.cpu_ms;
+      pass["params"] = p.params;
+      json shaders = json::array(), inputs = json::array(), outputs = json::array();
+      for (const ShaderRecord& s : p.shaders) shaders.push_back({{"path", s.path}, {"hash", s.hash}, {"blob", s.blob}});
+      for (const ResourceRecord& r : p.inputs) inputs.push_back(to_json(r));
+      for (const ResourceRecord& r : p.outputs) outputs.push_back(to_json(r));
+      pass["shaders"] = shaders;
+      pass["inputs"] = inputs;
+      pass["outputs"] = outputs;
+      if (!p.tolerance.empty()) pass["tolerance"] = p.tolerance;
+      passes.push_back(pass);
+    }
+    frames.push_back({{"index", f.index},
+                      {"camera",
+                       {{"view", f.camera.view},
+                        {"projection", f.camera.projection},
+                        {"position", f.camera.position},
+                        {"yfov", f.camera.yfov},
+                        {"znear", f.camera.znear},
+                        {"depth_convention", f.camera.depth_convention}}},
+                      {"passes", passes}});
+  }
+  return {{"format", "nightcap-capture"}, {"version", m.version}, {"device", m.device},
+          {"settings", m.settings},       {"scene", m.scene},     {"frames", frames}};
+}
+
+CaptureManifest manifest_from_json(const json& j, const std::string& file) {
+  CaptureManifest m;
+  if (!j.is_object()) fail(file, "", "not a JSON object");
+  if (!j.contains("format") || j.at("format") != "nightcap-capture") fail(file, "", "not a nightcap capture (\"format\")");
+  if (!j.contains("version") || !j.at("version").is_number_integer()) fail(file, "", "missing integer \"version\"");
+  m.version = j.at("version").get<int>();
+  if (m.version < 1) fail(file, "", "bad version " + std::to_string(m.version));
+  if (m.version > kCaptureVersion)
+    fail(file, "", "capture version " + std::to_string(m.version) + " is newer than this nightcap reads (" +
+                       std::to_string(kCaptureVersion) + ")");
+  m.device = j.value("device", json::object());
+  m.settings = j.value("settings", json::object());
+  m.scene = j.value("scene", json::object());
+  if (!m.settings.is_object()) fail(file, "settings", "not an object");
+  for (const char* key : {"width", "height"})
+    if (m.settings.contains(key)) {
+      const json& v = m.settings.at(key);
+      if (!v.is_number_integer() || v.get<int64_t>() < 1 || v.get<int64_t>() > kMaxImageSide)
+        fail(file, std::string("settings.") + key, "outside 1.." + std::to_string(kMaxImageSide));
+    }
+  const json frames = j.contains("frames") ? j.at("frames") : json();
+  if (!frames.is_array()) fail(file, "", "missing \"frames\" array");
+  for (size_t fi = 0; fi < frames.size(); ++fi) {
+    const std::string fw = "frames[" + std::to_string(fi) + "]";
+    FrameRecord f;
+    f.index = field<uint32_t>(frames[fi], "index", file, fw);
+    if (frames[fi].contains("camera")) {
+      const json& c = frames[fi].at("camera");
+      try {
+        f.camera.view = c.at("view").get<std::array<double, 16>>();
+        f.camera.projection = c.at("projection").get<std::array<double, 16>>();
+        f.camera.position = c.at("position").get<std::array<double, 3>>();
+        f.camera.yfov = c.at("yfov").get<double>();
+        f.camera.znear = c.at("znear").get<double>();
+        f.camera.depth_convention = c.at("depth_convention").get<std::string>();
+      } catch (const json::exception& e) {
+        fail(file, fw + ".camera", e.what());
+      }
+    }
+    const json passes = frames[fi].contains("passes") ? frames[fi].at("passes") : json();
+    if (!passes.is_array()) fail(file, fw, "missing \"passes\" array");
+    for (size_t pi = 0; pi < passes.size(); ++pi) {
+      const std::string pw = fw + ".passes[" + std::to_string(pi) + "]";
+      const json& pj = passes[pi];
+      PassRecord p;
+      p.name = field<std::string>(pj, "name", file, pw);
+      if (!safe_name(p.name)) fail(file, pw, "bad pass name");
+      const std::string status = field<std::string>(pj, "status", file, pw);
+      if (status != "ran" && status != "skipped") fail(file, pw, "status must be ran or skipped");
+      p.ran = status == "ran";
+      p.reason = pj.value("reason", "");
+      if (pj.contains("gpu_ms") && !pj.at("gpu_ms").is_null()) p.gpu_ms = field<double>(pj, "gpu_ms", file, pw);
+      p.cpu_ms = pj.value("cpu_ms", 0.0);
+      try {
+        p.params = pj.value("params", json::object()).get<std::map<std::string, double>>();
+      } catch (const json::exception&) {
+        fail(file, pw, "\"params\" must map names to numbers");
+      }
+      p.tolerance = pj.value("tolerance", "");
+      for (const json& s : pj.value("shaders", json::array())) {
+        ShaderRecord shader{field<std::string>(s, "path", file, pw), field<std::string>(s, "hash", file, pw),
+                            field<std::string>(s, "blob", file, pw)};
+        if (!is_content_hash(shader.hash) || !safe_blob_path(shader.blob, shader.hash))
+          fail(file, pw, "bad shader blob '" + shader.blob + "'");
+        p.shaders.push_back(shader);
+      }
+      for (const char* side : {"inputs", "outputs"}) {
+        const json list = pj.contains(side) ? pj.at(side) : json();
+        if (!list.is_array()) fail(file, pw, std::string("missing \"") + side + "\" array");
+        for (size_t ri = 0; ri < list.size(); ++ri) {
+          ResourceRecord r = resource_from_json(list[ri], file, pw + "." + side + "[" + std::to_string(ri) + "]");
+          (std::string(side) == "inputs" ? p.inputs : p.outputs).push_back(std::move(r));
+        }
+      }
+      f.passes.push_back(std::move(p));
+    }
+    m.frames.push_back(std::move(f));
+  }
+  return m;
+}
+
+CaptureWriter::CaptureWriter(fs::path target, bool force, Options options)
+    : target_(std::move(target)), force_(force), options_(options) {
+  if (target_.filename().empty()) target_ = target_.parent_path();
+  if (fs::exists(target_) && !force_) throw CaptureError(target_.string() + ": exists (use --force to overwrite)");
+  temp_ = target_;
+  temp_ += ".tmp-" + std::to_string(::getpid());
+  std::error_code error;
+  fs::remove_all(temp_, error);
+  fs::create_directories(temp_ / "blobs", error);
+  if (error) throw CaptureError(target_.string() + ": cannot create the capture folder: " + error.message());
+}
+
+CaptureWriter::~CaptureWriter() {
+  if (committed_) return;
+  std::error_code error;
+  fs::remove_all(temp_, error);
+}
+
+void CaptureWriter::add_resource(ResourceRecord& record, std::span<const uint8_t> raw) {
+  if (raw.size() != record.raw_bytes()) throw std::logic_error("add_resource: " + record.resource + " size mismatch");
+  record.hash = content_hash(raw);
+  const std::string ext = record.is_buffer ? buffer_blob_extension() : image_blob_extension();
+  record.blob = "blobs/" + record.hash + "." + ext;
+  {
+    std::unique_lock lock(mutex_);
+    // Another thread may be writing the same blob: wait until it is on disk.
+    while (blobs_.count(record.hash) && blobs_.at(record.hash).empty()) {
+      lock.unlock();
+      std::this_thread::yield();
+      lock.lock();
+    }
+    if (blobs_.count(record.hash)) return;
+    blobs_[record.hash] = "";
+  }
+  const fs::path file = temp_ / record.blob;
+  if (record.is_buffer) write_buffer_blob(file, raw, options_.zstd_level);
+  else write_image_blob(file, *format_info(record.format), record.extent, raw, options_.compression);
+  std::lock_guard lock(mutex_);
+  blobs_[record.hash] = record.blob;
+  bytes_written_ += fs::file_size(file);
+}
+
+ShaderRecord CaptureWriter::add_shader(const std::string& path, std::span<const uint32_t> spirv) {
+  const std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(spirv.data()), spirv.size_bytes());
+  ShaderRecord record{path, content_hash(bytes), ""};
+  record.blob = "blobs/" + record.hash + ".spv";
+  std::lock_guard lock(mutex_);
+  if (!blobs_.count(record.hash)) {
+    std::ofstream out(temp_ / record.blob, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    if (!out) throw CaptureError((temp_ / record.blob).string() + ": cannot write");
+    blobs_[record.hash] = record.blob;
+    bytes_written_ += bytes.size();
+  }
+  return record;
+}
+
+void CaptureWriter::write_final_png(const std::vector<uint8_t>& rgba8, uint32_t width, uint32_t height) {
+  const fs::path file = temp_ / "final.png";
+  auto out = OIIO::ImageOutput::create(file.string());
+  OIIO::ImageSpec spec(int(width), int(height), 4, OIIO::TypeDesc::UINT8);
+  if (!out || !out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgba8.data()) || !out->close())
+    throw CaptureError(file.string() + ": cannot write PNG");
+  bytes_written_ += fs::file_size(file);
+}
+
+void CaptureWriter::commit(const CaptureManifest& manifest) {
+  const fs::path manifest_file = temp_ / "manifest.json";
+  {
+    std::ofstream out(manifest_file, std::ios::binary | std::ios::trunc);
+    out << to_json(manifest).dump(1) << "\n";
+    if (!out) throw CaptureError(manifest_file.string() + ": cannot write");
+  }
+  bytes_written_ += fs::file_size(manifest_file);
+  fsync_path(manifest_file, false);
+  fsync_path(temp_ / "blobs", true);
+  fsync_path(temp_, true);
+  std::error_code error;
+  fs::path old;
+  if (fs::exists(target_)) {
+    old = target_;
+    old += ".old-" + std::to_string(::getpid());
+    fs::rename(target_, old, error);
+    if (error) throw CaptureError(target_.string() + ": cannot replace: " + error.message());
+  }
+  fs::rename(temp_, target_, error);
+  if (error) throw CaptureError(target_.string() + ": cannot rename the finished capture into place: " + error.message());
+  committed_ = true;
+  if (!old.empty()) fs::remove_all(old, error);
+  fsync_path(target_.parent_path().empty() ? fs::path(".") : target_.parent_path(), true);
+}
+
+Capture Capture::open(const fs::path& folder) {
+  Capture capture;
+  capture.folder_ = folder;
+  if (!fs::is_directory(folder)) throw CaptureError(folder.string() + ": no such capture");
+  const fs::path file = folder / "manifest.json";
+  if (!fs::exists(file)) throw CaptureError(file.string() + ": missing (not a capture)");
+  const std::vector<uint8_t> text = read_file(file);
+  json j;
+  try {
+    j = json::parse(text.begin(), text.end());
+  } catch (const json::exception& e) {
+    throw CaptureError(file.string() + ": malformed JSON: " + e.what());
+  }
+  capture.manifest_ = manifest_from_json(j, file.string());
+  return capture;
+}
+
+const FrameRecord& Capture::frame(uint32_t index) const {
+  for (const FrameRecord& f : manifest_.frames)
+    if (f.index == index) return f;
+  throw CaptureError((folder_ / "manifest.json").string() + ": no frame " + std::to_string(index) + " (capture has " +
+                     std::to_string(manifest_.frames.size()) + ")");
+}
+
+namespace {
+
+fs::path checked_blob(const fs::path& folder, const std::string& blob) {
+  const fs::path file = folder / blob;
+  std::error_code error;
+  const fs::path real = fs::weakly_canonical(file, error);
+  const fs::path root = fs::weakly_canonical(folder, error);
+  const std::string prefix = root.string() + "/";
+  if (error || real.string().rfind(prefix, 0) != 0) throw CaptureError(file.string() + ": leaves the capture folder");
+  if (!fs::is_regular_file(real)) throw CaptureError(file.string() + ": missing blob");
+  return real;
+}
+
+}  // namespace
+
+std::vector<uint8_t> Capture::load(const ResourceRecord& record) const {
+  const fs::path file = checked_blob(folder_, record.blob);
+  std::vector<uint8_t> raw = record.is_buffer ? read_buffer_blob(file, record.buffer_size)
+                                              : read_image_blob(file, *format_info(record.format), record.extent);
+  if (content_hash(raw) != record.hash)
+    throw CaptureError((folder_ / record.blob).string() + ": content does not match its hash " + record.hash +
+                       " (corrupt capture)");
+  return raw;
+}
+
+std::vector<uint32_t> Capture::load_shader(const ShaderRecord& record) const {
+  const fs::path file = checked_blob(folder_, record.blob);
+  const std::vector<uint8_t> bytes = read_file(file);
+  if (bytes.size() % 4 != 0 || bytes.empty()) throw CaptureError(file.string() + ": not SPIR-V");
+  if (content_hash(bytes) != record.hash)
+    throw CaptureError(file.string() + ": content does not match its hash " + record.hash + " (corrupt capture)");
+  std::vector<uint32_t> words(bytes.size() / 4);
+  std::memcpy(words.data(), bytes.data(), bytes.size());
+  return words;
+}
+
+}  // namespace nightcap

@@ -1,0 +1,135 @@
+// The capture: a folder holding manifest.json and content-addressed blobs (see
+// shared/design/architecture.md). CaptureWriter builds one in a temporary sibling folder and
+// renames it into place only when complete; Capture opens one and verifies what it reads.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "captures/blob_codec.h"
+#include "passes/core/format.h"
+
+namespace nightcap {
+
+constexpr int kCaptureVersion = 1;
+constexpr uint32_t kMaxImageSide = 16384;
+
+struct ResourceRecord {
+  std::string resource;
+  ResourceKind kind = ResourceKind::buffer;
+  bool is_buffer = true;
+  VkFormat format = VK_FORMAT_UNDEFINED;  // images only
+  ImageExtent extent;                     // images only
+  uint64_t buffer_size = 0;               // buffers only
+  std::string hash;                       // content_hash of the raw bytes
+  std::string blob;                       // path relative to the capture folder
+
+  uint64_t raw_bytes() const;
+};
+
+struct ShaderRecord {
+  std::string path;  // shader source path relative to passes/, e.g. "gbuffer/opaque.frag"
+  std::string hash;  // of the SPIR-V words
+  std::string blob;
+};
+
+struct PassRecord {
+  std::string name;
+  bool ran = false;
+  std::string reason;             // why it was skipped
+  std::optional<double> gpu_ms;   // null for CPU passes and skipped ones
+  double cpu_ms = 0.0;
+  std::map<std::string, double> params;
+  std::vector<ShaderRecord> shaders;
+  std::vector<ResourceRecord> inputs, outputs;
+  std::string tolerance;          // stated replay tolerance, empty when bit-exact
+};
+
+struct CameraRecord {
+  std::array<double, 16> view{}, projection{};  // column-major, camera-relative view
+  std::array<double, 3> position{};             // world position (double)
+  double yfov = 0.0, znear = 0.0;
+  std::string depth_convention = "reversed-z, infinite far plane";
+};
+
+struct FrameRecord {
+  uint32_t index = 0;
+  CameraRecord camera;
+  std::vector<PassRecord> passes;
+};
+
+struct CaptureManifest {
+  int version = kCaptureVersion;
+  nlohmann::json device;    // name, driver, api version
+  nlohmann::json settings;  // size, frames, seed, params given on the command line
+  nlohmann::json scene;     // source, counts, notes
+  std::vector<FrameRecord> frames;
+};
+
+nlohmann::json to_json(const ResourceRecord& record);
+nlohmann::json to_json(const CaptureManifest& manifest);
+// Throws CaptureError naming `file` for anything malformed: missing fields, unknown formats,
+// sizes over kMaxImageSide or whose byte count overflows, blob paths that leave the capture.
+CaptureManifest manifest_from_json(const nlohmann::json& json, const std::string& file);
+
+// Builds a capture in `<target>.tmp-<pid>` and renames it to `target` on commit. Blobs are
+// written once per hash. Safe to call add_* from several threads.
+class CaptureWriter {
+ public:
+  struct Options {
+    ExrCompression compression = ExrCompression::zip;
+    int zstd_level = 3;
+  };
+  // Throws CaptureError if target exists and !force, or the folder cannot be created.
+  CaptureWriter(std::filesystem::path target, bool force, Options options);
+  ~CaptureWriter();  // removes the temporary folder unless committed
+  CaptureWriter(const CaptureWriter&) = delete;
+  CaptureWriter& operator=(const CaptureWriter&) = delete;
+
+  // Fills hash and blob of `record` (whose other fields describe `raw`) and writes the blob.
+  void add_resource(ResourceRecord& record, std::span<const uint8_t> raw);
+  ShaderRecord add_shader(const std::string& path, std::span<const uint32_t> spirv);
+  void write_final_png(const std::vector<uint8_t>& rgba8, uint32_t width, uint32_t height);
+  void commit(const CaptureManifest& manifest);
+
+  const std::filesystem::path& temporary_folder() const { return temp_; }
+  uint64_t bytes_written() const { return bytes_written_; }
+
+ private:
+  std::filesystem::path target_, temp_;
+  bool force_;
+  Options options_;
+  bool committed_ = false;
+  std::mutex mutex_;
+  std::map<std::string, std::string> blobs_;  // hash -> relative path
+  uint64_t bytes_written_ = 0;
+};
+
+class Capture {
+ public:
+  // Reads and validates the manifest. Throws CaptureError naming the file.
+  static Capture open(const std::filesystem::path& folder);
+
+  const std::filesystem::path& folder() const { return folder_; }
+  const CaptureManifest& manifest() const { return manifest_; }
+  const FrameRecord& frame(uint32_t index) const;  // throws CaptureError if absent
+
+  // Decodes a resource's blob and checks its content hash. Throws CaptureError.
+  std::vector<uint8_t> load(const ResourceRecord& record) const;
+  std::vector<uint32_t> load_shader(const ShaderRecord& record) const;
+
+ private:
+  std::filesystem::path folder_;
+  CaptureManifest manifest_;
+};
+
+}  // namespace nightcap

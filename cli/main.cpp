@@ -1,0 +1,295 @@
+// nightcap: render a scene to a capture, list its passes, replay them, diff two captures.
+// Exit codes: 0 success, 1 differences beyond tolerance, 2 bad input or failure.
+#include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <iomanip>
+#include <iostream>
+
+#include "captures/capture.h"
+#include "inspect/diff.h"
+#include "passes/core/shader.h"
+#include "passes/frame/renderer.h"
+#include "replay/replay.h"
+
+namespace nc = nightcap;
+
+namespace {
+
+constexpr int kExitDifferent = 1;
+constexpr int kExitBadInput = 2;
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+bool validation_requested() {
+  const char* value = std::getenv("NIGHTCAP_VALIDATION");
+  return value && std::string(value) == "1";
+}
+
+// Validation errors fail the command: tests run with the layer and must see none.
+int finish(const nc::GpuDevice& gpu, int code) {
+  if (gpu.validation_errors() > 0) {
+    std::cerr << "nightcap: " << gpu.validation_errors() << " Vulkan validation error(s) reported\n";
+    return kExitBadInput;
+  }
+  return code;
+}
+
+std::pair<uint32_t, uint32_t> parse_size(const std::string& text) {
+  const size_t x = text.find('x');
+  char* end = nullptr;
+  if (x == std::string::npos) throw UsageError("--size '" + text + "': expected WIDTHxHEIGHT");
+  const unsigned long w = std::strtoul(text.substr(0, x).c_str(), &end, 10);
+  const bool w_ok = *end == '\0' && x > 0;
+  const unsigned long h = std::strtoul(text.substr(x + 1).c_str(), &end, 10);
+  const bool h_ok = *end == '\0' && x + 1 < text.size();
+  if (!w_ok || !h_ok) throw UsageError("--size '" + text + "': expected WIDTHxHEIGHT");
+  if (w == 0 || h == 0 || w > nc::kMaxImageSide || h > nc::kMaxImageSide)
+    throw UsageError("--size '" + text + "': each side must be between 1 and " + std::to_string(nc::kMaxImageSide));
+  return {uint32_t(w), uint32_t(h)};
+}
+
+std::vector<double> parse_numbers(const std::string& flag, const std::string& text, size_t count) {
+  std::vector<double> values;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0' || !std::isfinite(v)) throw UsageError(flag + " '" + text + "': not a number list");
+    values.push_back(v);
+  }
+  if (values.size() != count)
+    throw UsageError(flag + " '" + text + "': expected " + std::to_string(count) + " comma-separated numbers");
+  return values;
+}
+
+std::function<void(const std::string&)> progress_reporter() {
+  if (!isatty(STDERR_FILENO)) return [](const std::string&) {};
+  return [](const std::string& line) { std::cerr << "\r\033[K" << line << std::flush; };
+}
+
+std::string ms(const std::optional<double>& value) {
+  if (!value) return "-";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(3) << *value;
+  return s.str();
+}
+
+int run_render(const std::string& scene_path, const std::string& out, const std::string& size, uint32_t frames,
+               uint32_t seed, const std::string& device, const std::vector<std::string>& sets, bool force,
+               const std::string& orbit, const std::string& target, double fov) {
+  nc::RenderSettings settings;
+  std::tie(settings.width, settings.height) = parse_size(size);
+  if (frames < 1 || frames > 1000) throw UsageError("--frames " + std::to_string(frames) + ": expected 1 to 1000");
+  settings.frames = frames;
+  for (const std::string& s : sets) nc::parse_set(s, settings.params);
+  nc::validate_params(nc::frame_passes(), settings.params);
+  if (!orbit.empty()) {
+    auto o = parse_numbers("--orbit", orbit, 3);
+    auto t = target.empty() ? std::vector<double>{0, 0, 0} : parse_numbers("--target", target, 3);
+    if (o[2] <= 0) throw UsageError("--orbit: radius must be positive");
+    if (!(fov > 0 && fov < 180)) throw UsageError("--fov: expected degrees in (0, 180)");
+    settings.camera = nc::orbit_camera(o[0], o[1], o[2], {t[0], t[1], t[2]}, fov);
+  } else if (!target.empty()) {
+    throw UsageError("--target needs --orbit");
+  }
+  nc::Scene scene = scene_path.empty() ? nc::build_city(seed) : nc::load_gltf(scene_path);
+  nc::add_default_lighting(scene);
+  settings.description = {{"width", settings.width},
+                          {"height", settings.height},
+                          {"frames", frames},
+                          {"scene", scene_path.empty() ? "built-in" : scene_path},
+                          {"scene_seed", seed},
+                          {"set", sets},
+                          {"orbit", orbit},
+                          {"target", target},
+                          {"fov", fov}};
+  nc::GpuDevice gpu({device, validation_requested()});
+  auto progress = progress_reporter();
+  nc::RenderSummary summary = nc::render_to_capture(gpu, scene, settings, out, force, progress);
+  if (isatty(STDERR_FILENO)) std::cerr << "\r\033[K";
+  std::cout << "capture written to " << out << " (" << frames << " frame" << (frames > 1 ? "s" : "") << ", "
+            << gpu.name() << ", " << std::fixed << std::setprecision(1) << summary.disk_bytes / 1048576.0
+            << " MiB on disk)\n";
+  return finish(gpu, 0);
+}
+
+int run_passes(const std::string& path, bool json) {
+  const nc::Capture capture = nc::Capture::open(path);
+  const nlohmann::json manifest = nc::to_json(capture.manifest());
+  if (json) {
+    nlohmann::json out = {{"frames", manifest.at("frames")}};
+    std::cout << out.dump(1) << "\n";
+    return 0;
+  }
+  for (const nc::FrameRecord& frame : capture.manifest().frames) {
+    std::cout << "frame " << frame.index << "\n";
+    std::cout << std::left << std::setw(22) << "  pass" << std::setw(9) << "status" << std::right << std::setw(10)
+              << "gpu ms" << std::setw(10) << "cpu ms" << "  outputs\n";
+    for (const nc::PassRecord& p : frame.passes) {
+      std::cout << "  " << std::left << std::setw(20) << p.name << std::setw(9) << (p.ran ? "ran" : "skipped")
+                << std::right << std::setw(10) << ms(p.gpu_ms) << std::setw(10) << ms(p.cpu_ms) << "  ";
+      if (!p.ran) std::cout << "(" << p.reason << ")";
+      for (const nc::ResourceRecord& o : p.outputs) {
+        std::cout << o.resource << " ";
+        if (o.is_buffer) std::cout << "[" << o.buffer_size << " B] ";
+        else std::cout << "[" << nc::format_info(o.format)->name << " " << o.extent.width << "x" << o.extent.height
+                       << (o.extent.mips > 1 ? " mips " + std::to_string(o.extent.mips) : "") << "] ";
+      }
+      std::cout << "\n";
+    }
+  }
+  return 0;
+}
+
+int run_replay(const std::string& path, uint32_t frame, const std::vector<std::string>& pass_names,
+               const std::vector<std::string>& sets, const std::vector<std::string>& shaders, const std::string& device,
+               bool verify, bool chain, bool json) {
+  nc::ReplayOptions options;
+  options.frame = frame;
+  options.passes = pass_names;
+  options.chain = chain;
+  for (const std::string& s : sets) nc::parse_set(s, options.params);
+  for (const std::string& s : shaders) {
+    const size_t eq = s.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == s.size())
+      throw UsageError("--shader '" + s + "': expected PASS=FILE");
+    options.shader_files[s.substr(0, eq)] = s.substr(eq + 1);
+  }
+  const nc::Capture capture = nc::Capture::open(path);
+  nc::GpuDevice gpu({device, validation_requested()});
+  const nc::ReplayReport report = nc::replay_capture(gpu, capture, options);
+  if (json) {
+    nlohmann::json out = {{"frame", report.frame}, {"device", report.device}, {"passes", nlohmann::json::array()}};
+    for (const nc::PassReplay& p : report.passes) {
+      nlohmann::json pass = {{"name", p.name}, {"replayed", p.replayed}, {"notes", p.notes}};
+      if (!p.replayed) pass["reason"] = p.reason;
+      pass["gpu_ms"] = p.gpu_ms ? nlohmann::json(*p.gpu_ms) : nlohmann::json(nullptr);
+      pass["cpu_ms"] = p.cpu_ms;
+      if (verify) {
+        pass["outputs"] = nlohmann::json::array();
+        for (const nc::OutputCheck& o : p.outputs)
+          pass["outputs"].push_back({{"resource", o.resource},
+                                     {"verdict", nc::verdict_name(o.verdict)},
+                                     {"metric", o.metric},
+                                     {"max_abs", o.amount},
+                                     {"recorded_hash", o.recorded_hash},
+                                     {"replayed_hash", o.replayed_hash}});
+      }
+      out["passes"].push_back(pass);
+    }
+    out["different"] = verify && report.any_different();
+    std::cout << out.dump(1) << "\n";
+  } else {
+    std::cout << "replay of frame " << report.frame << " on " << report.device << "\n";
+    for (const nc::PassReplay& p : report.passes) {
+      std::cout << "  " << std::left << std::setw(20) << p.name;
+      if (!p.replayed) {
+        std::cout << "not replayed: " << p.reason << "\n";
+        continue;
+      }
+      std::cout << "gpu " << ms(p.gpu_ms) << " ms, cpu " << ms(p.cpu_ms) << " ms\n";
+      for (const std::string& note : p.notes) std::cout << "      note: " << note << "\n";
+      if (!verify) continue;
+      for (const nc::OutputCheck& o : p.outputs) {
+        std::cout << "      " << std::left << std::setw(22) << o.resource << nc::verdict_name(o.verdict);
+        if (o.verdict != nc::Verdict::identical) std::cout << " (" << o.metric << ", max abs " << o.amount << ")";
+        std::cout << "\n";
+      }
+    }
+    if (verify) std::cout << (report.any_different() ? "replay differs from the capture\n" : "replay matches the capture\n");
+  }
+  return finish(gpu, verify && report.any_different() ? kExitDifferent : 0);
+}
+
+int run_diff(const std::string& a, const std::string& b, double tolerance, bool json) {
+  const nc::Capture capture_a = nc::Capture::open(a);
+  const nc::Capture capture_b = nc::Capture::open(b);
+  nc::DiffOptions options;
+  options.tolerance = tolerance;
+  const nc::CaptureDiff diff = nc::diff_captures(capture_a, capture_b, options);
+  if (json) std::cout << nc::diff_to_json(diff).dump(1) << "\n";
+  else nc::print_diff_table(std::cout, diff);
+  return diff.beyond_tolerance ? kExitDifferent : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"nightcap: render-capture analysis and replay.\n"
+               "Exit codes: 0 success, 1 differences beyond tolerance, 2 bad input or failure."};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "Help for every command");
+
+  std::string scene_path, out, size = "1280x720", device, orbit, target;
+  uint32_t frames = 1, seed = 1;
+  double fov = 45.0;
+  std::vector<std::string> sets, shaders, pass_names;
+  bool force = false, json = false, verify = false, chain = false;
+  auto* render = app.add_subcommand("render", "Render a scene (glTF, or the built-in city) to a capture");
+  render->add_option("scene", scene_path, "glTF 2.0 file (.gltf/.glb); omitted: the built-in Night City block");
+  render->add_option("-o,--output", out, "capture folder to create")->required();
+  render->add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
+  render->add_option("--frames", frames, "number of frames to render and record")->capture_default_str();
+  render->add_option("--scene-seed", seed, "seed of the built-in city")->capture_default_str();
+  render->add_option("--device", device, "Vulkan device name (substring); default: lavapipe (llvmpipe)");
+  render->add_option("--set", sets, "PASS.PARAM=VALUE parameter override (repeatable)");
+  render->add_option("--orbit", orbit, "orbit camera THETA,PHI,RADIUS (degrees, scene units)");
+  render->add_option("--target", target, "orbit target X,Y,Z (default 0,0,0)");
+  render->add_option("--fov", fov, "vertical field of view of the orbit camera, degrees")->capture_default_str();
+  render->add_flag("--force", force, "replace an existing capture");
+
+  std::string capture_path, capture_b;
+  auto* passes = app.add_subcommand("passes", "List the passes of a capture");
+  passes->add_option("capture", capture_path, "capture folder")->required();
+  passes->add_flag("--json", json, "machine-readable output");
+
+  uint32_t frame = 0;
+  auto* replay = app.add_subcommand("replay", "Re-execute passes of a capture from their recorded inputs");
+  replay->add_option("capture", capture_path, "capture folder")->required();
+  replay->add_option("--frame", frame, "frame index")->capture_default_str();
+  replay->add_option("--pass", pass_names, "pass to replay (repeatable; default: every pass that ran)");
+  replay->add_option("--set", sets, "PASS.PARAM=VALUE parameter override (repeatable)");
+  replay->add_option("--shader", shaders, "PASS=FILE: replace the pass's shader of FILE's stage (.vert/.frag/.comp)");
+  replay->add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
+  replay->add_flag("--verify", verify, "compare every output with the recorded one (exit 1 if any differs)");
+  replay->add_flag("--chain", chain, "feed replayed outputs to later passes instead of the recorded inputs");
+  replay->add_flag("--json", json, "machine-readable output");
+
+  double tolerance = 0.0;
+  auto* diff = app.add_subcommand("diff", "Compare two captures pass by pass and name the first divergent pass");
+  diff->add_option("capture_a", capture_path, "reference capture")->required();
+  diff->add_option("capture_b", capture_b, "capture to compare")->required();
+  diff->add_option("--tolerance", tolerance, "max abs difference still accepted (exit 0)")->capture_default_str();
+  diff->add_flag("--json", json, "machine-readable output");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return kExitBadInput;
+  }
+  try {
+    if (*render) return run_render(scene_path, out, size, frames, seed, device, sets, force, orbit, target, fov);
+    if (*passes) return run_passes(capture_path, json);
+    if (*replay) return run_replay(capture_path, frame, pass_names, sets, shaders, device, verify, chain, json);
+    if (*diff) return run_diff(capture_path, capture_b, tolerance, json);
+  } catch (const UsageError& e) {
+    std::cerr << "nightcap: " << e.what() << "\n";
+  } catch (const nc::SceneError& e) {
+    std::cerr << "nightcap: " << e.what() << "\n";
+  } catch (const nc::CaptureError& e) {
+    std::cerr << "nightcap: " << e.what() << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "nightcap: " << e.what() << "\n";
+  }
+  return kExitBadInput;
+}

@@ -1,0 +1,139 @@
+// What a pass sees while it records: its declared resources, its parameters, pipelines built
+// from its shaders, and helpers that keep Vulkan boilerplate out of the passes.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "passes/core/device.h"
+#include "passes/core/graph.h"
+#include "passes/scene/scene.h"
+
+namespace nightcap {
+
+enum class ViewAspect { natural, depth, stencil };
+
+struct Binding {
+  uint32_t binding = 0;
+  VkDescriptorType type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+  std::string resource;
+  VkSampler sampler = VK_NULL_HANDLE;
+  ViewAspect aspect = ViewAspect::natural;
+  int mip = -1;  // -1: every mip
+  uint64_t offset = 0, range = VK_WHOLE_SIZE;
+
+  static Binding uniform(uint32_t b, std::string r) { return {b, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, std::move(r)}; }
+  static Binding storage(uint32_t b, std::string r, uint64_t offset = 0, uint64_t range = VK_WHOLE_SIZE) {
+    Binding x{b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::move(r)};
+    x.offset = offset;
+    x.range = range;
+    return x;
+  }
+  static Binding texture(uint32_t b, std::string r, VkSampler s, ViewAspect a = ViewAspect::natural, int mip = -1) {
+    return {b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, std::move(r), s, a, mip};
+  }
+  static Binding image(uint32_t b, std::string r, int mip = 0) {
+    return {b, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, std::move(r), VK_NULL_HANDLE, ViewAspect::natural, mip};
+  }
+};
+
+struct GraphicsPipelineDesc {
+  std::string vertex, fragment;  // shader paths; no fragment shader: depth only
+  std::vector<VkDescriptorType> bindings;  // set 0, binding i (push descriptors)
+  uint32_t push_constant_bytes = 0;
+  std::vector<VkFormat> color_formats;
+  VkFormat depth_format = VK_FORMAT_UNDEFINED;
+  bool depth_test = false, depth_write = false;
+  VkCompareOp depth_compare = VK_COMPARE_OP_GREATER_OR_EQUAL;  // reversed-Z
+  bool stencil_write = false;  // writes the dynamic stencil reference where depth passes
+  std::vector<int32_t> specialization;  // constant_id i = value
+};
+
+struct ComputePipelineDesc {
+  std::string shader;
+  std::vector<VkDescriptorType> bindings;
+  uint32_t push_constant_bytes = 0;
+  std::vector<int32_t> specialization;
+};
+
+// SPIR-V for a pass's shader: the recorded code, an override, or the built-in source.
+using ShaderProvider = std::function<std::vector<uint32_t>(const std::string& pass, const std::string& path)>;
+
+// Pipelines, samplers and layouts survive across frames and replays on one device.
+class PipelineCache {
+ public:
+  explicit PipelineCache(GpuDevice& gpu) : gpu_(gpu) {}
+  ~PipelineCache();
+  PipelineCache(const PipelineCache&) = delete;
+  PipelineCache& operator=(const PipelineCache&) = delete;
+
+  struct Entry {
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  };
+  const Entry& graphics(const GraphicsPipelineDesc& desc, const std::vector<uint32_t>& vs,
+                        const std::vector<uint32_t>& fs);
+  const Entry& compute(const ComputePipelineDesc& desc, const std::vector<uint32_t>& cs);
+  VkSampler sampler(const SamplerDesc& desc);
+
+ private:
+  VkShaderModule module(const std::vector<uint32_t>& code);
+  std::pair<VkDescriptorSetLayout, VkPipelineLayout> layout(const std::vector<VkDescriptorType>& bindings,
+                                                            uint32_t push_bytes);
+  GpuDevice& gpu_;
+  std::map<std::string, Entry> pipelines_;
+  std::map<std::string, VkSampler> samplers_;
+  std::vector<VkShaderModule> modules_;
+};
+
+class PassContext {
+ public:
+  struct Shared;  // executor state the context reaches into
+  PassContext(Shared& shared, const CompiledPass& pass, const ParamValues& params);
+
+  const std::string& pass() const { return pass_.decl->name; }
+  double param(const std::string& name) const;
+  const ResourceDesc& desc(const std::string& resource) const;
+  // Bytes of a resource known on the host (scene data, CPU pass outputs). Throws otherwise.
+  std::span<const uint8_t> host(const std::string& resource) const;
+  std::vector<std::string> inputs_with_prefix(const std::string& prefix) const;
+
+  // CPU passes fill their outputs here.
+  std::vector<uint8_t>& output(const std::string& resource);
+
+  // GPU passes.
+  VkCommandBuffer cmd() const;
+  GpuDevice& gpu() const;
+  VkBuffer buffer(const std::string& resource) const;
+  VkImageView view(const std::string& resource, ViewAspect aspect = ViewAspect::natural, int mip = -1);
+  void bind(const GraphicsPipelineDesc& desc);
+  void bind(const ComputePipelineDesc& desc);
+  void push(const std::vector<Binding>& bindings);
+  void push_constants(const void* data, uint32_t bytes);
+  VkSampler sampler(const SamplerDesc& desc);
+  VkSampler nearest_clamp();
+  // Colour outputs and an optional depth output: declared fresh outputs are cleared to their
+  // clear value, modified ones keep their previous contents.
+  void begin_rendering(const std::vector<std::string>& colors, const std::string& depth = "");
+  void end_rendering();
+  // Orders this pass's own storage writes before its next reads (e.g. between mip levels).
+  void storage_barrier();
+
+ private:
+  const BoundUse* find_use(const std::string& resource) const;
+  Shared& shared_;
+  const CompiledPass& pass_;
+  const ParamValues& params_;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipelineBindPoint bind_point_ = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  uint32_t push_constant_bytes_ = 0;
+};
+
+}  // namespace nightcap

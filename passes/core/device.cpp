@@ -1,0 +1,322 @@
+#include "passes/core/device.h"
+
+#include <dlfcn.h>
+
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+
+namespace nightcap {
+namespace {
+
+// The in-app API's function table (renderdoc_app.h, API 1.1.2): only the frame-capture entry
+// points are called, so the rest are opaque slots that keep the layout.
+struct RenderDocApi {
+  void* unused_before_start[19];
+  void (*StartFrameCapture)(void* device, void* window);
+  uint32_t (*IsFrameCapturing)();
+  uint32_t (*EndFrameCapture)(void* device, void* window);
+};
+constexpr int kRenderDocApi_1_1_2 = 10102;
+using RenderDocGetApi = int (*)(int version, void** api);
+
+void* load_renderdoc() {
+  // RTLD_NOLOAD: only when renderdoccmd (or the UI) injected it; never load it ourselves.
+  void* library = dlopen("librenderdoc.so", RTLD_NOW | RTLD_NOLOAD);
+  if (!library) return nullptr;
+  auto get_api = reinterpret_cast<RenderDocGetApi>(dlsym(library, "RENDERDOC_GetAPI"));
+  void* api = nullptr;
+  if (!get_api || get_api(kRenderDocApi_1_1_2, &api) != 1) return nullptr;
+  return api;
+}
+
+bool has_layer(const char* name) {
+  uint32_t count = 0;
+  vkEnumerateInstanceLayerProperties(&count, nullptr);
+  std::vector<VkLayerProperties> layers(count);
+  vkEnumerateInstanceLayerProperties(&count, layers.data());
+  for (const auto& layer : layers)
+    if (std::strcmp(layer.layerName, name) == 0) return true;
+  return false;
+}
+
+bool has_instance_extension(const char* name) {
+  uint32_t count = 0;
+  vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr);
+  std::vector<VkExtensionProperties> extensions(count);
+  vkEnumerateInstanceExtensionProperties(nullptr, &count, extensions.data());
+  for (const auto& e : extensions)
+    if (std::strcmp(e.extensionName, name) == 0) return true;
+  return false;
+}
+
+}  // namespace
+
+void vk_check(VkResult result, const char* what) {
+  if (result != VK_SUCCESS)
+    throw GpuError(std::string("Vulkan: ") + what + " failed (VkResult " + std::to_string(result) + ")");
+}
+
+VkBool32 VKAPI_PTR GpuDevice::on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                         VkDebugUtilsMessageTypeFlagsEXT,
+                                         const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                         void* self) {
+  if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+    static_cast<GpuDevice*>(self)->validation_errors_++;
+    std::cerr << "validation error: " << data->pMessage << "\n";
+  } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
+    std::cerr << "validation warning: " << data->pMessage << "\n";
+  }
+  return VK_FALSE;
+}
+
+GpuDevice::GpuDevice(const Options& options) {
+  auto app = vk_struct<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
+  app.pApplicationName = "nightcap";
+  app.apiVersion = VK_API_VERSION_1_3;
+
+  std::vector<const char*> layers, extensions;
+  const bool debug_utils = has_instance_extension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  if (debug_utils) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  if (options.validation) {
+    if (!has_layer("VK_LAYER_KHRONOS_validation"))
+      throw GpuError("validation requested but VK_LAYER_KHRONOS_validation is not installed");
+    layers.push_back("VK_LAYER_KHRONOS_validation");
+  }
+  auto messenger_info = vk_struct<VkDebugUtilsMessengerCreateInfoEXT>(VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT);
+  messenger_info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT |
+                                   VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
+  messenger_info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                               VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
+  messenger_info.pfnUserCallback = &GpuDevice::on_message;
+  messenger_info.pUserData = this;
+
+  auto instance_info = vk_struct<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
+  instance_info.pApplicationInfo = &app;
+  instance_info.enabledLayerCount = static_cast<uint32_t>(layers.size());
+  instance_info.ppEnabledLayerNames = layers.data();
+  instance_info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+  instance_info.ppEnabledExtensionNames = extensions.data();
+  if (options.validation && debug_utils) instance_info.pNext = &messenger_info;
+  vk_check(vkCreateInstance(&instance_info, nullptr, &instance_), "vkCreateInstance");
+
+  if (options.validation && debug_utils) {
+    auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+    if (create) vk_check(create(instance_, &messenger_info, nullptr, &messenger_), "create messenger");
+  }
+  if (debug_utils) {
+    begin_label_ = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(
+        vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
+    end_label_ = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(
+        vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
+  }
+
+  uint32_t count = 0;
+  vkEnumeratePhysicalDevices(instance_, &count, nullptr);
+  std::vector<VkPhysicalDevice> physicals(count);
+  vkEnumeratePhysicalDevices(instance_, &count, physicals.data());
+  std::string available;
+  for (VkPhysicalDevice candidate : physicals) {
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(candidate, &props);
+    available += std::string(available.empty() ? "" : ", ") + props.deviceName;
+    const std::string name = props.deviceName;
+    const bool wanted = options.device_name.empty()
+                            ? name.find("llvmpipe") != std::string::npos
+                            : name.find(options.device_name) != std::string::npos;
+    if (wanted && props.apiVersion >= VK_API_VERSION_1_3) {
+      physical_ = candidate;
+      break;
+    }
+  }
+  if (!physical_ && options.device_name.empty() && !physicals.empty()) physical_ = physicals[0];
+  if (!physical_)
+    throw GpuError("--device '" + options.device_name + "': no Vulkan 1.3 device matches (available: " +
+                   (available.empty() ? "none" : available) + ")");
+  vkGetPhysicalDeviceProperties(physical_, &properties_);
+  vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+  auto driver_props = vk_struct<VkPhysicalDeviceDriverProperties>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES);
+  auto props2 = vk_struct<VkPhysicalDeviceProperties2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2);
+  props2.pNext = &driver_props;
+  vkGetPhysicalDeviceProperties2(physical_, &props2);
+  driver_ = std::string(driver_props.driverName) + " " + driver_props.driverInfo;
+
+  uint32_t family_count = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(physical_, &family_count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(family_count);
+  vkGetPhysicalDeviceQueueFamilyProperties(physical_, &family_count, families.data());
+  bool found = false;
+  for (uint32_t i = 0; i < family_count; ++i) {
+    const VkQueueFlags need = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
+    if ((families[i].queueFlags & need) == need && families[i].timestampValidBits > 0) {
+      queue_family_ = i;
+      found = true;
+      break;
+    }
+  }
+  if (!found) throw GpuError(name() + ": no graphics+compute queue with timestamps");
+
+  float priority = 1.0f;
+  auto queue_info = vk_struct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
+  queue_info.queueFamilyIndex = queue_family_;
+  queue_info.queueCount = 1;
+  queue_info.pQueuePriorities = &priority;
+
+  auto features13 = vk_struct<VkPhysicalDeviceVulkan13Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES);
+  features13.dynamicRendering = VK_TRUE;
+  features13.synchronization2 = VK_TRUE;
+  auto features12 = vk_struct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
+  features12.pNext = &features13;
+  features12.hostQueryReset = VK_TRUE;
+  features12.scalarBlockLayout = VK_TRUE;
+  auto features11 = vk_struct<VkPhysicalDeviceVulkan11Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES);
+  features11.pNext = &features12;
+  features11.shaderDrawParameters = VK_TRUE;
+  auto features = vk_struct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
+  features.pNext = &features11;
+  features.features.samplerAnisotropy = VK_FALSE;
+  features.features.fragmentStoresAndAtomics = VK_TRUE;
+  features.features.shaderStorageImageWriteWithoutFormat = VK_TRUE;
+
+  const char* device_extensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  auto device_info = vk_struct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
+  device_info.pNext = &features;
+  device_info.queueCreateInfoCount = 1;
+  device_info.pQueueCreateInfos = &queue_info;
+  device_info.enabledExtensionCount = 1;
+  device_info.ppEnabledExtensionNames = device_extensions;
+  vk_check(vkCreateDevice(physical_, &device_info, nullptr, &device_), "vkCreateDevice");
+  vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+  push_descriptor_set_ = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
+      vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
+
+  auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
+  pool_info.queueFamilyIndex = queue_family_;
+  pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  vk_check(vkCreateCommandPool(device_, &pool_info, nullptr, &pool_), "vkCreateCommandPool");
+  renderdoc_ = load_renderdoc();
+}
+
+GpuDevice::~GpuDevice() {
+  if (device_) {
+    vkDeviceWaitIdle(device_);
+    vkDestroyCommandPool(device_, pool_, nullptr);
+    vkDestroyDevice(device_, nullptr);
+  }
+  if (messenger_) {
+    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
+    if (destroy) destroy(instance_, messenger_, nullptr);
+  }
+  if (instance_) vkDestroyInstance(instance_, nullptr);
+}
+
+uint32_t GpuDevice::memory_type(uint32_t bits, VkMemoryPropertyFlags flags) const {
+  for (uint32_t i = 0; i < memory_.memoryTypeCount; ++i)
+    if ((bits & (1u << i)) && (memory_.memoryTypes[i].propertyFlags & flags) == flags) return i;
+  throw GpuError("no Vulkan memory type with the required properties");
+}
+
+GpuBuffer GpuDevice::create_buffer(uint64_t size, VkBufferUsageFlags usage, bool host_visible) {
+  GpuBuffer result;
+  result.size = size;
+  auto info = vk_struct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
+  info.size = std::max<uint64_t>(size, 16);
+  info.usage = usage;
+  vk_check(vkCreateBuffer(device_, &info, nullptr, &result.buffer), "vkCreateBuffer");
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(device_, result.buffer, &req);
+  auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = memory_type(
+      req.memoryTypeBits, host_visible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                       : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  vk_check(vkAllocateMemory(device_, &alloc, nullptr, &result.memory), "vkAllocateMemory");
+  vk_check(vkBindBufferMemory(device_, result.buffer, result.memory, 0), "vkBindBufferMemory");
+  if (host_visible) vk_check(vkMapMemory(device_, result.memory, 0, VK_WHOLE_SIZE, 0, &result.mapped), "vkMapMemory");
+  return result;
+}
+
+void GpuDevice::destroy(GpuBuffer& buffer) {
+  if (buffer.buffer) vkDestroyBuffer(device_, buffer.buffer, nullptr);
+  if (buffer.memory) vkFreeMemory(device_, buffer.memory, nullptr);
+  buffer = {};
+}
+
+GpuImage GpuDevice::create_image(const VkImageCreateInfo& info) {
+  GpuImage result;
+  vk_check(vkCreateImage(device_, &info, nullptr, &result.image), "vkCreateImage");
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(device_, result.image, &req);
+  auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  vk_check(vkAllocateMemory(device_, &alloc, nullptr, &result.memory), "vkAllocateMemory");
+  vk_check(vkBindImageMemory(device_, result.image, result.memory, 0), "vkBindImageMemory");
+  return result;
+}
+
+void GpuDevice::destroy(GpuImage& image) {
+  if (image.image) vkDestroyImage(device_, image.image, nullptr);
+  if (image.memory) vkFreeMemory(device_, image.memory, nullptr);
+  image = {};
+}
+
+VkCommandBuffer GpuDevice::begin_commands() {
+  auto info = vk_struct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
+  info.commandPool = pool_;
+  info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  info.commandBufferCount = 1;
+  VkCommandBuffer cmd;
+  vk_check(vkAllocateCommandBuffers(device_, &info, &cmd), "vkAllocateCommandBuffers");
+  auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  vk_check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
+  return cmd;
+}
+
+void GpuDevice::end_and_wait(VkCommandBuffer cmd) {
+  vk_check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+  auto submit = vk_struct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &cmd;
+  auto fence_info = vk_struct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
+  VkFence fence;
+  vk_check(vkCreateFence(device_, &fence_info, nullptr, &fence), "vkCreateFence");
+  VkResult result = vkQueueSubmit(queue_, 1, &submit, fence);
+  if (result == VK_SUCCESS) result = vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX);
+  vkDestroyFence(device_, fence, nullptr);
+  vkFreeCommandBuffers(device_, pool_, 1, &cmd);
+  vk_check(result, "vkQueueSubmit/vkWaitForFences");
+}
+
+void GpuDevice::begin_label(VkCommandBuffer cmd, const std::string& name) const {
+  if (!begin_label_) return;
+  auto label = vk_struct<VkDebugUtilsLabelEXT>(VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT);
+  label.pLabelName = name.c_str();
+  begin_label_(cmd, &label);
+}
+
+void GpuDevice::end_label(VkCommandBuffer cmd) const {
+  if (end_label_) end_label_(cmd);
+}
+
+void GpuDevice::push_descriptors(VkCommandBuffer cmd, VkPipelineBindPoint bind_point,
+                                 VkPipelineLayout layout,
+                                 const std::vector<VkWriteDescriptorSet>& writes) const {
+  push_descriptor_set_(cmd, bind_point, layout, 0, static_cast<uint32_t>(writes.size()), writes.data());
+}
+
+void GpuDevice::renderdoc_begin() {
+  if (!renderdoc_) return;
+  // RENDERDOC_DEVICEPOINTER_FROM_VKINSTANCE: the dispatch table pointer inside the handle.
+  static_cast<RenderDocApi*>(renderdoc_)->StartFrameCapture(*reinterpret_cast<void**>(instance_), nullptr);
+}
+
+void GpuDevice::renderdoc_end() {
+  if (!renderdoc_) return;
+  static_cast<RenderDocApi*>(renderdoc_)->EndFrameCapture(*reinterpret_cast<void**>(instance_), nullptr);
+}
+
+}  // namespace nightcap

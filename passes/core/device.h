@@ -1,0 +1,114 @@
+// The Vulkan device nightcap renders with: lavapipe unless a name is asked for, validation
+// when NIGHTCAP_VALIDATION=1 (errors are counted so tests can fail on them), debug-utils
+// labels when the loader offers them, and RenderDoc's in-app API when the process runs under it.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <atomic>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace nightcap {
+
+struct GpuError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+void vk_check(VkResult result, const char* what);
+
+// A zeroed Vulkan structure with its sType set.
+template <typename T>
+T vk_struct(VkStructureType type) {
+  T value{};
+  value.sType = type;
+  return value;
+}
+
+struct GpuBuffer {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  uint64_t size = 0;
+  void* mapped = nullptr;  // host-visible buffers only
+};
+
+struct GpuImage {
+  VkImage image = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+};
+
+class GpuDevice {
+ public:
+  struct Options {
+    std::string device_name;  // substring of the device name; empty: lavapipe, else the first
+    bool validation = false;
+  };
+  explicit GpuDevice(const Options& options);
+  ~GpuDevice();
+  GpuDevice(const GpuDevice&) = delete;
+  GpuDevice& operator=(const GpuDevice&) = delete;
+
+  VkInstance instance() const { return instance_; }
+  VkPhysicalDevice physical() const { return physical_; }
+  VkDevice device() const { return device_; }
+  VkQueue queue() const { return queue_; }
+  uint32_t queue_family() const { return queue_family_; }
+  const VkPhysicalDeviceProperties& properties() const { return properties_; }
+  std::string name() const { return properties_.deviceName; }
+  std::string driver() const { return driver_; }
+  float timestamp_period_ns() const { return properties_.limits.timestampPeriod; }
+
+  GpuBuffer create_buffer(uint64_t size, VkBufferUsageFlags usage, bool host_visible);
+  void destroy(GpuBuffer& buffer);
+  GpuImage create_image(const VkImageCreateInfo& info);
+  void destroy(GpuImage& image);
+
+  // Records with `record`, submits, waits.
+  template <typename F>
+  void submit_and_wait(F&& record) {
+    VkCommandBuffer cmd = begin_commands();
+    record(cmd);
+    end_and_wait(cmd);
+  }
+  VkCommandBuffer begin_commands();
+  void end_and_wait(VkCommandBuffer cmd);
+
+  void begin_label(VkCommandBuffer cmd, const std::string& name) const;
+  void end_label(VkCommandBuffer cmd) const;
+  void push_descriptors(VkCommandBuffer cmd, VkPipelineBindPoint bind_point,
+                        VkPipelineLayout layout, const std::vector<VkWriteDescriptorSet>& writes) const;
+
+  // Validation messages of severity error seen so far.
+  uint32_t validation_errors() const { return validation_errors_.load(); }
+
+  // RenderDoc frame capture around the captured frames, when loaded into the process.
+  bool renderdoc_present() const { return renderdoc_ != nullptr; }
+  void renderdoc_begin();
+  void renderdoc_end();
+
+ private:
+  uint32_t memory_type(uint32_t bits, VkMemoryPropertyFlags flags) const;
+  static VkBool32 VKAPI_PTR on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                       VkDebugUtilsMessageTypeFlagsEXT types,
+                                       const VkDebugUtilsMessengerCallbackDataEXT* data, void* self);
+
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  uint32_t queue_family_ = 0;
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  VkPhysicalDeviceProperties properties_{};
+  VkPhysicalDeviceMemoryProperties memory_{};
+  std::string driver_;
+  std::atomic<uint32_t> validation_errors_{0};
+  PFN_vkCmdBeginDebugUtilsLabelEXT begin_label_ = nullptr;
+  PFN_vkCmdEndDebugUtilsLabelEXT end_label_ = nullptr;
+  PFN_vkCmdPushDescriptorSetKHR push_descriptor_set_ = nullptr;
+  void* renderdoc_ = nullptr;  // RENDERDOC_API_1_1_2*
+};
+
+}  // namespace nightcap

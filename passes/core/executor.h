@@ -1,0 +1,49 @@
+// Runs a compiled graph on a device: CPU passes first (they read only host data), then every
+// GPU pass recorded into one command buffer with the barriers the graph derives, a
+// debug label and timestamps around each, and — when capturing — a readback of every version
+// of every resource a pass wrote.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "passes/core/context.h"
+#include "passes/core/graph.h"
+
+namespace nightcap {
+
+struct ExecutionOptions {
+  bool capture = false;                       // read back every version
+  std::set<std::string> readback;             // final versions to read back regardless
+  std::map<std::string, ParamValues> params;  // per pass; missing ones take their defaults
+  ShaderProvider shaders;
+};
+
+struct VersionData {
+  std::string resource;
+  ResourceDesc desc;
+  std::shared_ptr<const std::vector<uint8_t>> bytes;  // null when not read back
+};
+
+struct PassExecution {
+  std::vector<int> inputs, outputs;  // indices into Execution::versions
+  std::optional<double> gpu_ms;
+  double cpu_ms = 0.0;
+  std::map<std::string, std::vector<uint32_t>> spirv;  // path -> code the pass ran
+};
+
+struct Execution {
+  std::vector<VersionData> versions;
+  std::vector<PassExecution> passes;  // parallel to CompiledGraph::passes
+  const VersionData* final_version(const std::string& resource) const;
+};
+
+Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& graph,
+                        const std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>>& imports,
+                        const ExecutionOptions& options);
+
+}  // namespace nightcap

@@ -1,0 +1,312 @@
+#include "passes/core/graph.h"
+
+#include <algorithm>
+#include <bit>
+#include <map>
+#include <queue>
+#include <set>
+
+namespace nightcap {
+namespace {
+
+struct Version {
+  int writer = -1;  // declaration index; -1 imported
+  ResourceDesc desc;
+};
+
+ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
+                     const std::map<std::string, ResourceDesc>& known, const std::string& pass) {
+  ResourceDesc desc;
+  if (out.is_buffer) {
+    desc.is_buffer = true;
+    desc.kind = out.buffer.kind;
+    desc.buffer_size = out.buffer.size;
+    return desc;
+  }
+  const ImageDecl& d = out.image;
+  if (!format_info(d.format))
+    throw GraphError(pass + ": output '" + out.resource + "' has a format nightcap does not record");
+  desc.kind = d.kind;
+  desc.format = d.format;
+  desc.clear = d.clear;
+  switch (d.size.mode) {
+    case SizeRule::Mode::output:
+      desc.extent.width = settings.width;
+      desc.extent.height = settings.height;
+      break;
+    case SizeRule::Mode::output_half:
+      desc.extent.width = (settings.width + 1) / 2;
+      desc.extent.height = (settings.height + 1) / 2;
+      break;
+    case SizeRule::Mode::absolute:
+      desc.extent.width = d.size.width;
+      desc.extent.height = d.size.height;
+      break;
+    case SizeRule::Mode::like: {
+      auto it = known.find(d.size.like);
+      if (it == known.end() || it->second.is_buffer)
+        throw GraphError(pass + ": output '" + out.resource + "' is sized like unknown image '" +
+                         d.size.like + "'");
+      desc.extent.width = it->second.extent.width;
+      desc.extent.height = it->second.extent.height;
+      break;
+    }
+  }
+  desc.extent.layers = d.layers;
+  desc.extent.mips = d.mips == 0 ? full_mip_count(desc.extent.width, desc.extent.height) : d.mips;
+  return desc;
+}
+
+}  // namespace
+
+uint32_t full_mip_count(uint32_t width, uint32_t height) {
+  return static_cast<uint32_t>(std::bit_width(std::max(width, height)));
+}
+
+CompiledGraph compile_graph(const std::vector<PassDecl>& passes,
+                            const std::vector<ImportedResource>& imports,
+                            const GraphSettings& settings) {
+  const int n = static_cast<int>(passes.size());
+  // Who writes what: fresh writer first, then modifiers in declaration order.
+  std::map<std::string, int> fresh_writer;
+  std::map<std::string, std::vector<int>> modifiers;
+  std::set<std::string> imported;
+  for (const ImportedResource& r : imports) imported.insert(r.name);
+  for (int i = 0; i < n; ++i) {
+    for (const ResourceUse& out : passes[i].outputs) {
+      if (out.modifies) {
+        modifiers[out.resource].push_back(i);
+      } else {
+        if (fresh_writer.count(out.resource) || imported.count(out.resource))
+          throw GraphError(passes[i].name + ": '" + out.resource + "' is already written by " +
+                           (imported.count(out.resource) ? std::string("the scene")
+                                                         : passes[fresh_writer[out.resource]].name) +
+                           " (use modify to write it again)");
+        fresh_writer[out.resource] = i;
+      }
+    }
+  }
+  for (const auto& [resource, list] : modifiers)
+    if (!fresh_writer.count(resource) && !imported.count(resource))
+      throw GraphError(passes[list.front()].name + ": modifies '" + resource + "' which nobody writes first");
+
+  // Expand prefix reads against everything that exists.
+  std::set<std::string> all_names = imported;
+  for (const auto& [name, writer] : fresh_writer) all_names.insert(name);
+  std::vector<std::vector<std::string>> reads(n);
+  for (int i = 0; i < n; ++i) {
+    for (const ResourceUse& in : passes[i].inputs) {
+      if (in.prefix) {
+        for (const std::string& name : all_names)
+          if (name.rfind(in.resource, 0) == 0) reads[i].push_back(name);
+      } else {
+        if (!all_names.count(in.resource))
+          throw GraphError(passes[i].name + ": reads '" + in.resource + "' which no pass writes and the scene does not supply");
+        reads[i].push_back(in.resource);
+      }
+    }
+  }
+
+  // The version a pass reads: plain readers see the last version; a modifier sees the one
+  // before it. Edges point from the writer of that version to the reader.
+  auto last_writer = [&](const std::string& resource) {
+    auto m = modifiers.find(resource);
+    if (m != modifiers.end()) return m->second.back();
+    auto f = fresh_writer.find(resource);
+    return f == fresh_writer.end() ? -1 : f->second;
+  };
+  auto writer_before_modifier = [&](const std::string& resource, int modifier) {
+    const std::vector<int>& list = modifiers[resource];
+    auto it = std::find(list.begin(), list.end(), modifier);
+    if (it == list.begin()) {
+      auto f = fresh_writer.find(resource);
+      return f == fresh_writer.end() ? -1 : f->second;
+    }
+    return *(it - 1);
+  };
+  std::vector<std::set<int>> successors(n);
+  std::vector<int> indegree(n, 0);
+  auto add_edge = [&](int from, int to) {
+    if (from < 0 || from == to) return;
+    if (successors[from].insert(to).second) ++indegree[to];
+  };
+  for (int i = 0; i < n; ++i) {
+    for (const std::string& r : reads[i]) add_edge(last_writer(r), i);
+    for (const ResourceUse& out : passes[i].outputs)
+      if (out.modifies) add_edge(writer_before_modifier(out.resource, i), i);
+  }
+
+  // Kahn's algorithm; ties keep declaration (frame) order.
+  std::priority_queue<int, std::vector<int>, std::greater<>> ready;
+  for (int i = 0; i < n; ++i)
+    if (indegree[i] == 0) ready.push(i);
+  std::vector<int> order;
+  while (!ready.empty()) {
+    int i = ready.top();
+    ready.pop();
+    order.push_back(i);
+    for (int s : successors[i])
+      if (--indegree[s] == 0) ready.push(s);
+  }
+  if (static_cast<int>(order.size()) != n) {
+    std::string stuck;
+    for (int i = 0; i < n; ++i)
+      if (indegree[i] > 0) stuck += (stuck.empty() ? "" : ", ") + passes[i].name;
+    throw GraphError("render graph has a cycle through: " + stuck);
+  }
+
+  // Needed: passes that lead to a sink or are kept.
+  std::vector<bool> needed(n, false);
+  std::vector<int> stack;
+  auto need_writers_of = [&](const std::string& resource) {
+    int w = last_writer(resource);
+    if (w >= 0 && !needed[w]) {
+      needed[w] = true;
+      stack.push_back(w);
+    }
+  };
+  for (const std::string& sink : settings.sinks) need_writers_of(sink);
+  for (int i = 0; i < n; ++i)
+    if (std::find(settings.keep.begin(), settings.keep.end(), passes[i].name) != settings.keep.end() && !needed[i]) {
+      needed[i] = true;
+      stack.push_back(i);
+    }
+  while (!stack.empty()) {
+    int i = stack.back();
+    stack.pop_back();
+    auto need = [&](int w) {
+      if (w >= 0 && !needed[w]) {
+        needed[w] = true;
+        stack.push_back(w);
+      }
+    };
+    for (const std::string& r : reads[i]) need(last_writer(r));
+    for (const ResourceUse& out : passes[i].outputs)
+      if (out.modifies) need(writer_before_modifier(out.resource, i));
+  }
+
+  CompiledGraph graph;
+  for (const ImportedResource& r : imports) graph.resources[r.name] = r.desc;
+  std::map<int, int> position;  // declaration index -> execution index
+  for (int i : order) {
+    const PassDecl& decl = passes[i];
+    CompiledPass compiled;
+    compiled.decl = &decl;
+    position[i] = static_cast<int>(graph.passes.size());
+    if (!needed[i]) {
+      compiled.culled = true;
+      compiled.reason = "culled: no pass consumes its outputs";
+    } else if (std::find(settings.keep.begin(), settings.keep.end(), decl.name) != settings.keep.end()) {
+      // Kept passes are re-executions of what a capture says ran: skip conditions do not apply.
+      compiled.runs = true;
+    } else {
+      compiled.runs = true;
+      for (const std::string& f : decl.features)
+        if (!settings.frame.features.count(f)) {
+          compiled.runs = false;
+          compiled.reason = "scene has no " + f;
+          break;
+        }
+      if (compiled.runs && decl.skip_if) {
+        compiled.reason = decl.skip_if(settings.frame);
+        compiled.runs = compiled.reason.empty();
+      }
+    }
+    if (!compiled.culled) {
+      for (size_t k = 0; k < decl.inputs.size(); ++k) {
+        const ResourceUse& in = decl.inputs[k];
+        for (const std::string& r : reads[i]) {
+          const bool matches = in.prefix ? r.rfind(in.resource, 0) == 0 : r == in.resource;
+          if (!matches) continue;
+          int w = last_writer(r);
+          compiled.inputs.push_back({r, in.use, false, graph.resources.at(r), w < 0 ? -1 : position.at(w)});
+        }
+      }
+      for (const ResourceUse& out : decl.outputs) {
+        BoundUse bound{out.resource, out.use, out.modifies, {}, -1};
+        if (out.modifies) {
+          int w = writer_before_modifier(out.resource, i);
+          bound.producer = w < 0 ? -1 : position.at(w);
+          bound.desc = graph.resources.at(out.resource);
+          // A modifier reads the previous version too: that is an input of the pass.
+          compiled.inputs.push_back(bound);
+          bound.producer = -1;
+        } else {
+          bound.desc = resolve(out, settings, graph.resources, decl.name);
+          graph.resources[out.resource] = bound.desc;
+        }
+        compiled.outputs.push_back(bound);
+      }
+    }
+    graph.passes.push_back(std::move(compiled));
+  }
+  return graph;
+}
+
+AccessState required_state(Use use, PassType type, bool depth_format) {
+  const VkPipelineStageFlags2 shader_stages =
+      type == PassType::compute ? VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT
+                                : VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+  switch (use) {
+    case Use::sampled:
+      return {depth_format ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+              shader_stages, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT};
+    case Use::storage_read:
+      return {VK_IMAGE_LAYOUT_GENERAL, shader_stages, VK_ACCESS_2_SHADER_STORAGE_READ_BIT};
+    case Use::storage_write:
+      return {VK_IMAGE_LAYOUT_GENERAL, shader_stages,
+              VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT};
+    case Use::color_attachment:
+      return {VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+              VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT};
+    case Use::depth_attachment:
+      return {VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+              VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+              VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT};
+    case Use::uniform_buffer:
+      return {VK_IMAGE_LAYOUT_UNDEFINED, shader_stages, VK_ACCESS_2_UNIFORM_READ_BIT};
+    case Use::index_buffer:
+      return {VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT, VK_ACCESS_2_INDEX_READ_BIT};
+    case Use::host:
+      return {VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE};
+  }
+  return {};
+}
+
+AccessState transfer_state(bool write) {
+  return {write ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+          VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+          write ? VK_ACCESS_2_TRANSFER_WRITE_BIT : VK_ACCESS_2_TRANSFER_READ_BIT};
+}
+
+bool writes(const AccessState& state) {
+  constexpr VkAccessFlags2 kWrites = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT |
+                                     VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT |
+                                     VK_ACCESS_2_HOST_WRITE_BIT;
+  return (state.access & kWrites) != 0;
+}
+
+std::optional<BarrierPlan> plan_barrier(SyncState& state, const AccessState& next, bool discard) {
+  const VkImageLayout old_layout = discard ? VK_IMAGE_LAYOUT_UNDEFINED : state.layout;
+  const bool layout_change = next.layout != state.layout;
+  const VkPipelineStageFlags2 pending = state.last_write.stages | state.read_stages;
+  BarrierPlan plan{{old_layout, pending, state.last_write.access}, next};
+  if (writes(next) || layout_change) {
+    const bool needed = layout_change || pending != VK_PIPELINE_STAGE_2_NONE;
+    state.layout = next.layout;
+    // A layout transition is a write of its own: later readers in other stages wait for it.
+    state.last_write = writes(next) ? next : AccessState{next.layout, next.stages, VK_ACCESS_2_NONE};
+    state.read_stages = writes(next) ? VK_PIPELINE_STAGE_2_NONE : next.stages;
+    state.read_access = writes(next) ? VK_ACCESS_2_NONE : next.access;
+    if (!needed) return std::nullopt;
+    return plan;
+  }
+  const bool covered = (next.stages & ~state.read_stages) == 0 && (next.access & ~state.read_access) == 0;
+  if (state.last_write.stages == VK_PIPELINE_STAGE_2_NONE || covered) return std::nullopt;
+  state.read_stages |= next.stages;
+  state.read_access |= next.access;
+  plan.before = {state.layout, state.last_write.stages, state.last_write.access};
+  return plan;
+}
+
+}  // namespace nightcap

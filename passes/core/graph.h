@@ -1,0 +1,91 @@
+// The render graph's compile step, independent of Vulkan objects so it can be unit-tested:
+// orders passes by their resource dependencies, culls what nothing consumes or what the scene
+// lacks the features for, resolves sizes, and plans the barrier each use needs.
+#pragma once
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "passes/core/pass.h"
+
+namespace nightcap {
+
+// A mistake in the declarations, caught before anything runs.
+struct GraphError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct ImportedResource {
+  std::string name;
+  ResourceDesc desc;
+};
+
+struct GraphSettings {
+  uint32_t width = 1280, height = 720;
+  SkipContext frame;
+  std::vector<std::string> sinks = {"final.ldr"};  // resources the frame must produce
+  // Passes to run even when nothing consumes them and their skip conditions hold (replay).
+  std::vector<std::string> keep;
+};
+
+struct BoundUse {
+  std::string resource;
+  Use use = Use::sampled;
+  bool modifies = false;
+  ResourceDesc desc;
+  int producer = -1;  // index into CompiledGraph::passes of the pass that wrote this version; -1: imported
+};
+
+struct CompiledPass {
+  const PassDecl* decl = nullptr;
+  bool runs = false;
+  std::string reason;  // why it does not run
+  bool culled = false; // not needed at all: nothing of it is allocated or executed
+  std::vector<BoundUse> inputs, outputs;
+};
+
+struct CompiledGraph {
+  std::vector<CompiledPass> passes;  // execution order
+  std::map<std::string, ResourceDesc> resources;
+};
+
+// Throws GraphError for: a read of a resource nobody writes or imports, two fresh writers of
+// one resource, a modify with no earlier version, a cycle, an unknown `like` size.
+CompiledGraph compile_graph(const std::vector<PassDecl>& passes,
+                            const std::vector<ImportedResource>& imports,
+                            const GraphSettings& settings);
+
+// The synchronisation state a use needs.
+struct AccessState {
+  VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VkPipelineStageFlags2 stages = VK_PIPELINE_STAGE_2_NONE;
+  VkAccessFlags2 access = VK_ACCESS_2_NONE;
+};
+AccessState required_state(Use use, PassType type, bool depth_format);
+AccessState transfer_state(bool write);
+bool writes(const AccessState& state);
+
+struct BarrierPlan {
+  AccessState before, after;  // before.layout is the old layout
+};
+
+// What the graph knows of one resource between passes: its layout, the last write, and the
+// reads since that write already made visible.
+struct SyncState {
+  VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  AccessState last_write;
+  VkPipelineStageFlags2 read_stages = VK_PIPELINE_STAGE_2_NONE;
+  VkAccessFlags2 read_access = VK_ACCESS_2_NONE;
+};
+
+// The barrier a use needs given what happened before, and the updated state. A write waits for
+// the last write and every read since (RAW, WAR, WAW); a read waits for the last write unless
+// an earlier barrier already made it visible to this stage; a layout change always waits.
+// `discard`: the previous contents are not needed (layout UNDEFINED is allowed).
+std::optional<BarrierPlan> plan_barrier(SyncState& state, const AccessState& next, bool discard = false);
+
+uint32_t full_mip_count(uint32_t width, uint32_t height);
+
+}  // namespace nightcap

@@ -1,0 +1,35 @@
+#include "passes/core/isolated.h"
+
+namespace nightcap {
+
+IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& pass,
+                         const std::map<std::string, IsolatedInput>& inputs, const ParamValues& params,
+                         uint32_t width, uint32_t height, const ShaderProvider& shaders) {
+  IsolatedRun run;
+  std::vector<ImportedResource> imports;
+  std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> bytes;
+  for (const auto& [name, input] : inputs) {
+    imports.push_back({name, input.desc});
+    bytes[name] = input.bytes;
+  }
+  GraphSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.sinks = {};
+  settings.keep = {pass.name};
+  const std::vector<PassDecl> single{pass};
+  run.graph = compile_graph(single, imports, settings);
+  ExecutionOptions options;
+  options.capture = true;
+  options.params[pass.name] = params;
+  options.shaders = shaders;
+  run.execution = execute_graph(gpu, cache, run.graph, bytes, options);
+  for (int v : run.execution.passes.at(0).outputs) {
+    const VersionData& version = run.execution.versions[v];
+    run.outputs[version.resource] = version.bytes;
+    run.output_descs[version.resource] = version.desc;
+  }
+  return run;
+}
+
+}  // namespace nightcap

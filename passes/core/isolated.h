@@ -1,0 +1,31 @@
+// One pass run on its own from given inputs: what replay and the reference tests do.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "passes/core/executor.h"
+
+namespace nightcap {
+
+struct IsolatedInput {
+  ResourceDesc desc;
+  std::shared_ptr<const std::vector<uint8_t>> bytes;
+};
+
+struct IsolatedRun {
+  CompiledGraph graph;
+  Execution execution;
+  // Output bytes of the pass, by resource name.
+  std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> outputs;
+  std::map<std::string, ResourceDesc> output_descs;
+};
+
+// Runs `pass` (whatever its skip conditions say) at output size width×height.
+IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& pass,
+                         const std::map<std::string, IsolatedInput>& inputs, const ParamValues& params,
+                         uint32_t width, uint32_t height, const ShaderProvider& shaders);
+
+}  // namespace nightcap

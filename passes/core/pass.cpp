@@ -1,0 +1,105 @@
+#include "passes/core/pass.h"
+
+namespace nightcap {
+
+uint64_t ResourceDesc::raw_bytes() const {
+  if (is_buffer) return buffer_size;
+  return raw_image_bytes(*format_info(format), extent);
+}
+
+PassDecl& PassDecl::read(std::string resource, Use use) {
+  ResourceUse u;
+  u.resource = std::move(resource);
+  u.use = use;
+  inputs.push_back(std::move(u));
+  return *this;
+}
+
+PassDecl& PassDecl::read_all(std::string prefix, Use use) {
+  read(std::move(prefix), use);
+  inputs.back().prefix = true;
+  return *this;
+}
+
+PassDecl& PassDecl::write(std::string resource, Use use, ImageDecl decl) {
+  ResourceUse u;
+  u.resource = std::move(resource);
+  u.use = use;
+  u.is_output = true;
+  u.image = decl;
+  outputs.push_back(std::move(u));
+  return *this;
+}
+
+PassDecl& PassDecl::write(std::string resource, Use use, BufferDecl decl) {
+  ResourceUse u;
+  u.resource = std::move(resource);
+  u.use = use;
+  u.is_output = true;
+  u.is_buffer = true;
+  u.buffer = decl;
+  outputs.push_back(std::move(u));
+  return *this;
+}
+
+PassDecl& PassDecl::modify(std::string resource, Use use) {
+  ResourceUse u;
+  u.resource = std::move(resource);
+  u.use = use;
+  u.is_output = true;
+  u.modifies = true;
+  outputs.push_back(std::move(u));
+  return *this;
+}
+
+PassDecl& PassDecl::param(std::string param_name, double default_value, double min, double max,
+                          std::string help) {
+  params.push_back({std::move(param_name), default_value, min, max, std::move(help)});
+  return *this;
+}
+
+PassDecl& PassDecl::needs(std::string feature) {
+  features.push_back(std::move(feature));
+  return *this;
+}
+
+PassDecl& PassDecl::shader(std::string path) {
+  shaders.push_back(std::move(path));
+  return *this;
+}
+
+PassDecl& PassDecl::run(std::function<void(PassContext&)> function) {
+  execute = std::move(function);
+  return *this;
+}
+
+PassDecl& PassDecl::skip_when(std::function<std::string(const SkipContext&)> condition) {
+  skip_if = std::move(condition);
+  return *this;
+}
+
+PassDecl& PassDecl::allow_tolerance(double amount, std::string reason) {
+  tolerance = amount;
+  tolerance_reason = std::move(reason);
+  return *this;
+}
+
+ParamValues PassDecl::default_params() const {
+  ParamValues values;
+  for (const ParamDecl& p : params) values[p.name] = p.default_value;
+  return values;
+}
+
+const ParamDecl* PassDecl::find_param(const std::string& param_name) const {
+  for (const ParamDecl& p : params)
+    if (p.name == param_name) return &p;
+  return nullptr;
+}
+
+const PassDecl* find_pass(const std::vector<PassDecl>& passes, const std::string& name) {
+  for (const PassDecl& p : passes)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+}  // namespace nightcap

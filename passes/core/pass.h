@@ -1,0 +1,131 @@
+// How a pass declares itself to the render graph: name, inputs, outputs (with formats and sizes
+// relative to the output), parameters, required scene features, shaders, and the function that
+// records (or, for CPU passes, computes) its work. The graph owns ordering, culling, barriers,
+// allocation, timing and capture; a pass only says what it reads and writes.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <functional>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "passes/core/format.h"
+
+namespace nightcap {
+
+class PassContext;
+
+enum class PassType { graphics, compute, cpu };
+
+// How a pass touches a resource; barriers and image layouts derive from it.
+enum class Use {
+  sampled,            // read through a sampler or texelFetch
+  storage_read,       // storage image or buffer, read
+  storage_write,      // storage image or buffer, written (read-write allowed)
+  color_attachment,
+  depth_attachment,   // depth-stencil attachment, read and written
+  uniform_buffer,
+  index_buffer,
+  host,               // CPU pass: read or written on the host
+};
+
+using ParamValues = std::map<std::string, double>;
+
+struct SizeRule {
+  enum class Mode { output, output_half, absolute, like } mode = Mode::output;
+  uint32_t width = 0, height = 0;  // absolute
+  std::string like;                // like: same size as this resource
+};
+
+struct ImageDecl {
+  ImageDecl() = default;
+  ImageDecl(VkFormat image_format, ResourceKind image_kind) : format(image_format), kind(image_kind) {}
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  ResourceKind kind = ResourceKind::colour;
+  SizeRule size;
+  uint32_t mips = 1;    // 0: the whole chain down to 1x1
+  uint32_t layers = 1;
+  VkClearValue clear{};  // contents when the writer is skipped, and the attachment clear
+};
+
+struct BufferDecl {
+  BufferDecl() = default;
+  explicit BufferDecl(ResourceKind buffer_kind, uint64_t bytes = 0) : kind(buffer_kind), size(bytes) {}
+  ResourceKind kind = ResourceKind::buffer;
+  uint64_t size = 0;  // 0: the producing CPU pass decides at run time
+};
+
+// A concrete resource: what the graph allocates and the capture records.
+struct ResourceDesc {
+  bool is_buffer = false;
+  ResourceKind kind = ResourceKind::colour;
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  ImageExtent extent;
+  uint64_t buffer_size = 0;
+  VkClearValue clear{};
+
+  uint64_t raw_bytes() const;
+};
+
+struct ResourceUse {
+  std::string resource;
+  Use use = Use::sampled;
+  bool prefix = false;   // reads every resource whose name starts with `resource`
+  bool modifies = false; // output that starts from the resource's previous version
+  bool is_output = false;
+  bool is_buffer = false;
+  ImageDecl image;
+  BufferDecl buffer;
+};
+
+struct ParamDecl {
+  std::string name;
+  double default_value = 0.0, min = 0.0, max = 0.0;
+  std::string help;
+};
+
+// What a skip condition may look at: the scene's features and the frame.
+struct SkipContext {
+  std::set<std::string> features;
+  uint32_t frame_index = 0;
+  bool camera_moved = false;
+};
+
+struct PassDecl {
+  std::string name;
+  PassType type = PassType::graphics;
+  std::vector<ResourceUse> inputs, outputs;
+  std::vector<ParamDecl> params;
+  std::vector<std::string> features;  // all must be present, or the pass is skipped
+  std::vector<std::string> shaders;   // GLSL paths relative to passes/
+  std::function<void(PassContext&)> execute;
+  // Extra frame-dependent skip condition: returns the reason, or "" to run.
+  std::function<std::string(const SkipContext&)> skip_if;
+  double tolerance = 0.0;  // allowed max abs difference in replay --verify
+  std::string tolerance_reason;
+
+  PassDecl(std::string pass_name, PassType pass_type) : name(std::move(pass_name)), type(pass_type) {}
+  PassDecl& read(std::string resource, Use use);
+  PassDecl& read_all(std::string prefix, Use use);
+  PassDecl& write(std::string resource, Use use, ImageDecl decl);
+  PassDecl& write(std::string resource, Use use, BufferDecl decl);
+  PassDecl& modify(std::string resource, Use use);
+  PassDecl& param(std::string param_name, double default_value, double min, double max, std::string help);
+  PassDecl& needs(std::string feature);
+  PassDecl& shader(std::string path);
+  PassDecl& run(std::function<void(PassContext&)> function);
+  PassDecl& skip_when(std::function<std::string(const SkipContext&)> condition);
+  PassDecl& allow_tolerance(double amount, std::string reason);
+
+  ParamValues default_params() const;
+  const ParamDecl* find_param(const std::string& param_name) const;
+};
+
+// Every pass of the frame, in frame order (the graph sorts them by their dependencies).
+std::vector<PassDecl> frame_passes();
+const PassDecl* find_pass(const std::vector<PassDecl>& passes, const std::string& name);
+
+}  // namespace nightcap

@@ -1,0 +1,36 @@
+// depth.prepass: depth of the opaque occluders before the G-buffer, so the G-buffer pass
+// shades each pixel about once. Reversed-Z: cleared to 0 (infinitely far), GREATER passes.
+#include "passes/core/context.h"
+#include "passes/frame/draw_scene.h"
+#include "passes/frame/frame_passes.h"
+
+namespace nightcap {
+
+PassDecl depth_prepass_pass() {
+  ImageDecl depth{VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil};
+  depth.clear.depthStencil = {0.0f, 0};
+  return PassDecl("depth.prepass", PassType::graphics)
+      .read("frame.constants", Use::uniform_buffer)
+      .read("scene.geometry", Use::storage_read)
+      .read("scene.materials", Use::host)
+      .read("draws.depth.prepass", Use::storage_read)
+      .write("scene.depth", Use::depth_attachment, depth)
+      .needs("opaque_geometry")
+      .shader("depth/prepass.vert")
+      .run([](PassContext& ctx) {
+        GraphicsPipelineDesc desc;
+        desc.vertex = "depth/prepass.vert";
+        desc.bindings = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+        desc.depth_format = VK_FORMAT_D32_SFLOAT_S8_UINT;
+        desc.depth_test = desc.depth_write = true;
+        desc.depth_compare = VK_COMPARE_OP_GREATER;
+        ctx.begin_rendering({}, "scene.depth");
+        ctx.bind(desc);
+        ctx.push(geometry_bindings(ctx, "draws.depth.prepass"));
+        draw_scene(ctx, "draws.depth.prepass", [](uint32_t, const GpuMaterial&) {});
+        ctx.end_rendering();
+      });
+}
+
+}  // namespace nightcap

@@ -1,0 +1,87 @@
+// frame.constants (CPU): the camera and lights turned into the per-frame constants and the
+// camera-relative light list every shading pass reads. Doubles in, floats out, so world
+// coordinates of thousands of metres lose nothing before the subtraction.
+#include <cstring>
+
+#include "passes/core/context.h"
+#include "passes/frame/camera_math.h"
+#include "passes/frame/frame_passes.h"
+#include "passes/frame/gpu_types.h"
+#include "passes/frame/scene_resources.h"
+
+namespace nightcap {
+namespace {
+
+template <typename T>
+std::vector<T> records(std::span<const uint8_t> bytes) {
+  std::vector<T> out(bytes.size() / sizeof(T));
+  if (!out.empty()) std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
+  return out;
+}
+
+void build_constants(PassContext& ctx) {
+  const CameraRecordGpu camera = records<CameraRecordGpu>(ctx.host("frame.camera")).at(0);
+  const auto lights = records<LightRecord>(ctx.host("scene.lights"));
+  glm::dmat4 world, previous;
+  std::memcpy(&world[0][0], camera.world, sizeof(camera.world));
+  std::memcpy(&previous[0][0], camera.previous_world, sizeof(camera.previous_world));
+  const double aspect = double(camera.width) / camera.height;
+  const glm::dvec3 eye = glm::dvec3(world[3]);
+
+  GpuFrameConstants c{};
+  const glm::dmat4 view = relative_view(world);
+  const glm::dmat4 projection = reversed_z_projection(camera.yfov, aspect, camera.znear);
+  c.view = glm::mat4(view);
+  c.projection = glm::mat4(projection);
+  c.view_projection = glm::mat4(projection * view);
+  c.inverse_view_projection = glm::mat4(glm::inverse(projection * view));
+  c.previous_view_projection =
+      glm::mat4(previous_relative_view_projection(previous, world, camera.yfov, aspect, camera.znear));
+  c.camera_world = glm::vec4(glm::vec3(eye), 1.0f);
+  c.viewport = {float(camera.width), float(camera.height), 1.0f / camera.width, 1.0f / camera.height};
+  c.projection_params = {float(camera.znear), float(camera.yfov), float(aspect), float(camera.time)};
+
+  std::vector<GpuLight> list;
+  bool has_sun = false;
+  for (const LightRecord& l : lights) {
+    const glm::vec3 radiance = glm::vec3(l.color[0], l.color[1], l.color[2]) * l.intensity;
+    const glm::vec3 direction = glm::normalize(glm::vec3(l.direction[0], l.direction[1], l.direction[2]));
+    if (l.type == uint32_t(LightType::directional) && !has_sun) {
+      // The first directional light is the sun (or moon) the shadow passes will follow.
+      has_sun = true;
+      c.sun_direction = glm::vec4(direction, 1.0f);
+      c.sun_radiance = glm::vec4(radiance, 0.0f);
+      continue;
+    }
+    GpuLight g{};
+    const glm::dvec3 start = glm::dvec3(l.position[0], l.position[1], l.position[2]) - eye;
+    const glm::dvec3 end = glm::dvec3(l.end[0], l.end[1], l.end[2]) - eye;
+    g.position_type = glm::vec4(glm::vec3(start), float(l.type));
+    g.end_radius = glm::vec4(glm::vec3(end), l.radius);
+    g.color_range = glm::vec4(radiance, l.range);
+    g.direction_cos_outer = glm::vec4(direction, std::cos(l.outer_cone));
+    g.cos_inner = glm::vec4(std::cos(l.inner_cone), 0, 0, 0);
+    list.push_back(g);
+  }
+  c.counts = {uint32_t(list.size()), camera.frame_index, 0, 0};
+
+  auto& constants = ctx.output("frame.constants");
+  constants.resize(sizeof(c));
+  std::memcpy(constants.data(), &c, sizeof(c));
+  auto& light_bytes = ctx.output("frame.lights");
+  light_bytes.resize(list.size() * sizeof(GpuLight));
+  if (!list.empty()) std::memcpy(light_bytes.data(), list.data(), light_bytes.size());
+}
+
+}  // namespace
+
+PassDecl frame_constants_pass() {
+  return PassDecl("frame.constants", PassType::cpu)
+      .read("frame.camera", Use::host)
+      .read("scene.lights", Use::host)
+      .write("frame.constants", Use::host, BufferDecl{ResourceKind::buffer})
+      .write("frame.lights", Use::host, BufferDecl{ResourceKind::buffer})
+      .run(build_constants);
+}
+
+}  // namespace nightcap

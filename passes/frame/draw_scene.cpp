@@ -1,0 +1,59 @@
+#include "passes/frame/draw_scene.h"
+
+#include <cstring>
+
+#include "passes/frame/scene_resources.h"
+
+namespace nightcap {
+namespace {
+
+GeometryHeader geometry_header(PassContext& ctx) {
+  auto bytes = ctx.host("scene.geometry");
+  GeometryHeader header{};
+  if (bytes.size() < sizeof(header)) throw GraphError(ctx.pass() + ": scene.geometry has no header");
+  std::memcpy(&header, bytes.data(), sizeof(header));
+  const uint64_t vertices_end = uint64_t(header.vertex_offset) + uint64_t(header.vertex_count) * sizeof(Vertex);
+  const uint64_t indices_end = uint64_t(header.index_offset) + uint64_t(header.index_count) * 4;
+  if (vertices_end > bytes.size() || indices_end > bytes.size())
+    throw GraphError(ctx.pass() + ": scene.geometry header points past the buffer");
+  return header;
+}
+
+}  // namespace
+
+std::vector<Binding> geometry_bindings(PassContext& ctx, const std::string& draws) {
+  const GeometryHeader header = geometry_header(ctx);
+  return {Binding::uniform(0, "frame.constants"),
+          Binding::storage(1, "scene.geometry", header.vertex_offset, std::max<uint64_t>(header.vertex_count, 1) * sizeof(Vertex)),
+          Binding::storage(2, draws)};
+}
+
+void draw_scene(PassContext& ctx, const std::string& draws,
+                const std::function<void(uint32_t, const GpuMaterial&)>& on_material) {
+  const GeometryHeader header = geometry_header(ctx);
+  auto draw_bytes = ctx.host(draws);
+  auto material_bytes = ctx.host("scene.materials");
+  const size_t draw_count = draw_bytes.size() / sizeof(GpuDraw);
+  const size_t material_count = material_bytes.size() / sizeof(GpuMaterial);
+  if (draw_count == 0) return;
+  vkCmdBindIndexBuffer(ctx.cmd(), ctx.buffer("scene.geometry"), header.index_offset, VK_INDEX_TYPE_UINT32);
+  uint32_t current = UINT32_MAX;
+  for (uint32_t i = 0; i < draw_count; ++i) {
+    GpuDraw draw;
+    std::memcpy(&draw, draw_bytes.data() + i * sizeof(GpuDraw), sizeof(draw));
+    if (draw.material >= material_count || uint64_t(draw.first_index) + draw.index_count > header.index_count)
+      throw GraphError(ctx.pass() + ": draw " + std::to_string(i) + " of " + draws + " is out of range");
+    if (draw.material != current) {
+      current = draw.material;
+      GpuMaterial material;
+      std::memcpy(&material, material_bytes.data() + current * sizeof(GpuMaterial), sizeof(material));
+      const bool double_sided = (int(material.extra.w) & 2) != 0;
+      vkCmdSetCullMode(ctx.cmd(), double_sided ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT);
+      on_material(current, material);
+    }
+    vkCmdSetStencilReference(ctx.cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, draw.stencil & 0xff);
+    vkCmdDrawIndexed(ctx.cmd(), draw.index_count, 1, draw.first_index, draw.vertex_offset, i);
+  }
+}
+
+}  // namespace nightcap

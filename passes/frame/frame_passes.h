@@ -1,0 +1,25 @@
+// Constructors of every pass of the frame; frame_passes() (passes/frame/registry.cpp) lists
+// them in frame order.
+#pragma once
+
+#include "passes/core/pass.h"
+
+namespace nightcap {
+
+// What the frame must produce: the displayed image, and the depth-summary resources whose
+// consumers (clustering, SSR, AO) have not landed yet, so they are rendered and recorded.
+std::vector<std::string> frame_sinks();
+
+PassDecl frame_constants_pass();
+PassDecl cull_main_pass();
+PassDecl depth_prepass_pass();
+PassDecl gbuffer_opaque_pass();
+PassDecl depth_convert_pass();
+PassDecl normals_bfn_lut_pass();
+PassDecl normals_pack_pass();
+PassDecl depth_pyramid_pass();
+PassDecl lighting_deferred_pass();
+PassDecl lighting_composite_pass();
+PassDecl tonemap_pass();
+
+}  // namespace nightcap

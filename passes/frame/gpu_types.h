@@ -1,0 +1,63 @@
+// Layouts of the buffers passes share with their shaders (std430, mirrored in
+// passes/frame/types.glsl). Changing one side without the other is caught by the
+// static_asserts here and by the reference tests.
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+
+namespace nightcap {
+
+struct GpuFrameConstants {
+  glm::mat4 view;                      // world orientation only: the camera sits at the origin
+  glm::mat4 projection;                // reversed-Z, infinite far plane, Y flipped for Vulkan
+  glm::mat4 view_projection;
+  glm::mat4 inverse_view_projection;
+  glm::mat4 previous_view_projection;  // previous camera, for points relative to the current one
+  glm::vec4 camera_world;              // world position (float, informational)
+  glm::vec4 viewport;                  // width, height, 1/width, 1/height
+  glm::vec4 sun_direction;             // xyz: the way sunlight travels; w: 1 when there is a sun
+  glm::vec4 sun_radiance;              // rgb × illuminance
+  glm::vec4 projection_params;         // znear, yfov, aspect, time
+  glm::uvec4 counts;                   // light count, frame index
+};
+static_assert(sizeof(GpuFrameConstants) == 5 * 64 + 6 * 16);
+
+// Camera-relative light. Types as LightType.
+struct GpuLight {
+  glm::vec4 position_type;        // xyz position (tube: first end), w: type
+  glm::vec4 end_radius;           // tube: xyz second end, w: radius
+  glm::vec4 color_range;          // rgb × intensity, w: range (0: none)
+  glm::vec4 direction_cos_outer;  // xyz: the way light travels, w: cos(outer cone)
+  glm::vec4 cos_inner;            // x: cos(inner cone)
+};
+static_assert(sizeof(GpuLight) == 80);
+
+struct GpuDraw {
+  glm::mat4 model;           // object → camera-relative world
+  glm::mat4 normal_matrix;   // inverse transpose of model's 3×3 (in a mat4 for alignment)
+  uint32_t first_index, index_count;
+  int32_t vertex_offset;
+  uint32_t material;
+  uint32_t stencil;          // material class | flags
+  uint32_t instance;         // index into scene.instances
+  uint32_t pad[2];
+};
+static_assert(sizeof(GpuDraw) == 160);
+
+// Texture slots of GpuMaterial, in order.
+enum MaterialTexture : uint32_t { base_color = 0, metallic_roughness, normal, occlusion, emissive, count };
+
+struct GpuMaterial {
+  glm::vec4 base_color;
+  glm::vec4 emissive;         // rgb × emissive strength
+  glm::vec4 pbr;              // metallic, roughness, alpha cutoff, normal scale
+  glm::vec4 extra;            // occlusion strength, translucency, alpha mode, flags (1 unlit, 2 double-sided)
+  glm::ivec4 textures;        // base colour, metallic-roughness, normal, occlusion (-1: none)
+  glm::ivec4 textures2;       // emissive, uv-set bits (bit k: slot k uses TEXCOORD_1), stencil class
+  glm::uvec4 samplers;        // packed SamplerDesc per slot (see pack_sampler)
+  glm::uvec4 samplers2;
+};
+static_assert(sizeof(GpuMaterial) == 128);
+
+}  // namespace nightcap

@@ -1,0 +1,23 @@
+#include "passes/frame/frame_passes.h"
+
+namespace nightcap {
+
+std::vector<std::string> frame_sinks() { return {"final.ldr", "normals.packed", "depth.pyramid"}; }
+
+std::vector<PassDecl> frame_passes() {
+  std::vector<PassDecl> passes;
+  passes.push_back(frame_constants_pass());
+  passes.push_back(cull_main_pass());
+  passes.push_back(depth_prepass_pass());
+  passes.push_back(gbuffer_opaque_pass());
+  passes.push_back(depth_convert_pass());
+  passes.push_back(normals_bfn_lut_pass());
+  passes.push_back(normals_pack_pass());
+  passes.push_back(depth_pyramid_pass());
+  passes.push_back(lighting_deferred_pass());
+  passes.push_back(lighting_composite_pass());
+  passes.push_back(tonemap_pass());
+  return passes;
+}
+
+}  // namespace nightcap

@@ -1,0 +1,252 @@
+#include "passes/frame/renderer.h"
+
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <thread>
+
+#include "captures/hash.h"
+#include "passes/core/shader.h"
+#include "passes/frame/camera_math.h"
+
+namespace nightcap {
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+ResourceRecord describe(const VersionData& v) {
+  ResourceRecord r;
+  r.resource = v.resource;
+  r.kind = v.desc.kind;
+  r.is_buffer = v.desc.is_buffer;
+  r.format = v.desc.format;
+  r.extent = v.desc.extent;
+  r.buffer_size = v.desc.buffer_size;
+  return r;
+}
+
+}  // namespace
+
+void parse_set(const std::string& text, std::map<std::string, ParamValues>& params) {
+  const size_t equals = text.find('=');
+  const size_t dot = text.rfind('.', equals);
+  if (equals == std::string::npos || dot == std::string::npos || dot == 0 || dot + 1 >= equals)
+    throw SceneError("--set '" + text + "': expected PASS.PARAM=VALUE");
+  const std::string value = text.substr(equals + 1);
+  char* end = nullptr;
+  const double number = std::strtod(value.c_str(), &end);
+  if (value.empty() || *end != '\0' || !std::isfinite(number))
+    throw SceneError("--set '" + text + "': value '" + value + "' is not a finite number");
+  params[text.substr(0, dot)][text.substr(dot + 1, equals - dot - 1)] = number;
+}
+
+void validate_params(const std::vector<PassDecl>& passes, const std::map<std::string, ParamValues>& params) {
+  for (const auto& [pass, values] : params) {
+    const PassDecl* decl = find_pass(passes, pass);
+    if (!decl) throw SceneError("--set " + pass + ".*: no pass named '" + pass + "'");
+    for (const auto& [name, value] : values) {
+      const ParamDecl* p = decl->find_param(name);
+      if (!p) {
+        std::string known;
+        for (const ParamDecl& q : decl->params) known += (known.empty() ? "" : ", ") + q.name;
+        throw SceneError("--set " + pass + "." + name + ": unknown parameter (" + pass + " has: " +
+                         (known.empty() ? "none" : known) + ")");
+      }
+      if (value < p->min || value > p->max)
+        throw SceneError("--set " + pass + "." + name + "=" + std::to_string(value) + ": outside [" +
+                         std::to_string(p->min) + ", " + std::to_string(p->max) + "]");
+    }
+  }
+}
+
+void add_default_lighting(Scene& scene) {
+  if (!scene.lights.empty()) return;
+  Light key;
+  key.type = LightType::directional;
+  key.direction = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.6f));
+  key.color = glm::vec3(1.0f);
+  key.intensity = 3.0f;
+  scene.lights.push_back(key);
+  scene.notes.push_back("scene has no lights: added a directional key light");
+}
+
+Camera base_camera(const Scene& scene, const RenderSettings& settings) {
+  if (settings.camera) return *settings.camera;
+  if (scene.camera) return *scene.camera;
+  return framing_camera(scene, double(settings.width) / settings.height);
+}
+
+Camera frame_camera(const Camera& base, const Scene& scene, uint32_t frame) {
+  Camera camera = base;
+  const double size = glm::length(scene.bounds_max() - scene.bounds_min());
+  const glm::dvec3 forward = -glm::dvec3(base.world[2]);
+  camera.world[3] += glm::dvec4(forward * (0.002 * size * frame), 0.0);
+  return camera;
+}
+
+const std::vector<uint32_t>& builtin_spirv(const std::string& path) {
+  static std::mutex mutex;
+  static std::map<std::string, std::vector<uint32_t>> compiled;
+  std::lock_guard lock(mutex);
+  auto it = compiled.find(path);
+  if (it == compiled.end()) it = compiled.emplace(path, compile_glsl(path, shader_source(path))).first;
+  return it->second;
+}
+
+Renderer::Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings)
+    : gpu_(gpu), scene_(scene), settings_(std::move(settings)), passes_(frame_passes()), cache_(gpu),
+      scene_imports_(scene_imports(scene)), base_(base_camera(scene, settings_)) {
+  validate_params(passes_, settings_.params);
+}
+
+RenderedFrame Renderer::render_frame(uint32_t index, bool capture) {
+  RenderedFrame frame;
+  frame.camera = frame_camera(base_, scene_, index);
+  const Camera previous = index == 0 ? frame.camera : frame_camera(base_, scene_, index - 1);
+  Imports imports = scene_imports_;
+  for (auto& [name, data] : camera_import(frame.camera, previous, settings_.width, settings_.height, index, index / 60.0))
+    imports[name] = data;
+
+  GraphSettings graph_settings;
+  graph_settings.width = settings_.width;
+  graph_settings.height = settings_.height;
+  graph_settings.frame.features = scene_.features();
+  graph_settings.frame.frame_index = index;
+  graph_settings.frame.camera_moved = previous.world != frame.camera.world;
+  graph_settings.sinks = frame_sinks();
+  frame.graph = compile_graph(passes_, as_graph_imports(imports), graph_settings);
+
+  ExecutionOptions options;
+  options.capture = capture;
+  options.readback = {"final.ldr"};
+  options.params = settings_.params;
+  options.shaders = [](const std::string&, const std::string& path) { return builtin_spirv(path); };
+  std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> bytes;
+  for (const auto& [name, data] : imports) bytes[name] = data.bytes;
+  frame.execution = execute_graph(gpu_, cache_, frame.graph, bytes, options);
+  return frame;
+}
+
+FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint32_t index,
+                         const std::map<std::string, ParamValues>& params) {
+  FrameRecord record;
+  record.index = index;
+  const CameraRecordGpu* camera = nullptr;
+  if (const VersionData* v = frame.execution.final_version("frame.camera"))
+    camera = reinterpret_cast<const CameraRecordGpu*>(v->bytes->data());
+  const glm::dmat4 view = relative_view(frame.camera.world);
+  const glm::dmat4 projection =
+      reversed_z_projection(frame.camera.yfov, camera ? double(camera->width) / camera->height : 1.0, frame.camera.znear);
+  for (int k = 0; k < 16; ++k) {
+    record.camera.view[k] = (&view[0][0])[k];
+    record.camera.projection[k] = (&projection[0][0])[k];
+  }
+  for (int k = 0; k < 3; ++k) record.camera.position[k] = frame.camera.world[3][k];
+  record.camera.yfov = frame.camera.yfov;
+  record.camera.znear = frame.camera.znear;
+
+  // Blobs are encoded on every core: compression dominates the cost of a capture.
+  struct Job {
+    ResourceRecord* record;
+    const std::vector<uint8_t>* bytes;
+  };
+  std::vector<Job> jobs;
+  record.passes.reserve(frame.graph.passes.size());
+  for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
+    const CompiledPass& pass = frame.graph.passes[i];
+    const PassExecution& exec = frame.execution.passes[i];
+    PassRecord p;
+    p.name = pass.decl->name;
+    p.ran = pass.runs && !pass.culled;
+    p.reason = pass.reason;
+    p.gpu_ms = exec.gpu_ms;
+    p.cpu_ms = exec.cpu_ms;
+    p.params = pass.decl->default_params();
+    if (auto it = params.find(p.name); it != params.end())
+      for (const auto& [k, v] : it->second) p.params[k] = v;
+    p.tolerance = pass.decl->tolerance_reason;
+    for (const auto& [path, code] : exec.spirv) p.shaders.push_back(writer.add_shader(path, code));
+    for (int v : exec.inputs) p.inputs.push_back(describe(frame.execution.versions[v]));
+    for (int v : exec.outputs) p.outputs.push_back(describe(frame.execution.versions[v]));
+    record.passes.push_back(std::move(p));
+  }
+  for (size_t i = 0; i < record.passes.size(); ++i) {
+    const PassExecution& exec = frame.execution.passes[i];
+    for (size_t k = 0; k < exec.inputs.size(); ++k)
+      jobs.push_back({&record.passes[i].inputs[k], frame.execution.versions[exec.inputs[k]].bytes.get()});
+    for (size_t k = 0; k < exec.outputs.size(); ++k)
+      jobs.push_back({&record.passes[i].outputs[k], frame.execution.versions[exec.outputs[k]].bytes.get()});
+  }
+  for (const Job& job : jobs)
+    if (!job.bytes) throw GraphError("resource '" + job.record->resource + "' was not read back for the capture");
+  std::atomic<size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  auto worker = [&] {
+    for (size_t j = next++; j < jobs.size(); j = next++) {
+      try {
+        writer.add_resource(*jobs[j].record, *jobs[j].bytes);
+      } catch (...) {
+        std::lock_guard lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (unsigned t = 0; t < std::max(1u, std::thread::hardware_concurrency()); ++t) threads.emplace_back(worker);
+  for (auto& t : threads) t.join();
+  if (failure) std::rethrow_exception(failure);
+  return record;
+}
+
+RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const RenderSettings& settings,
+                                const std::filesystem::path& out, bool force,
+                                const std::function<void(const std::string&)>& progress) {
+  RenderSummary summary;
+  CaptureWriter writer(out, force, {});
+  Renderer renderer(gpu, scene, settings);
+  CaptureManifest manifest;
+  manifest.device = {{"name", gpu.name()},
+                     {"driver", gpu.driver()},
+                     {"api_version", std::to_string(VK_API_VERSION_MAJOR(gpu.properties().apiVersion)) + "." +
+                                         std::to_string(VK_API_VERSION_MINOR(gpu.properties().apiVersion)) + "." +
+                                         std::to_string(VK_API_VERSION_PATCH(gpu.properties().apiVersion))},
+                     {"vendor_id", gpu.properties().vendorID},
+                     {"device_id", gpu.properties().deviceID}};
+  manifest.settings = settings.description;
+  manifest.scene = {{"source", scene.source},
+                    {"instances", scene.instances.size()},
+                    {"triangles", scene.indices.size() / 3},
+                    {"materials", scene.materials.size()},
+                    {"textures", scene.textures.size()},
+                    {"lights", scene.lights.size()},
+                    {"notes", scene.notes}};
+  gpu.renderdoc_begin();
+  std::vector<uint8_t> final_pixels;
+  try {
+    for (uint32_t k = 0; k < settings.frames; ++k) {
+      progress("frame " + std::to_string(k + 1) + "/" + std::to_string(settings.frames) + ": rendering");
+      auto start = std::chrono::steady_clock::now();
+      RenderedFrame frame = renderer.render_frame(k, true);
+      summary.render_ms += ms_since(start);
+      progress("frame " + std::to_string(k + 1) + "/" + std::to_string(settings.frames) + ": writing capture");
+      start = std::chrono::steady_clock::now();
+      manifest.frames.push_back(record_frame(writer, frame, k, settings.params));
+      summary.capture_ms += ms_since(start);
+      for (const VersionData& v : frame.execution.versions) summary.raw_bytes += v.bytes ? v.bytes->size() : 0;
+      if (const VersionData* final = frame.execution.final_version("final.ldr")) final_pixels = *final->bytes;
+    }
+  } catch (...) {
+    gpu.renderdoc_end();
+    throw;
+  }
+  gpu.renderdoc_end();
+  if (!final_pixels.empty()) writer.write_final_png(final_pixels, settings.width, settings.height);
+  writer.commit(manifest);
+  summary.disk_bytes = writer.bytes_written();
+  return summary;
+}
+
+}  // namespace nightcap

@@ -1,0 +1,78 @@
+// Renders frames of a scene through the render graph, optionally into a capture.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "captures/capture.h"
+#include "passes/core/executor.h"
+#include "passes/frame/scene_resources.h"
+#include "passes/scene/scene.h"
+
+namespace nightcap {
+
+struct RenderSettings {
+  uint32_t width = 1280, height = 720;
+  uint32_t frames = 1;
+  std::map<std::string, ParamValues> params;  // --set overrides, per pass
+  std::optional<Camera> camera;               // --orbit; else the scene's, else a framing one
+  nlohmann::json description;                 // settings as given, recorded in the manifest
+};
+
+// Throws SceneError naming the flag for a parameter that no pass declares or out of range.
+void validate_params(const std::vector<PassDecl>& passes, const std::map<std::string, ParamValues>& params);
+// Parses "pass.param=value"; throws SceneError naming the flag.
+void parse_set(const std::string& text, std::map<std::string, ParamValues>& params);
+
+// Adds a key light when the scene has none, as glTF viewers do (recorded in scene.notes).
+void add_default_lighting(Scene& scene);
+
+// The camera of frame k: the base camera dollied forward a little each frame, so multi-frame
+// captures carry camera motion (and motion vectors).
+Camera frame_camera(const Camera& base, const Scene& scene, uint32_t frame);
+Camera base_camera(const Scene& scene, const RenderSettings& settings);
+
+struct RenderedFrame {
+  CompiledGraph graph;
+  Execution execution;
+  Camera camera;
+};
+
+class Renderer {
+ public:
+  Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings);
+  RenderedFrame render_frame(uint32_t index, bool capture);
+  const std::vector<PassDecl>& passes() const { return passes_; }
+  GpuDevice& gpu() { return gpu_; }
+
+ private:
+  GpuDevice& gpu_;
+  const Scene& scene_;
+  RenderSettings settings_;
+  std::vector<PassDecl> passes_;
+  PipelineCache cache_;
+  Imports scene_imports_;
+  Camera base_;
+  std::map<std::string, std::vector<uint32_t>> spirv_;
+};
+
+// Built-in SPIR-V of a shader, compiled once per process.
+const std::vector<uint32_t>& builtin_spirv(const std::string& path);
+
+// Turns an executed frame into the manifest's frame record, writing blobs as it goes.
+FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint32_t index,
+                         const std::map<std::string, ParamValues>& params);
+
+struct RenderSummary {
+  double render_ms = 0, capture_ms = 0;
+  uint64_t raw_bytes = 0, disk_bytes = 0;
+};
+// render: every frame into a capture at `out` (atomic), final.png from the last frame.
+RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const RenderSettings& settings,
+                                const std::filesystem::path& out, bool force,
+                                const std::function<void(const std::string&)>& progress);
+
+}  // namespace nightcap

@@ -1,0 +1,67 @@
+// The scene and the camera as graph resources: everything a pass reads about the world is an
+// imported resource with host bytes, so the capture records it and replay can feed it back.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "passes/core/graph.h"
+#include "passes/scene/scene.h"
+
+namespace nightcap {
+
+// scene.geometry starts with this header; vertex and index streams follow at the offsets.
+struct GeometryHeader {
+  uint32_t vertex_count, index_count;
+  uint32_t vertex_offset, index_offset;  // bytes from the start of the buffer, 256-aligned
+};
+constexpr uint32_t kGeometryAlignment = 256;
+
+// scene.instances: one record per drawable instance (host-side, read by cull.main).
+struct InstanceRecord {
+  double world[16];
+  uint32_t first_index, index_count;
+  int32_t vertex_offset;
+  uint32_t material;
+  float bounds_min[3], bounds_max[3];  // object space
+  uint32_t moving;
+  uint32_t pad;
+};
+
+// scene.lights: world-space lights (host-side, read by frame.constants).
+struct LightRecord {
+  double position[3], end[3];
+  float direction[3], color[3];
+  float intensity, range, inner_cone, outer_cone, radius;
+  uint32_t type;
+};
+
+// frame.camera: this frame's and the previous frame's camera.
+struct CameraRecordGpu {
+  double world[16], previous_world[16];
+  double yfov, znear;
+  uint32_t width, height, frame_index, pad;
+  double time;
+};
+
+struct ImportedData {
+  ResourceDesc desc;
+  std::shared_ptr<const std::vector<uint8_t>> bytes;
+};
+using Imports = std::map<std::string, ImportedData>;
+
+// scene.geometry, scene.instances, scene.materials, scene.lights and scene.texture.<n>
+// (mip chains built here; the last texture is 1×1 white, bound where a material has none).
+Imports scene_imports(const Scene& scene);
+Imports camera_import(const Camera& current, const Camera& previous, uint32_t width, uint32_t height,
+                      uint32_t frame_index, double time);
+
+std::string texture_resource(uint32_t index);
+uint32_t pack_sampler(const SamplerDesc& desc);
+SamplerDesc unpack_sampler(uint32_t bits);
+
+std::vector<ImportedResource> as_graph_imports(const Imports& imports);
+
+}  // namespace nightcap

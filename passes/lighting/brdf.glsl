@@ -1,0 +1,31 @@
+// GGX specular with height-correlated Smith visibility and Schlick Fresnel; Lambert diffuse.
+float d_ggx(float n_h, float alpha) {
+  float a2 = alpha * alpha;
+  float d = n_h * n_h * (a2 - 1.0) + 1.0;
+  return a2 / (PI * d * d);
+}
+
+float v_smith_correlated(float n_v, float n_l, float alpha) {
+  float a2 = alpha * alpha;
+  float gv = n_l * sqrt(n_v * n_v * (1.0 - a2) + a2);
+  float gl = n_v * sqrt(n_l * n_l * (1.0 - a2) + a2);
+  return 0.5 / max(gv + gl, 1e-7);
+}
+
+vec3 f_schlick(vec3 f0, float v_h) {
+  return f0 + (1.0 - f0) * pow(1.0 - v_h, 5.0);
+}
+
+// Radiance reflected toward v from irradiance `e` arriving along l, split into the diffuse
+// and specular parts (both already multiplied by n·l).
+void shade(vec3 n, vec3 v, vec3 l, vec3 e, vec3 albedo, float metallic, float alpha, float spec_scale,
+           inout vec3 diffuse, inout vec3 specular) {
+  float n_l = dot(n, l);
+  if (n_l <= 0.0) return;
+  float n_v = max(dot(n, v), 1e-4);
+  vec3 h = normalize(l + v);
+  vec3 f0 = mix(vec3(0.04), albedo, metallic);
+  vec3 f = f_schlick(f0, clamp(dot(v, h), 0.0, 1.0));
+  diffuse += albedo * (1.0 - metallic) * (1.0 / PI) * n_l * e;
+  specular += f * (d_ggx(max(dot(n, h), 0.0), alpha) * v_smith_correlated(n_v, n_l, alpha) * spec_scale) * n_l * e;
+}

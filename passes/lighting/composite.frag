@@ -1,0 +1,35 @@
+#version 460
+#include "../frame/types.glsl"
+
+layout(set = 0, binding = 0) uniform sampler2D diffuse_map;
+layout(set = 0, binding = 1) uniform sampler2D specular_map;
+layout(set = 0, binding = 2) uniform sampler2D albedo_map;
+layout(set = 0, binding = 3) uniform sampler2D material_map;
+layout(set = 0, binding = 4) uniform sampler2D emissive_map;
+layout(set = 0, binding = 5) uniform sampler2D depth_map;
+
+layout(push_constant) uniform Params {
+  vec4 ambient;  // rgb radiance of the uniform ambient term
+  vec4 sky;      // rgb radiance where nothing was drawn
+};
+
+layout(location = 0) in vec2 in_uv;
+layout(location = 0) out vec4 out_lit;
+
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  if (texelFetch(depth_map, pixel, 0).r <= 0.0) {
+    out_lit = vec4(sky.rgb, 1.0);
+    return;
+  }
+  vec4 albedo = texelFetch(albedo_map, pixel, 0);
+  vec3 emitted = texelFetch(emissive_map, pixel, 0).rgb;
+  if (albedo.a > 0.0) {  // unlit: the base colour is the result
+    out_lit = vec4(albedo.rgb + emitted, 1.0);
+    return;
+  }
+  float metallic = texelFetch(material_map, pixel, 0).r;
+  vec3 lit = texelFetch(diffuse_map, pixel, 0).rgb + texelFetch(specular_map, pixel, 0).rgb + emitted +
+             ambient.rgb * albedo.rgb * (1.0 - metallic);
+  out_lit = vec4(lit, 1.0);
+}

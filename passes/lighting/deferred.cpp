@@ -1,0 +1,55 @@
+// lighting.deferred: direct light from the sun and every local light at every pixel, split
+// into diffuse and specular (RGBA16F). The clustered, tiled compute version of frame.md
+// (lighting.tiled) replaces it once lights.cluster exists.
+#include "passes/core/context.h"
+#include "passes/frame/frame_passes.h"
+
+namespace nightcap {
+
+PassDecl lighting_deferred_pass() {
+  ImageDecl hdr{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour};
+  return PassDecl("lighting.deferred", PassType::graphics)
+      .read("frame.constants", Use::uniform_buffer)
+      .read("frame.lights", Use::storage_read)
+      .read("gbuffer.albedo", Use::sampled)
+      .read("gbuffer.normal", Use::sampled)
+      .read("gbuffer.material", Use::sampled)
+      .read("scene.depth", Use::sampled)
+      .write("lighting.diffuse", Use::color_attachment, hdr)
+      .write("lighting.specular", Use::color_attachment, hdr)
+      .param("intensity_scale", 1.0, 0.0, 1e6, "multiplies every light's intensity")
+      .param("min_roughness", 0.03, 0.0, 1.0, "roughness floor: keeps point highlights finite in half floats")
+      .param("tube_samples", 8, 1, 256, "samples along each tube light for its diffuse term")
+      .skip_when([](const SkipContext& frame) {
+        const bool lit = frame.features.count("sun") || frame.features.count("local_lights");
+        return lit ? std::string() : std::string("scene has no lights");
+      })
+      .shader("frame/fullscreen.vert")
+      .shader("lighting/deferred.frag")
+      .run([](PassContext& ctx) {
+        GraphicsPipelineDesc desc;
+        desc.vertex = "frame/fullscreen.vert";
+        desc.fragment = "lighting/deferred.frag";
+        desc.bindings = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
+        desc.push_constant_bytes = 12;
+        desc.color_formats = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT};
+        ctx.begin_rendering({"lighting.diffuse", "lighting.specular"});
+        ctx.bind(desc);
+        VkSampler nearest = ctx.nearest_clamp();
+        ctx.push({Binding::uniform(0, "frame.constants"), Binding::storage(1, "frame.lights"),
+                  Binding::texture(2, "gbuffer.albedo", nearest), Binding::texture(3, "gbuffer.normal", nearest),
+                  Binding::texture(4, "gbuffer.material", nearest), Binding::texture(5, "scene.depth", nearest)});
+        struct {
+          float intensity_scale, min_roughness;
+          int32_t tube_samples;
+        } params{float(ctx.param("intensity_scale")), float(ctx.param("min_roughness")),
+                 int32_t(ctx.param("tube_samples"))};
+        ctx.push_constants(&params, sizeof(params));
+        vkCmdDraw(ctx.cmd(), 3, 1, 0, 0);
+        ctx.end_rendering();
+      });
+}
+
+}  // namespace nightcap

@@ -1,0 +1,109 @@
+#version 460
+// Every light at every pixel (the clustered, tiled version replaces this pass later).
+#include "../frame/types.glsl"
+#include "brdf.glsl"
+
+layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
+layout(std430, set = 0, binding = 1) readonly buffer LightBlock { Light lights[]; };
+layout(set = 0, binding = 2) uniform sampler2D albedo_map;
+layout(set = 0, binding = 3) uniform sampler2D normal_map;
+layout(set = 0, binding = 4) uniform sampler2D material_map;
+layout(set = 0, binding = 5) uniform sampler2D depth_map;
+
+layout(push_constant) uniform Params {
+  float intensity_scale;
+  float min_roughness;
+  int tube_samples;
+};
+
+layout(location = 0) in vec2 in_uv;
+layout(location = 0) out vec4 out_diffuse;
+layout(location = 1) out vec4 out_specular;
+
+// glTF's recommended smooth window so a light's reach ends at its range.
+float range_window(float distance, float range) {
+  if (range <= 0.0) return 1.0;
+  float r = distance / range;
+  float w = clamp(1.0 - r * r * r * r, 0.0, 1.0);
+  return w * w;
+}
+
+float spot_factor(Light light, vec3 to_light) {
+  float cos_outer = light.direction_cos_outer.w, cos_inner = light.cos_inner.x;
+  float cd = dot(light.direction_cos_outer.xyz, -to_light);
+  float t = clamp((cd - cos_outer) / max(cos_inner - cos_outer, 1e-4), 0.0, 1.0);
+  return t * t;
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  float depth = texelFetch(depth_map, pixel, 0).r;
+  out_diffuse = vec4(0.0);
+  out_specular = vec4(0.0);
+  vec4 albedo_flags = texelFetch(albedo_map, pixel, 0);
+  if (depth <= 0.0 || albedo_flags.a > 0.0) return;  // sky, or unlit (composite adds it)
+
+  vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
+  vec4 p = frame.inverse_view_projection * vec4(ndc, depth, 1.0);
+  vec3 position = p.xyz / p.w;  // camera-relative world
+  vec3 v = normalize(-position);
+  vec3 n = normalize(texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0);
+  vec4 material = texelFetch(material_map, pixel, 0);
+  vec3 albedo = albedo_flags.rgb;
+  float metallic = material.r;
+  float roughness = max(material.g, min_roughness);
+  float alpha = roughness * roughness;
+
+  vec3 diffuse = vec3(0.0), specular = vec3(0.0);
+  if (frame.sun_direction.w > 0.0)
+    shade(n, v, -frame.sun_direction.xyz, frame.sun_radiance.rgb * intensity_scale, albedo, metallic, alpha, 1.0,
+          diffuse, specular);
+
+  for (uint i = 0u; i < frame.counts.x; ++i) {
+    Light light = lights[i];
+    uint type = uint(light.position_type.w);
+    vec3 radiance = light.color_range.rgb * intensity_scale;
+    float range = light.color_range.w;
+    if (type == LIGHT_DIRECTIONAL) {
+      shade(n, v, -light.direction_cos_outer.xyz, radiance, albedo, metallic, alpha, 1.0, diffuse, specular);
+    } else if (type == LIGHT_TUBE) {
+      // A line light of `radiance` candela per metre. Diffuse: the segment integrated with
+      // tube_samples midpoint samples. Specular: Karis' representative point (the segment point
+      // closest to the reflection ray) with the widened lobe renormalised.
+      vec3 a = light.position_type.xyz - position, b = light.end_radius.xyz - position;
+      vec3 ab = b - a;
+      float len = length(ab);
+      vec3 sample_diffuse = vec3(0.0), unused = vec3(0.0);
+      int samples = max(tube_samples, 1);
+      for (int s = 0; s < samples; ++s) {
+        vec3 q = a + ab * ((float(s) + 0.5) / float(samples));
+        float d2 = max(dot(q, q), 1e-8);
+        vec3 e = radiance * (len / float(samples)) / d2 * range_window(sqrt(d2), range);
+        shade(n, v, q * inversesqrt(d2), e, albedo, metallic, alpha, 0.0, sample_diffuse, unused);
+      }
+      diffuse += sample_diffuse;
+      vec3 r = reflect(-v, n);
+      float rab = dot(r, ab);
+      float t = clamp((dot(r, a) * rab - dot(a, ab)) / max(dot(ab, ab) - rab * rab, 1e-8), 0.0, 1.0);
+      vec3 q = a + ab * t;
+      float d2 = max(dot(q, q), 1e-8);
+      float d = sqrt(d2);
+      float widened = clamp(alpha + 0.5 * len / (2.0 * d), 0.0, 1.0);
+      float normalisation = alpha / widened;
+      vec3 e = radiance * len / d2 * range_window(d, range);
+      vec3 no_diffuse = vec3(0.0);
+      shade(n, v, q / d, e, albedo, metallic, alpha, normalisation, no_diffuse, specular);
+    } else {
+      vec3 to_light = light.position_type.xyz - position;
+      float d2 = max(dot(to_light, to_light), 1e-8);
+      float d = sqrt(d2);
+      vec3 l = to_light / d;
+      float attenuation = range_window(d, range) / d2;
+      if (type == LIGHT_SPOT) attenuation *= spot_factor(light, l);
+      if (attenuation <= 0.0) continue;
+      shade(n, v, l, radiance * attenuation, albedo, metallic, alpha, 1.0, diffuse, specular);
+    }
+  }
+  out_diffuse = vec4(diffuse, 1.0);
+  out_specular = vec4(specular, 1.0);
+}

@@ -1,0 +1,32 @@
+#version 460
+// Best-fit normal packing: the 8-bit vector along n whose normalisation best matches n, its
+// length read from normals.bfn_lut (see passes/normals/bfn_lut.h), plus roughness in alpha.
+layout(set = 0, binding = 0) uniform sampler2D normal_map;
+layout(set = 0, binding = 1) uniform sampler2D material_map;
+layout(set = 0, binding = 2) uniform usampler2D bfn_lut;
+
+layout(location = 0) in vec2 in_uv;
+layout(location = 0) out vec4 out_packed;
+
+float code_of(float value) { return floor(clamp(value * 0.5 + 0.5, 0.0, 1.0) * 255.0 + 0.5); }
+
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  vec3 n = texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0;
+  vec3 a = abs(n);
+  float major = max(a.x, max(a.y, a.z));
+  vec3 packed_codes = vec3(128.0);
+  if (major > 0.0) {
+    vec3 w = n / major;
+    // The two minors, larger first, index the table.
+    vec2 minors = a.x == major ? a.yz : (a.y == major ? a.xz : a.xy);
+    minors /= major;
+    vec2 uv = vec2(max(minors.x, minors.y), min(minors.x, minors.y));
+    int size = textureSize(bfn_lut, 0).x;
+    ivec2 entry = ivec2(floor(uv * float(size - 1) + 0.5));
+    float t = float(texelFetch(bfn_lut, entry, 0).r) * (2.0 / 255.0) - 1.0;
+    packed_codes = vec3(code_of(w.x * t), code_of(w.y * t), code_of(w.z * t));
+  }
+  float roughness = texelFetch(material_map, pixel, 0).g;
+  out_packed = vec4(packed_codes / 255.0, roughness);
+}

@@ -1,0 +1,18 @@
+#version 460
+layout(set = 0, binding = 0) uniform sampler2D lit_map;
+layout(push_constant) uniform Params { float exposure; };
+layout(location = 0) in vec2 in_uv;
+layout(location = 0) out vec4 out_ldr;
+
+// Narkowicz's fit of the ACES filmic curve.
+vec3 aces(vec3 x) {
+  return clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
+}
+
+void main() {
+  vec3 hdr = texelFetch(lit_map, ivec2(gl_FragCoord.xy), 0).rgb;
+  // NaN or negative input must not reach the display: clamp before the curve.
+  hdr = max(hdr * exposure, vec3(0.0));
+  if (any(isnan(hdr))) hdr = vec3(0.0);
+  out_ldr = vec4(aces(hdr), 1.0);  // the R8G8B8A8_SRGB target applies the sRGB encoding
+}

@@ -1,0 +1,159 @@
+// The CPU-side scene: what a glTF file or the built-in city turns into before the frame
+// uploads it as `scene.*` resources. Positions of instances, lights and cameras are double
+// precision so a city 8 km from the origin keeps millimetres; the frame makes them
+// camera-relative floats.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace nightcap {
+
+// Bad scene input: the message names the file and the problem.
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Vertex {
+  float position[3];
+  float normal[3];
+  float tangent[4];  // xyz tangent, w handedness; zero when the source has none
+  float uv0[2];
+  float uv1[2];
+  float color[4];    // COLOR_0, white when absent
+};
+static_assert(sizeof(Vertex) == 72);
+
+struct SamplerDesc {
+  VkFilter mag_filter = VK_FILTER_LINEAR;
+  VkFilter min_filter = VK_FILTER_LINEAR;
+  VkSamplerMipmapMode mipmap_mode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
+  bool mipmaps = true;  // false for glTF NEAREST/LINEAR minification (no mip sampling)
+  VkSamplerAddressMode wrap_u = VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  VkSamplerAddressMode wrap_v = VK_SAMPLER_ADDRESS_MODE_REPEAT;
+};
+
+// Base level only, 8-bit RGBA; the frame builds the mip chain when it uploads.
+struct Texture {
+  std::string name;
+  uint32_t width = 0, height = 0;
+  bool srgb = false;  // base colour and emissive are sRGB-encoded
+  std::vector<uint8_t> rgba8;
+};
+
+struct TextureRef {
+  int32_t texture = -1;  // index into Scene::textures, -1 when unused
+  uint32_t uv_set = 0;
+  float scale = 1.0f;    // normalTexture.scale or occlusionTexture.strength
+  SamplerDesc sampler;
+};
+
+enum class AlphaMode : uint32_t { opaque = 0, mask = 1, blend = 2 };
+
+// Stencil material classes of frame.md; 0x02 (moving) is OR-ed on at draw time.
+namespace stencil {
+constexpr uint8_t plain = 0x00;
+constexpr uint8_t moving = 0x02;
+constexpr uint8_t road = 0x08;
+constexpr uint8_t body = 0x15;
+constexpr uint8_t face = 0x35;
+constexpr uint8_t vehicle = 0x40;
+constexpr uint8_t hair = 0x95;
+constexpr uint8_t foliage = 0xA0;
+}  // namespace stencil
+
+struct Material {
+  std::string name;
+  glm::vec4 base_color{1.0f};
+  float metallic = 1.0f;
+  float roughness = 1.0f;
+  glm::vec3 emissive{0.0f};         // emissiveFactor
+  float emissive_strength = 1.0f;   // KHR_materials_emissive_strength
+  TextureRef base_color_texture, metallic_roughness_texture, normal_texture, occlusion_texture,
+      emissive_texture;
+  AlphaMode alpha_mode = AlphaMode::opaque;
+  float alpha_cutoff = 0.5f;
+  bool double_sided = false;
+  bool unlit = false;              // KHR_materials_unlit
+  float translucency = 0.0f;
+  uint8_t stencil_class = stencil::plain;
+};
+
+// One drawable range of the shared vertex/index arrays; bounds are in object space.
+struct Primitive {
+  uint32_t first_index = 0, index_count = 0;
+  int32_t vertex_offset = 0;  // added to each index
+  uint32_t material = 0;
+  glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};
+};
+
+struct Instance {
+  glm::dmat4 world{1.0};
+  uint32_t primitive = 0;
+  bool moving = false;  // drawn by gbuffer.dynamic once it exists
+};
+
+enum class LightType : uint32_t { directional = 0, point = 1, spot = 2, tube = 3 };
+
+// Colours are linear RGB; intensity follows KHR_lights_punctual (candela for point/spot,
+// lux for directional); a tube's intensity is candela per metre of its length.
+struct Light {
+  LightType type = LightType::point;
+  glm::dvec3 position{0.0};      // tube: first end point
+  glm::dvec3 end{0.0};           // tube: second end point
+  glm::vec3 direction{0, -1, 0}; // directional/spot: the way light travels
+  glm::vec3 color{1.0f};
+  float intensity = 1.0f;
+  float range = 0.0f;            // 0: infinite (a falloff window is applied at 'range' when set)
+  float inner_cone = 0.0f, outer_cone = 0.785398f;
+  float radius = 0.0f;           // tube thickness, for the representative point
+};
+
+// A pinhole camera: camera-to-world transform (looks down -Z, +Y up), vertical FOV.
+struct Camera {
+  glm::dmat4 world{1.0};
+  float yfov = 0.785398f;  // radians
+  float znear = 0.05f;     // infinite far plane
+};
+
+struct Scene {
+  std::string source;  // file path, or "built-in city (seed N)"
+  std::vector<Vertex> vertices;
+  std::vector<uint32_t> indices;
+  std::vector<Primitive> primitives;
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
+  std::vector<Instance> instances;
+  std::vector<Light> lights;
+  std::optional<Camera> camera;  // the first glTF camera, if any
+  std::vector<std::string> notes;  // what was approximated, e.g. BLEND drawn as opaque
+
+  // World-space bounds of all instances.
+  glm::dvec3 bounds_min() const;
+  glm::dvec3 bounds_max() const;
+  // Feature names passes may require: "opaque_geometry", "mask_geometry", "sun",
+  // "local_lights", "emissive", "moving_geometry".
+  std::set<std::string> features() const;
+};
+
+// Loads a glTF 2.0 file (.gltf or .glb) through tinygltf. Throws SceneError naming the file.
+Scene load_gltf(const std::string& path);
+
+// The built-in Night City block, deterministic from the seed.
+Scene build_city(uint32_t seed);
+
+// The camera convention of shared/data/README.md: the camera sits at
+// target + radius·(sin φ sin θ, cos φ, sin φ cos θ), looks at the target with +Y up.
+Camera orbit_camera(double theta_degrees, double phi_degrees, double radius, glm::dvec3 target,
+                    double yfov_degrees);
+// A camera that frames the whole scene (used when the scene has none).
+Camera framing_camera(const Scene& scene, double aspect);
+
+}  // namespace nightcap

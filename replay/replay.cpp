@@ -1,0 +1,174 @@
+#include "replay/replay.h"
+
+#include <fstream>
+#include <sstream>
+
+#include "captures/hash.h"
+#include "inspect/metrics.h"
+#include "passes/core/isolated.h"
+#include "passes/core/shader.h"
+#include "passes/frame/renderer.h"
+
+namespace nightcap {
+namespace {
+
+ResourceDesc desc_of(const ResourceRecord& r) {
+  ResourceDesc d;
+  d.is_buffer = r.is_buffer;
+  d.kind = r.kind;
+  d.format = r.format;
+  d.extent = r.extent;
+  d.buffer_size = r.buffer_size;
+  return d;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError("--shader: cannot read '" + path + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string extension(const std::string& path) {
+  const size_t dot = path.rfind('.');
+  return dot == std::string::npos ? "" : path.substr(dot);
+}
+
+}  // namespace
+
+std::string verdict_name(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::identical: return "identical";
+    case Verdict::within_tolerance: return "within tolerance";
+    case Verdict::different: return "different";
+  }
+  return "";
+}
+
+bool ReplayReport::any_different() const {
+  for (const PassReplay& p : passes)
+    for (const OutputCheck& o : p.outputs)
+      if (o.verdict == Verdict::different) return true;
+  return false;
+}
+
+ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const ReplayOptions& options) {
+  const FrameRecord& frame = capture.frame(options.frame);
+  const std::vector<PassDecl> passes = frame_passes();
+  validate_params(passes, options.params);
+  for (const std::string& name : options.passes) {
+    bool found = false;
+    for (const PassRecord& p : frame.passes) found |= p.name == name;
+    if (!found) throw SceneError("--pass " + name + ": frame " + std::to_string(options.frame) + " has no such pass");
+  }
+  for (const auto& [pass, file] : options.shader_files) {
+    const PassDecl* decl = find_pass(passes, pass);
+    if (!decl) throw SceneError("--shader " + pass + "=" + file + ": no pass named '" + pass + "'");
+    bool stage = false;
+    for (const std::string& s : decl->shaders) stage |= extension(s) == extension(file);
+    if (!stage) throw SceneError("--shader " + pass + "=" + file + ": " + pass + " has no " + extension(file) + " shader");
+  }
+
+  ReplayReport report;
+  report.frame = options.frame;
+  report.device = gpu.name();
+  PipelineCache cache(gpu);
+  const nlohmann::json& settings = capture.manifest().settings;
+  std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> replayed_by_recorded_hash;
+
+  for (const PassRecord& record : frame.passes) {
+    const bool wanted = options.passes.empty() ||
+                        std::find(options.passes.begin(), options.passes.end(), record.name) != options.passes.end();
+    if (!wanted) continue;
+    PassReplay result;
+    result.name = record.name;
+    if (!record.ran) {
+      result.reason = "skipped in the capture: " + record.reason;
+      report.passes.push_back(result);
+      continue;
+    }
+    const PassDecl* decl = find_pass(passes, record.name);
+    if (!decl) {
+      result.reason = "this build has no pass named " + record.name;
+      report.passes.push_back(result);
+      continue;
+    }
+
+    std::map<std::string, IsolatedInput> inputs;
+    for (const ResourceRecord& in : record.inputs) {
+      if (inputs.count(in.resource)) continue;
+      auto chained = replayed_by_recorded_hash.find(in.hash);
+      inputs[in.resource] = {desc_of(in), options.chain && chained != replayed_by_recorded_hash.end()
+                                              ? chained->second
+                                              : std::make_shared<const std::vector<uint8_t>>(capture.load(in))};
+    }
+    ParamValues params = record.params;
+    if (auto it = options.params.find(record.name); it != options.params.end())
+      for (const auto& [k, v] : it->second) params[k] = v;
+    std::map<std::string, std::vector<uint32_t>> recorded_spirv;
+    for (const ShaderRecord& s : record.shaders) recorded_spirv[s.path] = capture.load_shader(s);
+    std::optional<std::vector<uint32_t>> override_code;
+    std::string override_stage;
+    if (auto it = options.shader_files.find(record.name); it != options.shader_files.end()) {
+      override_code = compile_glsl(it->second, read_text(it->second));
+      override_stage = extension(it->second);
+      result.notes.push_back("shader " + it->second + " replaces the recorded " + override_stage + " shader");
+    }
+    auto shaders = [&](const std::string&, const std::string& path) -> std::vector<uint32_t> {
+      if (override_code && extension(path) == override_stage) return *override_code;
+      auto it = recorded_spirv.find(path);
+      if (it != recorded_spirv.end()) return it->second;
+      result.notes.push_back("capture has no SPIR-V for " + path + ": built-in shader used");
+      return builtin_spirv(path);
+    };
+    const IsolatedRun run = run_isolated(gpu, cache, *decl, inputs, params, settings.value("width", 1280u),
+                                         settings.value("height", 720u), shaders);
+    const Execution& execution = run.execution;
+    result.replayed = true;
+    result.gpu_ms = execution.passes.at(0).gpu_ms;
+    result.cpu_ms = execution.passes.at(0).cpu_ms;
+
+    const PassExecution& exec = execution.passes.at(0);
+    for (const ResourceRecord& out : record.outputs) {
+      OutputCheck check;
+      check.resource = out.resource;
+      check.recorded_hash = out.hash;
+      const VersionData* produced = nullptr;
+      for (int v : exec.outputs)
+        if (execution.versions[v].resource == out.resource) produced = &execution.versions[v];
+      if (!produced || !produced->bytes) {
+        check.verdict = Verdict::different;
+        check.metric = "not produced by the replay";
+        result.outputs.push_back(check);
+        continue;
+      }
+      check.replayed_hash = content_hash(*produced->bytes);
+      replayed_by_recorded_hash[out.hash] = produced->bytes;
+      if (check.replayed_hash == out.hash) {
+        check.metric = "bytes";
+        result.outputs.push_back(check);
+        continue;
+      }
+      const ResourceDesc recorded_desc = desc_of(out);
+      if (produced->desc.is_buffer != recorded_desc.is_buffer || produced->desc.raw_bytes() != recorded_desc.raw_bytes()) {
+        check.verdict = Verdict::different;
+        check.metric = "size differs";
+        result.outputs.push_back(check);
+        continue;
+      }
+      ResourceRecord replayed_record = out;
+      replayed_record.buffer_size = produced->desc.buffer_size;
+      const std::vector<uint8_t> recorded = capture.load(out);
+      const ResourceComparison cmp = compare_resource(out, recorded, replayed_record, *produced->bytes);
+      check.amount = cmp.max_abs;
+      check.metric = cmp.metric;
+      check.verdict = decl->tolerance > 0 && cmp.max_abs <= decl->tolerance ? Verdict::within_tolerance : Verdict::different;
+      result.outputs.push_back(check);
+    }
+    report.passes.push_back(std::move(result));
+  }
+  return report;
+}
+
+}  // namespace nightcap

@@ -1,0 +1,56 @@
+// Replay: re-executes passes of a capture from their recorded inputs through the same pass
+// code the renderer runs, and compares what they produce with what was recorded.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "captures/capture.h"
+#include "passes/core/device.h"
+#include "passes/core/pass.h"
+
+namespace nightcap {
+
+struct ReplayOptions {
+  uint32_t frame = 0;
+  std::vector<std::string> passes;                 // empty: every pass that ran
+  std::map<std::string, ParamValues> params;       // overrides of recorded parameters
+  std::map<std::string, std::string> shader_files; // pass -> GLSL file replacing its shader of that stage
+  bool chain = false;  // feed replayed outputs to later passes instead of the recorded ones
+};
+
+enum class Verdict { identical, within_tolerance, different };
+std::string verdict_name(Verdict verdict);
+
+struct OutputCheck {
+  std::string resource;
+  Verdict verdict = Verdict::identical;
+  std::string metric;   // how "different" / "within tolerance" was measured
+  double amount = 0.0;  // max abs difference
+  std::string recorded_hash, replayed_hash;
+};
+
+struct PassReplay {
+  std::string name;
+  bool replayed = false;
+  std::string reason;  // why not replayed
+  std::optional<double> gpu_ms;
+  double cpu_ms = 0.0;
+  std::vector<OutputCheck> outputs;
+  std::vector<std::string> notes;  // e.g. shader overridden
+};
+
+struct ReplayReport {
+  uint32_t frame = 0;
+  std::string device;
+  std::vector<PassReplay> passes;
+  bool any_different() const;
+};
+
+// Throws CaptureError for an unreadable capture, SceneError for bad options (unknown pass,
+// parameter, shader file), ShaderError for a shader that does not compile.
+ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const ReplayOptions& options);
+
+}  // namespace nightcap

@@ -1,0 +1,307 @@
+// nightcap's benchmark: prints figures, asserts nothing.
+//  - per-pass GPU time (median over repeats) for the built-in city and the glTF models;
+//  - frame time with capture off and on, and their ratio, in the same run;
+//  - capture bytes on disk against the raw sum of recorded resources;
+//  - time against error for each pass knob (normals.pack LUT size, lighting.deferred tube samples,
+//    depth.convert and depth.pyramid against their references).
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <random>
+
+#include "passes/core/isolated.h"
+#include "passes/frame/frame_passes.h"
+#include "passes/frame/renderer.h"
+#include "passes/frame/gpu_types.h"
+#include "passes/normals/bfn_lut.h"
+
+namespace nc = nightcap;
+namespace fs = std::filesystem;
+
+namespace {
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  return values[values.size() / 2];
+}
+
+double now_ms() {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+nc::ShaderProvider builtin() {
+  return [](const std::string&, const std::string& path) { return nc::builtin_spirv(path); };
+}
+
+// Per-pass medians over `repeats` frames, capture off, plus frame time off/on and capture size.
+void bench_scene(nc::GpuDevice& gpu, const std::string& label, nc::Scene scene, uint32_t width, uint32_t height,
+                 int repeats, bool capture_figures) {
+  nc::add_default_lighting(scene);
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  nc::Renderer renderer(gpu, scene, settings);
+  renderer.render_frame(0, false);  // pipelines compiled outside the measurement
+  std::map<std::string, std::vector<double>> pass_ms;
+  std::vector<std::string> order;
+  std::vector<double> frame_off, frame_on;
+  for (int r = 0; r < repeats; ++r) {
+    double start = now_ms();
+    nc::RenderedFrame frame = renderer.render_frame(0, false);
+    frame_off.push_back(now_ms() - start);
+    for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
+      const std::string& name = frame.graph.passes[i].decl->name;
+      if (r == 0) order.push_back(name);
+      const auto& exec = frame.execution.passes[i];
+      if (!frame.graph.passes[i].runs) continue;
+      pass_ms[name].push_back(exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms);
+    }
+  }
+  std::cout << "\n## " << label << " (" << width << "x" << height << ", " << scene.indices.size() / 3
+            << " triangles, " << scene.lights.size() << " lights; median of " << repeats << ")\n";
+  std::cout << std::left << std::setw(22) << "pass" << std::right << std::setw(12) << "ms" << "\n";
+  for (const std::string& name : order) {
+    std::cout << std::left << std::setw(22) << name << std::right << std::setw(12);
+    if (pass_ms[name].empty()) std::cout << "skipped";
+    else std::cout << std::fixed << std::setprecision(3) << median(pass_ms[name]);
+    std::cout << "\n";
+  }
+  std::cout << std::left << std::setw(22) << "frame (capture off)" << std::right << std::setw(12) << median(frame_off) << "\n";
+  if (!capture_figures) return;
+  const fs::path dir = fs::temp_directory_path() / "nightcap-bench";
+  fs::remove_all(dir);
+  std::vector<double> disk_ratio;
+  uint64_t raw = 0, disk = 0;
+  for (int r = 0; r < repeats; ++r) {
+    const double start = now_ms();
+    settings.frames = 1;
+    const nc::RenderSummary summary =
+        nc::render_to_capture(gpu, scene, settings, dir / std::to_string(r), false, [](const std::string&) {});
+    frame_on.push_back(now_ms() - start);
+    raw = summary.raw_bytes;
+    disk = summary.disk_bytes;
+  }
+  fs::remove_all(dir);
+  std::cout << std::left << std::setw(22) << "frame (capture on)" << std::right << std::setw(12) << median(frame_on)
+            << "   (render + readback + encode + write)\n";
+  std::cout << "capture on / off      " << std::setw(12) << std::setprecision(2) << median(frame_on) / median(frame_off)
+            << "x\n";
+  std::cout << "capture size          " << std::setw(12) << std::setprecision(1) << disk / 1048576.0 << " MiB on disk, "
+            << raw / 1048576.0 << " MiB raw (" << std::setprecision(3) << double(disk) / raw << " of raw)\n";
+}
+
+nc::IsolatedInput image(VkFormat format, nc::ResourceKind kind, uint32_t w, uint32_t h, std::vector<uint8_t> bytes) {
+  nc::IsolatedInput in;
+  in.desc.format = format;
+  in.desc.kind = kind;
+  in.desc.extent.width = w;
+  in.desc.extent.height = h;
+  in.bytes = std::make_shared<const std::vector<uint8_t>>(std::move(bytes));
+  return in;
+}
+
+double gpu_ms(const nc::IsolatedRun& run) { return run.execution.passes.at(0).gpu_ms.value_or(0.0); }
+
+// normals.pack: LUT size against mean/max angular error over a Fibonacci sphere.
+void bench_normals(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t count) {
+  const uint32_t width = 2048, height = (count + width - 1) / width;
+  std::vector<uint8_t> normals(size_t(width) * height * 4), material(size_t(width) * height * 4, 128);
+  std::vector<glm::dvec3> inputs(size_t(width) * height);
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (size_t i = 0; i < inputs.size(); ++i) {
+    const double y = 1.0 - 2.0 * (i + 0.5) / inputs.size(), r = std::sqrt(1.0 - y * y);
+    const glm::dvec3 d(std::cos(golden * i) * r, y, std::sin(golden * i) * r);
+    auto code = [](double v) { return uint32_t(std::lround((v * 0.5 + 0.5) * 1023.0)); };
+    const uint32_t w = code(d.x) | code(d.y) << 10 | code(d.z) << 20;
+    std::memcpy(normals.data() + 4 * i, &w, 4);
+    inputs[i] = glm::normalize(glm::dvec3((w & 1023) / 1023.0 * 2 - 1, ((w >> 10) & 1023) / 1023.0 * 2 - 1,
+                                          ((w >> 20) & 1023) / 1023.0 * 2 - 1));
+  }
+  std::cout << "\n## normals.pack: LUT size vs error (" << inputs.size() << " directions, " << width << "x" << height
+            << ")\n"
+            << std::left << std::setw(12) << "lut" << std::right << std::setw(12) << "build ms" << std::setw(12)
+            << "gpu ms" << std::setw(14) << "mean deg" << std::setw(12) << "max deg" << "\n";
+  for (uint32_t lut_size : {64u, 256u, 1024u, 2048u}) {
+    const double start = now_ms();
+    std::vector<uint8_t> lut = nc::build_bfn_lut(lut_size);
+    const double build = now_ms() - start;
+    std::vector<double> times;
+    nc::IsolatedRun run;
+    for (int r = 0; r < 3; ++r) {
+      run = nc::run_isolated(
+          gpu, cache, nc::normals_pack_pass(),
+          {{"gbuffer.normal", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, nc::ResourceKind::normal, width, height, normals)},
+           {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, nc::ResourceKind::material, width, height, material)},
+           {"normals.bfn_lut", image(VK_FORMAT_R8_UINT, nc::ResourceKind::lookup_table, lut_size, lut_size, lut)}},
+          {}, width, height, builtin());
+      times.push_back(gpu_ms(run));
+    }
+    const auto& packed = *run.outputs.at("normals.packed");
+    double sum = 0, worst = 0;
+    for (size_t i = 0; i < inputs.size(); ++i) {
+      const uint8_t* c = packed.data() + 4 * i;
+      const glm::dvec3 s = glm::normalize(
+          glm::dvec3(nc::decode_signed8(c[0]), nc::decode_signed8(c[1]), nc::decode_signed8(c[2])));
+      const double e = glm::degrees(std::atan2(glm::length(glm::cross(s, inputs[i])), glm::dot(s, inputs[i])));
+      sum += e;
+      worst = std::max(worst, e);
+    }
+    std::cout << std::left << std::setw(12) << lut_size << std::right << std::fixed << std::setprecision(1)
+              << std::setw(12) << build << std::setprecision(3) << std::setw(12) << median(times) << std::setprecision(4)
+              << std::setw(14) << sum / inputs.size() << std::setw(12) << worst << "\n";
+  }
+}
+
+// lighting.deferred: tube-light diffuse samples against a 256-sample reference, on a G-buffer
+// of the built-in city.
+void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
+  nc::Scene scene = nc::build_city(1);
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  nc::Renderer renderer(gpu, scene, settings);
+  const nc::RenderedFrame frame = renderer.render_frame(0, true);
+  std::map<std::string, nc::IsolatedInput> inputs;
+  for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
+    if (frame.graph.passes[i].decl->name != "lighting.deferred") continue;
+    for (int v : frame.execution.passes[i].inputs) {
+      const nc::VersionData& version = frame.execution.versions[v];
+      inputs[version.resource] = {version.desc, version.bytes};
+    }
+  }
+  nc::PipelineCache cache(gpu);
+  auto run = [&](double samples) {
+    nc::ParamValues params = nc::lighting_deferred_pass().default_params();
+    params["tube_samples"] = samples;
+    return nc::run_isolated(gpu, cache, nc::lighting_deferred_pass(), inputs, params, width, height, builtin());
+  };
+  const nc::IsolatedRun reference = run(256);
+  const nc::FormatInfo half = *nc::format_info(VK_FORMAT_R16G16B16A16_SFLOAT);
+  std::cout << "\n## lighting.deferred: tube diffuse samples vs 256-sample reference (built-in city, " << width << "x"
+            << height << ")\n"
+            << std::left << std::setw(12) << "samples" << std::right << std::setw(12) << "gpu ms" << std::setw(16)
+            << "mean rel err" << std::setw(14) << "max rel err" << "\n";
+  for (double samples : {1.0, 2.0, 4.0, 8.0, 16.0, 32.0}) {
+    std::vector<double> times;
+    nc::IsolatedRun result;
+    for (int r = 0; r < 3; ++r) {
+      result = run(samples);
+      times.push_back(gpu_ms(result));
+    }
+    const auto& a = *result.outputs.at("lighting.diffuse");
+    const auto& b = *reference.outputs.at("lighting.diffuse");
+    double sum = 0, worst = 0;
+    size_t counted = 0;
+    for (size_t t = 0; t < size_t(width) * height; ++t) {
+      float x[4], y[4];
+      nc::decode_texel(half, 0, a, t, x);
+      nc::decode_texel(half, 0, b, t, y);
+      for (int c = 0; c < 3; ++c) {
+        if (y[c] < 1e-3f) continue;  // relative error of near-black texels says nothing
+        const double e = std::abs(x[c] - y[c]) / y[c];
+        sum += e;
+        worst = std::max(worst, e);
+        ++counted;
+      }
+    }
+    std::cout << std::left << std::setw(12) << samples << std::right << std::fixed << std::setprecision(3)
+              << std::setw(12) << median(times) << std::setprecision(5) << std::setw(16) << sum / std::max<size_t>(counted, 1)
+              << std::setw(14) << worst << "\n";
+  }
+}
+
+// depth.convert and depth.pyramid: time, and error against double-precision / exact references.
+void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height) {
+  std::mt19937 rng(7);
+  std::vector<float> device_depth(size_t(width) * height);
+  for (float& d : device_depth) d = float(rng() % 1000000 + 1) * 1e-6f;
+  std::vector<uint8_t> depth_bytes(device_depth.size() * 5, 0);
+  std::memcpy(depth_bytes.data(), device_depth.data(), device_depth.size() * 4);
+  nc::GpuFrameConstants constants{};
+  constants.projection_params.x = 0.05f;
+  auto constant_bytes = std::make_shared<std::vector<uint8_t>>(sizeof(constants));
+  std::memcpy(constant_bytes->data(), &constants, sizeof(constants));
+  nc::IsolatedInput constants_in;
+  constants_in.desc.is_buffer = true;
+  constants_in.desc.kind = nc::ResourceKind::buffer;
+  constants_in.desc.buffer_size = sizeof(constants);
+  constants_in.bytes = constant_bytes;
+  std::vector<double> times;
+  nc::IsolatedRun convert;
+  for (int r = 0; r < 3; ++r) {
+    convert = nc::run_isolated(
+        gpu, cache, nc::depth_convert_pass(),
+        {{"frame.constants", constants_in},
+         {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, nc::ResourceKind::depth_stencil, width, height, depth_bytes)}},
+        nc::depth_convert_pass().default_params(), width, height, builtin());
+    times.push_back(gpu_ms(convert));
+  }
+  const auto& linear = *convert.outputs.at("depth.linear");
+  double worst = 0;
+  for (size_t i = 0; i < device_depth.size(); ++i) {
+    float v;
+    std::memcpy(&v, linear.data() + 4 * i, 4);
+    const double exact = double(0.05f) / double(device_depth[i]);
+    worst = std::max(worst, std::abs(v - exact) / exact);
+  }
+  std::cout << "\n## depth (" << width << "x" << height << ")\n"
+            << "depth.convert   gpu " << std::fixed << std::setprecision(3) << median(times)
+            << " ms, max rel error vs double " << std::scientific << std::setprecision(2) << worst << "\n";
+  times.clear();
+  nc::IsolatedRun pyramid;
+  for (int r = 0; r < 3; ++r) {
+    pyramid = nc::run_isolated(gpu, cache, nc::depth_pyramid_pass(),
+                               {{"depth.linear", {convert.output_descs.at("depth.linear"), convert.outputs.at("depth.linear")}}},
+                               {}, width, height, builtin());
+    times.push_back(gpu_ms(pyramid));
+  }
+  std::cout << "depth.pyramid   gpu " << std::fixed << std::setprecision(3) << median(times)
+            << " ms, exact by construction (tests/unit/depth_pyramid_test.cpp)\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"nightcap benchmark: per-pass GPU time, capture cost and size, time against error"};
+  uint32_t repeats = 5, directions = 1 << 20;
+  std::string size = "1280x720", device, data = NIGHTCAP_SHARED_DATA;
+  bool skip_models = false;
+  app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
+  app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
+  app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
+  app.add_option("--directions", directions, "directions for the normals.pack error sweep")->capture_default_str();
+  app.add_option("--data", data, "shared/data folder with the glTF models")->capture_default_str();
+  app.add_flag("--skip-models", skip_models, "only the built-in city");
+  CLI11_PARSE(app, argc, argv);
+  uint32_t width = 1280, height = 720;
+  if (std::sscanf(size.c_str(), "%ux%u", &width, &height) != 2 || width == 0 || height == 0) {
+    std::cerr << "--size '" << size << "': expected WIDTHxHEIGHT\n";
+    return 2;
+  }
+  try {
+    nc::GpuDevice gpu({device, false});
+    nc::PipelineCache cache(gpu);
+    std::cout << "# nightcap benchmark on " << gpu.name() << " (" << gpu.driver() << ")\n";
+    bench_scene(gpu, "built-in city (seed 1)", nc::build_city(1), width, height, int(repeats), true);
+    if (!skip_models) {
+      for (const auto& entry : fs::directory_iterator(fs::path(data) / "gltf")) {
+        const fs::path file = entry.path() / "glTF" / (entry.path().filename().string() + ".gltf");
+        if (fs::exists(file)) bench_scene(gpu, entry.path().filename().string(), nc::load_gltf(file.string()), width, height, int(repeats), false);
+      }
+    }
+    bench_normals(gpu, cache, directions);
+    bench_tube_samples(gpu, width / 2, height / 2);
+    bench_depth(gpu, cache, width, height);
+  } catch (const std::exception& e) {
+    std::cerr << "nightcap_bench: " << e.what() << "\n";
+    return 2;
+  }
+  return 0;
+}

@@ -1,0 +1,180 @@
+// The capture loop end to end on lavapipe with validation: render → passes → replay → diff.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+
+#include "tests/e2e/cli.h"
+
+namespace nightcap::test {
+namespace {
+namespace fs = std::filesystem;
+
+const char* kCity = "--size 320x180 --frames 2";
+
+nlohmann::json passes_json(const fs::path& capture) {
+  const CliResult r = run_cli("passes --json " + quote(capture));
+  EXPECT_EQ(r.code, 0) << r.err;
+  return nlohmann::json::parse(r.out);
+}
+
+const nlohmann::json& find_pass(const nlohmann::json& frame, const std::string& name) {
+  for (const auto& p : frame.at("passes"))
+    if (p.at("name") == name) return p;
+  throw std::runtime_error("no pass " + name);
+}
+
+TEST(CaptureLoop, RenderWritesACompleteCapture) {
+  const fs::path capture = shared_capture("city", kCity);
+  const nlohmann::json manifest = read_json(capture / "manifest.json");
+  EXPECT_EQ(manifest.at("format"), "nightcap-capture");
+  EXPECT_TRUE(manifest.at("version").is_number_integer());
+  EXPECT_TRUE(fs::exists(capture / "final.png"));
+  EXPECT_EQ(manifest.at("frames").size(), 2u);
+  EXPECT_NE(manifest.at("device").at("name").get<std::string>().find("llvmpipe"), std::string::npos);
+  // Nothing but the capture is left beside it (the temporary sibling was renamed).
+  for (const auto& entry : fs::directory_iterator(capture.parent_path()))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
+}
+
+TEST(CaptureLoop, PassesJsonDescribesEveryPassAndResource) {
+  const nlohmann::json listing = passes_json(shared_capture("city", kCity));
+  ASSERT_EQ(listing.at("frames").size(), 2u);
+  const nlohmann::json& frame = listing.at("frames")[0];
+  EXPECT_EQ(frame.at("index"), 0);
+  std::vector<std::string> ran;
+  for (const auto& p : frame.at("passes")) {
+    for (const char* key : {"name", "status", "gpu_ms", "params", "inputs", "outputs"}) EXPECT_TRUE(p.contains(key)) << key;
+    if (p.at("status") == "ran") ran.push_back(p.at("name"));
+    else EXPECT_FALSE(p.at("reason").get<std::string>().empty());
+    for (const char* side : {"inputs", "outputs"})
+      for (const auto& r : p.at(side)) {
+        for (const char* key : {"resource", "kind", "format", "width", "height", "mips", "layers", "hash", "blob"})
+          EXPECT_TRUE(r.contains(key)) << p.at("name") << " " << key;
+        EXPECT_TRUE(fs::exists(shared_capture("city", kCity) / r.at("blob").get<std::string>()));
+      }
+  }
+  for (const char* name : {"frame.constants", "cull.main", "depth.prepass", "gbuffer.opaque", "lighting.deferred",
+                           "lighting.composite", "tonemap"})
+    EXPECT_NE(std::find(ran.begin(), ran.end(), name), ran.end()) << name;
+  // GPU passes carry a timestamp duration, CPU passes null.
+  EXPECT_TRUE(find_pass(frame, "gbuffer.opaque").at("gpu_ms").is_number());
+  EXPECT_TRUE(find_pass(frame, "cull.main").at("gpu_ms").is_null());
+  // Exact formats of frame.md.
+  std::map<std::string, std::string> formats;
+  for (const auto& o : find_pass(frame, "gbuffer.opaque").at("outputs")) formats[o.at("resource")] = o.at("format");
+  EXPECT_EQ(formats["gbuffer.albedo"], "A2B10G10R10_UNORM_PACK32");
+  EXPECT_EQ(formats["gbuffer.normal"], "A2B10G10R10_UNORM_PACK32");
+  EXPECT_EQ(formats["gbuffer.material"], "R8G8B8A8_UNORM");
+  EXPECT_EQ(formats["gbuffer.motion"], "R16G16_SFLOAT");
+  EXPECT_EQ(formats["scene.depth"], "D32_SFLOAT_S8_UINT");
+  for (const auto& o : find_pass(frame, "lighting.deferred").at("outputs")) EXPECT_EQ(o.at("format"), "R16G16B16A16_SFLOAT");
+  // Scene data the passes read is recorded, and stored once however many passes read it.
+  std::set<std::string> blobs;
+  for (const auto& p : frame.at("passes"))
+    for (const auto& r : p.at("inputs"))
+      if (r.at("resource") == "frame.constants") blobs.insert(r.at("blob").get<std::string>());
+  EXPECT_EQ(blobs.size(), 1u);
+}
+
+TEST(CaptureLoop, EveryPassReplaysBitIdentically) {
+  const fs::path capture = shared_capture("city", kCity);
+  for (int frame : {0, 1}) {
+    const CliResult r = run_cli("replay --verify --json --frame " + std::to_string(frame) + " " + quote(capture));
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+    const nlohmann::json report = nlohmann::json::parse(r.out);
+    int replayed = 0;
+    for (const auto& p : report.at("passes")) {
+      if (!p.at("replayed")) continue;
+      ++replayed;
+      for (const auto& o : p.at("outputs")) EXPECT_EQ(o.at("verdict"), "identical") << p.at("name") << " " << o.at("resource");
+    }
+    EXPECT_GE(replayed, 7);
+  }
+}
+
+TEST(CaptureLoop, ReplayWithAChangedParameterReportsTheDifference) {
+  const CliResult r = run_cli("replay --verify --json --pass lighting.deferred --set lighting.deferred.intensity_scale=2 " +
+                              quote(shared_capture("city", kCity)));
+  EXPECT_EQ(r.code, 1) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(r.out);
+  ASSERT_EQ(report.at("passes").size(), 1u);
+  for (const auto& o : report.at("passes")[0].at("outputs")) EXPECT_EQ(o.at("verdict"), "different") << o.at("resource");
+}
+
+TEST(CaptureLoop, ReplayExecutesFromTheRecordedInputs) {
+  // Point lighting.composite's diffuse input at the recorded specular blob: a valid blob of the
+  // same format and size, so only a real re-execution can notice.
+  const fs::path copy = scratch("capture") / "swapped";
+  fs::copy(shared_capture("city", kCity), copy, fs::copy_options::recursive);
+  nlohmann::json manifest = read_json(copy / "manifest.json");
+  nlohmann::json* diffuse = nullptr;
+  nlohmann::json specular;
+  for (auto& p : manifest.at("frames")[0].at("passes"))
+    if (p.at("name") == "lighting.composite")
+      for (auto& in : p.at("inputs")) {
+        if (in.at("resource") == "lighting.diffuse") diffuse = &in;
+        if (in.at("resource") == "lighting.specular") specular = in;
+      }
+  ASSERT_TRUE(diffuse && !specular.is_null());
+  ASSERT_NE((*diffuse)["hash"], specular["hash"]);
+  (*diffuse)["hash"] = specular["hash"];
+  (*diffuse)["blob"] = specular["blob"];
+  write_json(copy / "manifest.json", manifest);
+  const CliResult r = run_cli("replay --verify --json --pass lighting.composite " + quote(copy));
+  EXPECT_EQ(r.code, 1) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(r.out);
+  EXPECT_EQ(report.at("passes")[0].at("outputs")[0].at("verdict"), "different");
+}
+
+TEST(CaptureLoop, ReplayWithAnotherShaderReportsTheDifference) {
+  const fs::path dir = scratch("shader");
+  {
+    std::ofstream shader(dir / "tonemap.frag");
+    shader << "#version 460\nlayout(set = 0, binding = 0) uniform sampler2D lit_map;\n"
+              "layout(location = 0) out vec4 out_ldr;\n"
+              "void main() { out_ldr = vec4(texelFetch(lit_map, ivec2(gl_FragCoord.xy), 0).rgb, 1.0); }\n";
+  }
+  const CliResult r = run_cli("replay --verify --pass tonemap --shader tonemap=" + quote(dir / "tonemap.frag") + " " +
+                              quote(shared_capture("city", kCity)));
+  EXPECT_EQ(r.code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("different"), std::string::npos) << r.out;
+}
+
+TEST(CaptureLoop, DiffOfACaptureWithItselfIsClean) {
+  const fs::path capture = shared_capture("city", kCity);
+  const CliResult r = run_cli("diff --json " + quote(capture) + " " + quote(capture));
+  EXPECT_EQ(r.code, 0) << r.err;
+  const nlohmann::json diff = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(diff.at("first_divergence").is_null());
+  EXPECT_FALSE(diff.at("beyond_tolerance"));
+}
+
+TEST(CaptureLoop, DiffNamesTonemapForAnExposureChange) {
+  const fs::path a = shared_capture("city", kCity);
+  const fs::path b = shared_capture("city-exposure", std::string(kCity) + " --set tonemap.exposure=2");
+  const CliResult r = run_cli("diff --json " + quote(a) + " " + quote(b));
+  EXPECT_EQ(r.code, 1) << r.err;
+  const nlohmann::json diff = nlohmann::json::parse(r.out);
+  EXPECT_EQ(diff.at("first_divergence").at("pass"), "tonemap");
+  const CliResult table = run_cli("diff " + quote(a) + " " + quote(b));
+  EXPECT_NE(table.out.find("tonemap"), std::string::npos) << table.out;
+}
+
+TEST(CaptureLoop, DiffNamesLightingAndMarksWhatInheritsIt) {
+  const fs::path a = shared_capture("city", kCity);
+  const fs::path b = shared_capture("city-light", std::string(kCity) + " --set lighting.deferred.intensity_scale=1.5");
+  const CliResult r = run_cli("diff --json " + quote(a) + " " + quote(b));
+  EXPECT_EQ(r.code, 1) << r.err;
+  const nlohmann::json diff = nlohmann::json::parse(r.out);
+  EXPECT_EQ(diff.at("first_divergence").at("pass"), "lighting.deferred");
+  std::map<std::string, std::string> status;
+  for (const auto& p : diff.at("frames")[0].at("passes")) status[p.at("name")] = p.at("status");
+  EXPECT_EQ(status["lighting.deferred"], "origin");
+  EXPECT_EQ(status["lighting.composite"], "inherited");
+  EXPECT_EQ(status["tonemap"], "inherited");
+  EXPECT_EQ(status["gbuffer.opaque"], "identical");
+}
+
+}  // namespace
+}  // namespace nightcap::test

@@ -1,0 +1,75 @@
+#include "tests/e2e/cli.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace nightcap::test {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+fs::path test_root() {
+  fs::path root = fs::temp_directory_path() / ("nightcap-e2e-" + std::to_string(getuid()));
+  fs::create_directories(root);
+  return root;
+}
+
+}  // namespace
+
+std::string quote(const fs::path& path) { return "'" + path.string() + "'"; }
+
+CliResult run_cli(const std::string& args) {
+  const fs::path dir = test_root() / ("run-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string command =
+      std::string(NIGHTCAP_CLI) + " " + args + " >" + quote(dir / "out") + " 2>" + quote(dir / "err") + " </dev/null";
+  const int status = std::system(command.c_str());
+  CliResult result;
+  result.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.out = slurp(dir / "out");
+  result.err = slurp(dir / "err");
+  return result;
+}
+
+fs::path scratch(const std::string& name) {
+  const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const fs::path dir = test_root() / (std::string(info->test_suite_name()) + "." + info->name()) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+fs::path shared_capture(const std::string& key, const std::string& args) {
+  const fs::path dir = fs::path(NIGHTCAP_CLI).parent_path() / "test-captures";
+  fs::create_directories(dir);
+  // Keyed by the CLI's build time: a rebuilt renderer never reuses an older build's capture.
+  const auto built = fs::last_write_time(NIGHTCAP_CLI).time_since_epoch().count();
+  const fs::path capture = dir / (key + "-" + std::to_string(built));
+  if (!fs::exists(capture / "manifest.json")) {
+    const CliResult r = run_cli("render " + args + " -o " + quote(capture));
+    // Another test process may have rendered it first; both outcomes leave a whole capture.
+    if (r.code != 0 && !fs::exists(capture / "manifest.json"))
+      ADD_FAILURE() << "render " << args << " failed (" << r.code << "): " << r.err;
+  }
+  return capture;
+}
+
+nlohmann::json read_json(const fs::path& file) { return nlohmann::json::parse(slurp(file)); }
+
+void write_json(const fs::path& file, const nlohmann::json& json) {
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  out << json.dump(1);
+}
+
+}  // namespace nightcap::test

@@ -1,0 +1,29 @@
+// Running the nightcap CLI from tests, and captures shared between test processes.
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace nightcap::test {
+
+struct CliResult {
+  int code = -1;
+  std::string out, err;
+};
+
+// Runs `nightcap ARGS` (a shell-quoted argument string) and collects its exit code and output.
+CliResult run_cli(const std::string& args);
+
+// A scratch folder unique to this test, emptied first.
+std::filesystem::path scratch(const std::string& name);
+
+// A capture rendered once per build with `args` and shared by every test that asks for the
+// same key (the CLI's atomic rename makes concurrent first renders safe).
+std::filesystem::path shared_capture(const std::string& key, const std::string& args);
+
+nlohmann::json read_json(const std::filesystem::path& file);
+void write_json(const std::filesystem::path& file, const nlohmann::json& json);
+std::string quote(const std::filesystem::path& path);
+
+}  // namespace nightcap::test

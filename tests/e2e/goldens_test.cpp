@@ -1,0 +1,133 @@
+// Every model of shared/data/gltf rendered with the camera views.json gives it, at the goldens'
+// resolution: the pixels it covers (scene.depth > 0) against each golden's silhouette
+// (alpha ≥ 128) reach intersection over union ≥ 0.97; no pass output holds NaN or Inf; every
+// pass replays bit-identically.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+
+#include "captures/capture.h"
+#include "tests/e2e/cli.h"
+
+namespace nightcap::test {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kData = NIGHTCAP_SHARED_DATA;
+
+struct View {
+  double theta = 0, phi = 90, radius = 1, x = 0, y = 0, z = 0;
+  uint32_t width = 768, height = 768;
+};
+
+View view_of(const std::string& model) {
+  const nlohmann::json views = read_json(kData / "goldens/views.json");
+  const nlohmann::json defaults = views.at("defaults");
+  const nlohmann::json scenario = views.at("scenarios").value(model, nlohmann::json::object());
+  auto pick = [&](const char* group, const char* key) {
+    if (scenario.contains(group) && scenario[group].contains(key)) return scenario[group][key].get<double>();
+    return defaults.at(group).value(key, 0.0);
+  };
+  View v;
+  v.theta = pick("orbit", "theta");
+  v.phi = pick("orbit", "phi");
+  v.radius = pick("orbit", "radius");
+  v.x = pick("target", "x");
+  v.y = pick("target", "y");
+  v.z = pick("target", "z");
+  const double w = pick("dimensions", "width"), h = pick("dimensions", "height");
+  v.width = 512;
+  v.height = uint32_t(std::lround(512.0 * h / w));
+  return v;
+}
+
+// The golden's silhouette, or empty when it carries no alpha.
+std::vector<uint8_t> silhouette(const fs::path& png, uint32_t width, uint32_t height) {
+  auto input = OIIO::ImageInput::open(png.string());
+  if (!input) return {};
+  const OIIO::ImageSpec spec = input->spec();
+  if (spec.alpha_channel < 0 || uint32_t(spec.width) != width || uint32_t(spec.height) != height) return {};
+  std::vector<uint8_t> pixels(size_t(spec.width) * spec.height * spec.nchannels);
+  input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data());
+  std::vector<uint8_t> mask(size_t(width) * height);
+  for (size_t i = 0; i < mask.size(); ++i) mask[i] = pixels[i * spec.nchannels + spec.alpha_channel] >= 128;
+  return mask;
+}
+
+class Goldens : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(Goldens, SilhouettesMatchAndEveryPassIsFiniteAndReplays) {
+  const std::string model = GetParam();
+  const View v = view_of(model);
+  const fs::path gltf = kData / "gltf" / model / "glTF" / (model + ".gltf");
+  const fs::path capture_dir = scratch("capture") / "cap";
+  std::ostringstream args;
+  args << "render " << quote(gltf) << " --size " << v.width << "x" << v.height << " --orbit " << v.theta << ","
+       << v.phi << "," << v.radius << " --target " << v.x << "," << v.y << "," << v.z << " --fov 45 -o "
+       << quote(capture_dir);
+  const CliResult rendered = run_cli(args.str());
+  ASSERT_EQ(rendered.code, 0) << rendered.err;
+
+  const Capture capture = Capture::open(capture_dir);
+  std::vector<uint8_t> covered;
+  for (const PassRecord& pass : capture.frame(0).passes)
+    for (const ResourceRecord& out : pass.outputs) {
+      if (out.is_buffer) continue;
+      const std::vector<uint8_t> raw = capture.load(out);
+      const FormatInfo format = *format_info(out.format);
+      // Finite everywhere (integer formats cannot hold NaN or Inf).
+      if (format.encoding == ChannelEncoding::sfloat16 || format.encoding == ChannelEncoding::sfloat32 ||
+          format.encoding == ChannelEncoding::packed_b10g11r11 || format.encoding == ChannelEncoding::depth32_stencil8) {
+        const uint64_t texels = raw_subresource_offset(format, out.extent, 1, 0, 0) / format.texel_bytes;
+        std::vector<float> texel(4);
+        for (uint64_t t = 0; t < texels; ++t) {
+          decode_texel(format, 0, raw, t, texel.data());
+          for (uint32_t c = 0; c < aspect_channels(format, 0); ++c)
+            ASSERT_TRUE(std::isfinite(texel[c])) << model << ": " << pass.name << " → " << out.resource << " texel " << t;
+        }
+      }
+      if (out.resource == "scene.depth" && pass.name == "gbuffer.opaque") {
+        covered.resize(size_t(v.width) * v.height);
+        for (size_t i = 0; i < covered.size(); ++i) {
+          float depth;
+          std::memcpy(&depth, raw.data() + 4 * i, 4);
+          covered[i] = depth > 0.0f;
+        }
+      }
+    }
+  ASSERT_FALSE(covered.empty()) << "no scene.depth from gbuffer.opaque";
+
+  int compared = 0;
+  for (const auto& entry : fs::directory_iterator(kData / "goldens" / model)) {
+    const std::vector<uint8_t> golden = silhouette(entry.path(), v.width, v.height);
+    if (golden.empty()) continue;
+    uint64_t both = 0, either = 0;
+    for (size_t i = 0; i < golden.size(); ++i) {
+      both += golden[i] && covered[i];
+      either += golden[i] || covered[i];
+    }
+    const double iou = either ? double(both) / either : 1.0;
+    EXPECT_GE(iou, 0.97) << model << " vs " << entry.path().filename();
+    ++compared;
+  }
+  if (model != "LightsPunctualLamp") EXPECT_GT(compared, 0) << "no golden with alpha for " << model;
+
+  const CliResult replayed = run_cli("replay --verify " + quote(capture_dir));
+  EXPECT_EQ(replayed.code, 0) << replayed.out << replayed.err;
+}
+
+std::vector<std::string> models() {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(kData / "gltf"))
+    if (entry.is_directory()) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+INSTANTIATE_TEST_SUITE_P(Models, Goldens, ::testing::ValuesIn(models()),
+                         [](const auto& info) { return info.param; });
+
+}  // namespace
+}  // namespace nightcap::test

@@ -1,0 +1,45 @@
+// Under RenderDoc, `render` makes exactly one frame capture whose labelled regions are the
+// GPU passes that ran, in order. Skipped with a message where renderdoccmd is absent.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "tests/e2e/cli.h"
+
+namespace nightcap::test {
+namespace {
+namespace fs = std::filesystem;
+
+TEST(RenderDoc, OneCaptureLabelledWithThePassesThatRan) {
+  if (std::system("command -v renderdoccmd >/dev/null 2>&1") != 0) GTEST_SKIP() << "renderdoccmd is not installed";
+  const fs::path dir = scratch("rdc");
+  const std::string command = "renderdoccmd capture -w -c " + quote(dir / "frame") + " " + NIGHTCAP_CLI +
+                              " render --size 96x54 --frames 2 -o " + quote(dir / "capture") + " >" +
+                              quote(dir / "log") + " 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << "renderdoccmd failed, see " << dir / "log";
+  std::vector<fs::path> captures;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().extension() == ".rdc") captures.push_back(e.path());
+  ASSERT_EQ(captures.size(), 1u);
+
+  // The passes that ran on the GPU, in order, from the capture's own manifest.
+  std::vector<std::string> expected;
+  const nlohmann::json manifest = read_json(dir / "capture" / "manifest.json");
+  for (const auto& frame : manifest.at("frames"))
+    for (const auto& p : frame.at("passes"))
+      if (p.at("status") == "ran" && !p.at("gpu_ms").is_null()) expected.push_back(p.at("name"));
+
+  if (std::system("/usr/bin/python3 -c 'import renderdoc' >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "python3-renderdoc is not installed: labels not checked";
+  const std::string markers = "/usr/bin/python3 " + std::string(NIGHTCAP_SOURCE) + "/tests/e2e/renderdoc_markers.py " +
+                              quote(captures[0]) + " >" + quote(dir / "markers") + " 2>" + quote(dir / "markers.err");
+  ASSERT_EQ(std::system(markers.c_str()), 0) << "see " << dir / "markers.err";
+  std::ifstream in(dir / "markers");
+  std::vector<std::string> labels;
+  for (std::string line; std::getline(in, line);) labels.push_back(line);
+  EXPECT_EQ(labels, expected);
+}
+
+}  // namespace
+}  // namespace nightcap::test

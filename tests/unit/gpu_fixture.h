@@ -1,0 +1,51 @@
+// A lavapipe device for reference tests of single passes, with the validation layer on when
+// NIGHTCAP_VALIDATION=1 (CTest sets it); a test fails if the layer reported any error.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <memory>
+
+#include "passes/core/isolated.h"
+#include "passes/frame/renderer.h"
+
+namespace nightcap::test {
+
+class GpuTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const char* validation = std::getenv("NIGHTCAP_VALIDATION");
+    gpu_ = std::make_unique<GpuDevice>(GpuDevice::Options{"", validation && std::string(validation) == "1"});
+    cache_ = std::make_unique<PipelineCache>(*gpu_);
+  }
+  static void TearDownTestSuite() {
+    cache_.reset();
+    gpu_.reset();
+  }
+  void TearDown() override { EXPECT_EQ(gpu_->validation_errors(), 0u) << "Vulkan validation reported errors"; }
+
+  static IsolatedRun run(const PassDecl& pass, const std::map<std::string, IsolatedInput>& inputs, uint32_t width,
+                         uint32_t height, ParamValues params = {}) {
+    ParamValues all = pass.default_params();
+    for (const auto& [k, v] : params) all[k] = v;
+    return run_isolated(*gpu_, *cache_, pass, inputs, all, width, height,
+                        [](const std::string&, const std::string& path) { return builtin_spirv(path); });
+  }
+
+  static IsolatedInput image(VkFormat format, ResourceKind kind, uint32_t width, uint32_t height,
+                             std::vector<uint8_t> bytes) {
+    IsolatedInput input;
+    input.desc.format = format;
+    input.desc.kind = kind;
+    input.desc.extent.width = width;
+    input.desc.extent.height = height;
+    input.bytes = std::make_shared<const std::vector<uint8_t>>(std::move(bytes));
+    return input;
+  }
+
+  static inline std::unique_ptr<GpuDevice> gpu_;
+  static inline std::unique_ptr<PipelineCache> cache_;
+};
+
+}  // namespace nightcap::test

@@ -1,0 +1,165 @@
+// The render graph's compile step: ordering, culling, skip reasons, sizes, barriers.
+#include <gtest/gtest.h>
+
+#include "passes/core/graph.h"
+
+namespace nightcap {
+namespace {
+
+ImageDecl image(VkFormat format = VK_FORMAT_R8G8B8A8_UNORM) { return ImageDecl{format, ResourceKind::colour}; }
+
+std::vector<std::string> order(const CompiledGraph& graph) {
+  std::vector<std::string> names;
+  for (const CompiledPass& p : graph.passes) names.push_back(p.decl->name);
+  return names;
+}
+
+const CompiledPass& pass(const CompiledGraph& graph, const std::string& name) {
+  for (const CompiledPass& p : graph.passes)
+    if (p.decl->name == name) return p;
+  throw std::runtime_error("no pass " + name);
+}
+
+TEST(Graph, OrdersByDependenciesWhateverTheDeclarationOrder) {
+  std::vector<PassDecl> passes;
+  passes.push_back(PassDecl("c", PassType::graphics).read("b.out", Use::sampled).write("final.ldr", Use::color_attachment, image()));
+  passes.push_back(PassDecl("b", PassType::graphics).read("a.out", Use::sampled).write("b.out", Use::color_attachment, image()));
+  passes.push_back(PassDecl("a", PassType::graphics).write("a.out", Use::color_attachment, image()));
+  const CompiledGraph graph = compile_graph(passes, {}, GraphSettings{});
+  EXPECT_EQ(order(graph), (std::vector<std::string>{"a", "b", "c"}));
+}
+
+TEST(Graph, ModifiersChainAndReadersSeeTheLastVersion) {
+  std::vector<PassDecl> passes;
+  passes.push_back(PassDecl("reader", PassType::graphics).read("depth", Use::sampled).write("final.ldr", Use::color_attachment, image()));
+  passes.push_back(PassDecl("second", PassType::graphics).modify("depth", Use::depth_attachment));
+  passes.push_back(PassDecl("first", PassType::graphics).write("depth", Use::depth_attachment, image(VK_FORMAT_D32_SFLOAT_S8_UINT)));
+  const CompiledGraph graph = compile_graph(passes, {}, GraphSettings{});
+  EXPECT_EQ(order(graph), (std::vector<std::string>{"first", "second", "reader"}));
+  const CompiledPass& second = pass(graph, "second");
+  ASSERT_EQ(second.inputs.size(), 1u);
+  EXPECT_EQ(second.inputs[0].resource, "depth");
+  EXPECT_EQ(graph.passes[second.inputs[0].producer].decl->name, "first");
+  EXPECT_EQ(graph.passes[pass(graph, "reader").inputs[0].producer].decl->name, "second");
+}
+
+TEST(Graph, CullsPassesNobodyConsumesAndSkipsMissingFeatures) {
+  std::vector<PassDecl> passes;
+  passes.push_back(PassDecl("orphan", PassType::graphics).write("unused", Use::color_attachment, image()));
+  passes.push_back(PassDecl("shadows", PassType::graphics).needs("sun").write("shadow", Use::color_attachment, image()));
+  passes.push_back(PassDecl("final", PassType::graphics).read("shadow", Use::sampled).write("final.ldr", Use::color_attachment, image()));
+  GraphSettings settings;
+  const CompiledGraph graph = compile_graph(passes, {}, settings);
+  EXPECT_TRUE(pass(graph, "orphan").culled);
+  EXPECT_EQ(pass(graph, "orphan").reason, "culled: no pass consumes its outputs");
+  EXPECT_FALSE(pass(graph, "shadows").culled);
+  EXPECT_FALSE(pass(graph, "shadows").runs);
+  EXPECT_EQ(pass(graph, "shadows").reason, "scene has no sun");
+  EXPECT_TRUE(pass(graph, "final").runs);
+
+  settings.frame.features = {"sun"};
+  EXPECT_TRUE(pass(compile_graph(passes, {}, settings), "shadows").runs);
+  settings.keep = {"orphan"};
+  EXPECT_TRUE(pass(compile_graph(passes, {}, settings), "orphan").runs);
+}
+
+TEST(Graph, SkipConditionSeesTheFrame) {
+  std::vector<PassDecl> passes;
+  passes.push_back(PassDecl("motion", PassType::graphics)
+                       .skip_when([](const SkipContext& f) { return f.camera_moved ? "" : std::string("camera static"); })
+                       .write("final.ldr", Use::color_attachment, image()));
+  GraphSettings settings;
+  EXPECT_EQ(compile_graph(passes, {}, settings).passes[0].reason, "camera static");
+  settings.frame.camera_moved = true;
+  EXPECT_TRUE(compile_graph(passes, {}, settings).passes[0].runs);
+}
+
+TEST(Graph, ResolvesRelativeSizesAndMipChains) {
+  std::vector<PassDecl> passes;
+  ImageDecl pyramid = image(VK_FORMAT_R32G32_SFLOAT);
+  pyramid.size.mode = SizeRule::Mode::output_half;
+  pyramid.mips = 0;
+  ImageDecl like = image();
+  like.size.mode = SizeRule::Mode::like;
+  like.size.like = "pyramid";
+  passes.push_back(PassDecl("p", PassType::compute).write("pyramid", Use::storage_write, pyramid));
+  passes.push_back(PassDecl("q", PassType::graphics).read("pyramid", Use::sampled).write("final.ldr", Use::color_attachment, like));
+  GraphSettings settings;
+  settings.width = 1279;
+  settings.height = 719;
+  const CompiledGraph graph = compile_graph(passes, {}, settings);
+  const ResourceDesc& p = graph.resources.at("pyramid");
+  EXPECT_EQ(p.extent.width, 640u);
+  EXPECT_EQ(p.extent.height, 360u);
+  EXPECT_EQ(p.extent.mips, 10u);  // 640 → 1
+  EXPECT_EQ(graph.resources.at("final.ldr").extent.width, 640u);
+}
+
+TEST(Graph, DeclarationMistakesAreCaughtBeforeRunning) {
+  std::vector<PassDecl> unknown;
+  unknown.push_back(PassDecl("x", PassType::graphics).read("nothing", Use::sampled).write("final.ldr", Use::color_attachment, image()));
+  EXPECT_THROW(compile_graph(unknown, {}, GraphSettings{}), GraphError);
+
+  std::vector<PassDecl> twice;
+  twice.push_back(PassDecl("a", PassType::graphics).write("final.ldr", Use::color_attachment, image()));
+  twice.push_back(PassDecl("b", PassType::graphics).write("final.ldr", Use::color_attachment, image()));
+  EXPECT_THROW(compile_graph(twice, {}, GraphSettings{}), GraphError);
+
+  std::vector<PassDecl> cycle;
+  cycle.push_back(PassDecl("a", PassType::graphics).read("b.out", Use::sampled).write("a.out", Use::color_attachment, image()));
+  cycle.push_back(PassDecl("b", PassType::graphics).read("a.out", Use::sampled).write("b.out", Use::color_attachment, image()));
+  EXPECT_THROW(compile_graph(cycle, {}, GraphSettings{}), GraphError);
+
+  std::vector<PassDecl> orphan_modify;
+  orphan_modify.push_back(PassDecl("m", PassType::graphics).modify("ghost", Use::color_attachment));
+  EXPECT_THROW(compile_graph(orphan_modify, {}, GraphSettings{}), GraphError);
+}
+
+TEST(Graph, PrefixReadsBindEveryMatchingImport) {
+  std::vector<PassDecl> passes;
+  passes.push_back(PassDecl("g", PassType::graphics).read_all("scene.texture.", Use::sampled).write("final.ldr", Use::color_attachment, image()));
+  ResourceDesc tex;
+  tex.format = VK_FORMAT_R8G8B8A8_SRGB;
+  const CompiledGraph graph =
+      compile_graph(passes, {{"scene.texture.0", tex}, {"scene.texture.1", tex}, {"scene.other", tex}}, GraphSettings{});
+  ASSERT_EQ(graph.passes[0].inputs.size(), 2u);
+  EXPECT_EQ(graph.passes[0].inputs[0].resource, "scene.texture.0");
+  EXPECT_EQ(graph.passes[0].inputs[1].resource, "scene.texture.1");
+}
+
+TEST(Barriers, ReadAfterWriteWaitsOnceAndLayoutChangesAlwaysWait) {
+  SyncState state;
+  // First write discards: a layout transition from UNDEFINED.
+  auto write = plan_barrier(state, required_state(Use::color_attachment, PassType::graphics, false), true);
+  ASSERT_TRUE(write);
+  EXPECT_EQ(write->before.layout, VK_IMAGE_LAYOUT_UNDEFINED);
+  EXPECT_EQ(write->after.layout, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+
+  auto read = plan_barrier(state, required_state(Use::sampled, PassType::graphics, false));
+  ASSERT_TRUE(read);
+  EXPECT_EQ(read->before.access, VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+  EXPECT_EQ(read->after.layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+
+  // A second fragment-shader read needs nothing; a compute read in another stage waits.
+  EXPECT_FALSE(plan_barrier(state, required_state(Use::sampled, PassType::graphics, false)));
+  auto compute_read = plan_barrier(state, required_state(Use::sampled, PassType::compute, false));
+  ASSERT_TRUE(compute_read);
+  EXPECT_EQ(compute_read->after.stages, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+
+  // Write after read waits for the reads (WAR).
+  auto transfer = plan_barrier(state, transfer_state(false));
+  ASSERT_TRUE(transfer);
+  EXPECT_EQ(transfer->after.layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+  auto war = plan_barrier(state, required_state(Use::storage_write, PassType::compute, false));
+  ASSERT_TRUE(war);
+  EXPECT_NE(war->before.stages & VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, 0u);
+}
+
+TEST(Barriers, DepthFormatsSampleInTheReadOnlyDepthLayout) {
+  EXPECT_EQ(required_state(Use::sampled, PassType::graphics, true).layout, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
+  EXPECT_EQ(required_state(Use::depth_attachment, PassType::graphics, true).layout,
+            VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+}
+
+}  // namespace
+}  // namespace nightcap
