@@ -8,116 +8,182 @@
 #include <ImfMultiPartInputFile.h>
 #include <ImfMultiPartOutputFile.h>
 #include <ImfOutputPart.h>
+#include <ImfPartType.h>
 #include <ImfStringAttribute.h>
 #include <ImfThreading.h>
 #include <zstd.h>
 
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <climits>
 #include <cstring>
 #include <fstream>
 #include <mutex>
 #include <thread>
+#include <tuple>
 
 namespace nightcap {
 namespace {
 
-// How one aspect of a format lands in EXR: the channel type and names, and how many bytes
-// of raw data each EXR sample holds (UINT samples are 4 bytes wide, so narrower codes are
-// widened on write and narrowed on read).
+// Raw codes are GPU bytes (little-endian); widening them into EXR UINT samples by memcpy into
+// the low bytes of a native uint32 relies on the host agreeing.
+static_assert(std::endian::native == std::endian::little);
+
+// Readers reject anything larger, so writers must not produce it.
+constexpr uint64_t kMaxBufferBytes = uint64_t(4) << 30;
+
+// How one aspect of a format lands in EXR. UINT samples are 4 bytes, so narrower integer codes
+// are widened on write and narrowed on read; a packed word is one UINT sample.
 struct Layout {
   Imf::PixelType type;
   std::vector<std::string> channels;
-  uint32_t raw_bytes_per_channel;  // 0: one packed 32-bit word for all channels
+  uint32_t raw_bytes;  // bytes of one channel's code in the raw layout
 };
+
+uint32_t sample_bytes(Imf::PixelType type) { return type == Imf::HALF ? 2 : 4; }
 
 Layout layout_of(const FormatInfo& format, uint32_t aspect) {
   using E = ChannelEncoding;
-  static const std::vector<std::string> names[5] = {{}, {"Y"}, {"R", "G"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
+  static const std::array<std::vector<std::string>, 5> colour = {
+      {{}, {"Y"}, {"R", "G"}, {"R", "G", "B"}, {"R", "G", "B", "A"}}};
+  const std::vector<std::string>& names = format.is_depth ? std::vector<std::string>{"Z"} : colour.at(format.channels);
   switch (format.encoding) {
-    case E::sfloat16: return {Imf::HALF, names[format.channels], 2};
-    case E::sfloat32: return {Imf::FLOAT, format.is_depth ? std::vector<std::string>{"Z"} : names[format.channels], 4};
+    case E::sfloat16: return {Imf::HALF, names, 2};
+    case E::sfloat32: return {Imf::FLOAT, names, 4};
     case E::unorm8:
     case E::srgb8:
-    case E::uint8: return {Imf::UINT, names[format.channels], 1};
+    case E::uint8: return {Imf::UINT, names, 1};
     case E::unorm16:
-    case E::uint16: return {Imf::UINT, format.is_depth ? std::vector<std::string>{"Z"} : names[format.channels], 2};
-    case E::uint32: return {Imf::UINT, names[format.channels], 4};
+    case E::uint16: return {Imf::UINT, names, 2};
+    case E::uint32: return {Imf::UINT, names, 4};
     case E::packed_a2b10g10r10:
-    case E::packed_b10g11r11: return {Imf::UINT, {"packed"}, 0};
+    case E::packed_b10g11r11: return {Imf::UINT, {"packed"}, 4};
     case E::depth32_stencil8: return aspect == 0 ? Layout{Imf::FLOAT, {"Z"}, 4} : Layout{Imf::UINT, {"S"}, 1};
   }
-  return {Imf::UINT, {}, 0};
+  throw std::invalid_argument("blob_codec: unknown channel encoding of " + std::string(format.name));
 }
 
-std::string part_name(uint32_t aspect, uint32_t mip, uint32_t layer) {
-  return "a" + std::to_string(aspect) + ".m" + std::to_string(mip) + ".l" + std::to_string(layer);
+// One EXR part: a subresource, with every z slice of a 3D mip stacked into `rows`.
+struct Part {
+  uint32_t aspect, mip, layer;
+  int width, rows;
+  uint64_t offset;  // in the raw layout
+  std::string name;
+};
+
+[[noreturn]] void fail(const std::filesystem::path& file, const std::string& problem) {
+  throw CaptureError(file.string() + ": " + problem);
 }
 
-void init_threads() {
+std::vector<Part> parts_of(const std::filesystem::path& file, const FormatInfo& format, const ImageExtent& extent) {
+  std::vector<Part> parts;
+  for (uint32_t aspect = 0; aspect < aspect_count(format); ++aspect)
+    for (uint32_t mip = 0; mip < extent.mips; ++mip)
+      for (uint32_t layer = 0; layer < extent.layers; ++layer) {
+        const uint64_t width = mip_size(extent.width, mip);
+        const uint64_t rows = uint64_t(mip_size(extent.height, mip)) * mip_size(extent.depth, mip);
+        if (width > INT_MAX || rows > INT_MAX) fail(file, "mip " + std::to_string(mip) + " is too large for OpenEXR");
+        parts.push_back({aspect, mip, layer, int(width), int(rows), raw_subresource_offset(format, extent, aspect, mip, layer),
+                         "a" + std::to_string(aspect) + ".m" + std::to_string(mip) + ".l" + std::to_string(layer)});
+      }
+  return parts;
+}
+
+// Compression runs on OpenEXR's pool, split by blocks of scanlines.
+void start_exr_threads() {
   static std::once_flag once;
   std::call_once(once, [] { Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency()))); });
 }
 
-Imf::Compression exr_compression(ExrCompression c) {
-  switch (c) {
+Imf::Compression exr_compression(ExrCompression compression) {
+  switch (compression) {
     case ExrCompression::none: return Imf::NO_COMPRESSION;
     case ExrCompression::rle: return Imf::RLE_COMPRESSION;
     case ExrCompression::zip: return Imf::ZIP_COMPRESSION;
     case ExrCompression::piz: return Imf::PIZ_COMPRESSION;
   }
-  return Imf::ZIP_COMPRESSION;
+  throw std::invalid_argument("blob_codec: unknown ExrCompression");
 }
 
-// One subresource as EXR samples: HALF/FLOAT keep their bits; integer codes widen to uint32.
-struct Samples {
-  std::vector<uint8_t> data;
-  size_t sample_bytes;
+const std::array<std::pair<const char*, uint32_t ImageExtent::*>, 5> kExtentAttributes = {{
+    {"nightcap.width", &ImageExtent::width},
+    {"nightcap.height", &ImageExtent::height},
+    {"nightcap.depth", &ImageExtent::depth},
+    {"nightcap.mips", &ImageExtent::mips},
+    {"nightcap.layers", &ImageExtent::layers},
+}};
+
+std::string describe(const ImageExtent& e) {
+  return std::to_string(e.width) + "x" + std::to_string(e.height) + "x" + std::to_string(e.depth) + ", " +
+         std::to_string(e.mips) + " mips, " + std::to_string(e.layers) + " layers";
+}
+
+// The samples of one part. Where EXR samples are as wide as the raw codes, the slices point
+// straight into the raw bytes; otherwise into `widened`, one uint32 per code.
+struct PartPixels {
+  std::vector<uint32_t> widened;
+  Imf::FrameBuffer frame_buffer;
 };
 
-Samples to_samples(const Layout& layout, const uint8_t* raw, uint64_t texels, uint32_t channels) {
-  Samples s;
-  s.sample_bytes = layout.type == Imf::HALF ? 2 : 4;
-  const uint32_t count = layout.raw_bytes_per_channel == 0 ? 1 : channels;
-  s.data.resize(texels * count * s.sample_bytes);
-  if (layout.type != Imf::UINT || layout.raw_bytes_per_channel == 4 || layout.raw_bytes_per_channel == 0) {
-    std::memcpy(s.data.data(), raw, s.data.size());
-    return s;
+void bind(PartPixels& pixels, const Layout& layout, const Part& part, const Imath::Box2i& window, uint8_t* raw) {
+  const uint64_t codes = uint64_t(part.width) * part.rows * layout.channels.size();
+  char* base = reinterpret_cast<char*>(raw);
+  if (layout.raw_bytes != sample_bytes(layout.type)) {
+    pixels.widened.resize(codes);
+    base = reinterpret_cast<char*>(pixels.widened.data());
   }
-  for (uint64_t i = 0; i < texels * count; ++i) {
-    uint32_t value = 0;
-    std::memcpy(&value, raw + i * layout.raw_bytes_per_channel, layout.raw_bytes_per_channel);
-    std::memcpy(s.data.data() + i * 4, &value, 4);
-  }
-  return s;
-}
-
-void from_samples(const Layout& layout, const Samples& s, uint8_t* raw, uint64_t texels, uint32_t channels) {
-  const uint32_t count = layout.raw_bytes_per_channel == 0 ? 1 : channels;
-  if (layout.type != Imf::UINT || layout.raw_bytes_per_channel == 4 || layout.raw_bytes_per_channel == 0) {
-    std::memcpy(raw, s.data.data(), texels * count * s.sample_bytes);
-    return;
-  }
-  for (uint64_t i = 0; i < texels * count; ++i) {
-    uint32_t value;
-    std::memcpy(&value, s.data.data() + i * 4, 4);
-    std::memcpy(raw + i * layout.raw_bytes_per_channel, &value, layout.raw_bytes_per_channel);
-  }
-}
-
-Imf::FrameBuffer frame_buffer(const Layout& layout, Samples& s, uint32_t width, uint32_t channels_per_texel,
-                              int min_x, int min_y) {
-  Imf::FrameBuffer fb;
-  const size_t stride_x = s.sample_bytes * layout.channels.size();
-  const size_t stride_y = stride_x * width;
-  (void)channels_per_texel;
-  // OpenEXR addresses samples relative to the data window's origin.
-  char* base = reinterpret_cast<char*>(s.data.data()) - min_x * stride_x - min_y * stride_y;
+  const size_t sample = sample_bytes(layout.type), texel = sample * layout.channels.size();
   for (size_t c = 0; c < layout.channels.size(); ++c)
-    fb.insert(layout.channels[c], Imf::Slice(layout.type, base + c * s.sample_bytes, stride_x, stride_y));
-  return fb;
+    pixels.frame_buffer.insert(layout.channels[c],
+                               Imf::Slice::Make(layout.type, base + c * sample, window, texel, texel * size_t(part.width)));
 }
 
-[[noreturn]] void fail(const std::filesystem::path& file, const std::string& problem) {
-  throw CaptureError(file.string() + ": " + problem);
+// `level0` is the first part: the display window is an attribute all parts must share, so it
+// is the level-0 size, and each part's data window is its own mip.
+Imf::Header header_of(const FormatInfo& format, const ImageExtent& extent, const Part& level0, const Part& part,
+                      const Layout& layout, ExrCompression compression) {
+  const Imath::Box2i display({0, 0}, {level0.width - 1, level0.rows - 1});
+  Imf::Header header(display, Imath::Box2i({0, 0}, {part.width - 1, part.rows - 1}), 1.0f, Imath::V2f(0, 0), 1.0f,
+                     Imf::INCREASING_Y, exr_compression(compression));
+  header.setName(part.name);
+  header.setType(Imf::SCANLINEIMAGE);
+  for (const std::string& channel : layout.channels) header.channels().insert(channel, Imf::Channel(layout.type));
+  header.insert("nightcap.format", Imf::StringAttribute(std::string(format.name)));
+  for (const auto& [name, member] : kExtentAttributes) header.insert(name, Imf::IntAttribute(int(extent.*member)));
+  return header;
+}
+
+// Why a part does not hold what `part` of this format and extent should, or "" if it does.
+std::string mismatch(const Imf::Header& header, const FormatInfo& format, const ImageExtent& extent, const Part& part,
+                     const Layout& layout) {
+  if (header.hasName() && header.name() != part.name) return "is named '" + header.name() + "'";
+  if ((header.hasType() && header.type() != Imf::SCANLINEIMAGE) || header.hasTileDescription())
+    return "is not a scanline image";
+  const auto* stored_format = header.findTypedAttribute<Imf::StringAttribute>("nightcap.format");
+  if (!stored_format) return "does not record its format";
+  if (stored_format->value() != format.name) return "holds " + stored_format->value() + ", not " + std::string(format.name);
+  ImageExtent stored;
+  for (const auto& [name, member] : kExtentAttributes) {
+    const auto* value = header.findTypedAttribute<Imf::IntAttribute>(name);
+    if (!value) return std::string("does not record ") + name;
+    stored.*member = uint32_t(value->value());
+  }
+  if (std::tie(stored.width, stored.height, stored.depth, stored.mips, stored.layers) !=
+      std::tie(extent.width, extent.height, extent.depth, extent.mips, extent.layers))
+    return "holds an image of " + describe(stored) + ", not " + describe(extent);
+  const Imath::Box2i& window = header.dataWindow();
+  if (int64_t(window.max.x) - window.min.x + 1 != part.width || int64_t(window.max.y) - window.min.y + 1 != part.rows)
+    return "has a data window of the wrong size";
+  size_t channels = 0;
+  for (auto it = header.channels().begin(); it != header.channels().end(); ++it, ++channels) {
+    const auto expected = std::find(layout.channels.begin(), layout.channels.end(), it.name());
+    if (expected == layout.channels.end()) return std::string("has an unexpected channel ") + it.name();
+    if (it.channel().type != layout.type || it.channel().xSampling != 1 || it.channel().ySampling != 1)
+      return std::string("has channel ") + it.name() + " of the wrong type or sampling";
+  }
+  if (channels != layout.channels.size()) return "lacks channels";
+  return "";
 }
 
 }  // namespace
@@ -127,40 +193,29 @@ std::string buffer_blob_extension() { return "bin.zst"; }
 
 void write_image_blob(const std::filesystem::path& file, const FormatInfo& format, const ImageExtent& extent,
                       std::span<const uint8_t> raw, ExrCompression compression) {
-  init_threads();
   if (raw.size() != raw_image_bytes(format, extent))
-    throw std::logic_error("write_image_blob: raw size does not match the format and extent");
+    throw std::invalid_argument("write_image_blob: " + file.string() + ": raw size does not match " +
+                                std::string(format.name) + " " + describe(extent));
+  start_exr_threads();
+  const std::vector<Part> parts = parts_of(file, format, extent);
   std::vector<Imf::Header> headers;
-  for (uint32_t aspect = 0; aspect < aspect_count(format); ++aspect)
-    for (uint32_t mip = 0; mip < extent.mips; ++mip)
-      for (uint32_t layer = 0; layer < extent.layers; ++layer) {
-        const Layout layout = layout_of(format, aspect);
-        // 3D slices stack vertically in one part.
-        Imf::Header header(int(mip_size(extent.width, mip)), int(mip_size(extent.height, mip) * mip_size(extent.depth, mip)));
-        header.compression() = exr_compression(compression);
-        header.setName(part_name(aspect, mip, layer));
-        header.setType(Imf::SCANLINEIMAGE);
-        for (const std::string& c : layout.channels) header.channels().insert(c, Imf::Channel(layout.type));
-        header.insert("nightcap.format", Imf::StringAttribute(std::string(format.name)));
-        header.insert("nightcap.extent", Imf::StringAttribute(std::to_string(extent.width) + "x" + std::to_string(extent.height) + "x" +
-                                                              std::to_string(extent.depth) + " mips " + std::to_string(extent.mips) +
-                                                              " layers " + std::to_string(extent.layers)));
-        headers.push_back(header);
-      }
+  for (const Part& part : parts)
+    headers.push_back(header_of(format, extent, parts.front(), part, layout_of(format, part.aspect), compression));
   try {
     Imf::MultiPartOutputFile out(file.c_str(), headers.data(), int(headers.size()));
-    int part = 0;
-    for (uint32_t aspect = 0; aspect < aspect_count(format); ++aspect)
-      for (uint32_t mip = 0; mip < extent.mips; ++mip)
-        for (uint32_t layer = 0; layer < extent.layers; ++layer, ++part) {
-          const Layout layout = layout_of(format, aspect);
-          const uint32_t w = mip_size(extent.width, mip), h = mip_size(extent.height, mip) * mip_size(extent.depth, mip);
-          const uint8_t* data = raw.data() + raw_subresource_offset(format, extent, aspect, mip, layer);
-          Samples samples = to_samples(layout, data, uint64_t(w) * h, aspect_channels(format, aspect));
-          Imf::OutputPart output(out, part);
-          output.setFrameBuffer(frame_buffer(layout, samples, w, aspect_channels(format, aspect), 0, 0));
-          output.writePixels(int(h));
-        }
+    for (size_t p = 0; p < parts.size(); ++p) {
+      const Part& part = parts[p];
+      const Layout layout = layout_of(format, part.aspect);
+      // OpenEXR only reads through an output frame buffer's pointers.
+      uint8_t* codes = const_cast<uint8_t*>(raw.data() + part.offset);
+      PartPixels pixels;
+      bind(pixels, layout, part, headers[p].dataWindow(), codes);
+      for (size_t i = 0; i < pixels.widened.size(); ++i)
+        std::memcpy(&pixels.widened[i], codes + i * layout.raw_bytes, layout.raw_bytes);
+      Imf::OutputPart output(out, int(p));
+      output.setFrameBuffer(pixels.frame_buffer);
+      output.writePixels(part.rows);
+    }
   } catch (const std::exception& e) {
     fail(file, std::string("cannot write OpenEXR: ") + e.what());
   }
@@ -168,40 +223,33 @@ void write_image_blob(const std::filesystem::path& file, const FormatInfo& forma
 
 std::vector<uint8_t> read_image_blob(const std::filesystem::path& file, const FormatInfo& format,
                                      const ImageExtent& extent) {
-  init_threads();
+  start_exr_threads();
+  const std::vector<Part> parts = parts_of(file, format, extent);
   std::vector<uint8_t> raw(raw_image_bytes(format, extent));
   try {
     Imf::MultiPartInputFile in(file.c_str());
-    const uint32_t expected_parts = aspect_count(format) * extent.mips * extent.layers;
-    if (uint32_t(in.parts()) != expected_parts)
-      fail(file, "has " + std::to_string(in.parts()) + " parts, expected " + std::to_string(expected_parts));
-    int part = 0;
-    for (uint32_t aspect = 0; aspect < aspect_count(format); ++aspect)
-      for (uint32_t mip = 0; mip < extent.mips; ++mip)
-        for (uint32_t layer = 0; layer < extent.layers; ++layer, ++part) {
-          const Imf::Header& header = in.header(part);
-          const auto* stored = header.findTypedAttribute<Imf::StringAttribute>("nightcap.format");
-          if (!stored || stored->value() != format.name)
-            fail(file, "part " + std::to_string(part) + " is not " + std::string(format.name));
-          const Layout layout = layout_of(format, aspect);
-          const uint32_t w = mip_size(extent.width, mip), h = mip_size(extent.height, mip) * mip_size(extent.depth, mip);
-          const Imath::Box2i window = header.dataWindow();
-          if (uint32_t(window.max.x - window.min.x + 1) != w || uint32_t(window.max.y - window.min.y + 1) != h)
-            fail(file, "part " + std::to_string(part) + " has the wrong size for mip " + std::to_string(mip));
-          for (const std::string& c : layout.channels) {
-            const Imf::Channel* channel = header.channels().findChannel(c);
-            if (!channel || channel->type != layout.type || channel->xSampling != 1 || channel->ySampling != 1)
-              fail(file, "part " + std::to_string(part) + " lacks channel " + c + " of the expected type");
-          }
-          Samples samples;
-          samples.sample_bytes = layout.type == Imf::HALF ? 2 : 4;
-          samples.data.resize(uint64_t(w) * h * layout.channels.size() * samples.sample_bytes);
-          Imf::InputPart input(in, part);
-          input.setFrameBuffer(frame_buffer(layout, samples, w, aspect_channels(format, aspect), window.min.x, window.min.y));
-          input.readPixels(window.min.y, window.max.y);
-          from_samples(layout, samples, raw.data() + raw_subresource_offset(format, extent, aspect, mip, layer),
-                       uint64_t(w) * h, aspect_channels(format, aspect));
-        }
+    if (size_t(in.parts()) != parts.size())
+      fail(file, "has " + std::to_string(in.parts()) + " parts, expected " + std::to_string(parts.size()) + " for " +
+                     std::string(format.name) + " " + describe(extent));
+    for (size_t p = 0; p < parts.size(); ++p) {
+      const Part& part = parts[p];
+      const Layout layout = layout_of(format, part.aspect);
+      const Imf::Header& header = in.header(int(p));
+      if (const std::string problem = mismatch(header, format, extent, part, layout); !problem.empty())
+        fail(file, "part " + std::to_string(p) + " (" + part.name + ") " + problem);
+      uint8_t* codes = raw.data() + part.offset;
+      PartPixels pixels;
+      bind(pixels, layout, part, header.dataWindow(), codes);
+      Imf::InputPart input(in, int(p));
+      input.setFrameBuffer(pixels.frame_buffer);
+      input.readPixels(header.dataWindow().min.y, header.dataWindow().max.y);
+      for (size_t i = 0; i < pixels.widened.size(); ++i) {
+        if (pixels.widened[i] >> (8 * layout.raw_bytes))
+          fail(file, "part " + std::to_string(p) + " (" + part.name + ") holds a code too wide for " +
+                         std::string(format.name));
+        std::memcpy(codes + i * layout.raw_bytes, &pixels.widened[i], layout.raw_bytes);
+      }
+    }
   } catch (const CaptureError&) {
     throw;
   } catch (const std::exception& e) {
@@ -211,26 +259,34 @@ std::vector<uint8_t> read_image_blob(const std::filesystem::path& file, const Fo
 }
 
 void write_buffer_blob(const std::filesystem::path& file, std::span<const uint8_t> raw, int zstd_level) {
+  if (raw.size() > kMaxBufferBytes) fail(file, "buffer of " + std::to_string(raw.size()) + " bytes exceeds 4 GiB");
   std::vector<uint8_t> compressed(ZSTD_compressBound(raw.size()));
   const size_t size = ZSTD_compress(compressed.data(), compressed.size(), raw.data(), raw.size(), zstd_level);
   if (ZSTD_isError(size)) fail(file, std::string("zstd: ") + ZSTD_getErrorName(size));
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
   out.write(reinterpret_cast<const char*>(compressed.data()), std::streamsize(size));
+  out.close();
   if (!out) fail(file, "cannot write");
 }
 
 std::vector<uint8_t> read_buffer_blob(const std::filesystem::path& file, uint64_t expected_size) {
-  if (expected_size > (uint64_t(4) << 30)) fail(file, "buffer larger than 4 GiB");
+  if (expected_size > kMaxBufferBytes)
+    fail(file, "expected size " + std::to_string(expected_size) + " exceeds 4 GiB");
   std::ifstream in(file, std::ios::binary);
   if (!in) fail(file, "cannot open");
-  std::vector<uint8_t> compressed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::vector<uint8_t> compressed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) fail(file, "cannot read");
   const unsigned long long content = ZSTD_getFrameContentSize(compressed.data(), compressed.size());
-  if (content == ZSTD_CONTENTSIZE_ERROR || content == ZSTD_CONTENTSIZE_UNKNOWN) fail(file, "not a zstd frame");
+  if (content == ZSTD_CONTENTSIZE_ERROR || content == ZSTD_CONTENTSIZE_UNKNOWN)
+    fail(file, "is not a zstd frame with a recorded size");
   if (content != expected_size)
     fail(file, "holds " + std::to_string(content) + " bytes, expected " + std::to_string(expected_size));
+  if (ZSTD_findFrameCompressedSize(compressed.data(), compressed.size()) != compressed.size())
+    fail(file, "is not exactly one zstd frame");
   std::vector<uint8_t> raw(expected_size);
   const size_t size = ZSTD_decompress(raw.data(), raw.size(), compressed.data(), compressed.size());
-  if (ZSTD_isError(size) || size != expected_size) fail(file, "corrupt zstd data");
+  if (ZSTD_isError(size)) fail(file, std::string("corrupt zstd data: ") + ZSTD_getErrorName(size));
+  if (size != expected_size) fail(file, "decompressed to " + std::to_string(size) + " bytes");
   return raw;
 }
 

@@ -288,21 +288,25 @@ void CaptureWriter::add_resource(ResourceRecord& record, std::span<const uint8_t
   record.blob = "blobs/" + record.hash + "." + ext;
   {
     std::unique_lock lock(mutex_);
-    // Another thread may be writing the same blob: wait until it is on disk.
-    while (blobs_.count(record.hash) && blobs_.at(record.hash).empty()) {
-      lock.unlock();
-      std::this_thread::yield();
-      lock.lock();
-    }
+    // Another thread may be writing the same blob: wait until it is on disk (or failed).
+    written_.wait(lock, [&] { return !blobs_.count(record.hash) || !blobs_.at(record.hash).empty(); });
     if (blobs_.count(record.hash)) return;
     blobs_[record.hash] = "";
   }
   const fs::path file = temp_ / record.blob;
-  if (record.is_buffer) write_buffer_blob(file, raw, options_.zstd_level);
-  else write_image_blob(file, *format_info(record.format), record.extent, raw, options_.compression);
+  try {
+    if (record.is_buffer) write_buffer_blob(file, raw, options_.zstd_level);
+    else write_image_blob(file, *format_info(record.format), record.extent, raw, options_.compression);
+  } catch (...) {
+    std::lock_guard lock(mutex_);
+    blobs_.erase(record.hash);
+    written_.notify_all();
+    throw;
+  }
   std::lock_guard lock(mutex_);
   blobs_[record.hash] = record.blob;
   bytes_written_ += fs::file_size(file);
+  written_.notify_all();
 }
 
 ShaderRecord CaptureWriter::add_shader(const std::string& path, std::span<const uint32_t> spirv) {

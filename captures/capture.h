@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <condition_variable>
 #include <mutex>
 #include <optional>
 #include <span>
@@ -110,7 +111,8 @@ class CaptureWriter {
   Options options_;
   bool committed_ = false;
   std::mutex mutex_;
-  std::map<std::string, std::string> blobs_;  // hash -> relative path
+  std::condition_variable written_;
+  std::map<std::string, std::string> blobs_;  // hash -> relative path; "" while being written
   uint64_t bytes_written_ = 0;
 };
 

@@ -57,6 +57,7 @@ std::vector<uint32_t> compile_glsl(const std::string& path, const std::string& s
   const char* text = source.c_str();
   const char* name = path.c_str();
   shader.setStringsWithLengthsAndNames(&text, nullptr, &name, 1);
+  shader.setPreamble("#extension GL_GOOGLE_include_directive : require\n");
   shader.setEnvInput(glslang::EShSourceGlsl, stage, glslang::EShClientVulkan, 100);
   shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_3);
   shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_6);

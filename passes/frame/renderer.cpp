@@ -8,6 +8,7 @@
 #include "captures/hash.h"
 #include "passes/core/shader.h"
 #include "passes/frame/camera_math.h"
+#include "passes/frame/frame_passes.h"
 
 namespace nightcap {
 namespace {

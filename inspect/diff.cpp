@@ -1,0 +1,225 @@
+#include "inspect/diff.h"
+
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+namespace nightcap {
+namespace {
+
+const PassRecord* find(const FrameRecord& frame, const std::string& name) {
+  for (const PassRecord& p : frame.passes)
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+std::map<std::string, std::string> hashes(const std::vector<ResourceRecord>& records) {
+  std::map<std::string, std::string> out;
+  for (const ResourceRecord& r : records) out[r.resource] = r.hash;
+  return out;
+}
+
+std::map<std::string, std::string> shader_hashes(const PassRecord& p) {
+  std::map<std::string, std::string> out;
+  for (const ShaderRecord& s : p.shaders) out[s.path] = s.hash;
+  return out;
+}
+
+PassDiff diff_pass(const Capture& ca, const PassRecord& a, const Capture& cb, const PassRecord& b,
+                   const DiffOptions& options) {
+  PassDiff d;
+  d.name = a.name;
+  if (!a.ran || !b.ran) {
+    d.status = !a.ran && !b.ran ? PassStatus::skipped : !a.ran ? PassStatus::skipped_in_a : PassStatus::skipped_in_b;
+    d.beyond_tolerance = a.ran != b.ran;
+    return d;
+  }
+  d.inputs_agree = hashes(a.inputs) == hashes(b.inputs);
+  d.params_agree = a.params == b.params;
+  d.shaders_agree = shader_hashes(a) == shader_hashes(b);
+  bool differs = false;
+  for (const ResourceRecord& ra : a.outputs) {
+    OutputDiff o;
+    o.resource = ra.resource;
+    const ResourceRecord* rb = nullptr;
+    for (const ResourceRecord& r : b.outputs)
+      if (r.resource == ra.resource) rb = &r;
+    if (!rb) {
+      o.only_in_one = true;
+      o.comparison.comparable = false;
+      o.comparison.note = "only in A";
+      differs = d.beyond_tolerance = true;
+    } else if (ra.hash == rb->hash) {
+      o.comparison.identical = true;
+      o.comparison.metric = "bytes";
+    } else {
+      o.comparison = compare_resource(ra, ca.load(ra), *rb, cb.load(*rb));
+      differs = true;
+      if (!o.comparison.comparable || o.comparison.max_abs > options.tolerance) d.beyond_tolerance = true;
+    }
+    d.outputs.push_back(std::move(o));
+  }
+  const auto outputs_a = hashes(a.outputs);
+  for (const ResourceRecord& rb : b.outputs)
+    if (!outputs_a.count(rb.resource)) {
+      OutputDiff o;
+      o.resource = rb.resource;
+      o.only_in_one = true;
+      o.comparison.comparable = false;
+      o.comparison.note = "only in B";
+      d.outputs.push_back(std::move(o));
+      differs = d.beyond_tolerance = true;
+    }
+  if (differs) d.status = d.inputs_agree && d.params_agree && d.shaders_agree ? PassStatus::origin : PassStatus::inherited;
+  return d;
+}
+
+std::string number(double v, int precision = 4) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  std::ostringstream s;
+  s << std::setprecision(precision) << v;
+  return s.str();
+}
+
+nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+}  // namespace
+
+std::string status_name(PassStatus status) {
+  switch (status) {
+    case PassStatus::identical: return "identical";
+    case PassStatus::origin: return "origin";
+    case PassStatus::inherited: return "inherited";
+    case PassStatus::skipped: return "skipped";
+    case PassStatus::skipped_in_a: return "skipped_in_a";
+    case PassStatus::skipped_in_b: return "skipped_in_b";
+    case PassStatus::only_in_a: return "only_in_a";
+    case PassStatus::only_in_b: return "only_in_b";
+  }
+  return "";
+}
+
+CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions& options) {
+  CaptureDiff diff;
+  for (const FrameRecord& fa : a.manifest().frames) {
+    const FrameRecord* fb = nullptr;
+    for (const FrameRecord& f : b.manifest().frames)
+      if (f.index == fa.index) fb = &f;
+    if (!fb) {
+      diff.notes.push_back("frame " + std::to_string(fa.index) + " only in A");
+      diff.identical = false;
+      diff.beyond_tolerance = true;
+      continue;
+    }
+    FrameDiff frame;
+    frame.index = fa.index;
+    for (const PassRecord& pa : fa.passes) {
+      const PassRecord* pb = find(*fb, pa.name);
+      if (!pb) {
+        frame.passes.push_back({pa.name, PassStatus::only_in_a, false, false, false, {}, true});
+        continue;
+      }
+      frame.passes.push_back(diff_pass(a, pa, b, *pb, options));
+    }
+    for (const PassRecord& pb : fb->passes)
+      if (!find(fa, pb.name)) frame.passes.push_back({pb.name, PassStatus::only_in_b, false, false, false, {}, true});
+    for (const PassDiff& p : frame.passes) {
+      if (p.status != PassStatus::identical && p.status != PassStatus::skipped) diff.identical = false;
+      diff.beyond_tolerance |= p.beyond_tolerance;
+      if (!diff.first_divergence && (p.status == PassStatus::origin || p.status == PassStatus::skipped_in_a ||
+                                     p.status == PassStatus::skipped_in_b || p.status == PassStatus::only_in_a ||
+                                     p.status == PassStatus::only_in_b))
+        diff.first_divergence = {frame.index, p.name};
+    }
+    diff.frames.push_back(std::move(frame));
+  }
+  for (const FrameRecord& fb : b.manifest().frames) {
+    bool found = false;
+    for (const FrameRecord& fa : a.manifest().frames) found |= fa.index == fb.index;
+    if (!found) {
+      diff.notes.push_back("frame " + std::to_string(fb.index) + " only in B");
+      diff.identical = false;
+      diff.beyond_tolerance = true;
+    }
+  }
+  return diff;
+}
+
+void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
+  for (const FrameDiff& frame : diff.frames) {
+    out << "frame " << frame.index << "\n";
+    out << std::left << std::setw(22) << "  pass" << std::setw(22) << "resource" << std::setw(11) << "status"
+        << std::right << std::setw(11) << "max abs" << std::setw(11) << "RMSE" << std::setw(9) << "PSNR" << std::setw(8)
+        << ">thr %" << std::setw(12) << "NaN/Inf" << "\n";
+    for (const PassDiff& p : frame.passes) {
+      if (p.outputs.empty() || (p.status != PassStatus::origin && p.status != PassStatus::inherited)) {
+        out << "  " << std::left << std::setw(20) << p.name << std::setw(22) << "" << status_name(p.status) << "\n";
+        continue;
+      }
+      for (const OutputDiff& o : p.outputs) {
+        const ResourceComparison& c = o.comparison;
+        out << "  " << std::left << std::setw(20) << p.name << std::setw(22) << o.resource << std::setw(11)
+            << (c.identical ? "identical" : status_name(p.status));
+        if (!c.identical && c.comparable)
+          out << std::right << std::setw(11) << number(c.max_abs) << std::setw(11) << number(c.rmse) << std::setw(9)
+              << number(c.psnr, 3) << std::setw(8) << number(100.0 * c.over_threshold_share, 3) << std::setw(12)
+              << (std::to_string(c.nan_b) + "/" + std::to_string(c.inf_b));
+        else if (!c.comparable)
+          out << "  " << c.note;
+        out << "\n";
+      }
+    }
+  }
+  for (const std::string& note : diff.notes) out << "note: " << note << "\n";
+  if (diff.first_divergence)
+    out << "first divergence: " << diff.first_divergence->second << " (frame " << diff.first_divergence->first
+        << ")\n";
+  else
+    out << (diff.identical ? "no differences\n" : "differences, but no pass where they start with equal inputs\n");
+}
+
+nlohmann::json diff_to_json(const CaptureDiff& diff) {
+  nlohmann::json frames = nlohmann::json::array();
+  for (const FrameDiff& frame : diff.frames) {
+    nlohmann::json passes = nlohmann::json::array();
+    for (const PassDiff& p : frame.passes) {
+      nlohmann::json outputs = nlohmann::json::array();
+      for (const OutputDiff& o : p.outputs) {
+        const ResourceComparison& c = o.comparison;
+        nlohmann::json j = {{"resource", o.resource},
+                            {"identical", c.identical},
+                            {"comparable", c.comparable},
+                            {"metric", c.metric},
+                            {"max_abs", finite_or_null(c.max_abs)},
+                            {"rmse", finite_or_null(c.rmse)},
+                            {"psnr", finite_or_null(c.psnr)},
+                            {"over_threshold_share", c.over_threshold_share},
+                            {"differing", c.differing},
+                            {"nan_a", c.nan_a},
+                            {"nan_b", c.nan_b},
+                            {"inf_a", c.inf_a},
+                            {"inf_b", c.inf_b}};
+        if (c.metric == "angle") {
+          j["angular_max_deg"] = c.angular_max_deg;
+          j["angular_mean_deg"] = c.angular_mean_deg;
+        }
+        if (!c.note.empty()) j["note"] = c.note;
+        outputs.push_back(j);
+      }
+      passes.push_back({{"name", p.name},
+                        {"status", status_name(p.status)},
+                        {"inputs_agree", p.inputs_agree},
+                        {"params_agree", p.params_agree},
+                        {"shaders_agree", p.shaders_agree},
+                        {"beyond_tolerance", p.beyond_tolerance},
+                        {"outputs", outputs}});
+    }
+    frames.push_back({{"index", frame.index}, {"passes", passes}});
+  }
+  nlohmann::json first = nullptr;
+  if (diff.first_divergence) first = {{"frame", diff.first_divergence->first}, {"pass", diff.first_divergence->second}};
+  return {{"identical", diff.identical}, {"beyond_tolerance", diff.beyond_tolerance}, {"first_divergence", first},
+          {"notes", diff.notes},         {"frames", frames}};
+}
+
+}  // namespace nightcap

@@ -1,0 +1,58 @@
+// Diff of two captures: passes aligned by name, outputs by resource name, each compared with
+// the metric of its kind; the first pass whose outputs differ although its inputs, parameters
+// and shaders agree is where a change entered the frame (the origin), and the passes that
+// differ only because what they read differs are inherited.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "captures/capture.h"
+#include "inspect/metrics.h"
+
+namespace nightcap {
+
+struct DiffOptions {
+  double tolerance = 0.0;  // max abs difference still accepted
+};
+
+struct OutputDiff {
+  std::string resource;
+  bool only_in_one = false;
+  ResourceComparison comparison;
+};
+
+enum class PassStatus { identical, origin, inherited, skipped, skipped_in_a, skipped_in_b, only_in_a, only_in_b };
+std::string status_name(PassStatus status);
+
+struct PassDiff {
+  std::string name;
+  PassStatus status = PassStatus::identical;
+  bool inputs_agree = true, params_agree = true, shaders_agree = true;
+  std::vector<OutputDiff> outputs;
+  bool beyond_tolerance = false;
+};
+
+struct FrameDiff {
+  uint32_t index = 0;
+  std::vector<PassDiff> passes;
+};
+
+struct CaptureDiff {
+  std::vector<FrameDiff> frames;
+  std::optional<std::pair<uint32_t, std::string>> first_divergence;  // frame, pass
+  bool identical = true;
+  bool beyond_tolerance = false;
+  std::vector<std::string> notes;  // frames present in one capture only, ...
+};
+
+// Throws CaptureError when a blob cannot be read.
+CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions& options);
+void print_diff_table(std::ostream& out, const CaptureDiff& diff);
+nlohmann::json diff_to_json(const CaptureDiff& diff);
+
+}  // namespace nightcap

@@ -1,0 +1,131 @@
+#include "inspect/metrics.h"
+
+#include <glm/glm.hpp>
+
+#include <cmath>
+#include <cstring>
+
+namespace nightcap {
+namespace {
+
+bool is_integer(const FormatInfo& f, uint32_t aspect) {
+  using E = ChannelEncoding;
+  return aspect == 1 || f.encoding == E::uint8 || f.encoding == E::uint16 || f.encoding == E::uint32;
+}
+
+bool is_float(const FormatInfo& f) {
+  using E = ChannelEncoding;
+  return f.encoding == E::sfloat16 || f.encoding == E::sfloat32 || f.encoding == E::packed_b10g11r11 ||
+         f.encoding == E::depth32_stencil8;
+}
+
+// Threshold a texel's channel must exceed to count in over_threshold_share.
+double threshold(const FormatInfo& f, uint32_t aspect, double reference) {
+  if (is_integer(f, aspect)) return 0.0;
+  if (is_float(f)) return 1e-3 * std::max(1.0, std::abs(reference));
+  if (f.encoding == ChannelEncoding::packed_a2b10g10r10) return 1.0 / 1023.0;
+  return 1.0 / 255.0;
+}
+
+void compare_buffers(std::span<const uint8_t> a, std::span<const uint8_t> b, ResourceComparison& r) {
+  r.metric = "buffer words";
+  const size_t words = a.size() / 4;
+  double sum = 0;
+  for (size_t i = 0; i < words; ++i) {
+    uint32_t wa, wb;
+    std::memcpy(&wa, a.data() + 4 * i, 4);
+    std::memcpy(&wb, b.data() + 4 * i, 4);
+    if (wa == wb) continue;
+    ++r.differing;
+    float fa, fb;
+    std::memcpy(&fa, &wa, 4);
+    std::memcpy(&fb, &wb, 4);
+    const double d = std::isfinite(fa) && std::isfinite(fb) ? std::abs(double(fa) - fb) : INFINITY;
+    r.max_abs = std::max(r.max_abs, d);
+    sum += d * d;
+  }
+  for (size_t i = words * 4; i < a.size(); ++i) r.differing += a[i] != b[i];
+  r.over_threshold_share = words ? double(r.differing) / words : 0.0;
+  r.rmse = words ? std::sqrt(sum / words) : 0.0;
+  r.psnr = r.rmse > 0 ? 20.0 * std::log10(1.0 / r.rmse) : INFINITY;
+}
+
+}  // namespace
+
+ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uint8_t> a_raw, const ResourceRecord& b,
+                                    std::span<const uint8_t> b_raw) {
+  ResourceComparison r;
+  r.identical = a_raw.size() == b_raw.size() && std::equal(a_raw.begin(), a_raw.end(), b_raw.begin());
+  if (a.is_buffer != b.is_buffer || a_raw.size() != b_raw.size() ||
+      (!a.is_buffer && (a.format != b.format || a.extent.width != b.extent.width || a.extent.height != b.extent.height ||
+                        a.extent.depth != b.extent.depth || a.extent.mips != b.extent.mips ||
+                        a.extent.layers != b.extent.layers))) {
+    r.comparable = false;
+    r.note = "format or size differs";
+    r.max_abs = INFINITY;
+    r.psnr = 0;
+    r.over_threshold_share = 1.0;
+    return r;
+  }
+  if (a.is_buffer) {
+    compare_buffers(a_raw, b_raw, r);
+    return r;
+  }
+  const FormatInfo f = *format_info(a.format);
+  const bool normal = a.kind == ResourceKind::normal || a.kind == ResourceKind::packed_normal;
+  r.metric = normal ? "angle" : f.has_stencil ? "depth + stencil" : is_integer(f, 0) ? "integer (exact)"
+                                              : is_float(f)          ? "float"
+                                                                     : "unorm";
+  double peak = is_float(f) ? 1e-6 : 1.0;
+  double sum_squares = 0, angle_sum = 0;
+  uint64_t values = 0, texels_total = 0, over = 0;
+  float va[4], vb[4];
+  for (uint32_t aspect = 0; aspect < aspect_count(f); ++aspect) {
+    const uint32_t channels = aspect_channels(f, aspect);
+    const uint64_t begin = raw_subresource_offset(f, a.extent, aspect, 0, 0);
+    const uint64_t end = raw_subresource_offset(f, a.extent, aspect + 1, 0, 0);
+    const uint64_t texels = (end - begin) / aspect_texel_bytes(f, aspect);
+    const auto plane_a = a_raw.subspan(begin, end - begin), plane_b = b_raw.subspan(begin, end - begin);
+    for (uint64_t t = 0; t < texels; ++t) {
+      decode_texel(f, aspect, plane_a, t, va);
+      decode_texel(f, aspect, plane_b, t, vb);
+      bool texel_over = false, texel_differs = false;
+      for (uint32_t c = 0; c < channels; ++c) {
+        const bool nan_a = std::isnan(va[c]), nan_b = std::isnan(vb[c]);
+        r.nan_a += nan_a;
+        r.nan_b += nan_b;
+        r.inf_a += std::isinf(va[c]);
+        r.inf_b += std::isinf(vb[c]);
+        if (is_float(f) && aspect == 0 && std::isfinite(va[c])) peak = std::max(peak, double(std::abs(va[c])));
+        if (nan_a && nan_b) continue;  // NaN in the same place is agreement, not a difference
+        double d;
+        if (nan_a || nan_b) d = INFINITY;
+        else if (std::isinf(va[c]) || std::isinf(vb[c])) d = va[c] == vb[c] ? 0.0 : INFINITY;
+        else d = std::abs(double(va[c]) - vb[c]);
+        if (d > 0) texel_differs = true;
+        if (d > threshold(f, aspect, va[c])) texel_over = true;
+        r.max_abs = std::max(r.max_abs, d);
+        if (std::isfinite(d)) sum_squares += d * d;
+        ++values;
+      }
+      if (normal && aspect == 0) {
+        const glm::dvec3 na = glm::dvec3(va[0], va[1], va[2]) * 2.0 - 1.0, nb = glm::dvec3(vb[0], vb[1], vb[2]) * 2.0 - 1.0;
+        const double angle = glm::degrees(std::atan2(glm::length(glm::cross(na, nb)), glm::dot(na, nb)));
+        if (std::isfinite(angle)) {
+          r.angular_max_deg = std::max(r.angular_max_deg, angle);
+          angle_sum += angle;
+        }
+      }
+      r.differing += texel_differs;
+      over += texel_over;
+      ++texels_total;
+    }
+  }
+  r.rmse = values ? std::sqrt(sum_squares / values) : 0.0;
+  r.psnr = r.rmse > 0 ? 20.0 * std::log10(peak / r.rmse) : INFINITY;
+  r.over_threshold_share = texels_total ? double(over) / texels_total : 0.0;
+  r.angular_mean_deg = normal && texels_total ? angle_sum / texels_total : 0.0;
+  return r;
+}
+
+}  // namespace nightcap

@@ -1,0 +1,81 @@
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "passes/scene/scene.h"
+
+namespace nightcap {
+namespace {
+
+// Camera-to-world for an eye looking at a target (camera looks down its -Z, +Y up).
+glm::dmat4 look_at(const glm::dvec3& eye, const glm::dvec3& target) {
+  glm::dvec3 forward = glm::normalize(target - eye);
+  // Looking straight up or down: any horizontal up keeps the basis well defined.
+  const glm::dvec3 up = std::abs(forward.y) > 0.999999 ? glm::dvec3(0, 0, -forward.y) : glm::dvec3(0, 1, 0);
+  return glm::inverse(glm::lookAt(eye, target, up));
+}
+
+}  // namespace
+
+Camera orbit_camera(double theta_degrees, double phi_degrees, double radius, glm::dvec3 target, double yfov_degrees) {
+  const double theta = glm::radians(theta_degrees), phi = glm::radians(phi_degrees);
+  const glm::dvec3 eye =
+      target + radius * glm::dvec3(std::sin(phi) * std::sin(theta), std::cos(phi), std::sin(phi) * std::cos(theta));
+  Camera camera;
+  camera.world = look_at(eye, target);
+  camera.yfov = float(glm::radians(yfov_degrees));
+  // A near plane proportional to the distance keeps small models sharp and big ones whole.
+  camera.znear = float(std::max(1e-4, radius * 0.01));
+  return camera;
+}
+
+Camera framing_camera(const Scene& scene, double aspect) {
+  const glm::dvec3 lo = scene.bounds_min(), hi = scene.bounds_max();
+  const glm::dvec3 centre = (lo + hi) * 0.5;
+  const double radius = std::max(glm::length(hi - lo) * 0.5, 1e-3);
+  const double yfov = glm::radians(45.0);
+  const double half = std::min(yfov, 2.0 * std::atan(std::tan(yfov / 2.0) * aspect)) / 2.0;
+  const double distance = radius / std::sin(half);
+  Camera camera = orbit_camera(30.0, 70.0, distance, centre, 45.0);
+  camera.znear = float(std::max(1e-4, (distance - radius) * 0.5));
+  return camera;
+}
+
+glm::dvec3 Scene::bounds_min() const {
+  glm::dvec3 lo(INFINITY);
+  for (const Instance& instance : instances) {
+    const Primitive& p = primitives.at(instance.primitive);
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::dvec4 c(corner & 1 ? p.bounds_max.x : p.bounds_min.x, corner & 2 ? p.bounds_max.y : p.bounds_min.y,
+                         corner & 4 ? p.bounds_max.z : p.bounds_min.z, 1.0);
+      lo = glm::min(lo, glm::dvec3(instance.world * c));
+    }
+  }
+  return instances.empty() ? glm::dvec3(0.0) : lo;
+}
+
+glm::dvec3 Scene::bounds_max() const {
+  glm::dvec3 hi(-INFINITY);
+  for (const Instance& instance : instances) {
+    const Primitive& p = primitives.at(instance.primitive);
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::dvec4 c(corner & 1 ? p.bounds_max.x : p.bounds_min.x, corner & 2 ? p.bounds_max.y : p.bounds_min.y,
+                         corner & 4 ? p.bounds_max.z : p.bounds_min.z, 1.0);
+      hi = glm::max(hi, glm::dvec3(instance.world * c));
+    }
+  }
+  return instances.empty() ? glm::dvec3(0.0) : hi;
+}
+
+std::set<std::string> Scene::features() const {
+  std::set<std::string> f;
+  for (const Instance& instance : instances) {
+    const Material& m = materials.at(primitives.at(instance.primitive).material);
+    if (instance.moving) f.insert("moving_geometry");
+    f.insert(m.alpha_mode == AlphaMode::mask ? "mask_geometry" : "opaque_geometry");
+    if (m.emissive != glm::vec3(0.0f)) f.insert("emissive");
+  }
+  for (const Light& l : lights) f.insert(l.type == LightType::directional ? "sun" : "local_lights");
+  return f;
+}
+
+}  // namespace nightcap

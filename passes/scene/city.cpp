@@ -1,0 +1,290 @@
+// The built-in scene: one Night City block at night. A grid of lots between wet streets,
+// buildings of varied height whose facades carry lit windows, neon signs that are both
+// emissive geometry and tube lights, street lamps, a few spot lights, parked cars and the
+// moon. Everything derives from the seed through std::mt19937's raw output (its sequence is
+// specified by the standard), so a seed gives the same city on every platform.
+#include <array>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <random>
+
+#include "passes/scene/scene.h"
+
+namespace nightcap {
+namespace {
+
+class Random {
+ public:
+  explicit Random(uint32_t seed) : engine_(seed) {}
+  double uniform() { return double(engine_() >> 8) * (1.0 / 16777216.0); }
+  double range(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+  uint32_t below(uint32_t n) { return uint32_t(uniform() * n) % n; }
+
+ private:
+  std::mt19937 engine_;
+};
+
+// Boxes in local coordinates around their centre; UVs in metres × uv_scale so textures keep
+// their size on every face.
+class Builder {
+ public:
+  explicit Builder(Scene& scene) : scene_(scene) {}
+
+  uint32_t box(glm::vec3 half, uint32_t material, float uv_scale, bool with_top = true, bool with_bottom = false) {
+    Primitive p;
+    p.first_index = uint32_t(scene_.indices.size());
+    p.vertex_offset = int32_t(scene_.vertices.size());
+    p.material = material;
+    p.bounds_min = -half;
+    p.bounds_max = half;
+    uint32_t base = 0;
+    for (int axis = 0; axis < 3; ++axis)
+      for (int sign : {-1, 1}) {
+        if (axis == 1 && sign > 0 && !with_top) continue;
+        if (axis == 1 && sign < 0 && !with_bottom) continue;
+        glm::vec3 n(0.0f);
+        n[axis] = float(sign);
+        // Two in-plane axes chosen so (u × v) = n: counter-clockwise seen from outside.
+        const int ua = axis == 1 ? 0 : (axis == 0 ? 2 : 0);
+        const int va = axis == 1 ? 2 : 1;
+        glm::vec3 u(0.0f), v(0.0f);
+        u[ua] = 1.0f;
+        v[va] = 1.0f;
+        if (glm::dot(glm::cross(u, v), n) < 0) u = -u;
+        const glm::vec3 centre = n * half;
+        const float hu = glm::dot(glm::abs(u), half), hv = glm::dot(glm::abs(v), half);
+        for (int corner = 0; corner < 4; ++corner) {
+          const float su = corner == 1 || corner == 2 ? 1.0f : -1.0f, sv = corner >= 2 ? 1.0f : -1.0f;
+          const glm::vec3 position = centre + u * (su * hu) + v * (sv * hv);
+          Vertex vertex{};
+          for (int k = 0; k < 3; ++k) {
+            vertex.position[k] = position[k];
+            vertex.normal[k] = n[k];
+            vertex.tangent[k] = u[k];
+          }
+          vertex.tangent[3] = 1.0f;
+          // Texture v grows downward in glTF: flip so windows stand upright.
+          vertex.uv0[0] = (su * hu + hu) * uv_scale;
+          vertex.uv0[1] = (hv - sv * hv) * uv_scale;
+          vertex.uv1[0] = vertex.uv0[0];
+          vertex.uv1[1] = vertex.uv0[1];
+          for (float& c : vertex.color) c = 1.0f;
+          scene_.vertices.push_back(vertex);
+        }
+        for (uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) scene_.indices.push_back(base + i);
+        base += 4;
+      }
+    p.index_count = uint32_t(scene_.indices.size()) - p.first_index;
+    scene_.primitives.push_back(p);
+    return uint32_t(scene_.primitives.size() - 1);
+  }
+
+  void place(uint32_t primitive, glm::dvec3 centre, double yaw = 0.0) {
+    Instance instance;
+    instance.world = glm::rotate(glm::translate(glm::dmat4(1.0), centre), yaw, glm::dvec3(0, 1, 0));
+    instance.primitive = primitive;
+    scene_.instances.push_back(instance);
+  }
+
+  uint32_t material(Material m) {
+    scene_.materials.push_back(std::move(m));
+    return uint32_t(scene_.materials.size() - 1);
+  }
+
+ private:
+  Scene& scene_;
+};
+
+// A 256² facade tile: 4×4 windows. Base colour is concrete and dark glass; the emissive
+// texture lights a random share of the windows in warm or cool tones.
+void facade_textures(Random& random, Texture& base, Texture& emissive, double lit_share) {
+  const uint32_t size = 256, cell = 64;
+  base = {"facade.base", size, size, true, std::vector<uint8_t>(size * size * 4)};
+  emissive = {"facade.emissive", size, size, true, std::vector<uint8_t>(size * size * 4)};
+  std::array<std::array<uint8_t, 3>, 16> window_colour{};
+  for (auto& c : window_colour) {
+    if (random.uniform() > lit_share) continue;
+    const bool warm = random.uniform() < 0.7;
+    const double level = random.range(0.45, 1.0);
+    c = warm ? std::array<uint8_t, 3>{uint8_t(255 * level), uint8_t(190 * level), uint8_t(110 * level)}
+             : std::array<uint8_t, 3>{uint8_t(150 * level), uint8_t(200 * level), uint8_t(255 * level)};
+  }
+  for (uint32_t y = 0; y < size; ++y)
+    for (uint32_t x = 0; x < size; ++x) {
+      const uint32_t cx = x % cell, cy = y % cell;
+      const bool glass = cx >= 10 && cx < 54 && cy >= 14 && cy < 50;
+      const uint8_t grain = uint8_t((x * 7 + y * 13) % 9);
+      uint8_t* b = &base.rgba8[(y * size + x) * 4];
+      uint8_t* e = &emissive.rgba8[(y * size + x) * 4];
+      b[0] = glass ? 20 : uint8_t(58 + grain);
+      b[1] = glass ? 24 : uint8_t(56 + grain);
+      b[2] = glass ? 30 : uint8_t(60 + grain);
+      b[3] = e[3] = 255;
+      const auto& c = window_colour[(y / cell) * 4 + x / cell];
+      for (int k = 0; k < 3; ++k) e[k] = glass ? c[k] : 0;
+    }
+}
+
+Material plain(const std::string& name, glm::vec3 colour, float metallic, float roughness, uint8_t stencil_class) {
+  Material m;
+  m.name = name;
+  m.base_color = glm::vec4(colour, 1.0f);
+  m.metallic = metallic;
+  m.roughness = roughness;
+  m.stencil_class = stencil_class;
+  return m;
+}
+
+const std::array<glm::vec3, 5> kNeon = {glm::vec3(1.0f, 0.08f, 0.55f), glm::vec3(0.05f, 0.9f, 1.0f),
+                                        glm::vec3(1.0f, 0.75f, 0.08f), glm::vec3(0.6f, 0.15f, 1.0f),
+                                        glm::vec3(0.2f, 1.0f, 0.35f)};
+
+}  // namespace
+
+Scene build_city(uint32_t seed) {
+  Scene scene;
+  scene.source = "built-in city (seed " + std::to_string(seed) + ")";
+  Random random(seed);
+  Builder build(scene);
+
+  // Facade variations: each its own pair of window textures.
+  std::vector<uint32_t> facades;
+  for (int variant = 0; variant < 3; ++variant) {
+    Texture base, emissive;
+    facade_textures(random, base, emissive, 0.25 + 0.2 * variant);
+    scene.textures.push_back(base);
+    scene.textures.push_back(emissive);
+    Material m = plain("facade." + std::to_string(variant), glm::vec3(1.0f), 0.0f, 0.55f, stencil::plain);
+    m.base_color_texture.texture = int32_t(scene.textures.size() - 2);
+    m.emissive_texture.texture = int32_t(scene.textures.size() - 1);
+    m.emissive = glm::vec3(1.0f);
+    m.emissive_strength = float(random.range(3.0, 8.0));
+    facades.push_back(build.material(m));
+  }
+  const uint32_t roof = build.material(plain("roof", {0.12f, 0.12f, 0.13f}, 0.0f, 0.8f, stencil::plain));
+  const uint32_t road = build.material(plain("road.wet_asphalt", {0.05f, 0.05f, 0.055f}, 0.0f, 0.25f, stencil::road));
+  const uint32_t sidewalk = build.material(plain("sidewalk", {0.22f, 0.21f, 0.2f}, 0.0f, 0.7f, stencil::plain));
+  const uint32_t pole = build.material(plain("lamp.pole", {0.3f, 0.3f, 0.32f}, 1.0f, 0.4f, stencil::plain));
+
+  // 3×3 lots of 48 m between 16 m streets: the block spans about 176 m.
+  constexpr double kLot = 48.0, kStreet = 16.0, kPitch = kLot + kStreet;
+  constexpr int kLots = 3;
+  const double extent = kLots * kPitch + kStreet;
+  build.place(build.box({float(extent / 2), 0.05f, float(extent / 2)}, road, 0.25f), {0.0, -0.05, 0.0});
+
+  for (int gx = 0; gx < kLots; ++gx)
+    for (int gz = 0; gz < kLots; ++gz) {
+      const glm::dvec3 lot_centre((gx - 1) * kPitch, 0.0, (gz - 1) * kPitch);
+      build.place(build.box({float(kLot / 2 + 2), 0.075f, float(kLot / 2 + 2)}, sidewalk, 0.5f),
+                  lot_centre + glm::dvec3(0, 0.075, 0));
+      // One to four buildings per lot, tallest toward the middle of the block.
+      const int count = 1 + int(random.below(4));
+      for (int b = 0; b < count; ++b) {
+        const double w = count == 1 ? random.range(30, 44) : random.range(14, 22);
+        const double d = count == 1 ? random.range(30, 44) : random.range(14, 22);
+        const double centrality = (gx == 1 && gz == 1) ? 1.0 : 0.55;
+        const double h = random.range(10.0, 120.0 * centrality);
+        const double ox = count == 1 ? 0.0 : ((b & 1) ? 1 : -1) * (kLot / 4);
+        const double oz = count == 1 ? 0.0 : ((b & 2) ? 1 : -1) * (kLot / 4);
+        const glm::dvec3 centre = lot_centre + glm::dvec3(ox, 0.15 + h / 2, oz);
+        build.place(build.box({float(w / 2), float(h / 2), float(d / 2)}, facades[random.below(3)], 1.0f / 16.0f, false),
+                    centre);
+        build.place(build.box({float(w / 2), 0.1f, float(d / 2)}, roof, 0.25f), centre + glm::dvec3(0, h / 2 + 0.1, 0));
+
+        // Neon signs on the facade facing the nearest street: an emissive bar and its tube light.
+        const int signs = int(random.below(4));
+        for (int s = 0; s < signs; ++s) {
+          const glm::vec3 colour = kNeon[random.below(uint32_t(kNeon.size()))];
+          Material neon = plain("neon", colour * 0.2f, 0.0f, 0.3f, stencil::plain);
+          neon.emissive = colour;
+          neon.emissive_strength = 40.0f;
+          const uint32_t material = build.material(neon);
+          const double length = random.range(2.0, 8.0);
+          const double y = random.range(4.0, std::max(5.0, std::min(h - 2.0, 30.0)));
+          const bool vertical = random.uniform() < 0.4;
+          const int face = int(random.below(4));
+          const glm::dvec3 normal = face == 0 ? glm::dvec3(1, 0, 0) : face == 1 ? glm::dvec3(-1, 0, 0)
+                                   : face == 2                    ? glm::dvec3(0, 0, 1)
+                                                                  : glm::dvec3(0, 0, -1);
+          const glm::dvec3 along = vertical ? glm::dvec3(0, 1, 0) : glm::dvec3(normal.z, 0, -normal.x);
+          const glm::dvec3 surface = centre + normal * (glm::abs(normal.x) > 0 ? w / 2 + 0.3 : d / 2 + 0.3);
+          const glm::dvec3 mid(surface.x, y, surface.z);
+          const glm::vec3 half = glm::vec3(glm::abs(along) * (length / 2) + glm::abs(normal) * 0.06 +
+                                           (vertical ? glm::abs(glm::dvec3(normal.z, 0, normal.x)) : glm::dvec3(0, 1, 0)) * 0.06);
+          build.place(build.box(half, material, 1.0f, true, true), mid);
+          Light tube;
+          tube.type = LightType::tube;
+          tube.position = mid - along * (length / 2);
+          tube.end = mid + along * (length / 2);
+          tube.color = colour;
+          tube.intensity = 60.0f;
+          tube.range = 40.0f;
+          tube.radius = 0.05f;
+          scene.lights.push_back(tube);
+        }
+      }
+    }
+
+  // Street lamps along the streets between lots, and cars parked at the kerbs.
+  for (int line = 0; line <= kLots; ++line) {
+    const double street = (line - 1.5) * kPitch;
+    for (int k = 0; k < kLots; ++k) {
+      const double along = (k - 1) * kPitch;
+      const bool x_street = (line + k) % 2 == 0;
+      const glm::dvec3 base = x_street ? glm::dvec3(along, 0.0, street + kStreet / 2 - 1.0)
+                                       : glm::dvec3(street + kStreet / 2 - 1.0, 0.0, along);
+      build.place(build.box({0.08f, 3.0f, 0.08f}, pole, 1.0f), base + glm::dvec3(0, 3.0, 0));
+      Light lamp;
+      lamp.type = LightType::point;
+      lamp.position = base + glm::dvec3(0, 6.2, 0);
+      lamp.color = {1.0f, 0.72f, 0.42f};
+      lamp.intensity = 500.0f;
+      lamp.range = 35.0f;
+      scene.lights.push_back(lamp);
+    }
+  }
+  for (int c = 0; c < 8; ++c) {
+    const glm::vec3 paint = kNeon[random.below(uint32_t(kNeon.size()))] * 0.5f + glm::vec3(0.05f);
+    const uint32_t material = build.material(plain("car.paint", paint, 0.9f, 0.25f, stencil::vehicle));
+    const int line = int(random.below(kLots + 1));
+    const double street = (line - 1.5) * kPitch;
+    const double along = random.range(-extent / 2 + 10, extent / 2 - 10);
+    const bool x_street = random.uniform() < 0.5;
+    const double kerb = street + (random.uniform() < 0.5 ? -1 : 1) * (kStreet / 2 - 2.5);
+    const glm::dvec3 centre = x_street ? glm::dvec3(along, 0.0, kerb) : glm::dvec3(kerb, 0.0, along);
+    const double yaw = x_street ? 0.0 : glm::half_pi<double>();
+    build.place(build.box({2.25f, 0.55f, 0.95f}, material, 1.0f, true), centre + glm::dvec3(0, 0.75, 0), yaw);
+    build.place(build.box({1.2f, 0.35f, 0.85f}, material, 1.0f, true), centre + glm::dvec3(0, 1.65, 0), yaw);
+  }
+  // Spot lights washing three facades from above the street.
+  for (int s = 0; s < 3; ++s) {
+    Light spot;
+    spot.type = LightType::spot;
+    spot.position = glm::dvec3((s - 1) * kPitch, 12.0, -kPitch / 2);
+    spot.direction = glm::normalize(glm::vec3(0.0f, -1.0f, -0.6f));
+    spot.color = kNeon[(s * 2) % kNeon.size()];
+    spot.intensity = 3000.0f;
+    spot.range = 60.0f;
+    spot.inner_cone = 0.25f;
+    spot.outer_cone = 0.5f;
+    scene.lights.push_back(spot);
+  }
+  Light moon;
+  moon.type = LightType::directional;
+  moon.direction = glm::normalize(glm::vec3(0.35f, -0.8f, 0.45f));
+  moon.color = {0.55f, 0.65f, 1.0f};
+  moon.intensity = 0.4f;
+  scene.lights.push_back(moon);
+
+  // Street level, looking down a street toward the tall middle of the block.
+  Camera camera;
+  const glm::dvec3 eye(-1.5 * kPitch + 3.0, 7.0, kPitch * 0.5 + 2.0);
+  const glm::dvec3 target(0.5 * kPitch, 22.0, -kPitch * 0.2);
+  camera.world = glm::inverse(glm::lookAt(eye, target, glm::dvec3(0, 1, 0)));
+  camera.yfov = glm::radians(60.0f);
+  camera.znear = 0.1f;
+  scene.camera = camera;
+  return scene;
+}
+
+}  // namespace nightcap

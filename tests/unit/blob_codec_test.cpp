@@ -1,0 +1,285 @@
+// Capture blobs: every format, extent and compression round-trips bit-exactly (NaN payloads,
+// -0, denormals and packed words included), and damaged or mismatched files fail with a
+// CaptureError naming the file instead of crashing or returning garbage silently.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+
+#include "captures/blob_codec.h"
+
+namespace nightcap {
+namespace {
+
+namespace fs = std::filesystem;
+
+class BlobDir {
+ public:
+  BlobDir() {
+    const auto* test = testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string("nightcap-blob-") + test->test_suite_name() + "-" + test->name() + "-" +
+                       std::to_string(getpid());
+    std::replace(name.begin(), name.end(), '/', '_');
+    path_ = fs::temp_directory_path() / name;
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~BlobDir() { fs::remove_all(path_); }
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  fs::path path_;
+};
+
+std::vector<uint8_t> file_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void write_bytes(const fs::path& file, std::span<const uint8_t> bytes) {
+  // Removing first: overwriting with O_TRUNC makes ext4 flush the old blocks (auto_da_alloc),
+  // which turns thousands of small rewrites into a minute of waiting.
+  fs::remove(file);
+  std::ofstream out(file, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+
+// Random codes, with the float values most likely to be mangled by a conversion placed first.
+std::vector<uint8_t> random_raw(const FormatInfo& format, const ImageExtent& extent, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::vector<uint8_t> raw(raw_image_bytes(format, extent));
+  for (uint8_t& b : raw) b = uint8_t(rng());
+  const uint64_t depth_plane = raw_subresource_offset(format, extent, 1, 0, 0);
+  if (format.encoding == ChannelEncoding::sfloat16) {
+    const uint16_t specials[] = {0x7c00, 0xfc00, 0x8000, 0x0000, 0x0001, 0x83ff, 0x7e01, 0xfd55, 0x7bff, 0x7fff};
+    std::memcpy(raw.data(), specials, std::min(sizeof specials, raw.size()));
+  } else if (format.encoding == ChannelEncoding::sfloat32 || format.encoding == ChannelEncoding::depth32_stencil8) {
+    const uint32_t specials[] = {0x7f800001, 0xffc00000, 0x7fbfffff, 0x7f800000, 0xff800000,
+                                 0x80000000, 0x00000001, 0x807fffff, 0x00400000, 0x7fc12345};
+    std::memcpy(raw.data(), specials, std::min(sizeof specials, size_t(depth_plane)));
+  }
+  return raw;
+}
+
+const ExrCompression kCompressions[] = {ExrCompression::none, ExrCompression::rle, ExrCompression::zip,
+                                        ExrCompression::piz};
+
+std::string compression_name(ExrCompression c) {
+  const char* names[] = {"none", "rle", "zip", "piz"};
+  return names[int(c)];
+}
+
+class ImageRoundTrip : public testing::TestWithParam<FormatInfo> {};
+
+TEST_P(ImageRoundTrip, BitExactForEveryExtentAndCompression) {
+  const FormatInfo& format = GetParam();
+  std::vector<ImageExtent> extents = {{7, 5, 1, 3, 2}, {1, 1, 1, 1, 1}, {64, 33, 1, 7, 1}};
+  // Depth formats are never 3D images.
+  if (!format.is_depth) extents.insert(extents.end(), {{13, 1, 4, 1, 1}, {16, 9, 4, 3, 1}});
+  BlobDir dir;
+  uint32_t seed = 1;
+  for (const ImageExtent& extent : extents)
+    for (ExrCompression compression : kCompressions) {
+      SCOPED_TRACE(std::to_string(extent.width) + "x" + std::to_string(extent.height) + "x" +
+                   std::to_string(extent.depth) + " mips " + std::to_string(extent.mips) + " layers " +
+                   std::to_string(extent.layers) + " " + compression_name(compression));
+      const std::vector<uint8_t> raw = random_raw(format, extent, seed++);
+      const fs::path file = dir / ("blob." + image_blob_extension());
+      write_image_blob(file, format, extent, raw, compression);
+      const std::vector<uint8_t> back = read_image_blob(file, format, extent);
+      ASSERT_EQ(back.size(), raw.size());
+      EXPECT_TRUE(back == raw);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllFormats, ImageRoundTrip, testing::ValuesIn(all_formats()),
+                         [](const testing::TestParamInfo<FormatInfo>& info) { return std::string(info.param.name); });
+
+TEST(ImageBlob, IntegerCodesAreStoredAsTheirValues) {
+  // A tool that opens the EXR must see the codes, not a normalised or byte-reinterpreted value.
+  BlobDir dir;
+  const FormatInfo format = *format_info(VK_FORMAT_R16G16_UNORM);
+  const ImageExtent extent{2, 1};
+  const std::vector<uint8_t> raw = {0x34, 0x12, 0xff, 0xff, 0x01, 0x00, 0x00, 0x80};
+  write_image_blob(dir / "codes.exr", format, extent, raw, ExrCompression::zip);
+  const std::vector<uint8_t> file = file_bytes(dir / "codes.exr");
+  const auto contains = [&](const char* text) {
+    return std::search(file.begin(), file.end(), text, text + std::strlen(text)) != file.end();
+  };
+  EXPECT_TRUE(contains("R16G16_UNORM"));
+  EXPECT_TRUE(contains("a0.m0.l0"));
+  EXPECT_EQ(read_image_blob(dir / "codes.exr", format, extent), raw);
+}
+
+TEST(ImageBlob, DepthStencilAspectsAreSeparateParts) {
+  BlobDir dir;
+  const FormatInfo format = *format_info(VK_FORMAT_D32_SFLOAT_S8_UINT);
+  const ImageExtent extent{3, 2, 1, 2, 1};
+  const std::vector<uint8_t> raw = random_raw(format, extent, 7);
+  write_image_blob(dir / "ds.exr", format, extent, raw, ExrCompression::piz);
+  EXPECT_EQ(read_image_blob(dir / "ds.exr", format, extent), raw);
+  // Four parts (2 aspects x 2 mips): the same file read as D32_SFLOAT has the wrong part count.
+  EXPECT_THROW(read_image_blob(dir / "ds.exr", *format_info(VK_FORMAT_D32_SFLOAT), extent), CaptureError);
+}
+
+void expect_capture_error(const std::function<void()>& read, const fs::path& file, const std::string& what = "") {
+  try {
+    read();
+    ADD_FAILURE() << "no CaptureError for " << file << " (" << what << ")";
+  } catch (const CaptureError& e) {
+    EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
+  }
+}
+
+TEST(ImageBlob, MismatchedFormatOrExtentIsRejected) {
+  BlobDir dir;
+  const FormatInfo rgba16f = *format_info(VK_FORMAT_R16G16B16A16_SFLOAT);
+  const ImageExtent extent{7, 5, 1, 3, 2};
+  const fs::path file = dir / "image.exr";
+  write_image_blob(file, rgba16f, extent, random_raw(rgba16f, extent, 3), ExrCompression::zip);
+  const auto read_as = [&](VkFormat format, ImageExtent e) {
+    expect_capture_error([&] { read_image_blob(file, *format_info(format), e); }, file);
+  };
+  read_as(VK_FORMAT_R32G32B32A32_SFLOAT, extent);  // same channels, other type
+  read_as(VK_FORMAT_R32G32_SFLOAT, extent);        // same texel size
+  read_as(VK_FORMAT_R16G16_SFLOAT, extent);
+  read_as(VK_FORMAT_R32G32B32A32_UINT, extent);
+  read_as(VK_FORMAT_R16G16B16A16_SFLOAT, {8, 5, 1, 3, 2});
+  read_as(VK_FORMAT_R16G16B16A16_SFLOAT, {7, 6, 1, 3, 2});
+  read_as(VK_FORMAT_R16G16B16A16_SFLOAT, {7, 5, 1, 2, 2});
+  read_as(VK_FORMAT_R16G16B16A16_SFLOAT, {7, 5, 1, 3, 1});
+  read_as(VK_FORMAT_R16G16B16A16_SFLOAT, {7, 1, 5, 3, 2});  // same rows per part, not 3D
+
+  // Packed formats share one UINT channel; only the recorded format tells them apart.
+  const FormatInfo a2b10 = *format_info(VK_FORMAT_A2B10G10R10_UNORM_PACK32);
+  write_image_blob(file, a2b10, {4, 4}, random_raw(a2b10, {4, 4}, 4), ExrCompression::rle);
+  read_as(VK_FORMAT_B10G11R11_UFLOAT_PACK32, {4, 4});
+  read_as(VK_FORMAT_R32_UINT, {4, 4});
+
+  // A 16-bit code cannot be read back as an 8-bit one, though both are UINT channels.
+  const FormatInfo r16 = *format_info(VK_FORMAT_R16_UINT);
+  write_image_blob(file, r16, {4, 4}, random_raw(r16, {4, 4}, 5), ExrCompression::none);
+  read_as(VK_FORMAT_R8_UINT, {4, 4});
+}
+
+TEST(ImageBlob, MissingOrForeignFileIsRejected) {
+  BlobDir dir;
+  const FormatInfo format = *format_info(VK_FORMAT_R8G8B8A8_UNORM);
+  const fs::path missing = dir / "missing.exr";
+  expect_capture_error([&] { read_image_blob(missing, format, {4, 4}); }, missing);
+  const fs::path buffer = dir / "buffer.exr";
+  write_buffer_blob(buffer, std::vector<uint8_t>(100, 1), 3);
+  expect_capture_error([&] { read_image_blob(buffer, format, {4, 4}); }, buffer);
+}
+
+// Every prefix length in `lengths` and a flip of every byte must either fail with a
+// CaptureError naming the file or return data of the expected size; a crash fails the suite.
+void damage(const fs::path& file, const std::function<std::vector<uint8_t>()>& read, size_t expected_size) {
+  const std::vector<uint8_t> good = file_bytes(file);
+  size_t errors = 0, returned = 0;
+  const auto attempt = [&](const std::string& what) {
+    try {
+      EXPECT_EQ(read().size(), expected_size) << what;
+      ++returned;
+    } catch (const CaptureError& e) {
+      EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << what << ": " << e.what();
+      ++errors;
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << what << ": not a CaptureError: " << e.what();
+    }
+  };
+  for (size_t length = 0; length < good.size(); ++length) {
+    write_bytes(file, std::span(good).first(length));
+    std::string what = "truncated to " + std::to_string(length);
+    try {
+      read();
+      ADD_FAILURE() << what << " was accepted";
+    } catch (const CaptureError& e) {
+      EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << what << ": " << e.what();
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << what << ": not a CaptureError: " << e.what();
+    }
+  }
+  std::mt19937 rng(11);
+  for (size_t at = 0; at < good.size(); ++at)
+    for (uint8_t mask : {uint8_t(0xff), uint8_t(1u << (rng() % 8))}) {
+      std::vector<uint8_t> bad = good;
+      bad[at] ^= mask;
+      write_bytes(file, bad);
+      attempt("byte " + std::to_string(at) + " ^ " + std::to_string(mask));
+    }
+  // Both outcomes must occur, or the sweep did not reach the data or the header.
+  EXPECT_GT(errors, 0u);
+  EXPECT_GT(returned, 0u);
+}
+
+TEST(ImageBlob, TruncatedOrFlippedFilesFailCleanly) {
+  BlobDir dir;
+  struct Case {
+    VkFormat format;
+    ImageExtent extent;
+    ExrCompression compression;
+  };
+  const Case cases[] = {
+      {VK_FORMAT_R16G16B16A16_SFLOAT, {7, 5, 1, 3, 2}, ExrCompression::zip},
+      {VK_FORMAT_D32_SFLOAT_S8_UINT, {6, 5, 1, 2, 1}, ExrCompression::piz},
+      {VK_FORMAT_R8G8B8A8_UNORM, {9, 4, 1, 2, 1}, ExrCompression::none},
+      {VK_FORMAT_A2B10G10R10_UNORM_PACK32, {5, 2, 3, 1, 1}, ExrCompression::rle},
+  };
+  for (const Case& c : cases) {
+    const FormatInfo format = *format_info(c.format);
+    SCOPED_TRACE(std::string(format.name) + " " + compression_name(c.compression));
+    const fs::path file = dir / (std::string(format.name) + ".exr");
+    write_image_blob(file, format, c.extent, random_raw(format, c.extent, 9), c.compression);
+    damage(file, [&] { return read_image_blob(file, format, c.extent); }, raw_image_bytes(format, c.extent));
+  }
+}
+
+TEST(BufferBlob, RoundTripsAtEverySize) {
+  BlobDir dir;
+  std::mt19937 rng(5);
+  for (size_t size : {size_t(0), size_t(1), size_t(1000), size_t(1) << 20})
+    for (int level : {-1, 1, 3, 9}) {
+      SCOPED_TRACE(std::to_string(size) + " bytes at level " + std::to_string(level));
+      std::vector<uint8_t> raw(size);
+      // Half random, half repetitive, so compression has something to do.
+      for (size_t i = 0; i < size; ++i) raw[i] = i < size / 2 ? uint8_t(rng()) : uint8_t(i / 64);
+      const fs::path file = dir / ("buffer." + buffer_blob_extension());
+      write_buffer_blob(file, raw, level);
+      EXPECT_EQ(read_buffer_blob(file, size), raw);
+    }
+}
+
+TEST(BufferBlob, WrongSizeOrDamageIsRejected) {
+  BlobDir dir;
+  const fs::path file = dir / "buffer.bin.zst";
+  std::vector<uint8_t> raw(3000);
+  for (size_t i = 0; i < raw.size(); ++i) raw[i] = uint8_t(i * 7 / 5);
+  write_buffer_blob(file, raw, 3);
+  expect_capture_error([&] { read_buffer_blob(file, raw.size() - 1); }, file, "smaller");
+  expect_capture_error([&] { read_buffer_blob(file, raw.size() + 1); }, file, "larger");
+  expect_capture_error([&] { read_buffer_blob(file, (uint64_t(4) << 30) + 1); }, file, "over 4 GiB");
+  const fs::path missing = dir / "missing.bin.zst";
+  expect_capture_error([&] { read_buffer_blob(missing, 0); }, missing, "missing");
+
+  std::vector<uint8_t> twice = file_bytes(file);
+  const std::vector<uint8_t> frame = twice;
+  twice.insert(twice.end(), frame.begin(), frame.end());
+  write_bytes(file, twice);
+  expect_capture_error([&] { read_buffer_blob(file, raw.size()); }, file, "two frames");
+  std::vector<uint8_t> trailing = frame;
+  trailing.push_back(0);
+  write_bytes(file, trailing);
+  expect_capture_error([&] { read_buffer_blob(file, raw.size()); }, file, "trailing byte");
+
+  write_bytes(file, frame);
+  damage(file, [&] { return read_buffer_blob(file, raw.size()); }, raw.size());
+}
+
+}  // namespace
+}  // namespace nightcap
