@@ -90,10 +90,13 @@ std::vector<Part> parts_of(const std::filesystem::path& file, const FormatInfo& 
   return parts;
 }
 
-// Compression runs on OpenEXR's pool, split by blocks of scanlines.
-void start_exr_threads() {
+// Compression runs on OpenEXR's pool, split by blocks of scanlines. Small images (most mips,
+// 1x1 parameters) stay on the calling thread: handing their few blocks to the pool costs more
+// than it saves.
+int exr_threads(uint64_t raw_bytes) {
   static std::once_flag once;
   std::call_once(once, [] { Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency()))); });
+  return raw_bytes < (256u << 10) ? 0 : Imf::globalThreadCount();
 }
 
 Imf::Compression exr_compression(ExrCompression compression) {
@@ -186,6 +189,40 @@ std::string mismatch(const Imf::Header& header, const FormatInfo& format, const 
   return "";
 }
 
+// OpenEXR 3.1 allocates and clears an attribute's stated size before reading its value, so a
+// single damaged size field costs up to 2 GiB. Walking the headers first bounds every
+// attribute by the bytes the file holds; OpenEXR checks everything else.
+void check_attribute_sizes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::error_code error;
+  const uint64_t file_size = std::filesystem::file_size(file, error);
+  if (!in || error) fail(file, "cannot open");
+  uint32_t magic_and_version[2];
+  if (!in.read(reinterpret_cast<char*>(magic_and_version), sizeof magic_and_version))
+    fail(file, "is too short for OpenEXR");
+  const bool multipart = magic_and_version[1] & 0x1000;
+  const auto read_name = [&](std::string& name) {
+    if (!std::getline(in, name, '\0') || name.size() > 255) fail(file, "has a damaged OpenEXR header");
+  };
+  // A single-part file has one header; a multi-part file ends its headers with an empty one.
+  for (bool header_empty = true;;) {
+    std::string name, type;
+    read_name(name);
+    if (name.empty()) {
+      if (!multipart || header_empty) return;
+      header_empty = true;
+      continue;
+    }
+    read_name(type);
+    int32_t size;
+    if (!in.read(reinterpret_cast<char*>(&size), sizeof size) || size < 0 ||
+        uint64_t(size) > file_size - uint64_t(in.tellg()))
+      fail(file, "has a damaged OpenEXR attribute " + name);
+    in.seekg(size, std::ios::cur);
+    header_empty = false;
+  }
+}
+
 }  // namespace
 
 std::string image_blob_extension() { return "exr"; }
@@ -196,13 +233,12 @@ void write_image_blob(const std::filesystem::path& file, const FormatInfo& forma
   if (raw.size() != raw_image_bytes(format, extent))
     throw std::invalid_argument("write_image_blob: " + file.string() + ": raw size does not match " +
                                 std::string(format.name) + " " + describe(extent));
-  start_exr_threads();
   const std::vector<Part> parts = parts_of(file, format, extent);
   std::vector<Imf::Header> headers;
   for (const Part& part : parts)
     headers.push_back(header_of(format, extent, parts.front(), part, layout_of(format, part.aspect), compression));
   try {
-    Imf::MultiPartOutputFile out(file.c_str(), headers.data(), int(headers.size()));
+    Imf::MultiPartOutputFile out(file.c_str(), headers.data(), int(headers.size()), false, exr_threads(raw.size()));
     for (size_t p = 0; p < parts.size(); ++p) {
       const Part& part = parts[p];
       const Layout layout = layout_of(format, part.aspect);
@@ -223,11 +259,11 @@ void write_image_blob(const std::filesystem::path& file, const FormatInfo& forma
 
 std::vector<uint8_t> read_image_blob(const std::filesystem::path& file, const FormatInfo& format,
                                      const ImageExtent& extent) {
-  start_exr_threads();
   const std::vector<Part> parts = parts_of(file, format, extent);
   std::vector<uint8_t> raw(raw_image_bytes(format, extent));
+  check_attribute_sizes(file);
   try {
-    Imf::MultiPartInputFile in(file.c_str());
+    Imf::MultiPartInputFile in(file.c_str(), exr_threads(raw.size()));
     if (size_t(in.parts()) != parts.size())
       fail(file, "has " + std::to_string(in.parts()) + " parts, expected " + std::to_string(parts.size()) + " for " +
                      std::string(format.name) + " " + describe(extent));

@@ -166,6 +166,7 @@ GpuDevice::GpuDevice(const Options& options) {
   auto features13 = vk_struct<VkPhysicalDeviceVulkan13Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES);
   features13.dynamicRendering = VK_TRUE;
   features13.synchronization2 = VK_TRUE;
+  features13.maintenance4 = VK_TRUE;  // glslang's SPIR-V 1.6 declares workgroup sizes with LocalSizeId
   auto features12 = vk_struct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
   features12.pNext = &features13;
   features12.hostQueryReset = VK_TRUE;

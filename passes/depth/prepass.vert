@@ -4,5 +4,5 @@
 void main() {
   Draw draw = draws[gl_InstanceIndex];
   SceneVertex v = load_vertex(gl_VertexIndex);
-  gl_Position = frame.view_projection * (draw.model * vec4(v.position, 1.0));
+  gl_Position = clip_position(draw, v.position);
 }

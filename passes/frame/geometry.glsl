@@ -1,12 +1,12 @@
 // Vertex pulling from scene.geometry and draws.<pass>, shared by every pass that rasterises
-// scene geometry so they all produce bit-identical depth (gl_Position is invariant).
+// scene geometry. They all place vertices with clip_position(), whose `precise` result forbids
+// reassociation and contraction, so the prepass and the G-buffer pass agree bit for bit.
 #include "types.glsl"
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
 layout(std430, set = 0, binding = 1) readonly buffer VertexBlock { float vertex_data[]; };
 layout(std430, set = 0, binding = 2) readonly buffer DrawBlock { Draw draws[]; };
 
-invariant gl_Position;
 
 struct SceneVertex {
   vec3 position;
@@ -27,4 +27,10 @@ SceneVertex load_vertex(uint index) {
   v.uv1 = vec2(vertex_data[base + 12], vertex_data[base + 13]);
   v.color = vec4(vertex_data[base + 14], vertex_data[base + 15], vertex_data[base + 16], vertex_data[base + 17]);
   return v;
+}
+
+vec4 clip_position(Draw draw, vec3 position) {
+  precise vec4 world = draw.model * vec4(position, 1.0);
+  precise vec4 clip = frame.view_projection * world;
+  return clip;
 }

@@ -11,9 +11,8 @@ layout(location = 5) flat out uint out_draw;
 void main() {
   Draw draw = draws[gl_InstanceIndex];
   SceneVertex v = load_vertex(gl_VertexIndex);
-  vec4 world = draw.model * vec4(v.position, 1.0);
-  gl_Position = frame.view_projection * world;
-  out_position = world.xyz;
+  gl_Position = clip_position(draw, v.position);
+  out_position = (draw.model * vec4(v.position, 1.0)).xyz;
   out_normal = mat3(draw.normal_matrix) * v.normal;
   out_tangent = vec4(mat3(draw.model) * v.tangent.xyz, v.tangent.w);
   out_uv = vec4(v.uv0, v.uv1);

@@ -73,6 +73,9 @@ void main() {
       vec3 a = light.position_type.xyz - position, b = light.end_radius.xyz - position;
       vec3 ab = b - a;
       float len = length(ab);
+      // Beyond its range from the nearest point of the segment, a tube adds nothing.
+      vec3 nearest = a + ab * clamp(-dot(a, ab) / max(dot(ab, ab), 1e-8), 0.0, 1.0);
+      if (range > 0.0 && dot(nearest, nearest) >= range * range) continue;
       vec3 sample_diffuse = vec3(0.0), unused = vec3(0.0);
       int samples = max(tube_samples, 1);
       for (int s = 0; s < samples; ++s) {
@@ -96,6 +99,7 @@ void main() {
     } else {
       vec3 to_light = light.position_type.xyz - position;
       float d2 = max(dot(to_light, to_light), 1e-8);
+      if (range > 0.0 && d2 >= range * range) continue;
       float d = sqrt(d2);
       vec3 l = to_light / d;
       float attenuation = range_window(d, range) / d2;

@@ -16,8 +16,9 @@ float decode_signed8(uint8_t code) { return code * (2.0f / 255.0f) - 1.0f; }
 std::vector<uint8_t> build_bfn_lut(uint32_t size) {
   std::vector<uint8_t> table(size_t(size) * size);
   auto fill_rows = [&](uint32_t first, uint32_t step) {
+    // The shader indexes with u ≥ v (column ≥ row); the other triangle mirrors it.
     for (uint32_t row = first; row < size; row += step)
-      for (uint32_t column = 0; column < size; ++column) {
+      for (uint32_t column = row; column < size; ++column) {
         const double u = double(column) / (size - 1), v = double(row) / (size - 1);
         const double length = std::sqrt(1.0 + u * u + v * v);
         const double dx = 1.0 / length, dy = u / length, dz = v / length;
@@ -35,7 +36,7 @@ std::vector<uint8_t> build_bfn_lut(uint32_t size) {
             best_major = major;
           }
         }
-        table[size_t(row) * size + column] = static_cast<uint8_t>(best_major);
+        table[size_t(row) * size + column] = table[size_t(column) * size + row] = static_cast<uint8_t>(best_major);
       }
   };
   const uint32_t threads = std::max(1u, std::thread::hardware_concurrency());

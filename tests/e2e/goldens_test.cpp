@@ -112,7 +112,9 @@ TEST_P(Goldens, SilhouettesMatchAndEveryPassIsFiniteAndReplays) {
     EXPECT_GE(iou, 0.97) << model << " vs " << entry.path().filename();
     ++compared;
   }
-  if (model != "LightsPunctualLamp") EXPECT_GT(compared, 0) << "no golden with alpha for " << model;
+  if (model != "LightsPunctualLamp") {
+    EXPECT_GT(compared, 0) << "no golden with alpha for " << model;
+  }
 
   const CliResult replayed = run_cli("replay --verify " + quote(capture_dir));
   EXPECT_EQ(replayed.code, 0) << replayed.out << replayed.err;

@@ -177,14 +177,18 @@ TEST(ImageBlob, MissingOrForeignFileIsRejected) {
   expect_capture_error([&] { read_image_blob(buffer, format, {4, 4}); }, buffer);
 }
 
-// Every prefix length in `lengths` and a flip of every byte must either fail with a
-// CaptureError naming the file or return data of the expected size; a crash fails the suite.
+// Truncated copies and copies with one damaged byte must either fail with a CaptureError
+// naming the file or return data of the expected size (damaged pixel data is only caught by
+// the capture's content hash); a crash fails the suite. Every prefix of the headers is tried
+// and a sample of the longer ones; every byte is damaged once, by a full or a one-bit flip.
 void damage(const fs::path& file, const std::function<std::vector<uint8_t>()>& read, size_t expected_size) {
   const std::vector<uint8_t> good = file_bytes(file);
   size_t errors = 0, returned = 0;
-  const auto attempt = [&](const std::string& what) {
+  const auto expect_capture_error_or_data = [&](const std::string& what, bool data_allowed) {
     try {
-      EXPECT_EQ(read().size(), expected_size) << what;
+      const size_t size = read().size();
+      EXPECT_TRUE(data_allowed) << what << " was accepted";
+      EXPECT_EQ(size, expected_size) << what;
       ++returned;
     } catch (const CaptureError& e) {
       EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << what << ": " << e.what();
@@ -193,27 +197,19 @@ void damage(const fs::path& file, const std::function<std::vector<uint8_t>()>& r
       ADD_FAILURE() << what << ": not a CaptureError: " << e.what();
     }
   };
-  for (size_t length = 0; length < good.size(); ++length) {
+  for (size_t length = 0; length < good.size(); length += length < 1024 ? 1 : 7) {
     write_bytes(file, std::span(good).first(length));
-    std::string what = "truncated to " + std::to_string(length);
-    try {
-      read();
-      ADD_FAILURE() << what << " was accepted";
-    } catch (const CaptureError& e) {
-      EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << what << ": " << e.what();
-    } catch (const std::exception& e) {
-      ADD_FAILURE() << what << ": not a CaptureError: " << e.what();
-    }
+    expect_capture_error_or_data("truncated to " + std::to_string(length), false);
   }
   std::mt19937 rng(11);
-  for (size_t at = 0; at < good.size(); ++at)
-    for (uint8_t mask : {uint8_t(0xff), uint8_t(1u << (rng() % 8))}) {
-      std::vector<uint8_t> bad = good;
-      bad[at] ^= mask;
-      write_bytes(file, bad);
-      attempt("byte " + std::to_string(at) + " ^ " + std::to_string(mask));
-    }
-  // Both outcomes must occur, or the sweep did not reach the data or the header.
+  for (size_t at = 0; at < good.size(); ++at) {
+    std::vector<uint8_t> bad = good;
+    const uint8_t mask = at % 2 ? 0xff : uint8_t(1u << rng() % 8);
+    bad[at] ^= mask;
+    write_bytes(file, bad);
+    expect_capture_error_or_data("byte " + std::to_string(at) + " ^ " + std::to_string(mask), true);
+  }
+  // Both outcomes must occur, or the damage did not reach both the headers and the data.
   EXPECT_GT(errors, 0u);
   EXPECT_GT(returned, 0u);
 }
@@ -226,7 +222,7 @@ TEST(ImageBlob, TruncatedOrFlippedFilesFailCleanly) {
     ExrCompression compression;
   };
   const Case cases[] = {
-      {VK_FORMAT_R16G16B16A16_SFLOAT, {7, 5, 1, 3, 2}, ExrCompression::zip},
+      {VK_FORMAT_R16G16B16A16_SFLOAT, {7, 5, 1, 2, 2}, ExrCompression::zip},
       {VK_FORMAT_D32_SFLOAT_S8_UINT, {6, 5, 1, 2, 1}, ExrCompression::piz},
       {VK_FORMAT_R8G8B8A8_UNORM, {9, 4, 1, 2, 1}, ExrCompression::none},
       {VK_FORMAT_A2B10G10R10_UNORM_PACK32, {5, 2, 3, 1, 1}, ExrCompression::rle},

@@ -23,7 +23,11 @@ class GpuTest : public ::testing::Test {
     cache_.reset();
     gpu_.reset();
   }
-  void TearDown() override { EXPECT_EQ(gpu_->validation_errors(), 0u) << "Vulkan validation reported errors"; }
+  void SetUp() override { errors_before_ = gpu_->validation_errors(); }
+  void TearDown() override {
+    EXPECT_EQ(gpu_->validation_errors(), errors_before_) << "Vulkan validation reported errors";
+  }
+  uint32_t errors_before_ = 0;
 
   static IsolatedRun run(const PassDecl& pass, const std::map<std::string, IsolatedInput>& inputs, uint32_t width,
                          uint32_t height, ParamValues params = {}) {

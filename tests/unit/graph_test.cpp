@@ -25,7 +25,7 @@ TEST(Graph, OrdersByDependenciesWhateverTheDeclarationOrder) {
   passes.push_back(PassDecl("c", PassType::graphics).read("b.out", Use::sampled).write("final.ldr", Use::color_attachment, image()));
   passes.push_back(PassDecl("b", PassType::graphics).read("a.out", Use::sampled).write("b.out", Use::color_attachment, image()));
   passes.push_back(PassDecl("a", PassType::graphics).write("a.out", Use::color_attachment, image()));
-  const CompiledGraph graph = compile_graph(passes, {}, GraphSettings{});
+  const CompiledGraph graph = compile_graph(passes, {}, GraphSettings());
   EXPECT_EQ(order(graph), (std::vector<std::string>{"a", "b", "c"}));
 }
 
@@ -34,7 +34,7 @@ TEST(Graph, ModifiersChainAndReadersSeeTheLastVersion) {
   passes.push_back(PassDecl("reader", PassType::graphics).read("depth", Use::sampled).write("final.ldr", Use::color_attachment, image()));
   passes.push_back(PassDecl("second", PassType::graphics).modify("depth", Use::depth_attachment));
   passes.push_back(PassDecl("first", PassType::graphics).write("depth", Use::depth_attachment, image(VK_FORMAT_D32_SFLOAT_S8_UINT)));
-  const CompiledGraph graph = compile_graph(passes, {}, GraphSettings{});
+  const CompiledGraph graph = compile_graph(passes, {}, GraphSettings());
   EXPECT_EQ(order(graph), (std::vector<std::string>{"first", "second", "reader"}));
   const CompiledPass& second = pass(graph, "second");
   ASSERT_EQ(second.inputs.size(), 1u);
@@ -98,21 +98,21 @@ TEST(Graph, ResolvesRelativeSizesAndMipChains) {
 TEST(Graph, DeclarationMistakesAreCaughtBeforeRunning) {
   std::vector<PassDecl> unknown;
   unknown.push_back(PassDecl("x", PassType::graphics).read("nothing", Use::sampled).write("final.ldr", Use::color_attachment, image()));
-  EXPECT_THROW(compile_graph(unknown, {}, GraphSettings{}), GraphError);
+  EXPECT_THROW(compile_graph(unknown, {}, GraphSettings()), GraphError);
 
   std::vector<PassDecl> twice;
   twice.push_back(PassDecl("a", PassType::graphics).write("final.ldr", Use::color_attachment, image()));
   twice.push_back(PassDecl("b", PassType::graphics).write("final.ldr", Use::color_attachment, image()));
-  EXPECT_THROW(compile_graph(twice, {}, GraphSettings{}), GraphError);
+  EXPECT_THROW(compile_graph(twice, {}, GraphSettings()), GraphError);
 
   std::vector<PassDecl> cycle;
   cycle.push_back(PassDecl("a", PassType::graphics).read("b.out", Use::sampled).write("a.out", Use::color_attachment, image()));
   cycle.push_back(PassDecl("b", PassType::graphics).read("a.out", Use::sampled).write("b.out", Use::color_attachment, image()));
-  EXPECT_THROW(compile_graph(cycle, {}, GraphSettings{}), GraphError);
+  EXPECT_THROW(compile_graph(cycle, {}, GraphSettings()), GraphError);
 
   std::vector<PassDecl> orphan_modify;
   orphan_modify.push_back(PassDecl("m", PassType::graphics).modify("ghost", Use::color_attachment));
-  EXPECT_THROW(compile_graph(orphan_modify, {}, GraphSettings{}), GraphError);
+  EXPECT_THROW(compile_graph(orphan_modify, {}, GraphSettings()), GraphError);
 }
 
 TEST(Graph, PrefixReadsBindEveryMatchingImport) {
@@ -121,7 +121,7 @@ TEST(Graph, PrefixReadsBindEveryMatchingImport) {
   ResourceDesc tex;
   tex.format = VK_FORMAT_R8G8B8A8_SRGB;
   const CompiledGraph graph =
-      compile_graph(passes, {{"scene.texture.0", tex}, {"scene.texture.1", tex}, {"scene.other", tex}}, GraphSettings{});
+      compile_graph(passes, {{"scene.texture.0", tex}, {"scene.texture.1", tex}, {"scene.other", tex}}, GraphSettings());
   ASSERT_EQ(graph.passes[0].inputs.size(), 2u);
   EXPECT_EQ(graph.passes[0].inputs[0].resource, "scene.texture.0");
   EXPECT_EQ(graph.passes[0].inputs[1].resource, "scene.texture.1");
