@@ -70,7 +70,9 @@ PassDiff diff_pass(const Capture& ca, const PassRecord& a, const Capture& cb, co
       d.outputs.push_back(std::move(o));
       differs = d.beyond_tolerance = true;
     }
-  if (differs) d.status = d.inputs_agree && d.params_agree && d.shaders_agree ? PassStatus::origin : PassStatus::inherited;
+  // Equal inputs but different outputs: the change entered here (through a parameter, a
+  // shader, or the pass's own behaviour); params_agree and shaders_agree say which.
+  if (differs) d.status = d.inputs_agree ? PassStatus::origin : PassStatus::inherited;
   return d;
 }
 

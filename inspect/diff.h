@@ -1,7 +1,7 @@
 // Diff of two captures: passes aligned by name, outputs by resource name, each compared with
-// the metric of its kind; the first pass whose outputs differ although its inputs, parameters
-// and shaders agree is where a change entered the frame (the origin), and the passes that
-// differ only because what they read differs are inherited.
+// the metric of its kind; the first pass whose outputs differ although its input resources
+// agree is where a change entered the frame (the origin: a parameter, a shader, or the pass
+// itself), and the passes that differ because what they read differs are inherited.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -102,12 +102,13 @@ nlohmann::json& first_output(nlohmann::json& manifest, const std::string& pass) 
 TEST(BadInput, BlobWhoseContentDoesNotMatchItsHash) {
   const fs::path capture = copy_of_city("hash");
   nlohmann::json manifest = read_json(capture / "manifest.json");
-  const std::string blob = first_output(manifest, "tonemap")["blob"];
-  const std::string other = first_output(manifest, "gbuffer.opaque")["blob"];
-  // Replace the file's content by another valid blob: decodes, but hashes differently.
-  fs::copy_file(capture / other, capture / blob, fs::copy_options::overwrite_existing);
+  const std::string lit = first_output(manifest, "lighting.composite")["blob"];
+  const std::string diffuse = first_output(manifest, "lighting.deferred")["blob"];
+  // tonemap reads lighting.lit: give its file another valid blob of the same format and size,
+  // which decodes fine but hashes differently.
+  fs::copy_file(capture / diffuse, capture / lit, fs::copy_options::overwrite_existing);
   const CliResult r = run_cli("replay --verify --pass tonemap " + quote(capture));
-  expect_bad_input(r, blob.substr(blob.find('/') + 1));
+  expect_bad_input(r, lit.substr(lit.find('/') + 1));
   EXPECT_NE(r.err.find("hash"), std::string::npos) << r.err;
 }
 
