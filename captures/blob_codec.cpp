@@ -191,7 +191,7 @@ std::string mismatch(const Imf::Header& header, const FormatInfo& format, const 
 
 // OpenEXR 3.1 allocates and clears an attribute's stated size before reading its value, so a
 // single damaged size field costs up to 2 GiB. Walking the headers first bounds every
-// attribute by the bytes the file holds; OpenEXR checks everything else.
+// attribute by the bytes the file holds; OpenEXR validates the values themselves.
 void check_attribute_sizes(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   std::error_code error;
@@ -260,8 +260,8 @@ void write_image_blob(const std::filesystem::path& file, const FormatInfo& forma
 std::vector<uint8_t> read_image_blob(const std::filesystem::path& file, const FormatInfo& format,
                                      const ImageExtent& extent) {
   const std::vector<Part> parts = parts_of(file, format, extent);
-  std::vector<uint8_t> raw(raw_image_bytes(format, extent));
   check_attribute_sizes(file);
+  std::vector<uint8_t> raw(raw_image_bytes(format, extent));
   try {
     Imf::MultiPartInputFile in(file.c_str(), exr_threads(raw.size()));
     if (size_t(in.parts()) != parts.size())
@@ -309,9 +309,12 @@ std::vector<uint8_t> read_buffer_blob(const std::filesystem::path& file, uint64_
   if (expected_size > kMaxBufferBytes)
     fail(file, "expected size " + std::to_string(expected_size) + " exceeds 4 GiB");
   std::ifstream in(file, std::ios::binary);
-  if (!in) fail(file, "cannot open");
-  const std::vector<uint8_t> compressed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) fail(file, "cannot read");
+  std::error_code error;
+  const uint64_t file_size = std::filesystem::file_size(file, error);
+  if (!in || error) fail(file, "cannot open");
+  if (file_size > ZSTD_compressBound(expected_size)) fail(file, "is larger than any zstd frame of the expected size");
+  std::vector<uint8_t> compressed(file_size);
+  if (!in.read(reinterpret_cast<char*>(compressed.data()), std::streamsize(file_size))) fail(file, "cannot read");
   const unsigned long long content = ZSTD_getFrameContentSize(compressed.data(), compressed.size());
   if (content == ZSTD_CONTENTSIZE_ERROR || content == ZSTD_CONTENTSIZE_UNKNOWN)
     fail(file, "is not a zstd frame with a recorded size");

@@ -40,31 +40,29 @@ Camera framing_camera(const Scene& scene, double aspect) {
   return camera;
 }
 
-glm::dvec3 Scene::bounds_min() const {
-  glm::dvec3 lo(INFINITY);
-  for (const Instance& instance : instances) {
-    const Primitive& p = primitives.at(instance.primitive);
+namespace {
+
+// World-space box around every instance's transformed primitive box.
+std::pair<glm::dvec3, glm::dvec3> world_bounds(const Scene& scene) {
+  if (scene.instances.empty()) return {glm::dvec3(0.0), glm::dvec3(0.0)};
+  glm::dvec3 lo(INFINITY), hi(-INFINITY);
+  for (const Instance& instance : scene.instances) {
+    const Primitive& p = scene.primitives.at(instance.primitive);
     for (int corner = 0; corner < 8; ++corner) {
       const glm::dvec4 c(corner & 1 ? p.bounds_max.x : p.bounds_min.x, corner & 2 ? p.bounds_max.y : p.bounds_min.y,
                          corner & 4 ? p.bounds_max.z : p.bounds_min.z, 1.0);
-      lo = glm::min(lo, glm::dvec3(instance.world * c));
+      const glm::dvec3 w(instance.world * c);
+      lo = glm::min(lo, w);
+      hi = glm::max(hi, w);
     }
   }
-  return instances.empty() ? glm::dvec3(0.0) : lo;
+  return {lo, hi};
 }
 
-glm::dvec3 Scene::bounds_max() const {
-  glm::dvec3 hi(-INFINITY);
-  for (const Instance& instance : instances) {
-    const Primitive& p = primitives.at(instance.primitive);
-    for (int corner = 0; corner < 8; ++corner) {
-      const glm::dvec4 c(corner & 1 ? p.bounds_max.x : p.bounds_min.x, corner & 2 ? p.bounds_max.y : p.bounds_min.y,
-                         corner & 4 ? p.bounds_max.z : p.bounds_min.z, 1.0);
-      hi = glm::max(hi, glm::dvec3(instance.world * c));
-    }
-  }
-  return instances.empty() ? glm::dvec3(0.0) : hi;
-}
+}  // namespace
+
+glm::dvec3 Scene::bounds_min() const { return world_bounds(*this).first; }
+glm::dvec3 Scene::bounds_max() const { return world_bounds(*this).second; }
 
 std::set<std::string> Scene::features() const {
   std::set<std::string> f;

@@ -1,0 +1,121 @@
+// Diff metrics on inputs whose answers are known in closed form.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "inspect/metrics.h"
+
+namespace nightcap {
+namespace {
+
+ResourceRecord image_record(VkFormat format, ResourceKind kind, uint32_t w, uint32_t h) {
+  ResourceRecord r;
+  r.resource = "test";
+  r.kind = kind;
+  r.is_buffer = false;
+  r.format = format;
+  r.extent.width = w;
+  r.extent.height = h;
+  return r;
+}
+
+std::vector<uint8_t> floats(const std::vector<float>& values) {
+  std::vector<uint8_t> bytes(values.size() * 4);
+  std::memcpy(bytes.data(), values.data(), bytes.size());
+  return bytes;
+}
+
+TEST(DiffMetrics, FloatErrorsAreExact) {
+  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 4, 1);
+  const auto a = floats({1.0f, 2.0f, 3.0f, 4.0f});
+  const auto b = floats({1.0f, 2.5f, 3.0f, 2.0f});  // differences 0, 0.5, 0, 2
+  const ResourceComparison c = compare_resource(r, a, r, b);
+  EXPECT_FALSE(c.identical);
+  EXPECT_DOUBLE_EQ(c.max_abs, 2.0);
+  // RMSE is the root of the MEAN of squares: sqrt((0.25 + 4) / 4).
+  EXPECT_DOUBLE_EQ(c.rmse, std::sqrt(4.25 / 4.0));
+  // Float peak is A's largest magnitude.
+  EXPECT_NEAR(c.psnr, 20.0 * std::log10(4.0 / std::sqrt(4.25 / 4.0)), 1e-12);
+  EXPECT_DOUBLE_EQ(c.over_threshold_share, 0.5);
+  EXPECT_EQ(c.differing, 2u);
+  EXPECT_EQ(c.metric, "float");
+}
+
+TEST(DiffMetrics, IdenticalInputsHaveInfinitePsnr) {
+  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 2, 1);
+  const auto a = floats({1.0f, -7.0f});
+  const ResourceComparison c = compare_resource(r, a, r, a);
+  EXPECT_TRUE(c.identical);
+  EXPECT_EQ(c.max_abs, 0.0);
+  EXPECT_TRUE(std::isinf(c.psnr));
+}
+
+TEST(DiffMetrics, NanAndInfAreCountedAndNanInBothPlacesAgrees) {
+  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 4, 1);
+  const auto a = floats({NAN, 1.0f, INFINITY, 2.0f});
+  const auto b = floats({NAN, NAN, INFINITY, 2.0f});
+  const ResourceComparison c = compare_resource(r, a, r, b);
+  EXPECT_EQ(c.nan_a, 1u);
+  EXPECT_EQ(c.nan_b, 2u);
+  EXPECT_EQ(c.inf_a, 1u);
+  EXPECT_EQ(c.inf_b, 1u);
+  EXPECT_EQ(c.differing, 1u);  // only texel 1: NaN against NaN and Inf against Inf agree
+  EXPECT_TRUE(std::isinf(c.max_abs));
+}
+
+TEST(DiffMetrics, UnormOneCodeOff) {
+  const ResourceRecord r = image_record(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour, 2, 1);
+  const std::vector<uint8_t> a = {10, 20, 30, 255, 0, 0, 0, 0};
+  std::vector<uint8_t> b = a;
+  b[1] = 21;
+  const ResourceComparison c = compare_resource(r, a, r, b);
+  EXPECT_NEAR(c.max_abs, 1.0 / 255.0, 1e-7);
+  EXPECT_NEAR(c.rmse, std::sqrt((1.0 / 255.0) * (1.0 / 255.0) / 8.0), 1e-9);
+  EXPECT_EQ(c.over_threshold_share, 0.0);  // one code is within the 8-bit threshold
+  EXPECT_EQ(c.differing, 1u);
+}
+
+TEST(DiffMetrics, NormalsReportTheAngleBetweenThem) {
+  const ResourceRecord r = image_record(VK_FORMAT_R32G32B32A32_SFLOAT, ResourceKind::normal, 1, 1);
+  // 0.5n+0.5 encoding: +Z, and +Z rotated by 10 degrees about X.
+  const double angle = 10.0 * M_PI / 180.0;
+  const auto a = floats({0.5f, 0.5f, 1.0f, 0.0f});
+  const auto b = floats({0.5f, float(0.5 + 0.5 * std::sin(angle)), float(0.5 + 0.5 * std::cos(angle)), 0.0f});
+  const ResourceComparison c = compare_resource(r, a, r, b);
+  EXPECT_EQ(c.metric, "angle");
+  EXPECT_NEAR(c.angular_max_deg, 10.0, 1e-4);
+  EXPECT_NEAR(c.angular_mean_deg, 10.0, 1e-4);
+}
+
+TEST(DiffMetrics, StencilIsComparedExactly) {
+  const ResourceRecord r = image_record(VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, 2, 1);
+  std::vector<uint8_t> a(2 * 4 + 2, 0), b;
+  const float depth[2] = {0.5f, 0.25f};
+  std::memcpy(a.data(), depth, 8);
+  a[8] = 0x08;
+  a[9] = 0x40;
+  b = a;
+  b[9] = 0x42;  // moving vehicle instead of vehicle
+  const ResourceComparison c = compare_resource(r, a, r, b);
+  EXPECT_EQ(c.metric, "depth + stencil");
+  EXPECT_EQ(c.differing, 1u);
+  EXPECT_DOUBLE_EQ(c.max_abs, 2.0);
+}
+
+TEST(DiffMetrics, BuffersCompareWordsAndSizeMismatchIsNotComparable) {
+  ResourceRecord r;
+  r.is_buffer = true;
+  r.buffer_size = 8;
+  const auto a = floats({1.0f, 2.0f}), b = floats({1.0f, 2.25f});
+  const ResourceComparison c = compare_resource(r, a, r, b);
+  EXPECT_EQ(c.differing, 1u);
+  EXPECT_DOUBLE_EQ(c.max_abs, 0.25);
+  ResourceRecord shorter = r;
+  shorter.buffer_size = 4;
+  const auto d = floats({1.0f});
+  EXPECT_FALSE(compare_resource(r, a, shorter, d).comparable);
+}
+
+}  // namespace
+}  // namespace nightcap
