@@ -81,8 +81,13 @@ std::string ms(const std::optional<double>& value) {
 
 int run_render(const std::string& scene_path, const std::string& out, const std::string& size, uint32_t frames,
                uint32_t seed, const std::string& device, const std::vector<std::string>& sets, bool force,
-               const std::string& orbit, const std::string& target, double fov) {
+               const std::string& orbit, const std::string& target, double fov, const std::string& codec) {
   nc::RenderSettings settings;
+  const std::map<std::string, nc::ExrCompression> codecs = {
+      {"zip", nc::ExrCompression::zip}, {"rle", nc::ExrCompression::rle},
+      {"piz", nc::ExrCompression::piz}, {"none", nc::ExrCompression::none}};
+  if (!codecs.count(codec)) throw UsageError("--codec '" + codec + "': expected zip, rle, piz or none");
+  settings.capture.compression = codecs.at(codec);
   std::tie(settings.width, settings.height) = parse_size(size);
   if (frames < 1 || frames > 1000) throw UsageError("--frames " + std::to_string(frames) + ": expected 1 to 1000");
   settings.frames = frames;
@@ -107,7 +112,8 @@ int run_render(const std::string& scene_path, const std::string& out, const std:
                           {"set", sets},
                           {"orbit", orbit},
                           {"target", target},
-                          {"fov", fov}};
+                          {"fov", fov},
+                          {"codec", codec}};
   nc::GpuDevice gpu({device, validation_requested()});
   auto progress = progress_reporter();
   nc::RenderSummary summary = nc::render_to_capture(gpu, scene, settings, out, force, progress);
@@ -225,7 +231,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every command");
 
-  std::string scene_path, out, size = "1280x720", device, orbit, target;
+  std::string scene_path, out, size = "1280x720", device, orbit, target, codec = "zip";
   uint32_t frames = 1, seed = 1;
   double fov = 45.0;
   std::vector<std::string> sets, shaders, pass_names;
@@ -241,6 +247,7 @@ int main(int argc, char** argv) {
   render->add_option("--orbit", orbit, "orbit camera THETA,PHI,RADIUS (degrees, scene units)");
   render->add_option("--target", target, "orbit target X,Y,Z (default 0,0,0)");
   render->add_option("--fov", fov, "vertical field of view of the orbit camera, degrees")->capture_default_str();
+  render->add_option("--codec", codec, "OpenEXR compression of image blobs: zip, rle, piz or none")->capture_default_str();
   render->add_flag("--force", force, "replace an existing capture");
 
   std::string capture_path, capture_b;
@@ -278,7 +285,7 @@ int main(int argc, char** argv) {
     return kExitBadInput;
   }
   try {
-    if (*render) return run_render(scene_path, out, size, frames, seed, device, sets, force, orbit, target, fov);
+    if (*render) return run_render(scene_path, out, size, frames, seed, device, sets, force, orbit, target, fov, codec);
     if (*passes) return run_passes(capture_path, json);
     if (*replay) return run_replay(capture_path, frame, pass_names, sets, shaders, device, verify, chain, json);
     if (*diff) return run_diff(capture_path, capture_b, tolerance, json);

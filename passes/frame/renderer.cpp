@@ -206,7 +206,7 @@ RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const Render
                                 const std::filesystem::path& out, bool force,
                                 const std::function<void(const std::string&)>& progress) {
   RenderSummary summary;
-  CaptureWriter writer(out, force, {});
+  CaptureWriter writer(out, force, settings.capture);
   Renderer renderer(gpu, scene, settings);
   CaptureManifest manifest;
   manifest.device = {{"name", gpu.name()},

@@ -20,6 +20,7 @@ struct RenderSettings {
   std::map<std::string, ParamValues> params;  // --set overrides, per pass
   std::optional<Camera> camera;               // --orbit; else the scene's, else a framing one
   nlohmann::json description;                 // settings as given, recorded in the manifest
+  CaptureWriter::Options capture;             // blob codecs
 };
 
 // Throws SceneError naming the flag for a parameter that no pass declares or out of range.

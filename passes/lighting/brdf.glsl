@@ -16,16 +16,18 @@ vec3 f_schlick(vec3 f0, float v_h) {
   return f0 + (1.0 - f0) * pow(1.0 - v_h, 5.0);
 }
 
-// Radiance reflected toward v from irradiance `e` arriving along l, split into the diffuse
-// and specular parts (both already multiplied by n·l).
-void shade(vec3 n, vec3 v, vec3 l, vec3 e, vec3 albedo, float metallic, float alpha, float spec_scale,
-           inout vec3 diffuse, inout vec3 specular) {
+// Radiance reflected toward v from irradiance `e` arriving along l (both parts already
+// multiplied by n·l): Lambert for the diffuse part, GGX for the specular part.
+vec3 diffuse_term(vec3 n, vec3 l, vec3 e, vec3 albedo, float metallic) {
+  return albedo * (1.0 - metallic) * (1.0 / PI) * max(dot(n, l), 0.0) * e;
+}
+
+vec3 specular_term(vec3 n, vec3 v, vec3 l, vec3 e, vec3 albedo, float metallic, float alpha) {
   float n_l = dot(n, l);
-  if (n_l <= 0.0) return;
+  if (n_l <= 0.0) return vec3(0.0);
   float n_v = max(dot(n, v), 1e-4);
   vec3 h = normalize(l + v);
   vec3 f0 = mix(vec3(0.04), albedo, metallic);
   vec3 f = f_schlick(f0, clamp(dot(v, h), 0.0, 1.0));
-  diffuse += albedo * (1.0 - metallic) * (1.0 / PI) * n_l * e;
-  specular += f * (d_ggx(max(dot(n, h), 0.0), alpha) * v_smith_correlated(n_v, n_l, alpha) * spec_scale) * n_l * e;
+  return f * (d_ggx(max(dot(n, h), 0.0), alpha) * v_smith_correlated(n_v, n_l, alpha)) * n_l * e;
 }

@@ -55,9 +55,11 @@ void main() {
   float alpha = roughness * roughness;
 
   vec3 diffuse = vec3(0.0), specular = vec3(0.0);
-  if (frame.sun_direction.w > 0.0)
-    shade(n, v, -frame.sun_direction.xyz, frame.sun_radiance.rgb * intensity_scale, albedo, metallic, alpha, 1.0,
-          diffuse, specular);
+  if (frame.sun_direction.w > 0.0) {
+    vec3 e = frame.sun_radiance.rgb * intensity_scale;
+    diffuse += diffuse_term(n, -frame.sun_direction.xyz, e, albedo, metallic);
+    specular += specular_term(n, v, -frame.sun_direction.xyz, e, albedo, metallic, alpha);
+  }
 
   for (uint i = 0u; i < frame.counts.x; ++i) {
     Light light = lights[i];
@@ -65,7 +67,8 @@ void main() {
     vec3 radiance = light.color_range.rgb * intensity_scale;
     float range = light.color_range.w;
     if (type == LIGHT_DIRECTIONAL) {
-      shade(n, v, -light.direction_cos_outer.xyz, radiance, albedo, metallic, alpha, 1.0, diffuse, specular);
+      diffuse += diffuse_term(n, -light.direction_cos_outer.xyz, radiance, albedo, metallic);
+      specular += specular_term(n, v, -light.direction_cos_outer.xyz, radiance, albedo, metallic, alpha);
     } else if (type == LIGHT_TUBE) {
       // A line light of `radiance` candela per metre. Diffuse: the segment integrated with
       // tube_samples midpoint samples. Specular: Karis' representative point (the segment point
@@ -76,15 +79,15 @@ void main() {
       // Beyond its range from the nearest point of the segment, a tube adds nothing.
       vec3 nearest = a + ab * clamp(-dot(a, ab) / max(dot(ab, ab), 1e-8), 0.0, 1.0);
       if (range > 0.0 && dot(nearest, nearest) >= range * range) continue;
-      vec3 sample_diffuse = vec3(0.0), unused = vec3(0.0);
       int samples = max(tube_samples, 1);
+      float irradiance = 0.0;  // per unit radiance: Σ n·l / d² × window × segment share
       for (int s = 0; s < samples; ++s) {
         vec3 q = a + ab * ((float(s) + 0.5) / float(samples));
         float d2 = max(dot(q, q), 1e-8);
-        vec3 e = radiance * (len / float(samples)) / d2 * range_window(sqrt(d2), range);
-        shade(n, v, q * inversesqrt(d2), e, albedo, metallic, alpha, 0.0, sample_diffuse, unused);
+        float d = sqrt(d2);
+        irradiance += max(dot(n, q / d), 0.0) / d2 * range_window(d, range);
       }
-      diffuse += sample_diffuse;
+      diffuse += albedo * (1.0 - metallic) * (1.0 / PI) * radiance * (irradiance * len / float(samples));
       vec3 r = reflect(-v, n);
       float rab = dot(r, ab);
       float t = clamp((dot(r, a) * rab - dot(a, ab)) / max(dot(ab, ab) - rab * rab, 1e-8), 0.0, 1.0);
@@ -94,8 +97,7 @@ void main() {
       float widened = clamp(alpha + 0.5 * len / (2.0 * d), 0.0, 1.0);
       float normalisation = alpha / widened;
       vec3 e = radiance * len / d2 * range_window(d, range);
-      vec3 no_diffuse = vec3(0.0);
-      shade(n, v, q / d, e, albedo, metallic, alpha, normalisation, no_diffuse, specular);
+      specular += specular_term(n, v, q / d, e, albedo, metallic, alpha) * normalisation;
     } else {
       vec3 to_light = light.position_type.xyz - position;
       float d2 = max(dot(to_light, to_light), 1e-8);
@@ -105,7 +107,8 @@ void main() {
       float attenuation = range_window(d, range) / d2;
       if (type == LIGHT_SPOT) attenuation *= spot_factor(light, l);
       if (attenuation <= 0.0) continue;
-      shade(n, v, l, radiance * attenuation, albedo, metallic, alpha, 1.0, diffuse, specular);
+      diffuse += diffuse_term(n, l, radiance * attenuation, albedo, metallic);
+      specular += specular_term(n, v, l, radiance * attenuation, albedo, metallic, alpha);
     }
   }
   out_diffuse = vec4(diffuse, 1.0);

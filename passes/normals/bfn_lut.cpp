@@ -15,24 +15,28 @@ float decode_signed8(uint8_t code) { return code * (2.0f / 255.0f) - 1.0f; }
 
 std::vector<uint8_t> build_bfn_lut(uint32_t size) {
   std::vector<uint8_t> table(size_t(size) * size);
+  double decoded[256];
+  for (int c = 0; c < 256; ++c) decoded[c] = decode_signed8(uint8_t(c));
   auto fill_rows = [&](uint32_t first, uint32_t step) {
     // The shader indexes with u ≥ v (column ≥ row); the other triangle mirrors it.
     for (uint32_t row = first; row < size; row += step)
       for (uint32_t column = row; column < size; ++column) {
-        const double u = double(column) / (size - 1), v = double(row) / (size - 1);
-        const double length = std::sqrt(1.0 + u * u + v * v);
-        const double dx = 1.0 / length, dy = u / length, dz = v / length;
-        double best_cosine = -2.0;
+        const float u = float(column) / float(size - 1), v = float(row) / float(size - 1);
+        // The direction (1, u, v) up to scale; candidates are compared by cos², which orders
+        // them like the angle (all candidates lie within 90° of the direction).
+        const double du = u, dv = v, direction2 = 1.0 + du * du + dv * dv;
+        double best = -1.0;
         int best_major = 255;
-        // Major codes 128..255 decode to lengths (0, 1]; the minors follow by rounding.
         for (int major = 128; major <= 255; ++major) {
-          const float t = decode_signed8(uint8_t(major));
-          const double x = decode_signed8(uint8_t(major));
-          const double y = decode_signed8(encode_unorm8(float(u) * t));
-          const double z = decode_signed8(encode_unorm8(float(v) * t));
-          const double cosine = (x * dx + y * dy + z * dz) / std::sqrt(x * x + y * y + z * z);
-          if (cosine > best_cosine) {
-            best_cosine = cosine;
+          const float t = float(decoded[major]);
+          // round(x·127.5 + 127.5) for x ≥ 0, as encode_unorm8 does.
+          const int cu = std::min(255, int(u * t * 127.5f + 128.0f));
+          const int cv = std::min(255, int(v * t * 127.5f + 128.0f));
+          const double x = decoded[major], y = decoded[cu], z = decoded[cv];
+          const double dot = x + y * du + z * dv;
+          const double cos2 = dot * dot / ((x * x + y * y + z * z) * direction2);
+          if (cos2 > best) {
+            best = cos2;
             best_major = major;
           }
         }

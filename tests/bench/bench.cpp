@@ -77,24 +77,29 @@ void bench_scene(nc::GpuDevice& gpu, const std::string& label, nc::Scene scene, 
   if (!capture_figures) return;
   const fs::path dir = fs::temp_directory_path() / "nightcap-bench";
   fs::remove_all(dir);
-  std::vector<double> disk_ratio;
-  uint64_t raw = 0, disk = 0;
-  for (int r = 0; r < repeats; ++r) {
-    const double start = now_ms();
-    settings.frames = 1;
-    const nc::RenderSummary summary =
-        nc::render_to_capture(gpu, scene, settings, dir / std::to_string(r), false, [](const std::string&) {});
-    frame_on.push_back(now_ms() - start);
-    raw = summary.raw_bytes;
-    disk = summary.disk_bytes;
+  const std::pair<const char*, nc::ExrCompression> codecs[] = {{"zip", nc::ExrCompression::zip},
+                                                               {"rle", nc::ExrCompression::rle},
+                                                               {"piz", nc::ExrCompression::piz},
+                                                               {"none", nc::ExrCompression::none}};
+  std::cout << "capture codec        frame ms    on/off   MiB on disk   of raw\n";
+  for (const auto& [name, codec] : codecs) {
+    settings.capture.compression = codec;
+    frame_on.clear();
+    uint64_t raw = 0, disk = 0;
+    for (int r = 0; r < repeats; ++r) {
+      const double start = now_ms();
+      const nc::RenderSummary summary = nc::render_to_capture(gpu, scene, settings, dir / (std::string(name) + std::to_string(r)),
+                                                              false, [](const std::string&) {});
+      frame_on.push_back(now_ms() - start);
+      raw = summary.raw_bytes;
+      disk = summary.disk_bytes;
+    }
+    std::cout << "  " << std::left << std::setw(16) << name << std::right << std::fixed << std::setprecision(1)
+              << std::setw(12) << median(frame_on) << std::setprecision(2) << std::setw(9)
+              << median(frame_on) / median(frame_off) << "x" << std::setprecision(1) << std::setw(13) << disk / 1048576.0
+              << std::setprecision(3) << std::setw(9) << double(disk) / raw << "\n";
   }
   fs::remove_all(dir);
-  std::cout << std::left << std::setw(22) << "frame (capture on)" << std::right << std::setw(12) << median(frame_on)
-            << "   (render + readback + encode + write)\n";
-  std::cout << "capture on / off      " << std::setw(12) << std::setprecision(2) << median(frame_on) / median(frame_off)
-            << "x\n";
-  std::cout << "capture size          " << std::setw(12) << std::setprecision(1) << disk / 1048576.0 << " MiB on disk, "
-            << raw / 1048576.0 << " MiB raw (" << std::setprecision(3) << double(disk) / raw << " of raw)\n";
 }
 
 nc::IsolatedInput image(VkFormat format, nc::ResourceKind kind, uint32_t w, uint32_t h, std::vector<uint8_t> bytes) {
