@@ -385,8 +385,14 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
     }
     for (BoundUse& out : pass.outputs) {
       auto bytes = std::make_shared<std::vector<uint8_t>>(std::move(shared.cpu_outputs[out.resource]));
-      if (out.desc.is_buffer) out.desc.buffer_size = bytes->size();
-      else if (bytes->size() != out.desc.raw_bytes()) bytes->assign(out.desc.raw_bytes(), 0);
+      if (out.desc.is_buffer) {
+        out.desc.buffer_size = bytes->size();
+      } else if (!pass.runs) {
+        bytes->assign(out.desc.raw_bytes(), 0);  // a skipped CPU pass leaves cleared images
+      } else if (bytes->size() != out.desc.raw_bytes()) {
+        throw GraphError(pass.decl->name + ": wrote " + std::to_string(bytes->size()) + " bytes to '" + out.resource +
+                         "', which holds " + std::to_string(out.desc.raw_bytes()));
+      }
       graph.resources[out.resource] = out.desc;
       shared.host[out.resource] = bytes;
       exec.outputs.push_back(add_version(out.resource, out.desc, bytes));

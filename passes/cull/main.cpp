@@ -2,6 +2,7 @@
 // lists of the geometry passes, sorted by material so texture bindings change least.
 // Occlusion culling (a small CPU depth raster) comes with the geometry stage.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "passes/core/context.h"
@@ -53,6 +54,9 @@ void cull(PassContext& ctx) {
     glm::dmat4 model;
     std::memcpy(&model[0][0], r.world, sizeof(r.world));
     model[3] -= glm::dvec4(eye, 0.0);  // camera-relative, subtracted in double
+    // A zero-scale transform covers no pixel and has no normal matrix.
+    const double determinant = glm::determinant(glm::dmat3(model));
+    if (!std::isfinite(determinant) || determinant == 0.0) continue;
     if (frustum && outside_frustum(view_projection * model, r.bounds_min, r.bounds_max)) continue;
     const GpuMaterial& m = materials[r.material];
     GpuDraw d{};

@@ -43,7 +43,10 @@ void main() {
     metallic *= mr.b;
   }
 
-  vec3 n = normalize(in_normal);
+  // A degenerate vertex normal falls back to the face's geometric normal.
+  vec3 n = dot(in_normal, in_normal) > 1e-20 ? normalize(in_normal)
+                                              : normalize(cross(dFdx(in_position), dFdy(in_position)));
+  if (any(isnan(n))) n = vec3(0.0, 0.0, 1.0);
   if (!gl_FrontFacing) n = -n;
   if (m.textures.z >= 0) {
     vec2 uv = slot_uv(m, 2);
