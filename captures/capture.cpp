@@ -347,6 +347,8 @@ void CaptureWriter::commit(const CaptureManifest& manifest) {
   std::error_code error;
   fs::path old;
   if (fs::exists(target_)) {
+    // Someone else created it while this capture was being written: never clobber it.
+    if (!force_) throw CaptureError(target_.string() + ": exists (use --force to overwrite)");
     old = target_;
     old += ".old-" + std::to_string(::getpid());
     fs::rename(target_, old, error);

@@ -25,16 +25,42 @@ const nlohmann::json& find_pass(const nlohmann::json& frame, const std::string& 
 }
 
 TEST(CaptureLoop, RenderWritesACompleteCapture) {
-  const fs::path capture = shared_capture("city", kCity);
-  const nlohmann::json manifest = read_json(capture / "manifest.json");
+  const fs::path dir = scratch("out");
+  const CliResult r = run_cli(std::string("render ") + kCity + " -o " + quote(dir / "cap"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find((dir / "cap").string()), std::string::npos) << "render does not say where the capture is";
+  const nlohmann::json manifest = read_json(dir / "cap" / "manifest.json");
   EXPECT_EQ(manifest.at("format"), "nightcap-capture");
   EXPECT_TRUE(manifest.at("version").is_number_integer());
-  EXPECT_TRUE(fs::exists(capture / "final.png"));
+  EXPECT_TRUE(fs::exists(dir / "cap" / "final.png"));
   EXPECT_EQ(manifest.at("frames").size(), 2u);
   EXPECT_NE(manifest.at("device").at("name").get<std::string>().find("llvmpipe"), std::string::npos);
   // Nothing but the capture is left beside it (the temporary sibling was renamed).
-  for (const auto& entry : fs::directory_iterator(capture.parent_path()))
-    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
+  std::vector<std::string> entries;
+  for (const auto& entry : fs::directory_iterator(dir)) entries.push_back(entry.path().filename().string());
+  EXPECT_EQ(entries, std::vector<std::string>{"cap"});
+}
+
+TEST(CaptureLoop, TheSeedDeterminesTheCity) {
+  const nlohmann::json a = read_json(shared_capture("city", kCity) / "manifest.json");
+  const fs::path dir = scratch("seeds");
+  ASSERT_EQ(run_cli(std::string("render ") + kCity + " -o " + quote(dir / "same")).code, 0);
+  ASSERT_EQ(run_cli(std::string("render ") + kCity + " --scene-seed 2 -o " + quote(dir / "other")).code, 0);
+  auto geometry_hash = [](const nlohmann::json& manifest) {
+    for (const auto& p : manifest.at("frames")[0].at("passes"))
+      for (const auto& in : p.at("inputs"))
+        if (in.at("resource") == "scene.geometry") return in.at("hash").get<std::string>();
+    return std::string();
+  };
+  const nlohmann::json same = read_json(dir / "same" / "manifest.json");
+  EXPECT_EQ(geometry_hash(a), geometry_hash(same));
+  EXPECT_NE(geometry_hash(a), geometry_hash(read_json(dir / "other" / "manifest.json")));
+  // Same seed, same everything: the final images are the same blob.
+  const auto final_blob = [](const nlohmann::json& manifest) {
+    const auto& passes = manifest.at("frames")[1].at("passes");
+    return passes.back().at("outputs")[0].at("hash").get<std::string>();
+  };
+  EXPECT_EQ(final_blob(a), final_blob(same));
 }
 
 TEST(CaptureLoop, PassesJsonDescribesEveryPassAndResource) {
