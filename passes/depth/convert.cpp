@@ -1,6 +1,6 @@
 // depth.convert: device depth → depth.linear (R32_SFLOAT, metres along the view axis), the
 // form every later stage samples. The half-resolution depth and stencil of frame.md arrive
-// with the geometry stage.
+// with the geometry stage. Never skipped (frame.md): every later stage reads it.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 

@@ -1,6 +1,7 @@
 // depth.pyramid: min and max linear depth over every footprint, from half resolution down to
 // 1×1 (R32G32_SFLOAT, a full mip chain). Culling and clustering read it, so it must be
-// conservative: odd sizes fold their last row and column into the neighbouring texel.
+// conservative: odd sizes fold their last row and column into the neighbouring texel. Never
+// skipped (frame.md).
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 

@@ -1,9 +1,16 @@
+// normals.bfn_lut (CPU): the best-fit normal table, built in code. It depends on nothing but
+// its size, so it is built once per process; the capture records it like any other resource.
+// Never skipped (frame.md: normals.pack is never skipped).
 #include "passes/normals/bfn_lut.h"
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <mutex>
 #include <thread>
+
+#include "passes/core/context.h"
+#include "passes/frame/frame_passes.h"
 
 namespace nightcap {
 
@@ -48,6 +55,30 @@ std::vector<uint8_t> build_bfn_lut(uint32_t size) {
   for (uint32_t t = 0; t < threads; ++t) workers.emplace_back(fill_rows, t, threads);
   for (auto& w : workers) w.join();
   return table;
+}
+
+namespace {
+
+constexpr uint32_t kLutSize = 1024;
+
+// The table depends on nothing but its size: built once per process.
+const std::vector<uint8_t>& cached_lut(uint32_t size) {
+  static std::mutex mutex;
+  static std::map<uint32_t, std::vector<uint8_t>> tables;
+  std::lock_guard lock(mutex);
+  auto it = tables.find(size);
+  if (it == tables.end()) it = tables.emplace(size, build_bfn_lut(size)).first;
+  return it->second;
+}
+
+}  // namespace
+
+PassDecl normals_bfn_lut_pass() {
+  ImageDecl lut{VK_FORMAT_R8_UINT, ResourceKind::lookup_table};
+  lut.size = {SizeRule::Mode::absolute, kLutSize, kLutSize, ""};
+  return PassDecl("normals.bfn_lut", PassType::cpu)
+      .write("normals.bfn_lut", Use::host, lut)
+      .run([](PassContext& ctx) { ctx.output("normals.bfn_lut") = cached_lut(kLutSize); });
 }
 
 }  // namespace nightcap

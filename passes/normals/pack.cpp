@@ -1,38 +1,11 @@
-// normals.bfn_lut (CPU) and normals.pack: world normals from the 10-bit G-buffer repacked as
-// 8-bit best-fit normals with roughness (R8G8B8A8_UNORM), the form SSR and the later
-// screen-space passes read.
-#include <cstring>
-#include <map>
-#include <mutex>
+// normals.pack: world normals from the 10-bit G-buffer repacked as 8-bit best-fit normals
+// with roughness (R8G8B8A8_UNORM), the form SSR and the later screen-space passes read, using
+// the table of normals.bfn_lut. Never skipped (frame.md).
 
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
-#include "passes/normals/bfn_lut.h"
 
 namespace nightcap {
-namespace {
-
-constexpr uint32_t kLutSize = 1024;
-
-// The table depends on nothing but its size: built once per process.
-const std::vector<uint8_t>& cached_lut(uint32_t size) {
-  static std::mutex mutex;
-  static std::map<uint32_t, std::vector<uint8_t>> tables;
-  std::lock_guard lock(mutex);
-  auto it = tables.find(size);
-  if (it == tables.end()) it = tables.emplace(size, build_bfn_lut(size)).first;
-  return it->second;
-}
-
-}  // namespace
-
-PassDecl normals_bfn_lut_pass() {
-  ImageDecl lut{VK_FORMAT_R8_UINT, ResourceKind::lookup_table};
-  lut.size = {SizeRule::Mode::absolute, kLutSize, kLutSize, ""};
-  return PassDecl("normals.bfn_lut", PassType::cpu)
-      .write("normals.bfn_lut", Use::host, lut)
-      .run([](PassContext& ctx) { ctx.output("normals.bfn_lut") = cached_lut(kLutSize); });
-}
 
 PassDecl normals_pack_pass() {
   return PassDecl("normals.pack", PassType::graphics)
