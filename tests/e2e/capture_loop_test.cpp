@@ -128,6 +128,20 @@ TEST(CaptureLoop, ReplayWithAChangedParameterReportsTheDifference) {
   for (const auto& o : report.at("passes")[0].at("outputs")) EXPECT_EQ(o.at("verdict"), "different") << o.at("resource");
 }
 
+TEST(CaptureLoop, ChainedReplayCarriesAChangeDownstream) {
+  const CliResult r = run_cli("replay --verify --json --chain --set lighting.deferred.intensity_scale=2 " +
+                              quote(shared_capture("city", kCity)));
+  EXPECT_EQ(r.code, 1) << r.err;
+  std::map<std::string, std::string> verdict;
+  const nlohmann::json report = nlohmann::json::parse(r.out);
+  for (const auto& p : report.at("passes"))
+    for (const auto& o : p.at("outputs")) verdict[o.at("resource").get<std::string>()] = o.at("verdict").get<std::string>();
+  EXPECT_EQ(verdict["gbuffer.albedo"], "identical");
+  EXPECT_EQ(verdict["lighting.diffuse"], "different");
+  EXPECT_EQ(verdict["lighting.lit"], "different");
+  EXPECT_EQ(verdict["final.ldr"], "different");
+}
+
 TEST(CaptureLoop, ReplayExecutesFromTheRecordedInputs) {
   // Point lighting.composite's diffuse input at the recorded specular blob: a valid blob of the
   // same format and size, so only a real re-execution can notice.

@@ -56,6 +56,14 @@ fs::path shared_capture(const std::string& key, const std::string& args) {
   // Keyed by the CLI's build time: a rebuilt renderer never reuses an older build's capture.
   const auto built = fs::last_write_time(NIGHTCAP_CLI).time_since_epoch().count();
   const fs::path capture = dir / (key + "-" + std::to_string(built));
+  // Captures of earlier builds are never read again.
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(dir, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(key + "-", 0) == 0 && name != capture.filename().string() && name.find(".tmp-") == std::string::npos &&
+        name.substr(key.size() + 1).find_first_not_of("-0123456789") == std::string::npos)
+      fs::remove_all(entry.path(), error);
+  }
   if (!fs::exists(capture / "manifest.json")) {
     const CliResult r = run_cli("render " + args + " -o " + quote(capture));
     // Another test process may have rendered it first; both outcomes leave a whole capture.
