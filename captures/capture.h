@@ -102,7 +102,6 @@ class CaptureWriter {
   void write_final_png(const std::vector<uint8_t>& rgba8, uint32_t width, uint32_t height);
   void commit(const CaptureManifest& manifest);
 
-  const std::filesystem::path& temporary_folder() const { return temp_; }
   uint64_t bytes_written() const { return bytes_written_; }
 
  private:

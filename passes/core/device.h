@@ -65,14 +65,8 @@ class GpuDevice {
   GpuImage create_image(const VkImageCreateInfo& info);
   void destroy(GpuImage& image);
 
-  // Records with `record`, submits, waits.
-  template <typename F>
-  void submit_and_wait(F&& record) {
-    VkCommandBuffer cmd = begin_commands();
-    record(cmd);
-    end_and_wait(cmd);
-  }
-  VkCommandBuffer begin_commands();
+  VkCommandBuffer begin_commands();  // one-time primary command buffer
+  // Submits, waits for completion, frees the command buffer.
   void end_and_wait(VkCommandBuffer cmd);
 
   void begin_label(VkCommandBuffer cmd, const std::string& name) const;
@@ -84,7 +78,6 @@ class GpuDevice {
   uint32_t validation_errors() const { return validation_errors_.load(); }
 
   // RenderDoc frame capture around the captured frames, when loaded into the process.
-  bool renderdoc_present() const { return renderdoc_ != nullptr; }
   void renderdoc_begin();
   void renderdoc_end();
 

@@ -25,7 +25,6 @@ PassDecl& PassDecl::write(std::string resource, Use use, ImageDecl decl) {
   ResourceUse u;
   u.resource = std::move(resource);
   u.use = use;
-  u.is_output = true;
   u.image = decl;
   outputs.push_back(std::move(u));
   return *this;
@@ -35,7 +34,6 @@ PassDecl& PassDecl::write(std::string resource, Use use, BufferDecl decl) {
   ResourceUse u;
   u.resource = std::move(resource);
   u.use = use;
-  u.is_output = true;
   u.is_buffer = true;
   u.buffer = decl;
   outputs.push_back(std::move(u));
@@ -46,7 +44,6 @@ PassDecl& PassDecl::modify(std::string resource, Use use) {
   ResourceUse u;
   u.resource = std::move(resource);
   u.use = use;
-  u.is_output = true;
   u.modifies = true;
   outputs.push_back(std::move(u));
   return *this;

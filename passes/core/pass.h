@@ -75,7 +75,6 @@ struct ResourceUse {
   Use use = Use::sampled;
   bool prefix = false;   // reads every resource whose name starts with `resource`
   bool modifies = false; // output that starts from the resource's previous version
-  bool is_output = false;
   bool is_buffer = false;
   ImageDecl image;
   BufferDecl buffer;
