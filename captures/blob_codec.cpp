@@ -49,17 +49,24 @@ Layout layout_of(const FormatInfo& format, uint32_t aspect) {
       {{}, {"Y"}, {"R", "G"}, {"R", "G", "B"}, {"R", "G", "B", "A"}}};
   const std::vector<std::string>& names = format.is_depth ? std::vector<std::string>{"Z"} : colour.at(format.channels);
   switch (format.encoding) {
-    case E::sfloat16: return {Imf::HALF, names, 2};
-    case E::sfloat32: return {Imf::FLOAT, names, 4};
+    case E::sfloat16:
+      return {Imf::HALF, names, 2};
+    case E::sfloat32:
+      return {Imf::FLOAT, names, 4};
     case E::unorm8:
     case E::srgb8:
-    case E::uint8: return {Imf::UINT, names, 1};
+    case E::uint8:
+      return {Imf::UINT, names, 1};
     case E::unorm16:
-    case E::uint16: return {Imf::UINT, names, 2};
-    case E::uint32: return {Imf::UINT, names, 4};
+    case E::uint16:
+      return {Imf::UINT, names, 2};
+    case E::uint32:
+      return {Imf::UINT, names, 4};
     case E::packed_a2b10g10r10:
-    case E::packed_b10g11r11: return {Imf::UINT, {"packed"}, 4};
-    case E::depth32_stencil8: return aspect == 0 ? Layout{Imf::FLOAT, {"Z"}, 4} : Layout{Imf::UINT, {"S"}, 1};
+    case E::packed_b10g11r11:
+      return {Imf::UINT, {"packed"}, 4};
+    case E::depth32_stencil8:
+      return aspect == 0 ? Layout{Imf::FLOAT, {"Z"}, 4} : Layout{Imf::UINT, {"S"}, 1};
   }
   throw std::invalid_argument("blob_codec: unknown channel encoding of " + std::string(format.name));
 }
@@ -84,7 +91,8 @@ std::vector<Part> parts_of(const std::filesystem::path& file, const FormatInfo& 
         const uint64_t width = mip_size(extent.width, mip);
         const uint64_t rows = uint64_t(mip_size(extent.height, mip)) * mip_size(extent.depth, mip);
         if (width > INT_MAX || rows > INT_MAX) fail(file, "mip " + std::to_string(mip) + " is too large for OpenEXR");
-        parts.push_back({aspect, mip, layer, int(width), int(rows), raw_subresource_offset(format, extent, aspect, mip, layer),
+        parts.push_back({aspect, mip, layer, int(width), int(rows),
+                         raw_subresource_offset(format, extent, aspect, mip, layer),
                          "a" + std::to_string(aspect) + ".m" + std::to_string(mip) + ".l" + std::to_string(layer)});
       }
   return parts;
@@ -101,10 +109,14 @@ int exr_threads(uint64_t raw_bytes) {
 
 Imf::Compression exr_compression(ExrCompression compression) {
   switch (compression) {
-    case ExrCompression::none: return Imf::NO_COMPRESSION;
-    case ExrCompression::rle: return Imf::RLE_COMPRESSION;
-    case ExrCompression::zip: return Imf::ZIP_COMPRESSION;
-    case ExrCompression::piz: return Imf::PIZ_COMPRESSION;
+    case ExrCompression::none:
+      return Imf::NO_COMPRESSION;
+    case ExrCompression::rle:
+      return Imf::RLE_COMPRESSION;
+    case ExrCompression::zip:
+      return Imf::ZIP_COMPRESSION;
+    case ExrCompression::piz:
+      return Imf::PIZ_COMPRESSION;
   }
   throw std::invalid_argument("blob_codec: unknown ExrCompression");
 }
@@ -138,8 +150,8 @@ void bind(PartPixels& pixels, const Layout& layout, const Part& part, const Imat
   }
   const size_t sample = sample_bytes(layout.type), texel = sample * layout.channels.size();
   for (size_t c = 0; c < layout.channels.size(); ++c)
-    pixels.frame_buffer.insert(layout.channels[c],
-                               Imf::Slice::Make(layout.type, base + c * sample, window, texel, texel * size_t(part.width)));
+    pixels.frame_buffer.insert(layout.channels[c], Imf::Slice::Make(layout.type, base + c * sample, window, texel,
+                                                                    texel * size_t(part.width)));
 }
 
 // `level0` is the first part: the display window is an attribute all parts must share, so it
@@ -165,7 +177,8 @@ std::string mismatch(const Imf::Header& header, const FormatInfo& format, const 
     return "is not a scanline image";
   const auto* stored_format = header.findTypedAttribute<Imf::StringAttribute>("nightcap.format");
   if (!stored_format) return "does not record its format";
-  if (stored_format->value() != format.name) return "holds " + stored_format->value() + ", not " + std::string(format.name);
+  if (stored_format->value() != format.name)
+    return "holds " + stored_format->value() + ", not " + std::string(format.name);
   ImageExtent stored;
   for (const auto& [name, member] : kExtentAttributes) {
     const auto* value = header.findTypedAttribute<Imf::IntAttribute>(name);
@@ -306,8 +319,7 @@ void write_buffer_blob(const std::filesystem::path& file, std::span<const uint8_
 }
 
 std::vector<uint8_t> read_buffer_blob(const std::filesystem::path& file, uint64_t expected_size) {
-  if (expected_size > kMaxBufferBytes)
-    fail(file, "expected size " + std::to_string(expected_size) + " exceeds 4 GiB");
+  if (expected_size > kMaxBufferBytes) fail(file, "expected size " + std::to_string(expected_size) + " exceeds 4 GiB");
   std::ifstream in(file, std::ios::binary);
   std::error_code error;
   const uint64_t file_size = std::filesystem::file_size(file, error);

@@ -27,16 +27,14 @@ std::string image_blob_extension();
 std::string buffer_blob_extension();
 
 // `raw` is in the raw image layout of format.h.
-void write_image_blob(const std::filesystem::path& file, const FormatInfo& format,
-                      const ImageExtent& extent, std::span<const uint8_t> raw,
-                      ExrCompression compression);
+void write_image_blob(const std::filesystem::path& file, const FormatInfo& format, const ImageExtent& extent,
+                      std::span<const uint8_t> raw, ExrCompression compression);
 // Throws CaptureError (naming `file`) when the file is unreadable, truncated, or its parts
 // do not match the format and extent.
 std::vector<uint8_t> read_image_blob(const std::filesystem::path& file, const FormatInfo& format,
                                      const ImageExtent& extent);
 
-void write_buffer_blob(const std::filesystem::path& file, std::span<const uint8_t> raw,
-                       int zstd_level);
+void write_buffer_blob(const std::filesystem::path& file, std::span<const uint8_t> raw, int zstd_level);
 std::vector<uint8_t> read_buffer_blob(const std::filesystem::path& file, uint64_t expected_size);
 
 }  // namespace nightcap

@@ -5,11 +5,11 @@
 #include <unistd.h>
 
 #include <bit>
+#include <cstring>
 #include <fstream>
 #include <set>
 #include <sstream>
 #include <thread>
-#include <cstring>
 
 #include "captures/hash.h"
 
@@ -73,7 +73,8 @@ ResourceRecord resource_from_json(const json& j, const std::string& file, const 
   r.hash = field<std::string>(j, "hash", file, where);
   r.blob = field<std::string>(j, "blob", file, where);
   if (!is_content_hash(r.hash)) fail(file, where, "hash '" + r.hash + "' is not a content hash");
-  if (!safe_blob_path(r.blob, r.hash)) fail(file, where, "blob path '" + r.blob + "' leaves blobs/ or does not match its hash");
+  if (!safe_blob_path(r.blob, r.hash))
+    fail(file, where, "blob path '" + r.blob + "' leaves blobs/ or does not match its hash");
   const uint64_t bytes = [&] {
     const json& b = j.contains("bytes") ? j.at("bytes") : json();
     if (!b.is_number_unsigned() && !b.is_number_integer()) fail(file, where, "\"bytes\" must be an integer");
@@ -102,8 +103,9 @@ ResourceRecord resource_from_json(const json& j, const std::string& file, const 
       __builtin_mul_overflow(texels, uint64_t(r.extent.layers), &texels) ||
       __builtin_mul_overflow(texels, uint64_t(info->texel_bytes + (info->has_stencil ? 1 : 0)), &texels) ||
       texels > kMaxResourceBytes)
-    fail(file, where, "image of " + std::to_string(r.extent.width) + "x" + std::to_string(r.extent.height) + "x" +
-                          std::to_string(r.extent.layers) + " is too large");
+    fail(file, where,
+         "image of " + std::to_string(r.extent.width) + "x" + std::to_string(r.extent.height) + "x" +
+             std::to_string(r.extent.layers) + " is too large");
   if (bytes != r.raw_bytes()) fail(file, where, "\"bytes\" " + std::to_string(bytes) + " does not match the size");
   return r;
 }
@@ -185,13 +187,15 @@ json to_json(const CaptureManifest& m) {
 CaptureManifest manifest_from_json(const json& j, const std::string& file) {
   CaptureManifest m;
   if (!j.is_object()) fail(file, "", "not a JSON object");
-  if (!j.contains("format") || j.at("format") != "nightcap-capture") fail(file, "", "not a nightcap capture (\"format\")");
+  if (!j.contains("format") || j.at("format") != "nightcap-capture")
+    fail(file, "", "not a nightcap capture (\"format\")");
   if (!j.contains("version") || !j.at("version").is_number_integer()) fail(file, "", "missing integer \"version\"");
   m.version = j.at("version").get<int>();
   if (m.version < 1) fail(file, "", "bad version " + std::to_string(m.version));
   if (m.version > kCaptureVersion)
-    fail(file, "", "capture version " + std::to_string(m.version) + " is newer than this nightcap reads (" +
-                       std::to_string(kCaptureVersion) + ")");
+    fail(file, "",
+         "capture version " + std::to_string(m.version) + " is newer than this nightcap reads (" +
+             std::to_string(kCaptureVersion) + ")");
   m.device = j.value("device", json::object());
   m.settings = j.value("settings", json::object());
   m.scene = j.value("scene", json::object());
@@ -295,8 +299,10 @@ void CaptureWriter::add_resource(ResourceRecord& record, std::span<const uint8_t
   }
   const fs::path file = temp_ / record.blob;
   try {
-    if (record.is_buffer) write_buffer_blob(file, raw, options_.zstd_level);
-    else write_image_blob(file, *format_info(record.format), record.extent, raw, options_.compression);
+    if (record.is_buffer)
+      write_buffer_blob(file, raw, options_.zstd_level);
+    else
+      write_image_blob(file, *format_info(record.format), record.extent, raw, options_.compression);
   } catch (...) {
     std::lock_guard lock(mutex_);
     blobs_.erase(record.hash);
@@ -328,7 +334,8 @@ void CaptureWriter::write_final_png(const std::vector<uint8_t>& rgba8, uint32_t 
   const fs::path file = temp_ / "final.png";
   auto out = OIIO::ImageOutput::create(file.string());
   OIIO::ImageSpec spec(int(width), int(height), 4, OIIO::TypeDesc::UINT8);
-  if (!out || !out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgba8.data()) || !out->close())
+  if (!out || !out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgba8.data()) ||
+      !out->close())
     throw CaptureError(file.string() + ": cannot write PNG");
   bytes_written_ += fs::file_size(file);
 }
@@ -355,7 +362,8 @@ void CaptureWriter::commit(const CaptureManifest& manifest) {
     if (error) throw CaptureError(target_.string() + ": cannot replace: " + error.message());
   }
   fs::rename(temp_, target_, error);
-  if (error) throw CaptureError(target_.string() + ": cannot rename the finished capture into place: " + error.message());
+  if (error)
+    throw CaptureError(target_.string() + ": cannot rename the finished capture into place: " + error.message());
   committed_ = true;
   if (!old.empty()) fs::remove_all(old, error);
   fsync_path(target_.parent_path().empty() ? fs::path(".") : target_.parent_path(), true);

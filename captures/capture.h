@@ -5,11 +5,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <condition_variable>
 #include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
-#include <condition_variable>
 #include <mutex>
 #include <optional>
 #include <span>
@@ -46,13 +46,13 @@ struct ShaderRecord {
 struct PassRecord {
   std::string name;
   bool ran = false;
-  std::string reason;             // why it was skipped
-  std::optional<double> gpu_ms;   // null for CPU passes and skipped ones
+  std::string reason;            // why it was skipped
+  std::optional<double> gpu_ms;  // null for CPU passes and skipped ones
   double cpu_ms = 0.0;
   std::map<std::string, double> params;
   std::vector<ShaderRecord> shaders;
   std::vector<ResourceRecord> inputs, outputs;
-  std::string tolerance;          // stated replay tolerance, empty when bit-exact
+  std::string tolerance;  // stated replay tolerance, empty when bit-exact
 };
 
 struct CameraRecord {

@@ -1,7 +1,7 @@
 // nightcap: render a scene to a capture, list its passes, replay them, diff two captures.
 // Exit codes: 0 success, 1 differences beyond tolerance, 2 bad input or failure.
-#include <CLI/CLI.hpp>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <cstdlib>
 #include <iomanip>
@@ -59,7 +59,8 @@ std::vector<double> parse_numbers(const std::string& flag, const std::string& te
   while (std::getline(stream, item, ',')) {
     char* end = nullptr;
     const double v = std::strtod(item.c_str(), &end);
-    if (item.empty() || *end != '\0' || !std::isfinite(v)) throw UsageError(flag + " '" + text + "': not a number list");
+    if (item.empty() || *end != '\0' || !std::isfinite(v))
+      throw UsageError(flag + " '" + text + "': not a number list");
     values.push_back(v);
   }
   if (values.size() != count)
@@ -83,9 +84,10 @@ int run_render(const std::string& scene_path, const std::string& out, const std:
                uint32_t seed, const std::string& device, const std::vector<std::string>& sets, bool force,
                const std::string& orbit, const std::string& target, double fov, const std::string& codec) {
   nc::RenderSettings settings;
-  const std::map<std::string, nc::ExrCompression> codecs = {
-      {"zip", nc::ExrCompression::zip}, {"rle", nc::ExrCompression::rle},
-      {"piz", nc::ExrCompression::piz}, {"none", nc::ExrCompression::none}};
+  const std::map<std::string, nc::ExrCompression> codecs = {{"zip", nc::ExrCompression::zip},
+                                                            {"rle", nc::ExrCompression::rle},
+                                                            {"piz", nc::ExrCompression::piz},
+                                                            {"none", nc::ExrCompression::none}};
   if (!codecs.count(codec)) throw UsageError("--codec '" + codec + "': expected zip, rle, piz or none");
   settings.capture.compression = codecs.at(codec);
   std::tie(settings.width, settings.height) = parse_size(size);
@@ -135,16 +137,19 @@ int run_passes(const std::string& path, bool json) {
   for (const nc::FrameRecord& frame : capture.manifest().frames) {
     std::cout << "frame " << frame.index << "\n";
     std::cout << std::left << std::setw(22) << "  pass" << std::setw(9) << "status" << std::right << std::setw(10)
-              << "gpu ms" << std::setw(10) << "cpu ms" << "  outputs\n";
+              << "gpu ms" << std::setw(10) << "cpu ms"
+              << "  outputs\n";
     for (const nc::PassRecord& p : frame.passes) {
       std::cout << "  " << std::left << std::setw(20) << p.name << std::setw(9) << (p.ran ? "ran" : "skipped")
                 << std::right << std::setw(10) << ms(p.gpu_ms) << std::setw(10) << ms(p.cpu_ms) << "  ";
       if (!p.ran) std::cout << "(" << p.reason << ")";
       for (const nc::ResourceRecord& o : p.outputs) {
         std::cout << o.resource << " ";
-        if (o.is_buffer) std::cout << "[" << o.buffer_size << " B] ";
-        else std::cout << "[" << nc::format_info(o.format)->name << " " << o.extent.width << "x" << o.extent.height
-                       << (o.extent.mips > 1 ? " mips " + std::to_string(o.extent.mips) : "") << "] ";
+        if (o.is_buffer)
+          std::cout << "[" << o.buffer_size << " B] ";
+        else
+          std::cout << "[" << nc::format_info(o.format)->name << " " << o.extent.width << "x" << o.extent.height
+                    << (o.extent.mips > 1 ? " mips " + std::to_string(o.extent.mips) : "") << "] ";
       }
       std::cout << "\n";
     }
@@ -207,7 +212,8 @@ int run_replay(const std::string& path, uint32_t frame, const std::vector<std::s
         std::cout << "\n";
       }
     }
-    if (verify) std::cout << (report.any_different() ? "replay differs from the capture\n" : "replay matches the capture\n");
+    if (verify)
+      std::cout << (report.any_different() ? "replay differs from the capture\n" : "replay matches the capture\n");
   }
   return finish(gpu, verify && report.any_different() ? kExitDifferent : 0);
 }
@@ -218,16 +224,19 @@ int run_diff(const std::string& a, const std::string& b, double tolerance, bool 
   nc::DiffOptions options;
   options.tolerance = tolerance;
   const nc::CaptureDiff diff = nc::diff_captures(capture_a, capture_b, options);
-  if (json) std::cout << nc::diff_to_json(diff).dump(1) << "\n";
-  else nc::print_diff_table(std::cout, diff);
+  if (json)
+    std::cout << nc::diff_to_json(diff).dump(1) << "\n";
+  else
+    nc::print_diff_table(std::cout, diff);
   return diff.beyond_tolerance ? kExitDifferent : 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"nightcap: render-capture analysis and replay.\n"
-               "Exit codes: 0 success, 1 differences beyond tolerance, 2 bad input or failure."};
+  CLI::App app{
+      "nightcap: render-capture analysis and replay.\n"
+      "Exit codes: 0 success, 1 differences beyond tolerance, 2 bad input or failure."};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every command");
 
@@ -247,7 +256,8 @@ int main(int argc, char** argv) {
   render->add_option("--orbit", orbit, "orbit camera THETA,PHI,RADIUS (degrees, scene units)");
   render->add_option("--target", target, "orbit target X,Y,Z (default 0,0,0)");
   render->add_option("--fov", fov, "vertical field of view of the orbit camera, degrees")->capture_default_str();
-  render->add_option("--codec", codec, "OpenEXR compression of image blobs: zip, rle, piz or none")->capture_default_str();
+  render->add_option("--codec", codec, "OpenEXR compression of image blobs: zip, rle, piz or none")
+      ->capture_default_str();
   render->add_flag("--force", force, "replace an existing capture");
 
   std::string capture_path, capture_b;

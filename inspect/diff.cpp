@@ -89,14 +89,22 @@ nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::js
 
 std::string status_name(PassStatus status) {
   switch (status) {
-    case PassStatus::identical: return "identical";
-    case PassStatus::origin: return "origin";
-    case PassStatus::inherited: return "inherited";
-    case PassStatus::skipped: return "skipped";
-    case PassStatus::skipped_in_a: return "skipped_in_a";
-    case PassStatus::skipped_in_b: return "skipped_in_b";
-    case PassStatus::only_in_a: return "only_in_a";
-    case PassStatus::only_in_b: return "only_in_b";
+    case PassStatus::identical:
+      return "identical";
+    case PassStatus::origin:
+      return "origin";
+    case PassStatus::inherited:
+      return "inherited";
+    case PassStatus::skipped:
+      return "skipped";
+    case PassStatus::skipped_in_a:
+      return "skipped_in_a";
+    case PassStatus::skipped_in_b:
+      return "skipped_in_b";
+    case PassStatus::only_in_a:
+      return "only_in_a";
+    case PassStatus::only_in_b:
+      return "only_in_b";
   }
   return "";
 }
@@ -152,7 +160,8 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
     out << "frame " << frame.index << "\n";
     out << std::left << std::setw(22) << "  pass" << std::setw(22) << "resource" << std::setw(11) << "status"
         << std::right << std::setw(11) << "max abs" << std::setw(11) << "RMSE" << std::setw(9) << "PSNR" << std::setw(8)
-        << ">thr %" << std::setw(12) << "NaN/Inf" << "\n";
+        << ">thr %" << std::setw(12) << "NaN/Inf"
+        << "\n";
     for (const PassDiff& p : frame.passes) {
       if (p.outputs.empty() || (p.status != PassStatus::origin && p.status != PassStatus::inherited)) {
         out << "  " << std::left << std::setw(20) << p.name << std::setw(22) << "" << status_name(p.status) << "\n";
@@ -174,8 +183,7 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
   }
   for (const std::string& note : diff.notes) out << "note: " << note << "\n";
   if (diff.first_divergence)
-    out << "first divergence: " << diff.first_divergence->second << " (frame " << diff.first_divergence->first
-        << ")\n";
+    out << "first divergence: " << diff.first_divergence->second << " (frame " << diff.first_divergence->first << ")\n";
   else
     out << (diff.identical ? "no differences\n" : "differences, but no pass where they start with equal inputs\n");
 }
@@ -220,8 +228,11 @@ nlohmann::json diff_to_json(const CaptureDiff& diff) {
   }
   nlohmann::json first = nullptr;
   if (diff.first_divergence) first = {{"frame", diff.first_divergence->first}, {"pass", diff.first_divergence->second}};
-  return {{"identical", diff.identical}, {"beyond_tolerance", diff.beyond_tolerance}, {"first_divergence", first},
-          {"notes", diff.notes},         {"frames", frames}};
+  return {{"identical", diff.identical},
+          {"beyond_tolerance", diff.beyond_tolerance},
+          {"first_divergence", first},
+          {"notes", diff.notes},
+          {"frames", frames}};
 }
 
 }  // namespace nightcap

@@ -57,9 +57,9 @@ ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uin
   ResourceComparison r;
   r.identical = a_raw.size() == b_raw.size() && std::equal(a_raw.begin(), a_raw.end(), b_raw.begin());
   if (a.is_buffer != b.is_buffer || a_raw.size() != b_raw.size() ||
-      (!a.is_buffer && (a.format != b.format || a.extent.width != b.extent.width || a.extent.height != b.extent.height ||
-                        a.extent.depth != b.extent.depth || a.extent.mips != b.extent.mips ||
-                        a.extent.layers != b.extent.layers))) {
+      (!a.is_buffer &&
+       (a.format != b.format || a.extent.width != b.extent.width || a.extent.height != b.extent.height ||
+        a.extent.depth != b.extent.depth || a.extent.mips != b.extent.mips || a.extent.layers != b.extent.layers))) {
     r.comparable = false;
     r.note = "format or size differs";
     r.max_abs = INFINITY;
@@ -73,9 +73,11 @@ ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uin
   }
   const FormatInfo f = *format_info(a.format);
   const bool normal = a.kind == ResourceKind::normal || a.kind == ResourceKind::packed_normal;
-  r.metric = normal ? "angle" : f.has_stencil ? "depth + stencil" : is_integer(f, 0) ? "integer (exact)"
-                                              : is_float(f)          ? "float"
-                                                                     : "unorm";
+  r.metric = normal             ? "angle"
+             : f.has_stencil    ? "depth + stencil"
+             : is_integer(f, 0) ? "integer (exact)"
+             : is_float(f)      ? "float"
+                                : "unorm";
   double peak = is_float(f) ? 1e-6 : 1.0;
   double sum_squares = 0, angle_sum = 0;
   uint64_t values = 0, texels_total = 0, over = 0;
@@ -99,9 +101,12 @@ ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uin
         if (is_float(f) && aspect == 0 && std::isfinite(va[c])) peak = std::max(peak, double(std::abs(va[c])));
         if (nan_a && nan_b) continue;  // NaN in the same place is agreement, not a difference
         double d;
-        if (nan_a || nan_b) d = INFINITY;
-        else if (std::isinf(va[c]) || std::isinf(vb[c])) d = va[c] == vb[c] ? 0.0 : INFINITY;
-        else d = std::abs(double(va[c]) - vb[c]);
+        if (nan_a || nan_b)
+          d = INFINITY;
+        else if (std::isinf(va[c]) || std::isinf(vb[c]))
+          d = va[c] == vb[c] ? 0.0 : INFINITY;
+        else
+          d = std::abs(double(va[c]) - vb[c]);
         if (d > 0) texel_differs = true;
         if (d > threshold(f, aspect, va[c])) texel_over = true;
         r.max_abs = std::max(r.max_abs, d);
@@ -109,7 +114,8 @@ ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uin
         ++values;
       }
       if (normal && aspect == 0) {
-        const glm::dvec3 na = glm::dvec3(va[0], va[1], va[2]) * 2.0 - 1.0, nb = glm::dvec3(vb[0], vb[1], vb[2]) * 2.0 - 1.0;
+        const glm::dvec3 na = glm::dvec3(va[0], va[1], va[2]) * 2.0 - 1.0,
+                         nb = glm::dvec3(vb[0], vb[1], vb[2]) * 2.0 - 1.0;
         const double angle = glm::degrees(std::atan2(glm::length(glm::cross(na, nb)), glm::dot(na, nb)));
         if (std::isfinite(angle)) {
           r.angular_max_deg = std::max(r.angular_max_deg, angle);

@@ -10,15 +10,15 @@
 namespace nightcap {
 
 struct ResourceComparison {
-  bool identical = false;   // same bytes
-  bool comparable = true;   // same format and size
-  std::string metric;       // "float", "unorm", "integer (exact)", "angle", "depth + stencil", "buffer words"
-  std::string note;         // why not comparable
+  bool identical = false;  // same bytes
+  bool comparable = true;  // same format and size
+  std::string metric;      // "float", "unorm", "integer (exact)", "angle", "depth + stencil", "buffer words"
+  std::string note;        // why not comparable
   double max_abs = 0.0;
   double rmse = 0.0;
-  double psnr = INFINITY;   // dB; infinite when identical
+  double psnr = INFINITY;             // dB; infinite when identical
   double over_threshold_share = 0.0;  // share of texels with any channel over the threshold
-  uint64_t differing = 0;   // texels (or words) that differ at all
+  uint64_t differing = 0;             // texels (or words) that differ at all
   uint64_t nan_a = 0, nan_b = 0, inf_a = 0, inf_b = 0;
   double angular_max_deg = 0.0, angular_mean_deg = 0.0;  // normals only
 };

@@ -39,9 +39,12 @@ std::string extension(const std::string& path) {
 
 std::string verdict_name(Verdict verdict) {
   switch (verdict) {
-    case Verdict::identical: return "identical";
-    case Verdict::within_tolerance: return "within tolerance";
-    case Verdict::different: return "different";
+    case Verdict::identical:
+      return "identical";
+    case Verdict::within_tolerance:
+      return "within tolerance";
+    case Verdict::different:
+      return "different";
   }
   return "";
 }
@@ -67,7 +70,8 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
     if (!decl) throw SceneError("--shader " + pass + "=" + file + ": no pass named '" + pass + "'");
     bool stage = false;
     for (const std::string& s : decl->shaders) stage |= extension(s) == extension(file);
-    if (!stage) throw SceneError("--shader " + pass + "=" + file + ": " + pass + " has no " + extension(file) + " shader");
+    if (!stage)
+      throw SceneError("--shader " + pass + "=" + file + ": " + pass + " has no " + extension(file) + " shader");
   }
 
   ReplayReport report;
@@ -151,7 +155,8 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
         continue;
       }
       const ResourceDesc recorded_desc = desc_of(out);
-      if (produced->desc.is_buffer != recorded_desc.is_buffer || produced->desc.raw_bytes() != recorded_desc.raw_bytes()) {
+      if (produced->desc.is_buffer != recorded_desc.is_buffer ||
+          produced->desc.raw_bytes() != recorded_desc.raw_bytes()) {
         check.verdict = Verdict::different;
         check.metric = "size differs";
         result.outputs.push_back(check);
@@ -163,7 +168,8 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
       const ResourceComparison cmp = compare_resource(out, recorded, replayed_record, *produced->bytes);
       check.amount = cmp.max_abs;
       check.metric = cmp.metric;
-      check.verdict = decl->tolerance > 0 && cmp.max_abs <= decl->tolerance ? Verdict::within_tolerance : Verdict::different;
+      check.verdict =
+          decl->tolerance > 0 && cmp.max_abs <= decl->tolerance ? Verdict::within_tolerance : Verdict::different;
       result.outputs.push_back(check);
     }
     report.passes.push_back(std::move(result));

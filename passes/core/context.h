@@ -44,14 +44,14 @@ struct Binding {
 };
 
 struct GraphicsPipelineDesc {
-  std::string vertex, fragment;  // shader paths; no fragment shader: depth only
+  std::string vertex, fragment;            // shader paths; no fragment shader: depth only
   std::vector<VkDescriptorType> bindings;  // set 0, binding i (push descriptors)
   uint32_t push_constant_bytes = 0;
   std::vector<VkFormat> color_formats;
   VkFormat depth_format = VK_FORMAT_UNDEFINED;
   bool depth_test = false, depth_write = false;
   VkCompareOp depth_compare = VK_COMPARE_OP_GREATER_OR_EQUAL;  // reversed-Z
-  bool stencil_write = false;  // writes the dynamic stencil reference where depth passes
+  bool stencil_write = false;           // writes the dynamic stencil reference where depth passes
   std::vector<int32_t> specialization;  // constant_id i = value
 };
 

@@ -59,8 +59,7 @@ void vk_check(VkResult result, const char* what) {
 
 VkBool32 VKAPI_PTR GpuDevice::on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                          VkDebugUtilsMessageTypeFlagsEXT,
-                                         const VkDebugUtilsMessengerCallbackDataEXT* data,
-                                         void* self) {
+                                         const VkDebugUtilsMessengerCallbackDataEXT* data, void* self) {
   if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
     static_cast<GpuDevice*>(self)->validation_errors_++;
     std::cerr << "validation error: " << data->pMessage << "\n";
@@ -83,11 +82,12 @@ GpuDevice::GpuDevice(const Options& options) {
       throw GpuError("validation requested but VK_LAYER_KHRONOS_validation is not installed");
     layers.push_back("VK_LAYER_KHRONOS_validation");
   }
-  auto messenger_info = vk_struct<VkDebugUtilsMessengerCreateInfoEXT>(VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT);
-  messenger_info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT |
-                                   VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
-  messenger_info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
-                               VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
+  auto messenger_info =
+      vk_struct<VkDebugUtilsMessengerCreateInfoEXT>(VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT);
+  messenger_info.messageSeverity =
+      VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
+  messenger_info.messageType =
+      VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
   messenger_info.pfnUserCallback = &GpuDevice::on_message;
   messenger_info.pUserData = this;
 
@@ -122,9 +122,8 @@ GpuDevice::GpuDevice(const Options& options) {
     vkGetPhysicalDeviceProperties(candidate, &props);
     available += std::string(available.empty() ? "" : ", ") + props.deviceName;
     const std::string name = props.deviceName;
-    const bool wanted = options.device_name.empty()
-                            ? name.find("llvmpipe") != std::string::npos
-                            : name.find(options.device_name) != std::string::npos;
+    const bool wanted = options.device_name.empty() ? name.find("llvmpipe") != std::string::npos
+                                                    : name.find(options.device_name) != std::string::npos;
     if (wanted && props.apiVersion >= VK_API_VERSION_1_3) {
       physical_ = candidate;
       break;
@@ -132,8 +131,8 @@ GpuDevice::GpuDevice(const Options& options) {
   }
   if (!physical_ && options.device_name.empty() && !physicals.empty()) physical_ = physicals[0];
   if (!physical_)
-    throw GpuError("--device '" + options.device_name + "': no Vulkan 1.3 device matches (available: " +
-                   (available.empty() ? "none" : available) + ")");
+    throw GpuError("--device '" + options.device_name +
+                   "': no Vulkan 1.3 device matches (available: " + (available.empty() ? "none" : available) + ")");
   vkGetPhysicalDeviceProperties(physical_, &properties_);
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
   auto driver_props = vk_struct<VkPhysicalDeviceDriverProperties>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES);
@@ -189,8 +188,8 @@ GpuDevice::GpuDevice(const Options& options) {
   device_info.ppEnabledExtensionNames = device_extensions;
   vk_check(vkCreateDevice(physical_, &device_info, nullptr, &device_), "vkCreateDevice");
   vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
-  push_descriptor_set_ = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
-      vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
+  push_descriptor_set_ =
+      reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
 
   auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
   pool_info.queueFamilyIndex = queue_family_;
@@ -303,8 +302,7 @@ void GpuDevice::end_label(VkCommandBuffer cmd) const {
   if (end_label_) end_label_(cmd);
 }
 
-void GpuDevice::push_descriptors(VkCommandBuffer cmd, VkPipelineBindPoint bind_point,
-                                 VkPipelineLayout layout,
+void GpuDevice::push_descriptors(VkCommandBuffer cmd, VkPipelineBindPoint bind_point, VkPipelineLayout layout,
                                  const std::vector<VkWriteDescriptorSet>& writes) const {
   push_descriptor_set_(cmd, bind_point, layout, 0, static_cast<uint32_t>(writes.size()), writes.data());
 }

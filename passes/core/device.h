@@ -71,8 +71,8 @@ class GpuDevice {
 
   void begin_label(VkCommandBuffer cmd, const std::string& name) const;
   void end_label(VkCommandBuffer cmd) const;
-  void push_descriptors(VkCommandBuffer cmd, VkPipelineBindPoint bind_point,
-                        VkPipelineLayout layout, const std::vector<VkWriteDescriptorSet>& writes) const;
+  void push_descriptors(VkCommandBuffer cmd, VkPipelineBindPoint bind_point, VkPipelineLayout layout,
+                        const std::vector<VkWriteDescriptorSet>& writes) const;
 
   // Validation messages of severity error seen so far.
   uint32_t validation_errors() const { return validation_errors_.load(); }

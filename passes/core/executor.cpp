@@ -11,7 +11,7 @@ struct PhysicalResource {
   GpuBuffer buffer;
   SyncState sync;
   std::map<std::pair<int, int>, VkImageView> views;  // (aspect, mip) -> view
-  int version = -1;                                   // current version index
+  int version = -1;                                  // current version index
 };
 
 struct PassContext::Shared {
@@ -43,12 +43,17 @@ VkImageAspectFlags raw_aspect(VkFormat format, uint32_t aspect) {
 
 VkImageUsageFlags usage_for(Use use) {
   switch (use) {
-    case Use::sampled: return VK_IMAGE_USAGE_SAMPLED_BIT;
+    case Use::sampled:
+      return VK_IMAGE_USAGE_SAMPLED_BIT;
     case Use::storage_read:
-    case Use::storage_write: return VK_IMAGE_USAGE_STORAGE_BIT;
-    case Use::color_attachment: return VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
-    case Use::depth_attachment: return VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
-    default: return 0;
+    case Use::storage_write:
+      return VK_IMAGE_USAGE_STORAGE_BIT;
+    case Use::color_attachment:
+      return VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+    case Use::depth_attachment:
+      return VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+    default:
+      return 0;
   }
 }
 
@@ -59,7 +64,8 @@ void transition(VkCommandBuffer cmd, PhysicalResource& r, AccessState next, bool
   auto dep = vk_struct<VkDependencyInfo>(VK_STRUCTURE_TYPE_DEPENDENCY_INFO);
   auto image = vk_struct<VkImageMemoryBarrier2>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2);
   auto buffer = vk_struct<VkBufferMemoryBarrier2>(VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2);
-  const VkPipelineStageFlags2 src_stages = plan->before.stages ? plan->before.stages : VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT;
+  const VkPipelineStageFlags2 src_stages =
+      plan->before.stages ? plan->before.stages : VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT;
   if (r.desc.is_buffer) {
     buffer.srcStageMask = src_stages;
     buffer.srcAccessMask = plan->before.access;
@@ -206,8 +212,8 @@ VkImageView PassContext::view(const std::string& resource, ViewAspect aspect, in
   VkImageAspectFlags aspects = natural_aspects(r.desc.format);
   if (aspect == ViewAspect::depth) aspects = VK_IMAGE_ASPECT_DEPTH_BIT;
   if (aspect == ViewAspect::stencil) aspects = VK_IMAGE_ASPECT_STENCIL_BIT;
-  info.subresourceRange = {aspects, mip < 0 ? 0u : static_cast<uint32_t>(mip),
-                           mip < 0 ? r.desc.extent.mips : 1u, 0, r.desc.extent.layers};
+  info.subresourceRange = {aspects, mip < 0 ? 0u : static_cast<uint32_t>(mip), mip < 0 ? r.desc.extent.mips : 1u, 0,
+                           r.desc.extent.layers};
   VkImageView view;
   vk_check(vkCreateImageView(gpu().device(), &info, nullptr, &view), "vkCreateImageView");
   r.views[key] = view;
@@ -220,8 +226,8 @@ void PassContext::bind(const GraphicsPipelineDesc& desc) {
     shared_.current->spirv[path] = spirv;
     return spirv;
   };
-  const auto& entry =
-      shared_.cache.graphics(desc, code(desc.vertex), desc.fragment.empty() ? std::vector<uint32_t>{} : code(desc.fragment));
+  const auto& entry = shared_.cache.graphics(desc, code(desc.vertex),
+                                             desc.fragment.empty() ? std::vector<uint32_t>{} : code(desc.fragment));
   vkCmdBindPipeline(cmd(), VK_PIPELINE_BIND_POINT_GRAPHICS, entry.pipeline);
   layout_ = entry.layout;
   bind_point_ = VK_PIPELINE_BIND_POINT_GRAPHICS;
@@ -255,7 +261,7 @@ void PassContext::push(const std::vector<Binding>& bindings) {
     } else {
       const bool storage = b.type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
       const ResourceDesc& d = desc(b.resource);
-      VkImageLayout layout = storage ? VK_IMAGE_LAYOUT_GENERAL
+      VkImageLayout layout = storage       ? VK_IMAGE_LAYOUT_GENERAL
                              : is_depth(d) ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL
                                            : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
       ViewAspect aspect = b.aspect;
@@ -461,7 +467,8 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       }
     }
     auto read_back = [&](PhysicalResource& r, int version) {
-      GpuBuffer staging = gpu.create_buffer(std::max<uint64_t>(r.desc.raw_bytes(), 16), VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+      GpuBuffer staging =
+          gpu.create_buffer(std::max<uint64_t>(r.desc.raw_bytes(), 16), VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
       cleanup.staging.push_back({staging, version});
       transition(cmd, r, transfer_state(false));
       if (r.desc.is_buffer) {
@@ -500,8 +507,7 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       }
       for (const BoundUse& out : pass.outputs) {
         PhysicalResource& r = shared.resources.at(out.resource);
-        if (pass.runs)
-          transition(cmd, r, required_state(out.use, type, is_depth(r.desc)), !out.modifies);
+        if (pass.runs) transition(cmd, r, required_state(out.use, type, is_depth(r.desc)), !out.modifies);
       }
       if (pass.runs) {
         gpu.begin_label(cmd, pass.decl->name);
@@ -509,7 +515,8 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
         const ParamValues params = params_of(*pass.decl);
         PassContext ctx(shared, pass, params);
         pass.decl->execute(ctx);
-        vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, cleanup.queries, static_cast<uint32_t>(2 * i + 1));
+        vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, cleanup.queries,
+                             static_cast<uint32_t>(2 * i + 1));
         gpu.end_label(cmd);
         exec.gpu_ms = 0.0;  // filled from the queries after the submit
       } else {
@@ -521,11 +528,14 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
           if (r.desc.is_buffer) {
             vkCmdFillBuffer(cmd, r.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
           } else {
-            VkImageSubresourceRange range{natural_aspects(r.desc.format), 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
+            VkImageSubresourceRange range{natural_aspects(r.desc.format), 0, VK_REMAINING_MIP_LEVELS, 0,
+                                          VK_REMAINING_ARRAY_LAYERS};
             if (is_depth(r.desc))
-              vkCmdClearDepthStencilImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &r.desc.clear.depthStencil, 1, &range);
+              vkCmdClearDepthStencilImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                                          &r.desc.clear.depthStencil, 1, &range);
             else
-              vkCmdClearColorImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &r.desc.clear.color, 1, &range);
+              vkCmdClearColorImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &r.desc.clear.color, 1,
+                                   &range);
           }
         }
       }
@@ -549,8 +559,7 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
                         VK_QUERY_RESULT_64_BIT);
   for (size_t i = 0; i < graph.passes.size(); ++i)
     if (result.passes[i].gpu_ms)
-      result.passes[i].gpu_ms =
-          double(stamps[2 * i + 1] - stamps[2 * i]) * gpu.timestamp_period_ns() / 1e6;
+      result.passes[i].gpu_ms = double(stamps[2 * i + 1] - stamps[2 * i]) * gpu.timestamp_period_ns() / 1e6;
   for (const Staging& s : cleanup.staging) {
     if (s.version < 0) continue;
     VersionData& v = result.versions[s.version];

@@ -36,9 +36,8 @@ const std::vector<FormatInfo> kFormats = {
 };
 
 constexpr std::array<std::string_view, 13> kKindNames = {
-    "colour",      "hdr_colour",   "normal",       "packed_normal", "material",
-    "motion",      "depth_stencil", "linear_depth", "depth_minmax",  "lookup_table",
-    "texture",     "buffer",       "draw_list"};
+    "colour",       "hdr_colour",   "normal",       "packed_normal", "material", "motion",   "depth_stencil",
+    "linear_depth", "depth_minmax", "lookup_table", "texture",       "buffer",   "draw_list"};
 
 float unsigned_small_float(uint32_t bits, int mantissa_bits) {
   uint32_t exponent = bits >> mantissa_bits;
@@ -84,9 +83,7 @@ uint32_t mip_size(uint32_t base, uint32_t mip) { return std::max(1u, base >> mip
 
 uint32_t aspect_count(const FormatInfo& format) { return format.has_stencil ? 2 : 1; }
 
-uint32_t aspect_texel_bytes(const FormatInfo& format, uint32_t aspect) {
-  return aspect == 1 ? 1 : format.texel_bytes;
-}
+uint32_t aspect_texel_bytes(const FormatInfo& format, uint32_t aspect) { return aspect == 1 ? 1 : format.texel_bytes; }
 
 uint32_t aspect_channels(const FormatInfo& format, uint32_t aspect) {
   if (format.has_stencil) return 1;
@@ -94,20 +91,17 @@ uint32_t aspect_channels(const FormatInfo& format, uint32_t aspect) {
   return format.channels;
 }
 
-uint64_t raw_subresource_bytes(const FormatInfo& format, const ImageExtent& extent,
-                               uint32_t aspect, uint32_t mip) {
-  return uint64_t(mip_size(extent.width, mip)) * mip_size(extent.height, mip) *
-         mip_size(extent.depth, mip) * aspect_texel_bytes(format, aspect);
+uint64_t raw_subresource_bytes(const FormatInfo& format, const ImageExtent& extent, uint32_t aspect, uint32_t mip) {
+  return uint64_t(mip_size(extent.width, mip)) * mip_size(extent.height, mip) * mip_size(extent.depth, mip) *
+         aspect_texel_bytes(format, aspect);
 }
 
-uint64_t raw_subresource_offset(const FormatInfo& format, const ImageExtent& extent,
-                                uint32_t aspect, uint32_t mip, uint32_t layer) {
+uint64_t raw_subresource_offset(const FormatInfo& format, const ImageExtent& extent, uint32_t aspect, uint32_t mip,
+                                uint32_t layer) {
   uint64_t offset = 0;
   for (uint32_t a = 0; a < aspect; ++a)
-    for (uint32_t m = 0; m < extent.mips; ++m)
-      offset += raw_subresource_bytes(format, extent, a, m) * extent.layers;
-  for (uint32_t m = 0; m < mip; ++m)
-    offset += raw_subresource_bytes(format, extent, aspect, m) * extent.layers;
+    for (uint32_t m = 0; m < extent.mips; ++m) offset += raw_subresource_bytes(format, extent, a, m) * extent.layers;
+  for (uint32_t m = 0; m < mip; ++m) offset += raw_subresource_bytes(format, extent, aspect, m) * extent.layers;
   return offset + raw_subresource_bytes(format, extent, aspect, mip) * layer;
 }
 
@@ -150,16 +144,12 @@ uint16_t float_to_half(float f) {
   return static_cast<uint16_t>(half);
 }
 
-float srgb_to_linear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
+float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
-float linear_to_srgb(float c) {
-  return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-}
+float linear_to_srgb(float c) { return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f; }
 
-void decode_texel(const FormatInfo& format, uint32_t aspect, std::span<const uint8_t> plane,
-                  uint64_t index, float* out) {
+void decode_texel(const FormatInfo& format, uint32_t aspect, std::span<const uint8_t> plane, uint64_t index,
+                  float* out) {
   const uint64_t base = index * aspect_texel_bytes(format, aspect);
   switch (format.encoding) {
     case E::unorm8:
@@ -173,22 +163,19 @@ void decode_texel(const FormatInfo& format, uint32_t aspect, std::span<const uin
       for (uint32_t c = 0; c < format.channels; ++c) out[c] = plane[base + c];
       return;
     case E::unorm16:
-      for (uint32_t c = 0; c < format.channels; ++c)
-        out[c] = load<uint16_t>(plane, base + 2 * c) / 65535.0f;
+      for (uint32_t c = 0; c < format.channels; ++c) out[c] = load<uint16_t>(plane, base + 2 * c) / 65535.0f;
       return;
     case E::uint16:
       for (uint32_t c = 0; c < format.channels; ++c) out[c] = load<uint16_t>(plane, base + 2 * c);
       return;
     case E::sfloat16:
-      for (uint32_t c = 0; c < format.channels; ++c)
-        out[c] = half_to_float(load<uint16_t>(plane, base + 2 * c));
+      for (uint32_t c = 0; c < format.channels; ++c) out[c] = half_to_float(load<uint16_t>(plane, base + 2 * c));
       return;
     case E::sfloat32:
       for (uint32_t c = 0; c < format.channels; ++c) out[c] = load<float>(plane, base + 4 * c);
       return;
     case E::uint32:
-      for (uint32_t c = 0; c < format.channels; ++c)
-        out[c] = static_cast<float>(load<uint32_t>(plane, base + 4 * c));
+      for (uint32_t c = 0; c < format.channels; ++c) out[c] = static_cast<float>(load<uint32_t>(plane, base + 4 * c));
       return;
     case E::packed_a2b10g10r10: {
       uint32_t w = load<uint32_t>(plane, base);

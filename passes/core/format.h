@@ -32,8 +32,8 @@ struct FormatInfo {
   VkFormat vk;
   std::string_view name;  // Vulkan name without VK_FORMAT_
   ChannelEncoding encoding;
-  uint32_t channels;      // logical channels (depth+stencil counts as 2)
-  uint32_t texel_bytes;   // bytes per texel in the raw layout of one aspect (depth: 4)
+  uint32_t channels;     // logical channels (depth+stencil counts as 2)
+  uint32_t texel_bytes;  // bytes per texel in the raw layout of one aspect (depth: 4)
   bool is_depth = false;
   bool has_stencil = false;
 };
@@ -45,19 +45,19 @@ const std::vector<FormatInfo>& all_formats();
 
 // What a resource holds, so tools decode and visualise it without guessing.
 enum class ResourceKind {
-  colour,        // linear or display colour
-  hdr_colour,    // unbounded radiance
-  normal,        // 0.5n+0.5 encoded world normal
-  packed_normal, // best-fit normal + roughness
-  material,      // metalness/roughness/translucency/emissive
-  motion,        // screen-space motion in pixels or uv
-  depth_stencil, // device depth (reversed-Z) + stencil tags
-  linear_depth,  // view-space metres
-  depth_minmax,  // min/max linear depth pyramid
+  colour,         // linear or display colour
+  hdr_colour,     // unbounded radiance
+  normal,         // 0.5n+0.5 encoded world normal
+  packed_normal,  // best-fit normal + roughness
+  material,       // metalness/roughness/translucency/emissive
+  motion,         // screen-space motion in pixels or uv
+  depth_stencil,  // device depth (reversed-Z) + stencil tags
+  linear_depth,   // view-space metres
+  depth_minmax,   // min/max linear depth pyramid
   lookup_table,
-  texture,       // scene-supplied texture
-  buffer,        // structured data
-  draw_list,     // per-draw records consumed by a pass
+  texture,    // scene-supplied texture
+  buffer,     // structured data
+  draw_list,  // per-draw records consumed by a pass
 };
 
 std::string_view kind_name(ResourceKind kind);
@@ -72,15 +72,14 @@ struct ImageExtent {
 uint32_t mip_size(uint32_t base, uint32_t mip);
 uint64_t raw_image_bytes(const FormatInfo& format, const ImageExtent& extent);
 // Byte offset of (aspect, mip, layer) in the raw layout; aspect 1 is stencil.
-uint64_t raw_subresource_offset(const FormatInfo& format, const ImageExtent& extent,
-                                uint32_t aspect, uint32_t mip, uint32_t layer);
-uint64_t raw_subresource_bytes(const FormatInfo& format, const ImageExtent& extent,
-                               uint32_t aspect, uint32_t mip);
+uint64_t raw_subresource_offset(const FormatInfo& format, const ImageExtent& extent, uint32_t aspect, uint32_t mip,
+                                uint32_t layer);
+uint64_t raw_subresource_bytes(const FormatInfo& format, const ImageExtent& extent, uint32_t aspect, uint32_t mip);
 
 // Decodes texel `index` of one aspect to floats: UNORM to [0,1], sRGB to linear, integers and
 // stencil as their values, packed formats unpacked. Writes `channels` values (stencil: 1).
-void decode_texel(const FormatInfo& format, uint32_t aspect, std::span<const uint8_t> plane,
-                  uint64_t index, float* out);
+void decode_texel(const FormatInfo& format, uint32_t aspect, std::span<const uint8_t> plane, uint64_t index,
+                  float* out);
 uint32_t aspect_channels(const FormatInfo& format, uint32_t aspect);
 uint32_t aspect_texel_bytes(const FormatInfo& format, uint32_t aspect);
 uint32_t aspect_count(const FormatInfo& format);

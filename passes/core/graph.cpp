@@ -45,8 +45,7 @@ ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
     case SizeRule::Mode::like: {
       auto it = known.find(d.size.like);
       if (it == known.end() || it->second.is_buffer)
-        throw GraphError(pass + ": output '" + out.resource + "' is sized like unknown image '" +
-                         d.size.like + "'");
+        throw GraphError(pass + ": output '" + out.resource + "' is sized like unknown image '" + d.size.like + "'");
       desc.extent.width = it->second.extent.width;
       desc.extent.height = it->second.extent.height;
       break;
@@ -63,8 +62,7 @@ uint32_t full_mip_count(uint32_t width, uint32_t height) {
   return static_cast<uint32_t>(std::bit_width(std::max(width, height)));
 }
 
-CompiledGraph compile_graph(const std::vector<PassDecl>& passes,
-                            const std::vector<ImportedResource>& imports,
+CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
                             const GraphSettings& settings) {
   const int n = static_cast<int>(passes.size());
   // Who writes what: fresh writer first, then modifiers in declaration order.
@@ -78,10 +76,10 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes,
         modifiers[out.resource].push_back(i);
       } else {
         if (fresh_writer.count(out.resource) || imported.count(out.resource))
-          throw GraphError(passes[i].name + ": '" + out.resource + "' is already written by " +
-                           (imported.count(out.resource) ? std::string("the scene")
-                                                         : passes[fresh_writer[out.resource]].name) +
-                           " (use modify to write it again)");
+          throw GraphError(
+              passes[i].name + ": '" + out.resource + "' is already written by " +
+              (imported.count(out.resource) ? std::string("the scene") : passes[fresh_writer[out.resource]].name) +
+              " (use modify to write it again)");
         fresh_writer[out.resource] = i;
       }
     }
@@ -101,7 +99,8 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes,
           if (name.rfind(in.resource, 0) == 0) reads[i].push_back(name);
       } else {
         if (!all_names.count(in.resource))
-          throw GraphError(passes[i].name + ": reads '" + in.resource + "' which no pass writes and the scene does not supply");
+          throw GraphError(passes[i].name + ": reads '" + in.resource +
+                           "' which no pass writes and the scene does not supply");
         reads[i].push_back(in.resource);
       }
     }
@@ -275,8 +274,7 @@ AccessState required_state(Use use, PassType type, bool depth_format) {
 
 AccessState transfer_state(bool write) {
   return {write ? VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-          VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
-          write ? VK_ACCESS_2_TRANSFER_WRITE_BIT : VK_ACCESS_2_TRANSFER_READ_BIT};
+          VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, write ? VK_ACCESS_2_TRANSFER_WRITE_BIT : VK_ACCESS_2_TRANSFER_READ_BIT};
 }
 
 bool writes(const AccessState& state) {

@@ -41,8 +41,8 @@ struct BoundUse {
 struct CompiledPass {
   const PassDecl* decl = nullptr;
   bool runs = false;
-  std::string reason;  // why it does not run
-  bool culled = false; // not needed at all: nothing of it is allocated or executed
+  std::string reason;   // why it does not run
+  bool culled = false;  // not needed at all: nothing of it is allocated or executed
   std::vector<BoundUse> inputs, outputs;
 };
 
@@ -53,8 +53,7 @@ struct CompiledGraph {
 
 // Throws GraphError for: a read of a resource nobody writes or imports, two fresh writers of
 // one resource, a modify with no earlier version, a cycle, an unknown `like` size.
-CompiledGraph compile_graph(const std::vector<PassDecl>& passes,
-                            const std::vector<ImportedResource>& imports,
+CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
                             const GraphSettings& settings);
 
 // The synchronisation state a use needs.

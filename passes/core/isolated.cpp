@@ -3,8 +3,8 @@
 namespace nightcap {
 
 IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& pass,
-                         const std::map<std::string, IsolatedInput>& inputs, const ParamValues& params,
-                         uint32_t width, uint32_t height, const ShaderProvider& shaders) {
+                         const std::map<std::string, IsolatedInput>& inputs, const ParamValues& params, uint32_t width,
+                         uint32_t height, const ShaderProvider& shaders) {
   IsolatedRun run;
   std::vector<ImportedResource> imports;
   std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> bytes;

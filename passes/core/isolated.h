@@ -25,7 +25,7 @@ struct IsolatedRun {
 
 // Runs `pass` (whatever its skip conditions say) at output size width×height.
 IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& pass,
-                         const std::map<std::string, IsolatedInput>& inputs, const ParamValues& params,
-                         uint32_t width, uint32_t height, const ShaderProvider& shaders);
+                         const std::map<std::string, IsolatedInput>& inputs, const ParamValues& params, uint32_t width,
+                         uint32_t height, const ShaderProvider& shaders);
 
 }  // namespace nightcap

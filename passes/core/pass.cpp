@@ -49,8 +49,7 @@ PassDecl& PassDecl::modify(std::string resource, Use use) {
   return *this;
 }
 
-PassDecl& PassDecl::param(std::string param_name, double default_value, double min, double max,
-                          std::string help) {
+PassDecl& PassDecl::param(std::string param_name, double default_value, double min, double max, std::string help) {
   params.push_back({std::move(param_name), default_value, min, max, std::move(help)});
   return *this;
 }

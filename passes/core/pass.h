@@ -22,14 +22,14 @@ enum class PassType { graphics, compute, cpu };
 
 // How a pass touches a resource; barriers and image layouts derive from it.
 enum class Use {
-  sampled,            // read through a sampler or texelFetch
-  storage_read,       // storage image or buffer, read
-  storage_write,      // storage image or buffer, written (read-write allowed)
+  sampled,        // read through a sampler or texelFetch
+  storage_read,   // storage image or buffer, read
+  storage_write,  // storage image or buffer, written (read-write allowed)
   color_attachment,
-  depth_attachment,   // depth-stencil attachment, read and written
+  depth_attachment,  // depth-stencil attachment, read and written
   uniform_buffer,
   index_buffer,
-  host,               // CPU pass: read or written on the host
+  host,  // CPU pass: read or written on the host
 };
 
 using ParamValues = std::map<std::string, double>;
@@ -46,7 +46,7 @@ struct ImageDecl {
   VkFormat format = VK_FORMAT_UNDEFINED;
   ResourceKind kind = ResourceKind::colour;
   SizeRule size;
-  uint32_t mips = 1;    // 0: the whole chain down to 1x1
+  uint32_t mips = 1;  // 0: the whole chain down to 1x1
   uint32_t layers = 1;
   VkClearValue clear{};  // contents when the writer is skipped, and the attachment clear
 };
@@ -73,8 +73,8 @@ struct ResourceDesc {
 struct ResourceUse {
   std::string resource;
   Use use = Use::sampled;
-  bool prefix = false;   // reads every resource whose name starts with `resource`
-  bool modifies = false; // output that starts from the resource's previous version
+  bool prefix = false;    // reads every resource whose name starts with `resource`
+  bool modifies = false;  // output that starts from the resource's previous version
   bool is_buffer = false;
   ImageDecl image;
   BufferDecl buffer;

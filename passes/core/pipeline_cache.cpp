@@ -46,11 +46,10 @@ VkShaderModule PipelineCache::module(const std::vector<uint32_t>& code) {
   return m;
 }
 
-std::pair<VkDescriptorSetLayout, VkPipelineLayout> PipelineCache::layout(
-    const std::vector<VkDescriptorType>& bindings, uint32_t push_bytes) {
+std::pair<VkDescriptorSetLayout, VkPipelineLayout> PipelineCache::layout(const std::vector<VkDescriptorType>& bindings,
+                                                                         uint32_t push_bytes) {
   std::vector<VkDescriptorSetLayoutBinding> list;
-  for (uint32_t i = 0; i < bindings.size(); ++i)
-    list.push_back({i, bindings[i], 1, VK_SHADER_STAGE_ALL, nullptr});
+  for (uint32_t i = 0; i < bindings.size(); ++i) list.push_back({i, bindings[i], 1, VK_SHADER_STAGE_ALL, nullptr});
   auto set_info = vk_struct<VkDescriptorSetLayoutCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
   set_info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
   set_info.bindingCount = static_cast<uint32_t>(list.size());
@@ -68,8 +67,7 @@ std::pair<VkDescriptorSetLayout, VkPipelineLayout> PipelineCache::layout(
   return {set_layout, pipeline_layout};
 }
 
-const PipelineCache::Entry& PipelineCache::graphics(const GraphicsPipelineDesc& desc,
-                                                    const std::vector<uint32_t>& vs,
+const PipelineCache::Entry& PipelineCache::graphics(const GraphicsPipelineDesc& desc, const std::vector<uint32_t>& vs,
                                                     const std::vector<uint32_t>& fs) {
   std::ostringstream key;
   key << "g:" << code_key(vs) << ":" << (fs.empty() ? "-" : code_key(fs)) << ":" << desc.push_constant_bytes << ":"
@@ -95,19 +93,24 @@ const PipelineCache::Entry& PipelineCache::graphics(const GraphicsPipelineDesc& 
     stage.module = module(fs);
     stages.push_back(stage);
   }
-  auto vertex_input = vk_struct<VkPipelineVertexInputStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO);
-  auto assembly = vk_struct<VkPipelineInputAssemblyStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO);
+  auto vertex_input =
+      vk_struct<VkPipelineVertexInputStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO);
+  auto assembly =
+      vk_struct<VkPipelineInputAssemblyStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO);
   assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
   auto viewport = vk_struct<VkPipelineViewportStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO);
   viewport.viewportCount = 1;
   viewport.scissorCount = 1;
-  auto raster = vk_struct<VkPipelineRasterizationStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO);
+  auto raster =
+      vk_struct<VkPipelineRasterizationStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO);
   raster.polygonMode = VK_POLYGON_MODE_FILL;
   raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
   raster.lineWidth = 1.0f;
-  auto multisample = vk_struct<VkPipelineMultisampleStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO);
+  auto multisample =
+      vk_struct<VkPipelineMultisampleStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO);
   multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-  auto depth = vk_struct<VkPipelineDepthStencilStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO);
+  auto depth =
+      vk_struct<VkPipelineDepthStencilStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO);
   depth.depthTestEnable = desc.depth_test;
   depth.depthWriteEnable = desc.depth_write;
   depth.depthCompareOp = desc.depth_compare;

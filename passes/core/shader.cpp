@@ -20,8 +20,7 @@ class EmbeddedIncluder : public glslang::TShader::Includer {
     for (const std::string& candidate :
          {(std::filesystem::path(folder) / header).lexically_normal().string(), std::string(header)}) {
       auto it = sources.find(candidate);
-      if (it != sources.end())
-        return new IncludeResult(it->first, it->second.data(), it->second.size(), nullptr);
+      if (it != sources.end()) return new IncludeResult(it->first, it->second.data(), it->second.size(), nullptr);
     }
     return nullptr;
   }

@@ -24,7 +24,8 @@ GeometryHeader geometry_header(PassContext& ctx) {
 std::vector<Binding> geometry_bindings(PassContext& ctx, const std::string& draws) {
   const GeometryHeader header = geometry_header(ctx);
   return {Binding::uniform(0, "frame.constants"),
-          Binding::storage(1, "scene.geometry", header.vertex_offset, std::max<uint64_t>(header.vertex_count, 1) * sizeof(Vertex)),
+          Binding::storage(1, "scene.geometry", header.vertex_offset,
+                           std::max<uint64_t>(header.vertex_count, 1) * sizeof(Vertex)),
           Binding::storage(2, draws)};
 }
 

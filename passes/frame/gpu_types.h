@@ -9,8 +9,8 @@
 namespace nightcap {
 
 struct GpuFrameConstants {
-  glm::mat4 view;                      // world orientation only: the camera sits at the origin
-  glm::mat4 projection;                // reversed-Z, infinite far plane, Y flipped for Vulkan
+  glm::mat4 view;        // world orientation only: the camera sits at the origin
+  glm::mat4 projection;  // reversed-Z, infinite far plane, Y flipped for Vulkan
   glm::mat4 view_projection;
   glm::mat4 inverse_view_projection;
   glm::mat4 previous_view_projection;  // previous camera, for points relative to the current one
@@ -34,13 +34,13 @@ struct GpuLight {
 static_assert(sizeof(GpuLight) == 80);
 
 struct GpuDraw {
-  glm::mat4 model;           // object → camera-relative world
-  glm::mat4 normal_matrix;   // inverse transpose of model's 3×3 (in a mat4 for alignment)
+  glm::mat4 model;          // object → camera-relative world
+  glm::mat4 normal_matrix;  // inverse transpose of model's 3×3 (in a mat4 for alignment)
   uint32_t first_index, index_count;
   int32_t vertex_offset;
   uint32_t material;
-  uint32_t stencil;          // material class | flags
-  uint32_t instance;         // index into scene.instances
+  uint32_t stencil;   // material class | flags
+  uint32_t instance;  // index into scene.instances
   uint32_t pad[2];
 };
 static_assert(sizeof(GpuDraw) == 160);
@@ -50,12 +50,12 @@ enum MaterialTexture : uint32_t { base_color = 0, metallic_roughness, normal, oc
 
 struct GpuMaterial {
   glm::vec4 base_color;
-  glm::vec4 emissive;         // rgb × emissive strength
-  glm::vec4 pbr;              // metallic, roughness, alpha cutoff, normal scale
-  glm::vec4 extra;            // occlusion strength, translucency, alpha mode, flags (1 unlit, 2 double-sided)
-  glm::ivec4 textures;        // base colour, metallic-roughness, normal, occlusion (-1: none)
-  glm::ivec4 textures2;       // emissive, uv-set bits (bit k: slot k uses TEXCOORD_1), stencil class
-  glm::uvec4 samplers;        // packed SamplerDesc per slot (see pack_sampler)
+  glm::vec4 emissive;    // rgb × emissive strength
+  glm::vec4 pbr;         // metallic, roughness, alpha cutoff, normal scale
+  glm::vec4 extra;       // occlusion strength, translucency, alpha mode, flags (1 unlit, 2 double-sided)
+  glm::ivec4 textures;   // base colour, metallic-roughness, normal, occlusion (-1: none)
+  glm::ivec4 textures2;  // emissive, uv-set bits (bit k: slot k uses TEXCOORD_1), stencil class
+  glm::uvec4 samplers;   // packed SamplerDesc per slot (see pack_sampler)
   glm::uvec4 samplers2;
 };
 static_assert(sizeof(GpuMaterial) == 128);

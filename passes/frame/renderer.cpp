@@ -52,8 +52,8 @@ void validate_params(const std::vector<PassDecl>& passes, const std::map<std::st
       if (!p) {
         std::string known;
         for (const ParamDecl& q : decl->params) known += (known.empty() ? "" : ", ") + q.name;
-        throw SceneError("--set " + pass + "." + name + ": unknown parameter (" + pass + " has: " +
-                         (known.empty() ? "none" : known) + ")");
+        throw SceneError("--set " + pass + "." + name + ": unknown parameter (" + pass +
+                         " has: " + (known.empty() ? "none" : known) + ")");
       }
       if (value < p->min || value > p->max)
         throw SceneError("--set " + pass + "." + name + "=" + std::to_string(value) + ": outside [" +
@@ -97,8 +97,13 @@ const std::vector<uint32_t>& builtin_spirv(const std::string& path) {
 }
 
 Renderer::Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings)
-    : gpu_(gpu), scene_(scene), settings_(std::move(settings)), passes_(frame_passes()), cache_(gpu),
-      scene_imports_(scene_imports(scene)), base_(base_camera(scene, settings_)) {
+    : gpu_(gpu),
+      scene_(scene),
+      settings_(std::move(settings)),
+      passes_(frame_passes()),
+      cache_(gpu),
+      scene_imports_(scene_imports(scene)),
+      base_(base_camera(scene, settings_)) {
   validate_params(passes_, settings_.params);
 }
 
@@ -107,7 +112,8 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture) {
   frame.camera = frame_camera(base_, scene_, index);
   const Camera previous = index == 0 ? frame.camera : frame_camera(base_, scene_, index - 1);
   Imports imports = scene_imports_;
-  for (auto& [name, data] : camera_import(frame.camera, previous, settings_.width, settings_.height, index, index / 60.0))
+  for (auto& [name, data] :
+       camera_import(frame.camera, previous, settings_.width, settings_.height, index, index / 60.0))
     imports[name] = data;
 
   GraphSettings graph_settings;
@@ -138,8 +144,8 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
   if (const VersionData* v = frame.execution.final_version("frame.camera"))
     camera = reinterpret_cast<const CameraRecordGpu*>(v->bytes->data());
   const glm::dmat4 view = relative_view(frame.camera.world);
-  const glm::dmat4 projection =
-      reversed_z_projection(frame.camera.yfov, camera ? double(camera->width) / camera->height : 1.0, frame.camera.znear);
+  const glm::dmat4 projection = reversed_z_projection(
+      frame.camera.yfov, camera ? double(camera->width) / camera->height : 1.0, frame.camera.znear);
   for (int k = 0; k < 16; ++k) {
     record.camera.view[k] = (&view[0][0])[k];
     record.camera.projection[k] = (&projection[0][0])[k];

@@ -133,11 +133,15 @@ Imports scene_imports(const Scene& scene) {
     int32_t uv_bits = 0;
     for (int s = 0; s < 5; ++s) {
       const int32_t index = slots[s]->texture;
-      if (s < 4) g.textures[s] = index;
-      else g.textures2.x = index;
+      if (s < 4)
+        g.textures[s] = index;
+      else
+        g.textures2.x = index;
       if (slots[s]->uv_set == 1) uv_bits |= 1 << s;
-      if (s < 4) g.samplers[s] = pack_sampler(slots[s]->sampler);
-      else g.samplers2.x = pack_sampler(slots[s]->sampler);
+      if (s < 4)
+        g.samplers[s] = pack_sampler(slots[s]->sampler);
+      else
+        g.samplers2.x = pack_sampler(slots[s]->sampler);
     }
     g.textures2.y = uv_bits;
     g.textures2.z = m.stencil_class;
@@ -165,7 +169,8 @@ Imports scene_imports(const Scene& scene) {
   }
   imports["scene.lights"] = buffer(ResourceKind::buffer, bytes_of(lights));
 
-  for (uint32_t i = 0; i < scene.textures.size(); ++i) imports[texture_resource(i)] = texture_with_mips(scene.textures[i]);
+  for (uint32_t i = 0; i < scene.textures.size(); ++i)
+    imports[texture_resource(i)] = texture_with_mips(scene.textures[i]);
   Texture white_texture{"white", 1, 1, false, {255, 255, 255, 255}};
   imports[texture_resource(white)] = texture_with_mips(white_texture);
   return imports;

@@ -25,7 +25,8 @@ PassDecl gbuffer_opaque_pass() {
       .write("gbuffer.normal", Use::color_attachment, target(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::normal))
       .write("gbuffer.material", Use::color_attachment, target(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::material))
       .write("gbuffer.motion", Use::color_attachment, target(VK_FORMAT_R16G16_SFLOAT, ResourceKind::motion))
-      .write("gbuffer.emissive", Use::color_attachment, target(VK_FORMAT_B10G11R11_UFLOAT_PACK32, ResourceKind::hdr_colour))
+      .write("gbuffer.emissive", Use::color_attachment,
+             target(VK_FORMAT_B10G11R11_UFLOAT_PACK32, ResourceKind::hdr_colour))
       .skip_when([](const SkipContext& frame) {
         const bool any = frame.features.count("opaque_geometry") || frame.features.count("mask_geometry");
         return any ? std::string() : std::string("scene has no opaque geometry");
@@ -44,8 +45,9 @@ PassDecl gbuffer_opaque_pass() {
         desc.depth_format = VK_FORMAT_D32_SFLOAT_S8_UINT;
         desc.depth_test = desc.depth_write = true;
         desc.stencil_write = true;
-        ctx.begin_rendering({"gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "gbuffer.motion", "gbuffer.emissive"},
-                            "scene.depth");
+        ctx.begin_rendering(
+            {"gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "gbuffer.motion", "gbuffer.emissive"},
+            "scene.depth");
         ctx.bind(desc);
         auto bindings = geometry_bindings(ctx, "draws.gbuffer.opaque");
         bindings.push_back(Binding::storage(3, "scene.materials"));

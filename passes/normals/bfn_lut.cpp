@@ -4,8 +4,8 @@
 #include "passes/normals/bfn_lut.h"
 
 #include <algorithm>
-#include <map>
 #include <cmath>
+#include <map>
 #include <mutex>
 #include <thread>
 
@@ -76,9 +76,9 @@ const std::vector<uint8_t>& cached_lut(uint32_t size) {
 PassDecl normals_bfn_lut_pass() {
   ImageDecl lut{VK_FORMAT_R8_UINT, ResourceKind::lookup_table};
   lut.size = {SizeRule::Mode::absolute, kLutSize, kLutSize, ""};
-  return PassDecl("normals.bfn_lut", PassType::cpu)
-      .write("normals.bfn_lut", Use::host, lut)
-      .run([](PassContext& ctx) { ctx.output("normals.bfn_lut") = cached_lut(kLutSize); });
+  return PassDecl("normals.bfn_lut", PassType::cpu).write("normals.bfn_lut", Use::host, lut).run([](PassContext& ctx) {
+    ctx.output("normals.bfn_lut") = cached_lut(kLutSize);
+  });
 }
 
 }  // namespace nightcap

@@ -187,8 +187,9 @@ Scene build_city(uint32_t seed) {
         const double ox = count == 1 ? 0.0 : ((b & 1) ? 1 : -1) * (kLot / 4);
         const double oz = count == 1 ? 0.0 : ((b & 2) ? 1 : -1) * (kLot / 4);
         const glm::dvec3 centre = lot_centre + glm::dvec3(ox, 0.15 + h / 2, oz);
-        build.place(build.box({float(w / 2), float(h / 2), float(d / 2)}, facades[random.below(3)], 1.0f / 16.0f, false),
-                    centre);
+        build.place(
+            build.box({float(w / 2), float(h / 2), float(d / 2)}, facades[random.below(3)], 1.0f / 16.0f, false),
+            centre);
         build.place(build.box({float(w / 2), 0.1f, float(d / 2)}, roof, 0.25f), centre + glm::dvec3(0, h / 2 + 0.1, 0));
 
         // Neon signs on the facade facing the nearest street: an emissive bar and its tube light.
@@ -203,14 +204,16 @@ Scene build_city(uint32_t seed) {
           const double y = random.range(4.0, std::max(5.0, std::min(h - 2.0, 30.0)));
           const bool vertical = random.uniform() < 0.4;
           const int face = int(random.below(4));
-          const glm::dvec3 normal = face == 0 ? glm::dvec3(1, 0, 0) : face == 1 ? glm::dvec3(-1, 0, 0)
-                                   : face == 2                    ? glm::dvec3(0, 0, 1)
-                                                                  : glm::dvec3(0, 0, -1);
+          const glm::dvec3 normal = face == 0   ? glm::dvec3(1, 0, 0)
+                                    : face == 1 ? glm::dvec3(-1, 0, 0)
+                                    : face == 2 ? glm::dvec3(0, 0, 1)
+                                                : glm::dvec3(0, 0, -1);
           const glm::dvec3 along = vertical ? glm::dvec3(0, 1, 0) : glm::dvec3(normal.z, 0, -normal.x);
           const glm::dvec3 surface = centre + normal * (glm::abs(normal.x) > 0 ? w / 2 + 0.3 : d / 2 + 0.3);
           const glm::dvec3 mid(surface.x, y, surface.z);
-          const glm::vec3 half = glm::vec3(glm::abs(along) * (length / 2) + glm::abs(normal) * 0.06 +
-                                           (vertical ? glm::abs(glm::dvec3(normal.z, 0, normal.x)) : glm::dvec3(0, 1, 0)) * 0.06);
+          const glm::vec3 half =
+              glm::vec3(glm::abs(along) * (length / 2) + glm::abs(normal) * 0.06 +
+                        (vertical ? glm::abs(glm::dvec3(normal.z, 0, normal.x)) : glm::dvec3(0, 1, 0)) * 0.06);
           build.place(build.box(half, material, 1.0f, true, true), mid);
           Light tube;
           tube.type = LightType::tube;

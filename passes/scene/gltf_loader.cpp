@@ -85,7 +85,8 @@ bool decode_embedded(tinygltf::Image* image, const int, std::string* err, std::s
 std::string url_decode(const std::string& uri) {
   std::string out;
   for (size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uint8_t(uri[i + 1])) && std::isxdigit(uint8_t(uri[i + 2]))) {
+    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(uint8_t(uri[i + 1])) &&
+        std::isxdigit(uint8_t(uri[i + 2]))) {
       out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
       i += 2;
     } else {
@@ -125,7 +126,8 @@ class Loader {
 
   template <typename T>
   const T& at(const std::vector<T>& list, int index, const char* what) const {
-    if (index < 0 || size_t(index) >= list.size()) fail(std::string(what) + " " + std::to_string(index) + " out of range");
+    if (index < 0 || size_t(index) >= list.size())
+      fail(std::string(what) + " " + std::to_string(index) + " out of range");
     return list[size_t(index)];
   }
 
@@ -140,7 +142,8 @@ class Loader {
       glm::dquat r(1.0, 0.0, 0.0, 0.0);
       if (node.translation.size() == 3) t = glm::make_vec3(node.translation.data());
       if (node.scale.size() == 3) s = glm::make_vec3(node.scale.data());
-      if (node.rotation.size() == 4) r = glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
+      if (node.rotation.size() == 4)
+        r = glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
       local = glm::translate(glm::dmat4(1.0), t) * glm::mat4_cast(r) * glm::scale(glm::dmat4(1.0), s);
     }
     const glm::dmat4 world = parent * local;
@@ -168,10 +171,14 @@ class Loader {
   void add_light(int index, const glm::dmat4& world) {
     const tinygltf::Light& l = at(model_.lights, index, "light");
     Light light;
-    if (l.type == "directional") light.type = LightType::directional;
-    else if (l.type == "point") light.type = LightType::point;
-    else if (l.type == "spot") light.type = LightType::spot;
-    else fail("light " + std::to_string(index) + " has unknown type '" + l.type + "'");
+    if (l.type == "directional")
+      light.type = LightType::directional;
+    else if (l.type == "point")
+      light.type = LightType::point;
+    else if (l.type == "spot")
+      light.type = LightType::spot;
+    else
+      fail("light " + std::to_string(index) + " has unknown type '" + l.type + "'");
     light.position = glm::dvec3(world[3]);
     light.direction = glm::normalize(glm::vec3(-glm::dvec3(world[2])));
     if (l.color.size() == 3) light.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
@@ -206,22 +213,29 @@ class Loader {
       for (int c = 0; c < std::min(have, components); ++c) {
         float v = 0;
         switch (a.componentType) {
-          case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&v, e + 4 * c, 4); break;
-          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = e[c] / 255.0f; break;
+          case TINYGLTF_COMPONENT_TYPE_FLOAT:
+            std::memcpy(&v, e + 4 * c, 4);
+            break;
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            v = e[c] / 255.0f;
+            break;
           case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
             uint16_t s;
             std::memcpy(&s, e + 2 * c, 2);
             v = s / 65535.0f;
             break;
           }
-          case TINYGLTF_COMPONENT_TYPE_BYTE: v = std::max(int8_t(e[c]) / 127.0f, -1.0f); break;
+          case TINYGLTF_COMPONENT_TYPE_BYTE:
+            v = std::max(int8_t(e[c]) / 127.0f, -1.0f);
+            break;
           case TINYGLTF_COMPONENT_TYPE_SHORT: {
             int16_t s;
             std::memcpy(&s, e + 2 * c, 2);
             v = std::max(s / 32767.0f, -1.0f);
             break;
           }
-          default: fail("accessor " + std::to_string(accessor_index) + " has an unsupported component type");
+          default:
+            fail("accessor " + std::to_string(accessor_index) + " has an unsupported component type");
         }
         if (!std::isfinite(v)) fail("accessor " + std::to_string(accessor_index) + " holds NaN or Inf");
         out[i * components + c] = v;
@@ -238,7 +252,8 @@ class Loader {
     const tinygltf::BufferView& view = at(model_.bufferViews, a.bufferView, "bufferView");
     const tinygltf::Buffer& buffer = at(model_.buffers, view.buffer, "buffer");
     const int bytes = tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType));
-    if (bytes != 1 && bytes != 2 && bytes != 4) fail("index accessor " + std::to_string(accessor_index) + " has a bad type");
+    if (bytes != 1 && bytes != 2 && bytes != 4)
+      fail("index accessor " + std::to_string(accessor_index) + " has a bad type");
     const uint64_t stride = view.byteStride ? view.byteStride : uint64_t(bytes);
     if (view.byteOffset + uint64_t(view.byteLength) > buffer.data.size() ||
         (a.count > 0 && a.byteOffset + stride * (a.count - 1) + bytes > view.byteLength))
@@ -248,7 +263,8 @@ class Loader {
     for (size_t i = 0; i < a.count; ++i) {
       uint32_t v = 0;
       std::memcpy(&v, base + i * stride, size_t(bytes));
-      if (v >= vertex_count) fail("index " + std::to_string(v) + " past the " + std::to_string(vertex_count) + " vertices");
+      if (v >= vertex_count)
+        fail("index " + std::to_string(v) + " past the " + std::to_string(vertex_count) + " vertices");
       out[i] = v;
     }
     return out;
@@ -268,12 +284,30 @@ class Loader {
       sampler.wrap_v = wrap(s.wrapT);
       sampler.mag_filter = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? VK_FILTER_NEAREST : VK_FILTER_LINEAR;
       switch (s.minFilter) {
-        case TINYGLTF_TEXTURE_FILTER_NEAREST: sampler = {sampler.mag_filter, VK_FILTER_NEAREST, VK_SAMPLER_MIPMAP_MODE_NEAREST, false, sampler.wrap_u, sampler.wrap_v}; break;
-        case TINYGLTF_TEXTURE_FILTER_LINEAR: sampler = {sampler.mag_filter, VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_NEAREST, false, sampler.wrap_u, sampler.wrap_v}; break;
-        case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST: sampler.min_filter = VK_FILTER_NEAREST; sampler.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_NEAREST; break;
-        case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST: sampler.min_filter = VK_FILTER_LINEAR; sampler.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_NEAREST; break;
-        case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR: sampler.min_filter = VK_FILTER_NEAREST; sampler.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_LINEAR; break;
-        default: sampler.min_filter = VK_FILTER_LINEAR; sampler.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_LINEAR; break;
+        case TINYGLTF_TEXTURE_FILTER_NEAREST:
+          sampler = {sampler.mag_filter, VK_FILTER_NEAREST, VK_SAMPLER_MIPMAP_MODE_NEAREST, false,
+                     sampler.wrap_u,     sampler.wrap_v};
+          break;
+        case TINYGLTF_TEXTURE_FILTER_LINEAR:
+          sampler = {sampler.mag_filter, VK_FILTER_LINEAR, VK_SAMPLER_MIPMAP_MODE_NEAREST, false,
+                     sampler.wrap_u,     sampler.wrap_v};
+          break;
+        case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST:
+          sampler.min_filter = VK_FILTER_NEAREST;
+          sampler.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+          break;
+        case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST:
+          sampler.min_filter = VK_FILTER_LINEAR;
+          sampler.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+          break;
+        case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR:
+          sampler.min_filter = VK_FILTER_NEAREST;
+          sampler.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
+          break;
+        default:
+          sampler.min_filter = VK_FILTER_LINEAR;
+          sampler.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
+          break;
       }
     }
     if (t.source < 0) return -1;
@@ -319,12 +353,14 @@ class Loader {
       m.name = g.name;
       const auto& pbr = g.pbrMetallicRoughness;
       if (pbr.baseColorFactor.size() == 4)
-        m.base_color = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
+        m.base_color =
+            glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
       m.metallic = float(pbr.metallicFactor);
       m.roughness = float(pbr.roughnessFactor);
       m.base_color_texture.texture = texture(pbr.baseColorTexture.index, true, m.base_color_texture.sampler);
       m.base_color_texture.uv_set = uint32_t(pbr.baseColorTexture.texCoord);
-      m.metallic_roughness_texture.texture = texture(pbr.metallicRoughnessTexture.index, false, m.metallic_roughness_texture.sampler);
+      m.metallic_roughness_texture.texture =
+          texture(pbr.metallicRoughnessTexture.index, false, m.metallic_roughness_texture.sampler);
       m.metallic_roughness_texture.uv_set = uint32_t(pbr.metallicRoughnessTexture.texCoord);
       m.normal_texture.texture = texture(g.normalTexture.index, false, m.normal_texture.sampler);
       m.normal_texture.uv_set = uint32_t(g.normalTexture.texCoord);
@@ -334,7 +370,8 @@ class Loader {
       m.occlusion_texture.scale = float(g.occlusionTexture.strength);
       m.emissive_texture.texture = texture(g.emissiveTexture.index, true, m.emissive_texture.sampler);
       m.emissive_texture.uv_set = uint32_t(g.emissiveTexture.texCoord);
-      if (g.emissiveFactor.size() == 3) m.emissive = glm::vec3(g.emissiveFactor[0], g.emissiveFactor[1], g.emissiveFactor[2]);
+      if (g.emissiveFactor.size() == 3)
+        m.emissive = glm::vec3(g.emissiveFactor[0], g.emissiveFactor[1], g.emissiveFactor[2]);
       auto strength = g.extensions.find("KHR_materials_emissive_strength");
       if (strength != g.extensions.end() && strength->second.Has("emissiveStrength"))
         m.emissive_strength = float(strength->second.Get("emissiveStrength").GetNumberAsDouble());
@@ -348,7 +385,9 @@ class Loader {
       }
       for (const TextureRef* ref : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
                                     &m.occlusion_texture, &m.emissive_texture})
-        if (ref->uv_set > 1) fail("material '" + m.name + "' uses TEXCOORD_" + std::to_string(ref->uv_set) + " (only 0 and 1 are supported)");
+        if (ref->uv_set > 1)
+          fail("material '" + m.name + "' uses TEXCOORD_" + std::to_string(ref->uv_set) +
+               " (only 0 and 1 are supported)");
     }
     scene_.materials.push_back(std::move(m));
     const uint32_t id = uint32_t(scene_.materials.size() - 1);
@@ -390,7 +429,10 @@ class Loader {
       std::vector<float> uv1 = attribute("TEXCOORD_1") >= 0 ? read(attribute("TEXCOORD_1"), 2) : std::vector<float>();
       std::vector<float> colors = attribute("COLOR_0") >= 0 ? read(attribute("COLOR_0"), 4) : std::vector<float>();
       for (const auto* stream : {&normals, &tangents, &uv0, &uv1, &colors})
-        if (!stream->empty() && stream->size() / (stream == &tangents || stream == &colors ? 4 : stream == &normals ? 3 : 2) != count)
+        if (!stream->empty() && stream->size() / (stream == &tangents || stream == &colors ? 4
+                                                  : stream == &normals                     ? 3
+                                                                                           : 2) !=
+                                    count)
           fail("mesh " + std::to_string(mesh_index) + " has attributes of different lengths");
       std::vector<uint32_t> indices;
       if (p.indices >= 0) {

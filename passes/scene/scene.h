@@ -27,7 +27,7 @@ struct Vertex {
   float tangent[4];  // xyz tangent, w handedness; zero when the source has none
   float uv0[2];
   float uv1[2];
-  float color[4];    // COLOR_0, white when absent
+  float color[4];  // COLOR_0, white when absent
 };
 static_assert(sizeof(Vertex) == 72);
 
@@ -51,7 +51,7 @@ struct Texture {
 struct TextureRef {
   int32_t texture = -1;  // index into Scene::textures, -1 when unused
   uint32_t uv_set = 0;
-  float scale = 1.0f;    // normalTexture.scale or occlusionTexture.strength
+  float scale = 1.0f;  // normalTexture.scale or occlusionTexture.strength
   SamplerDesc sampler;
 };
 
@@ -74,14 +74,13 @@ struct Material {
   glm::vec4 base_color{1.0f};
   float metallic = 1.0f;
   float roughness = 1.0f;
-  glm::vec3 emissive{0.0f};         // emissiveFactor
-  float emissive_strength = 1.0f;   // KHR_materials_emissive_strength
-  TextureRef base_color_texture, metallic_roughness_texture, normal_texture, occlusion_texture,
-      emissive_texture;
+  glm::vec3 emissive{0.0f};        // emissiveFactor
+  float emissive_strength = 1.0f;  // KHR_materials_emissive_strength
+  TextureRef base_color_texture, metallic_roughness_texture, normal_texture, occlusion_texture, emissive_texture;
   AlphaMode alpha_mode = AlphaMode::opaque;
   float alpha_cutoff = 0.5f;
   bool double_sided = false;
-  bool unlit = false;              // KHR_materials_unlit
+  bool unlit = false;  // KHR_materials_unlit
   float translucency = 0.0f;
   uint8_t stencil_class = stencil::plain;
 };
@@ -106,14 +105,14 @@ enum class LightType : uint32_t { directional = 0, point = 1, spot = 2, tube = 3
 // lux for directional); a tube's intensity is candela per metre of its length.
 struct Light {
   LightType type = LightType::point;
-  glm::dvec3 position{0.0};      // tube: first end point
-  glm::dvec3 end{0.0};           // tube: second end point
-  glm::vec3 direction{0, -1, 0}; // directional/spot: the way light travels
+  glm::dvec3 position{0.0};       // tube: first end point
+  glm::dvec3 end{0.0};            // tube: second end point
+  glm::vec3 direction{0, -1, 0};  // directional/spot: the way light travels
   glm::vec3 color{1.0f};
   float intensity = 1.0f;
-  float range = 0.0f;            // 0: infinite (a falloff window is applied at 'range' when set)
+  float range = 0.0f;  // 0: infinite (a falloff window is applied at 'range' when set)
   float inner_cone = 0.0f, outer_cone = 0.785398f;
-  float radius = 0.0f;           // tube thickness, for the representative point
+  float radius = 0.0f;  // tube thickness, for the representative point
 };
 
 // A pinhole camera: camera-to-world transform (looks down -Z, +Y up), vertical FOV.
@@ -132,7 +131,7 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<Instance> instances;
   std::vector<Light> lights;
-  std::optional<Camera> camera;  // the first glTF camera, if any
+  std::optional<Camera> camera;    // the first glTF camera, if any
   std::vector<std::string> notes;  // what was approximated, e.g. BLEND drawn as opaque
 
   // World-space bounds of all instances.
@@ -151,8 +150,7 @@ Scene build_city(uint32_t seed);
 
 // The camera convention of shared/data/README.md: the camera sits at
 // target + radius·(sin φ sin θ, cos φ, sin φ cos θ), looks at the target with +Y up.
-Camera orbit_camera(double theta_degrees, double phi_degrees, double radius, glm::dvec3 target,
-                    double yfov_degrees);
+Camera orbit_camera(double theta_degrees, double phi_degrees, double radius, glm::dvec3 target, double yfov_degrees);
 // A camera that frames the whole scene (used when the scene has none).
 Camera framing_camera(const Scene& scene, double aspect);
 

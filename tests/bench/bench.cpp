@@ -17,8 +17,8 @@
 
 #include "passes/core/isolated.h"
 #include "passes/frame/frame_passes.h"
-#include "passes/frame/renderer.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/frame/renderer.h"
 #include "passes/normals/bfn_lut.h"
 
 namespace nc = nightcap;
@@ -64,16 +64,20 @@ void bench_scene(nc::GpuDevice& gpu, const std::string& label, nc::Scene scene, 
       pass_ms[name].push_back(exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms);
     }
   }
-  std::cout << "\n## " << label << " (" << width << "x" << height << ", " << scene.indices.size() / 3
-            << " triangles, " << scene.lights.size() << " lights; median of " << repeats << ")\n";
-  std::cout << std::left << std::setw(22) << "pass" << std::right << std::setw(12) << "ms" << "\n";
+  std::cout << "\n## " << label << " (" << width << "x" << height << ", " << scene.indices.size() / 3 << " triangles, "
+            << scene.lights.size() << " lights; median of " << repeats << ")\n";
+  std::cout << std::left << std::setw(22) << "pass" << std::right << std::setw(12) << "ms"
+            << "\n";
   for (const std::string& name : order) {
     std::cout << std::left << std::setw(22) << name << std::right << std::setw(12);
-    if (pass_ms[name].empty()) std::cout << "skipped";
-    else std::cout << std::fixed << std::setprecision(3) << median(pass_ms[name]);
+    if (pass_ms[name].empty())
+      std::cout << "skipped";
+    else
+      std::cout << std::fixed << std::setprecision(3) << median(pass_ms[name]);
     std::cout << "\n";
   }
-  std::cout << std::left << std::setw(22) << "frame (capture off)" << std::right << std::setw(12) << median(frame_off) << "\n";
+  std::cout << std::left << std::setw(22) << "frame (capture off)" << std::right << std::setw(12) << median(frame_off)
+            << "\n";
   if (!capture_figures) return;
   const fs::path dir = fs::temp_directory_path() / "nightcap-bench";
   fs::remove_all(dir);
@@ -88,16 +92,16 @@ void bench_scene(nc::GpuDevice& gpu, const std::string& label, nc::Scene scene, 
     uint64_t raw = 0, disk = 0;
     for (int r = 0; r < repeats; ++r) {
       const double start = now_ms();
-      const nc::RenderSummary summary = nc::render_to_capture(gpu, scene, settings, dir / (std::string(name) + std::to_string(r)),
-                                                              false, [](const std::string&) {});
+      const nc::RenderSummary summary = nc::render_to_capture(
+          gpu, scene, settings, dir / (std::string(name) + std::to_string(r)), false, [](const std::string&) {});
       frame_on.push_back(now_ms() - start);
       raw = summary.raw_bytes;
       disk = summary.disk_bytes;
     }
     std::cout << "  " << std::left << std::setw(16) << name << std::right << std::fixed << std::setprecision(1)
               << std::setw(12) << median(frame_on) << std::setprecision(2) << std::setw(9)
-              << median(frame_on) / median(frame_off) << "x" << std::setprecision(1) << std::setw(13) << disk / 1048576.0
-              << std::setprecision(3) << std::setw(9) << double(disk) / raw << "\n";
+              << median(frame_on) / median(frame_off) << "x" << std::setprecision(1) << std::setw(13)
+              << disk / 1048576.0 << std::setprecision(3) << std::setw(9) << double(disk) / raw << "\n";
   }
   fs::remove_all(dir);
 }
@@ -132,7 +136,8 @@ void bench_normals(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t count)
   std::cout << "\n## normals.pack: LUT size vs error (" << inputs.size() << " directions, " << width << "x" << height
             << ")\n"
             << std::left << std::setw(12) << "lut" << std::right << std::setw(12) << "build ms" << std::setw(12)
-            << "gpu ms" << std::setw(14) << "mean deg" << std::setw(12) << "max deg" << "\n";
+            << "gpu ms" << std::setw(14) << "mean deg" << std::setw(12) << "max deg"
+            << "\n";
   for (uint32_t lut_size : {64u, 256u, 1024u, 2048u}) {
     const double start = now_ms();
     std::vector<uint8_t> lut = nc::build_bfn_lut(lut_size);
@@ -142,7 +147,8 @@ void bench_normals(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t count)
     for (int r = 0; r < 3; ++r) {
       run = nc::run_isolated(
           gpu, cache, nc::normals_pack_pass(),
-          {{"gbuffer.normal", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, nc::ResourceKind::normal, width, height, normals)},
+          {{"gbuffer.normal",
+            image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, nc::ResourceKind::normal, width, height, normals)},
            {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, nc::ResourceKind::material, width, height, material)},
            {"normals.bfn_lut", image(VK_FORMAT_R8_UINT, nc::ResourceKind::lookup_table, lut_size, lut_size, lut)}},
           {}, width, height, builtin());
@@ -152,15 +158,15 @@ void bench_normals(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t count)
     double sum = 0, worst = 0;
     for (size_t i = 0; i < inputs.size(); ++i) {
       const uint8_t* c = packed.data() + 4 * i;
-      const glm::dvec3 s = glm::normalize(
-          glm::dvec3(nc::decode_signed8(c[0]), nc::decode_signed8(c[1]), nc::decode_signed8(c[2])));
+      const glm::dvec3 s =
+          glm::normalize(glm::dvec3(nc::decode_signed8(c[0]), nc::decode_signed8(c[1]), nc::decode_signed8(c[2])));
       const double e = glm::degrees(std::atan2(glm::length(glm::cross(s, inputs[i])), glm::dot(s, inputs[i])));
       sum += e;
       worst = std::max(worst, e);
     }
     std::cout << std::left << std::setw(12) << lut_size << std::right << std::fixed << std::setprecision(1)
-              << std::setw(12) << build << std::setprecision(3) << std::setw(12) << median(times) << std::setprecision(4)
-              << std::setw(14) << sum / inputs.size() << std::setw(12) << worst << "\n";
+              << std::setw(12) << build << std::setprecision(3) << std::setw(12) << median(times)
+              << std::setprecision(4) << std::setw(14) << sum / inputs.size() << std::setw(12) << worst << "\n";
   }
 }
 
@@ -192,7 +198,8 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   std::cout << "\n## lighting.deferred: tube diffuse samples vs 256-sample reference (built-in city, " << width << "x"
             << height << ")\n"
             << std::left << std::setw(12) << "samples" << std::right << std::setw(12) << "gpu ms" << std::setw(16)
-            << "mean rel err" << std::setw(14) << "max rel err" << "\n";
+            << "mean rel err" << std::setw(14) << "max rel err"
+            << "\n";
   for (double samples : {1.0, 2.0, 4.0, 8.0, 16.0, 32.0}) {
     std::vector<double> times;
     nc::IsolatedRun result;
@@ -217,8 +224,8 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
       }
     }
     std::cout << std::left << std::setw(12) << samples << std::right << std::fixed << std::setprecision(3)
-              << std::setw(12) << median(times) << std::setprecision(5) << std::setw(16) << sum / std::max<size_t>(counted, 1)
-              << std::setw(14) << worst << "\n";
+              << std::setw(12) << median(times) << std::setprecision(5) << std::setw(16)
+              << sum / std::max<size_t>(counted, 1) << std::setw(14) << worst << "\n";
   }
 }
 
@@ -241,11 +248,11 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
   std::vector<double> times;
   nc::IsolatedRun convert;
   for (int r = 0; r < 3; ++r) {
-    convert = nc::run_isolated(
-        gpu, cache, nc::depth_convert_pass(),
-        {{"frame.constants", constants_in},
-         {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, nc::ResourceKind::depth_stencil, width, height, depth_bytes)}},
-        nc::depth_convert_pass().default_params(), width, height, builtin());
+    convert = nc::run_isolated(gpu, cache, nc::depth_convert_pass(),
+                               {{"frame.constants", constants_in},
+                                {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, nc::ResourceKind::depth_stencil,
+                                                      width, height, depth_bytes)}},
+                               nc::depth_convert_pass().default_params(), width, height, builtin());
     times.push_back(gpu_ms(convert));
   }
   const auto& linear = *convert.outputs.at("depth.linear");
@@ -262,9 +269,10 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
   times.clear();
   nc::IsolatedRun pyramid;
   for (int r = 0; r < 3; ++r) {
-    pyramid = nc::run_isolated(gpu, cache, nc::depth_pyramid_pass(),
-                               {{"depth.linear", {convert.output_descs.at("depth.linear"), convert.outputs.at("depth.linear")}}},
-                               {}, width, height, builtin());
+    pyramid = nc::run_isolated(
+        gpu, cache, nc::depth_pyramid_pass(),
+        {{"depth.linear", {convert.output_descs.at("depth.linear"), convert.outputs.at("depth.linear")}}}, {}, width,
+        height, builtin());
     times.push_back(gpu_ms(pyramid));
   }
   std::cout << "depth.pyramid   gpu " << std::fixed << std::setprecision(3) << median(times)
@@ -298,7 +306,9 @@ int main(int argc, char** argv) {
     if (!skip_models) {
       for (const auto& entry : fs::directory_iterator(fs::path(data) / "gltf")) {
         const fs::path file = entry.path() / "glTF" / (entry.path().filename().string() + ".gltf");
-        if (fs::exists(file)) bench_scene(gpu, entry.path().filename().string(), nc::load_gltf(file.string()), width, height, int(repeats), false);
+        if (fs::exists(file))
+          bench_scene(gpu, entry.path().filename().string(), nc::load_gltf(file.string()), width, height, int(repeats),
+                      false);
       }
     }
     bench_normals(gpu, cache, directions);

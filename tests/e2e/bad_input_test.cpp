@@ -56,7 +56,8 @@ TEST(BadInput, MissingTexture) {
   nlohmann::json gltf = read_json(source / "BoxTextured.gltf");
   gltf["images"][0]["uri"] = "missing.png";
   write_json(dir / "box.gltf", gltf);
-  expect_bad_input(run_cli("render " + quote(dir / "box.gltf") + " " + kSmall + " -o " + quote(dir / "cap")), "missing.png");
+  expect_bad_input(run_cli("render " + quote(dir / "box.gltf") + " " + kSmall + " -o " + quote(dir / "cap")),
+                   "missing.png");
   EXPECT_FALSE(fs::exists(dir / "cap"));
 }
 

@@ -70,9 +70,12 @@ TEST(CaptureLoop, PassesJsonDescribesEveryPassAndResource) {
   EXPECT_EQ(frame.at("index"), 0);
   std::vector<std::string> ran;
   for (const auto& p : frame.at("passes")) {
-    for (const char* key : {"name", "status", "gpu_ms", "params", "inputs", "outputs"}) EXPECT_TRUE(p.contains(key)) << key;
-    if (p.at("status") == "ran") ran.push_back(p.at("name"));
-    else EXPECT_FALSE(p.at("reason").get<std::string>().empty());
+    for (const char* key : {"name", "status", "gpu_ms", "params", "inputs", "outputs"})
+      EXPECT_TRUE(p.contains(key)) << key;
+    if (p.at("status") == "ran")
+      ran.push_back(p.at("name"));
+    else
+      EXPECT_FALSE(p.at("reason").get<std::string>().empty());
     for (const char* side : {"inputs", "outputs"})
       for (const auto& r : p.at(side)) {
         for (const char* key : {"resource", "kind", "format", "width", "height", "mips", "layers", "hash", "blob"})
@@ -94,7 +97,8 @@ TEST(CaptureLoop, PassesJsonDescribesEveryPassAndResource) {
   EXPECT_EQ(formats["gbuffer.material"], "R8G8B8A8_UNORM");
   EXPECT_EQ(formats["gbuffer.motion"], "R16G16_SFLOAT");
   EXPECT_EQ(formats["scene.depth"], "D32_SFLOAT_S8_UINT");
-  for (const auto& o : find_pass(frame, "lighting.deferred").at("outputs")) EXPECT_EQ(o.at("format"), "R16G16B16A16_SFLOAT");
+  for (const auto& o : find_pass(frame, "lighting.deferred").at("outputs"))
+    EXPECT_EQ(o.at("format"), "R16G16B16A16_SFLOAT");
   // Scene data the passes read is recorded, and stored once however many passes read it.
   std::set<std::string> blobs;
   for (const auto& p : frame.at("passes"))
@@ -113,19 +117,22 @@ TEST(CaptureLoop, EveryPassReplaysBitIdentically) {
     for (const auto& p : report.at("passes")) {
       if (!p.at("replayed")) continue;
       ++replayed;
-      for (const auto& o : p.at("outputs")) EXPECT_EQ(o.at("verdict"), "identical") << p.at("name") << " " << o.at("resource");
+      for (const auto& o : p.at("outputs"))
+        EXPECT_EQ(o.at("verdict"), "identical") << p.at("name") << " " << o.at("resource");
     }
     EXPECT_GE(replayed, 7);
   }
 }
 
 TEST(CaptureLoop, ReplayWithAChangedParameterReportsTheDifference) {
-  const CliResult r = run_cli("replay --verify --json --pass lighting.deferred --set lighting.deferred.intensity_scale=2 " +
-                              quote(shared_capture("city", kCity)));
+  const CliResult r =
+      run_cli("replay --verify --json --pass lighting.deferred --set lighting.deferred.intensity_scale=2 " +
+              quote(shared_capture("city", kCity)));
   EXPECT_EQ(r.code, 1) << r.err;
   const nlohmann::json report = nlohmann::json::parse(r.out);
   ASSERT_EQ(report.at("passes").size(), 1u);
-  for (const auto& o : report.at("passes")[0].at("outputs")) EXPECT_EQ(o.at("verdict"), "different") << o.at("resource");
+  for (const auto& o : report.at("passes")[0].at("outputs"))
+    EXPECT_EQ(o.at("verdict"), "different") << o.at("resource");
 }
 
 TEST(CaptureLoop, ChainedReplayCarriesAChangeDownstream) {
@@ -135,7 +142,8 @@ TEST(CaptureLoop, ChainedReplayCarriesAChangeDownstream) {
   std::map<std::string, std::string> verdict;
   const nlohmann::json report = nlohmann::json::parse(r.out);
   for (const auto& p : report.at("passes"))
-    for (const auto& o : p.at("outputs")) verdict[o.at("resource").get<std::string>()] = o.at("verdict").get<std::string>();
+    for (const auto& o : p.at("outputs"))
+      verdict[o.at("resource").get<std::string>()] = o.at("verdict").get<std::string>();
   EXPECT_EQ(verdict["gbuffer.albedo"], "identical");
   EXPECT_EQ(verdict["lighting.diffuse"], "different");
   EXPECT_EQ(verdict["lighting.lit"], "different");

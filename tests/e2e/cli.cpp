@@ -60,7 +60,8 @@ fs::path shared_capture(const std::string& key, const std::string& args) {
   std::error_code error;
   for (const auto& entry : fs::directory_iterator(dir, error)) {
     const std::string name = entry.path().filename().string();
-    if (name.rfind(key + "-", 0) == 0 && name != capture.filename().string() && name.find(".tmp-") == std::string::npos &&
+    if (name.rfind(key + "-", 0) == 0 && name != capture.filename().string() &&
+        name.find(".tmp-") == std::string::npos &&
         name.substr(key.size() + 1).find_first_not_of("-0123456789") == std::string::npos)
       fs::remove_all(entry.path(), error);
   }

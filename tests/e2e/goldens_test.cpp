@@ -64,9 +64,8 @@ TEST_P(Goldens, SilhouettesMatchAndEveryPassIsFiniteAndReplays) {
   const fs::path gltf = kData / "gltf" / model / "glTF" / (model + ".gltf");
   const fs::path capture_dir = scratch("capture") / "cap";
   std::ostringstream args;
-  args << "render " << quote(gltf) << " --size " << v.width << "x" << v.height << " --orbit " << v.theta << ","
-       << v.phi << "," << v.radius << " --target " << v.x << "," << v.y << "," << v.z << " --fov 45 -o "
-       << quote(capture_dir);
+  args << "render " << quote(gltf) << " --size " << v.width << "x" << v.height << " --orbit " << v.theta << "," << v.phi
+       << "," << v.radius << " --target " << v.x << "," << v.y << "," << v.z << " --fov 45 -o " << quote(capture_dir);
   const CliResult rendered = run_cli(args.str());
   ASSERT_EQ(rendered.code, 0) << rendered.err;
 
@@ -79,13 +78,15 @@ TEST_P(Goldens, SilhouettesMatchAndEveryPassIsFiniteAndReplays) {
       const FormatInfo format = *format_info(out.format);
       // Finite everywhere (integer formats cannot hold NaN or Inf).
       if (format.encoding == ChannelEncoding::sfloat16 || format.encoding == ChannelEncoding::sfloat32 ||
-          format.encoding == ChannelEncoding::packed_b10g11r11 || format.encoding == ChannelEncoding::depth32_stencil8) {
+          format.encoding == ChannelEncoding::packed_b10g11r11 ||
+          format.encoding == ChannelEncoding::depth32_stencil8) {
         const uint64_t texels = raw_subresource_offset(format, out.extent, 1, 0, 0) / format.texel_bytes;
         std::vector<float> texel(4);
         for (uint64_t t = 0; t < texels; ++t) {
           decode_texel(format, 0, raw, t, texel.data());
           for (uint32_t c = 0; c < aspect_channels(format, 0); ++c)
-            ASSERT_TRUE(std::isfinite(texel[c])) << model << ": " << pass.name << " → " << out.resource << " texel " << t;
+            ASSERT_TRUE(std::isfinite(texel[c]))
+                << model << ": " << pass.name << " → " << out.resource << " texel " << t;
         }
       }
       if (out.resource == "scene.depth" && pass.name == "gbuffer.opaque") {
@@ -128,8 +129,7 @@ std::vector<std::string> models() {
   return names;
 }
 
-INSTANTIATE_TEST_SUITE_P(Models, Goldens, ::testing::ValuesIn(models()),
-                         [](const auto& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Models, Goldens, ::testing::ValuesIn(models()), [](const auto& info) { return info.param; });
 
 }  // namespace
 }  // namespace nightcap::test

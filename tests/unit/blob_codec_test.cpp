@@ -28,8 +28,8 @@ class BlobDir {
  public:
   BlobDir() {
     const auto* test = testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string("nightcap-blob-") + test->test_suite_name() + "-" + test->name() + "-" +
-                       std::to_string(getpid());
+    std::string name =
+        std::string("nightcap-blob-") + test->test_suite_name() + "-" + test->name() + "-" + std::to_string(getpid());
     std::replace(name.begin(), name.end(), '/', '_');
     path_ = fs::temp_directory_path() / name;
     fs::remove_all(path_);
@@ -111,8 +111,7 @@ TEST(ImageBlob, OtherToolsSeeTheCodesAndTheFormat) {
   BlobDir dir;
   const FormatInfo format = *format_info(VK_FORMAT_R16G16_UNORM);
   const ImageExtent extent{2, 1, 1, 1, 2};
-  const std::vector<uint8_t> raw = {0x34, 0x12, 0xff, 0xff, 0x01, 0x00, 0x00, 0x80,
-                                    0, 0, 0, 0, 0, 0, 0, 0};
+  const std::vector<uint8_t> raw = {0x34, 0x12, 0xff, 0xff, 0x01, 0x00, 0x00, 0x80, 0, 0, 0, 0, 0, 0, 0, 0};
   const fs::path file = dir / "codes.exr";
   write_image_blob(file, format, extent, raw, ExrCompression::zip);
   Imf::MultiPartInputFile in(file.c_str());
@@ -250,7 +249,8 @@ TEST(ImageBlob, TruncatedOrFlippedFilesFailCleanly) {
     SCOPED_TRACE(std::string(format.name) + " " + compression_name(c.compression));
     const fs::path file = dir / (std::string(format.name) + ".exr");
     write_image_blob(file, format, c.extent, random_raw(format, c.extent, 9), c.compression);
-    damage(file, [&] { return read_image_blob(file, format, c.extent); }, raw_image_bytes(format, c.extent));
+    damage(
+        file, [&] { return read_image_blob(file, format, c.extent); }, raw_image_bytes(format, c.extent));
   }
 }
 
@@ -292,7 +292,8 @@ TEST(BufferBlob, WrongSizeOrDamageIsRejected) {
   expect_capture_error([&] { read_buffer_blob(file, raw.size()); }, file, "trailing byte");
 
   write_bytes(file, frame);
-  damage(file, [&] { return read_buffer_blob(file, raw.size()); }, raw.size());
+  damage(
+      file, [&] { return read_buffer_blob(file, raw.size()); }, raw.size());
 }
 
 }  // namespace

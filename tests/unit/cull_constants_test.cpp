@@ -108,8 +108,10 @@ Verdict reference_verdict(const Frustum& f, const Scene& scene, const Instance& 
   for (int plane = 0; plane < 5; ++plane) {
     double best = -INFINITY;
     for (const auto& c : corners) best = std::max(best, f.distances(c)[plane]);
-    if (std::abs(best) <= margin) marginal = true;
-    else if (best < 0) return Verdict::culled;
+    if (std::abs(best) <= margin)
+      marginal = true;
+    else if (best < 0)
+      return Verdict::culled;
   }
   return marginal ? Verdict::marginal : Verdict::visible;
 }
@@ -143,7 +145,8 @@ class CullMain : public GpuTest {
   static Result cull(const Imports& scene, const View& view) {
     std::map<std::string, IsolatedInput> inputs;
     for (const char* name : {"scene.instances", "scene.materials"}) inputs[name] = input(scene.at(name));
-    inputs["frame.camera"] = input(camera_import(view.camera, view.camera, view.width, view.height, 0, 0.0).at("frame.camera"));
+    inputs["frame.camera"] =
+        input(camera_import(view.camera, view.camera, view.width, view.height, 0, 0.0).at("frame.camera"));
     const IsolatedRun run_result = run(cull_main_pass(), inputs, view.width, view.height);
     return {records<GpuDraw>(run_result.outputs.at("draws.depth.prepass")),
             records<GpuDraw>(run_result.outputs.at("draws.gbuffer.opaque"))};
@@ -210,9 +213,11 @@ class CullMain : public GpuTest {
       const Primitive& p = scene.primitives[instance.primitive];
       for (const glm::dvec3& c : world_corners(scene, instance)) EXPECT_FALSE(frustum.sees(c)) << "instance " << i;
       for (int s = 0; s < 256; ++s) {
-        const glm::dvec4 local(random.range(p.bounds_min.x, p.bounds_max.x), random.range(p.bounds_min.y, p.bounds_max.y),
+        const glm::dvec4 local(random.range(p.bounds_min.x, p.bounds_max.x),
+                               random.range(p.bounds_min.y, p.bounds_max.y),
                                random.range(p.bounds_min.z, p.bounds_max.z), 1.0);
-        ASSERT_FALSE(frustum.sees(glm::dvec3(instance.world * local))) << "a point of dropped instance " << i << " is in view";
+        ASSERT_FALSE(frustum.sees(glm::dvec3(instance.world * local)))
+            << "a point of dropped instance " << i << " is in view";
         ++tally.samples;
       }
       for (uint32_t k = 0; k < p.index_count; ++k) {
@@ -241,8 +246,16 @@ TEST_F(CullMain, RandomCamerasMatchTheBruteForceFrustumTest) {
     view.width = w;
     view.height = h;
     const glm::dvec3 eye(random.range(-140, 140), random.range(0.5, 160), random.range(-140, 140));
-    view.camera = make_camera(eye, random.range(0, 2 * M_PI), glm::radians(random.range(-80, 80)),
-                              glm::radians(random.range(-30, 30)), glm::radians(random.range(20, 110)), nears[(k / 4) % 4]);
+    double yaw = random.range(0, 2 * M_PI), pitch = glm::radians(random.range(-80, 80));
+    if (k % 2) {
+      // Every other camera looks at a point of the block, so many views hold many instances.
+      const glm::dvec3 target(random.range(-90, 90), random.range(0, 40), random.range(-90, 90));
+      const glm::dvec3 d = glm::normalize(target - eye);
+      yaw = std::atan2(d.x, -d.z);
+      pitch = std::asin(std::clamp(d.y, -0.99, 0.99));
+    }
+    view.camera = make_camera(eye, yaw, pitch, glm::radians(random.range(-30, 30)), glm::radians(random.range(20, 110)),
+                              nears[(k / 4) % 4]);
     const Result result = cull(imports, view);
     const size_t before = tally.drawn;
     check(scene, view, result, tally);
@@ -250,9 +263,10 @@ TEST_F(CullMain, RandomCamerasMatchTheBruteForceFrustumTest) {
     if (result.gbuffer.size() == scene.instances.size()) ++full_views;
     if (HasFatalFailure()) return;
   }
-  std::printf("cull.main: 120 cameras, %zu instances each: %zu drawn, %zu culled, %zu marginal, %zu points of "
-              "culled boxes sampled, %zu views with nothing, %zu with everything\n",
-              scene.instances.size(), tally.drawn, tally.culled, tally.marginal, tally.samples, empty_views, full_views);
+  std::printf(
+      "cull.main: 120 cameras, %zu instances each: %zu drawn, %zu culled, %zu marginal, %zu points of "
+      "culled boxes sampled, %zu views with nothing, %zu with everything\n",
+      scene.instances.size(), tally.drawn, tally.culled, tally.marginal, tally.samples, empty_views, full_views);
   EXPECT_EQ(tally.marginal, 0u);
   // The sample must exercise both outcomes a lot, or it proves little.
   EXPECT_GT(tally.drawn, 1000u);
@@ -297,8 +311,8 @@ TEST_F(CullMain, EightKilometresOutTheSameInstancesAreDrawn) {
   for (int k = 0; k < 24; ++k) {
     View view;
     const glm::dvec3 eye(random.range(-100, 100), random.range(1, 60), random.range(-100, 100));
-    view.camera = make_camera(eye, random.range(0, 2 * M_PI), glm::radians(random.range(-40, 40)), 0.0,
-                              glm::radians(60.0), 0.1);
+    view.camera =
+        make_camera(eye, random.range(0, 2 * M_PI), glm::radians(random.range(-40, 40)), 0.0, glm::radians(60.0), 0.1);
     View moved = view;
     moved.camera.world[3] += glm::dvec4(offset, 0.0);
     const Result a = cull(near_imports, view), b = cull(far_imports, moved);
@@ -335,8 +349,8 @@ class FrameConstants : public GpuTest {
     std::vector<GpuLight> lights;
   };
 
-  static Result build(const Scene& scene, const Camera& camera, const Camera& previous, uint32_t width,
-                      uint32_t height, uint32_t frame, double time) {
+  static Result build(const Scene& scene, const Camera& camera, const Camera& previous, uint32_t width, uint32_t height,
+                      uint32_t frame, double time) {
     std::map<std::string, IsolatedInput> inputs;
     inputs["scene.lights"] = input(scene_imports(scene).at("scene.lights"));
     inputs["frame.camera"] = input(camera_import(camera, previous, width, height, frame, time).at("frame.camera"));
@@ -398,8 +412,10 @@ class FrameConstants : public GpuTest {
     const Light* sun = nullptr;
     std::vector<const Light*> local;
     for (const Light& l : scene.lights) {
-      if (l.type == LightType::directional && !sun) sun = &l;
-      else local.push_back(&l);
+      if (l.type == LightType::directional && !sun)
+        sun = &l;
+      else
+        local.push_back(&l);
     }
     EXPECT_EQ(c.counts.x, local.size());
     ASSERT_EQ(r.lights.size(), local.size());
@@ -438,9 +454,9 @@ TEST_F(FrameConstants, MatricesAndLightsMatchTheDoubleReference) {
   Random random(99);
   for (int k = 0; k < 16; ++k) {
     const glm::dvec3 eye(random.range(-140, 140), random.range(0.5, 160), random.range(-140, 140));
-    const Camera camera = make_camera(eye, random.range(0, 2 * M_PI), glm::radians(random.range(-80, 80)),
-                                      glm::radians(random.range(-30, 30)), glm::radians(random.range(20, 110)),
-                                      random.range(0.01, 2.0));
+    const Camera camera =
+        make_camera(eye, random.range(0, 2 * M_PI), glm::radians(random.range(-80, 80)),
+                    glm::radians(random.range(-30, 30)), glm::radians(random.range(20, 110)), random.range(0.01, 2.0));
     const Camera previous = make_camera(eye + glm::dvec3(random.range(-1, 1), random.range(-1, 1), random.range(-1, 1)),
                                         random.range(0, 2 * M_PI), 0.1, 0.0, camera.yfov, camera.znear);
     check(scene, camera, previous, k % 2 ? 320 : 333, k % 3 ? 180 : 401);

@@ -108,8 +108,7 @@ TEST(Format, DecodesFloatCodes) {
 
   const std::vector<uint8_t> words = bytes_of<uint32_t>({123456, 0, 4000000000u, 7});
   EXPECT_EQ(decode(VK_FORMAT_R32_UINT, words, 0), std::vector<float>{123456.0f});
-  EXPECT_EQ(decode(VK_FORMAT_R32G32B32A32_UINT, bytes_of<uint32_t>({1, 2, 3, 4}), 0),
-            (std::vector<float>{1, 2, 3, 4}));
+  EXPECT_EQ(decode(VK_FORMAT_R32G32B32A32_UINT, bytes_of<uint32_t>({1, 2, 3, 4}), 0), (std::vector<float>{1, 2, 3, 4}));
   EXPECT_EQ(decode(VK_FORMAT_R32G32_UINT, words, 1), (std::vector<float>{4e9f, 7.0f}));
 }
 
@@ -188,8 +187,10 @@ uint16_t nearest_half(double x) {
   uint32_t lo = 0, hi = 0x7bff;
   while (lo < hi) {
     const uint32_t mid = (lo + hi + 1) / 2;
-    if (value(mid) <= magnitude) lo = mid;
-    else hi = mid - 1;
+    if (value(mid) <= magnitude)
+      lo = mid;
+    else
+      hi = mid - 1;
   }
   const double midpoint = (value(lo) + value(lo + 1)) / 2;
   uint32_t code = lo;
@@ -198,9 +199,20 @@ uint16_t nearest_half(double x) {
 }
 
 TEST(Format, FloatToHalfRoundsToNearestEven) {
-  std::vector<float> samples = {0.0f, -0.0f, 65504.0f, 65519.99f, 65520.0f, 1e10f, -1e10f, 1e-30f, 1e-40f,
-                                std::ldexp(1.0f, -25), std::ldexp(1.5f, -25), std::ldexp(1.0f, -26),
-                                std::nextafter(std::ldexp(1.0f, -25), 1.0f), std::ldexp(1.0f, -14) * (1.0f - 1 / 2048.0f)};
+  std::vector<float> samples = {0.0f,
+                                -0.0f,
+                                65504.0f,
+                                65519.99f,
+                                65520.0f,
+                                1e10f,
+                                -1e10f,
+                                1e-30f,
+                                1e-40f,
+                                std::ldexp(1.0f, -25),
+                                std::ldexp(1.5f, -25),
+                                std::ldexp(1.0f, -26),
+                                std::nextafter(std::ldexp(1.0f, -25), 1.0f),
+                                std::ldexp(1.0f, -14) * (1.0f - 1 / 2048.0f)};
   std::mt19937 rng(17);
   // Every midpoint between adjacent halves in a few binades, and its neighbouring floats.
   for (uint32_t code = 0; code < 0x7bff; code += 1 + rng() % 29) {

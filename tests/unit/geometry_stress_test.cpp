@@ -39,14 +39,14 @@ Scene hostile_scene() {
     scene.instances.push_back({world, uint32_t(scene.primitives.size() - 1), false});
   };
   const glm::vec3 up(0, 1, 0);
-  triangle({-50, 0, -50}, {0, 0, 50}, {50, 0, -50}, up, glm::dmat4(1.0));                 // ground
-  triangle({1, 1, 1}, {1, 1, 1}, {1, 1, 1}, up, glm::dmat4(1.0));                          // a point
-  triangle({0, 1, 0}, {1, 2, 0}, {2, 3, 0}, {0, 0, 1}, glm::dmat4(1.0));                   // collinear
-  triangle({-1e5f, 2, -1e5f}, {0, 2, 1e5f}, {1e5f, 2, -1e5f}, -up, glm::dmat4(1.0));        // 100 km wide
-  triangle({0, 0, 0}, {1e-6f, 0, 0}, {0, 1e-6f, 0}, {0, 0, 1}, glm::dmat4(1.0));           // a micrometre
-  triangle({-1, 0, -1}, {0, 0, 1}, {1, 0, -1}, up, glm::dmat4(0.0));                       // zero scale
-  triangle({-5, 0.5, 10}, {0, 3, -10}, {5, 0.5, 10}, {0, 0, 1}, glm::dmat4(1.0));          // through the near plane
-  triangle({0, 0, 0}, {1, 0, 0}, {0, 0, 1}, {0, 0, 0}, glm::dmat4(1.0));                   // zero normal
+  triangle({-50, 0, -50}, {0, 0, 50}, {50, 0, -50}, up, glm::dmat4(1.0));             // ground
+  triangle({1, 1, 1}, {1, 1, 1}, {1, 1, 1}, up, glm::dmat4(1.0));                     // a point
+  triangle({0, 1, 0}, {1, 2, 0}, {2, 3, 0}, {0, 0, 1}, glm::dmat4(1.0));              // collinear
+  triangle({-1e5f, 2, -1e5f}, {0, 2, 1e5f}, {1e5f, 2, -1e5f}, -up, glm::dmat4(1.0));  // 100 km wide
+  triangle({0, 0, 0}, {1e-6f, 0, 0}, {0, 1e-6f, 0}, {0, 0, 1}, glm::dmat4(1.0));      // a micrometre
+  triangle({-1, 0, -1}, {0, 0, 1}, {1, 0, -1}, up, glm::dmat4(0.0));                  // zero scale
+  triangle({-5, 0.5, 10}, {0, 3, -10}, {5, 0.5, 10}, {0, 0, 1}, glm::dmat4(1.0));     // through the near plane
+  triangle({0, 0, 0}, {1, 0, 0}, {0, 0, 1}, {0, 0, 0}, glm::dmat4(1.0));              // zero normal
   Light touching;  // a light on the ground: distance → 0
   touching.type = LightType::point;
   touching.position = glm::dvec3(0.0, 0.0, 0.0);

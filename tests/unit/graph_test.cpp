@@ -22,8 +22,10 @@ const CompiledPass& pass(const CompiledGraph& graph, const std::string& name) {
 
 TEST(Graph, OrdersByDependenciesWhateverTheDeclarationOrder) {
   std::vector<PassDecl> passes;
-  passes.push_back(PassDecl("c", PassType::graphics).read("b.out", Use::sampled).write("final.ldr", Use::color_attachment, image()));
-  passes.push_back(PassDecl("b", PassType::graphics).read("a.out", Use::sampled).write("b.out", Use::color_attachment, image()));
+  passes.push_back(
+      PassDecl("c", PassType::graphics).read("b.out", Use::sampled).write("final.ldr", Use::color_attachment, image()));
+  passes.push_back(
+      PassDecl("b", PassType::graphics).read("a.out", Use::sampled).write("b.out", Use::color_attachment, image()));
   passes.push_back(PassDecl("a", PassType::graphics).write("a.out", Use::color_attachment, image()));
   const CompiledGraph graph = compile_graph(passes, {}, GraphSettings());
   EXPECT_EQ(order(graph), (std::vector<std::string>{"a", "b", "c"}));
@@ -31,9 +33,12 @@ TEST(Graph, OrdersByDependenciesWhateverTheDeclarationOrder) {
 
 TEST(Graph, ModifiersChainAndReadersSeeTheLastVersion) {
   std::vector<PassDecl> passes;
-  passes.push_back(PassDecl("reader", PassType::graphics).read("depth", Use::sampled).write("final.ldr", Use::color_attachment, image()));
+  passes.push_back(PassDecl("reader", PassType::graphics)
+                       .read("depth", Use::sampled)
+                       .write("final.ldr", Use::color_attachment, image()));
   passes.push_back(PassDecl("second", PassType::graphics).modify("depth", Use::depth_attachment));
-  passes.push_back(PassDecl("first", PassType::graphics).write("depth", Use::depth_attachment, image(VK_FORMAT_D32_SFLOAT_S8_UINT)));
+  passes.push_back(
+      PassDecl("first", PassType::graphics).write("depth", Use::depth_attachment, image(VK_FORMAT_D32_SFLOAT_S8_UINT)));
   const CompiledGraph graph = compile_graph(passes, {}, GraphSettings());
   EXPECT_EQ(order(graph), (std::vector<std::string>{"first", "second", "reader"}));
   const CompiledPass& second = pass(graph, "second");
@@ -46,8 +51,11 @@ TEST(Graph, ModifiersChainAndReadersSeeTheLastVersion) {
 TEST(Graph, CullsPassesNobodyConsumesAndSkipsMissingFeatures) {
   std::vector<PassDecl> passes;
   passes.push_back(PassDecl("orphan", PassType::graphics).write("unused", Use::color_attachment, image()));
-  passes.push_back(PassDecl("shadows", PassType::graphics).needs("sun").write("shadow", Use::color_attachment, image()));
-  passes.push_back(PassDecl("final", PassType::graphics).read("shadow", Use::sampled).write("final.ldr", Use::color_attachment, image()));
+  passes.push_back(
+      PassDecl("shadows", PassType::graphics).needs("sun").write("shadow", Use::color_attachment, image()));
+  passes.push_back(PassDecl("final", PassType::graphics)
+                       .read("shadow", Use::sampled)
+                       .write("final.ldr", Use::color_attachment, image()));
   GraphSettings settings;
   const CompiledGraph graph = compile_graph(passes, {}, settings);
   EXPECT_TRUE(pass(graph, "orphan").culled);
@@ -65,9 +73,10 @@ TEST(Graph, CullsPassesNobodyConsumesAndSkipsMissingFeatures) {
 
 TEST(Graph, SkipConditionSeesTheFrame) {
   std::vector<PassDecl> passes;
-  passes.push_back(PassDecl("motion", PassType::graphics)
-                       .skip_when([](const SkipContext& f) { return f.camera_moved ? "" : std::string("camera static"); })
-                       .write("final.ldr", Use::color_attachment, image()));
+  passes.push_back(
+      PassDecl("motion", PassType::graphics)
+          .skip_when([](const SkipContext& f) { return f.camera_moved ? "" : std::string("camera static"); })
+          .write("final.ldr", Use::color_attachment, image()));
   GraphSettings settings;
   EXPECT_EQ(compile_graph(passes, {}, settings).passes[0].reason, "camera static");
   settings.frame.camera_moved = true;
@@ -83,7 +92,8 @@ TEST(Graph, ResolvesRelativeSizesAndMipChains) {
   like.size.mode = SizeRule::Mode::like;
   like.size.like = "pyramid";
   passes.push_back(PassDecl("p", PassType::compute).write("pyramid", Use::storage_write, pyramid));
-  passes.push_back(PassDecl("q", PassType::graphics).read("pyramid", Use::sampled).write("final.ldr", Use::color_attachment, like));
+  passes.push_back(
+      PassDecl("q", PassType::graphics).read("pyramid", Use::sampled).write("final.ldr", Use::color_attachment, like));
   GraphSettings settings;
   settings.width = 1279;
   settings.height = 719;
@@ -97,7 +107,9 @@ TEST(Graph, ResolvesRelativeSizesAndMipChains) {
 
 TEST(Graph, DeclarationMistakesAreCaughtBeforeRunning) {
   std::vector<PassDecl> unknown;
-  unknown.push_back(PassDecl("x", PassType::graphics).read("nothing", Use::sampled).write("final.ldr", Use::color_attachment, image()));
+  unknown.push_back(PassDecl("x", PassType::graphics)
+                        .read("nothing", Use::sampled)
+                        .write("final.ldr", Use::color_attachment, image()));
   EXPECT_THROW(compile_graph(unknown, {}, GraphSettings()), GraphError);
 
   std::vector<PassDecl> twice;
@@ -106,8 +118,10 @@ TEST(Graph, DeclarationMistakesAreCaughtBeforeRunning) {
   EXPECT_THROW(compile_graph(twice, {}, GraphSettings()), GraphError);
 
   std::vector<PassDecl> cycle;
-  cycle.push_back(PassDecl("a", PassType::graphics).read("b.out", Use::sampled).write("a.out", Use::color_attachment, image()));
-  cycle.push_back(PassDecl("b", PassType::graphics).read("a.out", Use::sampled).write("b.out", Use::color_attachment, image()));
+  cycle.push_back(
+      PassDecl("a", PassType::graphics).read("b.out", Use::sampled).write("a.out", Use::color_attachment, image()));
+  cycle.push_back(
+      PassDecl("b", PassType::graphics).read("a.out", Use::sampled).write("b.out", Use::color_attachment, image()));
   EXPECT_THROW(compile_graph(cycle, {}, GraphSettings()), GraphError);
 
   std::vector<PassDecl> orphan_modify;
@@ -117,11 +131,13 @@ TEST(Graph, DeclarationMistakesAreCaughtBeforeRunning) {
 
 TEST(Graph, PrefixReadsBindEveryMatchingImport) {
   std::vector<PassDecl> passes;
-  passes.push_back(PassDecl("g", PassType::graphics).read_all("scene.texture.", Use::sampled).write("final.ldr", Use::color_attachment, image()));
+  passes.push_back(PassDecl("g", PassType::graphics)
+                       .read_all("scene.texture.", Use::sampled)
+                       .write("final.ldr", Use::color_attachment, image()));
   ResourceDesc tex;
   tex.format = VK_FORMAT_R8G8B8A8_SRGB;
-  const CompiledGraph graph =
-      compile_graph(passes, {{"scene.texture.0", tex}, {"scene.texture.1", tex}, {"scene.other", tex}}, GraphSettings());
+  const CompiledGraph graph = compile_graph(
+      passes, {{"scene.texture.0", tex}, {"scene.texture.1", tex}, {"scene.other", tex}}, GraphSettings());
   ASSERT_EQ(graph.passes[0].inputs.size(), 2u);
   EXPECT_EQ(graph.passes[0].inputs[0].resource, "scene.texture.0");
   EXPECT_EQ(graph.passes[0].inputs[1].resource, "scene.texture.1");
@@ -156,7 +172,8 @@ TEST(Barriers, ReadAfterWriteWaitsOnceAndLayoutChangesAlwaysWait) {
 }
 
 TEST(Barriers, DepthFormatsSampleInTheReadOnlyDepthLayout) {
-  EXPECT_EQ(required_state(Use::sampled, PassType::graphics, true).layout, VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
+  EXPECT_EQ(required_state(Use::sampled, PassType::graphics, true).layout,
+            VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL);
   EXPECT_EQ(required_state(Use::depth_attachment, PassType::graphics, true).layout,
             VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
 }

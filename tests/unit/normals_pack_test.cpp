@@ -64,12 +64,12 @@ TEST_F(NormalsPack, BestFitNormalsReachTheAccuracyBound) {
   }
   const uint32_t lut_size = 1024;
   std::vector<uint8_t> lut = build_bfn_lut(lut_size);
-  const IsolatedRun result = run(
-      normals_pack_pass(),
-      {{"gbuffer.normal", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::normal, width, height, normals)},
-       {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::material, width, height, material)},
-       {"normals.bfn_lut", image(VK_FORMAT_R8_UINT, ResourceKind::lookup_table, lut_size, lut_size, lut)}},
-      width, height);
+  const IsolatedRun result =
+      run(normals_pack_pass(),
+          {{"gbuffer.normal", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::normal, width, height, normals)},
+           {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::material, width, height, material)},
+           {"normals.bfn_lut", image(VK_FORMAT_R8_UINT, ResourceKind::lookup_table, lut_size, lut_size, lut)}},
+          width, height);
   const std::vector<uint8_t>& packed = *result.outputs.at("normals.packed");
 
   double sum = 0, worst = 0, plain_sum = 0, plain_worst = 0;
@@ -82,7 +82,8 @@ TEST_F(NormalsPack, BestFitNormalsReachTheAccuracyBound) {
     sum += error;
     worst = std::max(worst, error);
     ASSERT_EQ(c[3], uint8_t(i % 256)) << "roughness not carried in alpha";
-    const dvec3 plain(decode_signed8(encode_unorm8(float(inputs[i].x))), decode_signed8(encode_unorm8(float(inputs[i].y))),
+    const dvec3 plain(decode_signed8(encode_unorm8(float(inputs[i].x))),
+                      decode_signed8(encode_unorm8(float(inputs[i].y))),
                       decode_signed8(encode_unorm8(float(inputs[i].z))));
     const double plain_error = angle_degrees(glm::normalize(plain), inputs[i]);
     plain_sum += plain_error;
