@@ -323,6 +323,7 @@ void PassContext::begin_rendering(const std::vector<std::string>& colors, const 
   vkCmdSetViewport(cmd(), 0, 1, &viewport);
   vkCmdSetScissor(cmd(), 0, 1, &scissor);
   vkCmdSetCullMode(cmd(), VK_CULL_MODE_NONE);
+  vkCmdSetFrontFace(cmd(), VK_FRONT_FACE_COUNTER_CLOCKWISE);
   vkCmdSetStencilReference(cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, 0);
 }
 

@@ -125,9 +125,10 @@ const PipelineCache::Entry& PipelineCache::graphics(const GraphicsPipelineDesc& 
   blend.attachmentCount = static_cast<uint32_t>(blends.size());
   blend.pAttachments = blends.data();
   const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR,
-                                           VK_DYNAMIC_STATE_CULL_MODE, VK_DYNAMIC_STATE_STENCIL_REFERENCE};
+                                           VK_DYNAMIC_STATE_CULL_MODE, VK_DYNAMIC_STATE_FRONT_FACE,
+                                           VK_DYNAMIC_STATE_STENCIL_REFERENCE};
   auto dynamic = vk_struct<VkPipelineDynamicStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO);
-  dynamic.dynamicStateCount = 4;
+  dynamic.dynamicStateCount = 5;
   dynamic.pDynamicStates = dynamic_states;
   const bool has_stencil = desc.depth_format == VK_FORMAT_D32_SFLOAT_S8_UINT;
   auto rendering = vk_struct<VkPipelineRenderingCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);

@@ -68,6 +68,7 @@ void cull(PassContext& ctx) {
     d.material = r.material;
     d.stencil = uint32_t(m.textures2.z);
     d.instance = i;
+    d.mirrored = determinant < 0.0;
     gbuffer.push_back(d);
     // Alpha-tested and blended surfaces do not occlude reliably: the prepass leaves them out.
     if (m.extra.z == float(AlphaMode::opaque)) prepass.push_back(d);

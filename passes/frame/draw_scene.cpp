@@ -39,6 +39,7 @@ void draw_scene(PassContext& ctx, const std::string& draws,
   if (draw_count == 0) return;
   vkCmdBindIndexBuffer(ctx.cmd(), ctx.buffer("scene.geometry"), header.index_offset, VK_INDEX_TYPE_UINT32);
   uint32_t current = UINT32_MAX;
+  VkFrontFace current_front = VK_FRONT_FACE_COUNTER_CLOCKWISE;
   for (uint32_t i = 0; i < draw_count; ++i) {
     GpuDraw draw;
     std::memcpy(&draw, draw_bytes.data() + i * sizeof(GpuDraw), sizeof(draw));
@@ -51,6 +52,12 @@ void draw_scene(PassContext& ctx, const std::string& draws,
       const bool double_sided = (int(material.extra.w) & 2) != 0;
       vkCmdSetCullMode(ctx.cmd(), double_sided ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT);
       on_material(current, material);
+    }
+    // glTF: a mirroring transform turns counter-clockwise front faces clockwise.
+    const VkFrontFace front = draw.mirrored ? VK_FRONT_FACE_CLOCKWISE : VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    if (front != current_front) {
+      vkCmdSetFrontFace(ctx.cmd(), front);
+      current_front = front;
     }
     vkCmdSetStencilReference(ctx.cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, draw.stencil & 0xff);
     vkCmdDrawIndexed(ctx.cmd(), draw.index_count, 1, draw.first_index, draw.vertex_offset, i);

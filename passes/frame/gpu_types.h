@@ -41,7 +41,8 @@ struct GpuDraw {
   uint32_t material;
   uint32_t stencil;   // material class | flags
   uint32_t instance;  // index into scene.instances
-  uint32_t pad[2];
+  uint32_t mirrored;  // 1: the transform has a negative determinant, so front faces wind clockwise
+  uint32_t pad;
 };
 static_assert(sizeof(GpuDraw) == 160);
 

@@ -30,8 +30,8 @@ struct Draw {
   uint material;
   uint stencil;
   uint instance;
-  uint pad0;
-  uint pad1;
+  uint mirrored;
+  uint pad;
 };
 
 struct Material {

@@ -96,3 +96,32 @@ TEST_F(GeometryStress, DegenerateAndExtremeGeometryStaysFinite) {
 
 }  // namespace
 }  // namespace nightcap::test
+
+namespace nightcap::test {
+namespace {
+
+// glTF: a transform with a negative determinant flips the winding; the near face of a mirrored
+// cube must still be the one drawn, with its normal toward the camera.
+TEST_F(GeometryStress, MirroredTransformsKeepTheirFrontFaces) {
+  Scene scene = load_gltf(std::string(NIGHTCAP_SHARED_DATA) + "/gltf/BoxTextured/glTF/BoxTextured.gltf");
+  for (Instance& instance : scene.instances)
+    instance.world =
+        glm::dmat4(glm::dvec4(-1, 0, 0, 0), glm::dvec4(0, 1, 0, 0), glm::dvec4(0, 0, 1, 0), glm::dvec4(0, 0, 0, 1)) *
+        instance.world;
+  add_default_lighting(scene);
+  RenderSettings settings;
+  settings.width = settings.height = 64;
+  settings.camera = orbit_camera(0.0, 90.0, 3.0, {0.0, 0.0, 0.0}, 45.0);
+  Renderer renderer(*gpu_, scene, settings);
+  const RenderedFrame frame = renderer.render_frame(0, true);
+  const size_t centre = 32 * 64 + 32;
+  float depth;
+  std::memcpy(&depth, frame.execution.final_version("scene.depth")->bytes->data() + 4 * centre, 4);
+  EXPECT_NEAR(settings.camera->znear / depth, 2.5, 1e-3);  // the near face, 2.5 from the camera
+  uint32_t word;
+  std::memcpy(&word, frame.execution.final_version("gbuffer.normal")->bytes->data() + 4 * centre, 4);
+  EXPECT_GT(((word >> 20) & 1023) / 1023.0 * 2.0 - 1.0, 0.9);  // facing the camera (+Z)
+}
+
+}  // namespace
+}  // namespace nightcap::test
