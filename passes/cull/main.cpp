@@ -14,13 +14,6 @@
 namespace nightcap {
 namespace {
 
-template <typename T>
-std::vector<T> records(std::span<const uint8_t> bytes) {
-  std::vector<T> out(bytes.size() / sizeof(T));
-  if (!out.empty()) std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
-  return out;
-}
-
 // Conservative: false only when all eight corners lie outside one clip plane.
 bool outside_frustum(const glm::dmat4& clip_from_object, const float* lo, const float* hi) {
   int outside[5] = {0, 0, 0, 0, 0};
@@ -37,9 +30,9 @@ bool outside_frustum(const glm::dmat4& clip_from_object, const float* lo, const 
 }
 
 void cull(PassContext& ctx) {
-  const CameraRecordGpu camera = records<CameraRecordGpu>(ctx.host("frame.camera")).at(0);
-  const auto instances = records<InstanceRecord>(ctx.host("scene.instances"));
-  const auto materials = records<GpuMaterial>(ctx.host("scene.materials"));
+  const CameraRecordGpu camera = host_records<CameraRecordGpu>(ctx.host("frame.camera")).at(0);
+  const auto instances = host_records<InstanceRecord>(ctx.host("scene.instances"));
+  const auto materials = host_records<GpuMaterial>(ctx.host("scene.materials"));
   glm::dmat4 world;
   std::memcpy(&world[0][0], camera.world, sizeof(camera.world));
   const glm::dvec3 eye = glm::dvec3(world[3]);

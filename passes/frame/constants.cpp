@@ -12,16 +12,9 @@
 namespace nightcap {
 namespace {
 
-template <typename T>
-std::vector<T> records(std::span<const uint8_t> bytes) {
-  std::vector<T> out(bytes.size() / sizeof(T));
-  if (!out.empty()) std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
-  return out;
-}
-
 void build_constants(PassContext& ctx) {
-  const CameraRecordGpu camera = records<CameraRecordGpu>(ctx.host("frame.camera")).at(0);
-  const auto lights = records<LightRecord>(ctx.host("scene.lights"));
+  const CameraRecordGpu camera = host_records<CameraRecordGpu>(ctx.host("frame.camera")).at(0);
+  const auto lights = host_records<LightRecord>(ctx.host("scene.lights"));
   glm::dmat4 world, previous;
   std::memcpy(&world[0][0], camera.world, sizeof(camera.world));
   std::memcpy(&previous[0][0], camera.previous_world, sizeof(camera.previous_world));

@@ -2,8 +2,10 @@
 // imported resource with host bytes, so the capture records it and replay can feed it back.
 #pragma once
 
+#include <cstring>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -63,5 +65,13 @@ uint32_t pack_sampler(const SamplerDesc& desc);
 SamplerDesc unpack_sampler(uint32_t bits);
 
 std::vector<ImportedResource> as_graph_imports(const Imports& imports);
+
+// The records of a host buffer (scene.*, frame.camera, draws.*) as structs.
+template <typename T>
+std::vector<T> host_records(std::span<const uint8_t> bytes) {
+  std::vector<T> out(bytes.size() / sizeof(T));
+  if (!out.empty()) std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
+  return out;
+}
 
 }  // namespace nightcap
