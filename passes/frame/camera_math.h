@@ -14,7 +14,5 @@ glm::dmat4 relative_view(const glm::dmat4& camera_world);
 // Previous frame's view-projection applied to points relative to the current camera.
 glm::dmat4 previous_relative_view_projection(const glm::dmat4& previous_world, const glm::dmat4& current_world,
                                              double yfov, double aspect, double znear);
-// Linear view-space depth (metres along the view axis) from a reversed-Z device depth.
-inline double linear_depth(double device_depth, double znear) { return znear / device_depth; }
 
 }  // namespace nightcap
