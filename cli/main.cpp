@@ -39,14 +39,15 @@ int finish(const nc::GpuDevice& gpu, int code) {
 }
 
 std::pair<uint32_t, uint32_t> parse_size(const std::string& text) {
+  // Each side: one or more digits and nothing else (strtoul alone accepts signs and spaces).
+  auto side = [&](const std::string& digits) {
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos)
+      throw UsageError("--size '" + text + "': expected WIDTHxHEIGHT");
+    return std::stoul(digits);
+  };
   const size_t x = text.find('x');
-  char* end = nullptr;
   if (x == std::string::npos) throw UsageError("--size '" + text + "': expected WIDTHxHEIGHT");
-  const unsigned long w = std::strtoul(text.substr(0, x).c_str(), &end, 10);
-  const bool w_ok = *end == '\0' && x > 0;
-  const unsigned long h = std::strtoul(text.substr(x + 1).c_str(), &end, 10);
-  const bool h_ok = *end == '\0' && x + 1 < text.size();
-  if (!w_ok || !h_ok) throw UsageError("--size '" + text + "': expected WIDTHxHEIGHT");
+  const unsigned long w = side(text.substr(0, x)), h = side(text.substr(x + 1));
   if (w == 0 || h == 0 || w > nc::kMaxImageSide || h > nc::kMaxImageSide)
     throw UsageError("--size '" + text + "': each side must be between 1 and " + std::to_string(nc::kMaxImageSide));
   return {uint32_t(w), uint32_t(h)};
