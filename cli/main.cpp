@@ -3,6 +3,7 @@
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 
+#include <csignal>
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
@@ -27,15 +28,6 @@ struct UsageError : std::runtime_error {
 bool validation_requested() {
   const char* value = std::getenv("NIGHTCAP_VALIDATION");
   return value && std::string(value) == "1";
-}
-
-// Validation errors fail the command: tests run with the layer and must see none.
-int finish(const nc::GpuDevice& gpu, int code) {
-  if (gpu.validation_errors() > 0) {
-    std::cerr << "nightcap: " << gpu.validation_errors() << " Vulkan validation error(s) reported\n";
-    return kExitBadInput;
-  }
-  return code;
 }
 
 std::pair<uint32_t, uint32_t> parse_size(const std::string& text) {
@@ -69,9 +61,24 @@ std::vector<double> parse_numbers(const std::string& flag, const std::string& te
   return values;
 }
 
-std::function<void(const std::string&)> progress_reporter() {
-  if (!isatty(STDERR_FILENO)) return [](const std::string&) {};
-  return [](const std::string& line) { std::cerr << "\r\033[K" << line << std::flush; };
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+// SIGINT and SIGTERM stop a render between frames so that its temporary capture is removed
+// (a SIGKILLed one is cleaned up by the next render of the same -o).
+void stop_on_signals() {
+  struct sigaction action {};
+  action.sa_handler = [](int signal) { g_stop_signal = signal; };
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+nc::RenderMonitor render_monitor() {
+  nc::RenderMonitor monitor;
+  if (isatty(STDERR_FILENO))
+    monitor.progress = [](const std::string& line) { std::cerr << "\r\033[K" << line << std::flush; };
+  monitor.stop_requested = [] { return g_stop_signal != 0; };
+  return monitor;
 }
 
 std::string ms(const std::optional<double>& value) {
@@ -118,13 +125,13 @@ int run_render(const std::string& scene_path, const std::string& out, const std:
                           {"fov", fov},
                           {"codec", codec}};
   nc::GpuDevice gpu({device, validation_requested()});
-  auto progress = progress_reporter();
-  nc::RenderSummary summary = nc::render_to_capture(gpu, scene, settings, out, force, progress);
+  stop_on_signals();
+  nc::RenderSummary summary = nc::render_to_capture(gpu, scene, settings, out, force, render_monitor());
   if (isatty(STDERR_FILENO)) std::cerr << "\r\033[K";
   std::cout << "capture written to " << out << " (" << frames << " frame" << (frames > 1 ? "s" : "") << ", "
             << gpu.name() << ", " << std::fixed << std::setprecision(1) << summary.disk_bytes / 1048576.0
             << " MiB on disk)\n";
-  return finish(gpu, 0);
+  return 0;
 }
 
 int run_passes(const std::string& path, bool json) {
@@ -216,7 +223,7 @@ int run_replay(const std::string& path, uint32_t frame, const std::vector<std::s
     if (verify)
       std::cout << (report.any_different() ? "replay differs from the capture\n" : "replay matches the capture\n");
   }
-  return finish(gpu, verify && report.any_different() ? kExitDifferent : 0);
+  return verify && report.any_different() ? kExitDifferent : 0;
 }
 
 int run_diff(const std::string& a, const std::string& b, double tolerance, bool json) {
@@ -295,19 +302,20 @@ int main(int argc, char** argv) {
     app.exit(e);
     return kExitBadInput;
   }
+  int code = kExitBadInput;
   try {
-    if (*render) return run_render(scene_path, out, size, frames, seed, device, sets, force, orbit, target, fov, codec);
-    if (*passes) return run_passes(capture_path, json);
-    if (*replay) return run_replay(capture_path, frame, pass_names, sets, shaders, device, verify, chain, json);
-    if (*diff) return run_diff(capture_path, capture_b, tolerance, json);
-  } catch (const UsageError& e) {
-    std::cerr << "nightcap: " << e.what() << "\n";
-  } catch (const nc::SceneError& e) {
-    std::cerr << "nightcap: " << e.what() << "\n";
-  } catch (const nc::CaptureError& e) {
-    std::cerr << "nightcap: " << e.what() << "\n";
+    if (*render) code = run_render(scene_path, out, size, frames, seed, device, sets, force, orbit, target, fov, codec);
+    if (*passes) code = run_passes(capture_path, json);
+    if (*replay) code = run_replay(capture_path, frame, pass_names, sets, shaders, device, verify, chain, json);
+    if (*diff) code = run_diff(capture_path, capture_b, tolerance, json);
   } catch (const std::exception& e) {
     std::cerr << "nightcap: " << e.what() << "\n";
   }
-  return kExitBadInput;
+  // Checked here, once every device is destroyed: destruction reports leaked objects too.
+  // Validation errors fail the command: tests run with the layer and must see none.
+  if (const uint32_t errors = nc::validation_errors_reported(); errors > 0) {
+    std::cerr << "nightcap: " << errors << " Vulkan validation error(s) reported\n";
+    return kExitBadInput;
+  }
+  return code;
 }

@@ -2,12 +2,15 @@
 
 #include <dlfcn.h>
 
+#include <atomic>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
 
 namespace nightcap {
 namespace {
+
+std::atomic<uint32_t> g_validation_errors{0};
 
 // The in-app API's function table (renderdoc_app.h, API 1.1.2): only the frame-capture entry
 // points are called, so the rest are opaque slots that keep the layout.
@@ -52,6 +55,8 @@ bool has_instance_extension(const char* name) {
 
 }  // namespace
 
+uint32_t validation_errors_reported() { return g_validation_errors.load(); }
+
 void vk_check(VkResult result, const char* what) {
   if (result != VK_SUCCESS)
     throw GpuError(std::string("Vulkan: ") + what + " failed (VkResult " + std::to_string(result) + ")");
@@ -59,9 +64,9 @@ void vk_check(VkResult result, const char* what) {
 
 VkBool32 VKAPI_PTR GpuDevice::on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                          VkDebugUtilsMessageTypeFlagsEXT,
-                                         const VkDebugUtilsMessengerCallbackDataEXT* data, void* self) {
+                                         const VkDebugUtilsMessengerCallbackDataEXT* data, void*) {
   if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
-    static_cast<GpuDevice*>(self)->validation_errors_++;
+    g_validation_errors++;
     std::cerr << "validation error: " << data->pMessage << "\n";
   } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
     std::cerr << "validation warning: " << data->pMessage << "\n";
@@ -80,6 +85,10 @@ GpuDevice::GpuDevice(const Options& options) {
   if (options.validation) {
     if (!has_layer("VK_LAYER_KHRONOS_validation"))
       throw GpuError("validation requested but VK_LAYER_KHRONOS_validation is not installed");
+    // Without debug utils the layer's errors would reach no callback and count as none.
+    if (!debug_utils)
+      throw GpuError("validation requested but " VK_EXT_DEBUG_UTILS_EXTENSION_NAME
+                     " is not available: its errors could not be counted");
     layers.push_back("VK_LAYER_KHRONOS_validation");
   }
   auto messenger_info =
@@ -89,7 +98,6 @@ GpuDevice::GpuDevice(const Options& options) {
   messenger_info.messageType =
       VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
   messenger_info.pfnUserCallback = &GpuDevice::on_message;
-  messenger_info.pUserData = this;
 
   auto instance_info = vk_struct<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
   instance_info.pApplicationInfo = &app;
@@ -97,13 +105,14 @@ GpuDevice::GpuDevice(const Options& options) {
   instance_info.ppEnabledLayerNames = layers.data();
   instance_info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
   instance_info.ppEnabledExtensionNames = extensions.data();
-  if (options.validation && debug_utils) instance_info.pNext = &messenger_info;
+  if (options.validation) instance_info.pNext = &messenger_info;
   vk_check(vkCreateInstance(&instance_info, nullptr, &instance_), "vkCreateInstance");
 
-  if (options.validation && debug_utils) {
+  if (options.validation) {
     auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
         vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
-    if (create) vk_check(create(instance_, &messenger_info, nullptr, &messenger_), "create messenger");
+    if (!create) throw GpuError("validation requested but vkCreateDebugUtilsMessengerEXT is missing");
+    vk_check(create(instance_, &messenger_info, nullptr, &messenger_), "create messenger");
   }
   if (debug_utils) {
     begin_label_ = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(

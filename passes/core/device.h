@@ -5,7 +5,6 @@
 
 #include <vulkan/vulkan.h>
 
-#include <atomic>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -18,6 +17,11 @@ struct GpuError : std::runtime_error {
 };
 
 void vk_check(VkResult result, const char* what);
+
+// Validation messages of severity error reported in this process so far, by every device,
+// including those raised while a device is destroyed (leaked objects): check it after the
+// devices are gone.
+uint32_t validation_errors_reported();
 
 // A zeroed Vulkan structure with its sType set.
 template <typename T>
@@ -74,9 +78,6 @@ class GpuDevice {
   void push_descriptors(VkCommandBuffer cmd, VkPipelineBindPoint bind_point, VkPipelineLayout layout,
                         const std::vector<VkWriteDescriptorSet>& writes) const;
 
-  // Validation messages of severity error seen so far.
-  uint32_t validation_errors() const { return validation_errors_.load(); }
-
   // RenderDoc frame capture around the captured frames, when loaded into the process.
   void renderdoc_begin();
   void renderdoc_end();
@@ -97,7 +98,6 @@ class GpuDevice {
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memory_{};
   std::string driver_;
-  std::atomic<uint32_t> validation_errors_{0};
   PFN_vkCmdBeginDebugUtilsLabelEXT begin_label_ = nullptr;
   PFN_vkCmdEndDebugUtilsLabelEXT end_label_ = nullptr;
   PFN_vkCmdPushDescriptorSetKHR push_descriptor_set_ = nullptr;

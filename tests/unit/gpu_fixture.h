@@ -1,5 +1,6 @@
 // A lavapipe device for reference tests of single passes, with the validation layer on when
-// NIGHTCAP_VALIDATION=1 (CTest sets it); a test fails if the layer reported any error.
+// NIGHTCAP_VALIDATION=1 (CTest sets it); a test fails if the layer reported any error, and the
+// suite fails if destroying the device reports any (objects leaked by the tests or the graph).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -20,12 +21,15 @@ class GpuTest : public ::testing::Test {
     cache_ = std::make_unique<PipelineCache>(*gpu_);
   }
   static void TearDownTestSuite() {
+    const uint32_t before = validation_errors_reported();
     cache_.reset();
     gpu_.reset();
+    if (validation_errors_reported() != before)
+      ADD_FAILURE() << "Vulkan validation reported errors while the device was destroyed";
   }
-  void SetUp() override { errors_before_ = gpu_->validation_errors(); }
+  void SetUp() override { errors_before_ = validation_errors_reported(); }
   void TearDown() override {
-    EXPECT_EQ(gpu_->validation_errors(), errors_before_) << "Vulkan validation reported errors";
+    EXPECT_EQ(validation_errors_reported(), errors_before_) << "Vulkan validation reported errors";
   }
   uint32_t errors_before_ = 0;
 
