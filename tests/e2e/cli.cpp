@@ -1,6 +1,8 @@
 #include "tests/e2e/cli.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -61,16 +63,19 @@ fs::path shared_capture(const std::string& key, const std::string& args) {
   for (const auto& entry : fs::directory_iterator(dir, error)) {
     const std::string name = entry.path().filename().string();
     if (name.rfind(key + "-", 0) == 0 && name != capture.filename().string() &&
-        name.find(".tmp-") == std::string::npos &&
         name.substr(key.size() + 1).find_first_not_of("-0123456789") == std::string::npos)
       fs::remove_all(entry.path(), error);
   }
+  // One test process renders it while the others wait on the lock: every render that runs must
+  // succeed, so a validation error (exit 2) in a shared capture fails the test that made it.
+  const fs::path lock_file = dir / (key + ".lock");
+  const int lock = ::open(lock_file.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+  if (lock < 0 || ::flock(lock, LOCK_EX) != 0) ADD_FAILURE() << lock_file << ": cannot lock";
   if (!fs::exists(capture / "manifest.json")) {
     const CliResult r = run_cli("render " + args + " -o " + quote(capture));
-    // Another test process may have rendered it first; both outcomes leave a whole capture.
-    if (r.code != 0 && !fs::exists(capture / "manifest.json"))
-      ADD_FAILURE() << "render " << args << " failed (" << r.code << "): " << r.err;
+    if (r.code != 0) ADD_FAILURE() << "render " << args << " failed (" << r.code << "): " << r.err;
   }
+  if (lock >= 0) ::close(lock);
   return capture;
 }
 

@@ -19,7 +19,8 @@ CliResult run_cli(const std::string& args);
 std::filesystem::path scratch(const std::string& name);
 
 // A capture rendered once per build with `args` and shared by every test that asks for the
-// same key (the CLI's atomic rename makes concurrent first renders safe).
+// same key; a file lock keeps concurrent test processes from rendering it twice. A render that
+// exits non-zero fails the calling test.
 std::filesystem::path shared_capture(const std::string& key, const std::string& args);
 
 nlohmann::json read_json(const std::filesystem::path& file);
