@@ -2,9 +2,11 @@
 
 #include <OpenImageIO/imageio.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <bit>
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <set>
@@ -267,10 +269,35 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
   return m;
 }
 
+namespace {
+
+// Folders `<target>.tmp-<pid>` and `<target>.old-<pid>` that a killed writer left behind: their
+// process is gone. Those of a live process (a render still running) are kept.
+void remove_stale_siblings(const fs::path& target) {
+  std::error_code error;
+  const fs::path parent = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  const std::string name = target.filename().string();
+  for (const auto& entry : fs::directory_iterator(parent, error)) {
+    const std::string sibling = entry.path().filename().string();
+    for (const std::string suffix : {".tmp-", ".old-"}) {
+      const std::string prefix = name + suffix;
+      if (sibling.size() <= prefix.size() || sibling.compare(0, prefix.size(), prefix) != 0) continue;
+      const std::string digits = sibling.substr(prefix.size());
+      if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+      const pid_t pid = pid_t(std::stol(digits));
+      const bool alive = pid > 0 && (::kill(pid, 0) == 0 || errno == EPERM);
+      if (!alive) fs::remove_all(entry.path(), error);
+    }
+  }
+}
+
+}  // namespace
+
 CaptureWriter::CaptureWriter(fs::path target, bool force, Options options)
     : target_(std::move(target)), force_(force), options_(options) {
   if (target_.filename().empty()) target_ = target_.parent_path();
   if (fs::exists(target_) && !force_) throw CaptureError(target_.string() + ": exists (use --force to overwrite)");
+  remove_stale_siblings(target_);
   temp_ = target_;
   temp_ += ".tmp-" + std::to_string(::getpid());
   std::error_code error;

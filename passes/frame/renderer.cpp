@@ -209,8 +209,7 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
 }
 
 RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const RenderSettings& settings,
-                                const std::filesystem::path& out, bool force,
-                                const std::function<void(const std::string&)>& progress) {
+                                const std::filesystem::path& out, bool force, const RenderMonitor& monitor) {
   RenderSummary summary;
   CaptureWriter writer(out, force, settings.capture);
   Renderer renderer(gpu, scene, settings);
@@ -234,11 +233,12 @@ RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const Render
   std::vector<uint8_t> final_pixels;
   try {
     for (uint32_t k = 0; k < settings.frames; ++k) {
-      progress("frame " + std::to_string(k + 1) + "/" + std::to_string(settings.frames) + ": rendering");
+      if (monitor.stop_requested()) throw RenderInterrupted("interrupted: no capture written to " + out.string());
+      monitor.progress("frame " + std::to_string(k + 1) + "/" + std::to_string(settings.frames) + ": rendering");
       auto start = std::chrono::steady_clock::now();
       RenderedFrame frame = renderer.render_frame(k, true);
       summary.render_ms += ms_since(start);
-      progress("frame " + std::to_string(k + 1) + "/" + std::to_string(settings.frames) + ": writing capture");
+      monitor.progress("frame " + std::to_string(k + 1) + "/" + std::to_string(settings.frames) + ": writing capture");
       start = std::chrono::steady_clock::now();
       manifest.frames.push_back(record_frame(writer, frame, k, settings.params));
       summary.capture_ms += ms_since(start);
@@ -251,6 +251,7 @@ RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const Render
   }
   gpu.renderdoc_end();
   if (!final_pixels.empty()) writer.write_final_png(final_pixels, settings.width, settings.height);
+  if (monitor.stop_requested()) throw RenderInterrupted("interrupted: no capture written to " + out.string());
   writer.commit(manifest);
   summary.disk_bytes = writer.bytes_written();
   return summary;

@@ -71,9 +71,21 @@ struct RenderSummary {
   double render_ms = 0, capture_ms = 0;
   uint64_t raw_bytes = 0, disk_bytes = 0;
 };
-// render: every frame into a capture at `out` (atomic), final.png from the last frame.
+
+// What the caller sees of a long render, and how it stops one.
+struct RenderMonitor {
+  std::function<void(const std::string&)> progress = [](const std::string&) {};
+  // Polled before every frame and before the capture is committed.
+  std::function<bool()> stop_requested = [] { return false; };
+};
+
+struct RenderInterrupted : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// render: every frame into a capture at `out` (atomic), final.png from the last frame. Throws
+// RenderInterrupted when the monitor asks to stop; nothing is left at or beside `out` then.
 RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const RenderSettings& settings,
-                                const std::filesystem::path& out, bool force,
-                                const std::function<void(const std::string&)>& progress);
+                                const std::filesystem::path& out, bool force, const RenderMonitor& monitor = {});
 
 }  // namespace nightcap

@@ -2,7 +2,15 @@
 // written outside -o.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
 #include <fstream>
+#include <thread>
 
 #include "tests/e2e/cli.h"
 
@@ -113,14 +121,18 @@ TEST(BadInput, BlobWhoseContentDoesNotMatchItsHash) {
   EXPECT_NE(r.err.find("hash"), std::string::npos) << r.err;
 }
 
+// Each edit alone, so that the message names the problem that edit made and no other check
+// (the byte count cross-check included) can be what refused the manifest.
 TEST(BadInput, BlobPathsThatLeaveTheCapture) {
   const fs::path capture = copy_of_city("escape");
-  nlohmann::json manifest = read_json(capture / "manifest.json");
+  const nlohmann::json manifest = read_json(capture / "manifest.json");
   for (const char* path : {"../../../etc/passwd", "/etc/passwd", "blobs/../../outside.exr"}) {
     nlohmann::json edited = manifest;
     first_output(edited, "tonemap")["blob"] = path;
     write_json(capture / "manifest.json", edited);
-    expect_bad_input(run_cli("passes " + quote(capture)), "manifest.json");
+    const CliResult r = run_cli("passes " + quote(capture));
+    expect_bad_input(r, "manifest.json");
+    expect_bad_input(r, std::string("blob path '") + path + "' leaves blobs/");
   }
 }
 
@@ -133,14 +145,23 @@ TEST(BadInput, HostileSizesInTheManifest) {
     write_json(capture / "manifest.json", edited);
     return run_cli("replay --verify " + quote(capture));
   };
-  expect_bad_input(edit([](nlohmann::json& o) { o["width"] = 70000; }), "70000");
+  // final.ldr is R8G8B8A8_SRGB: 4 bytes a texel; "bytes" is kept consistent with each size.
+  expect_bad_input(edit([](nlohmann::json& o) {
+                     o["width"] = 70000;
+                     o["bytes"] = uint64_t(70000) * o["height"].get<uint64_t>() * 4;
+                   }),
+                   "width 70000 outside 1..16384");
   expect_bad_input(edit([](nlohmann::json& o) {
                      o["width"] = 16384;
                      o["height"] = 16384;
                      o["layers"] = 2048;
+                     o["bytes"] = uint64_t(16384) * 16384 * 2048 * 4;
                    }),
-                   "manifest.json");
-  expect_bad_input(edit([](nlohmann::json& o) { o["width"] = -1; }), "manifest.json");
+                   "image of 16384x16384x2048 is too large");
+  expect_bad_input(edit([](nlohmann::json& o) { o["width"] = -1; }), "width -1 outside 1..16384");
+  expect_bad_input(edit([](nlohmann::json& o) { o["mips"] = 40; }), "mips 40 outside");
+  expect_bad_input(edit([](nlohmann::json& o) { o["bytes"] = o["bytes"].get<uint64_t>() + 1; }),
+                   "does not match the size");
 }
 
 TEST(BadInput, MissingCaptureAndUnknownPass) {
@@ -148,6 +169,70 @@ TEST(BadInput, MissingCaptureAndUnknownPass) {
   const fs::path capture = shared_capture("city-small", kSmall);
   expect_bad_input(run_cli("replay --pass no.such.pass " + quote(capture)), "no.such.pass");
   expect_bad_input(run_cli("replay --frame 7 " + quote(capture)), "frame");
+}
+
+// Starts `nightcap ARGS...` without waiting; stdout and stderr go to files in `dir`.
+pid_t spawn_cli(const std::vector<std::string>& args, const fs::path& dir) {
+  const std::string out = (dir / "stdout").string(), err = (dir / "stderr").string();
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&files, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  std::vector<std::string> argv_strings = {NIGHTCAP_CLI};
+  argv_strings.insert(argv_strings.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : argv_strings) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = -1;
+  EXPECT_EQ(posix_spawn(&pid, NIGHTCAP_CLI, &files, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&files);
+  return pid;
+}
+
+// Waits until the render's temporary capture folder exists (it is made before the first frame).
+bool wait_for(const fs::path& path) {
+  for (int i = 0; i < 600 && !fs::exists(path); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  return fs::exists(path);
+}
+
+const std::vector<std::string> kLongRender = {"render", "--size", "64x36", "--frames", "500"};
+
+TEST(BadInput, AnInterruptedRenderLeavesNothingBehind) {
+  const fs::path dir = scratch("out"), logs = scratch("logs");
+  std::vector<std::string> args = kLongRender;
+  args.insert(args.end(), {"-o", (dir / "cap").string()});
+  const pid_t pid = spawn_cli(args, logs);
+  ASSERT_GT(pid, 0);
+  const fs::path temporary = dir / ("cap.tmp-" + std::to_string(pid));
+  ASSERT_TRUE(wait_for(temporary)) << temporary << " never appeared";
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << "render died of its signal instead of stopping";
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  std::ifstream err(logs / "stderr");
+  const std::string message((std::istreambuf_iterator<char>(err)), {});
+  EXPECT_NE(message.find("interrupted: no capture written to " + (dir / "cap").string()), std::string::npos) << message;
+  EXPECT_TRUE(entries(dir).empty());
+}
+
+TEST(BadInput, AKilledRendersTemporaryIsRemovedByTheNextRender) {
+  const fs::path dir = scratch("out"), logs = scratch("logs");
+  std::vector<std::string> args = kLongRender;
+  args.insert(args.end(), {"-o", (dir / "cap").string()});
+  const pid_t pid = spawn_cli(args, logs);
+  ASSERT_GT(pid, 0);
+  const fs::path temporary = dir / ("cap.tmp-" + std::to_string(pid));
+  ASSERT_TRUE(wait_for(temporary)) << temporary << " never appeared";
+  kill(pid, SIGKILL);
+  waitpid(pid, nullptr, 0);
+  ASSERT_TRUE(fs::exists(temporary)) << "SIGKILL cannot be caught: the temporary must still be there";
+  // A temporary whose writer is alive (this test process stands in for one) is left alone.
+  const fs::path live = dir / ("cap.tmp-" + std::to_string(getpid()));
+  fs::create_directories(live);
+  const CliResult r = run_cli(std::string("render ") + kSmall + " -o " + quote(dir / "cap"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(entries(dir), (std::vector<std::string>{"cap", live.filename().string()}));
 }
 
 TEST(Cli, EveryCommandHasHelp) {
