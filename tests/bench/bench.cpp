@@ -5,6 +5,7 @@
 //  - time against error for each pass knob (normals.pack LUT size, lighting.deferred tube samples,
 //    depth.convert and depth.pyramid against their references).
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -26,6 +27,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Tables for a person go to stdout; with --json they go to stderr and stdout carries only
+// {"figures": {NAME: NUMBER}}, every number of the tables under a stable name.
+bool g_json = false;
+std::map<std::string, double> g_figures;
+
+std::ostream& table() { return g_json ? std::cerr : std::cout; }
+
+void figure(const std::string& name, double value) { g_figures[name] = value; }
+
 double median(std::vector<double> values) {
   if (values.empty()) return 0;
   std::sort(values.begin(), values.end());
@@ -41,8 +51,8 @@ nc::ShaderProvider builtin() {
 }
 
 // Per-pass medians over `repeats` frames, capture off, plus frame time off/on and capture size.
-void bench_scene(nc::GpuDevice& gpu, const std::string& label, nc::Scene scene, uint32_t width, uint32_t height,
-                 int repeats, bool capture_figures) {
+void bench_scene(nc::GpuDevice& gpu, const std::string& key, const std::string& label, nc::Scene scene, uint32_t width,
+                 uint32_t height, int repeats, bool capture_figures) {
   nc::add_default_lighting(scene);
   nc::RenderSettings settings;
   settings.width = width;
@@ -64,20 +74,22 @@ void bench_scene(nc::GpuDevice& gpu, const std::string& label, nc::Scene scene, 
       pass_ms[name].push_back(exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms);
     }
   }
-  std::cout << "\n## " << label << " (" << width << "x" << height << ", " << scene.indices.size() / 3 << " triangles, "
-            << scene.lights.size() << " lights; median of " << repeats << ")\n";
-  std::cout << std::left << std::setw(22) << "pass" << std::right << std::setw(12) << "ms"
-            << "\n";
+  table() << "\n## " << label << " (" << width << "x" << height << ", " << scene.indices.size() / 3 << " triangles, "
+          << scene.lights.size() << " lights; median of " << repeats << ")\n";
+  table() << std::left << std::setw(22) << "pass" << std::right << std::setw(12) << "ms"
+          << "\n";
   for (const std::string& name : order) {
-    std::cout << std::left << std::setw(22) << name << std::right << std::setw(12);
+    table() << std::left << std::setw(22) << name << std::right << std::setw(12);
     if (pass_ms[name].empty())
-      std::cout << "skipped";
+      table() << "skipped";
     else
-      std::cout << std::fixed << std::setprecision(3) << median(pass_ms[name]);
-    std::cout << "\n";
+      table() << std::fixed << std::setprecision(3) << median(pass_ms[name]);
+    table() << "\n";
+    if (!pass_ms[name].empty()) figure("pass_ms." + key + "." + name, median(pass_ms[name]));
   }
-  std::cout << std::left << std::setw(22) << "frame (capture off)" << std::right << std::setw(12) << median(frame_off)
-            << "\n";
+  figure("frame_ms." + key, median(frame_off));
+  table() << std::left << std::setw(22) << "frame (capture off)" << std::right << std::setw(12) << median(frame_off)
+          << "\n";
   if (!capture_figures) return;
   const fs::path dir = fs::temp_directory_path() / "nightcap-bench";
   fs::remove_all(dir);
@@ -85,23 +97,31 @@ void bench_scene(nc::GpuDevice& gpu, const std::string& label, nc::Scene scene, 
                                                                {"rle", nc::ExrCompression::rle},
                                                                {"piz", nc::ExrCompression::piz},
                                                                {"none", nc::ExrCompression::none}};
-  std::cout << "capture codec        frame ms    on/off   MiB on disk   of raw\n";
+  table() << "capture codec        frame ms    on/off   MiB on disk   of raw\n";
   for (const auto& [name, codec] : codecs) {
     settings.capture.compression = codec;
     frame_on.clear();
     uint64_t raw = 0, disk = 0;
     for (int r = 0; r < repeats; ++r) {
       const double start = now_ms();
-      const nc::RenderSummary summary = nc::render_to_capture(
-          gpu, scene, settings, dir / (std::string(name) + std::to_string(r)), false, [](const std::string&) {});
+      const nc::RenderSummary summary =
+          nc::render_to_capture(gpu, scene, settings, dir / (std::string(name) + std::to_string(r)), false);
       frame_on.push_back(now_ms() - start);
       raw = summary.raw_bytes;
       disk = summary.disk_bytes;
     }
-    std::cout << "  " << std::left << std::setw(16) << name << std::right << std::fixed << std::setprecision(1)
-              << std::setw(12) << median(frame_on) << std::setprecision(2) << std::setw(9)
-              << median(frame_on) / median(frame_off) << "x" << std::setprecision(1) << std::setw(13)
-              << disk / 1048576.0 << std::setprecision(3) << std::setw(9) << double(disk) / raw << "\n";
+    table() << "  " << std::left << std::setw(16) << name << std::right << std::fixed << std::setprecision(1)
+            << std::setw(12) << median(frame_on) << std::setprecision(2) << std::setw(9)
+            << median(frame_on) / median(frame_off) << "x" << std::setprecision(1) << std::setw(13) << disk / 1048576.0
+            << std::setprecision(3) << std::setw(9) << double(disk) / raw << "\n";
+    figure(std::string("capture_frame_ms.") + name, median(frame_on));
+    figure(std::string("capture_on_off_ratio.") + name, median(frame_on) / median(frame_off));
+    figure(std::string("capture_mib.") + name, disk / 1048576.0);
+    figure(std::string("capture_bytes_ratio.") + name, double(disk) / raw);
+    if (codec == nc::RenderSettings{}.capture.compression) {
+      figure("capture_on_off_ratio", median(frame_on) / median(frame_off));
+      figure("capture_bytes_ratio", double(disk) / raw);
+    }
   }
   fs::remove_all(dir);
 }
@@ -133,11 +153,11 @@ void bench_normals(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t count)
     inputs[i] = glm::normalize(glm::dvec3((w & 1023) / 1023.0 * 2 - 1, ((w >> 10) & 1023) / 1023.0 * 2 - 1,
                                           ((w >> 20) & 1023) / 1023.0 * 2 - 1));
   }
-  std::cout << "\n## normals.pack: LUT size vs error (" << inputs.size() << " directions, " << width << "x" << height
-            << ")\n"
-            << std::left << std::setw(12) << "lut" << std::right << std::setw(12) << "build ms" << std::setw(12)
-            << "gpu ms" << std::setw(14) << "mean deg" << std::setw(12) << "max deg"
-            << "\n";
+  table() << "\n## normals.pack: LUT size vs error (" << inputs.size() << " directions, " << width << "x" << height
+          << ")\n"
+          << std::left << std::setw(12) << "lut" << std::right << std::setw(12) << "build ms" << std::setw(12)
+          << "gpu ms" << std::setw(14) << "mean deg" << std::setw(12) << "max deg"
+          << "\n";
   for (uint32_t lut_size : {64u, 256u, 1024u, 2048u}) {
     const double start = now_ms();
     std::vector<uint8_t> lut = nc::build_bfn_lut(lut_size);
@@ -164,9 +184,14 @@ void bench_normals(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t count)
       sum += e;
       worst = std::max(worst, e);
     }
-    std::cout << std::left << std::setw(12) << lut_size << std::right << std::fixed << std::setprecision(1)
-              << std::setw(12) << build << std::setprecision(3) << std::setw(12) << median(times)
-              << std::setprecision(4) << std::setw(14) << sum / inputs.size() << std::setw(12) << worst << "\n";
+    table() << std::left << std::setw(12) << lut_size << std::right << std::fixed << std::setprecision(1)
+            << std::setw(12) << build << std::setprecision(3) << std::setw(12) << median(times) << std::setprecision(4)
+            << std::setw(14) << sum / inputs.size() << std::setw(12) << worst << "\n";
+    const std::string row = "normals_pack.lut_" + std::to_string(lut_size);
+    figure(row + ".build_ms", build);
+    figure(row + ".gpu_ms", median(times));
+    figure(row + ".mean_deg", sum / inputs.size());
+    figure(row + ".max_deg", worst);
   }
 }
 
@@ -195,11 +220,11 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   };
   const nc::IsolatedRun reference = run(256);
   const nc::FormatInfo half = *nc::format_info(VK_FORMAT_R16G16B16A16_SFLOAT);
-  std::cout << "\n## lighting.deferred: tube diffuse samples vs 256-sample reference (built-in city, " << width << "x"
-            << height << ")\n"
-            << std::left << std::setw(12) << "samples" << std::right << std::setw(12) << "gpu ms" << std::setw(16)
-            << "mean rel err" << std::setw(14) << "max rel err"
-            << "\n";
+  table() << "\n## lighting.deferred: tube diffuse samples vs 256-sample reference (built-in city, " << width << "x"
+          << height << ")\n"
+          << std::left << std::setw(12) << "samples" << std::right << std::setw(12) << "gpu ms" << std::setw(16)
+          << "mean rel err" << std::setw(14) << "max rel err"
+          << "\n";
   for (double samples : {1.0, 2.0, 4.0, 8.0, 16.0, 32.0}) {
     std::vector<double> times;
     nc::IsolatedRun result;
@@ -223,9 +248,13 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
         ++counted;
       }
     }
-    std::cout << std::left << std::setw(12) << samples << std::right << std::fixed << std::setprecision(3)
-              << std::setw(12) << median(times) << std::setprecision(5) << std::setw(16)
-              << sum / std::max<size_t>(counted, 1) << std::setw(14) << worst << "\n";
+    table() << std::left << std::setw(12) << samples << std::right << std::fixed << std::setprecision(3)
+            << std::setw(12) << median(times) << std::setprecision(5) << std::setw(16)
+            << sum / std::max<size_t>(counted, 1) << std::setw(14) << worst << "\n";
+    const std::string row = "tube_samples_" + std::to_string(int(samples));
+    figure(row + ".gpu_ms", median(times));
+    figure(row + ".mean_rel_err", sum / std::max<size_t>(counted, 1));
+    figure(row + ".max_rel_err", worst);
   }
 }
 
@@ -263,9 +292,11 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
     const double exact = double(0.05f) / double(device_depth[i]);
     worst = std::max(worst, std::abs(v - exact) / exact);
   }
-  std::cout << "\n## depth (" << width << "x" << height << ")\n"
-            << "depth.convert   gpu " << std::fixed << std::setprecision(3) << median(times)
-            << " ms, max rel error vs double " << std::scientific << std::setprecision(2) << worst << "\n";
+  table() << "\n## depth (" << width << "x" << height << ")\n"
+          << "depth.convert   gpu " << std::fixed << std::setprecision(3) << median(times)
+          << " ms, max rel error vs double " << std::scientific << std::setprecision(2) << worst << "\n";
+  figure("depth_convert.gpu_ms", median(times));
+  figure("depth_convert.max_rel_err", worst);
   times.clear();
   nc::IsolatedRun pyramid;
   for (int r = 0; r < 3; ++r) {
@@ -275,8 +306,9 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
         height, builtin());
     times.push_back(gpu_ms(pyramid));
   }
-  std::cout << "depth.pyramid   gpu " << std::fixed << std::setprecision(3) << median(times)
-            << " ms, exact by construction (tests/unit/depth_pyramid_test.cpp)\n";
+  table() << "depth.pyramid   gpu " << std::fixed << std::setprecision(3) << median(times)
+          << " ms, exact by construction (tests/unit/depth_pyramid_test.cpp)\n";
+  figure("depth_pyramid.gpu_ms", median(times));
 }
 
 }  // namespace
@@ -292,6 +324,7 @@ int main(int argc, char** argv) {
   app.add_option("--directions", directions, "directions for the normals.pack error sweep")->capture_default_str();
   app.add_option("--data", data, "shared/data folder with the glTF models")->capture_default_str();
   app.add_flag("--skip-models", skip_models, "only the built-in city");
+  app.add_flag("--json", g_json, "print {\"figures\": {NAME: NUMBER}} on stdout (the tables go to stderr)");
   CLI11_PARSE(app, argc, argv);
   uint32_t width = 1280, height = 720;
   if (std::sscanf(size.c_str(), "%ux%u", &width, &height) != 2 || width == 0 || height == 0) {
@@ -301,19 +334,20 @@ int main(int argc, char** argv) {
   try {
     nc::GpuDevice gpu({device, false});
     nc::PipelineCache cache(gpu);
-    std::cout << "# nightcap benchmark on " << gpu.name() << " (" << gpu.driver() << ")\n";
-    bench_scene(gpu, "built-in city (seed 1)", nc::build_city(1), width, height, int(repeats), true);
+    table() << "# nightcap benchmark on " << gpu.name() << " (" << gpu.driver() << ")\n";
+    bench_scene(gpu, "city", "built-in city (seed 1)", nc::build_city(1), width, height, int(repeats), true);
     if (!skip_models) {
       for (const auto& entry : fs::directory_iterator(fs::path(data) / "gltf")) {
         const fs::path file = entry.path() / "glTF" / (entry.path().filename().string() + ".gltf");
+        const std::string model = entry.path().filename().string();
         if (fs::exists(file))
-          bench_scene(gpu, entry.path().filename().string(), nc::load_gltf(file.string()), width, height, int(repeats),
-                      false);
+          bench_scene(gpu, model, model, nc::load_gltf(file.string()), width, height, int(repeats), false);
       }
     }
     bench_normals(gpu, cache, directions);
     bench_tube_samples(gpu, width / 2, height / 2);
     bench_depth(gpu, cache, width, height);
+    if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";
     return 2;
