@@ -5,14 +5,14 @@ layout(location = 0) in vec2 in_uv;
 layout(location = 0) out vec4 out_ldr;
 
 // Narkowicz's fit of the ACES filmic curve.
-vec3 aces(vec3 x) {
-  return clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
-}
+vec3 aces(vec3 x) { return clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0); }
 
 void main() {
-  vec3 hdr = texelFetch(lit_map, ivec2(gl_FragCoord.xy), 0).rgb;
-  // NaN or negative input must not reach the display: clamp before the curve.
-  hdr = max(hdr * exposure, vec3(0.0));
+  vec3 hdr = texelFetch(lit_map, ivec2(gl_FragCoord.xy), 0).rgb * exposure;
+  // A NaN (or 0 × Inf) must not reach the display. Test before any max() or clamp(): their
+  // result for a NaN operand is undefined, and lavapipe's max() returns the other operand.
   if (any(isnan(hdr))) hdr = vec3(0.0);
-  out_ldr = vec4(aces(hdr), 1.0);  // the R8G8B8A8_SRGB target applies the sRGB encoding
+  // The curve reaches 1 at x ≈ 7.24, so the upper clamp changes nothing but keeps +Inf out of
+  // the Inf/Inf it would otherwise become.
+  out_ldr = vec4(aces(clamp(hdr, 0.0, 16.0)), 1.0);  // the R8G8B8A8_SRGB target applies the sRGB encoding
 }

@@ -1,0 +1,90 @@
+// tonemap against a double-precision reference over every half-float input: colour × exposure,
+// Narkowicz's ACES fit clamped to [0, 1], then the exact sRGB OETF (12.92·x up to 0.0031308,
+// 1.055·x^(1/2.4) − 0.055 above) and rounding to the nearest 8-bit code, which is what the
+// R8G8B8A8_SRGB target stands for. Negative channels give 0; a pixel with a NaN channel (after
+// the exposure, so 0 × Inf counts) is black; +Inf takes the curve's limit, 2.51/2.43, clamped
+// to 1.
+//
+// Bound: |GPU code − 255·OETF(ACES(x))| ≤ 0.67, measured on the continuous value: a correctly
+// rounded encoder would stay within 0.5 plus the float error of the curve (< 10⁻³ code), but
+// lavapipe's is not correctly rounded. Mesa's lp_build_linear_to_srgb evaluates
+// a·x^0.375 + b·x^0.5 + c with fast reciprocal square roots, an approximation its comment puts
+// at ±0.17 codes before rounding to the nearest integer; 0.5 + 0.17 is the bound, so every code
+// is within 1 of the correctly rounded one. The worst case measured here (printed) sits just
+// above the OETF's linear segment, near code 10.6.
+#include <cmath>
+#include <cstring>
+
+#include "passes/core/format.h"
+#include "passes/frame/frame_passes.h"
+#include "tests/unit/gpu_fixture.h"
+
+namespace nightcap::test {
+namespace {
+
+constexpr double BOUND = 0.5 + 0.17;
+
+double aces(double x) {
+  if (std::isinf(x)) return 1.0;
+  return std::clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
+}
+
+double srgb_oetf(double x) { return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055; }
+
+// Every half bit pattern in each channel: rows 0..255 carry pattern i in R, G and B alike;
+// rows 256..511 rotate the patterns between channels, so a channel mix-up shows and a NaN in
+// one channel must black out finite neighbours.
+std::vector<uint16_t> every_half_pattern() {
+  std::vector<uint16_t> texels;
+  for (uint32_t layout = 0; layout < 2; ++layout)
+    for (uint32_t i = 0; i < 65536; ++i) {
+      const uint32_t step = layout ? 21845 : 0;
+      texels.insert(texels.end(), {uint16_t(i), uint16_t(i + step), uint16_t(i + 2 * step), 0x3c00});
+    }
+  return texels;
+}
+
+class Tonemap : public GpuTest, public ::testing::WithParamInterface<double> {};
+
+TEST_P(Tonemap, StaysWithinTheBoundOfTheExactAcesAndSrgbEncoding) {
+  const double exposure = GetParam();
+  const uint32_t width = 256, height = 512;
+  const std::vector<uint16_t> texels = every_half_pattern();
+  std::vector<uint8_t> bytes(texels.size() * 2);
+  std::memcpy(bytes.data(), texels.data(), bytes.size());
+  const IsolatedRun result =
+      run(tonemap_pass(),
+          {{"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height, bytes)}},
+          width, height, {{"exposure", exposure}});
+  const std::vector<uint8_t>& out = *result.outputs.at("final.ldr");
+  ASSERT_EQ(out.size(), size_t(width) * height * 4);
+
+  double worst = 0;
+  size_t off_by_one = 0;
+  for (size_t p = 0; p < size_t(width) * height; ++p) {
+    double x[3];
+    bool any_nan = false;
+    for (int c = 0; c < 3; ++c) {
+      x[c] = double(half_to_float(texels[4 * p + c])) * exposure;
+      any_nan |= std::isnan(x[c]);
+    }
+    ASSERT_EQ(out[4 * p + 3], 255) << "alpha, pixel " << p;
+    for (int c = 0; c < 3; ++c) {
+      const double exact = any_nan ? 0.0 : 255.0 * srgb_oetf(aces(std::max(x[c], 0.0)));
+      const int code = out[4 * p + c];
+      const double error = std::abs(code - exact);
+      worst = std::max(worst, error);
+      off_by_one += code != int(std::lround(exact));
+      ASSERT_LE(error, BOUND) << "pixel " << p << " channel " << c << " input 0x" << std::hex << texels[4 * p + c]
+                              << std::dec << " × " << exposure << ": code " << code << ", exact " << exact;
+    }
+  }
+  std::printf(
+      "tonemap exposure %g: worst %.4f codes from the exact encoding; %zu of %zu channels not the nearest code\n",
+      exposure, worst, off_by_one, size_t(width) * height * 3);
+}
+
+INSTANTIATE_TEST_SUITE_P(, Tonemap, ::testing::Values(1.0, 0.25, 3.7, 1e-3, 1e6, 0.0));
+
+}  // namespace
+}  // namespace nightcap::test
