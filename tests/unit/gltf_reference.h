@@ -483,6 +483,7 @@ class View {
  public:
   View(const Reference& ref, const Camera& camera, uint32_t width, uint32_t height)
       : ref_(ref), rays(camera, width, height), pixels(size_t(width) * height) {
+    bin_triangles();
     for (uint32_t y = 0; y < height; ++y)
       for (uint32_t x = 0; x < width; ++x) pixels[size_t(y) * width + x] = resolve(x + 0.5, y + 0.5);
   }
@@ -548,6 +549,41 @@ class View {
   std::vector<PixelRef> pixels;
 
  private:
+  // Each pixel tests only the triangles whose projected bounds (two pixels wider) reach its
+  // tile, and those crossing the near plane: the models of hundreds of thousands of pixels and
+  // ten thousand triangles would otherwise take minutes.
+  static constexpr uint32_t kTile = 8;
+  size_t tiles_x_ = 0;
+  std::vector<std::vector<int>> tiles_;
+
+  void bin_triangles() {
+    tiles_x_ = (rays.width + kTile - 1) / kTile;
+    const size_t tiles_y = (rays.height + kTile - 1) / kTile;
+    tiles_.assign(tiles_x_ * tiles_y, {});
+    for (size_t i = 0; i < ref_.triangles.size(); ++i) {
+      const RefTriangle& tri = ref_.triangles[i];
+      int in_front = 0;
+      glm::dvec2 lo(INFINITY), hi(-INFINITY);
+      for (const glm::dvec3& p : tri.p) {
+        if (glm::dot(p - rays.eye, rays.forward) < rays.znear) continue;
+        ++in_front;
+        lo = glm::min(lo, rays.pixel_of(p));
+        hi = glm::max(hi, rays.pixel_of(p));
+      }
+      if (in_front == 0) continue;  // every hit would be nearer than znear
+      if (in_front < 3) {
+        lo = glm::dvec2(0.0);
+        hi = glm::dvec2(rays.width, rays.height);
+      }
+      const double x0 = std::max(lo.x - 2, 0.0), y0 = std::max(lo.y - 2, 0.0);
+      const double x1 = std::min(hi.x + 2, rays.width - 1.0), y1 = std::min(hi.y + 2, rays.height - 1.0);
+      if (x0 > x1 || y0 > y1) continue;
+      for (size_t ty = size_t(y0) / kTile; ty <= size_t(y1) / kTile; ++ty)
+        for (size_t tx = size_t(x0) / kTile; tx <= size_t(x1) / kTile; ++tx)
+          tiles_[ty * tiles_x_ + tx].push_back(int(i));
+    }
+  }
+
   PixelRef resolve(double px, double py) const {
     struct Hit {
       double t;
@@ -555,7 +591,7 @@ class View {
     };
     std::vector<Hit> hits;
     const glm::dvec3 d = rays.direction(px, py);
-    for (size_t i = 0; i < ref_.triangles.size(); ++i) {
+    for (int i : tiles_[size_t(py / kTile) * tiles_x_ + size_t(px / kTile)]) {
       const RefTriangle& tri = ref_.triangles[i];
       double t;
       glm::dvec3 b;
