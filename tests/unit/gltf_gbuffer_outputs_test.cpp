@@ -238,5 +238,46 @@ TEST_F(GltfGBufferOutputs, NormalTangentTest) {
   EXPECT_LE(s.sum / s.compared, s.floor_sum / s.compared + 0.005);
 }
 
+// KHR_lights_punctual as load_gltf places it. Bounds: type, range and position exact to 1e-12 m
+// (the loader keeps doubles); colour, intensity and cone angles within one float rounding of
+// the file's doubles (2⁻²⁴ relative); direction (a float) within 1e-6 rad.
+TEST(GltfLights, LightsPunctualLamp) {
+  const std::string path = model_path("LightsPunctualLamp");
+  const Scene scene = load_gltf(path);
+  const Reference ref(path);
+  ASSERT_EQ(ref.lights.size(), 5u);
+  ASSERT_EQ(scene.lights.size(), ref.lights.size());
+  const std::map<std::string, LightType> types = {
+      {"directional", LightType::directional}, {"point", LightType::point}, {"spot", LightType::spot}};
+  auto close = [](double got, double expected) { return std::abs(got - expected) <= 0x1p-24 * std::abs(expected); };
+  double worst_position = 0, worst_direction = 0, worst_relative = 0;
+  for (size_t i = 0; i < ref.lights.size(); ++i) {
+    const RefLight& r = ref.lights[i];
+    const Light& l = scene.lights[i];
+    EXPECT_EQ(l.type, types.at(r.type)) << i;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_TRUE(close(l.color[k], r.color[k])) << "light " << i << " colour " << l.color[k] << " vs " << r.color[k];
+      if (r.color[k] != 0) worst_relative = std::max(worst_relative, std::abs(l.color[k] - r.color[k]) / r.color[k]);
+    }
+    EXPECT_TRUE(close(l.intensity, r.intensity)) << "light " << i << " intensity " << l.intensity;
+    worst_relative = std::max(worst_relative, std::abs(l.intensity - r.intensity) / r.intensity);
+    EXPECT_EQ(l.range, r.range) << i;
+    if (r.type == "spot") {
+      EXPECT_TRUE(close(l.inner_cone, r.inner_cone)) << i;
+      EXPECT_TRUE(close(l.outer_cone, r.outer_cone)) << i;
+    }
+    worst_position = std::max(worst_position, glm::length(l.position - r.position));
+    worst_direction = std::max(worst_direction, glm::radians(angle_degrees(glm::dvec3(l.direction), r.direction)));
+  }
+  // The file has point lights only: cone angles are not exercised here.
+  EXPECT_TRUE(std::all_of(ref.lights.begin(), ref.lights.end(), [](const RefLight& r) { return r.type == "point"; }));
+  std::printf(
+      "LightsPunctualLamp: %zu point lights; worst position %.3g m, direction %.3g rad, colour/intensity %.3g "
+      "relative\n",
+      ref.lights.size(), worst_position, worst_direction, worst_relative);
+  EXPECT_LE(worst_position, 1e-12);
+  EXPECT_LE(worst_direction, 1e-6);
+}
+
 }  // namespace
 }  // namespace nightcap::test

@@ -85,6 +85,15 @@ struct RefTriangle {
   double offset = 0;  // plane: dot(normal, x) = offset
 };
 
+// A KHR_lights_punctual light placed by its node: the spec's defaults filled in, range 0 where
+// the file gives none (infinite).
+struct RefLight {
+  std::string type;
+  glm::dvec3 color{1.0};
+  double intensity = 1.0, range = 0.0, inner_cone = 0.0, outer_cone = M_PI / 4.0;
+  glm::dvec3 position{0.0}, direction{0.0, 0.0, -1.0};  // world; direction: the node's −Z
+};
+
 inline double srgb_decode(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
 inline std::vector<uint8_t> read_bytes(const std::filesystem::path& file) {
@@ -137,6 +146,7 @@ class Reference {
   }
 
   std::vector<RefTriangle> triangles;
+  std::vector<RefLight> lights;  // in the order of a depth-first walk of the default scene
 
  private:
   RefMaterial material(const json& m) {
@@ -276,7 +286,26 @@ class Reference {
     }
     const glm::dmat4 world = parent * local;
     if (node.contains("mesh")) add_mesh(doc_["meshes"][node["mesh"].get<int>()], world);
+    if (node.contains("extensions") && node["extensions"].contains("KHR_lights_punctual"))
+      add_light(node["extensions"]["KHR_lights_punctual"]["light"].get<int>(), world);
     for (int child : node.value("children", std::vector<int>())) visit(child, world);
+  }
+
+  void add_light(int index, const glm::dmat4& world) {
+    const json& l = doc_["extensions"]["KHR_lights_punctual"]["lights"][index];
+    RefLight r;
+    r.type = l["type"];
+    if (l.contains("color"))
+      for (int k = 0; k < 3; ++k) r.color[k] = l["color"][k].get<double>();
+    r.intensity = l.value("intensity", 1.0);
+    r.range = l.value("range", 0.0);
+    if (l.contains("spot")) {
+      r.inner_cone = l["spot"].value("innerConeAngle", 0.0);
+      r.outer_cone = l["spot"].value("outerConeAngle", M_PI / 4.0);
+    }
+    r.position = glm::dvec3(world[3]);
+    r.direction = glm::normalize(-glm::dvec3(world[2]));
+    lights.push_back(r);
   }
 
   void add_mesh(const json& mesh, const glm::dmat4& world) {
