@@ -238,6 +238,58 @@ TEST_F(GltfGBufferOutputs, NormalTangentTest) {
   EXPECT_LE(s.sum / s.compared, s.floor_sum / s.compared + 0.005);
 }
 
+// gbuffer.motion of frame 1 (the camera dollied forward from frame 0's) against the analytic
+// reprojection: the point each pixel-centre ray hits, projected with frame 0's camera.
+// Bound per component: half an ulp of the R16 half float (2⁻¹¹ relative, 2⁻²⁵ in the subnormal
+// range) plus 2⁻¹⁹ for the float evaluation of current − previous uv: both are near 0.5 and
+// come from the float camera-relative position through a float matrix and a division, a few
+// units of 2⁻²⁴ each. Depth precision only moves the point along its ray, which changes the
+// motion by the parallax factor (the dolly over the depth, ~10⁻³) times that error: nothing.
+TEST_F(GltfGBufferOutputs, MotionIsAnalyticReprojection) {
+  const std::string path = model_path("DamagedHelmet");
+  const Scene scene = load_gltf(path);
+  const Reference ref(path);
+  const uint32_t w = 256, h = 256;
+  const Camera previous = orbit_camera(30.0, 70.0, 2.2, glm::dvec3(0.0), 45.0);
+  const GBuffer g = render_gbuffer(*gpu_, scene, previous, w, h, 1);
+  // Frame 1 moved the camera along its view axis only.
+  const glm::dvec3 moved = glm::dvec3(g.camera.world[3] - previous.world[3]);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(g.camera.world[k], previous.world[k]);
+  EXPECT_GT(glm::length(moved), 0.0);
+  EXPECT_LT(glm::length(glm::cross(moved, glm::dvec3(previous.world[2]))), 1e-12 * glm::length(moved));
+
+  const View view(ref, g.camera, w, h);
+  const Rays before(previous, w, h);
+  size_t compared = 0, telling = 0, failures = 0;
+  double worst = 0, worst_excess = 0, largest = 0;
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      if (!view.clean(x, y) || view.at(x, y).state != PixelRef::visible) continue;
+      const glm::dvec3 hit = view.rays.eye + view.rays.direction(x + 0.5, y + 0.5) * view.at(x, y).depth;
+      const glm::dvec2 then = before.pixel_of(hit);
+      // UV units, current − previous, v down like the image rows.
+      const glm::dvec2 expected((x + 0.5 - then.x) / w, (y + 0.5 - then.y) / h);
+      const glm::dvec2 got = g.motion(size_t(y) * w + x);
+      ++compared;
+      // Far above the bound: a wrong sign or camera would show.
+      telling += glm::length(expected) > 1e-4;
+      for (int c = 0; c < 2; ++c) {
+        const double error = std::abs(got[c] - expected[c]);
+        const double half_ulp = std::ldexp(1.0, std::max(std::ilogb(std::abs(expected[c])), -14) - 11);
+        worst = std::max(worst, error);
+        worst_excess = std::max(worst_excess, error - half_ulp);
+        largest = std::max(largest, std::abs(expected[c]));
+        if (error > half_ulp + 0x1p-19 && ++failures <= 8)
+          ADD_FAILURE() << "motion at (" << x << ", " << y << ")[" << c << "]: " << got[c] << ", expected "
+                        << expected[c];
+      }
+    }
+  std::printf("motion: %zu pixels (%zu moving by > 1e-4), largest %.4g; worst error %.3g, %.3g beyond half an ulp\n",
+              compared, telling, largest, worst, worst_excess);
+  EXPECT_GT(compared, 10000u);
+  EXPECT_GT(telling, 5000u);
+}
+
 // KHR_lights_punctual as load_gltf places it. Bounds: type, range and position exact to 1e-12 m
 // (the loader keeps doubles); colour, intensity and cone angles within one float rounding of
 // the file's doubles (2⁻²⁴ relative); direction (a float) within 1e-6 rad.
