@@ -47,7 +47,6 @@ void main() {
   vec3 n = dot(in_normal, in_normal) > 1e-20 ? normalize(in_normal)
                                               : normalize(cross(dFdx(in_position), dFdy(in_position)));
   if (any(isnan(n))) n = vec3(0.0, 0.0, 1.0);
-  if (!gl_FrontFacing) n = -n;
   if (m.textures.z >= 0) {
     vec2 uv = slot_uv(m, 2);
     vec3 t, b;
@@ -55,21 +54,25 @@ void main() {
       t = normalize(in_tangent.xyz - n * dot(n, in_tangent.xyz));
       b = cross(n, t) * (in_tangent.w < 0.0 ? -1.0 : 1.0);
     } else {
-      // No tangents in the asset: derive them from screen-space derivatives of uv.
+      // No tangents in the asset: the face's dP/du from screen-space derivatives, and glTF's
+      // handedness (the bitangent points to -v, the normal texture's +Y), so flat regions get
+      // the frame MikkTSpace gives them.
       vec3 dp1 = dFdx(in_position), dp2 = dFdy(in_position);
       vec2 duv1 = dFdx(uv), duv2 = dFdy(uv);
-      vec3 dp2perp = cross(dp2, n), dp1perp = cross(n, dp1);
-      t = dp2perp * duv1.x + dp1perp * duv2.x;
-      b = dp2perp * duv1.y + dp1perp * duv2.y;
-      float scale = inversesqrt(max(max(dot(t, t), dot(b, b)), 1e-20));
-      t *= scale;
-      b *= scale;
+      float det = duv1.x * duv2.y - duv2.x * duv1.y;
+      vec3 dpdu = (dp1 * duv2.y - dp2 * duv1.y) * sign(det);
+      vec3 dpdv = (dp2 * duv1.x - dp1 * duv2.x) * sign(det);
+      t = dpdu - n * dot(n, dpdu);
+      t = dot(t, t) > 1e-30 ? normalize(t) : vec3(0.0);
+      b = cross(n, t) * (dot(cross(n, t), dpdv) < 0.0 ? 1.0 : -1.0);
     }
     vec3 tn = texture(normal_map, uv).xyz * 2.0 - 1.0;
     tn.xy *= m.pbr.w;
     vec3 mapped = t * tn.x + b * tn.y + n * tn.z;
     if (dot(mapped, mapped) > 1e-12) n = normalize(mapped);
   }
+  // A visible back face has the front's normal reversed, mapped normal included (glTF 3.9.5).
+  if (!gl_FrontFacing) n = -n;
 
   float occlusion = 1.0;
   if (m.textures.w >= 0) occlusion = 1.0 + m.extra.x * (texture(occlusion_map, slot_uv(m, 3)).r - 1.0);

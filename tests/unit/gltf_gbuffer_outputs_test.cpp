@@ -1,0 +1,335 @@
+// gbuffer.normal, gbuffer.motion and gbuffer.material of the Khronos sample models against the
+// independent reference of gltf_reference.h, and KHR_lights_punctual as loaded against the file.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "tests/unit/gltf_reference.h"
+
+namespace nightcap::test {
+namespace {
+
+double angle_degrees(const glm::dvec3& a, const glm::dvec3& b) {
+  return glm::degrees(std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)));
+}
+
+glm::dvec3 interpolate(const glm::dvec3 (&v)[3], const glm::dvec3& b) { return b.x * v[0] + b.y * v[1] + b.z * v[2]; }
+
+// World centres of the normal map's hemispheres (texels tilted by more than 30°), one per
+// 0.2 m cluster, from the triangles whose UV centroid lands on such a texel.
+std::vector<glm::dvec3> bumps(const Reference& ref) {
+  std::vector<glm::dvec3> found;
+  for (const RefTriangle& t : ref.triangles) {
+    const RefMaterial& m = ref.material_of(t);
+    if (m.normal_map.image < 0) continue;
+    const RefImage& image = ref.image(m.normal_map.image);
+    const glm::dvec2 uv =
+        (t.uvs[m.normal_map.texcoord][0] + t.uvs[m.normal_map.texcoord][1] + t.uvs[m.normal_map.texcoord][2]) / 3.0;
+    const uint8_t* texel = image.texel(wrap(int(uv.x * image.width), image.width, kRepeat),
+                                       wrap(int(uv.y * image.height), image.height, kRepeat));
+    if (texel[2] > 127.5 * (1.0 + std::cos(glm::radians(30.0)))) continue;
+    const glm::dvec3 p = (t.p[0] + t.p[1] + t.p[2]) / 3.0;
+    if (std::none_of(found.begin(), found.end(), [&](const glm::dvec3& q) { return glm::length(q - p) < 0.2; }))
+      found.push_back(p);
+  }
+  return found;
+}
+
+class GltfGBufferOutputs : public GpuTest {
+ protected:
+  // Pixels whose normal-map sample lies within this many texels of a texel centre (each axis).
+  static constexpr double kTexelCentre = 0.01;
+  // A2B10G10R10 0.5n+0.5 rounds each component of n by ≤ 1/1023: √3/1023 rad at most.
+  static constexpr double kNormalFormat = 0.097;
+
+  struct NormalStats {
+    size_t compared = 0, telling = 0;
+    double worst = 0, sum = 0, floor_sum = 0, worst_excess = 0;
+    void add(const NormalStats& o) {
+      compared += o.compared;
+      telling += o.telling;
+      worst = std::max(worst, o.worst);
+      worst_excess = std::max(worst_excess, o.worst_excess);
+      sum += o.sum;
+      floor_sum += o.floor_sum;
+    }
+  };
+
+  // The tangent frame of a triangle without TANGENT, where the specification's MikkTSpace has
+  // only one answer: every triangle sharing a corner position with it has the same vertex
+  // normals at those corners, the same tangent direction dP/du and the same handedness. Then
+  // MikkTSpace's per-corner average is that common tangent, whatever its weights and welding.
+  struct FaceFrame {
+    bool unambiguous = false;
+    glm::dvec3 tangent{0.0};
+    double w = 1.0;
+  };
+
+  static std::vector<FaceFrame> face_frames(const Reference& ref) {
+    std::vector<FaceFrame> frames(ref.triangles.size());
+    std::vector<glm::dvec3> dpdu(ref.triangles.size()), dpdv(ref.triangles.size());
+    std::map<std::tuple<double, double, double>, std::vector<size_t>> at_position;
+    for (size_t i = 0; i < ref.triangles.size(); ++i) {
+      const RefTriangle& t = ref.triangles[i];
+      const int set = ref.material_of(t).normal_map.texcoord;
+      const glm::dvec3 e1 = t.p[1] - t.p[0], e2 = t.p[2] - t.p[0];
+      const glm::dvec2 d1 = t.uvs[set][1] - t.uvs[set][0], d2 = t.uvs[set][2] - t.uvs[set][0];
+      const double det = d1.x * d2.y - d1.y * d2.x;
+      if (std::abs(det) < 1e-14) continue;
+      dpdu[i] = (e1 * d2.y - e2 * d1.y) / det;
+      dpdv[i] = (e2 * d1.x - e1 * d2.x) / det;
+      frames[i].tangent = glm::normalize(dpdu[i]);
+      // glTF's bitangent points to −v (the image's "up", +Y of the normal texture): the
+      // convention of every TANGENT in NormalTangentMirrorTest, checked in NormalTangentMirror.
+      frames[i].w = glm::dot(glm::cross(t.normal, dpdu[i]), dpdv[i]) < 0 ? 1.0 : -1.0;
+      for (const glm::dvec3& p : t.p) at_position[{p.x, p.y, p.z}].push_back(i);
+    }
+    for (size_t i = 0; i < ref.triangles.size(); ++i) {
+      const RefTriangle& t = ref.triangles[i];
+      if (frames[i].tangent == glm::dvec3(0.0)) continue;
+      bool same = true;
+      for (int c = 0; c < 3 && same; ++c)
+        for (size_t j : at_position[{t.p[c].x, t.p[c].y, t.p[c].z}]) {
+          const RefTriangle& o = ref.triangles[j];
+          same = same && frames[j].w == frames[i].w && glm::dot(frames[j].tangent, frames[i].tangent) > 1 - 1e-12;
+          for (int k = 0; k < 3; ++k)
+            same = same && glm::dot(glm::normalize(o.n[k]), glm::normalize(t.n[0])) > 1 - 1e-12;
+        }
+      frames[i].unambiguous = same;
+    }
+    return frames;
+  }
+
+  // gbuffer.normal at the pixels whose normal-map UV lands within `eps` texels of a texel centre
+  // of mip 0 in magnification (λ < −1, clear of LOD approximations).
+  static NormalStats compare_normals(const Reference& ref, const View& view, const GBuffer& g,
+                                     const std::vector<FaceFrame>* frames) {
+    NormalStats s;
+    size_t failures = 0;
+    for (uint32_t y = 0; y < g.height; ++y)
+      for (uint32_t x = 0; x < g.width; ++x) {
+        if (!view.clean(x, y) || view.at(x, y).state != PixelRef::visible) continue;
+        const PixelRef& p = view.at(x, y);
+        const RefTriangle& tri = view.triangle(p);
+        const RefMaterial& m = view.material(p);
+        if (m.normal_map.image < 0) continue;
+        const RefImage& image = ref.image(m.normal_map.image);
+        const Footprint f = view.footprint(p.tri, x, y, m.normal_map.texcoord);
+        const glm::dvec2 size(image.width, image.height);
+        if (std::max(glm::length(f.dx * size), glm::length(f.dy * size)) > 0.5) continue;
+        const glm::dvec2 st = f.uv * size - 0.5, centre = glm::round(st);
+        if (std::max(std::abs(st.x - centre.x), std::abs(st.y - centre.y)) > kTexelCentre) continue;
+        auto decoded = [&](int dx, int dy) {
+          const uint8_t* texel = image.texel(wrap(int(centre.x) + dx, image.width, m.normal_map.sampler.wrap_s),
+                                             wrap(int(centre.y) + dy, image.height, m.normal_map.sampler.wrap_t));
+          return glm::dvec3(texel[0], texel[1], texel[2]) / 255.0 * 2.0 - 1.0;
+        };
+        glm::dvec3 tn = decoded(0, 0);
+        // Off the centre by δ, a filter gives the other texels a total weight ≤ |δx| + |δy|.
+        double reach = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) reach = std::max(reach, glm::length(decoded(dx, dy) - tn));
+        const double allowance = glm::degrees((std::abs(st.x - centre.x) + std::abs(st.y - centre.y)) * reach /
+                                              glm::length(tn) * std::max(1.0, m.normal_map.scale));
+        tn.x *= m.normal_map.scale;
+        tn.y *= m.normal_map.scale;
+
+        double t;
+        glm::dvec3 b;
+        const glm::dvec3 d = view.rays.direction(x + 0.5, y + 0.5);
+        plane_hit(tri, view.rays.eye, d, t, b);
+        const glm::dvec3 n = glm::normalize(interpolate(tri.n, b));
+        glm::dvec3 tangent;
+        double w;
+        if (frames) {
+          const FaceFrame& frame = (*frames)[p.tri];
+          if (!frame.unambiguous) continue;
+          tangent = frame.tangent;
+          w = frame.w;
+        } else {
+          if (tri.tangent[0].w != tri.tangent[1].w || tri.tangent[0].w != tri.tangent[2].w) continue;
+          const glm::dvec3 ts[3] = {glm::dvec3(tri.tangent[0]), glm::dvec3(tri.tangent[1]), glm::dvec3(tri.tangent[2])};
+          tangent = interpolate(ts, b);
+          w = tri.tangent[0].w < 0 ? -1.0 : 1.0;
+        }
+        // TBN as the specification builds it: bitangent = cross(normal, tangent) · w.
+        const glm::dvec3 T = glm::normalize(tangent - n * glm::dot(n, tangent));
+        const glm::dvec3 B = glm::cross(n, T) * w;
+        glm::dvec3 expected = glm::normalize(T * tn.x + B * tn.y + n * tn.z);
+        // A visible back face has its normal reversed (glTF 2.0, 3.9.5 double-sided).
+        if (glm::dot(tri.normal, d) > 0) expected = -expected;
+
+        const double error = angle_degrees(g.normal_vector(size_t(y) * g.width + x), expected);
+        // The format's floor here: the expected direction rounded to the nearest 10-bit codes.
+        const glm::dvec3 rounded = glm::round((expected * 0.5 + 0.5) * 1023.0) / 1023.0 * 2.0 - 1.0;
+        ++s.compared;
+        s.telling += std::hypot(tn.x, tn.y) > 0.1;
+        s.sum += error;
+        s.floor_sum += angle_degrees(rounded, expected);
+        s.worst = std::max(s.worst, error);
+        s.worst_excess = std::max(s.worst_excess, error - allowance);
+        if (error > kNormalFormat + allowance && ++failures <= 8)
+          ADD_FAILURE() << "normal at (" << x << ", " << y << ") off by " << error << "° (allowed " << kNormalFormat
+                        << " + " << allowance << "), map texel " << tn.x << " " << tn.y << " " << tn.z;
+      }
+    return s;
+  }
+
+  // Close-ups (~2.6 pixels per texel) of six of the normal map's hemispheres, three on each side of
+  // the model's mirror line, from above and from the side.
+  static NormalStats close_ups(GpuDevice& gpu, const std::string& name, bool derived_frames) {
+    const std::string path = model_path(name);
+    const Scene scene = load_gltf(path);
+    const Reference ref(path);
+    const std::vector<FaceFrame> frames = face_frames(ref);
+    std::vector<glm::dvec3> targets = bumps(ref);
+    std::sort(targets.begin(), targets.end(), [](const glm::dvec3& a, const glm::dvec3& b) { return a.x < b.x; });
+    EXPECT_GE(targets.size(), 6u);
+    NormalStats total;
+    for (size_t k : {size_t(0), size_t(1), size_t(2), targets.size() - 3, targets.size() - 2, targets.size() - 1}) {
+      const Camera camera = orbit_camera(k % 2 ? 25.0 : -25.0, 75.0, 0.22, targets[k], 45.0);
+      const View view(ref, camera, 512, 512);
+      const GBuffer g = render_gbuffer(gpu, scene, camera, 512, 512);
+      total.add(compare_normals(ref, view, g, derived_frames ? &frames : nullptr));
+    }
+    std::printf(
+        "%s: %zu pixels within %.2f texel of a texel centre (%zu with the map tilted by > 0.1), worst %.4f° "
+        "(worst beyond the filter's reach %.4f°), mean %.4f°; the 10-bit format's own floor there: mean %.4f°\n",
+        name.c_str(), total.compared, kTexelCentre, total.telling, total.worst, total.worst_excess,
+        total.sum / std::max<size_t>(total.compared, 1), total.floor_sum / std::max<size_t>(total.compared, 1));
+    return total;
+  }
+};
+
+// TANGENT given, with mirrored UVs on one side (w = −1 there).
+TEST_F(GltfGBufferOutputs, NormalTangentMirrorTest) {
+  // The data's handedness: cross(normal, tangent)·w points to −v at every corner, the convention
+  // face_frames() applies to models without TANGENT.
+  const Reference ref(model_path("NormalTangentMirrorTest"));
+  size_t corners = 0, agreeing = 0;
+  for (const RefTriangle& t : ref.triangles) {
+    const glm::dvec3 e1 = t.p[1] - t.p[0], e2 = t.p[2] - t.p[0];
+    const glm::dvec2 d1 = t.uvs[0][1] - t.uvs[0][0], d2 = t.uvs[0][2] - t.uvs[0][0];
+    const double det = d1.x * d2.y - d1.y * d2.x;
+    if (std::abs(det) < 1e-14) continue;
+    const glm::dvec3 dpdv = (e2 * d1.x - e1 * d2.x) / det;
+    for (int c = 0; c < 3; ++c, ++corners)
+      agreeing += glm::dot(glm::cross(t.n[c], glm::dvec3(t.tangent[c])) * t.tangent[c].w, dpdv) < 0;
+  }
+  EXPECT_EQ(agreeing, corners);
+
+  // Bound: the format's √3/1023 rad (0.097°) per pixel, plus the filter's reach off the texel
+  // centre; on average no more than 0.005° beyond the format's own rounding of the expected
+  // direction at the same pixels (which the 8-bit map's directions make larger than the 0.043°
+  // of uniformly spread directions).
+  const NormalStats s = close_ups(*gpu_, "NormalTangentMirrorTest", false);
+  EXPECT_GT(s.telling, 200u);
+  EXPECT_LE(s.worst_excess, kNormalFormat);
+  EXPECT_LE(s.sum / s.compared, s.floor_sum / s.compared + 0.005);
+}
+
+// No TANGENT: the frame glTF asks for (MikkTSpace), where it is unambiguous.
+TEST_F(GltfGBufferOutputs, NormalTangentTest) {
+  // Bound as in NormalTangentMirrorTest.
+  const NormalStats s = close_ups(*gpu_, "NormalTangentTest", true);
+  EXPECT_GT(s.telling, 200u);
+  EXPECT_LE(s.worst_excess, kNormalFormat);
+  EXPECT_LE(s.sum / s.compared, s.floor_sum / s.compared + 0.005);
+}
+
+// gbuffer.motion of frame 1 (the camera dollied forward from frame 0's) against the analytic
+// reprojection: the point each pixel-centre ray hits, projected with frame 0's camera.
+// Bound per component: half an ulp of the R16 half float (2⁻¹¹ relative, 2⁻²⁵ in the subnormal
+// range) plus 2⁻¹⁹ for the float evaluation of current − previous uv: both are near 0.5 and
+// come from the float camera-relative position through a float matrix and a division, a few
+// units of 2⁻²⁴ each. Depth precision only moves the point along its ray, which changes the
+// motion by the parallax factor (the dolly over the depth, ~10⁻³) times that error: nothing.
+TEST_F(GltfGBufferOutputs, MotionIsAnalyticReprojection) {
+  const std::string path = model_path("DamagedHelmet");
+  const Scene scene = load_gltf(path);
+  const Reference ref(path);
+  const uint32_t w = 256, h = 256;
+  const Camera previous = orbit_camera(30.0, 70.0, 2.2, glm::dvec3(0.0), 45.0);
+  const GBuffer g = render_gbuffer(*gpu_, scene, previous, w, h, 1);
+  // Frame 1 moved the camera along its view axis only.
+  const glm::dvec3 moved = glm::dvec3(g.camera.world[3] - previous.world[3]);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(g.camera.world[k], previous.world[k]);
+  EXPECT_GT(glm::length(moved), 0.0);
+  EXPECT_LT(glm::length(glm::cross(moved, glm::dvec3(previous.world[2]))), 1e-12 * glm::length(moved));
+
+  const View view(ref, g.camera, w, h);
+  const Rays before(previous, w, h);
+  size_t compared = 0, telling = 0, failures = 0;
+  double worst = 0, worst_excess = 0, largest = 0;
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      if (!view.clean(x, y) || view.at(x, y).state != PixelRef::visible) continue;
+      const glm::dvec3 hit = view.rays.eye + view.rays.direction(x + 0.5, y + 0.5) * view.at(x, y).depth;
+      const glm::dvec2 then = before.pixel_of(hit);
+      // UV units, current − previous, v down like the image rows.
+      const glm::dvec2 expected((x + 0.5 - then.x) / w, (y + 0.5 - then.y) / h);
+      const glm::dvec2 got = g.motion(size_t(y) * w + x);
+      ++compared;
+      // Far above the bound: a wrong sign or camera would show.
+      telling += glm::length(expected) > 1e-4;
+      for (int c = 0; c < 2; ++c) {
+        const double error = std::abs(got[c] - expected[c]);
+        const double half_ulp = std::ldexp(1.0, std::max(std::ilogb(std::abs(expected[c])), -14) - 11);
+        worst = std::max(worst, error);
+        worst_excess = std::max(worst_excess, error - half_ulp);
+        largest = std::max(largest, std::abs(expected[c]));
+        if (error > half_ulp + 0x1p-19 && ++failures <= 8)
+          ADD_FAILURE() << "motion at (" << x << ", " << y << ")[" << c << "]: " << got[c] << ", expected "
+                        << expected[c];
+      }
+    }
+  std::printf("motion: %zu pixels (%zu moving by > 1e-4), largest %.4g; worst error %.3g, %.3g beyond half an ulp\n",
+              compared, telling, largest, worst, worst_excess);
+  EXPECT_GT(compared, 10000u);
+  EXPECT_GT(telling, 5000u);
+}
+
+// KHR_lights_punctual as load_gltf places it. Bounds: type, range and position exact to 1e-12 m
+// (the loader keeps doubles); colour, intensity and cone angles within one float rounding of
+// the file's doubles (2⁻²⁴ relative); direction (a float) within 1e-6 rad.
+TEST(GltfLights, LightsPunctualLamp) {
+  const std::string path = model_path("LightsPunctualLamp");
+  const Scene scene = load_gltf(path);
+  const Reference ref(path);
+  ASSERT_EQ(ref.lights.size(), 5u);
+  ASSERT_EQ(scene.lights.size(), ref.lights.size());
+  const std::map<std::string, LightType> types = {
+      {"directional", LightType::directional}, {"point", LightType::point}, {"spot", LightType::spot}};
+  auto close = [](double got, double expected) { return std::abs(got - expected) <= 0x1p-24 * std::abs(expected); };
+  double worst_position = 0, worst_direction = 0, worst_relative = 0;
+  for (size_t i = 0; i < ref.lights.size(); ++i) {
+    const RefLight& r = ref.lights[i];
+    const Light& l = scene.lights[i];
+    EXPECT_EQ(l.type, types.at(r.type)) << i;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_TRUE(close(l.color[k], r.color[k])) << "light " << i << " colour " << l.color[k] << " vs " << r.color[k];
+      if (r.color[k] != 0) worst_relative = std::max(worst_relative, std::abs(l.color[k] - r.color[k]) / r.color[k]);
+    }
+    EXPECT_TRUE(close(l.intensity, r.intensity)) << "light " << i << " intensity " << l.intensity;
+    worst_relative = std::max(worst_relative, std::abs(l.intensity - r.intensity) / r.intensity);
+    EXPECT_EQ(l.range, r.range) << i;
+    if (r.type == "spot") {
+      EXPECT_TRUE(close(l.inner_cone, r.inner_cone)) << i;
+      EXPECT_TRUE(close(l.outer_cone, r.outer_cone)) << i;
+    }
+    worst_position = std::max(worst_position, glm::length(l.position - r.position));
+    worst_direction = std::max(worst_direction, glm::radians(angle_degrees(glm::dvec3(l.direction), r.direction)));
+  }
+  // The file has point lights only: cone angles are not exercised here.
+  EXPECT_TRUE(std::all_of(ref.lights.begin(), ref.lights.end(), [](const RefLight& r) { return r.type == "point"; }));
+  std::printf(
+      "LightsPunctualLamp: %zu point lights; worst position %.3g m, direction %.3g rad, colour/intensity %.3g "
+      "relative\n",
+      ref.lights.size(), worst_position, worst_direction, worst_relative);
+  EXPECT_LE(worst_position, 1e-12);
+  EXPECT_LE(worst_direction, 1e-6);
+}
+
+}  // namespace
+}  // namespace nightcap::test
