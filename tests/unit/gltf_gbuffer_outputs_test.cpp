@@ -1,8 +1,10 @@
-// gbuffer.normal, gbuffer.motion and gbuffer.material of the Khronos sample models against the
-// independent reference of gltf_reference.h, and KHR_lights_punctual as loaded against the file.
+// gbuffer.normal, gbuffer.motion, gbuffer.material (metalness, roughness) and the occlusion in
+// gbuffer.albedo of the Khronos sample models against the independent reference of
+// gltf_reference.h, and KHR_lights_punctual as loaded against the file.
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "tests/unit/gltf_reference.h"
@@ -288,6 +290,270 @@ TEST_F(GltfGBufferOutputs, MotionIsAnalyticReprojection) {
               compared, telling, largest, worst, worst_excess);
   EXPECT_GT(compared, 10000u);
   EXPECT_GT(telling, 5000u);
+}
+
+// What a test changes in the Scene and, identically, in the prediction: the metallic and
+// roughness factors and the occlusion strength of every material, and the base colour texture
+// dropped (the base colour is then the factor, so occlusion is predictable wherever its own
+// map is locally constant).
+struct MaterialOverride {
+  double metallic, roughness, strength;
+};
+
+Scene overridden(Scene scene, const MaterialOverride& o) {
+  for (Material& m : scene.materials) {
+    m.metallic = float(o.metallic);
+    m.roughness = float(o.roughness);
+    m.occlusion_texture.scale = float(o.strength);
+    m.base_color_texture.texture = -1;
+  }
+  return scene;
+}
+
+// Close-up cameras on patches of `map` that are constant over `channels` within the narrowest
+// window (3 texels) with a texel `wanted` accepts: texels on a 4-texel grid, placed on the
+// surface through a triangle whose UV triangle holds them, one per 5 cm cluster, `count` of
+// them spread over the list, each seen along its face normal from `distance`.
+std::vector<Camera> patches(const Reference& ref, RefTexture RefMaterial::*map, uint32_t channels,
+                            bool (*wanted)(const uint8_t*), size_t count, double distance) {
+  std::vector<std::pair<glm::dvec3, glm::dvec3>> found;
+  std::set<int> scanned;
+  for (const RefMaterial& m : ref.materials()) {
+    const RefTexture& texture = m.*map;
+    if (texture.image < 0 || !scanned.insert(texture.image).second) continue;
+    const RefImage& image = ref.image(texture.image);
+    std::vector<glm::dvec2> candidates;
+    for (int ty = 0; ty < image.height; ty += 4)
+      for (int tx = 0; tx < image.width; tx += 4) {
+        const glm::dvec2 uv((tx + 0.5) / image.width, (ty + 0.5) / image.height);
+        const Window w = window(image, texture.sampler.wrap_s, texture.sampler.wrap_t, uv, 3.0, false, channels);
+        if (w.constant && wanted(image.texel(tx, ty))) candidates.push_back(uv);
+      }
+    // At most 64 of them, evenly spaced: each costs a pass over the triangles.
+    for (size_t k = 0; k < std::min<size_t>(candidates.size(), 64); ++k) {
+      const glm::dvec2 uv = candidates[k * candidates.size() / std::min<size_t>(candidates.size(), 64)];
+      for (const RefTriangle& t : ref.triangles) {
+        if ((ref.material_of(t).*map).image != texture.image) continue;
+        const glm::dvec2* v = t.uvs[texture.texcoord];
+        const glm::dvec2 e1 = v[1] - v[0], e2 = v[2] - v[0];
+        // Repeat wraps: DamagedHelmet's v runs from 1 to 2.
+        const glm::dvec2 d = uv + glm::floor(v[0]) - v[0];
+        const double det = e1.x * e2.y - e1.y * e2.x;
+        if (std::abs(det) < 1e-14) continue;
+        const double b1 = (d.x * e2.y - d.y * e2.x) / det, b2 = (e1.x * d.y - e1.y * d.x) / det;
+        if (b1 < 0 || b2 < 0 || b1 + b2 > 1) continue;
+        const glm::dvec3 p = t.p[0] + b1 * (t.p[1] - t.p[0]) + b2 * (t.p[2] - t.p[0]);
+        if (std::none_of(found.begin(), found.end(), [&](const auto& q) { return glm::length(q.first - p) < 0.05; }))
+          found.push_back({p, t.normal});
+        break;
+      }
+    }
+  }
+  std::vector<Camera> cameras;
+  for (size_t k = 0; k < count && k < found.size(); ++k) {
+    const auto& [p, n] = found[k * found.size() / count];
+    const double phi = std::clamp(glm::degrees(std::acos(std::clamp(n.y, -1.0, 1.0))), 10.0, 170.0);
+    cameras.push_back(orbit_camera(glm::degrees(std::atan2(n.x, n.z)), phi, distance, p, 45.0));
+  }
+  return cameras;
+}
+
+struct MaterialStats {
+  size_t metal_rough = 0;        // pixels whose metalness and roughness are predicted
+  size_t textured = 0;           // … of them through the metal-rough texture
+  size_t texture_telling = 0;    // … where the factors alone would be off by > 2 codes
+  size_t channels_telling = 0;   // … where metalness and roughness differ by > 2 codes
+  size_t occlusion = 0;          // pixels whose occluded albedo is predicted
+  size_t occlusion_telling = 0;  // … where ignoring occlusion would be off by > 4 codes
+  size_t strength_telling = 0;   // … where strength 1 instead of the material's would be
+  double worst_metal = 0, worst_rough = 0, worst_albedo = 0;
+  void add(const MaterialStats& o) {
+    metal_rough += o.metal_rough;
+    textured += o.textured;
+    texture_telling += o.texture_telling;
+    channels_telling += o.channels_telling;
+    occlusion += o.occlusion;
+    occlusion_telling += o.occlusion_telling;
+    strength_telling += o.strength_telling;
+    worst_metal = std::max(worst_metal, o.worst_metal);
+    worst_rough = std::max(worst_rough, o.worst_rough);
+    worst_albedo = std::max(worst_albedo, o.worst_albedo);
+  }
+  void print(const char* what) const {
+    std::printf(
+        "%s: metal/rough at %zu pixels (%zu through the texture, %zu where the factors alone would be off by > 2 "
+        "codes, %zu where swapped channels would be), worst metalness %.3f codes, roughness %.3f codes; occlusion "
+        "at %zu pixels (%zu where ignoring it would be off by > 4 codes, %zu where strength 1 would be), worst "
+        "albedo %.3f codes\n",
+        what, metal_rough, textured, texture_telling, channels_telling, worst_metal, worst_rough, occlusion,
+        occlusion_telling, strength_telling, worst_albedo);
+  }
+};
+
+// One 8-bit code of gbuffer.material; the albedo tolerance of gltf_gbuffer_test.cpp.
+constexpr double kMaterialCodes = 1.0;
+constexpr double kAlbedoCodes = 2.0;
+
+// gbuffer.material.rg and the occlusion-darkened gbuffer.albedo at every clean pixel where the
+// textures involved are locally constant (window() of gltf_reference.h, over the channels the
+// shader reads). Non-colour textures are used as stored: no sRGB decode (glTF 2.0, 3.9.3/3.9.4).
+MaterialStats compare_material(const Reference& ref, const View& view, const GBuffer& g,
+                               const std::optional<MaterialOverride>& o) {
+  MaterialStats s;
+  size_t failures = 0;
+  for (uint32_t y = 0; y < g.height; ++y)
+    for (uint32_t x = 0; x < g.width; ++x) {
+      if (!view.clean(x, y) || view.at(x, y).state != PixelRef::visible) continue;
+      const PixelRef& p = view.at(x, y);
+      RefMaterial m = view.material(p);
+      if (o) {
+        m.metallic = o->metallic;
+        m.roughness = o->roughness;
+        m.occlusion_map.scale = o->strength;
+      }
+      const size_t i = size_t(y) * g.width + x;
+
+      // glTF: roughness = roughnessFactor · G, metalness = metallicFactor · B.
+      double metal = m.metallic, rough = m.roughness;
+      bool predicted = true;
+      if (m.metal_rough.image >= 0) {
+        const RefImage& image = ref.image(m.metal_rough.image);
+        const RefSampler& sampler = m.metal_rough.sampler;
+        const Footprint f = view.footprint(p.tri, x, y, m.metal_rough.texcoord);
+        // G and B only: R is not read, and JPEG noise in it must not hide constant G and B.
+        const Window w =
+            window(image, sampler.wrap_s, sampler.wrap_t, f.uv, window_radius(image, sampler, f), false, 0x00ffff00u);
+        predicted = w.constant;
+        rough *= w.unorm.g;
+        metal *= w.unorm.b;
+      }
+      if (predicted) {
+        const double expected_metal = std::clamp(metal, 0.0, 1.0) * 255.0;
+        const double expected_rough = std::clamp(rough, 0.0, 1.0) * 255.0;
+        const double error_metal = std::abs(g.material[i * 4] - expected_metal);
+        const double error_rough = std::abs(g.material[i * 4 + 1] - expected_rough);
+        ++s.metal_rough;
+        if (m.metal_rough.image >= 0) {
+          ++s.textured;
+          s.texture_telling +=
+              std::max(std::abs(std::clamp(m.metallic, 0.0, 1.0) * 255.0 - expected_metal),
+                       std::abs(std::clamp(m.roughness, 0.0, 1.0) * 255.0 - expected_rough)) > 2 * kMaterialCodes;
+        }
+        s.channels_telling += std::abs(expected_metal - expected_rough) > 2 * kMaterialCodes;
+        s.worst_metal = std::max(s.worst_metal, error_metal);
+        s.worst_rough = std::max(s.worst_rough, error_rough);
+        if (std::max(error_metal, error_rough) > kMaterialCodes && ++failures <= 8)
+          ADD_FAILURE() << m.name << " at (" << x << ", " << y << "): metalness " << int(g.material[i * 4])
+                        << ", roughness " << int(g.material[i * 4 + 1]) << " codes; predicted " << expected_metal
+                        << ", " << expected_rough;
+      }
+
+      // Occlusion multiplies the albedo of lit materials (KHR_materials_unlit ignores it):
+      // 1 + strength · (R − 1), glTF 2.0's occlusionTexture.strength.
+      if (m.occlusion_map.image < 0 || m.unlit) continue;
+      const auto base = o ? std::optional(m.factor * view.footprint(p.tri, x, y).color) : view.base_color(p.tri, x, y);
+      if (!base) continue;
+      const RefImage& image = ref.image(m.occlusion_map.image);
+      const RefSampler& sampler = m.occlusion_map.sampler;
+      const Footprint f = view.footprint(p.tri, x, y, m.occlusion_map.texcoord);
+      const Window w =
+          window(image, sampler.wrap_s, sampler.wrap_t, f.uv, window_radius(image, sampler, f), false, 0x000000ffu);
+      if (!w.constant) continue;
+      const double occlusion = 1.0 + m.occlusion_map.scale * (w.unorm.r - 1.0);
+      const glm::dvec3 got = g.albedo_codes(i);
+      double error = 0, unoccluded = 0, full_strength = 0;
+      glm::dvec3 expected;
+      for (int c = 0; c < 3; ++c) {
+        expected[c] = std::clamp((*base)[c] * occlusion, 0.0, 1.0) * 1023.0;
+        error = std::max(error, std::abs(got[c] - expected[c]));
+        unoccluded = std::max(unoccluded, std::abs(std::clamp((*base)[c], 0.0, 1.0) * 1023.0 - expected[c]));
+        full_strength =
+            std::max(full_strength, std::abs(std::clamp((*base)[c] * w.unorm.r, 0.0, 1.0) * 1023.0 - expected[c]));
+      }
+      ++s.occlusion;
+      s.occlusion_telling += unoccluded > 2 * kAlbedoCodes;
+      s.strength_telling += full_strength > 2 * kAlbedoCodes;
+      s.worst_albedo = std::max(s.worst_albedo, error);
+      if (error > kAlbedoCodes && ++failures <= 8)
+        ADD_FAILURE() << m.name << " at (" << x << ", " << y << "): albedo codes " << got.r << " " << got.g << " "
+                      << got.b << ", predicted " << expected.r << " " << expected.g << " " << expected.b
+                      << " (occlusion " << occlusion << ")";
+    }
+  return s;
+}
+
+// gbuffer.material.r (metalness) and .g (roughness) against metallicFactor · B and
+// roughnessFactor · G of the metal-rough texture, and gbuffer.albedo against base colour ×
+// (1 + strength · (occlusion R − 1)), at clean pixels where every texture involved is locally
+// constant over the channels the shader reads (the window of gltf_gbuffer_test.cpp).
+// Bounds: metalness and roughness within one 8-bit code (half a code of UNORM rounding; the
+// texel, exact through the 8-bit mip chain of a constant window, times a float factor adds
+// nothing near another half); albedo within gltf_gbuffer_test.cpp's 2 ten-bit codes (rounding,
+// lavapipe's cubic sRGB decode of the base colour, float products).
+// DamagedHelmet as the file has it (factors 1, strength 1), then with factors 0.6 and 0.35,
+// strength 0.5 and no base colour texture, so the products and the strength formula tell: the
+// JPEG base colour is practically never constant where the JPEG occlusion is constant and below
+// 1, so with the file's base colour occlusion is only checked where predictable (none or few
+// pixels, not required). Close-ups on patches of the maps that are constant. Then EmissiveStrengthTest and UnlitTest,
+// where the factors alone decide (roughness 0.5 and 0.8 with metalness 0; the defaults 1 and 1).
+TEST_F(GltfGBufferOutputs, MetalRoughnessAndOcclusion) {
+  const std::string path = model_path("DamagedHelmet");
+  const Scene scene = load_gltf(path);
+  const Reference ref(path);
+  const MaterialOverride changed{0.6, 0.35, 0.5};
+  const Scene changed_scene = overridden(scene, changed);
+  const std::vector<Camera> metal_rough = patches(
+      ref, &RefMaterial::metal_rough, 0x00ffff00u, [](const uint8_t*) { return true; }, 2, 0.25);
+  // Occluded patches: R well below 255 (most of the map's constant patches are 254 or 255).
+  // They are small: closer cameras put more pixels on them.
+  const std::vector<Camera> occluded = patches(
+      ref, &RefMaterial::occlusion_map, 0x000000ffu, [](const uint8_t* t) { return t[0] < 0xf8; }, 3, 0.06);
+  EXPECT_EQ(metal_rough.size(), 2u);
+  EXPECT_EQ(occluded.size(), 3u);
+  MaterialStats as_file, with_override;
+  for (const Camera& camera : metal_rough) {
+    const View view(ref, camera, 256, 256);
+    as_file.add(compare_material(ref, view, render_gbuffer(*gpu_, scene, camera, 256, 256), std::nullopt));
+    with_override.add(compare_material(ref, view, render_gbuffer(*gpu_, changed_scene, camera, 256, 256), changed));
+  }
+  // The file's base colour texture is almost never constant on these patches: the changed
+  // scene only.
+  for (const Camera& camera : occluded)
+    with_override.add(compare_material(ref, View(ref, camera, 256, 256),
+                                       render_gbuffer(*gpu_, changed_scene, camera, 256, 256), changed));
+  as_file.print("DamagedHelmet");
+  with_override.print("DamagedHelmet, factors 0.6 / 0.35, strength 0.5, no base colour texture");
+
+  MaterialStats factors;
+  {
+    const std::string emissive = model_path("EmissiveStrengthTest");
+    const Reference r(emissive);
+    const Camera camera = orbit_camera(0.0, 80.0, 12.0, glm::dvec3(0.0), 45.0);
+    factors.add(compare_material(r, View(r, camera, 512, 256),
+                                 render_gbuffer(*gpu_, load_gltf(emissive), camera, 512, 256), std::nullopt));
+  }
+  {
+    const std::string unlit = model_path("UnlitTest");
+    const Reference r(unlit);
+    const Camera camera = orbit_camera(20.0, 75.0, 7.0, glm::dvec3(0.0), 45.0);
+    factors.add(compare_material(r, View(r, camera, 256, 256),
+                                 render_gbuffer(*gpu_, load_gltf(unlit), camera, 256, 256), std::nullopt));
+  }
+  factors.print("EmissiveStrengthTest and UnlitTest (factors only)");
+
+  for (const MaterialStats* s : {&as_file, &with_override, &factors}) {
+    EXPECT_LE(s->worst_metal, kMaterialCodes);
+    EXPECT_LE(s->worst_rough, kMaterialCodes);
+    EXPECT_LE(s->worst_albedo, kAlbedoCodes);
+  }
+  EXPECT_GT(as_file.textured, 1000u);
+  EXPECT_GT(as_file.texture_telling, 500u);
+  EXPECT_GT(as_file.channels_telling, 500u);
+  EXPECT_GT(with_override.occlusion_telling, 100u);
+  EXPECT_GT(with_override.texture_telling, 500u);
+  EXPECT_GT(with_override.strength_telling, 100u);
+  EXPECT_GT(factors.metal_rough, 10000u);
+  EXPECT_GT(factors.channels_telling, 5000u);
 }
 
 // KHR_lights_punctual as load_gltf places it. Bounds: type, range and position exact to 1e-12 m

@@ -441,8 +441,9 @@ struct Footprint {
 };
 
 struct Window {
-  bool constant = true;  // every texel of the window equal (all four channels)
-  glm::dvec4 texel{1.0};
+  bool constant = true;   // every texel of the window equal (all four channels)
+  glm::dvec4 texel{1.0};  // sRGB-decoded RGB (colour textures)
+  glm::dvec4 unorm{1.0};  // the same texel as stored, / 255 (non-colour textures)
   double alpha_min = 1.0, alpha_max = 0.0;
 };
 
@@ -464,7 +465,7 @@ constexpr double kMaxRadius = 40.0;
 inline Window window(const RefImage& image, int wrap_s, int wrap_t, glm::dvec2 uv, double radius, bool alpha_range,
                      uint32_t channels = 0xffffffffu) {
   Window w;
-  if (radius > kMaxRadius) return {false, glm::dvec4(0.0), 0.0, 1.0};
+  if (radius > kMaxRadius) return {false, glm::dvec4(0.0), glm::dvec4(0.0), 0.0, 1.0};
   const double cx = uv.x * image.width - 0.5, cy = uv.y * image.height - 0.5;
   // Wrapped once per row and column rather than per texel: this loop dominates the test's time.
   std::vector<int> xs, ys;
@@ -493,6 +494,7 @@ inline Window window(const RefImage& image, int wrap_s, int wrap_t, glm::dvec2 u
   w.alpha_min = alpha_lo / 255.0;
   w.alpha_max = alpha_hi / 255.0;
   w.texel = decode(first);
+  w.unorm = glm::dvec4(first[0], first[1], first[2], first[3]) / 255.0;
   return w;
 }
 
