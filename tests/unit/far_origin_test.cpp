@@ -42,8 +42,10 @@ TEST_F(FarFromOrigin, EightKilometresOutEveryGBufferTargetIsBitIdentical) {
   settings.width = 320;
   settings.height = 180;
   Renderer near_renderer(*gpu_, near, settings), far_renderer(*gpu_, far, settings);
-  const auto a = outputs(near_renderer.render_frame(1, true), "gbuffer.opaque");
-  const auto b = outputs(far_renderer.render_frame(1, true), "gbuffer.opaque");
+  const RenderedFrame near_frame = near_renderer.render_frame(1, true);
+  const RenderedFrame far_frame = far_renderer.render_frame(1, true);
+  const auto a = outputs(near_frame, "gbuffer.opaque");
+  const auto b = outputs(far_frame, "gbuffer.opaque");
 
   const std::set<std::string> targets = {"gbuffer.albedo",   "gbuffer.normal", "gbuffer.material",
                                          "gbuffer.emissive", "gbuffer.motion", "scene.depth"};
