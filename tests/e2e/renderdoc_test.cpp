@@ -1,9 +1,12 @@
 // Under RenderDoc, `render` makes exactly one frame capture whose labelled regions are the
 // GPU passes that ran, in order. tests/install-deps.sh installs RenderDoc, so under CI (CI=true)
-// a missing tool fails the test; elsewhere it is skipped with a message. In a sanitizer build,
-// RenderDoc's library is preloaded ahead of the AddressSanitizer runtime, which refuses to start
-// unless told not to check the order, and leaks at exit, which tests/sanitizers/renderdoc.supp
-// suppresses for RenderDoc's module alone.
+// a missing tool fails the test; elsewhere it is skipped with a message.
+//
+// Sanitizer builds skip it. renderdoccmd preloads RenderDoc's library ahead of the
+// AddressSanitizer runtime, which then refuses to start ("ASan runtime does not come first");
+// with that check off (ASAN_OPTIONS=verify_asan_link_order=0) the render runs, but renderdoccmd
+// mostly fails to connect to the slow-starting instrumented process ("Couldn't connect to target
+// program", exit 4) and RenderDoc's library leaks 48 KB at exit.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -28,17 +31,13 @@ bool under_ci() {
   }
 
 TEST(RenderDoc, OneCaptureLabelledWithThePassesThatRan) {
+#ifdef NIGHTCAP_SANITIZE_BUILD
+  GTEST_SKIP() << "RenderDoc cannot inject into a sanitizer build (see the comment above)";
+#endif
   REQUIRE_TOOL(std::system("command -v renderdoccmd >/dev/null 2>&1") == 0, "renderdoccmd");
   const fs::path dir = scratch("rdc");
-#ifdef NIGHTCAP_SANITIZE_BUILD
-  const std::string sanitizer_options =
-      "ASAN_OPTIONS=verify_asan_link_order=0 LSAN_OPTIONS=suppressions=" + std::string(NIGHTCAP_SOURCE) +
-      "/tests/sanitizers/renderdoc.supp ";
-#else
-  const std::string sanitizer_options;
-#endif
-  const std::string command = sanitizer_options + "renderdoccmd capture -w -c " + quote(dir / "frame") + " " +
-                              NIGHTCAP_CLI + " render --size 96x54 --frames 2 -o " + quote(dir / "capture") + " >" +
+  const std::string command = "renderdoccmd capture -w -c " + quote(dir / "frame") + " " + NIGHTCAP_CLI +
+                              " render --size 96x54 --frames 2 -o " + quote(dir / "capture") + " >" +
                               quote(dir / "log") + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << "renderdoccmd failed, see " << dir / "log";
   // renderdoccmd's exit code is its own: the render's success shows in its output.
