@@ -1,15 +1,18 @@
-// nightcap: render a scene to a capture, list its passes, replay them, diff two captures.
+// nightcap: render a scene to a capture, list its passes, replay them, diff two captures, draw a
+// frame's graph.
 // Exit codes: 0 success, 1 differences beyond tolerance, 2 bad input or failure.
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 
 #include <csignal>
 #include <cstdlib>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 
 #include "captures/capture.h"
 #include "inspect/diff.h"
+#include "inspect/graph_dot.h"
 #include "passes/core/shader.h"
 #include "passes/frame/renderer.h"
 #include "replay/replay.h"
@@ -239,6 +242,26 @@ int run_diff(const std::string& a, const std::string& b, double tolerance, bool 
   return diff.beyond_tolerance ? kExitDifferent : 0;
 }
 
+int run_graph(const std::string& path, uint32_t frame, const std::string& output) {
+  const nc::Capture capture = nc::Capture::open(path);
+  const nc::FrameRecord* record = nullptr;
+  try {
+    record = &capture.frame(frame);
+  } catch (const nc::CaptureError& e) {
+    throw UsageError("--frame " + std::to_string(frame) + ": " + e.what());
+  }
+  const std::string dot = nc::frame_to_dot(*record);
+  if (output.empty()) {
+    std::cout << dot;
+    return 0;
+  }
+  std::ofstream file(output, std::ios::binary | std::ios::trunc);
+  file << dot;
+  file.close();
+  if (!file) throw UsageError(output + ": cannot write");
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -292,6 +315,15 @@ int main(int argc, char** argv) {
   diff->add_option("--tolerance", tolerance, "max abs difference still accepted (exit 0)")->capture_default_str();
   diff->add_flag("--json", json, "machine-readable output");
 
+  std::string graph_output;
+  bool dot = false;
+  auto* graph = app.add_subcommand("graph", "Draw one frame's render graph: passes and resource versions");
+  graph->add_option("capture", capture_path, "capture folder")->required();
+  graph->add_option("--frame", frame, "frame index")->capture_default_str();
+  // DOT is the only format so far; required so that a later one (--json) can stand beside it.
+  graph->add_flag("--dot", dot, "write Graphviz DOT (render it with e.g. `dot -Tsvg`)")->required();
+  graph->add_option("-o,--output", graph_output, "file to write (default: standard output)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -308,6 +340,7 @@ int main(int argc, char** argv) {
     if (*passes) code = run_passes(capture_path, json);
     if (*replay) code = run_replay(capture_path, frame, pass_names, sets, shaders, device, verify, chain, json);
     if (*diff) code = run_diff(capture_path, capture_b, tolerance, json);
+    if (*graph) code = run_graph(capture_path, frame, graph_output);
   } catch (const std::exception& e) {
     std::cerr << "nightcap: " << e.what() << "\n";
   }

@@ -1,0 +1,142 @@
+#include "inspect/graph_dot.h"
+
+#include <cstdio>
+#include <map>
+#include <sstream>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace nightcap {
+namespace {
+
+// Text for a double-quoted DOT label. Graphviz reads it twice: the DOT lexer, where only \" is
+// special, then the label itself, where a backslash starts an escape (\n, \l, \N, ...) and HTML
+// entities such as &lt; are replaced. Nodes are plain boxes and ellipses, never records, so
+// braces, '|' and '<>' need nothing; nor does the SVG renderer, which escapes its own output.
+std::string escape(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      default:
+        // Other control characters (a reason is free text) are shown, not interpreted.
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+          char hex[8];
+          std::snprintf(hex, sizeof hex, "\\\\x%02x", unsigned(static_cast<unsigned char>(c)));
+          out += hex;
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out;
+}
+
+// A quoted label of several lines, each escaped.
+std::string label(const std::vector<std::string>& lines) {
+  std::string out = "\"";
+  for (size_t i = 0; i < lines.size(); ++i) out += (i ? "\\n" : "") + escape(lines[i]);
+  return out + "\"";
+}
+
+std::string milliseconds(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3f ms", value);
+  return text;
+}
+
+std::string shape_text(const ResourceRecord& r) {
+  if (r.is_buffer) return std::to_string(r.buffer_size) + " bytes";
+  const ImageExtent& e = r.extent;
+  std::string text =
+      std::string(format_info(r.format)->name) + " " + std::to_string(e.width) + "x" + std::to_string(e.height);
+  if (e.depth > 1) text += "x" + std::to_string(e.depth);
+  if (e.mips > 1) text += ", " + std::to_string(e.mips) + " mips";
+  if (e.layers > 1) text += ", " + std::to_string(e.layers) + " layers";
+  return text;
+}
+
+// Node ids are generated (p<pass>, r<version>), never taken from the capture, so only labels
+// carry recorded text.
+class FrameGraph {
+ public:
+  explicit FrameGraph(const FrameRecord& frame) {
+    out_ << "digraph frame_" << frame.index << " {\n"
+         << "  label=" << label({"frame " + std::to_string(frame.index)}) << ";\n  labelloc=t;\n"
+         << "  node [fontname=\"Helvetica\", fontsize=10];\n  edge [color=\"grey30\"];\n";
+    for (size_t i = 0; i < frame.passes.size(); ++i) add_pass(i, frame.passes[i]);
+    out_ << "}\n";
+  }
+
+  std::string dot() const { return out_.str(); }
+
+ private:
+  struct Version {
+    std::string node, hash;
+  };
+
+  void add_pass(size_t index, const PassRecord& pass) {
+    const std::string node = "p" + std::to_string(index);
+    const std::string heading = std::to_string(index) + ". " + pass.name;
+    if (pass.ran) {
+      const std::string time = pass.gpu_ms ? "GPU " + milliseconds(*pass.gpu_ms) : "CPU " + milliseconds(pass.cpu_ms);
+      out_ << "  " << node << " [shape=box, style=\"bold\", label=" << label({heading, "ran, " + time}) << "];\n";
+    } else {
+      out_ << "  " << node << " [shape=box, style=\"dashed\", color=\"grey55\", fontcolor=\"grey40\", label="
+           << label({heading, "skipped: " + pass.reason}) << "];\n";
+    }
+    const std::string edge_style = pass.ran ? "" : " [style=\"dashed\", color=\"grey55\"]";
+    // Inputs first: a pass that reads and writes a resource reads the version before its own.
+    for (const ResourceRecord& input : pass.inputs) {
+      const std::string source = input_source(input);  // may declare the source's node first
+      out_ << "  " << source << " -> " << node << edge_style << ";\n";
+    }
+    for (const ResourceRecord& output : pass.outputs) {
+      const std::string version = add_version(output);
+      out_ << "  " << node << " -> " << version << edge_style << ";\n";
+      written_[output.resource] = {version, output.hash};
+    }
+  }
+
+  std::string add_version(const ResourceRecord& r) {
+    const std::string node = "r" + std::to_string(versions_++);
+    out_ << "  " << node << " [shape=ellipse, label=" << label({r.resource, shape_text(r), "#" + r.hash.substr(0, 8)})
+         << "];\n";
+    return node;
+  }
+
+  // The version an input edge starts from: the latest one written in this frame when the bytes
+  // read are its bytes, otherwise a version this frame did not write (scene data, the camera),
+  // one node per resource and content hash. History edges belong here: once PassRecord marks an
+  // input as read from the previous frame, this returns a node for that frame's version instead.
+  std::string input_source(const ResourceRecord& input) {
+    if (auto it = written_.find(input.resource); it != written_.end() && it->second.hash == input.hash)
+      return it->second.node;
+    auto [it, added] = unwritten_.try_emplace({input.resource, input.hash});
+    if (added) it->second = add_version(input);
+    return it->second;
+  }
+
+  std::ostringstream out_;
+  int versions_ = 0;
+  std::map<std::string, Version> written_;                                // resource -> latest version
+  std::map<std::pair<std::string, std::string>, std::string> unwritten_;  // (resource, hash) -> node
+};
+
+}  // namespace
+
+std::string frame_to_dot(const FrameRecord& frame) { return FrameGraph(frame).dot(); }
+
+}  // namespace nightcap

@@ -1,0 +1,17 @@
+// Graphviz DOT of one recorded frame: its passes in execution order and every version of every
+// resource they read or write, so the data flow of a capture can be looked at (`dot -Tsvg`).
+#pragma once
+
+#include <string>
+
+#include "captures/capture.h"
+
+namespace nightcap {
+
+// One node per pass (name, status, GPU or CPU time; skipped and culled ones dashed and grey with
+// their reason) and one per resource version (name, format and size or buffer bytes, content
+// hash), with edges writer → version → readers. Every text taken from the record is escaped, so
+// any name or reason gives valid DOT.
+std::string frame_to_dot(const FrameRecord& frame);
+
+}  // namespace nightcap
