@@ -6,7 +6,8 @@ float d_ggx(vec3 n, vec3 h, float alpha) {
   vec3 nxh = cross(n, h);
   float n_h = dot(n, h);
   float d = dot(nxh, nxh) + n_h * n_h * a2;
-  return a2 / (PI * d * d);
+  // With no roughness floor (α = 0) an exact mirror direction would give 0/0.
+  return a2 / max(PI * d * d, 1e-30);
 }
 
 float v_smith_correlated(float n_v, float n_l, float alpha) {

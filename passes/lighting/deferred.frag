@@ -107,7 +107,8 @@ void main() {
       float d2 = max(dot(q, q), 1e-8);
       float d = sqrt(d2);
       float widened = clamp(alpha + 0.5 * len / (2.0 * d), 0.0, 1.0);
-      float normalisation = alpha / widened;
+      // A zero-length tube on a surface with no roughness floor gives 0/0.
+      float normalisation = alpha / max(widened, 1e-30);
       vec3 e = radiance * len / d2 * range_window(d, range);
       specular += specular_term(n, v, q / d, e, albedo, metallic, alpha) * normalisation;
     } else {
