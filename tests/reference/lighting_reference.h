@@ -124,7 +124,7 @@ inline Shade shade_punctual(const Surface& s, const GpuLight& light, double inte
 }
 
 // ∫ f over [a, b] by adaptive Simpson, each panel refined until its two halves agree to
-// `tolerance` (absolute, shared out by length).
+// `tolerance` (absolute, halved with each split).
 template <class F>
 double adaptive_simpson(const F& f, double a, double b, double tolerance) {
   struct Panel {
@@ -141,7 +141,7 @@ double adaptive_simpson(const F& f, double a, double b, double tolerance) {
     const double flm = f(0.5 * (p.a + m)), frm = f(0.5 * (m + p.b));
     const double left = (m - p.a) / 6 * (p.fa + 4 * flm + p.fm);
     const double right = (p.b - m) / 6 * (p.fm + 4 * frm + p.fb);
-    if (p.depth >= 60 || std::abs(left + right - p.whole) <= 15 * p.tolerance) {
+    if (p.depth >= 50 || std::abs(left + right - p.whole) <= 15 * p.tolerance) {
       sum += left + right + (left + right - p.whole) / 15;
       continue;
     }
@@ -152,7 +152,7 @@ double adaptive_simpson(const F& f, double a, double b, double tolerance) {
 }
 
 // ∫₀¹ f over pieces split at `breaks` (kinks and peaks of the integrand), to ~`relative` of
-// the whole integral, estimated first by a 64-panel Simpson sum per piece.
+// the whole integral (absolute: 1e-20 at least), estimated first by a 64-panel Simpson sum per piece.
 template <class F>
 double integrate_unit(const F& f, std::vector<double> breaks, double relative) {
   breaks.push_back(0);
@@ -170,9 +170,12 @@ double integrate_unit(const F& f, std::vector<double> breaks, double relative) {
     }
   }
   if (estimate == 0) return 0;
+  // Never below 1e-20 absolute: integrals that small (a tube all but out of range) are noise of
+  // the range window near its edge, and no subdivision would settle them.
+  const double tolerance = std::max(relative * std::abs(estimate), 1e-20);
   double sum = 0;
   for (size_t i = 0; i + 1 < breaks.size(); ++i)
-    sum += adaptive_simpson(f, breaks[i], breaks[i + 1], relative * std::abs(estimate) * (breaks[i + 1] - breaks[i]));
+    sum += adaptive_simpson(f, breaks[i], breaks[i + 1], tolerance * (breaks[i + 1] - breaks[i]));
   return sum;
 }
 
