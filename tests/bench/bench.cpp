@@ -275,7 +275,7 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
         ++counted;
       }
     }
-    std::cout << std::left << std::setw(12) << count << std::right << std::fixed << std::setprecision(3)
+    std::cout << std::left << std::setw(12) << int(count) << std::right << std::fixed << std::setprecision(3)
               << std::setw(12) << median(times) << std::scientific << std::setprecision(2) << std::setw(16)
               << sum / std::max<size_t>(counted, 1) << std::setw(14) << worst << std::defaultfloat << "\n";
   }
