@@ -35,6 +35,18 @@ float spot_factor(Light light, vec3 to_light) {
   return t * t;
 }
 
+// The outputs rounded to the nearest half float (ties to even) and held below its overflow:
+// lavapipe truncates when it stores to a half-float attachment (half the texels landed one code
+// below the nearest, an error up to 2⁻¹⁰ instead of 2⁻¹¹), and beyond 65504 a half is Inf.
+// frexp/ldexp keep the scaling exact, so the store of the rounded value is exact.
+vec3 nearest_half(vec3 x) {
+  x = min(x, vec3(65504.0));
+  ivec3 e;
+  frexp(x, e);
+  vec3 ulp = ldexp(vec3(1.0), max(e - 1, ivec3(-14)) - 10);
+  return roundEven(x / ulp) * ulp;
+}
+
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   float depth = texelFetch(depth_map, pixel, 0).r;
@@ -95,7 +107,8 @@ void main() {
       float d2 = max(dot(q, q), 1e-8);
       float d = sqrt(d2);
       float widened = clamp(alpha + 0.5 * len / (2.0 * d), 0.0, 1.0);
-      float normalisation = alpha / widened;
+      // A zero-length tube on a surface with no roughness floor gives 0/0.
+      float normalisation = alpha / max(widened, 1e-30);
       vec3 e = radiance * len / d2 * range_window(d, range);
       specular += specular_term(n, v, q / d, e, albedo, metallic, alpha) * normalisation;
     } else {
@@ -111,6 +124,6 @@ void main() {
       specular += specular_term(n, v, l, radiance * attenuation, albedo, metallic, alpha);
     }
   }
-  out_diffuse = vec4(diffuse, 1.0);
-  out_specular = vec4(specular, 1.0);
+  out_diffuse = vec4(nearest_half(diffuse), 1.0);
+  out_specular = vec4(nearest_half(specular), 1.0);
 }

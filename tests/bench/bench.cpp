@@ -2,8 +2,8 @@
 //  - per-pass GPU time (median over repeats) for the built-in city and the glTF models;
 //  - frame time with capture off and on, and their ratio, in the same run;
 //  - capture bytes on disk against the raw sum of recorded resources;
-//  - time against error for each pass knob (normals.pack LUT size, lighting.deferred tube samples,
-//    depth.convert and depth.pyramid against their references).
+//  - time against error for each pass knob (normals.pack LUT size, lighting.deferred tube samples
+//    against the CPU segment integral, depth.convert and depth.pyramid against their references).
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -21,9 +21,12 @@
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/renderer.h"
 #include "passes/normals/bfn_lut.h"
+#include "passes/scene/scene.h"
+#include "tests/reference/lighting_reference.h"
 
 namespace nc = nightcap;
 namespace fs = std::filesystem;
+namespace ref = nightcap::reference;
 
 namespace {
 
@@ -195,8 +198,9 @@ void bench_normals(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t count)
   }
 }
 
-// lighting.deferred: tube-light diffuse samples against a 256-sample reference, on a G-buffer
-// of the built-in city.
+// lighting.deferred: tube-light diffuse samples against the CPU integral along each segment
+// (tests/reference/lighting_reference.h), on a G-buffer of the built-in city with only its tube
+// lights left (no sun, no point or spot lights), at every 4th pixel in x and y.
 void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   nc::Scene scene = nc::build_city(1);
   nc::RenderSettings settings;
@@ -212,46 +216,94 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
       inputs[version.resource] = {version.desc, version.bytes};
     }
   }
-  nc::PipelineCache cache(gpu);
-  auto run = [&](double samples) {
-    nc::ParamValues params = nc::lighting_deferred_pass().default_params();
-    params["tube_samples"] = samples;
-    return nc::run_isolated(gpu, cache, nc::lighting_deferred_pass(), inputs, params, width, height, builtin());
+  nc::GpuFrameConstants constants;
+  std::memcpy(&constants, inputs.at("frame.constants").bytes->data(), sizeof(constants));
+  const auto& light_bytes = *inputs.at("frame.lights").bytes;
+  std::vector<nc::GpuLight> tubes;
+  for (size_t offset = 0; offset + sizeof(nc::GpuLight) <= light_bytes.size(); offset += sizeof(nc::GpuLight)) {
+    nc::GpuLight light;
+    std::memcpy(&light, light_bytes.data() + offset, sizeof(light));
+    if (uint32_t(light.position_type.w) == uint32_t(nc::LightType::tube)) tubes.push_back(light);
+  }
+  if (tubes.empty()) {
+    std::cout << "\n## lighting.deferred: the built-in city has no tube lights\n";
+    return;
+  }
+  constants.sun_direction.w = 0;
+  constants.counts.x = uint32_t(tubes.size());
+  auto replace = [&](const std::string& name, const void* data, size_t size) {
+    auto bytes = std::make_shared<std::vector<uint8_t>>(size);
+    std::memcpy(bytes->data(), data, size);
+    inputs[name].bytes = bytes;
+    inputs[name].desc.buffer_size = size;
   };
-  const nc::IsolatedRun reference = run(256);
+  replace("frame.constants", &constants, sizeof(constants));
+  replace("frame.lights", tubes.data(), tubes.size() * sizeof(nc::GpuLight));
+
+  const nc::ParamValues defaults = nc::lighting_deferred_pass().default_params();
+  const double scale = defaults.at("intensity_scale"), min_roughness = float(defaults.at("min_roughness"));
+  const auto& albedo = *inputs.at("gbuffer.albedo").bytes;
+  const auto& normal = *inputs.at("gbuffer.normal").bytes;
+  const auto& material = *inputs.at("gbuffer.material").bytes;
+  const auto& depth = *inputs.at("scene.depth").bytes;
+  struct Sample {
+    size_t texel;
+    glm::dvec3 diffuse;
+  };
+  std::vector<Sample> samples;
+  const double cpu_start = now_ms();
+  for (uint32_t y = 0; y < height; y += 4)
+    for (uint32_t x = 0; x < width; x += 4) {
+      const size_t t = size_t(y) * width + x;
+      uint32_t albedo_word, normal_word;
+      float device_depth;
+      std::memcpy(&albedo_word, albedo.data() + 4 * t, 4);
+      std::memcpy(&normal_word, normal.data() + 4 * t, 4);
+      std::memcpy(&device_depth, depth.data() + 4 * t, 4);
+      if (device_depth <= 0 || (albedo_word >> 30) != 0) continue;  // sky or unlit: not shaded
+      const ref::Surface s = ref::make_surface(ref::reconstruct_position(constants, x, y, device_depth), normal_word,
+                                               albedo_word, material.data() + 4 * t, min_roughness);
+      Sample sample{t, glm::dvec3(0.0)};
+      for (const nc::GpuLight& tube : tubes) sample.diffuse += ref::Tube(s, tube, scale).diffuse();
+      samples.push_back(sample);
+    }
+  const double cpu_ms = now_ms() - cpu_start;
+
+  nc::PipelineCache cache(gpu);
   const nc::FormatInfo half = *nc::format_info(VK_FORMAT_R16G16B16A16_SFLOAT);
-  table() << "\n## lighting.deferred: tube diffuse samples vs 256-sample reference (built-in city, " << width << "x"
-          << height << ")\n"
+  table() << "\n## lighting.deferred: tube diffuse samples vs the CPU segment integral (built-in city, " << width << "x"
+          << height << ", " << tubes.size() << " tube lights, " << samples.size() << " pixels, reference " << std::fixed
+          << std::setprecision(0) << cpu_ms << " ms on the CPU)\n"
           << std::left << std::setw(12) << "samples" << std::right << std::setw(12) << "gpu ms" << std::setw(16)
           << "mean rel err" << std::setw(14) << "max rel err"
           << "\n";
-  for (double samples : {1.0, 2.0, 4.0, 8.0, 16.0, 32.0}) {
+  for (double count : {1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 256.0}) {
+    nc::ParamValues params = defaults;
+    params["tube_samples"] = count;
     std::vector<double> times;
     nc::IsolatedRun result;
     for (int r = 0; r < 3; ++r) {
-      result = run(samples);
+      result = nc::run_isolated(gpu, cache, nc::lighting_deferred_pass(), inputs, params, width, height, builtin());
       times.push_back(gpu_ms(result));
     }
-    const auto& a = *result.outputs.at("lighting.diffuse");
-    const auto& b = *reference.outputs.at("lighting.diffuse");
+    const auto& out = *result.outputs.at("lighting.diffuse");
     double sum = 0, worst = 0;
     size_t counted = 0;
-    for (size_t t = 0; t < size_t(width) * height; ++t) {
-      float x[4], y[4];
-      nc::decode_texel(half, 0, a, t, x);
-      nc::decode_texel(half, 0, b, t, y);
+    for (const Sample& sample : samples) {
+      float x[4];
+      nc::decode_texel(half, 0, out, sample.texel, x);
       for (int c = 0; c < 3; ++c) {
-        if (y[c] < 1e-3f) continue;  // relative error of near-black texels says nothing
-        const double e = std::abs(x[c] - y[c]) / y[c];
+        if (sample.diffuse[c] < 1e-3) continue;  // relative error of near-black texels says nothing
+        const double e = std::abs(x[c] - sample.diffuse[c]) / sample.diffuse[c];
         sum += e;
         worst = std::max(worst, e);
         ++counted;
       }
     }
-    table() << std::left << std::setw(12) << samples << std::right << std::fixed << std::setprecision(3)
-            << std::setw(12) << median(times) << std::setprecision(5) << std::setw(16)
-            << sum / std::max<size_t>(counted, 1) << std::setw(14) << worst << "\n";
-    const std::string row = "tube_samples_" + std::to_string(int(samples));
+    table() << std::left << std::setw(12) << int(count) << std::right << std::fixed << std::setprecision(3)
+            << std::setw(12) << median(times) << std::scientific << std::setprecision(2) << std::setw(16)
+            << sum / std::max<size_t>(counted, 1) << std::setw(14) << worst << std::defaultfloat << "\n";
+    const std::string row = "tube_samples_" + std::to_string(int(count));
     figure(row + ".gpu_ms", median(times));
     figure(row + ".mean_rel_err", sum / std::max<size_t>(counted, 1));
     figure(row + ".max_rel_err", worst);
