@@ -14,6 +14,7 @@
 #include "inspect/diff.h"
 #include "inspect/graph_dot.h"
 #include "passes/core/shader.h"
+#include "passes/frame/frame_passes.h"
 #include "passes/frame/renderer.h"
 #include "replay/replay.h"
 

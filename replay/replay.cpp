@@ -7,6 +7,7 @@
 #include "inspect/metrics.h"
 #include "passes/core/isolated.h"
 #include "passes/core/shader.h"
+#include "passes/frame/frame_passes.h"
 #include "passes/frame/renderer.h"
 
 namespace nightcap {

@@ -13,6 +13,7 @@
 
 #include "passes/core/device.h"
 #include "passes/core/graph.h"
+#include "passes/core/pipeline_cache.h"
 #include "passes/scene/scene.h"
 
 namespace nightcap {
@@ -43,62 +44,13 @@ struct Binding {
   }
 };
 
-struct GraphicsPipelineDesc {
-  std::string vertex, fragment;            // shader paths; no fragment shader: depth only
-  std::vector<VkDescriptorType> bindings;  // set 0, binding i (push descriptors)
-  uint32_t push_constant_bytes = 0;
-  std::vector<VkFormat> color_formats;
-  VkFormat depth_format = VK_FORMAT_UNDEFINED;
-  bool depth_test = false, depth_write = false;
-  VkCompareOp depth_compare = VK_COMPARE_OP_GREATER_OR_EQUAL;  // reversed-Z
-  bool stencil_write = false;           // writes the dynamic stencil reference where depth passes
-  std::vector<int32_t> specialization;  // constant_id i = value
-};
-
-struct ComputePipelineDesc {
-  std::string shader;
-  std::vector<VkDescriptorType> bindings;
-  uint32_t push_constant_bytes = 0;
-  std::vector<int32_t> specialization;
-};
-
-// SPIR-V for a pass's shader: the recorded code, an override, or the built-in source.
-using ShaderProvider = std::function<std::vector<uint32_t>(const std::string& pass, const std::string& path)>;
-
-// Pipelines, samplers and layouts survive across frames and replays on one device.
-class PipelineCache {
- public:
-  explicit PipelineCache(GpuDevice& gpu) : gpu_(gpu) {}
-  ~PipelineCache();
-  PipelineCache(const PipelineCache&) = delete;
-  PipelineCache& operator=(const PipelineCache&) = delete;
-
-  struct Entry {
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    VkPipelineLayout layout = VK_NULL_HANDLE;
-    VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
-  };
-  const Entry& graphics(const GraphicsPipelineDesc& desc, const std::vector<uint32_t>& vs,
-                        const std::vector<uint32_t>& fs);
-  const Entry& compute(const ComputePipelineDesc& desc, const std::vector<uint32_t>& cs);
-  VkSampler sampler(const SamplerDesc& desc);
-
- private:
-  VkShaderModule module(const std::vector<uint32_t>& code);
-  std::pair<VkDescriptorSetLayout, VkPipelineLayout> layout(const std::vector<VkDescriptorType>& bindings,
-                                                            uint32_t push_bytes);
-  GpuDevice& gpu_;
-  std::map<std::string, Entry> pipelines_;
-  std::map<std::string, VkSampler> samplers_;
-  std::vector<VkShaderModule> modules_;
-};
-
 class PassContext {
  public:
   struct Shared;  // executor state the context reaches into
   PassContext(Shared& shared, const CompiledPass& pass, const ParamValues& params);
 
   const std::string& pass() const { return pass_.decl->name; }
+  const PassDecl& declaration() const { return *pass_.decl; }
   double param(const std::string& name) const;
   const ResourceDesc& desc(const std::string& resource) const;
   // Bytes of a resource known on the host (scene data, CPU pass outputs). Throws otherwise.

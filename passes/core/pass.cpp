@@ -80,6 +80,13 @@ PassDecl& PassDecl::allow_tolerance(double amount, std::string reason) {
   return *this;
 }
 
+PassDecl& PassDecl::fullscreen(std::string fragment) {
+  shader("frame/fullscreen.vert");
+  shader(fragment);
+  execute = [fragment](PassContext& ctx) { record_fullscreen(ctx, fragment, {}); };
+  return *this;
+}
+
 ParamValues PassDecl::default_params() const {
   ParamValues values;
   for (const ParamDecl& p : params) values[p.name] = p.default_value;

@@ -9,7 +9,9 @@
 #include <functional>
 #include <map>
 #include <set>
+#include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "passes/core/format.h"
@@ -118,13 +120,33 @@ struct PassDecl {
   PassDecl& run(std::function<void(PassContext&)> function);
   PassDecl& skip_when(std::function<std::string(const SkipContext&)> condition);
   PassDecl& allow_tolerance(double amount, std::string reason);
+  // A fragment shader drawn over the whole output, recorded from the declaration alone
+  // (passes/core/fullscreen.cpp): set 0 binds the GPU inputs in declaration order (buffers as
+  // uniform or storage buffers by their use, images through a nearest clamp-to-edge sampler,
+  // depth by its depth aspect), the colour outputs are the render targets in declaration order,
+  // and `make_constants(ctx)` — a struct built from the parameters — fills the push constants.
+  PassDecl& fullscreen(std::string fragment);
+  template <typename MakeConstants>
+  PassDecl& fullscreen(std::string fragment, MakeConstants make_constants);
 
   ParamValues default_params() const;
   const ParamDecl* find_param(const std::string& param_name) const;
 };
 
-// Every pass of the frame, in frame order (the graph sorts them by their dependencies).
-std::vector<PassDecl> frame_passes();
 const PassDecl* find_pass(const std::vector<PassDecl>& passes, const std::string& name);
+
+// Records a full-screen pass from its declaration; `constants` are the push constants' bytes.
+void record_fullscreen(PassContext& ctx, const std::string& fragment, std::span<const uint8_t> constants);
+
+template <typename MakeConstants>
+PassDecl& PassDecl::fullscreen(std::string fragment, MakeConstants make_constants) {
+  fullscreen(fragment);
+  execute = [fragment, make_constants](PassContext& ctx) {
+    const auto constants = make_constants(static_cast<const PassContext&>(ctx));
+    static_assert(std::is_trivially_copyable_v<decltype(constants)>, "push constants are copied as bytes");
+    record_fullscreen(ctx, fragment, {reinterpret_cast<const uint8_t*>(&constants), sizeof constants});
+  };
+  return *this;
+}
 
 }  // namespace nightcap

@@ -2,7 +2,7 @@
 
 #include <sstream>
 
-#include "passes/core/context.h"
+#include "passes/core/pipeline_cache.h"
 
 namespace nightcap {
 namespace {

@@ -6,6 +6,9 @@
 
 namespace nightcap {
 
+// Every pass of the frame, in frame order (the graph sorts them by their dependencies).
+std::vector<PassDecl> frame_passes();
+
 // What the frame must produce: the displayed image, and the depth-summary resources whose
 // consumers (clustering, SSR, AO) have not landed yet, so they are rendered and recorded.
 std::vector<std::string> frame_sinks();

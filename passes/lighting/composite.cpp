@@ -17,28 +17,13 @@ PassDecl lighting_composite_pass() {
       .write("lighting.lit", Use::color_attachment, ImageDecl{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour})
       .param("ambient", 0.02, 0.0, 1e6, "uniform ambient radiance (a stand-in for the indirect light to come)")
       .param("sky", 0.004, 0.0, 1e6, "radiance of the night sky where nothing was drawn")
-      .shader("frame/fullscreen.vert")
-      .shader("lighting/composite.frag")
-      .run([](PassContext& ctx) {
-        GraphicsPipelineDesc desc;
-        desc.vertex = "frame/fullscreen.vert";
-        desc.fragment = "lighting/composite.frag";
-        desc.bindings.assign(6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER);
-        desc.push_constant_bytes = 32;
-        desc.color_formats = {VK_FORMAT_R16G16B16A16_SFLOAT};
-        ctx.begin_rendering({"lighting.lit"});
-        ctx.bind(desc);
-        VkSampler nearest = ctx.nearest_clamp();
-        ctx.push({Binding::texture(0, "lighting.diffuse", nearest), Binding::texture(1, "lighting.specular", nearest),
-                  Binding::texture(2, "gbuffer.albedo", nearest), Binding::texture(3, "gbuffer.material", nearest),
-                  Binding::texture(4, "gbuffer.emissive", nearest), Binding::texture(5, "scene.depth", nearest)});
-        const float ambient = float(ctx.param("ambient")), sky = float(ctx.param("sky"));
+      .fullscreen("lighting/composite.frag", [](const PassContext& ctx) {
         // A cool night ambient and a deep blue sky.
-        const float params[8] = {ambient * 0.8f, ambient * 0.9f, ambient * 1.2f, 0.0f,
-                                 sky * 0.5f,     sky * 0.7f,     sky * 1.6f,     0.0f};
-        ctx.push_constants(params, sizeof(params));
-        vkCmdDraw(ctx.cmd(), 3, 1, 0, 0);
-        ctx.end_rendering();
+        const float ambient = float(ctx.param("ambient")), sky = float(ctx.param("sky"));
+        struct {
+          float ambient[4], sky[4];
+        } constants{{ambient * 0.8f, ambient * 0.9f, ambient * 1.2f, 0.0f}, {sky * 0.5f, sky * 0.7f, sky * 1.6f, 0.0f}};
+        return constants;
       });
 }
 

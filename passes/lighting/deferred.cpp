@@ -24,31 +24,13 @@ PassDecl lighting_deferred_pass() {
         const bool lit = frame.features.count("sun") || frame.features.count("local_lights");
         return lit ? std::string() : std::string("scene has no lights");
       })
-      .shader("frame/fullscreen.vert")
-      .shader("lighting/deferred.frag")
-      .run([](PassContext& ctx) {
-        GraphicsPipelineDesc desc;
-        desc.vertex = "frame/fullscreen.vert";
-        desc.fragment = "lighting/deferred.frag";
-        desc.bindings = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
-        desc.push_constant_bytes = 12;
-        desc.color_formats = {VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT};
-        ctx.begin_rendering({"lighting.diffuse", "lighting.specular"});
-        ctx.bind(desc);
-        VkSampler nearest = ctx.nearest_clamp();
-        ctx.push({Binding::uniform(0, "frame.constants"), Binding::storage(1, "frame.lights"),
-                  Binding::texture(2, "gbuffer.albedo", nearest), Binding::texture(3, "gbuffer.normal", nearest),
-                  Binding::texture(4, "gbuffer.material", nearest), Binding::texture(5, "scene.depth", nearest)});
+      .fullscreen("lighting/deferred.frag", [](const PassContext& ctx) {
         struct {
           float intensity_scale, min_roughness;
           int32_t tube_samples;
-        } params{float(ctx.param("intensity_scale")), float(ctx.param("min_roughness")),
-                 int32_t(ctx.param("tube_samples"))};
-        ctx.push_constants(&params, sizeof(params));
-        vkCmdDraw(ctx.cmd(), 3, 1, 0, 0);
-        ctx.end_rendering();
+        } constants{float(ctx.param("intensity_scale")), float(ctx.param("min_roughness")),
+                    int32_t(ctx.param("tube_samples"))};
+        return constants;
       });
 }
 

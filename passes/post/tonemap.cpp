@@ -10,22 +10,11 @@ PassDecl tonemap_pass() {
       .read("lighting.lit", Use::sampled)
       .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_SRGB, ResourceKind::colour})
       .param("exposure", 1.0, 0.0, 1e6, "multiplies the HDR colour before the curve")
-      .shader("frame/fullscreen.vert")
-      .shader("post/tonemap.frag")
-      .run([](PassContext& ctx) {
-        GraphicsPipelineDesc desc;
-        desc.vertex = "frame/fullscreen.vert";
-        desc.fragment = "post/tonemap.frag";
-        desc.bindings = {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
-        desc.push_constant_bytes = 4;
-        desc.color_formats = {VK_FORMAT_R8G8B8A8_SRGB};
-        ctx.begin_rendering({"final.ldr"});
-        ctx.bind(desc);
-        ctx.push({Binding::texture(0, "lighting.lit", ctx.nearest_clamp())});
-        const float exposure = float(ctx.param("exposure"));
-        ctx.push_constants(&exposure, sizeof(exposure));
-        vkCmdDraw(ctx.cmd(), 3, 1, 0, 0);
-        ctx.end_rendering();
+      .fullscreen("post/tonemap.frag", [](const PassContext& ctx) {
+        struct {
+          float exposure;
+        } constants{float(ctx.param("exposure"))};
+        return constants;
       });
 }
 

@@ -1,0 +1,203 @@
+// PassContext: what a pass may reach while it records, checked against its declaration.
+#include "passes/core/context.h"
+
+#include "passes/core/execution_state.h"
+
+namespace nightcap {
+
+PassContext::PassContext(Shared& shared, const CompiledPass& pass, const ParamValues& params)
+    : shared_(shared), pass_(pass), params_(params) {}
+
+double PassContext::param(const std::string& name) const {
+  auto it = params_.find(name);
+  if (it == params_.end()) throw GraphError(pass() + ": reads undeclared parameter '" + name + "'");
+  return it->second;
+}
+
+const BoundUse* PassContext::find_use(const std::string& resource) const {
+  for (const BoundUse& u : pass_.outputs)
+    if (u.resource == resource) return &u;
+  for (const BoundUse& u : pass_.inputs)
+    if (u.resource == resource) return &u;
+  return nullptr;
+}
+
+const ResourceDesc& PassContext::desc(const std::string& resource) const {
+  if (!find_use(resource)) throw GraphError(pass() + ": uses undeclared resource '" + resource + "'");
+  return shared_.resources.count(resource) ? shared_.resources.at(resource).desc : find_use(resource)->desc;
+}
+
+std::span<const uint8_t> PassContext::host(const std::string& resource) const {
+  if (!find_use(resource)) throw GraphError(pass() + ": uses undeclared resource '" + resource + "'");
+  auto it = shared_.host.find(resource);
+  if (it == shared_.host.end() || !it->second)
+    throw GraphError(pass() + ": '" + resource + "' is not known on the host");
+  return *it->second;
+}
+
+std::vector<std::string> PassContext::inputs_with_prefix(const std::string& prefix) const {
+  std::vector<std::string> names;
+  for (const BoundUse& u : pass_.inputs)
+    if (u.resource.rfind(prefix, 0) == 0) names.push_back(u.resource);
+  return names;
+}
+
+std::vector<uint8_t>& PassContext::output(const std::string& resource) {
+  bool declared = false;
+  for (const BoundUse& u : pass_.outputs) declared |= u.resource == resource;
+  if (!declared) throw GraphError(pass() + ": writes undeclared output '" + resource + "'");
+  return shared_.cpu_outputs[resource];
+}
+
+VkCommandBuffer PassContext::cmd() const { return shared_.cmd; }
+GpuDevice& PassContext::gpu() const { return shared_.gpu; }
+
+VkBuffer PassContext::buffer(const std::string& resource) const {
+  if (!find_use(resource)) throw GraphError(pass() + ": uses undeclared resource '" + resource + "'");
+  return shared_.resources.at(resource).buffer.buffer;
+}
+
+VkImageView PassContext::view(const std::string& resource, ViewAspect aspect, int mip) {
+  if (!find_use(resource)) throw GraphError(pass() + ": uses undeclared resource '" + resource + "'");
+  PhysicalResource& r = shared_.resources.at(resource);
+  auto key = std::make_pair(static_cast<int>(aspect), mip);
+  auto it = r.views.find(key);
+  if (it != r.views.end()) return it->second;
+  auto info = vk_struct<VkImageViewCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO);
+  info.image = r.image.image;
+  info.viewType = r.desc.extent.depth > 1    ? VK_IMAGE_VIEW_TYPE_3D
+                  : r.desc.extent.layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY
+                                             : VK_IMAGE_VIEW_TYPE_2D;
+  info.format = r.desc.format;
+  VkImageAspectFlags aspects = natural_aspects(r.desc.format);
+  if (aspect == ViewAspect::depth) aspects = VK_IMAGE_ASPECT_DEPTH_BIT;
+  if (aspect == ViewAspect::stencil) aspects = VK_IMAGE_ASPECT_STENCIL_BIT;
+  info.subresourceRange = {aspects, mip < 0 ? 0u : static_cast<uint32_t>(mip), mip < 0 ? r.desc.extent.mips : 1u, 0,
+                           r.desc.extent.layers};
+  VkImageView view;
+  vk_check(vkCreateImageView(gpu().device(), &info, nullptr, &view), "vkCreateImageView");
+  r.views[key] = view;
+  return view;
+}
+
+void PassContext::bind(const GraphicsPipelineDesc& desc) {
+  auto code = [&](const std::string& path) {
+    auto spirv = shared_.shaders(pass(), path);
+    shared_.current->spirv[path] = spirv;
+    return spirv;
+  };
+  const auto& entry = shared_.cache.graphics(desc, code(desc.vertex),
+                                             desc.fragment.empty() ? std::vector<uint32_t>{} : code(desc.fragment));
+  vkCmdBindPipeline(cmd(), VK_PIPELINE_BIND_POINT_GRAPHICS, entry.pipeline);
+  layout_ = entry.layout;
+  bind_point_ = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  push_constant_bytes_ = desc.push_constant_bytes;
+}
+
+void PassContext::bind(const ComputePipelineDesc& desc) {
+  auto spirv = shared_.shaders(pass(), desc.shader);
+  shared_.current->spirv[desc.shader] = spirv;
+  const auto& entry = shared_.cache.compute(desc, spirv);
+  vkCmdBindPipeline(cmd(), VK_PIPELINE_BIND_POINT_COMPUTE, entry.pipeline);
+  layout_ = entry.layout;
+  bind_point_ = VK_PIPELINE_BIND_POINT_COMPUTE;
+  push_constant_bytes_ = desc.push_constant_bytes;
+}
+
+void PassContext::push(const std::vector<Binding>& bindings) {
+  std::vector<VkWriteDescriptorSet> writes;
+  std::vector<VkDescriptorBufferInfo> buffers;
+  std::vector<VkDescriptorImageInfo> images;
+  buffers.reserve(bindings.size());
+  images.reserve(bindings.size());
+  for (const Binding& b : bindings) {
+    auto w = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+    w.dstBinding = b.binding;
+    w.descriptorCount = 1;
+    w.descriptorType = b.type;
+    if (b.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER || b.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER) {
+      buffers.push_back({buffer(b.resource), b.offset, b.range});
+      w.pBufferInfo = &buffers.back();
+    } else {
+      const bool storage = b.type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+      const ResourceDesc& d = desc(b.resource);
+      VkImageLayout layout = storage       ? VK_IMAGE_LAYOUT_GENERAL
+                             : is_depth(d) ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL
+                                           : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
+      ViewAspect aspect = b.aspect;
+      if (aspect == ViewAspect::natural && is_depth(d)) aspect = ViewAspect::depth;
+      images.push_back({b.sampler, view(b.resource, aspect, b.mip), layout});
+      w.pImageInfo = &images.back();
+    }
+    writes.push_back(w);
+  }
+  gpu().push_descriptors(cmd(), bind_point_, layout_, writes);
+}
+
+void PassContext::push_constants(const void* data, uint32_t bytes) {
+  if (bytes > push_constant_bytes_) throw GraphError(pass() + ": push constants larger than the pipeline declares");
+  vkCmdPushConstants(cmd(), layout_, VK_SHADER_STAGE_ALL, 0, bytes, data);
+}
+
+VkSampler PassContext::sampler(const SamplerDesc& desc) { return shared_.cache.sampler(desc); }
+
+VkSampler PassContext::nearest_clamp() {
+  SamplerDesc d;
+  d.mag_filter = d.min_filter = VK_FILTER_NEAREST;
+  d.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  d.wrap_u = d.wrap_v = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  return sampler(d);
+}
+
+void PassContext::begin_rendering(const std::vector<std::string>& colors, const std::string& depth) {
+  auto attachment = [&](const std::string& name, ViewAspect aspect, VkImageLayout layout) {
+    const BoundUse* use = find_use(name);
+    if (!use) throw GraphError(pass() + ": renders to undeclared '" + name + "'");
+    auto a = vk_struct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
+    a.imageView = view(name, aspect, 0);
+    a.imageLayout = layout;
+    a.loadOp = use->modifies ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
+    a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    a.clearValue = desc(name).clear;
+    return a;
+  };
+  std::vector<VkRenderingAttachmentInfo> color_attachments;
+  for (const std::string& c : colors)
+    color_attachments.push_back(attachment(c, ViewAspect::natural, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL));
+  const std::string& first = colors.empty() ? depth : colors.front();
+  const ImageExtent extent = desc(first).extent;
+  auto info = vk_struct<VkRenderingInfo>(VK_STRUCTURE_TYPE_RENDERING_INFO);
+  info.renderArea = {{0, 0}, {extent.width, extent.height}};
+  info.layerCount = 1;
+  info.colorAttachmentCount = static_cast<uint32_t>(color_attachments.size());
+  info.pColorAttachments = color_attachments.data();
+  VkRenderingAttachmentInfo depth_attachment{};
+  if (!depth.empty()) {
+    depth_attachment = attachment(depth, ViewAspect::natural, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+    info.pDepthAttachment = &depth_attachment;
+    if (format_info(desc(depth).format)->has_stencil) info.pStencilAttachment = &depth_attachment;
+  }
+  vkCmdBeginRendering(cmd(), &info);
+  VkViewport viewport{0, 0, float(extent.width), float(extent.height), 0, 1};
+  VkRect2D scissor{{0, 0}, {extent.width, extent.height}};
+  vkCmdSetViewport(cmd(), 0, 1, &viewport);
+  vkCmdSetScissor(cmd(), 0, 1, &scissor);
+  vkCmdSetCullMode(cmd(), VK_CULL_MODE_NONE);
+  vkCmdSetFrontFace(cmd(), VK_FRONT_FACE_COUNTER_CLOCKWISE);
+  vkCmdSetStencilReference(cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+}
+
+void PassContext::end_rendering() { vkCmdEndRendering(cmd()); }
+
+void PassContext::storage_barrier() {
+  auto barrier = vk_struct<VkMemoryBarrier2>(VK_STRUCTURE_TYPE_MEMORY_BARRIER_2);
+  barrier.srcStageMask = barrier.dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+  barrier.srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+  barrier.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT;
+  auto dep = vk_struct<VkDependencyInfo>(VK_STRUCTURE_TYPE_DEPENDENCY_INFO);
+  dep.memoryBarrierCount = 1;
+  dep.pMemoryBarriers = &barrier;
+  vkCmdPipelineBarrier2(cmd(), &dep);
+}
+
+}  // namespace nightcap
