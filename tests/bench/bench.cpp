@@ -226,7 +226,7 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
     if (uint32_t(light.position_type.w) == uint32_t(nc::LightType::tube)) tubes.push_back(light);
   }
   if (tubes.empty()) {
-    std::cout << "\n## lighting.deferred: the built-in city has no tube lights\n";
+    table() << "\n## lighting.deferred: the built-in city has no tube lights\n";
     return;
   }
   constants.sun_direction.w = 0;

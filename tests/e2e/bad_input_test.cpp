@@ -195,19 +195,27 @@ bool wait_for(const fs::path& path) {
   return fs::exists(path);
 }
 
-const std::vector<std::string> kLongRender = {"render", "--size", "64x36", "--frames", "500"};
+// A render of 500 small frames to dir/cap, started and seen to have made its temporary folder.
+struct LongRender {
+  pid_t pid = -1;
+  fs::path temporary;
+};
+LongRender start_long_render(const fs::path& dir, const fs::path& logs) {
+  LongRender render;
+  render.pid = spawn_cli({"render", "--size", "64x36", "--frames", "500", "-o", (dir / "cap").string()}, logs);
+  render.temporary = dir / ("cap.tmp-" + std::to_string(render.pid));
+  EXPECT_GT(render.pid, 0);
+  EXPECT_TRUE(wait_for(render.temporary)) << render.temporary << " never appeared";
+  return render;
+}
 
 TEST(BadInput, AnInterruptedRenderLeavesNothingBehind) {
   const fs::path dir = scratch("out"), logs = scratch("logs");
-  std::vector<std::string> args = kLongRender;
-  args.insert(args.end(), {"-o", (dir / "cap").string()});
-  const pid_t pid = spawn_cli(args, logs);
-  ASSERT_GT(pid, 0);
-  const fs::path temporary = dir / ("cap.tmp-" + std::to_string(pid));
-  ASSERT_TRUE(wait_for(temporary)) << temporary << " never appeared";
-  kill(pid, SIGTERM);
+  const LongRender render = start_long_render(dir, logs);
+  ASSERT_FALSE(::testing::Test::HasFailure());
+  kill(render.pid, SIGTERM);
   int status = 0;
-  waitpid(pid, &status, 0);
+  waitpid(render.pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status)) << "render died of its signal instead of stopping";
   EXPECT_EQ(WEXITSTATUS(status), 2);
   std::ifstream err(logs / "stderr");
@@ -218,15 +226,11 @@ TEST(BadInput, AnInterruptedRenderLeavesNothingBehind) {
 
 TEST(BadInput, AKilledRendersTemporaryIsRemovedByTheNextRender) {
   const fs::path dir = scratch("out"), logs = scratch("logs");
-  std::vector<std::string> args = kLongRender;
-  args.insert(args.end(), {"-o", (dir / "cap").string()});
-  const pid_t pid = spawn_cli(args, logs);
-  ASSERT_GT(pid, 0);
-  const fs::path temporary = dir / ("cap.tmp-" + std::to_string(pid));
-  ASSERT_TRUE(wait_for(temporary)) << temporary << " never appeared";
-  kill(pid, SIGKILL);
-  waitpid(pid, nullptr, 0);
-  ASSERT_TRUE(fs::exists(temporary)) << "SIGKILL cannot be caught: the temporary must still be there";
+  const LongRender render = start_long_render(dir, logs);
+  ASSERT_FALSE(::testing::Test::HasFailure());
+  kill(render.pid, SIGKILL);
+  waitpid(render.pid, nullptr, 0);
+  ASSERT_TRUE(fs::exists(render.temporary)) << "SIGKILL cannot be caught: the temporary must still be there";
   // A temporary whose writer is alive (this test process stands in for one) is left alone.
   const fs::path live = dir / ("cap.tmp-" + std::to_string(getpid()));
   fs::create_directories(live);
