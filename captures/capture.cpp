@@ -163,16 +163,25 @@ json to_json(const CaptureManifest& m) {
       pass["cpu_ms"] = p.cpu_ms;
       pass["params"] = p.params;
       json shaders = json::array(), inputs = json::array(), outputs = json::array();
-      for (const ShaderRecord& s : p.shaders) shaders.push_back({{"path", s.path}, {"hash", s.hash}, {"blob", s.blob}});
+      for (const ShaderRecord& s : p.shaders)
+        shaders.push_back({{"path", s.path},
+                           {"hash", s.hash},
+                           {"blob", s.blob},
+                           {"source_hash", s.source_hash},
+                           {"source_blob", s.source_blob}});
       for (const ResourceRecord& r : p.inputs) inputs.push_back(to_json(r));
       for (const ResourceRecord& r : p.outputs) outputs.push_back(to_json(r));
       pass["shaders"] = shaders;
+      pass["pipelines"] = p.pipelines;
+      pass["samplers"] = p.samplers;
       pass["inputs"] = inputs;
       pass["outputs"] = outputs;
       if (!p.tolerance.empty()) pass["tolerance"] = p.tolerance;
       passes.push_back(pass);
     }
     frames.push_back({{"index", f.index},
+                      {"output", {{"width", f.width}, {"height", f.height}}},
+                      {"sinks", f.sinks},
                       {"camera",
                        {{"view", f.camera.view},
                         {"projection", f.camera.projection},
@@ -194,6 +203,10 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
   if (!j.contains("version") || !j.at("version").is_number_integer()) fail(file, "", "missing integer \"version\"");
   m.version = j.at("version").get<int>();
   if (m.version < 1) fail(file, "", "bad version " + std::to_string(m.version));
+  if (m.version < kCaptureVersion)
+    fail(file, "",
+         "capture version " + std::to_string(m.version) + " is no longer read (this nightcap reads version " +
+             std::to_string(kCaptureVersion) + "): render it again");
   if (m.version > kCaptureVersion)
     fail(file, "",
          "capture version " + std::to_string(m.version) + " is newer than this nightcap reads (" +
@@ -214,6 +227,12 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
     const std::string fw = "frames[" + std::to_string(fi) + "]";
     FrameRecord f;
     f.index = field<uint32_t>(frames[fi], "index", file, fw);
+    const json output = frames[fi].contains("output") ? frames[fi].at("output") : json();
+    f.width = bounded(output, "width", kMaxImageSide, file, fw + ".output");
+    f.height = bounded(output, "height", kMaxImageSide, file, fw + ".output");
+    f.sinks = field<std::vector<std::string>>(frames[fi], "sinks", file, fw);
+    for (const std::string& sink : f.sinks)
+      if (!safe_name(sink)) fail(file, fw, "bad sink name");
     if (frames[fi].contains("camera")) {
       const json& c = frames[fi].at("camera");
       try {
@@ -247,11 +266,19 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
         fail(file, pw, "\"params\" must map names to numbers");
       }
       p.tolerance = pj.value("tolerance", "");
+      for (const char* state : {"pipelines", "samplers"})
+        if (!pj.contains(state) || !pj.at(state).is_array())
+          fail(file, pw, std::string("missing \"") + state + "\" array");
+      p.pipelines = pj.at("pipelines");
+      p.samplers = pj.at("samplers");
       for (const json& s : pj.value("shaders", json::array())) {
         ShaderRecord shader{field<std::string>(s, "path", file, pw), field<std::string>(s, "hash", file, pw),
-                            field<std::string>(s, "blob", file, pw)};
+                            field<std::string>(s, "blob", file, pw), field<std::string>(s, "source_hash", file, pw),
+                            field<std::string>(s, "source_blob", file, pw)};
         if (!is_content_hash(shader.hash) || !safe_blob_path(shader.blob, shader.hash))
           fail(file, pw, "bad shader blob '" + shader.blob + "'");
+        if (!is_content_hash(shader.source_hash) || !safe_blob_path(shader.source_blob, shader.source_hash))
+          fail(file, pw, "bad shader source blob '" + shader.source_blob + "'");
         p.shaders.push_back(shader);
       }
       for (const char* side : {"inputs", "outputs"}) {
@@ -342,19 +369,29 @@ void CaptureWriter::add_resource(ResourceRecord& record, std::span<const uint8_t
   written_.notify_all();
 }
 
-ShaderRecord CaptureWriter::add_shader(const std::string& path, std::span<const uint32_t> spirv) {
-  const std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(spirv.data()), spirv.size_bytes());
-  ShaderRecord record{path, content_hash(bytes), ""};
-  record.blob = "blobs/" + record.hash + ".spv";
+ShaderRecord CaptureWriter::add_shader(const std::string& path, std::span<const uint32_t> spirv,
+                                       const std::string& source) {
+  ShaderRecord record{path, "", "", "", ""};
+  std::tie(record.hash, record.blob) =
+      add_file_blob({reinterpret_cast<const uint8_t*>(spirv.data()), spirv.size_bytes()}, "spv");
+  std::tie(record.source_hash, record.source_blob) =
+      add_file_blob({reinterpret_cast<const uint8_t*>(source.data()), source.size()}, "glsl");
+  return record;
+}
+
+std::pair<std::string, std::string> CaptureWriter::add_file_blob(std::span<const uint8_t> bytes,
+                                                                 const std::string& extension) {
+  const std::string hash = content_hash(bytes);
+  const std::string blob = "blobs/" + hash + "." + extension;
   std::lock_guard lock(mutex_);
-  if (!blobs_.count(record.hash)) {
-    std::ofstream out(temp_ / record.blob, std::ios::binary);
+  if (!blobs_.count(hash)) {
+    std::ofstream out(temp_ / blob, std::ios::binary);
     out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    if (!out) throw CaptureError((temp_ / record.blob).string() + ": cannot write");
-    blobs_[record.hash] = record.blob;
+    if (!out) throw CaptureError((temp_ / blob).string() + ": cannot write");
+    blobs_[hash] = blob;
     bytes_written_ += bytes.size();
   }
-  return record;
+  return {hash, blob};
 }
 
 void CaptureWriter::write_final_png(const std::vector<uint8_t>& rgba8, uint32_t width, uint32_t height) {
@@ -443,6 +480,15 @@ std::vector<uint8_t> Capture::load(const ResourceRecord& record) const {
     throw CaptureError((folder_ / record.blob).string() + ": content does not match its hash " + record.hash +
                        " (corrupt capture)");
   return raw;
+}
+
+std::string Capture::load_shader_source(const ShaderRecord& record) const {
+  const fs::path file = checked_blob(folder_, record.source_blob);
+  const std::vector<uint8_t> bytes = read_file(file);
+  if (content_hash(bytes) != record.source_hash)
+    throw CaptureError(file.string() + ": content does not match its hash " + record.source_hash +
+                       " (corrupt capture)");
+  return std::string(bytes.begin(), bytes.end());
 }
 
 std::vector<uint32_t> Capture::load_shader(const ShaderRecord& record) const {

@@ -21,7 +21,9 @@
 
 namespace nightcap {
 
-constexpr int kCaptureVersion = 1;
+// 2: frames record their output size and sinks, shaders their GLSL source, passes the pipeline
+// and sampler state they bound. Version 1 captures lack what replay and the tools need from these.
+constexpr int kCaptureVersion = 2;
 constexpr uint32_t kMaxImageSide = 16384;
 
 struct ResourceRecord {
@@ -41,6 +43,8 @@ struct ShaderRecord {
   std::string path;  // shader source path relative to passes/, e.g. "gbuffer/opaque.frag"
   std::string hash;  // of the SPIR-V words
   std::string blob;
+  std::string source_hash;  // of the GLSL text the SPIR-V was compiled from
+  std::string source_blob;
 };
 
 struct PassRecord {
@@ -53,6 +57,9 @@ struct PassRecord {
   std::vector<ShaderRecord> shaders;
   std::vector<ResourceRecord> inputs, outputs;
   std::string tolerance;  // stated replay tolerance, empty when bit-exact
+  // Pipeline and sampler state the pass bound, as passes/core/pipeline_cache.h describes it:
+  // for tools to show, not read back by replay (which re-runs the pass's own code).
+  nlohmann::json pipelines = nlohmann::json::array(), samplers = nlohmann::json::array();
 };
 
 struct CameraRecord {
@@ -64,6 +71,8 @@ struct CameraRecord {
 
 struct FrameRecord {
   uint32_t index = 0;
+  uint32_t width = 0, height = 0;  // output size the graph resolved relative sizes against
+  std::vector<std::string> sinks;  // resources the frame had to produce
   CameraRecord camera;
   std::vector<PassRecord> passes;
 };
@@ -98,13 +107,15 @@ class CaptureWriter {
 
   // Fills hash and blob of `record` (whose other fields describe `raw`) and writes the blob.
   void add_resource(ResourceRecord& record, std::span<const uint8_t> raw);
-  ShaderRecord add_shader(const std::string& path, std::span<const uint32_t> spirv);
+  ShaderRecord add_shader(const std::string& path, std::span<const uint32_t> spirv, const std::string& source);
   void write_final_png(const std::vector<uint8_t>& rgba8, uint32_t width, uint32_t height);
   void commit(const CaptureManifest& manifest);
 
   uint64_t bytes_written() const { return bytes_written_; }
 
  private:
+  // Writes `bytes` once as blobs/<hash>.<extension>; returns the hash and the blob path.
+  std::pair<std::string, std::string> add_file_blob(std::span<const uint8_t> bytes, const std::string& extension);
   std::filesystem::path target_, temp_;
   bool force_;
   Options options_;
@@ -127,6 +138,7 @@ class Capture {
   // Decodes a resource's blob and checks its content hash. Throws CaptureError.
   std::vector<uint8_t> load(const ResourceRecord& record) const;
   std::vector<uint32_t> load_shader(const ShaderRecord& record) const;
+  std::string load_shader_source(const ShaderRecord& record) const;
 
  private:
   std::filesystem::path folder_;

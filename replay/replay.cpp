@@ -79,7 +79,6 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
   report.frame = options.frame;
   report.device = gpu.name();
   PipelineCache cache(gpu);
-  const nlohmann::json& settings = capture.manifest().settings;
   std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> replayed_by_recorded_hash;
 
   for (const PassRecord& record : frame.passes) {
@@ -127,8 +126,7 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
       result.notes.push_back("capture has no SPIR-V for " + path + ": built-in shader used");
       return builtin_spirv(path);
     };
-    const IsolatedRun run = run_isolated(gpu, cache, *decl, inputs, params, settings.value("width", 1280u),
-                                         settings.value("height", 720u), shaders);
+    const IsolatedRun run = run_isolated(gpu, cache, *decl, inputs, params, frame.width, frame.height, shaders);
     const Execution& execution = run.execution;
     result.replayed = true;
     result.gpu_ms = execution.passes.at(0).gpu_ms;

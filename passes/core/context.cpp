@@ -3,7 +3,17 @@
 
 #include "passes/core/execution_state.h"
 
+#include <algorithm>
+
 namespace nightcap {
+namespace {
+
+// Each distinct pipeline or sampler state once, in the order the pass first used it.
+void record_state(nlohmann::json& list, nlohmann::json state) {
+  if (std::find(list.begin(), list.end(), state) == list.end()) list.push_back(std::move(state));
+}
+
+}  // namespace
 
 PassContext::PassContext(Shared& shared, const CompiledPass& pass, const ParamValues& params)
     : shared_(shared), pass_(pass), params_(params) {}
@@ -89,6 +99,7 @@ void PassContext::bind(const GraphicsPipelineDesc& desc) {
   const auto& entry = shared_.cache.graphics(desc, code(desc.vertex),
                                              desc.fragment.empty() ? std::vector<uint32_t>{} : code(desc.fragment));
   vkCmdBindPipeline(cmd(), VK_PIPELINE_BIND_POINT_GRAPHICS, entry.pipeline);
+  record_state(shared_.current->pipelines, describe(desc));
   layout_ = entry.layout;
   bind_point_ = VK_PIPELINE_BIND_POINT_GRAPHICS;
   push_constant_bytes_ = desc.push_constant_bytes;
@@ -99,6 +110,7 @@ void PassContext::bind(const ComputePipelineDesc& desc) {
   shared_.current->spirv[desc.shader] = spirv;
   const auto& entry = shared_.cache.compute(desc, spirv);
   vkCmdBindPipeline(cmd(), VK_PIPELINE_BIND_POINT_COMPUTE, entry.pipeline);
+  record_state(shared_.current->pipelines, describe(desc));
   layout_ = entry.layout;
   bind_point_ = VK_PIPELINE_BIND_POINT_COMPUTE;
   push_constant_bytes_ = desc.push_constant_bytes;
@@ -139,7 +151,10 @@ void PassContext::push_constants(const void* data, uint32_t bytes) {
   vkCmdPushConstants(cmd(), layout_, VK_SHADER_STAGE_ALL, 0, bytes, data);
 }
 
-VkSampler PassContext::sampler(const SamplerDesc& desc) { return shared_.cache.sampler(desc); }
+VkSampler PassContext::sampler(const SamplerDesc& desc) {
+  record_state(shared_.current->samplers, describe(desc));
+  return shared_.cache.sampler(desc);
+}
 
 VkSampler PassContext::nearest_clamp() {
   SamplerDesc d;

@@ -34,6 +34,8 @@ struct PassExecution {
   std::optional<double> gpu_ms;
   double cpu_ms = 0.0;
   std::map<std::string, std::vector<uint32_t>> spirv;  // path -> code the pass ran
+  nlohmann::json pipelines = nlohmann::json::array();  // describe() of each pipeline it bound
+  nlohmann::json samplers = nlohmann::json::array();   // and of each distinct sampler it used
 };
 
 struct Execution {

@@ -47,6 +47,7 @@ struct CompiledPass {
 };
 
 struct CompiledGraph {
+  GraphSettings settings;            // what it was compiled for: output size, sinks, frame
   std::vector<CompiledPass> passes;  // execution order
   std::map<std::string, ResourceDesc> resources;
 };

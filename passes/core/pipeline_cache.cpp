@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "passes/core/format.h"
 #include "passes/core/pipeline_cache.h"
 
 namespace nightcap {
@@ -23,7 +24,90 @@ struct Specialization {
   }
 };
 
+std::string name_of(VkDescriptorType type) {
+  switch (type) {
+    case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
+      return "uniform_buffer";
+    case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER:
+      return "storage_buffer";
+    case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER:
+      return "combined_image_sampler";
+    case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
+      return "storage_image";
+    default:
+      return "descriptor type " + std::to_string(type);
+  }
+}
+
+std::string name_of(VkCompareOp op) {
+  static const char* names[] = {"never", "less", "equal", "less_or_equal", "greater", "not_equal", "greater_or_equal",
+                                "always"};
+  return op >= 0 && op < 8 ? names[op] : "compare op " + std::to_string(op);
+}
+
+std::string name_of(VkFormat format) {
+  const auto info = format_info(format);
+  return info ? std::string(info->name) : "format " + std::to_string(format);
+}
+
+nlohmann::json bindings_json(const std::vector<VkDescriptorType>& bindings) {
+  nlohmann::json list = nlohmann::json::array();
+  for (VkDescriptorType type : bindings) list.push_back(name_of(type));
+  return list;
+}
+
 }  // namespace
+
+nlohmann::json describe(const GraphicsPipelineDesc& desc) {
+  nlohmann::json colors = nlohmann::json::array();
+  for (VkFormat f : desc.color_formats) colors.push_back(name_of(f));
+  nlohmann::json j = {{"kind", "graphics"},
+                      {"vertex", desc.vertex},
+                      {"fragment", desc.fragment},
+                      {"bindings", bindings_json(desc.bindings)},
+                      {"push_constant_bytes", desc.push_constant_bytes},
+                      {"color_formats", colors},
+                      {"specialization", desc.specialization},
+                      {"stencil_write", desc.stencil_write},
+                      // Cull mode and front face are dynamic: nightcap sets them per draw.
+                      {"dynamic_state", {"viewport", "scissor", "cull_mode", "front_face", "stencil_reference"}}};
+  if (desc.depth_format != VK_FORMAT_UNDEFINED)
+    j["depth"] = {{"format", name_of(desc.depth_format)},
+                  {"test", desc.depth_test},
+                  {"write", desc.depth_write},
+                  {"compare", name_of(desc.depth_compare)}};
+  return j;
+}
+
+nlohmann::json describe(const ComputePipelineDesc& desc) {
+  return {{"kind", "compute"},
+          {"shader", desc.shader},
+          {"bindings", bindings_json(desc.bindings)},
+          {"push_constant_bytes", desc.push_constant_bytes},
+          {"specialization", desc.specialization}};
+}
+
+nlohmann::json describe(const SamplerDesc& desc) {
+  auto filter = [](VkFilter f) { return f == VK_FILTER_NEAREST ? "nearest" : "linear"; };
+  auto wrap = [](VkSamplerAddressMode m) {
+    switch (m) {
+      case VK_SAMPLER_ADDRESS_MODE_REPEAT:
+        return "repeat";
+      case VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT:
+        return "mirrored_repeat";
+      case VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE:
+        return "clamp_to_edge";
+      default:
+        return "other";
+    }
+  };
+  return {{"mag_filter", filter(desc.mag_filter)},
+          {"min_filter", filter(desc.min_filter)},
+          {"mipmap_mode", desc.mipmap_mode == VK_SAMPLER_MIPMAP_MODE_NEAREST ? "nearest" : "linear"},
+          {"mipmaps", desc.mipmaps},
+          {"wrap_u", wrap(desc.wrap_u)},
+          {"wrap_v", wrap(desc.wrap_v)}};
+}
 
 PipelineCache::~PipelineCache() {
   VkDevice device = gpu_.device();

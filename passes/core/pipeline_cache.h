@@ -4,6 +4,8 @@
 
 #include <vulkan/vulkan.h>
 
+#include <nlohmann/json.hpp>
+
 #include <functional>
 #include <map>
 #include <string>
@@ -32,6 +34,11 @@ struct ComputePipelineDesc {
   uint32_t push_constant_bytes = 0;
   std::vector<int32_t> specialization;
 };
+
+// The state a pipeline or sampler was built with, in Vulkan's names, as the capture records it.
+nlohmann::json describe(const GraphicsPipelineDesc& desc);
+nlohmann::json describe(const ComputePipelineDesc& desc);
+nlohmann::json describe(const SamplerDesc& desc);
 
 // SPIR-V for a pass's shader: the recorded code, an override, or the built-in source.
 using ShaderProvider = std::function<std::vector<uint32_t>(const std::string& pass, const std::string& path)>;

@@ -140,6 +140,9 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
                          const std::map<std::string, ParamValues>& params) {
   FrameRecord record;
   record.index = index;
+  record.width = frame.graph.settings.width;
+  record.height = frame.graph.settings.height;
+  record.sinks = frame.graph.settings.sinks;
   const CameraRecordGpu* camera = nullptr;
   if (const VersionData* v = frame.execution.final_version("frame.camera"))
     camera = reinterpret_cast<const CameraRecordGpu*>(v->bytes->data());
@@ -174,7 +177,9 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
     if (auto it = params.find(p.name); it != params.end())
       for (const auto& [k, v] : it->second) p.params[k] = v;
     p.tolerance = pass.decl->tolerance_reason;
-    for (const auto& [path, code] : exec.spirv) p.shaders.push_back(writer.add_shader(path, code));
+    for (const auto& [path, code] : exec.spirv) p.shaders.push_back(writer.add_shader(path, code, shader_source(path)));
+    p.pipelines = exec.pipelines;
+    p.samplers = exec.samplers;
     for (int v : exec.inputs) p.inputs.push_back(describe(frame.execution.versions[v]));
     for (int v : exec.outputs) p.outputs.push_back(describe(frame.execution.versions[v]));
     record.passes.push_back(std::move(p));

@@ -164,6 +164,17 @@ TEST(BadInput, HostileSizesInTheManifest) {
                    "does not match the size");
 }
 
+TEST(BadInput, AnOlderCaptureVersionIsRefusedByName) {
+  const fs::path capture = copy_of_city("version");
+  nlohmann::json manifest = read_json(capture / "manifest.json");
+  manifest["version"] = 1;
+  write_json(capture / "manifest.json", manifest);
+  expect_bad_input(run_cli("passes " + quote(capture)), "capture version 1 is no longer read");
+  manifest["version"] = 3;
+  write_json(capture / "manifest.json", manifest);
+  expect_bad_input(run_cli("passes " + quote(capture)), "capture version 3 is newer");
+}
+
 TEST(BadInput, MissingCaptureAndUnknownPass) {
   expect_bad_input(run_cli("passes /nonexistent/capture"), "/nonexistent/capture");
   const fs::path capture = shared_capture("city-small", kSmall);

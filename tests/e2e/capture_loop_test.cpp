@@ -45,6 +45,53 @@ TEST(CaptureLoop, RenderWritesACompleteCapture) {
   EXPECT_EQ(entries, std::vector<std::string>{"cap"});
 }
 
+// Version 2: what tools and replay read instead of guessing.
+TEST(CaptureLoop, ManifestRecordsOutputSizeSinksShaderSourcesAndPipelineState) {
+  const fs::path capture = shared_capture("city", kCity);
+  const nlohmann::json manifest = read_json(capture / "manifest.json");
+  EXPECT_EQ(manifest.at("version"), 2);
+  for (const auto& frame : manifest.at("frames")) {
+    EXPECT_EQ(frame.at("output"), (nlohmann::json{{"width", 320}, {"height", 180}}));
+    const auto sinks = frame.at("sinks").get<std::vector<std::string>>();
+    EXPECT_NE(std::find(sinks.begin(), sinks.end(), "final.ldr"), sinks.end());
+    for (const auto& p : frame.at("passes")) {
+      if (p.at("status") != "ran" || p.at("gpu_ms").is_null()) continue;
+      const std::string name = p.at("name");
+      ASSERT_FALSE(p.at("pipelines").empty()) << name;
+      std::set<std::string> recorded, bound;
+      for (const auto& s : p.at("shaders")) {
+        recorded.insert(s.at("path").get<std::string>());
+        // The GLSL beside the SPIR-V is the source the pass was built from.
+        std::ifstream in(std::string(NIGHTCAP_SOURCE) + "/passes/" + s.at("path").get<std::string>());
+        const std::string source((std::istreambuf_iterator<char>(in)), {});
+        std::ifstream blob(capture / s.at("source_blob").get<std::string>());
+        EXPECT_EQ(std::string((std::istreambuf_iterator<char>(blob)), {}), source) << name << " " << s.at("path");
+      }
+      for (const auto& pipeline : p.at("pipelines"))
+        for (const char* stage : {"vertex", "fragment", "shader"})
+          if (pipeline.contains(stage) && !pipeline.at(stage).get<std::string>().empty())
+            bound.insert(pipeline.at(stage).get<std::string>());
+      EXPECT_EQ(bound, recorded) << name;
+    }
+  }
+  // Every full-screen pass samples through a nearest clamp-to-edge sampler, and says so.
+  const auto& tonemap = find_pass(manifest.at("frames")[0], "tonemap");
+  ASSERT_EQ(tonemap.at("samplers").size(), 1u);
+  EXPECT_EQ(tonemap.at("samplers")[0].at("mag_filter"), "nearest");
+  EXPECT_EQ(tonemap.at("samplers")[0].at("wrap_u"), "clamp_to_edge");
+  EXPECT_EQ(tonemap.at("pipelines")[0].at("color_formats"), nlohmann::json::array({"R8G8B8A8_SRGB"}));
+}
+
+TEST(CaptureLoop, ReplayTakesTheOutputSizeFromTheFrameNotTheCommandLine) {
+  const fs::path copy = scratch("capture") / "no-settings";
+  fs::copy(shared_capture("city", kCity), copy, fs::copy_options::recursive);
+  nlohmann::json manifest = read_json(copy / "manifest.json");
+  manifest["settings"] = nlohmann::json::object();  // what the command line said is gone
+  write_json(copy / "manifest.json", manifest);
+  const CliResult r = run_cli("replay --verify --pass tonemap --pass depth.pyramid " + quote(copy));
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+}
+
 TEST(CaptureLoop, TheSeedDeterminesTheCity) {
   const nlohmann::json a = read_json(shared_capture("city", kCity) / "manifest.json");
   const fs::path dir = scratch("seeds");
