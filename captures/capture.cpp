@@ -112,6 +112,19 @@ ResourceRecord resource_from_json(const json& j, const std::string& file, const 
   return r;
 }
 
+ComparisonContract contract_from_json(const json& output, const std::string& file, const std::string& where) {
+  const json c = output.contains("contract") ? output.at("contract") : json();
+  ComparisonContract contract;
+  const std::string kind = field<std::string>(c, "kind", file, where + ".contract");
+  if (!contract_kind_by_name(kind, contract.kind)) fail(file, where, "unknown contract kind '" + kind + "'");
+  contract.absolute = field<double>(c, "absolute", file, where + ".contract");
+  contract.relative = field<double>(c, "relative", file, where + ".contract");
+  if (!(contract.absolute >= 0) || !(contract.relative >= 0)) fail(file, where, "contract bounds must be >= 0");
+  contract.order_dependent = field<bool>(c, "order_dependent", file, where + ".contract");
+  contract.reason = field<std::string>(c, "reason", file, where + ".contract");
+  return contract;
+}
+
 void fsync_path(const fs::path& path, bool directory) {
   const int fd = ::open(path.c_str(), directory ? O_RDONLY | O_DIRECTORY : O_RDONLY);
   if (fd >= 0) {
@@ -170,13 +183,20 @@ json to_json(const CaptureManifest& m) {
                            {"source_hash", s.source_hash},
                            {"source_blob", s.source_blob}});
       for (const ResourceRecord& r : p.inputs) inputs.push_back(to_json(r));
-      for (const ResourceRecord& r : p.outputs) outputs.push_back(to_json(r));
+      for (const ResourceRecord& r : p.outputs) {
+        json out = to_json(r);
+        out["contract"] = {{"kind", contract_kind_name(r.contract.kind)},
+                           {"absolute", r.contract.absolute},
+                           {"relative", r.contract.relative},
+                           {"order_dependent", r.contract.order_dependent},
+                           {"reason", r.contract.reason}};
+        outputs.push_back(out);
+      }
       pass["shaders"] = shaders;
       pass["pipelines"] = p.pipelines;
       pass["samplers"] = p.samplers;
       pass["inputs"] = inputs;
       pass["outputs"] = outputs;
-      if (!p.tolerance.empty()) pass["tolerance"] = p.tolerance;
       passes.push_back(pass);
     }
     frames.push_back({{"index", f.index},
@@ -265,7 +285,6 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
       } catch (const json::exception&) {
         fail(file, pw, "\"params\" must map names to numbers");
       }
-      p.tolerance = pj.value("tolerance", "");
       for (const char* state : {"pipelines", "samplers"})
         if (!pj.contains(state) || !pj.at(state).is_array())
           fail(file, pw, std::string("missing \"") + state + "\" array");
@@ -285,7 +304,9 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
         const json list = pj.contains(side) ? pj.at(side) : json();
         if (!list.is_array()) fail(file, pw, std::string("missing \"") + side + "\" array");
         for (size_t ri = 0; ri < list.size(); ++ri) {
-          ResourceRecord r = resource_from_json(list[ri], file, pw + "." + side + "[" + std::to_string(ri) + "]");
+          const std::string rw = pw + "." + side + "[" + std::to_string(ri) + "]";
+          ResourceRecord r = resource_from_json(list[ri], file, rw);
+          if (std::string(side) == "outputs") r.contract = contract_from_json(list[ri], file, rw);
           (std::string(side) == "inputs" ? p.inputs : p.outputs).push_back(std::move(r));
         }
       }

@@ -17,12 +17,14 @@
 #include <vector>
 
 #include "captures/blob_codec.h"
+#include "passes/core/contract.h"
 #include "passes/core/format.h"
 
 namespace nightcap {
 
 // 2: frames record their output size and sinks, shaders their GLSL source, passes the pipeline
-// and sampler state they bound. Version 1 captures lack what replay and the tools need from these.
+// and sampler state they bound, outputs their comparison contract. Version 1 captures lack what replay and the tools
+// need from these.
 constexpr int kCaptureVersion = 2;
 constexpr uint32_t kMaxImageSide = 16384;
 
@@ -35,6 +37,7 @@ struct ResourceRecord {
   uint64_t buffer_size = 0;               // buffers only
   std::string hash;                       // content_hash of the raw bytes
   std::string blob;                       // path relative to the capture folder
+  ComparisonContract contract;            // outputs only: how two versions of it compare
 
   uint64_t raw_bytes() const;
 };
@@ -56,7 +59,6 @@ struct PassRecord {
   std::map<std::string, double> params;
   std::vector<ShaderRecord> shaders;
   std::vector<ResourceRecord> inputs, outputs;
-  std::string tolerance;  // stated replay tolerance, empty when bit-exact
   // Pipeline and sampler state the pass bound, as passes/core/pipeline_cache.h describes it:
   // for tools to show, not read back by replay (which re-runs the pass's own code).
   nlohmann::json pipelines = nlohmann::json::array(), samplers = nlohmann::json::array();

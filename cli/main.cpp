@@ -230,7 +230,7 @@ int run_replay(const std::string& path, uint32_t frame, const std::vector<std::s
   return verify && report.any_different() ? kExitDifferent : 0;
 }
 
-int run_diff(const std::string& a, const std::string& b, double tolerance, bool json) {
+int run_diff(const std::string& a, const std::string& b, std::optional<double> tolerance, bool json) {
   const nc::Capture capture_a = nc::Capture::open(a);
   const nc::Capture capture_b = nc::Capture::open(b);
   nc::DiffOptions options;
@@ -313,7 +313,9 @@ int main(int argc, char** argv) {
   auto* diff = app.add_subcommand("diff", "Compare two captures pass by pass and name the first divergent pass");
   diff->add_option("capture_a", capture_path, "reference capture")->required();
   diff->add_option("capture_b", capture_b, "capture to compare")->required();
-  diff->add_option("--tolerance", tolerance, "max abs difference still accepted (exit 0)")->capture_default_str();
+  auto* tolerance_option = diff->add_option(
+      "--tolerance", tolerance,
+      "max abs difference accepted for float outputs, instead of their recorded contracts (others keep theirs)");
   diff->add_flag("--json", json, "machine-readable output");
 
   std::string graph_output;
@@ -340,7 +342,9 @@ int main(int argc, char** argv) {
     if (*render) code = run_render(scene_path, out, size, frames, seed, device, sets, force, orbit, target, fov, codec);
     if (*passes) code = run_passes(capture_path, json);
     if (*replay) code = run_replay(capture_path, frame, pass_names, sets, shaders, device, verify, chain, json);
-    if (*diff) code = run_diff(capture_path, capture_b, tolerance, json);
+    if (*diff)
+      code = run_diff(capture_path, capture_b,
+                      tolerance_option->count() ? std::optional<double>(tolerance) : std::nullopt, json);
     if (*graph) code = run_graph(capture_path, frame, graph_output);
   } catch (const std::exception& e) {
     std::cerr << "nightcap: " << e.what() << "\n";

@@ -7,6 +7,13 @@
 namespace nightcap {
 namespace {
 
+std::string number(double v, int precision = 4) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  std::ostringstream s;
+  s << std::setprecision(precision) << v;
+  return s.str();
+}
+
 const PassRecord* find(const FrameRecord& frame, const std::string& name) {
   for (const PassRecord& p : frame.passes)
     if (p.name == name) return &p;
@@ -53,9 +60,18 @@ PassDiff diff_pass(const Capture& ca, const PassRecord& a, const Capture& cb, co
       o.comparison.identical = true;
       o.comparison.metric = "bytes";
     } else {
-      o.comparison = compare_resource(ra, ca.load(ra), *rb, cb.load(*rb));
+      const std::vector<uint8_t> raw_a = ca.load(ra), raw_b = cb.load(*rb);
+      o.comparison = compare_resource(ra, raw_a, *rb, raw_b);
       differs = true;
-      if (!o.comparison.comparable || o.comparison.max_abs > options.tolerance) d.beyond_tolerance = true;
+      if (options.tolerance && o.comparison.metric == "float") {
+        o.held_to = "max abs <= " + number(*options.tolerance) + " (--tolerance)";
+        o.beyond = !o.comparison.comparable || !(o.comparison.max_abs <= *options.tolerance);
+      } else {
+        o.contract = check_contract(ra.contract, ra, raw_a, *rb, raw_b);
+        o.held_to = contract_description(ra.contract) + " (recorded contract)";
+        o.beyond = !o.contract.holds;
+      }
+      if (o.beyond) d.beyond_tolerance = true;
     }
     d.outputs.push_back(std::move(o));
   }
@@ -74,13 +90,6 @@ PassDiff diff_pass(const Capture& ca, const PassRecord& a, const Capture& cb, co
   // shader, or the pass's own behaviour); params_agree and shaders_agree say which.
   if (differs) d.status = d.inputs_agree ? PassStatus::origin : PassStatus::inherited;
   return d;
-}
-
-std::string number(double v, int precision = 4) {
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  std::ostringstream s;
-  s << std::setprecision(precision) << v;
-  return s.str();
 }
 
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
@@ -177,6 +186,7 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
               << (std::to_string(c.nan_b) + "/" + std::to_string(c.inf_b));
         else if (!c.comparable)
           out << "  " << c.note;
+        if (!o.held_to.empty()) out << "  held to " << o.held_to << (o.beyond ? ": beyond" : ": met");
         out << "\n";
       }
     }
@@ -214,6 +224,14 @@ nlohmann::json diff_to_json(const CaptureDiff& diff) {
           j["angular_mean_deg"] = c.angular_mean_deg;
         }
         if (!c.note.empty()) j["note"] = c.note;
+        if (!o.held_to.empty()) {
+          j["held_to"] = o.held_to;
+          j["beyond"] = o.beyond;
+          if (!o.contract.measure.empty())
+            j["contract"] = {{"worst", finite_or_null(o.contract.worst)},
+                             {"bound", o.contract.bound},
+                             {"measure", o.contract.measure}};
+        }
         outputs.push_back(j);
       }
       passes.push_back({{"name", p.name},

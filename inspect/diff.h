@@ -17,13 +17,18 @@
 namespace nightcap {
 
 struct DiffOptions {
-  double tolerance = 0.0;  // max abs difference still accepted
+  // Max abs difference accepted for float outputs, overriding their recorded contracts; every
+  // other output is held to the contract capture A recorded for it.
+  std::optional<double> tolerance;
 };
 
 struct OutputDiff {
   std::string resource;
   bool only_in_one = false;
   ResourceComparison comparison;
+  bool beyond = false;     // outside what it was held to
+  std::string held_to;     // the threshold and where it came from
+  ContractCheck contract;  // when held to the recorded contract
 };
 
 enum class PassStatus { identical, origin, inherited, skipped, skipped_in_a, skipped_in_b, only_in_a, only_in_b };

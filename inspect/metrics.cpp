@@ -2,8 +2,10 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 namespace nightcap {
 namespace {
@@ -132,6 +134,117 @@ ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uin
   r.over_threshold_share = texels_total ? double(over) / texels_total : 0.0;
   r.angular_mean_deg = normal && texels_total ? angle_sum / texels_total : 0.0;
   return r;
+}
+
+namespace {
+
+// Codes per unit of a UNORM channel: what one step of the format is worth.
+double code_scale(const FormatInfo& f) {
+  using E = ChannelEncoding;
+  switch (f.encoding) {
+    case E::packed_a2b10g10r10:
+      return 1023.0;
+    case E::unorm16:
+      return 65535.0;
+    default:
+      return 255.0;
+  }
+}
+
+// Applies `visit(aspect, channel, value_a, value_b)` to every decoded value of two images of the
+// same format and size.
+template <typename Visit>
+void each_value(const FormatInfo& f, const ImageExtent& extent, std::span<const uint8_t> a, std::span<const uint8_t> b,
+                Visit visit) {
+  float va[4], vb[4];
+  for (uint32_t aspect = 0; aspect < aspect_count(f); ++aspect) {
+    const uint64_t begin = raw_subresource_offset(f, extent, aspect, 0, 0);
+    const uint64_t end = raw_subresource_offset(f, extent, aspect + 1, 0, 0);
+    const uint64_t texels = (end - begin) / aspect_texel_bytes(f, aspect);
+    for (uint64_t t = 0; t < texels; ++t) {
+      decode_texel(f, aspect, a.subspan(begin, end - begin), t, va);
+      decode_texel(f, aspect, b.subspan(begin, end - begin), t, vb);
+      visit(aspect, aspect_channels(f, aspect), va, vb);
+    }
+  }
+}
+
+}  // namespace
+
+ContractCheck check_contract(const ComparisonContract& contract, const ResourceRecord& a,
+                             std::span<const uint8_t> a_raw, const ResourceRecord& b, std::span<const uint8_t> b_raw) {
+  using Kind = ComparisonContract::Kind;
+  ContractCheck check;
+  const bool same_bytes = a_raw.size() == b_raw.size() && std::equal(a_raw.begin(), a_raw.end(), b_raw.begin());
+  const ResourceComparison shape = compare_resource(a, a_raw, b, b_raw);
+  if (!shape.comparable) {
+    check.measure = shape.note;
+    check.worst = INFINITY;
+    return check;
+  }
+  switch (contract.kind) {
+    case Kind::exact:
+      check.measure = "differing values";
+      check.worst = double(shape.differing);
+      break;
+    case Kind::set: {
+      check.measure = "words not matched";
+      std::vector<uint32_t> wa(a_raw.size() / 4), wb(b_raw.size() / 4);
+      std::memcpy(wa.data(), a_raw.data(), wa.size() * 4);
+      std::memcpy(wb.data(), b_raw.data(), wb.size() * 4);
+      std::sort(wa.begin(), wa.end());
+      std::sort(wb.begin(), wb.end());
+      for (size_t i = 0; i < wa.size(); ++i) check.worst += wa[i] != wb[i];
+      break;
+    }
+    case Kind::angle:
+      check.measure = "degrees";
+      check.bound = contract.absolute;
+      check.worst = shape.nan_a + shape.nan_b > 0 ? INFINITY : shape.angular_max_deg;
+      break;
+    case Kind::float_values:
+    case Kind::unorm_codes:
+    case Kind::linear_depth: {
+      if (a.is_buffer) {
+        check.measure = "buffers are compared as words";
+        check.worst = INFINITY;
+        break;
+      }
+      const FormatInfo f = *format_info(a.format);
+      check.measure = contract.kind == Kind::unorm_codes    ? "codes"
+                      : contract.kind == Kind::linear_depth ? "relative depth"
+                                                            : "multiples of the bound";
+      check.bound = contract.kind == Kind::unorm_codes    ? contract.absolute
+                    : contract.kind == Kind::linear_depth ? contract.relative
+                                                          : 1.0;
+      each_value(f, a.extent, a_raw, b_raw, [&](uint32_t aspect, uint32_t channels, const float* va, const float* vb) {
+        for (uint32_t c = 0; c < channels; ++c) {
+          if (std::isnan(va[c]) && std::isnan(vb[c])) continue;
+          const double d = va[c] == vb[c] ? 0.0 : std::abs(double(va[c]) - double(vb[c]));
+          double departure;
+          if (aspect == 1)  // stencil: exact under every contract
+            departure = d > 0 ? INFINITY : 0.0;
+          else if (contract.kind == Kind::unorm_codes) {
+            // Codes are whole steps of the stored encoding (sRGB codes before decoding).
+            const bool srgb = f.encoding == ChannelEncoding::srgb8 && c < 3;
+            const double ea = srgb ? linear_to_srgb(va[c]) : va[c], eb = srgb ? linear_to_srgb(vb[c]) : vb[c];
+            departure = std::round(std::abs(ea - eb) * code_scale(f));
+          }
+          else if (contract.kind == Kind::linear_depth)
+            departure = va[c] != 0 ? d / std::abs(double(va[c])) : (d > 0 ? INFINITY : 0.0);
+          else {
+            const double allowed = contract.absolute + contract.relative * std::abs(double(va[c]));
+            departure = allowed > 0 ? d / allowed : (d > 0 ? INFINITY : 0.0);
+          }
+          if (std::isnan(departure)) departure = INFINITY;
+          check.worst = std::max(check.worst, departure);
+        }
+      });
+      break;
+    }
+  }
+  check.holds = same_bytes || (contract.kind != Kind::exact && check.worst <= check.bound);
+  return check;
 }
 
 }  // namespace nightcap

@@ -27,4 +27,15 @@ struct ResourceComparison {
 ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uint8_t> a_raw, const ResourceRecord& b,
                                     std::span<const uint8_t> b_raw);
 
+// How far `b` is from `a` in the terms of a's comparison contract.
+struct ContractCheck {
+  bool holds = false;
+  // The largest departure, in the contract's unit (bytes for exact, the value for float, codes,
+  // degrees, relative depth, words for sets), and the bound it was held to.
+  double worst = 0.0, bound = 0.0;
+  std::string measure;  // what `worst` counts, e.g. "degrees"
+};
+ContractCheck check_contract(const ComparisonContract& contract, const ResourceRecord& a,
+                             std::span<const uint8_t> a_raw, const ResourceRecord& b, std::span<const uint8_t> b_raw);
+
 }  // namespace nightcap

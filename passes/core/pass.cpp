@@ -1,5 +1,7 @@
 #include "passes/core/pass.h"
 
+#include <stdexcept>
+
 namespace nightcap {
 
 uint64_t ResourceDesc::raw_bytes() const {
@@ -74,10 +76,19 @@ PassDecl& PassDecl::skip_when(std::function<std::string(const SkipContext&)> con
   return *this;
 }
 
-PassDecl& PassDecl::allow_tolerance(double amount, std::string reason) {
-  tolerance = amount;
-  tolerance_reason = std::move(reason);
-  return *this;
+PassDecl& PassDecl::compare(const std::string& output, ComparisonContract contract) {
+  for (ResourceUse& out : outputs)
+    if (out.resource == output) {
+      out.contract = std::move(contract);
+      return *this;
+    }
+  throw std::logic_error(name + ": compare() names '" + output + "', which it does not write");
+}
+
+const ComparisonContract& PassDecl::contract_of(const std::string& output) const {
+  for (const ResourceUse& out : outputs)
+    if (out.resource == output) return out.contract;
+  throw std::logic_error(name + ": has no output '" + output + "'");
 }
 
 PassDecl& PassDecl::fullscreen(std::string fragment) {

@@ -14,6 +14,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "passes/core/contract.h"
 #include "passes/core/format.h"
 
 namespace nightcap {
@@ -80,6 +81,7 @@ struct ResourceUse {
   bool is_buffer = false;
   ImageDecl image;
   BufferDecl buffer;
+  ComparisonContract contract;  // outputs: how two versions of it compare (exact by default)
 };
 
 struct ParamDecl {
@@ -105,8 +107,6 @@ struct PassDecl {
   std::function<void(PassContext&)> execute;
   // Extra frame-dependent skip condition: returns the reason, or "" to run.
   std::function<std::string(const SkipContext&)> skip_if;
-  double tolerance = 0.0;  // allowed max abs difference in replay --verify
-  std::string tolerance_reason;
 
   PassDecl(std::string pass_name, PassType pass_type) : name(std::move(pass_name)), type(pass_type) {}
   PassDecl& read(std::string resource, Use use);
@@ -119,7 +119,8 @@ struct PassDecl {
   PassDecl& shader(std::string path);
   PassDecl& run(std::function<void(PassContext&)> function);
   PassDecl& skip_when(std::function<std::string(const SkipContext&)> condition);
-  PassDecl& allow_tolerance(double amount, std::string reason);
+  // How `output` compares across replays, builds and devices (passes/core/contract.h).
+  PassDecl& compare(const std::string& output, ComparisonContract contract);
   // A fragment shader drawn over the whole output, recorded from the declaration alone
   // (passes/core/fullscreen.cpp): set 0 binds the GPU inputs in declaration order (buffers as
   // uniform or storage buffers by their use, images through a nearest clamp-to-edge sampler,
@@ -131,6 +132,7 @@ struct PassDecl {
 
   ParamValues default_params() const;
   const ParamDecl* find_param(const std::string& param_name) const;
+  const ComparisonContract& contract_of(const std::string& output) const;
 };
 
 const PassDecl* find_pass(const std::vector<PassDecl>& passes, const std::string& name);

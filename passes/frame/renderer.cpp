@@ -176,12 +176,14 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
     p.params = pass.decl->default_params();
     if (auto it = params.find(p.name); it != params.end())
       for (const auto& [k, v] : it->second) p.params[k] = v;
-    p.tolerance = pass.decl->tolerance_reason;
     for (const auto& [path, code] : exec.spirv) p.shaders.push_back(writer.add_shader(path, code, shader_source(path)));
     p.pipelines = exec.pipelines;
     p.samplers = exec.samplers;
     for (int v : exec.inputs) p.inputs.push_back(describe(frame.execution.versions[v]));
-    for (int v : exec.outputs) p.outputs.push_back(describe(frame.execution.versions[v]));
+    for (int v : exec.outputs) {
+      p.outputs.push_back(describe(frame.execution.versions[v]));
+      p.outputs.back().contract = pass.decl->contract_of(p.outputs.back().resource);
+    }
     record.passes.push_back(std::move(p));
   }
   for (size_t i = 0; i < record.passes.size(); ++i) {

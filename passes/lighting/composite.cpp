@@ -17,6 +17,10 @@ PassDecl lighting_composite_pass() {
       .write("lighting.lit", Use::color_attachment, ImageDecl{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour})
       .param("ambient", 0.02, 0.0, 1e6, "uniform ambient radiance (a stand-in for the indirect light to come)")
       .param("sky", 0.004, 0.0, 1e6, "radiance of the night sky where nothing was drawn")
+      .compare("lighting.lit", ComparisonContract::floats(0x1p-24, 0x1p-10,
+                                                          "the nearest half to the sum "
+                                                          "(tests/unit/lighting_composite_test.cpp): "
+                                                          "two devices within one half ULP"))
       .fullscreen("lighting/composite.frag", [](const PassContext& ctx) {
         // A cool night ambient and a deep blue sky.
         const float ambient = float(ctx.param("ambient")), sky = float(ctx.param("sky"));

@@ -6,6 +6,17 @@
 
 namespace nightcap {
 
+namespace {
+
+ComparisonContract lighting_contract() {
+  return ComparisonContract::floats(0x1p-23, 0x1p-9,
+                                    "each device within 2^-10 relative (2^-24 absolute) of the double-precision "
+                                    "BRDF where its float inputs allow (tests/unit/lighting_deferred_test.cpp): "
+                                    "two within twice that");
+}
+
+}  // namespace
+
 PassDecl lighting_deferred_pass() {
   ImageDecl hdr{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour};
   return PassDecl("lighting.deferred", PassType::graphics)
@@ -20,6 +31,8 @@ PassDecl lighting_deferred_pass() {
       .param("intensity_scale", 1.0, 0.0, 1e6, "multiplies every light's intensity")
       .param("min_roughness", 0.03, 0.0, 1.0, "roughness floor: keeps point highlights finite in half floats")
       .param("tube_samples", 8, 1, 256, "samples along each tube light for its diffuse term")
+      .compare("lighting.diffuse", lighting_contract())
+      .compare("lighting.specular", lighting_contract())
       .skip_when([](const SkipContext& frame) {
         const bool lit = frame.features.count("sun") || frame.features.count("local_lights");
         return lit ? std::string() : std::string("scene has no lights");

@@ -10,6 +10,10 @@ PassDecl tonemap_pass() {
       .read("lighting.lit", Use::sampled)
       .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_SRGB, ResourceKind::colour})
       .param("exposure", 1.0, 0.0, 1e6, "multiplies the HDR colour before the curve")
+      .compare("final.ldr", ComparisonContract::codes(1,
+                                                      "within 0.67 of a code of the exact sRGB encoding "
+                                                      "(tests/unit/tonemap_test.cpp); encoders may round the "
+                                                      "other way"))
       .fullscreen("post/tonemap.frag", [](const PassContext& ctx) {
         struct {
           float exposure;

@@ -263,6 +263,29 @@ TEST(CaptureLoop, DiffNamesTonemapForAnExposureChange) {
   EXPECT_EQ(diff.at("first_divergence").at("pass"), "tonemap");
   const CliResult table = run_cli("diff " + quote(a) + " " + quote(b));
   EXPECT_NE(table.out.find("tonemap"), std::string::npos) << table.out;
+  // final.ldr was held to the contract tonemap declared and recorded.
+  for (const auto& p : diff.at("frames")[0].at("passes"))
+    if (p.at("name") == "tonemap") {
+      const auto& out = p.at("outputs")[0];
+      EXPECT_EQ(out.at("held_to"), "within 1 code (recorded contract)");
+      EXPECT_TRUE(out.at("beyond"));
+      EXPECT_GT(out.at("contract").at("worst").get<double>(), 1.0);
+    }
+}
+
+TEST(CaptureLoop, ToleranceOverridesTheContractsOfFloatOutputsOnly) {
+  const fs::path a = shared_capture("city", kCity);
+  const fs::path b = shared_capture("city-light", std::string(kCity) + " --set lighting.deferred.intensity_scale=1.5");
+  const CliResult r = run_cli("diff --json --tolerance 1e9 " + quote(a) + " " + quote(b));
+  EXPECT_EQ(r.code, 1) << "final.ldr (UNORM codes) is still held to its contract: " << r.err;
+  std::map<std::string, bool> beyond;
+  const nlohmann::json diff = nlohmann::json::parse(r.out);
+  for (const auto& p : diff.at("frames")[0].at("passes"))
+    for (const auto& o : p.at("outputs"))
+      if (o.contains("beyond")) beyond[o.at("resource").get<std::string>()] = o.at("beyond").get<bool>();
+  EXPECT_FALSE(beyond.at("lighting.diffuse"));
+  EXPECT_FALSE(beyond.at("lighting.lit"));
+  EXPECT_TRUE(beyond.at("final.ldr"));
 }
 
 TEST(CaptureLoop, DiffNamesLightingAndMarksWhatInheritsIt) {
