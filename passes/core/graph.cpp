@@ -185,6 +185,7 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   }
 
   CompiledGraph graph;
+  graph.frame_index = settings.frame.frame_index;
   for (const ImportedResource& r : imports) graph.resources[r.name] = r.desc;
   std::map<int, int> position;  // declaration index -> execution index
   for (int i : order) {

@@ -49,6 +49,7 @@ struct CompiledPass {
 struct CompiledGraph {
   std::vector<CompiledPass> passes;  // execution order
   std::map<std::string, ResourceDesc> resources;
+  uint32_t frame_index = 0;  // from GraphSettings::frame, to name what records this graph
 };
 
 // Throws GraphError for: a read of a resource nobody writes or imports, two fresh writers of
