@@ -85,7 +85,7 @@ VkImageView PassContext::view(const std::string& resource, ViewAspect aspect, in
   info.subresourceRange = {aspects, mip < 0 ? 0u : static_cast<uint32_t>(mip), mip < 0 ? r.desc.extent.mips : 1u, 0,
                            r.desc.extent.layers};
   VkImageView view;
-  vk_check(vkCreateImageView(gpu().device(), &info, nullptr, &view), "vkCreateImageView");
+  view = gpu().create_view(info, resource, r.desc.extent.mips);
   r.views[key] = view;
   return view;
 }

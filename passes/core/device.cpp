@@ -8,6 +8,8 @@
 #include <cstring>
 #include <iostream>
 
+#include "passes/core/format.h"
+
 namespace nightcap {
 namespace {
 
@@ -139,6 +141,8 @@ GpuDevice::GpuDevice(const Options& options) {
         vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
     end_label_ = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(
         vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
+    set_object_name_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
+        vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
   }
 
   uint32_t count = 0;
@@ -217,6 +221,7 @@ GpuDevice::GpuDevice(const Options& options) {
   device_info.ppEnabledExtensionNames = device_extensions;
   vk_check(vkCreateDevice(physical_, &device_info, nullptr, &device_), "vkCreateDevice");
   vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+  name(VK_OBJECT_TYPE_QUEUE, queue_, "nightcap queue");
   push_descriptor_set_ =
       reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
 
@@ -224,6 +229,7 @@ GpuDevice::GpuDevice(const Options& options) {
   pool_info.queueFamilyIndex = queue_family_;
   pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   vk_check(vkCreateCommandPool(device_, &pool_info, nullptr, &pool_), "vkCreateCommandPool");
+  name(VK_OBJECT_TYPE_COMMAND_POOL, pool_, "nightcap commands");
   renderdoc_ = load_renderdoc();
   keep_vulkan_modules_loaded();
 }
@@ -248,13 +254,24 @@ uint32_t GpuDevice::memory_type(uint32_t bits, VkMemoryPropertyFlags flags) cons
   throw GpuError("no Vulkan memory type with the required properties");
 }
 
-GpuBuffer GpuDevice::create_buffer(uint64_t size, VkBufferUsageFlags usage, bool host_visible) {
+void GpuDevice::name(VkObjectType type, uint64_t handle, const std::string& name) const {
+  if (!set_object_name_) return;
+  auto info = vk_struct<VkDebugUtilsObjectNameInfoEXT>(VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT);
+  info.objectType = type;
+  info.objectHandle = handle;
+  info.pObjectName = name.c_str();
+  vk_check(set_object_name_(device_, &info), "vkSetDebugUtilsObjectNameEXT");
+}
+
+GpuBuffer GpuDevice::create_buffer(uint64_t size, VkBufferUsageFlags usage, bool host_visible,
+                                   const std::string& name) {
   GpuBuffer result;
   result.size = size;
   auto info = vk_struct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
   info.size = std::max<uint64_t>(size, 16);
   info.usage = usage;
   vk_check(vkCreateBuffer(device_, &info, nullptr, &result.buffer), "vkCreateBuffer");
+  this->name(VK_OBJECT_TYPE_BUFFER, result.buffer, name);
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device_, result.buffer, &req);
   auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
@@ -263,6 +280,7 @@ GpuBuffer GpuDevice::create_buffer(uint64_t size, VkBufferUsageFlags usage, bool
       req.memoryTypeBits, host_visible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
                                        : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
   vk_check(vkAllocateMemory(device_, &alloc, nullptr, &result.memory), "vkAllocateMemory");
+  this->name(VK_OBJECT_TYPE_DEVICE_MEMORY, result.memory, name + " memory");
   vk_check(vkBindBufferMemory(device_, result.buffer, result.memory, 0), "vkBindBufferMemory");
   if (host_visible) vk_check(vkMapMemory(device_, result.memory, 0, VK_WHOLE_SIZE, 0, &result.mapped), "vkMapMemory");
   return result;
@@ -274,15 +292,17 @@ void GpuDevice::destroy(GpuBuffer& buffer) {
   buffer = {};
 }
 
-GpuImage GpuDevice::create_image(const VkImageCreateInfo& info) {
+GpuImage GpuDevice::create_image(const VkImageCreateInfo& info, const std::string& name) {
   GpuImage result;
   vk_check(vkCreateImage(device_, &info, nullptr, &result.image), "vkCreateImage");
+  this->name(VK_OBJECT_TYPE_IMAGE, result.image, name);
   VkMemoryRequirements req;
   vkGetImageMemoryRequirements(device_, result.image, &req);
   auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
   alloc.allocationSize = req.size;
   alloc.memoryTypeIndex = memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
   vk_check(vkAllocateMemory(device_, &alloc, nullptr, &result.memory), "vkAllocateMemory");
+  this->name(VK_OBJECT_TYPE_DEVICE_MEMORY, result.memory, name + " memory");
   vk_check(vkBindImageMemory(device_, result.image, result.memory, 0), "vkBindImageMemory");
   return result;
 }
@@ -293,7 +313,27 @@ void GpuDevice::destroy(GpuImage& image) {
   image = {};
 }
 
-VkCommandBuffer GpuDevice::begin_commands() {
+VkImageView GpuDevice::create_view(const VkImageViewCreateInfo& info, const std::string& image_name,
+                                   uint32_t image_mips) {
+  VkImageView view;
+  vk_check(vkCreateImageView(device_, &info, nullptr, &view), "vkCreateImageView");
+  const VkImageSubresourceRange& range = info.subresourceRange;
+  std::string label = image_name;
+  // Only a depth-stencil image has an aspect a view can leave out.
+  const std::optional<FormatInfo> format = format_info(info.format);
+  if (format && format->has_stencil && range.aspectMask == VK_IMAGE_ASPECT_DEPTH_BIT) label += " depth";
+  if (format && format->has_stencil && range.aspectMask == VK_IMAGE_ASPECT_STENCIL_BIT) label += " stencil";
+  if (range.levelCount == 1 && image_mips > 1) {
+    label += " mip " + std::to_string(range.baseMipLevel);
+  } else if (range.baseMipLevel != 0 || range.levelCount < image_mips) {
+    label +=
+        " mips " + std::to_string(range.baseMipLevel) + "-" + std::to_string(range.baseMipLevel + range.levelCount - 1);
+  }
+  name(VK_OBJECT_TYPE_IMAGE_VIEW, view, label);
+  return view;
+}
+
+VkCommandBuffer GpuDevice::begin_commands(const std::string& name) {
   auto info = vk_struct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
   info.commandPool = pool_;
   info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
@@ -303,6 +343,8 @@ VkCommandBuffer GpuDevice::begin_commands() {
   auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   vk_check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
+  // After begin: RenderDoc starts a fresh record for the buffer there and drops an earlier name.
+  this->name(VK_OBJECT_TYPE_COMMAND_BUFFER, cmd, name);
   return cmd;
 }
 
@@ -314,6 +356,7 @@ void GpuDevice::end_and_wait(VkCommandBuffer cmd) {
   auto fence_info = vk_struct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
   VkFence fence;
   vk_check(vkCreateFence(device_, &fence_info, nullptr, &fence), "vkCreateFence");
+  name(VK_OBJECT_TYPE_FENCE, fence, "submit fence");
   VkResult result = vkQueueSubmit(queue_, 1, &submit, fence);
   if (result == VK_SUCCESS) result = vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX);
   vkDestroyFence(device_, fence, nullptr);

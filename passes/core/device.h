@@ -1,6 +1,7 @@
 // The Vulkan device nightcap renders with: lavapipe unless a name is asked for, validation
 // when NIGHTCAP_VALIDATION=1 (errors are counted so tests can fail on them), debug-utils
-// labels when the loader offers them, and RenderDoc's in-app API when the process runs under it.
+// labels and object names when the loader offers them, and RenderDoc's in-app API when the
+// process runs under it.
 #pragma once
 
 #include <vulkan/vulkan.h>
@@ -64,12 +65,24 @@ class GpuDevice {
   std::string driver() const { return driver_; }
   float timestamp_period_ns() const { return properties_.limits.timestampPeriod; }
 
-  GpuBuffer create_buffer(uint64_t size, VkBufferUsageFlags usage, bool host_visible);
+  // `name` labels the object and its memory ("<name> memory") for debuggers and validation.
+  GpuBuffer create_buffer(uint64_t size, VkBufferUsageFlags usage, bool host_visible, const std::string& name);
   void destroy(GpuBuffer& buffer);
-  GpuImage create_image(const VkImageCreateInfo& info);
+  GpuImage create_image(const VkImageCreateInfo& info, const std::string& name);
   void destroy(GpuImage& image);
+  // A view of the image named `image_name`, named after it plus the mips and aspect it selects
+  // when those are not the whole image (`image_mips` levels, every aspect of info.format).
+  VkImageView create_view(const VkImageViewCreateInfo& info, const std::string& image_name, uint32_t image_mips);
 
-  VkCommandBuffer begin_commands();  // one-time primary command buffer
+  // Names a Vulkan object in RenderDoc's resource list and in validation messages; does
+  // nothing when VK_EXT_debug_utils is unavailable.
+  void name(VkObjectType type, uint64_t handle, const std::string& name) const;
+  template <typename Handle>
+  void name(VkObjectType type, Handle handle, const std::string& name) const {
+    this->name(type, reinterpret_cast<uint64_t>(handle), name);
+  }
+
+  VkCommandBuffer begin_commands(const std::string& name);  // one-time primary command buffer
   // Submits, waits for completion, frees the command buffer.
   void end_and_wait(VkCommandBuffer cmd);
 
@@ -100,6 +113,7 @@ class GpuDevice {
   std::string driver_;
   PFN_vkCmdBeginDebugUtilsLabelEXT begin_label_ = nullptr;
   PFN_vkCmdEndDebugUtilsLabelEXT end_label_ = nullptr;
+  PFN_vkSetDebugUtilsObjectNameEXT set_object_name_ = nullptr;
   PFN_vkCmdPushDescriptorSetKHR push_descriptor_set_ = nullptr;
   void* renderdoc_ = nullptr;  // RENDERDOC_API_1_1_2*
 };

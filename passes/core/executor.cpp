@@ -80,14 +80,14 @@ std::vector<VkBufferImageCopy> raw_copy_regions(const ResourceDesc& d) {
   return regions;
 }
 
-void allocate(GpuDevice& gpu, PhysicalResource& r, VkImageUsageFlags usage) {
+void allocate(GpuDevice& gpu, const std::string& name, PhysicalResource& r, VkImageUsageFlags usage) {
   const ResourceDesc& d = r.desc;
   if (d.is_buffer) {
     r.buffer = gpu.create_buffer(std::max<uint64_t>(d.buffer_size, 16),
                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
                                      VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
                                      VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                 false);
+                                 false, name);
     return;
   }
   auto info = vk_struct<VkImageCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO);
@@ -101,7 +101,7 @@ void allocate(GpuDevice& gpu, PhysicalResource& r, VkImageUsageFlags usage) {
   info.usage = usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   // Sampling depth uses DEPTH_STENCIL_READ_ONLY_OPTIMAL, which needs attachment usage.
   if (format_info(d.format)->is_depth) info.usage |= VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
-  r.image = gpu.create_image(info);
+  r.image = gpu.create_image(info, name);
 }
 
 struct Staging {
@@ -212,16 +212,18 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
   for (const auto& [name, flags] : usage) {
     PhysicalResource& r = shared.resources[name];
     r.desc = graph.resources.at(name);
-    allocate(gpu, r, flags);
+    allocate(gpu, name, r, flags);
   }
 
   auto query_info = vk_struct<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
   query_info.queryType = VK_QUERY_TYPE_TIMESTAMP;
   query_info.queryCount = static_cast<uint32_t>(2 * graph.passes.size() + 2);
   vk_check(vkCreateQueryPool(gpu.device(), &query_info, nullptr, &cleanup.queries), "vkCreateQueryPool");
+  gpu.name(VK_OBJECT_TYPE_QUERY_POOL, cleanup.queries, "pass timestamps");
   vkResetQueryPool(gpu.device(), cleanup.queries, 0, query_info.queryCount);
 
-  VkCommandBuffer cmd = gpu.begin_commands();
+  VkCommandBuffer cmd = gpu.begin_commands(
+      options.name.empty() ? "frame " + std::to_string(graph.settings.frame.frame_index) : options.name);
   shared.cmd = cmd;
   try {
     // Uploads of host data the GPU reads.
@@ -229,7 +231,8 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       auto host = shared.host.find(name);
       if (host == shared.host.end()) continue;
       const std::vector<uint8_t>& bytes = *host->second;
-      GpuBuffer staging = gpu.create_buffer(std::max<size_t>(bytes.size(), 16), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
+      GpuBuffer staging = gpu.create_buffer(std::max<size_t>(bytes.size(), 16), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true,
+                                            "upload " + name);
       if (!bytes.empty()) std::memcpy(staging.mapped, bytes.data(), bytes.size());
       cleanup.staging.push_back({staging, -1});
       transition(cmd, r, transfer_state(true), true);
@@ -244,9 +247,10 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
                                static_cast<uint32_t>(regions.size()), regions.data());
       }
     }
-    auto read_back = [&](PhysicalResource& r, int version) {
-      GpuBuffer staging =
-          gpu.create_buffer(std::max<uint64_t>(r.desc.raw_bytes(), 16), VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+    // `what`: the resource and the pass that wrote this version, e.g. "gbuffer.normal from gbuffer.opaque".
+    auto read_back = [&](PhysicalResource& r, int version, const std::string& what) {
+      GpuBuffer staging = gpu.create_buffer(std::max<uint64_t>(r.desc.raw_bytes(), 16),
+                                            VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "readback " + what);
       cleanup.staging.push_back({staging, version});
       transition(cmd, r, transfer_state(false));
       if (r.desc.is_buffer) {
@@ -323,7 +327,8 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
         const int version = add_version(out.resource, r.desc, nullptr);
         exec.outputs.push_back(version);
         const bool final = last_writer_of(out.resource) == static_cast<int>(i);
-        if (options.capture || (final && options.readback.count(out.resource))) read_back(r, version);
+        if (options.capture || (final && options.readback.count(out.resource)))
+          read_back(r, version, out.resource + " from " + pass.decl->name);
       }
     }
   } catch (...) {

@@ -21,6 +21,7 @@ struct ExecutionOptions {
   std::set<std::string> readback;             // final versions to read back regardless
   std::map<std::string, ParamValues> params;  // per pass; missing ones take their defaults
   ShaderProvider shaders;
+  std::string name;  // of the command buffer, for debuggers; empty: "frame <graph frame index>"
 };
 
 struct VersionData {

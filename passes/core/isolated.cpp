@@ -23,6 +23,7 @@ IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& p
   options.capture = true;
   options.params[pass.name] = params;
   options.shaders = shaders;
+  options.name = "isolated " + pass.name;
   run.execution = execute_graph(gpu, cache, run.graph, bytes, options);
   for (int v : run.execution.passes.at(0).outputs) {
     const VersionData& version = run.execution.versions[v];

@@ -56,6 +56,32 @@ nlohmann::json bindings_json(const std::vector<VkDescriptorType>& bindings) {
   return list;
 }
 
+// Pipelines are named by their shader paths, not by the pass that first asked for one: the cache
+// hands the same pipeline to every pass with the same shaders and state, on every frame, so the
+// paths are the only name true for all of them. Constants that specialise the code are part of
+// it ("deferred.frag {1,0}").
+std::string pipeline_name(const std::string& shaders, const std::vector<int32_t>& specialization) {
+  if (specialization.empty()) return shaders;
+  std::string name = shaders + " {";
+  for (size_t i = 0; i < specialization.size(); ++i) name += (i ? "," : "") + std::to_string(specialization[i]);
+  return name + "}";
+}
+
+std::string filter_name(VkFilter filter) { return filter == VK_FILTER_NEAREST ? "nearest" : "linear"; }
+
+std::string wrap_name(VkSamplerAddressMode mode) {
+  switch (mode) {
+    case VK_SAMPLER_ADDRESS_MODE_REPEAT:
+      return "repeat";
+    case VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT:
+      return "mirrored_repeat";
+    case VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE:
+      return "clamp_to_edge";
+    default:
+      return "address mode " + std::to_string(mode);
+  }
+}
+
 }  // namespace
 
 nlohmann::json describe(const GraphicsPipelineDesc& desc) {
@@ -88,25 +114,12 @@ nlohmann::json describe(const ComputePipelineDesc& desc) {
 }
 
 nlohmann::json describe(const SamplerDesc& desc) {
-  auto filter = [](VkFilter f) { return f == VK_FILTER_NEAREST ? "nearest" : "linear"; };
-  auto wrap = [](VkSamplerAddressMode m) {
-    switch (m) {
-      case VK_SAMPLER_ADDRESS_MODE_REPEAT:
-        return "repeat";
-      case VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT:
-        return "mirrored_repeat";
-      case VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE:
-        return "clamp_to_edge";
-      default:
-        return "other";
-    }
-  };
-  return {{"mag_filter", filter(desc.mag_filter)},
-          {"min_filter", filter(desc.min_filter)},
+  return {{"mag_filter", filter_name(desc.mag_filter)},
+          {"min_filter", filter_name(desc.min_filter)},
           {"mipmap_mode", desc.mipmap_mode == VK_SAMPLER_MIPMAP_MODE_NEAREST ? "nearest" : "linear"},
           {"mipmaps", desc.mipmaps},
-          {"wrap_u", wrap(desc.wrap_u)},
-          {"wrap_v", wrap(desc.wrap_v)}};
+          {"wrap_u", wrap_name(desc.wrap_u)},
+          {"wrap_v", wrap_name(desc.wrap_v)}};
 }
 
 PipelineCache::~PipelineCache() {
@@ -120,18 +133,20 @@ PipelineCache::~PipelineCache() {
   for (VkShaderModule m : modules_) vkDestroyShaderModule(device, m, nullptr);
 }
 
-VkShaderModule PipelineCache::module(const std::vector<uint32_t>& code) {
+VkShaderModule PipelineCache::module(const std::vector<uint32_t>& code, const std::string& path) {
   auto info = vk_struct<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
   info.codeSize = code.size() * 4;
   info.pCode = code.data();
   VkShaderModule m;
   vk_check(vkCreateShaderModule(gpu_.device(), &info, nullptr, &m), "vkCreateShaderModule");
+  gpu_.name(VK_OBJECT_TYPE_SHADER_MODULE, m, path);
   modules_.push_back(m);
   return m;
 }
 
 std::pair<VkDescriptorSetLayout, VkPipelineLayout> PipelineCache::layout(const std::vector<VkDescriptorType>& bindings,
-                                                                         uint32_t push_bytes) {
+                                                                         uint32_t push_bytes,
+                                                                         const std::string& pipeline) {
   std::vector<VkDescriptorSetLayoutBinding> list;
   for (uint32_t i = 0; i < bindings.size(); ++i) list.push_back({i, bindings[i], 1, VK_SHADER_STAGE_ALL, nullptr});
   auto set_info = vk_struct<VkDescriptorSetLayoutCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
@@ -140,6 +155,7 @@ std::pair<VkDescriptorSetLayout, VkPipelineLayout> PipelineCache::layout(const s
   set_info.pBindings = list.data();
   VkDescriptorSetLayout set_layout;
   vk_check(vkCreateDescriptorSetLayout(gpu_.device(), &set_info, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
+  gpu_.name(VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, set_layout, pipeline + " set layout");
   VkPushConstantRange range{VK_SHADER_STAGE_ALL, 0, push_bytes};
   auto info = vk_struct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
   info.setLayoutCount = 1;
@@ -148,6 +164,7 @@ std::pair<VkDescriptorSetLayout, VkPipelineLayout> PipelineCache::layout(const s
   info.pPushConstantRanges = &range;
   VkPipelineLayout pipeline_layout;
   vk_check(vkCreatePipelineLayout(gpu_.device(), &info, nullptr, &pipeline_layout), "vkCreatePipelineLayout");
+  gpu_.name(VK_OBJECT_TYPE_PIPELINE_LAYOUT, pipeline_layout, pipeline + " layout");
   return {set_layout, pipeline_layout};
 }
 
@@ -162,19 +179,21 @@ const PipelineCache::Entry& PipelineCache::graphics(const GraphicsPipelineDesc& 
   auto it = pipelines_.find(key.str());
   if (it != pipelines_.end()) return it->second;
 
+  const std::string name =
+      pipeline_name(desc.fragment.empty() ? desc.vertex : desc.vertex + " + " + desc.fragment, desc.specialization);
   Entry entry;
-  std::tie(entry.set_layout, entry.layout) = layout(desc.bindings, desc.push_constant_bytes);
+  std::tie(entry.set_layout, entry.layout) = layout(desc.bindings, desc.push_constant_bytes, name);
   Specialization spec(desc.specialization);
   std::vector<VkPipelineShaderStageCreateInfo> stages;
   auto stage = vk_struct<VkPipelineShaderStageCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
   stage.stage = VK_SHADER_STAGE_VERTEX_BIT;
-  stage.module = module(vs);
+  stage.module = module(vs, desc.vertex);
   stage.pName = "main";
   stage.pSpecializationInfo = &spec.info;
   stages.push_back(stage);
   if (!fs.empty()) {
     stage.stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-    stage.module = module(fs);
+    stage.module = module(fs, desc.fragment);
     stages.push_back(stage);
   }
   auto vertex_input =
@@ -236,6 +255,7 @@ const PipelineCache::Entry& PipelineCache::graphics(const GraphicsPipelineDesc& 
   info.layout = entry.layout;
   vk_check(vkCreateGraphicsPipelines(gpu_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &entry.pipeline),
            "vkCreateGraphicsPipelines");
+  gpu_.name(VK_OBJECT_TYPE_PIPELINE, entry.pipeline, name);
   return pipelines_.emplace(key.str(), entry).first->second;
 }
 
@@ -246,18 +266,20 @@ const PipelineCache::Entry& PipelineCache::compute(const ComputePipelineDesc& de
   for (auto s : desc.specialization) key << "s" << s;
   auto it = pipelines_.find(key.str());
   if (it != pipelines_.end()) return it->second;
+  const std::string name = pipeline_name(desc.shader, desc.specialization);
   Entry entry;
-  std::tie(entry.set_layout, entry.layout) = layout(desc.bindings, desc.push_constant_bytes);
+  std::tie(entry.set_layout, entry.layout) = layout(desc.bindings, desc.push_constant_bytes, name);
   Specialization spec(desc.specialization);
   auto info = vk_struct<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
   info.stage = vk_struct<VkPipelineShaderStageCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
   info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  info.stage.module = module(cs);
+  info.stage.module = module(cs, desc.shader);
   info.stage.pName = "main";
   info.stage.pSpecializationInfo = &spec.info;
   info.layout = entry.layout;
   vk_check(vkCreateComputePipelines(gpu_.device(), VK_NULL_HANDLE, 1, &info, nullptr, &entry.pipeline),
            "vkCreateComputePipelines");
+  gpu_.name(VK_OBJECT_TYPE_PIPELINE, entry.pipeline, name);
   return pipelines_.emplace(key.str(), entry).first->second;
 }
 
@@ -277,6 +299,12 @@ VkSampler PipelineCache::sampler(const SamplerDesc& desc) {
   info.maxLod = desc.mipmaps ? VK_LOD_CLAMP_NONE : 0.0f;
   VkSampler sampler;
   vk_check(vkCreateSampler(gpu_.device(), &info, nullptr, &sampler), "vkCreateSampler");
+  // By state, e.g. "sampler linear/linear mip linear repeat/clamp": it is shared by every pass
+  // and texture that samples this way.
+  gpu_.name(VK_OBJECT_TYPE_SAMPLER, sampler,
+            "sampler " + filter_name(desc.mag_filter) + "/" + filter_name(desc.min_filter) + " mip " +
+                (desc.mipmaps ? (desc.mipmap_mode == VK_SAMPLER_MIPMAP_MODE_NEAREST ? "nearest" : "linear") : "none") +
+                " " + wrap_name(desc.wrap_u) + "/" + wrap_name(desc.wrap_v));
   samplers_[key.str()] = sampler;
   return sampler;
 }

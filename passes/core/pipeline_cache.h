@@ -62,9 +62,10 @@ class PipelineCache {
   VkSampler sampler(const SamplerDesc& desc);
 
  private:
-  VkShaderModule module(const std::vector<uint32_t>& code);
+  VkShaderModule module(const std::vector<uint32_t>& code, const std::string& path);
+  // `pipeline`: the name of the pipeline the layouts are made for; they are named after it.
   std::pair<VkDescriptorSetLayout, VkPipelineLayout> layout(const std::vector<VkDescriptorType>& bindings,
-                                                            uint32_t push_bytes);
+                                                            uint32_t push_bytes, const std::string& pipeline);
   GpuDevice& gpu_;
   std::map<std::string, Entry> pipelines_;
   std::map<std::string, VkSampler> samplers_;

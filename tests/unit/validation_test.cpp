@@ -1,5 +1,6 @@
 // The validation layer's errors are counted wherever they are raised, including while a device is
 // destroyed: an object leaked by a pass or by the graph must fail the test or command that leaked it.
+// The messages name objects by the names nightcap gives them, not by their handles.
 #include <gtest/gtest.h>
 
 #ifdef NIGHTCAP_SANITIZE_BUILD
@@ -11,8 +12,9 @@
 namespace nightcap::test {
 namespace {
 
-TEST(Validation, ObjectsLeakedAtDeviceDestructionAreCounted) {
+TEST(Validation, ObjectsLeakedAtDeviceDestructionAreCountedByName) {
   const uint32_t before = validation_errors_reported();
+  testing::internal::CaptureStderr();
   {
     GpuDevice gpu({"", true});
     {
@@ -20,11 +22,14 @@ TEST(Validation, ObjectsLeakedAtDeviceDestructionAreCounted) {
       // The leak is the point of the test: LeakSanitizer is not to report it.
       __lsan::ScopedDisabler leak_on_purpose;
 #endif
-      gpu.create_buffer(256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);  // never destroyed
+      gpu.create_buffer(256, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, "leaked.on.purpose");  // never destroyed
     }
     EXPECT_EQ(validation_errors_reported(), before) << "creating a buffer is valid";
   }
+  const std::string messages = testing::internal::GetCapturedStderr();
   EXPECT_GT(validation_errors_reported(), before) << "the leaked buffer and its memory went unreported";
+  EXPECT_NE(messages.find("leaked.on.purpose"), std::string::npos) << messages;
+  EXPECT_NE(messages.find("leaked.on.purpose memory"), std::string::npos) << messages;
 }
 
 }  // namespace
