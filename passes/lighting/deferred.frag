@@ -1,5 +1,6 @@
 #version 460
 // Every light at every pixel (the clustered, tiled version replaces this pass later).
+#include "../frame/half.glsl"
 #include "../frame/types.glsl"
 #include "brdf.glsl"
 
@@ -33,18 +34,6 @@ float spot_factor(Light light, vec3 to_light) {
   float cd = dot(light.direction_cos_outer.xyz, -to_light);
   float t = clamp((cd - cos_outer) / max(cos_inner - cos_outer, 1e-4), 0.0, 1.0);
   return t * t;
-}
-
-// The outputs rounded to the nearest half float (ties to even) and held below its overflow:
-// lavapipe truncates when it stores to a half-float attachment (half the texels landed one code
-// below the nearest, an error up to 2⁻¹⁰ instead of 2⁻¹¹), and beyond 65504 a half is Inf.
-// frexp/ldexp keep the scaling exact, so the store of the rounded value is exact.
-vec3 nearest_half(vec3 x) {
-  x = min(x, vec3(65504.0));
-  ivec3 e;
-  frexp(x, e);
-  vec3 ulp = ldexp(vec3(1.0), max(e - 1, ivec3(-14)) - 10);
-  return roundEven(x / ulp) * ulp;
 }
 
 void main() {

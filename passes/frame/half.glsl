@@ -1,0 +1,15 @@
+// Storing to half-float targets. Vulkan leaves the rounding of a float→half store open and
+// lavapipe truncates (up to a whole ULP low, 2⁻¹⁰ relative instead of 2⁻¹¹), and beyond 65504 a
+// half is Inf, which every later pass would carry. A pass writing RGBA16F stores
+// nearest_half(x): the half nearest to x (ties to even), at most 65504, which every device then
+// stores exactly.
+const float HALF_MAX = 65504.0;
+
+vec3 nearest_half(vec3 x) {
+  x = min(x, vec3(HALF_MAX));
+  ivec3 e;
+  frexp(x, e);
+  // One half ULP at x; subnormal halves share 2⁻²⁴. frexp/ldexp keep the scaling exact.
+  vec3 ulp = ldexp(vec3(1.0), max(e - 1, ivec3(-14)) - 10);
+  return roundEven(x / ulp) * ulp;
+}
