@@ -72,6 +72,9 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   for (const ImportedResource& r : imports) imported.insert(r.name);
   for (int i = 0; i < n; ++i) {
     for (const ResourceUse& out : passes[i].outputs) {
+      if (out.is_buffer && !out.modifies && out.buffer.size == 0 && passes[i].type != PassType::cpu)
+        throw GraphError(passes[i].name + ": GPU buffer '" + out.resource +
+                         "' has no declared size (only a CPU pass may size its output when it runs)");
       if (out.modifies) {
         modifiers[out.resource].push_back(i);
       } else {

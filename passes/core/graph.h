@@ -53,7 +53,8 @@ struct CompiledGraph {
 };
 
 // Throws GraphError for: a read of a resource nobody writes or imports, two fresh writers of
-// one resource, a modify with no earlier version, a cycle, an unknown `like` size.
+// one resource, a modify with no earlier version, a cycle, an unknown `like` size, a buffer
+// written by a GPU pass without a declared size.
 CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
                             const GraphSettings& settings);
 

@@ -58,7 +58,7 @@ struct BufferDecl {
   BufferDecl() = default;
   explicit BufferDecl(ResourceKind buffer_kind, uint64_t bytes = 0) : kind(buffer_kind), size(bytes) {}
   ResourceKind kind = ResourceKind::buffer;
-  uint64_t size = 0;  // 0: the producing CPU pass decides at run time
+  uint64_t size = 0;  // 0: the producing CPU pass decides at run time (a GPU writer must declare it)
 };
 
 // A concrete resource: what the graph allocates and the capture records.

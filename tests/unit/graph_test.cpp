@@ -127,6 +127,21 @@ TEST(Graph, DeclarationMistakesAreCaughtBeforeRunning) {
   std::vector<PassDecl> orphan_modify;
   orphan_modify.push_back(PassDecl("m", PassType::graphics).modify("ghost", Use::color_attachment));
   EXPECT_THROW(compile_graph(orphan_modify, {}, GraphSettings()), GraphError);
+
+  // Only a CPU pass may size its output buffer when it runs; a GPU buffer needs its size declared.
+  std::vector<PassDecl> unsized;
+  unsized.push_back(
+      PassDecl("g", PassType::compute).write("final.ldr", Use::storage_write, BufferDecl(ResourceKind::buffer)));
+  try {
+    compile_graph(unsized, {}, GraphSettings());
+    ADD_FAILURE() << "an unsized GPU buffer compiled";
+  } catch (const GraphError& e) {
+    EXPECT_NE(std::string(e.what()).find("g: GPU buffer 'final.ldr' has no declared size"), std::string::npos)
+        << e.what();
+  }
+  std::vector<PassDecl> cpu_sized;
+  cpu_sized.push_back(PassDecl("c", PassType::cpu).write("final.ldr", Use::host, BufferDecl(ResourceKind::buffer)));
+  EXPECT_NO_THROW(compile_graph(cpu_sized, {}, GraphSettings()));
 }
 
 TEST(Graph, PrefixReadsBindEveryMatchingImport) {
