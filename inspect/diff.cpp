@@ -67,7 +67,7 @@ PassDiff diff_pass(const Capture& ca, const PassRecord& a, const Capture& cb, co
         o.held_to = "max abs <= " + number(*options.tolerance) + " (--tolerance)";
         o.beyond = !o.comparison.comparable || !(o.comparison.max_abs <= *options.tolerance);
       } else {
-        o.contract = check_contract(ra.contract, ra, raw_a, *rb, raw_b);
+        o.contract = check_contract(ra.contract, ra, raw_a, raw_b, o.comparison);
         o.held_to = contract_description(ra.contract) + " (recorded contract)";
         o.beyond = !o.contract.holds;
       }

@@ -173,10 +173,15 @@ void each_value(const FormatInfo& f, const ImageExtent& extent, std::span<const 
 
 ContractCheck check_contract(const ComparisonContract& contract, const ResourceRecord& a,
                              std::span<const uint8_t> a_raw, const ResourceRecord& b, std::span<const uint8_t> b_raw) {
+  return check_contract(contract, a, a_raw, b_raw, compare_resource(a, a_raw, b, b_raw));
+}
+
+ContractCheck check_contract(const ComparisonContract& contract, const ResourceRecord& a,
+                             std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw,
+                             const ResourceComparison& shape) {
   using Kind = ComparisonContract::Kind;
   ContractCheck check;
   const bool same_bytes = a_raw.size() == b_raw.size() && std::equal(a_raw.begin(), a_raw.end(), b_raw.begin());
-  const ResourceComparison shape = compare_resource(a, a_raw, b, b_raw);
   if (!shape.comparable) {
     check.measure = shape.note;
     check.worst = INFINITY;
@@ -229,8 +234,7 @@ ContractCheck check_contract(const ComparisonContract& contract, const ResourceR
             const bool srgb = f.encoding == ChannelEncoding::srgb8 && c < 3;
             const double ea = srgb ? linear_to_srgb(va[c]) : va[c], eb = srgb ? linear_to_srgb(vb[c]) : vb[c];
             departure = std::round(std::abs(ea - eb) * code_scale(f));
-          }
-          else if (contract.kind == Kind::linear_depth)
+          } else if (contract.kind == Kind::linear_depth)
             departure = va[c] != 0 ? d / std::abs(double(va[c])) : (d > 0 ? INFINITY : 0.0);
           else {
             const double allowed = contract.absolute + contract.relative * std::abs(double(va[c]));

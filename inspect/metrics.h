@@ -37,5 +37,9 @@ struct ContractCheck {
 };
 ContractCheck check_contract(const ComparisonContract& contract, const ResourceRecord& a,
                              std::span<const uint8_t> a_raw, const ResourceRecord& b, std::span<const uint8_t> b_raw);
+// The same, reusing compare_resource(a, a_raw, b, b_raw) that the caller already has.
+ContractCheck check_contract(const ComparisonContract& contract, const ResourceRecord& a,
+                             std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw,
+                             const ResourceComparison& shape);
 
 }  // namespace nightcap

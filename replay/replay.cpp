@@ -169,8 +169,8 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
       check.metric = cmp.metric;
       // On the same machine a replay is bitwise, unless the recorded contract says the result
       // depends on execution order; then it is held to that contract.
-      const bool order_dependent = out.contract.order_dependent &&
-                                   check_contract(out.contract, out, recorded, replayed_record, *produced->bytes).holds;
+      const bool order_dependent =
+          out.contract.order_dependent && check_contract(out.contract, out, recorded, *produced->bytes, cmp).holds;
       check.verdict = order_dependent ? Verdict::within_tolerance : Verdict::different;
       result.outputs.push_back(check);
     }

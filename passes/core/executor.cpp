@@ -1,9 +1,9 @@
 #include "passes/core/executor.h"
 
-#include "passes/core/execution_state.h"
-
 #include <chrono>
 #include <cstring>
+
+#include "passes/core/execution_state.h"
 
 namespace nightcap {
 
