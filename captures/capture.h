@@ -140,7 +140,6 @@ class Capture {
   // Decodes a resource's blob and checks its content hash. Throws CaptureError.
   std::vector<uint8_t> load(const ResourceRecord& record) const;
   std::vector<uint32_t> load_shader(const ShaderRecord& record) const;
-  std::string load_shader_source(const ShaderRecord& record) const;
 
  private:
   std::filesystem::path folder_;
