@@ -67,27 +67,53 @@ VkBuffer PassContext::buffer(const std::string& resource) const {
   return shared_.resources.at(resource).buffer.buffer;
 }
 
-VkImageView PassContext::view(const std::string& resource, ViewAspect aspect, int mip) {
+VkImageView PassContext::view(const std::string& resource, ViewAspect aspect, int mip, int layer) {
   if (!find_use(resource)) throw GraphError(pass() + ": uses undeclared resource '" + resource + "'");
   PhysicalResource& r = shared_.resources.at(resource);
-  auto key = std::make_pair(static_cast<int>(aspect), mip);
+  const ImageExtent& e = r.desc.extent;
+  if (mip >= int(e.mips) || layer >= int(e.layers))
+    throw GraphError(pass() + ": asks for mip " + std::to_string(mip) + " layer " + std::to_string(layer) + " of '" +
+                     resource + "', which has " + std::to_string(e.mips) + " mips and " + std::to_string(e.layers) +
+                     " layers");
+  auto key = std::make_tuple(static_cast<int>(aspect), mip, layer);
   auto it = r.views.find(key);
   if (it != r.views.end()) return it->second;
   auto info = vk_struct<VkImageViewCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO);
   info.image = r.image.image;
-  info.viewType = r.desc.extent.depth > 1    ? VK_IMAGE_VIEW_TYPE_3D
-                  : r.desc.extent.layers > 1 ? VK_IMAGE_VIEW_TYPE_2D_ARRAY
-                                             : VK_IMAGE_VIEW_TYPE_2D;
+  if (e.depth > 1)
+    info.viewType = VK_IMAGE_VIEW_TYPE_3D;
+  else if (layer >= 0 || e.layers == 1)
+    info.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  else if (r.desc.cube)
+    info.viewType = e.layers == 6 ? VK_IMAGE_VIEW_TYPE_CUBE : VK_IMAGE_VIEW_TYPE_CUBE_ARRAY;
+  else
+    info.viewType = VK_IMAGE_VIEW_TYPE_2D_ARRAY;
   info.format = r.desc.format;
   VkImageAspectFlags aspects = natural_aspects(r.desc.format);
   if (aspect == ViewAspect::depth) aspects = VK_IMAGE_ASPECT_DEPTH_BIT;
   if (aspect == ViewAspect::stencil) aspects = VK_IMAGE_ASPECT_STENCIL_BIT;
-  info.subresourceRange = {aspects, mip < 0 ? 0u : static_cast<uint32_t>(mip), mip < 0 ? r.desc.extent.mips : 1u, 0,
-                           r.desc.extent.layers};
-  VkImageView view;
-  view = gpu().create_view(info, resource, r.desc.extent.mips);
+  info.subresourceRange = {aspects, mip < 0 ? 0u : uint32_t(mip), mip < 0 ? e.mips : 1u,
+                           layer < 0 ? 0u : uint32_t(layer), layer < 0 ? e.layers : 1u};
+  VkImageView view = gpu().create_view(info, resource, e.mips, e.layers);
   r.views[key] = view;
   return view;
+}
+
+void PassContext::check_declared(const std::string& resource, int mip, int layer, VkImageLayout layout) const {
+  const ResourceDesc& d = desc(resource);
+  auto declared = [&](uint32_t m, uint32_t l) {
+    for (const auto* uses : {&pass_.inputs, &pass_.outputs})
+      for (const BoundUse& u : *uses)
+        if (u.resource == resource && u.range.contains(m, l) &&
+            required_state(u.use, pass_.decl->type, is_depth(d)).layout == layout)
+          return true;
+    return false;
+  };
+  for (uint32_t m = mip < 0 ? 0 : mip; m < (mip < 0 ? d.extent.mips : uint32_t(mip) + 1); ++m)
+    for (uint32_t l = layer < 0 ? 0 : layer; l < (layer < 0 ? d.extent.layers : uint32_t(layer) + 1); ++l)
+      if (!declared(m, l))
+        throw GraphError(pass() + ": uses mip " + std::to_string(m) + " layer " + std::to_string(l) + " of '" +
+                         resource + "' in a way it did not declare (the graph's barriers would not cover it)");
 }
 
 void PassContext::bind(const GraphicsPipelineDesc& desc) {
@@ -138,7 +164,8 @@ void PassContext::push(const std::vector<Binding>& bindings) {
                                            : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
       ViewAspect aspect = b.aspect;
       if (aspect == ViewAspect::natural && is_depth(d)) aspect = ViewAspect::depth;
-      images.push_back({b.sampler, view(b.resource, aspect, b.mip), layout});
+      check_declared(b.resource, b.mip, b.layer, layout);
+      images.push_back({b.sampler, view(b.resource, aspect, b.mip, b.layer), layout});
       w.pImageInfo = &images.back();
     }
     writes.push_back(w);
@@ -164,12 +191,14 @@ VkSampler PassContext::nearest_clamp() {
   return sampler(d);
 }
 
-void PassContext::begin_rendering(const std::vector<std::string>& colors, const std::string& depth) {
+void PassContext::begin_rendering(const std::vector<std::string>& colors, const std::string& depth, uint32_t mip,
+                                  uint32_t layer) {
   auto attachment = [&](const std::string& name, ViewAspect aspect, VkImageLayout layout) {
     const BoundUse* use = find_use(name);
     if (!use) throw GraphError(pass() + ": renders to undeclared '" + name + "'");
+    check_declared(name, int(mip), int(layer), layout);
     auto a = vk_struct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
-    a.imageView = view(name, aspect, 0);
+    a.imageView = view(name, aspect, int(mip), int(layer));
     a.imageLayout = layout;
     a.loadOp = use->modifies ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
     a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
@@ -180,9 +209,10 @@ void PassContext::begin_rendering(const std::vector<std::string>& colors, const 
   for (const std::string& c : colors)
     color_attachments.push_back(attachment(c, ViewAspect::natural, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL));
   const std::string& first = colors.empty() ? depth : colors.front();
-  const ImageExtent extent = desc(first).extent;
+  const ImageExtent base = desc(first).extent;
+  const VkExtent2D extent{mip_size(base.width, mip), mip_size(base.height, mip)};
   auto info = vk_struct<VkRenderingInfo>(VK_STRUCTURE_TYPE_RENDERING_INFO);
-  info.renderArea = {{0, 0}, {extent.width, extent.height}};
+  info.renderArea = {{0, 0}, extent};
   info.layerCount = 1;
   info.colorAttachmentCount = static_cast<uint32_t>(color_attachments.size());
   info.pColorAttachments = color_attachments.data();

@@ -28,6 +28,7 @@ struct Binding {
   ViewAspect aspect = ViewAspect::natural;
   int mip = -1;  // -1: every mip
   uint64_t offset = 0, range = VK_WHOLE_SIZE;
+  int layer = -1;  // -1: every layer (an array, cube or 3D view); else that layer as a 2D image
 
   static Binding uniform(uint32_t b, std::string r) { return {b, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, std::move(r)}; }
   static Binding storage(uint32_t b, std::string r, uint64_t offset = 0, uint64_t range = VK_WHOLE_SIZE) {
@@ -36,11 +37,20 @@ struct Binding {
     x.range = range;
     return x;
   }
-  static Binding texture(uint32_t b, std::string r, VkSampler s, ViewAspect a = ViewAspect::natural, int mip = -1) {
-    return {b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, std::move(r), s, a, mip};
+  static Binding texture(uint32_t b, std::string r, VkSampler s, ViewAspect a = ViewAspect::natural, int mip = -1,
+                         int layer = -1) {
+    return {b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, std::move(r), s, a, mip, 0, VK_WHOLE_SIZE, layer};
   }
-  static Binding image(uint32_t b, std::string r, int mip = 0) {
-    return {b, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, std::move(r), VK_NULL_HANDLE, ViewAspect::natural, mip};
+  static Binding image(uint32_t b, std::string r, int mip = 0, int layer = -1) {
+    return {b,
+            VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+            std::move(r),
+            VK_NULL_HANDLE,
+            ViewAspect::natural,
+            mip,
+            0,
+            VK_WHOLE_SIZE,
+            layer};
   }
 };
 
@@ -64,22 +74,29 @@ class PassContext {
   VkCommandBuffer cmd() const;
   GpuDevice& gpu() const;
   VkBuffer buffer(const std::string& resource) const;
-  VkImageView view(const std::string& resource, ViewAspect aspect = ViewAspect::natural, int mip = -1);
+  // A view of one mip (or every mip: -1) and one layer as a 2D image (or every layer: -1, as the
+  // image's own type: array, cube or 3D).
+  VkImageView view(const std::string& resource, ViewAspect aspect = ViewAspect::natural, int mip = -1, int layer = -1);
   void bind(const GraphicsPipelineDesc& desc);
   void bind(const ComputePipelineDesc& desc);
   void push(const std::vector<Binding>& bindings);
   void push_constants(const void* data, uint32_t bytes);
   VkSampler sampler(const SamplerDesc& desc);
   VkSampler nearest_clamp();
-  // Colour outputs and an optional depth output: declared fresh outputs are cleared to their
-  // clear value, modified ones keep their previous contents.
-  void begin_rendering(const std::vector<std::string>& colors, const std::string& depth = "");
+  // Colour outputs and an optional depth output, at one mip and one layer of each: declared
+  // fresh outputs are cleared to their clear value, modified ones keep their previous contents.
+  // The pass must have declared that mip and layer as an attachment.
+  void begin_rendering(const std::vector<std::string>& colors, const std::string& depth = "", uint32_t mip = 0,
+                       uint32_t layer = 0);
   void end_rendering();
   // Orders this pass's own storage writes before its next reads (e.g. between mip levels).
   void storage_barrier();
 
  private:
   const BoundUse* find_use(const std::string& resource) const;
+  // Throws unless the pass declared a use of every subresource the view selects, in a use that
+  // leaves it in `layout` (the graph's barriers put it there and nowhere else).
+  void check_declared(const std::string& resource, int mip, int layer, VkImageLayout layout) const;
   Shared& shared_;
   const CompiledPass& pass_;
   const ParamValues& params_;

@@ -314,7 +314,7 @@ void GpuDevice::destroy(GpuImage& image) {
 }
 
 VkImageView GpuDevice::create_view(const VkImageViewCreateInfo& info, const std::string& image_name,
-                                   uint32_t image_mips) {
+                                   uint32_t image_mips, uint32_t image_layers) {
   VkImageView view;
   vk_check(vkCreateImageView(device_, &info, nullptr, &view), "vkCreateImageView");
   const VkImageSubresourceRange& range = info.subresourceRange;
@@ -329,6 +329,7 @@ VkImageView GpuDevice::create_view(const VkImageViewCreateInfo& info, const std:
     label +=
         " mips " + std::to_string(range.baseMipLevel) + "-" + std::to_string(range.baseMipLevel + range.levelCount - 1);
   }
+  if (range.layerCount == 1 && image_layers > 1) label += " layer " + std::to_string(range.baseArrayLayer);
   name(VK_OBJECT_TYPE_IMAGE_VIEW, view, label);
   return view;
 }

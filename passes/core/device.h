@@ -70,9 +70,11 @@ class GpuDevice {
   void destroy(GpuBuffer& buffer);
   GpuImage create_image(const VkImageCreateInfo& info, const std::string& name);
   void destroy(GpuImage& image);
-  // A view of the image named `image_name`, named after it plus the mips and aspect it selects
-  // when those are not the whole image (`image_mips` levels, every aspect of info.format).
-  VkImageView create_view(const VkImageViewCreateInfo& info, const std::string& image_name, uint32_t image_mips);
+  // A view of the image named `image_name`, named after it plus the mips, layer and aspect it
+  // selects when those are not the whole image (`image_mips` levels, `image_layers` layers, every
+  // aspect of info.format).
+  VkImageView create_view(const VkImageViewCreateInfo& info, const std::string& image_name, uint32_t image_mips,
+                          uint32_t image_layers = 1);
 
   // Names a Vulkan object in RenderDoc's resource list and in validation messages; does
   // nothing when VK_EXT_debug_utils is unavailable.

@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "passes/core/context.h"
@@ -17,9 +18,8 @@ struct PhysicalResource {
   ResourceDesc desc;
   GpuImage image;
   GpuBuffer buffer;
-  SyncState sync;
-  std::map<std::pair<int, int>, VkImageView> views;  // (aspect, mip) -> view
-  int version = -1;                                  // current version index
+  std::map<std::tuple<int, int, int>, VkImageView> views;  // (aspect, mip, layer) -> view
+  int version = -1;                                        // current version index
 };
 
 struct PassContext::Shared {

@@ -1,5 +1,6 @@
 #include "passes/core/executor.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 
@@ -31,38 +32,46 @@ VkImageUsageFlags usage_for(Use use) {
   }
 }
 
-void transition(VkCommandBuffer cmd, PhysicalResource& r, AccessState next, bool discard = false) {
-  if (r.desc.is_buffer) next.layout = VK_IMAGE_LAYOUT_UNDEFINED;
-  auto plan = plan_barrier(r.sync, next, discard);
-  if (!plan) return;
-  auto dep = vk_struct<VkDependencyInfo>(VK_STRUCTURE_TYPE_DEPENDENCY_INFO);
-  auto image = vk_struct<VkImageMemoryBarrier2>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2);
-  auto buffer = vk_struct<VkBufferMemoryBarrier2>(VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2);
-  const VkPipelineStageFlags2 src_stages =
-      plan->before.stages ? plan->before.stages : VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT;
-  if (r.desc.is_buffer) {
-    buffer.srcStageMask = src_stages;
-    buffer.srcAccessMask = plan->before.access;
-    buffer.dstStageMask = plan->after.stages;
-    buffer.dstAccessMask = plan->after.access;
-    buffer.srcQueueFamilyIndex = buffer.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    buffer.buffer = r.buffer.buffer;
-    buffer.size = VK_WHOLE_SIZE;
-    dep.bufferMemoryBarrierCount = 1;
-    dep.pBufferMemoryBarriers = &buffer;
-  } else {
-    image.srcStageMask = src_stages;
-    image.srcAccessMask = plan->before.access;
-    image.dstStageMask = plan->after.stages;
-    image.dstAccessMask = plan->after.access;
-    image.oldLayout = plan->before.layout;
-    image.newLayout = plan->after.layout;
-    image.srcQueueFamilyIndex = image.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    image.image = r.image.image;
-    image.subresourceRange = {natural_aspects(r.desc.format), 0, VK_REMAINING_MIP_LEVELS, 0, VK_REMAINING_ARRAY_LAYERS};
-    dep.imageMemoryBarrierCount = 1;
-    dep.pImageMemoryBarriers = &image;
+// Issues one step of the graph's barrier plan as one dependency.
+void issue(VkCommandBuffer cmd, std::map<std::string, PhysicalResource>& resources,
+           const std::vector<PlannedBarrier>& planned) {
+  if (planned.empty()) return;
+  std::vector<VkImageMemoryBarrier2> images;
+  std::vector<VkBufferMemoryBarrier2> buffers;
+  for (const PlannedBarrier& b : planned) {
+    const PhysicalResource& r = resources.at(b.resource);
+    const VkPipelineStageFlags2 src_stages =
+        b.plan.before.stages ? b.plan.before.stages : VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT;
+    if (r.desc.is_buffer) {
+      auto buffer = vk_struct<VkBufferMemoryBarrier2>(VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2);
+      buffer.srcStageMask = src_stages;
+      buffer.srcAccessMask = b.plan.before.access;
+      buffer.dstStageMask = b.plan.after.stages;
+      buffer.dstAccessMask = b.plan.after.access;
+      buffer.srcQueueFamilyIndex = buffer.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      buffer.buffer = r.buffer.buffer;
+      buffer.size = VK_WHOLE_SIZE;
+      buffers.push_back(buffer);
+    } else {
+      auto image = vk_struct<VkImageMemoryBarrier2>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2);
+      image.srcStageMask = src_stages;
+      image.srcAccessMask = b.plan.before.access;
+      image.dstStageMask = b.plan.after.stages;
+      image.dstAccessMask = b.plan.after.access;
+      image.oldLayout = b.plan.before.layout;
+      image.newLayout = b.plan.after.layout;
+      image.srcQueueFamilyIndex = image.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      image.image = r.image.image;
+      image.subresourceRange = {natural_aspects(r.desc.format), b.range.base_mip, b.range.mip_count, b.range.base_layer,
+                                b.range.layer_count};
+      images.push_back(image);
+    }
   }
+  auto dep = vk_struct<VkDependencyInfo>(VK_STRUCTURE_TYPE_DEPENDENCY_INFO);
+  dep.imageMemoryBarrierCount = uint32_t(images.size());
+  dep.pImageMemoryBarriers = images.data();
+  dep.bufferMemoryBarrierCount = uint32_t(buffers.size());
+  dep.pBufferMemoryBarriers = buffers.data();
   vkCmdPipelineBarrier2(cmd, &dep);
 }
 
@@ -92,6 +101,7 @@ void allocate(GpuDevice& gpu, const std::string& name, PhysicalResource& r, VkIm
   }
   auto info = vk_struct<VkImageCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO);
   info.imageType = d.extent.depth > 1 ? VK_IMAGE_TYPE_3D : VK_IMAGE_TYPE_2D;
+  if (d.cube) info.flags |= VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
   info.format = d.format;
   info.extent = {d.extent.width, d.extent.height, d.extent.depth};
   info.mipLevels = d.extent.mips;
@@ -227,15 +237,16 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
   shared.cmd = cmd;
   try {
     // Uploads of host data the GPU reads.
-    for (auto& [name, r] : shared.resources) {
+    issue(cmd, shared.resources, graph.before_uploads);
+    for (const std::string& name : graph.uploads) {
+      PhysicalResource& r = shared.resources.at(name);
       auto host = shared.host.find(name);
-      if (host == shared.host.end()) continue;
+      if (host == shared.host.end()) throw GraphError("no bytes were given for imported '" + name + "'");
       const std::vector<uint8_t>& bytes = *host->second;
       GpuBuffer staging = gpu.create_buffer(std::max<size_t>(bytes.size(), 16), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true,
                                             "upload " + name);
       if (!bytes.empty()) std::memcpy(staging.mapped, bytes.data(), bytes.size());
       cleanup.staging.push_back({staging, -1});
-      transition(cmd, r, transfer_state(true), true);
       if (r.desc.is_buffer) {
         if (!bytes.empty()) {
           VkBufferCopy copy{0, 0, bytes.size()};
@@ -252,7 +263,6 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       GpuBuffer staging = gpu.create_buffer(std::max<uint64_t>(r.desc.raw_bytes(), 16),
                                             VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, "readback " + what);
       cleanup.staging.push_back({staging, version});
-      transition(cmd, r, transfer_state(false));
       if (r.desc.is_buffer) {
         if (r.desc.buffer_size) {
           VkBufferCopy copy{0, 0, r.desc.buffer_size};
@@ -264,34 +274,35 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
                                static_cast<uint32_t>(regions.size()), regions.data());
       }
     };
-    auto last_writer_of = [&](const std::string& resource) {
-      int last = -1;
-      for (size_t i = 0; i < graph.passes.size(); ++i)
-        if (!graph.passes[i].culled)
-          for (const BoundUse& u : graph.passes[i].outputs)
-            if (u.resource == resource) last = static_cast<int>(i);
-      return last;
-    };
-
     for (size_t i = 0; i < graph.passes.size(); ++i) {
       CompiledPass& pass = graph.passes[i];
       if (pass.culled || pass.decl->type == PassType::cpu) continue;
       PassExecution& exec = result.passes[i];
       shared.current = &exec;
-      const PassType type = pass.decl->type;
-      if (pass.runs) {
-        for (const BoundUse& in : pass.inputs) {
-          exec.inputs.push_back(latest.at(in.resource));
-          if (in.use == Use::host) continue;  // read from the host copy, not the GPU
-          PhysicalResource& r = shared.resources.at(in.resource);
-          transition(cmd, r, required_state(in.use, type, is_depth(r.desc)));
+      // A skipped pass still leaves defined outputs for the passes after it, and a pass that
+      // writes part of a fresh output leaves the rest defined.
+      issue(cmd, shared.resources, pass.sync.before_clears);
+      for (const PlannedClear& clear : pass.sync.clears) {
+        PhysicalResource& r = shared.resources.at(clear.resource);
+        if (r.desc.is_buffer) {
+          vkCmdFillBuffer(cmd, r.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
+          continue;
         }
-      }
-      for (const BoundUse& out : pass.outputs) {
-        PhysicalResource& r = shared.resources.at(out.resource);
-        if (pass.runs) transition(cmd, r, required_state(out.use, type, is_depth(r.desc)), !out.modifies);
+        const VkImageSubresourceRange range{natural_aspects(r.desc.format), clear.range.base_mip, clear.range.mip_count,
+                                            clear.range.base_layer, clear.range.layer_count};
+        if (is_depth(r.desc))
+          vkCmdClearDepthStencilImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                                      &r.desc.clear.depthStencil, 1, &range);
+        else
+          vkCmdClearColorImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &r.desc.clear.color, 1,
+                               &range);
       }
       if (pass.runs) {
+        // A resource used in two ways (two mips, storage and index buffer) is one input version.
+        for (const BoundUse& in : pass.inputs)
+          if (std::find(exec.inputs.begin(), exec.inputs.end(), latest.at(in.resource)) == exec.inputs.end())
+            exec.inputs.push_back(latest.at(in.resource));
+        issue(cmd, shared.resources, pass.sync.before_pass);
         gpu.begin_label(cmd, pass.decl->name);
         vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, cleanup.queries, static_cast<uint32_t>(2 * i));
         const ParamValues params = params_of(*pass.decl);
@@ -301,35 +312,16 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
                              static_cast<uint32_t>(2 * i + 1));
         gpu.end_label(cmd);
         exec.gpu_ms = 0.0;  // filled from the queries after the submit
-      } else {
-        // A skipped pass still leaves defined outputs for the passes after it.
-        for (const BoundUse& out : pass.outputs) {
-          if (out.modifies) continue;
-          PhysicalResource& r = shared.resources.at(out.resource);
-          transition(cmd, r, transfer_state(true), true);
-          if (r.desc.is_buffer) {
-            vkCmdFillBuffer(cmd, r.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
-          } else {
-            VkImageSubresourceRange range{natural_aspects(r.desc.format), 0, VK_REMAINING_MIP_LEVELS, 0,
-                                          VK_REMAINING_ARRAY_LAYERS};
-            if (is_depth(r.desc))
-              vkCmdClearDepthStencilImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                                          &r.desc.clear.depthStencil, 1, &range);
-            else
-              vkCmdClearColorImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &r.desc.clear.color, 1,
-                                   &range);
-          }
-        }
       }
+      std::map<std::string, int> written;
       for (const BoundUse& out : pass.outputs) {
         if (!pass.runs && out.modifies) continue;
-        PhysicalResource& r = shared.resources.at(out.resource);
-        const int version = add_version(out.resource, r.desc, nullptr);
-        exec.outputs.push_back(version);
-        const bool final = last_writer_of(out.resource) == static_cast<int>(i);
-        if (options.capture || (final && options.readback.count(out.resource)))
-          read_back(r, version, out.resource + " from " + pass.decl->name);
+        written[out.resource] = add_version(out.resource, shared.resources.at(out.resource).desc, nullptr);
+        exec.outputs.push_back(written[out.resource]);
       }
+      issue(cmd, shared.resources, pass.sync.before_readback);
+      for (const std::string& resource : pass.sync.readback)
+        read_back(shared.resources.at(resource), written.at(resource), resource + " from " + pass.decl->name);
     }
   } catch (...) {
     vkEndCommandBuffer(cmd);

@@ -16,9 +16,8 @@
 
 namespace nightcap {
 
+// What is read back to the host is the graph's (GraphSettings::capture and readback).
 struct ExecutionOptions {
-  bool capture = false;                       // read back every version
-  std::set<std::string> readback;             // final versions to read back regardless
   std::map<std::string, ParamValues> params;  // per pass; missing ones take their defaults
   ShaderProvider shaders;
   std::string name;  // of the command buffer, for debuggers; empty: "frame <graph frame index>"

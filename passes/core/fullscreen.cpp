@@ -2,6 +2,12 @@
 #include "passes/core/context.h"
 
 namespace nightcap {
+namespace {
+
+// The one mip or layer a declared range selects, or -1 for all of them.
+int single(uint32_t base, uint32_t count) { return count == 1 ? int(base) : -1; }
+
+}  // namespace
 
 void record_fullscreen(PassContext& ctx, const std::string& fragment, std::span<const uint8_t> constants) {
   GraphicsPipelineDesc desc;
@@ -19,7 +25,9 @@ void record_fullscreen(PassContext& ctx, const std::string& fragment, std::span<
         bindings.push_back(Binding::storage(slot, input.resource));
         break;
       case Use::sampled:
-        bindings.push_back(Binding::texture(slot, input.resource, ctx.nearest_clamp()));
+        bindings.push_back(Binding::texture(slot, input.resource, ctx.nearest_clamp(), ViewAspect::natural,
+                                            single(input.range.base_mip, input.range.mip_count),
+                                            single(input.range.base_layer, input.range.layer_count)));
         break;
       case Use::host:
         continue;  // read on the CPU when recording, not by the shader
@@ -28,15 +36,18 @@ void record_fullscreen(PassContext& ctx, const std::string& fragment, std::span<
     }
     desc.bindings.push_back(bindings.back().type);
   }
+  // The targets are drawn at the mip and layer the first output declares.
   std::vector<std::string> targets;
+  Subresources at;
   for (const ResourceUse& output : ctx.declaration().outputs) {
     if (output.use != Use::color_attachment)
       throw GraphError(ctx.pass() + ": a full-screen pass writes colour attachments only, not '" + output.resource +
                        "'");
+    if (targets.empty()) at = output.range;
     targets.push_back(output.resource);
     desc.color_formats.push_back(ctx.desc(output.resource).format);
   }
-  ctx.begin_rendering(targets);
+  ctx.begin_rendering(targets, "", at.base_mip, at.base_layer);
   ctx.bind(desc);
   ctx.push(bindings);
   if (!constants.empty()) ctx.push_constants(constants.data(), uint32_t(constants.size()));

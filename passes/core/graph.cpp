@@ -51,9 +51,42 @@ ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
       break;
     }
   }
+  const std::string what = pass + ": output '" + out.resource + "'";
+  if (d.layers == 0 || d.depth == 0) throw GraphError(what + " has no layers or no depth");
+  if (d.depth > 1 && d.layers > 1) throw GraphError(what + " is 3D and layered: Vulkan has no 3D arrays");
+  if (d.cube && (d.layers % 6 != 0 || desc.extent.width != desc.extent.height))
+    throw GraphError(what + " is a cube: it needs square faces and a multiple of 6 layers, not " +
+                     std::to_string(desc.extent.width) + "x" + std::to_string(desc.extent.height) + " with " +
+                     std::to_string(d.layers));
+  desc.cube = d.cube;
   desc.extent.layers = d.layers;
-  desc.extent.mips = d.mips == 0 ? full_mip_count(desc.extent.width, desc.extent.height) : d.mips;
+  desc.extent.depth = d.depth;
+  const uint32_t full =
+      full_mip_count(std::max(desc.extent.width, desc.extent.depth), std::max(desc.extent.height, desc.extent.depth));
+  desc.extent.mips = d.mips == 0 ? full : std::min(d.mips, full);
   return desc;
+}
+
+// A declared range made concrete against the image it names; GraphError when it leaves it.
+Subresources resolve_range(const Subresources& declared, const ResourceDesc& desc, const std::string& pass,
+                           const std::string& resource) {
+  if (desc.is_buffer) {
+    if (declared != Subresources{})
+      throw GraphError(pass + ": '" + resource + "' is a buffer: a use of it has no mips or layers");
+    return {0, 1, 0, 1};
+  }
+  auto concrete = [&](uint32_t base, uint32_t count, uint32_t total, const char* what) {
+    if (count == Subresources::kAll) count = base < total ? total - base : 0;
+    if (count == 0 || base >= total || count > total - base)
+      throw GraphError(pass + ": " + what + " " + std::to_string(base) +
+                       (count > 1 ? "-" + std::to_string(base + count - 1) : std::string()) + " of '" + resource +
+                       "' is outside the image (" + std::to_string(total) + " " + what + (total == 1 ? "" : "s") + ")");
+    return count;
+  };
+  Subresources range = declared;
+  range.mip_count = concrete(declared.base_mip, declared.mip_count, desc.extent.mips, "mip");
+  range.layer_count = concrete(declared.base_layer, declared.layer_count, desc.extent.layers, "layer");
+  return range;
 }
 
 }  // namespace
@@ -97,14 +130,18 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   std::vector<std::vector<std::string>> reads(n);
   for (int i = 0; i < n; ++i) {
     for (const ResourceUse& in : passes[i].inputs) {
+      // A resource read in two ways (storage and index buffer, two mips) is one read.
+      auto add = [&](const std::string& name) {
+        if (std::find(reads[i].begin(), reads[i].end(), name) == reads[i].end()) reads[i].push_back(name);
+      };
       if (in.prefix) {
         for (const std::string& name : all_names)
-          if (name.rfind(in.resource, 0) == 0) reads[i].push_back(name);
+          if (name.rfind(in.resource, 0) == 0) add(name);
       } else {
         if (!all_names.count(in.resource))
           throw GraphError(passes[i].name + ": reads '" + in.resource +
                            "' which no pass writes and the scene does not supply");
-        reads[i].push_back(in.resource);
+        add(in.resource);
       }
     }
   }
@@ -126,6 +163,14 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
     }
     return *(it - 1);
   };
+  // A pass that modifies a resource and also reads it (another mip, say) reads the version
+  // before its own.
+  auto version_read_by = [&](int reader, const std::string& resource) {
+    auto m = modifiers.find(resource);
+    if (m != modifiers.end() && std::find(m->second.begin(), m->second.end(), reader) != m->second.end())
+      return writer_before_modifier(resource, reader);
+    return last_writer(resource);
+  };
   std::vector<std::set<int>> successors(n);
   std::vector<int> indegree(n, 0);
   auto add_edge = [&](int from, int to) {
@@ -133,7 +178,7 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
     if (successors[from].insert(to).second) ++indegree[to];
   };
   for (int i = 0; i < n; ++i) {
-    for (const std::string& r : reads[i]) add_edge(last_writer(r), i);
+    for (const std::string& r : reads[i]) add_edge(version_read_by(i, r), i);
     for (const ResourceUse& out : passes[i].outputs)
       if (out.modifies) add_edge(writer_before_modifier(out.resource, i), i);
   }
@@ -182,7 +227,7 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
         stack.push_back(w);
       }
     };
-    for (const std::string& r : reads[i]) need(last_writer(r));
+    for (const std::string& r : reads[i]) need(version_read_by(i, r));
     for (const ResourceUse& out : passes[i].outputs)
       if (out.modifies) need(writer_before_modifier(out.resource, i));
   }
@@ -190,6 +235,9 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   CompiledGraph graph;
   graph.settings = settings;
   for (const ImportedResource& r : imports) graph.resources[r.name] = r.desc;
+  SkipContext frame = settings.frame;
+  frame.width = settings.width;
+  frame.height = settings.height;
   std::map<int, int> position;  // declaration index -> execution index
   for (int i : order) {
     const PassDecl& decl = passes[i];
@@ -210,8 +258,15 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
           compiled.reason = "scene has no " + f;
           break;
         }
+      if (compiled.runs && !decl.disabled_reason.empty()) {
+        auto params = settings.params.find(decl.name);
+        if (params != settings.params.end() && params->second.count("enabled") && params->second.at("enabled") == 0) {
+          compiled.runs = false;
+          compiled.reason = decl.disabled_reason + " (" + decl.name + ".enabled=0)";
+        }
+      }
       if (compiled.runs && decl.skip_if) {
-        compiled.reason = decl.skip_if(settings.frame);
+        compiled.reason = decl.skip_if(frame);
         compiled.runs = compiled.reason.empty();
       }
     }
@@ -221,18 +276,22 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
         for (const std::string& r : reads[i]) {
           const bool matches = in.prefix ? r.rfind(in.resource, 0) == 0 : r == in.resource;
           if (!matches) continue;
-          int w = last_writer(r);
-          compiled.inputs.push_back({r, in.use, false, graph.resources.at(r), w < 0 ? -1 : position.at(w)});
+          int w = version_read_by(i, r);
+          compiled.inputs.push_back({r, in.use, false, graph.resources.at(r), w < 0 ? -1 : position.at(w),
+                                     in.prefix ? Subresources{} : in.range});
         }
       }
       for (const ResourceUse& out : decl.outputs) {
-        BoundUse bound{out.resource, out.use, out.modifies, {}, -1};
+        BoundUse bound{out.resource, out.use, out.modifies, {}, -1, out.range};
         if (out.modifies) {
           int w = writer_before_modifier(out.resource, i);
           bound.producer = w < 0 ? -1 : position.at(w);
           bound.desc = graph.resources.at(out.resource);
-          // A modifier reads the previous version too: that is an input of the pass.
-          compiled.inputs.push_back(bound);
+          // A modifier reads the previous version too: that is an input of the pass (once, when
+          // the pass also reads other subresources of it).
+          const bool read = std::any_of(compiled.inputs.begin(), compiled.inputs.end(),
+                                        [&](const BoundUse& in) { return in.resource == out.resource; });
+          if (!read) compiled.inputs.push_back(bound);
           bound.producer = -1;
         } else {
           bound.desc = resolve(out, settings, graph.resources, decl.name);
@@ -240,9 +299,20 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
         }
         compiled.outputs.push_back(bound);
       }
+      // Only a pass that runs touches its ranges (a skipped one clears whole fresh outputs):
+      // a level that does not exist at this output size may be skipped rather than be an error.
+      for (auto* uses : {&compiled.inputs, &compiled.outputs})
+        for (BoundUse& u : *uses)
+          u.range = compiled.runs ? resolve_range(u.range, u.desc, decl.name, u.resource)
+                                  : resolve_range({}, u.desc, decl.name, u.resource);
     }
     graph.passes.push_back(std::move(compiled));
   }
+  std::set<std::string> host = imported;
+  for (const CompiledPass& pass : graph.passes)
+    if (!pass.culled && pass.decl->type == PassType::cpu)
+      for (const BoundUse& out : pass.outputs) host.insert(out.resource);
+  plan_synchronisation(graph, host);
   return graph;
 }
 

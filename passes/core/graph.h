@@ -3,7 +3,9 @@
 // lacks the features for, resolves sizes, and plans the barrier each use needs.
 #pragma once
 
+#include <map>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -28,6 +30,10 @@ struct GraphSettings {
   std::vector<std::string> sinks = {"final.ldr"};  // resources the frame must produce
   // Passes to run even when nothing consumes them and their skip conditions hold (replay).
   std::vector<std::string> keep;
+  std::map<std::string, ParamValues> params;  // per pass, for the `enabled` of can_disable
+  // Copies to the host: every version a pass writes (a capture), and the last version of these.
+  bool capture = false;
+  std::set<std::string> readback;
 };
 
 struct BoundUse {
@@ -35,7 +41,45 @@ struct BoundUse {
   Use use = Use::sampled;
   bool modifies = false;
   ResourceDesc desc;
-  int producer = -1;  // index into CompiledGraph::passes of the pass that wrote this version; -1: imported
+  int producer = -1;   // index into CompiledGraph::passes of the pass that wrote this version; -1: imported
+  Subresources range;  // concrete (no kAll) for the uses of a pass that runs
+};
+
+// The synchronisation state a use needs.
+struct AccessState {
+  VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VkPipelineStageFlags2 stages = VK_PIPELINE_STAGE_2_NONE;
+  VkAccessFlags2 access = VK_ACCESS_2_NONE;
+  bool operator==(const AccessState&) const = default;
+};
+
+struct BarrierPlan {
+  AccessState before, after;  // before.layout is the old layout
+  bool operator==(const BarrierPlan&) const = default;
+};
+
+// One barrier the executor issues: these subresources of a resource (a buffer: all of it) go
+// from `plan.before` to `plan.after`.
+struct PlannedBarrier {
+  std::string resource;
+  Subresources range;  // concrete
+  BarrierPlan plan;
+};
+
+// Subresources set to the resource's declared clear value by a transfer clear.
+struct PlannedClear {
+  std::string resource;
+  Subresources range;  // concrete
+};
+
+// What the executor does around one GPU pass, in this order; every barrier is planned here.
+struct PassSync {
+  std::vector<PlannedBarrier> before_clears;
+  // A skipped pass's fresh outputs, and the part of a fresh output its pass does not write.
+  std::vector<PlannedClear> clears;
+  std::vector<PlannedBarrier> before_pass;  // a running pass's inputs and outputs
+  std::vector<PlannedBarrier> before_readback;
+  std::vector<std::string> readback;  // outputs copied to the host after the pass
 };
 
 struct CompiledPass {
@@ -44,33 +88,33 @@ struct CompiledPass {
   std::string reason;   // why it does not run
   bool culled = false;  // not needed at all: nothing of it is allocated or executed
   std::vector<BoundUse> inputs, outputs;
+  PassSync sync;  // GPU passes that are not culled
 };
 
 struct CompiledGraph {
   GraphSettings settings;            // what it was compiled for: output size, sinks, frame
   std::vector<CompiledPass> passes;  // execution order
   std::map<std::string, ResourceDesc> resources;
+  // Host data (imports, CPU pass outputs) that GPU passes use, copied to the GPU before them.
+  std::vector<std::string> uploads;
+  std::vector<PlannedBarrier> before_uploads;
 };
 
 // Throws GraphError for: a read of a resource nobody writes or imports, two fresh writers of
 // one resource, a modify with no earlier version, a cycle, an unknown `like` size, a buffer
-// written by a GPU pass without a declared size.
+// written by a GPU pass without a declared size, a subresource range outside its image (or on
+// a buffer), one pass using a subresource in two layouts, a 3D array or a cube that is not
+// square with a multiple of 6 layers.
 CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
                             const GraphSettings& settings);
 
-// The synchronisation state a use needs.
-struct AccessState {
-  VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
-  VkPipelineStageFlags2 stages = VK_PIPELINE_STAGE_2_NONE;
-  VkAccessFlags2 access = VK_ACCESS_2_NONE;
-};
+// The barrier plan of a compiled graph (passes/core/barrier_plan.cpp): fills `uploads`,
+// `before_uploads` and every GPU pass's `sync`, tracking each mip and layer of every resource
+// from UNDEFINED. compile_graph calls it; it is pure.
+void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& host_resources);
 AccessState required_state(Use use, PassType type, bool depth_format);
 AccessState transfer_state(bool write);
 bool writes(const AccessState& state);
-
-struct BarrierPlan {
-  AccessState before, after;  // before.layout is the old layout
-};
 
 // What the graph knows of one resource between passes: its layout, the last write, and the
 // reads since that write already made visible.

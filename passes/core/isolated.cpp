@@ -17,10 +17,10 @@ IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& p
   settings.height = height;
   settings.sinks = {};
   settings.keep = {pass.name};
+  settings.capture = true;
   const std::vector<PassDecl> single{pass};
   run.graph = compile_graph(single, imports, settings);
   ExecutionOptions options;
-  options.capture = true;
   options.params[pass.name] = params;
   options.shaders = shaders;
   options.name = "isolated " + pass.name;

@@ -51,6 +51,29 @@ PassDecl& PassDecl::modify(std::string resource, Use use) {
   return *this;
 }
 
+PassDecl& PassDecl::read(std::string resource, Use use, Subresources range) {
+  read(std::move(resource), use);
+  inputs.back().range = range;
+  return *this;
+}
+
+PassDecl& PassDecl::write(std::string resource, Use use, ImageDecl decl, Subresources range) {
+  write(std::move(resource), use, decl);
+  outputs.back().range = range;
+  return *this;
+}
+
+PassDecl& PassDecl::modify(std::string resource, Use use, Subresources range) {
+  modify(std::move(resource), use);
+  outputs.back().range = range;
+  return *this;
+}
+
+PassDecl& PassDecl::can_disable(std::string reason) {
+  disabled_reason = std::move(reason);
+  return param("enabled", 1.0, 0.0, 1.0, "0 skips the pass (" + disabled_reason + ")");
+}
+
 PassDecl& PassDecl::param(std::string param_name, double default_value, double min, double max, std::string help) {
   params.push_back({std::move(param_name), default_value, min, max, std::move(help)});
   return *this;

@@ -49,9 +49,27 @@ struct ImageDecl {
   VkFormat format = VK_FORMAT_UNDEFINED;
   ResourceKind kind = ResourceKind::colour;
   SizeRule size;
-  uint32_t mips = 1;  // 0: the whole chain down to 1x1
-  uint32_t layers = 1;
+  uint32_t mips = 1;     // at most this many (a small image has fewer); 0: the whole chain down to 1x1
+  uint32_t layers = 1;   // more than 1: a 2D array
+  uint32_t depth = 1;    // more than 1: a 3D image of that many slices (one layer)
+  bool cube = false;     // layers are cube faces (a multiple of 6, square): sampled as a cube
   VkClearValue clear{};  // contents when the writer is skipped, and the attachment clear
+};
+
+// The part of an image a use touches: a range of mips and a range of layers (3D slices are not
+// separate: a 3D image has one layer). kAll: from base to the last one. Buffers are whole.
+struct Subresources {
+  static constexpr uint32_t kAll = ~0u;
+  uint32_t base_mip = 0, mip_count = kAll;
+  uint32_t base_layer = 0, layer_count = kAll;
+
+  static Subresources mip(uint32_t m) { return {m, 1, 0, kAll}; }
+  static Subresources layer(uint32_t l) { return {0, kAll, l, 1}; }
+  static Subresources at(uint32_t m, uint32_t l) { return {m, 1, l, 1}; }
+  bool contains(uint32_t m, uint32_t l) const {
+    return m >= base_mip && m - base_mip < mip_count && l >= base_layer && l - base_layer < layer_count;
+  }
+  bool operator==(const Subresources&) const = default;
 };
 
 struct BufferDecl {
@@ -69,6 +87,7 @@ struct ResourceDesc {
   ImageExtent extent;
   uint64_t buffer_size = 0;
   VkClearValue clear{};
+  bool cube = false;  // layers are cube faces
 
   uint64_t raw_bytes() const;
 };
@@ -76,6 +95,7 @@ struct ResourceDesc {
 struct ResourceUse {
   std::string resource;
   Use use = Use::sampled;
+  Subresources range;     // images: the mips and layers the use touches (all by default)
   bool prefix = false;    // reads every resource whose name starts with `resource`
   bool modifies = false;  // output that starts from the resource's previous version
   bool is_buffer = false;
@@ -95,6 +115,7 @@ struct SkipContext {
   std::set<std::string> features;
   uint32_t frame_index = 0;
   bool camera_moved = false;
+  uint32_t width = 0, height = 0;  // the output size (compile_graph sets it from GraphSettings)
 };
 
 struct PassDecl {
@@ -107,6 +128,7 @@ struct PassDecl {
   std::function<void(PassContext&)> execute;
   // Extra frame-dependent skip condition: returns the reason, or "" to run.
   std::function<std::string(const SkipContext&)> skip_if;
+  std::string disabled_reason;  // set by can_disable: the skip reason when `enabled` is 0
 
   PassDecl(std::string pass_name, PassType pass_type) : name(std::move(pass_name)), type(pass_type) {}
   PassDecl& read(std::string resource, Use use);
@@ -114,6 +136,14 @@ struct PassDecl {
   PassDecl& write(std::string resource, Use use, ImageDecl decl);
   PassDecl& write(std::string resource, Use use, BufferDecl decl);
   PassDecl& modify(std::string resource, Use use);
+  // The same, restricted to some mips and/or layers of an image (e.g. read mip i - 1 while
+  // writing mip i, or render into one layer of an array). A fresh write of part of an image
+  // leaves the rest at the declared clear value.
+  PassDecl& read(std::string resource, Use use, Subresources range);
+  PassDecl& write(std::string resource, Use use, ImageDecl decl, Subresources range);
+  PassDecl& modify(std::string resource, Use use, Subresources range);
+  // A parameter `enabled` (default 1): at 0 the pass is skipped with `reason`, e.g. "fixed exposure".
+  PassDecl& can_disable(std::string reason);
   PassDecl& param(std::string param_name, double default_value, double min, double max, std::string help);
   PassDecl& needs(std::string feature);
   PassDecl& shader(std::string path);

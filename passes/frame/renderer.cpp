@@ -123,11 +123,12 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture) {
   graph_settings.frame.frame_index = index;
   graph_settings.frame.camera_moved = previous.world != frame.camera.world;
   graph_settings.sinks = frame_sinks();
+  graph_settings.params = settings_.params;
+  graph_settings.capture = capture;
+  graph_settings.readback = {"final.ldr"};
   frame.graph = compile_graph(passes_, as_graph_imports(imports), graph_settings);
 
   ExecutionOptions options;
-  options.capture = capture;
-  options.readback = {"final.ldr"};
   options.params = settings_.params;
   options.shaders = [](const std::string&, const std::string& path) { return builtin_spirv(path); };
   std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> bytes;

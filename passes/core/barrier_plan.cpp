@@ -1,0 +1,190 @@
+// The barrier plan, part of the compile step: every barrier, clear, upload and readback of a
+// frame decided from the compiled graph alone, so the executor only issues it and a unit test
+// can check it. Each mip and layer of an image is tracked on its own (a pass may sample mip
+// i - 1 while writing mip i), and barriers are merged back into rectangles of subresources that
+// move between the same states, so a whole-image use stays one barrier.
+#include <algorithm>
+
+#include "passes/core/graph.h"
+
+namespace nightcap {
+namespace {
+
+// One value per (mip, layer) of a resource; a buffer is a 1×1 grid.
+template <typename T>
+struct Grid {
+  uint32_t mips = 1, layers = 1;
+  std::vector<T> cells;
+  explicit Grid(const ResourceDesc& desc)
+      : mips(desc.is_buffer ? 1 : desc.extent.mips),
+        layers(desc.is_buffer ? 1 : desc.extent.layers),
+        cells(size_t(mips) * layers) {}
+  T& at(uint32_t m, uint32_t l) { return cells[size_t(m) * layers + l]; }
+};
+
+// Covers the set cells of a grid with rectangles of equal values: runs of layers per mip, then
+// runs of mips with the same layer runs.
+template <typename T>
+std::vector<std::pair<Subresources, T>> rectangles(Grid<std::optional<T>>& grid) {
+  std::vector<std::pair<Subresources, T>> done, open;
+  for (uint32_t m = 0; m < grid.mips; ++m) {
+    std::vector<std::pair<Subresources, T>> next;
+    for (uint32_t l = 0; l < grid.layers;) {
+      if (!grid.at(m, l)) {
+        ++l;
+        continue;
+      }
+      uint32_t end = l + 1;
+      while (end < grid.layers && grid.at(m, end) && *grid.at(m, end) == *grid.at(m, l)) ++end;
+      auto same = std::find_if(open.begin(), open.end(), [&](const auto& r) {
+        return r.first.base_layer == l && r.first.layer_count == end - l && r.second == *grid.at(m, l);
+      });
+      if (same != open.end()) {
+        ++same->first.mip_count;
+        next.push_back(*same);
+        open.erase(same);
+      } else {
+        next.push_back({Subresources{m, 1, l, end - l}, *grid.at(m, l)});
+      }
+      l = end;
+    }
+    done.insert(done.end(), open.begin(), open.end());
+    open = std::move(next);
+  }
+  done.insert(done.end(), open.begin(), open.end());
+  return done;
+}
+
+struct Need {
+  AccessState state;
+  bool discard = true;  // every use of the subresource in this step ignores its contents
+  bool operator==(const Need&) const = default;
+};
+
+class Planner {
+ public:
+  explicit Planner(const CompiledGraph& graph) : graph_(graph) {}
+
+  // Adds a use to the current step. Uses of one subresource within a step must agree on its
+  // layout; their stages and accesses add up.
+  void use(const std::string& resource, const Subresources& range, AccessState state, bool discard,
+           const std::string& pass) {
+    const ResourceDesc& desc = graph_.resources.at(resource);
+    if (desc.is_buffer) state.layout = VK_IMAGE_LAYOUT_UNDEFINED;  // buffers have none
+    auto it = step_.try_emplace(resource, Grid<std::optional<Need>>(desc)).first;
+    for (uint32_t m = range.base_mip; m < range.base_mip + range.mip_count; ++m)
+      for (uint32_t l = range.base_layer; l < range.base_layer + range.layer_count; ++l) {
+        std::optional<Need>& need = it->second.at(m, l);
+        if (!need) {
+          need = Need{state, discard};
+          continue;
+        }
+        if (need->state.layout != state.layout)
+          throw GraphError(pass + ": uses mip " + std::to_string(m) + " layer " + std::to_string(l) + " of '" +
+                           resource + "' in two layouts at once (e.g. sampled and as an attachment)");
+        need->state.stages |= state.stages;
+        need->state.access |= state.access;
+        need->discard = need->discard && discard;
+      }
+  }
+  void use_whole(const std::string& resource, const AccessState& state, bool discard) {
+    use(resource, whole(resource), state, discard, "");
+  }
+
+  // The barriers the current step needs, given everything planned before it.
+  std::vector<PlannedBarrier> flush() {
+    std::vector<PlannedBarrier> barriers;
+    for (auto& [resource, needs] : step_) {
+      auto state = states_.try_emplace(resource, Grid<SyncState>(graph_.resources.at(resource))).first;
+      Grid<std::optional<BarrierPlan>> plans(graph_.resources.at(resource));
+      for (uint32_t m = 0; m < needs.mips; ++m)
+        for (uint32_t l = 0; l < needs.layers; ++l)
+          if (const std::optional<Need>& need = needs.at(m, l))
+            plans.at(m, l) = plan_barrier(state->second.at(m, l), need->state, need->discard);
+      for (auto& [range, plan] : rectangles(plans)) barriers.push_back({resource, range, plan});
+    }
+    step_.clear();
+    return barriers;
+  }
+
+  Subresources whole(const std::string& resource) const {
+    const ResourceDesc& desc = graph_.resources.at(resource);
+    return desc.is_buffer ? Subresources{0, 1, 0, 1} : Subresources{0, desc.extent.mips, 0, desc.extent.layers};
+  }
+
+ private:
+  const CompiledGraph& graph_;
+  std::map<std::string, Grid<SyncState>> states_;
+  std::map<std::string, Grid<std::optional<Need>>> step_;
+};
+
+bool on_gpu(const CompiledPass& pass) { return !pass.culled && pass.decl->type != PassType::cpu; }
+
+// Whether the pass leaves a new version of the output (a skipped modifier leaves none).
+bool versions(const CompiledPass& pass, const BoundUse& out) { return pass.runs || !out.modifies; }
+
+}  // namespace
+
+void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& host_resources) {
+  Planner planner(graph);
+  std::set<std::string> used;
+  for (const CompiledPass& pass : graph.passes)
+    if (on_gpu(pass))
+      for (const auto* uses : {&pass.inputs, &pass.outputs})
+        for (const BoundUse& u : *uses) used.insert(u.resource);
+  graph.uploads.clear();
+  for (const std::string& resource : used)
+    if (host_resources.count(resource)) {
+      graph.uploads.push_back(resource);
+      planner.use_whole(resource, transfer_state(true), true);
+    }
+  graph.before_uploads = planner.flush();
+
+  std::map<std::string, size_t> final_writer;
+  for (size_t i = 0; i < graph.passes.size(); ++i)
+    if (on_gpu(graph.passes[i]))
+      for (const BoundUse& out : graph.passes[i].outputs)
+        if (versions(graph.passes[i], out)) final_writer[out.resource] = i;
+
+  for (size_t i = 0; i < graph.passes.size(); ++i) {
+    CompiledPass& pass = graph.passes[i];
+    if (!on_gpu(pass)) continue;
+    PassSync& sync = pass.sync;
+    sync = {};
+    // Fresh outputs start defined: a skipped pass's wholly, a running pass's outside the part it
+    // writes.
+    for (const BoundUse& out : pass.outputs) {
+      if (out.modifies) continue;
+      Grid<std::optional<bool>> cleared(out.desc);
+      for (uint32_t m = 0; m < cleared.mips; ++m)
+        for (uint32_t l = 0; l < cleared.layers; ++l)
+          if (!pass.runs || !out.range.contains(m, l)) cleared.at(m, l) = true;
+      for (auto& [range, unused] : rectangles(cleared)) {
+        sync.clears.push_back({out.resource, range});
+        planner.use(out.resource, range, transfer_state(true), true, pass.decl->name);
+      }
+    }
+    sync.before_clears = planner.flush();
+    if (pass.runs) {
+      const PassType type = pass.decl->type;
+      auto depth = [](const BoundUse& u) { return !u.desc.is_buffer && format_info(u.desc.format)->is_depth; };
+      for (const BoundUse& in : pass.inputs)
+        if (!in.modifies && in.use != Use::host)
+          planner.use(in.resource, in.range, required_state(in.use, type, depth(in)), false, pass.decl->name);
+      for (const BoundUse& out : pass.outputs)
+        planner.use(out.resource, out.range, required_state(out.use, type, depth(out)), !out.modifies, pass.decl->name);
+      sync.before_pass = planner.flush();
+    }
+    for (const BoundUse& out : pass.outputs) {
+      if (!versions(pass, out)) continue;
+      if (graph.settings.capture ||
+          (final_writer.at(out.resource) == i && graph.settings.readback.count(out.resource))) {
+        sync.readback.push_back(out.resource);
+        planner.use_whole(out.resource, transfer_state(false), false);
+      }
+    }
+    sync.before_readback = planner.flush();
+  }
+}
+
+}  // namespace nightcap
