@@ -127,7 +127,15 @@ GpuDevice::GpuDevice(const Options& options) {
   instance_info.ppEnabledLayerNames = layers.data();
   instance_info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
   instance_info.ppEnabledExtensionNames = extensions.data();
-  if (options.validation) instance_info.pNext = &messenger_info;
+  // Synchronization validation too: it reports hazards between commands (a missing or too
+  // narrow barrier) as errors. Debian's layer (1.3.239) checks transfers and shader accesses but
+  // not dynamic-rendering attachments.
+  const VkValidationFeatureEnableEXT enabled_features[] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
+  auto validation_features = vk_struct<VkValidationFeaturesEXT>(VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT);
+  validation_features.enabledValidationFeatureCount = 1;
+  validation_features.pEnabledValidationFeatures = enabled_features;
+  validation_features.pNext = &messenger_info;
+  if (options.validation) instance_info.pNext = &validation_features;
   vk_check(vkCreateInstance(&instance_info, nullptr, &instance_), "vkCreateInstance");
 
   if (options.validation) {

@@ -12,6 +12,7 @@ PassDecl depth_prepass_pass() {
   return PassDecl("depth.prepass", PassType::graphics)
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
+      .read("scene.geometry", Use::index_buffer)
       .read("scene.materials", Use::host)
       .read("draws.depth.prepass", Use::storage_read)
       .write("scene.depth", Use::depth_attachment, depth)

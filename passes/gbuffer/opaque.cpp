@@ -17,6 +17,7 @@ PassDecl gbuffer_opaque_pass() {
   return PassDecl("gbuffer.opaque", PassType::graphics)
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
+      .read("scene.geometry", Use::index_buffer)
       .read("scene.materials", Use::storage_read)
       .read("draws.gbuffer.opaque", Use::storage_read)
       .read_all("scene.texture.", Use::sampled)

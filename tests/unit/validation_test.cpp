@@ -32,5 +32,25 @@ TEST(Validation, ObjectsLeakedAtDeviceDestructionAreCountedByName) {
   EXPECT_NE(messages.find("leaked.on.purpose memory"), std::string::npos) << messages;
 }
 
+// Synchronization validation is on with validation: two transfer writes of one buffer with no
+// barrier between them are a write-after-write hazard, reported as an error.
+TEST(Validation, SynchronizationHazardsAreErrors) {
+  const uint32_t before = validation_errors_reported();
+  testing::internal::CaptureStderr();
+  {
+    GpuDevice gpu({"", true});
+    GpuBuffer buffer = gpu.create_buffer(256, VK_BUFFER_USAGE_TRANSFER_DST_BIT, false, "written.twice");
+    VkCommandBuffer cmd = gpu.begin_commands("hazard on purpose");
+    vkCmdFillBuffer(cmd, buffer.buffer, 0, VK_WHOLE_SIZE, 1);
+    vkCmdFillBuffer(cmd, buffer.buffer, 0, VK_WHOLE_SIZE, 2);
+    gpu.end_and_wait(cmd);
+    gpu.destroy(buffer);
+  }
+  const std::string messages = testing::internal::GetCapturedStderr();
+  EXPECT_GT(validation_errors_reported(), before) << messages;
+  EXPECT_NE(messages.find("SYNC-HAZARD-WRITE-AFTER-WRITE"), std::string::npos) << messages;
+  EXPECT_NE(messages.find("written.twice"), std::string::npos) << messages;
+}
+
 }  // namespace
 }  // namespace nightcap::test
