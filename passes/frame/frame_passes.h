@@ -23,6 +23,9 @@ PassDecl normals_pack_pass();
 PassDecl depth_pyramid_pass();
 PassDecl lighting_deferred_pass();
 PassDecl lighting_composite_pass();
+// bloom.chain's levels, one pass each (passes/post/bloom.cpp).
+constexpr uint32_t kBloomLevels = 6;
+PassDecl bloom_level_pass(uint32_t level);
 PassDecl tonemap_pass();
 
 }  // namespace nightcap

@@ -1,5 +1,7 @@
-// tonemap: HDR lit colour → display (R8G8B8A8_SRGB) with an exposure multiplier and a filmic
-// curve. Bloom, auto-exposure and the grading LUT of frame.md feed it once they exist.
+// tonemap: HDR lit colour plus bloom → display (R8G8B8A8_SRGB) with an exposure multiplier and
+// a filmic curve. The bloom is the mean of bloom.chain's levels, each upsampled bilinearly (in
+// the shader, with exact weights) to the pixel centre. Auto-exposure and the grading LUT of
+// frame.md feed it once they exist.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 
@@ -8,16 +10,18 @@ namespace nightcap {
 PassDecl tonemap_pass() {
   return PassDecl("tonemap", PassType::graphics)
       .read("lighting.lit", Use::sampled)
+      .read("bloom.chain", Use::sampled)
       .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_SRGB, ResourceKind::colour})
       .param("exposure", 1.0, 0.0, 1e6, "multiplies the HDR colour before the curve")
+      .param("bloom", 0.05, 0.0, 1e3, "weight of the bloom added to the lit colour")
       .compare("final.ldr", ComparisonContract::codes(1,
                                                       "within 0.67 of a code of the exact sRGB encoding "
                                                       "(tests/unit/tonemap_test.cpp); encoders may round the "
                                                       "other way"))
       .fullscreen("post/tonemap.frag", [](const PassContext& ctx) {
         struct {
-          float exposure;
-        } constants{float(ctx.param("exposure"))};
+          float exposure, bloom;
+        } constants{float(ctx.param("exposure")), float(ctx.param("bloom"))};
         return constants;
       });
 }

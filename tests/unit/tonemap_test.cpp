@@ -14,8 +14,10 @@
 // above the OETF's linear segment, near code 10.6.
 #include <cmath>
 #include <cstring>
+#include <random>
 
 #include "passes/core/format.h"
+#include "passes/core/graph.h"
 #include "passes/frame/frame_passes.h"
 #include "tests/unit/gpu_fixture.h"
 
@@ -45,6 +47,7 @@ std::vector<uint16_t> every_half_pattern() {
 }
 
 class Tonemap : public GpuTest, public ::testing::WithParamInterface<double> {};
+class TonemapBloom : public GpuTest {};
 
 TEST_P(Tonemap, StaysWithinTheBoundOfTheExactAcesAndSrgbEncoding) {
   const double exposure = GetParam();
@@ -52,9 +55,14 @@ TEST_P(Tonemap, StaysWithinTheBoundOfTheExactAcesAndSrgbEncoding) {
   const std::vector<uint16_t> texels = every_half_pattern();
   std::vector<uint8_t> bytes(texels.size() * 2);
   std::memcpy(bytes.data(), texels.data(), bytes.size());
+  // No bloom here: a chain of zeros adds nothing (TonemapBloom covers it).
+  IsolatedInput chain = image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width / 2, height / 2, {});
+  chain.desc.extent.mips = kBloomLevels;
+  chain.bytes = std::make_shared<const std::vector<uint8_t>>(chain.desc.raw_bytes(), 0);
   const IsolatedRun result =
       run(tonemap_pass(),
-          {{"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height, bytes)}},
+          {{"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height, bytes)},
+           {"bloom.chain", chain}},
           width, height, {{"exposure", exposure}});
   const std::vector<uint8_t>& out = *result.outputs.at("final.ldr");
   ASSERT_EQ(out.size(), size_t(width) * height * 4);
@@ -85,6 +93,60 @@ TEST_P(Tonemap, StaysWithinTheBoundOfTheExactAcesAndSrgbEncoding) {
 }
 
 INSTANTIATE_TEST_SUITE_P(, Tonemap, ::testing::Values(1.0, 0.25, 3.7, 1e-3, 1e6, 0.0));
+
+// The bloom term: lit colour + weight × the mean over bloom.chain's levels of each level
+// interpolated bilinearly at the pixel centre (uv = (x + ½)/width; texel t = uv·size − ½, the
+// four nearest texels clamped into the level), through the same curve. The bound gains 0.01 of
+// a code for the float arithmetic of the interpolation (relative 1e-6, times the curve's slope).
+TEST_F(TonemapBloom, AddsTheMeanOfTheLevelsInterpolatedAtThePixelCentre) {
+  const uint32_t width = 37, height = 23, chain_width = 19, chain_height = 12;
+  const double weight = 0.5, lit = 0.1;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> value(0.0f, 4.0f);
+  IsolatedInput chain = image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, chain_width, chain_height, {});
+  chain.desc.extent.mips = full_mip_count(chain_width, chain_height);
+  std::vector<uint16_t> codes(chain.desc.raw_bytes() / 2);
+  for (uint16_t& c : codes) c = float_to_half(value(rng));
+  std::vector<uint8_t> chain_bytes(codes.size() * 2);
+  std::memcpy(chain_bytes.data(), codes.data(), chain_bytes.size());
+  chain.bytes = std::make_shared<const std::vector<uint8_t>>(chain_bytes);
+  std::vector<uint16_t> lit_codes(size_t(width) * height * 4, float_to_half(float(lit)));
+  std::vector<uint8_t> lit_bytes(lit_codes.size() * 2);
+  std::memcpy(lit_bytes.data(), lit_codes.data(), lit_bytes.size());
+  const IsolatedRun result =
+      run(tonemap_pass(),
+          {{"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height, lit_bytes)},
+           {"bloom.chain", chain}},
+          width, height, {{"bloom", weight}});
+  const std::vector<uint8_t>& out = *result.outputs.at("final.ldr");
+  const FormatInfo f = *format_info(VK_FORMAT_R16G16B16A16_SFLOAT);
+  auto texel = [&](uint32_t level, int64_t x, int64_t y, int c) {
+    const int64_t w = mip_size(chain_width, level), h = mip_size(chain_height, level);
+    x = std::clamp<int64_t>(x, 0, w - 1);
+    y = std::clamp<int64_t>(y, 0, h - 1);
+    const size_t index = raw_subresource_offset(f, chain.desc.extent, 0, level, 0) / 2 + 4 * size_t(y * w + x) + c;
+    return double(half_to_float(codes[index]));
+  };
+  double worst = 0;
+  for (uint32_t y = 0; y < height; ++y)
+    for (uint32_t x = 0; x < width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        double bloom = 0;
+        for (uint32_t level = 0; level < chain.desc.extent.mips; ++level) {
+          const double tx = (x + 0.5) / width * mip_size(chain_width, level) - 0.5;
+          const double ty = (y + 0.5) / height * mip_size(chain_height, level) - 0.5;
+          const double x0 = std::floor(tx), y0 = std::floor(ty), fx = tx - x0, fy = ty - y0;
+          const auto at = [&](double dx, double dy) { return texel(level, int64_t(x0 + dx), int64_t(y0 + dy), c); };
+          bloom += (1 - fy) * ((1 - fx) * at(0, 0) + fx * at(1, 0)) + fy * ((1 - fx) * at(0, 1) + fx * at(1, 1));
+        }
+        bloom /= chain.desc.extent.mips;
+        const double exact = 255.0 * srgb_oetf(aces(double(half_to_float(float_to_half(float(lit)))) + weight * bloom));
+        const double error = std::abs(out[4 * (size_t(y) * width + x) + c] - exact);
+        worst = std::max(worst, error);
+        ASSERT_LE(error, BOUND + 0.01) << "pixel " << x << "," << y << " channel " << c;
+      }
+  std::printf("tonemap with bloom: worst %.4f codes from the exact encoding\n", worst);
+}
 
 }  // namespace
 }  // namespace nightcap::test

@@ -1,0 +1,87 @@
+// bloom.levelN: level N of bloom.chain (RGBA16F, half the output size, 6 mips), the 2×2 box
+// average of level N − 1 — of lighting.lit for level 0, the resolved colour until TAA exists —
+// blurred by a separable Gaussian of `sigma` texels of that level (frame.md: a 6-level
+// downsample chain with separable blurs). Each level is its own pass: it samples mip N − 1 of
+// bloom.chain while it writes mip N, and the graph places the barrier between them. `tonemap`
+// adds the levels. A NaN in lighting.lit contributes nothing and +Inf counts as 65504, so the
+// chain is always finite. At small outputs the chain is shorter (a 1×1 image has one mip): the
+// levels beyond it are skipped.
+#include <cmath>
+
+#include "passes/core/context.h"
+#include "passes/frame/frame_passes.h"
+
+namespace nightcap {
+namespace {
+
+constexpr int kMaxRadius = 8;  // bloom.comp's MAX_RADIUS
+
+struct BloomConstants {
+  int32_t source_size[2], target_size[2];
+  int32_t radius;
+  float weights[kMaxRadius + 1];
+};
+
+BloomConstants constants(double sigma, const ImageExtent& source, uint32_t source_mip, const ImageExtent& chain,
+                         uint32_t level) {
+  BloomConstants c{};
+  c.source_size[0] = int32_t(mip_size(source.width, source_mip));
+  c.source_size[1] = int32_t(mip_size(source.height, source_mip));
+  c.target_size[0] = int32_t(mip_size(chain.width, level));
+  c.target_size[1] = int32_t(mip_size(chain.height, level));
+  c.radius = std::min(kMaxRadius, int(std::ceil(3.0 * sigma)));
+  double weights[kMaxRadius + 1], total = 0;
+  for (int k = 0; k <= c.radius; ++k) {
+    weights[k] = std::exp(-0.5 * k * k / (sigma * sigma));
+    total += k == 0 ? weights[k] : 2 * weights[k];
+  }
+  for (int k = 0; k <= c.radius; ++k) c.weights[k] = float(weights[k] / total);
+  return c;
+}
+
+}  // namespace
+
+PassDecl bloom_level_pass(uint32_t level) {
+  const std::string source = level == 0 ? "lighting.lit" : "bloom.chain";
+  const uint32_t source_mip = level == 0 ? 0 : level - 1;
+  PassDecl pass("bloom.level" + std::to_string(level), PassType::compute);
+  if (level == 0) {
+    ImageDecl chain{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour};
+    chain.size.mode = SizeRule::Mode::output_half;
+    chain.mips = kBloomLevels;
+    pass.read("lighting.lit", Use::sampled).write("bloom.chain", Use::storage_write, chain, Subresources::mip(0));
+  } else {
+    pass.read("bloom.chain", Use::sampled, Subresources::mip(level - 1))
+        .modify("bloom.chain", Use::storage_write, Subresources::mip(level));
+  }
+  return pass.can_disable("bloom disabled by settings")
+      .param("sigma", 1.5, 0.25, 2.6,
+             "Gaussian blur of each level, in texels of that level (radius ceil(3 sigma) <= 8)")
+      .skip_when([level](const SkipContext& frame) -> std::string {
+        const uint32_t levels = std::min(kBloomLevels, full_mip_count((frame.width + 1) / 2, (frame.height + 1) / 2));
+        if (level < levels) return "";
+        return "bloom.chain has " + std::to_string(levels) + (levels == 1 ? " level" : " levels") + " at " +
+               std::to_string(frame.width) + "x" + std::to_string(frame.height);
+      })
+      .shader("post/bloom.comp")
+      .compare("bloom.chain",
+               ComparisonContract::floats(0x1p-24, 0x1p-7,
+                                          "each level is within one half ULP of its filter of the level above "
+                                          "(tests/unit/bloom_test.cpp) and carries the levels above it: six levels "
+                                          "on two devices erring apart, twelve half ULPs"))
+      .run([level, source, source_mip](PassContext& ctx) {
+        ComputePipelineDesc desc;
+        desc.shader = "post/bloom.comp";
+        desc.bindings = {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+        desc.push_constant_bytes = sizeof(BloomConstants);
+        ctx.bind(desc);
+        const BloomConstants c =
+            constants(ctx.param("sigma"), ctx.desc(source).extent, source_mip, ctx.desc("bloom.chain").extent, level);
+        ctx.push({Binding::texture(0, source, ctx.nearest_clamp(), ViewAspect::natural, int(source_mip)),
+                  Binding::image(1, "bloom.chain", int(level))});
+        ctx.push_constants(&c, sizeof c);
+        vkCmdDispatch(ctx.cmd(), (c.target_size[0] + 15) / 16, (c.target_size[1] + 15) / 16, 1);
+      });
+}
+
+}  // namespace nightcap
