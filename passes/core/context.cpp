@@ -143,6 +143,7 @@ void PassContext::bind(const ComputePipelineDesc& desc) {
 }
 
 void PassContext::push(const std::vector<Binding>& bindings) {
+  if (bindings.empty()) return;  // a shader without resources (Vulkan wants at least one write)
   std::vector<VkWriteDescriptorSet> writes;
   std::vector<VkDescriptorBufferInfo> buffers;
   std::vector<VkDescriptorImageInfo> images;
