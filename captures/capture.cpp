@@ -109,6 +109,12 @@ ResourceRecord resource_from_json(const json& j, const std::string& file, const 
          "image of " + std::to_string(r.extent.width) + "x" + std::to_string(r.extent.height) + "x" +
              std::to_string(r.extent.layers) + " is too large");
   if (bytes != r.raw_bytes()) fail(file, where, "\"bytes\" " + std::to_string(bytes) + " does not match the size");
+  if (j.contains("cube")) {
+    if (!j.at("cube").is_boolean()) fail(file, where, "\"cube\" is not true or false");
+    r.cube = j.at("cube").get<bool>();
+    if (r.cube && (r.extent.width != r.extent.height || r.extent.layers % 6 != 0))
+      fail(file, where, "a cube needs square faces and a multiple of 6 layers");
+  }
   return r;
 }
 
@@ -158,6 +164,7 @@ json to_json(const ResourceRecord& r) {
     j["depth"] = r.extent.depth;
     j["mips"] = r.extent.mips;
     j["layers"] = r.extent.layers;
+    if (r.cube) j["cube"] = true;  // absent: not a cube
   }
   j["bytes"] = r.raw_bytes();
   j["hash"] = r.hash;

@@ -34,6 +34,7 @@ struct ResourceRecord {
   bool is_buffer = true;
   VkFormat format = VK_FORMAT_UNDEFINED;  // images only
   ImageExtent extent;                     // images only
+  bool cube = false;                      // images only: the layers are cube faces
   uint64_t buffer_size = 0;               // buffers only
   std::string hash;                       // content_hash of the raw bytes
   std::string blob;                       // path relative to the capture folder

@@ -20,6 +20,7 @@ ResourceDesc desc_of(const ResourceRecord& r) {
   d.format = r.format;
   d.extent = r.extent;
   d.buffer_size = r.buffer_size;
+  d.cube = r.cube;
   return d;
 }
 

@@ -24,6 +24,7 @@ ResourceRecord describe(const VersionData& v) {
   r.is_buffer = v.desc.is_buffer;
   r.format = v.desc.format;
   r.extent = v.desc.extent;
+  r.cube = v.desc.cube;
   r.buffer_size = v.desc.buffer_size;
   return r;
 }
