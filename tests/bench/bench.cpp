@@ -3,7 +3,8 @@
 //  - frame time with capture off and on, and their ratio, in the same run;
 //  - capture bytes on disk against the raw sum of recorded resources;
 //  - time against error for each pass knob (normals.pack LUT size, lighting.deferred tube samples
-//    against the CPU segment integral, depth.convert and depth.pyramid against their references).
+//    against the CPU segment integral, depth.convert, depth.pyramid and bloom against their
+//    references).
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -22,6 +23,7 @@
 #include "passes/frame/renderer.h"
 #include "passes/normals/bfn_lut.h"
 #include "passes/scene/scene.h"
+#include "tests/reference/bloom_reference.h"
 #include "tests/reference/lighting_reference.h"
 
 namespace nc = nightcap;
@@ -363,6 +365,78 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
   figure("depth_pyramid.gpu_ms", median(times));
 }
 
+// bloom: the six level passes as one graph on an HDR image of the output size (a night scene's
+// range: dim surroundings, neon a few hundred times brighter), time summed over the levels, and
+// the largest relative error of a level against the double-precision filter of the level above
+// as stored (half a half-ULP is 4.9e-4) and of the chain against the filter applied all the way
+// down without rounding (tests/unit/bloom_test.cpp bounds both).
+void bench_bloom(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> exponent(-10.0f, 9.0f), unit(0.0f, 1.0f);
+  auto lit = std::make_shared<std::vector<uint8_t>>(size_t(width) * height * 8);
+  ref::RgbImage exact_above{width, height, std::vector<std::array<double, 3>>(size_t(width) * height)};
+  for (size_t i = 0; i < size_t(width) * height; ++i) {
+    const bool neon = unit(rng) < 0.01f;
+    uint16_t h[4] = {0, 0, 0, nc::float_to_half(1.0f)};
+    for (int c = 0; c < 3; ++c) {
+      h[c] = nc::float_to_half(neon ? 400.0f * unit(rng) : std::exp2(exponent(rng)));
+      exact_above.texels[i][c] = nc::half_to_float(h[c]);
+    }
+    std::memcpy(lit->data() + 8 * i, h, 8);
+  }
+  std::vector<nc::PassDecl> passes;
+  for (uint32_t level = 0; level < nc::kBloomLevels; ++level) passes.push_back(nc::bloom_level_pass(level));
+  nc::ResourceDesc desc;
+  desc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+  desc.kind = nc::ResourceKind::hdr_colour;
+  desc.extent.width = width;
+  desc.extent.height = height;
+  nc::GraphSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.sinks = {"bloom.chain"};
+  settings.readback = {"bloom.chain"};
+  nc::ExecutionOptions options;
+  options.shaders = builtin();
+  std::vector<double> times;
+  nc::Execution execution;
+  for (int r = 0; r < 4; ++r) {  // the first run compiles the pipeline
+    nc::CompiledGraph graph = nc::compile_graph(passes, {{"lighting.lit", desc}}, settings);
+    execution = nc::execute_graph(gpu, cache, graph, {{"lighting.lit", lit}}, options);
+    double ms = 0;
+    for (const auto& pass : execution.passes) ms += pass.gpu_ms.value_or(0.0);
+    if (r > 0) times.push_back(ms);
+  }
+  const nc::VersionData& chain = *execution.final_version("bloom.chain");
+  double level_err = 0, chain_err = 0;
+  for (uint32_t level = 0; level < chain.desc.extent.mips; ++level) {
+    const ref::RgbImage gpu_level = ref::decode_rgba16f(*chain.bytes, chain.desc.extent, level);
+    const ref::RgbImage above =
+        level == 0 ? exact_above : ref::decode_rgba16f(*chain.bytes, chain.desc.extent, level - 1);
+    const ref::RgbImage exact = ref::bloom_level(above, gpu_level.width, gpu_level.height, 1.5);
+    if (level == 0)
+      exact_above = exact;
+    else
+      exact_above = ref::bloom_level(exact_above, gpu_level.width, gpu_level.height, 1.5);
+    for (size_t i = 0; i < exact.texels.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        const double g = gpu_level.texels[i][c];
+        if (exact.texels[i][c] >= 0x1p-14)
+          level_err = std::max(level_err, std::abs(g - exact.texels[i][c]) / exact.texels[i][c]);
+        if (exact_above.texels[i][c] >= 0x1p-14)
+          chain_err = std::max(chain_err, std::abs(g - exact_above.texels[i][c]) / exact_above.texels[i][c]);
+      }
+  }
+  table() << "\n## bloom (" << width << "x" << height << " lit, " << chain.desc.extent.width << "x"
+          << chain.desc.extent.height << " chain, " << chain.desc.extent.mips << " levels, sigma 1.5)\n"
+          << "bloom.level0-5  gpu " << std::fixed << std::setprecision(3) << median(times)
+          << " ms, max rel error per level " << std::scientific << std::setprecision(2) << level_err
+          << ", down the chain " << chain_err << "\n";
+  figure("bloom.gpu_ms", median(times));
+  figure("bloom.max_rel_err", level_err);
+  figure("bloom.chain_max_rel_err", chain_err);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -399,6 +473,7 @@ int main(int argc, char** argv) {
     bench_normals(gpu, cache, directions);
     bench_tube_samples(gpu, width / 2, height / 2);
     bench_depth(gpu, cache, width, height);
+    bench_bloom(gpu, cache, width, height);
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";
