@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "passes/core/execution_state.h"
+#include "passes/core/history.h"
 
 namespace nightcap {
 
@@ -104,6 +105,48 @@ void allocate(GpuDevice& gpu, const std::string& name, PhysicalResource& r, VkIm
   r.image = gpu.create_image(info, name);
 }
 
+// The contents a resource has when nothing computed it: its declared clear value (zero for a
+// buffer). `r` must be in the transfer-destination state.
+void clear_to_declared(VkCommandBuffer cmd, const PhysicalResource& r) {
+  if (r.desc.is_buffer) {
+    vkCmdFillBuffer(cmd, r.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
+    return;
+  }
+  VkImageSubresourceRange range{natural_aspects(r.desc.format), 0, VK_REMAINING_MIP_LEVELS, 0,
+                                VK_REMAINING_ARRAY_LAYERS};
+  if (is_depth(r.desc))
+    vkCmdClearDepthStencilImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &r.desc.clear.depthStencil, 1,
+                                &range);
+  else
+    vkCmdClearColorImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &r.desc.clear.color, 1, &range);
+}
+
+// Every mip, layer and aspect of `from` into `to` (same description), both in transfer states.
+void copy_whole(VkCommandBuffer cmd, const PhysicalResource& from, const PhysicalResource& to) {
+  const ResourceDesc& d = from.desc;
+  if (d.is_buffer) {
+    const VkBufferCopy copy{0, 0, d.buffer_size};
+    vkCmdCopyBuffer(cmd, from.buffer.buffer, to.buffer.buffer, 1, &copy);
+    return;
+  }
+  std::vector<VkImageCopy> regions;
+  for (uint32_t a = 0; a < aspect_count(*format_info(d.format)); ++a)
+    for (uint32_t m = 0; m < d.extent.mips; ++m) {
+      VkImageCopy region{};
+      region.srcSubresource = region.dstSubresource = {raw_aspect(d.format, a), m, 0, d.extent.layers};
+      region.extent = {mip_size(d.extent.width, m), mip_size(d.extent.height, m), mip_size(d.extent.depth, m)};
+      regions.push_back(region);
+    }
+  vkCmdCopyImage(cmd, from.image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, to.image.image,
+                 VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, uint32_t(regions.size()), regions.data());
+}
+
+bool same_shape(const ResourceDesc& a, const ResourceDesc& b) {
+  const ImageExtent &x = a.extent, &y = b.extent;
+  return a.is_buffer == b.is_buffer && a.format == b.format && a.buffer_size == b.buffer_size && x.width == y.width &&
+         x.height == y.height && x.depth == y.depth && x.mips == y.mips && x.layers == y.layers;
+}
+
 struct Staging {
   GpuBuffer buffer;
   int version;
@@ -202,6 +245,7 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
     ~Cleanup() {
       for (auto& [name, r] : shared.resources) {
         for (auto& [key, view] : r.views) vkDestroyImageView(gpu.device(), view, nullptr);
+        if (!r.owned) continue;
         gpu.destroy(r.image);
         gpu.destroy(r.buffer);
       }
@@ -209,10 +253,41 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       if (queries) vkDestroyQueryPool(gpu.device(), queries, nullptr);
     }
   } cleanup{gpu, shared, {}, VK_NULL_HANDLE};
+  // previous(name) inputs the history pool supplies (a replay imports them instead).
+  std::map<std::string, std::string> pooled;  // previous(name) -> name
+  for (const CompiledPass& pass : graph.passes)
+    for (const BoundUse& in : pass.inputs)
+      if (in.history && !imports.count(in.resource)) {
+        if (!options.history)
+          throw GraphError(pass.decl->name + ": reads the previous frame's '" + history_source(in.resource) +
+                           "', but this run keeps no history");
+        pooled[in.resource] = history_source(in.resource);
+      }
   for (const auto& [name, flags] : usage) {
+    if (pooled.count(name)) continue;
     PhysicalResource& r = shared.resources[name];
     r.desc = graph.resources.at(name);
     allocate(gpu, name, r, flags);
+  }
+  std::map<std::string, HistorySlot*> slots;  // previous(name) -> its slot in the pool
+  for (const auto& [name, resource] : pooled) {
+    const ResourceDesc& desc = graph.resources.at(name);
+    HistorySlot* slot = options.history->find(resource);
+    const bool reshaped = slot && !same_shape(slot->resource.desc, desc);
+    if (!slot || reshaped || slot->usage != usage[name]) {
+      HistorySlot fresh;
+      fresh.resource.desc = desc;
+      fresh.usage = usage[name];
+      allocate(gpu, name, fresh.resource, fresh.usage);
+      slot = &options.history->replace(resource, std::move(fresh));
+    }
+    if (!slot->filled)
+      result.history_reset[resource] = reshaped ? "size changed" : "no earlier frame";
+    else if (graph.settings.frame.camera_cut)
+      result.history_reset[resource] = "camera cut";
+    PhysicalResource& r = shared.resources[name] = slot->resource;
+    r.owned = false;
+    slots[name] = slot;
   }
 
   auto query_info = vk_struct<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
@@ -273,6 +348,17 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       return last;
     };
 
+    // The previous frame's values, or the declared initial value where there is no valid one.
+    for (const auto& [name, resource] : pooled) {
+      PhysicalResource& r = shared.resources.at(name);
+      if (result.history_reset.count(resource)) {
+        transition(cmd, r, transfer_state(true), true);
+        clear_to_declared(cmd, r);
+      }
+      const int version = add_version(name, r.desc, nullptr);
+      if (options.capture) read_back(r, version, name);
+    }
+
     for (size_t i = 0; i < graph.passes.size(); ++i) {
       CompiledPass& pass = graph.passes[i];
       if (pass.culled || pass.decl->type == PassType::cpu) continue;
@@ -307,18 +393,7 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
           if (out.modifies) continue;
           PhysicalResource& r = shared.resources.at(out.resource);
           transition(cmd, r, transfer_state(true), true);
-          if (r.desc.is_buffer) {
-            vkCmdFillBuffer(cmd, r.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
-          } else {
-            VkImageSubresourceRange range{natural_aspects(r.desc.format), 0, VK_REMAINING_MIP_LEVELS, 0,
-                                          VK_REMAINING_ARRAY_LAYERS};
-            if (is_depth(r.desc))
-              vkCmdClearDepthStencilImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                                          &r.desc.clear.depthStencil, 1, &range);
-            else
-              vkCmdClearColorImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &r.desc.clear.color, 1,
-                                   &range);
-          }
+          clear_to_declared(cmd, r);
         }
       }
       for (const BoundUse& out : pass.outputs) {
@@ -331,11 +406,23 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
           read_back(r, version, out.resource + " from " + pass.decl->name);
       }
     }
+    // This frame's final values are the next frame's history.
+    for (const auto& [name, resource] : pooled) {
+      PhysicalResource& source = shared.resources.at(resource);
+      PhysicalResource& slot = shared.resources.at(name);
+      transition(cmd, source, transfer_state(false));
+      transition(cmd, slot, transfer_state(true), true);
+      copy_whole(cmd, source, slot);
+    }
   } catch (...) {
     vkEndCommandBuffer(cmd);
     throw;
   }
   gpu.end_and_wait(cmd);
+  for (const auto& [name, slot] : slots) {
+    slot->resource.sync = shared.resources.at(name).sync;  // the next frame's first use waits for the copy
+    slot->filled = true;
+  }
 
   std::vector<uint64_t> stamps(query_info.queryCount, 0);
   vkGetQueryPoolResults(gpu.device(), cleanup.queries, 0, query_info.queryCount, stamps.size() * 8, stamps.data(), 8,

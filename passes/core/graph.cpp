@@ -72,6 +72,8 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   for (const ImportedResource& r : imports) imported.insert(r.name);
   for (int i = 0; i < n; ++i) {
     for (const ResourceUse& out : passes[i].outputs) {
+      if (out.resource.find('@') != std::string::npos)
+        throw GraphError(passes[i].name + ": '" + out.resource + "': '@' is reserved for history (read_previous)");
       if (out.is_buffer && !out.modifies && out.buffer.size == 0 && passes[i].type != PassType::cpu)
         throw GraphError(passes[i].name + ": GPU buffer '" + out.resource +
                          "' has no declared size (only a CPU pass may size its output when it runs)");
@@ -95,9 +97,23 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   std::set<std::string> all_names = imported;
   for (const auto& [name, writer] : fresh_writer) all_names.insert(name);
   std::vector<std::vector<std::string>> reads(n);
+  // History reads: the resource whose previous value each pass reads from the pool. They order
+  // nothing this frame; they keep the resource's writer running.
+  std::vector<std::vector<std::string>> history_reads(n);
   for (int i = 0; i < n; ++i) {
     for (const ResourceUse& in : passes[i].inputs) {
-      if (in.prefix) {
+      if (in.history) {
+        if (imported.count(previous(in.resource))) {
+          reads[i].push_back(previous(in.resource));
+        } else if (fresh_writer.count(in.resource)) {
+          if (passes[fresh_writer.at(in.resource)].type == PassType::cpu)
+            throw GraphError(passes[i].name + ": reads the previous frame's '" + in.resource +
+                             "', a CPU pass's output (the history pool keeps GPU resources)");
+          history_reads[i].push_back(in.resource);
+        } else {
+          throw GraphError(passes[i].name + ": reads the previous frame's '" + in.resource + "', which no pass writes");
+        }
+      } else if (in.prefix) {
         for (const std::string& name : all_names)
           if (name.rfind(in.resource, 0) == 0) reads[i].push_back(name);
       } else {
@@ -183,6 +199,7 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
       }
     };
     for (const std::string& r : reads[i]) need(last_writer(r));
+    for (const std::string& r : history_reads[i]) need(last_writer(r));
     for (const ResourceUse& out : passes[i].outputs)
       if (out.modifies) need(writer_before_modifier(out.resource, i));
   }
@@ -210,6 +227,13 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
           compiled.reason = "scene has no " + f;
           break;
         }
+      if (compiled.runs && !decl.disabled_reason.empty()) {
+        auto params = settings.params.find(decl.name);
+        if (params != settings.params.end() && params->second.count("enabled") && params->second.at("enabled") == 0) {
+          compiled.runs = false;
+          compiled.reason = decl.disabled_reason + " (" + decl.name + ".enabled=0)";
+        }
+      }
       if (compiled.runs && decl.skip_if) {
         compiled.reason = decl.skip_if(settings.frame);
         compiled.runs = compiled.reason.empty();
@@ -218,15 +242,21 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
     if (!compiled.culled) {
       for (size_t k = 0; k < decl.inputs.size(); ++k) {
         const ResourceUse& in = decl.inputs[k];
+        if (in.history && !imported.count(previous(in.resource))) {
+          // Its description is the resource's, known once its writer is placed (below).
+          compiled.inputs.push_back({previous(in.resource), in.use, false, true, {}, -1});
+          continue;
+        }
         for (const std::string& r : reads[i]) {
-          const bool matches = in.prefix ? r.rfind(in.resource, 0) == 0 : r == in.resource;
+          const bool matches =
+              in.prefix ? r.rfind(in.resource, 0) == 0 : r == (in.history ? previous(in.resource) : in.resource);
           if (!matches) continue;
           int w = last_writer(r);
-          compiled.inputs.push_back({r, in.use, false, graph.resources.at(r), w < 0 ? -1 : position.at(w)});
+          compiled.inputs.push_back({r, in.use, false, in.history, graph.resources.at(r), w < 0 ? -1 : position.at(w)});
         }
       }
       for (const ResourceUse& out : decl.outputs) {
-        BoundUse bound{out.resource, out.use, out.modifies, {}, -1};
+        BoundUse bound{out.resource, out.use, out.modifies, false, {}, -1};
         if (out.modifies) {
           int w = writer_before_modifier(out.resource, i);
           bound.producer = w < 0 ? -1 : position.at(w);
@@ -243,6 +273,18 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
     }
     graph.passes.push_back(std::move(compiled));
   }
+  // History inputs take the description of the resource they remember, known now that every
+  // writer is placed.
+  for (CompiledPass& pass : graph.passes)
+    for (BoundUse& in : pass.inputs) {
+      if (!in.history || imported.count(in.resource)) continue;
+      const std::string resource = history_source(in.resource);
+      const ResourceDesc& desc = graph.resources.at(resource);
+      if (desc.is_buffer && desc.buffer_size == 0)
+        throw GraphError(pass.decl->name + ": reads the previous frame's '" + resource +
+                         "', a buffer whose size is only known when its CPU pass runs");
+      in.desc = graph.resources[in.resource] = desc;
+    }
   return graph;
 }
 

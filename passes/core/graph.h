@@ -28,12 +28,14 @@ struct GraphSettings {
   std::vector<std::string> sinks = {"final.ldr"};  // resources the frame must produce
   // Passes to run even when nothing consumes them and their skip conditions hold (replay).
   std::vector<std::string> keep;
+  std::map<std::string, ParamValues> params;  // per pass, for the `enabled` of can_disable
 };
 
 struct BoundUse {
   std::string resource;
   Use use = Use::sampled;
   bool modifies = false;
+  bool history = false;  // previous(name) of a read_previous: from the history pool, or imported
   ResourceDesc desc;
   int producer = -1;  // index into CompiledGraph::passes of the pass that wrote this version; -1: imported
 };
@@ -54,7 +56,8 @@ struct CompiledGraph {
 
 // Throws GraphError for: a read of a resource nobody writes or imports, two fresh writers of
 // one resource, a modify with no earlier version, a cycle, an unknown `like` size, a buffer
-// written by a GPU pass without a declared size.
+// written by a GPU pass without a declared size, a history of a resource nobody writes (unless
+// previous(name) is imported, as replay does) or of a buffer sized at run time, a name with '@'.
 CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
                             const GraphSettings& settings);
 

@@ -1,8 +1,20 @@
 #include "passes/core/pass.h"
 
 #include <stdexcept>
+#include <string_view>
 
 namespace nightcap {
+
+namespace {
+constexpr std::string_view kPrevious = "@previous";
+}
+
+std::string previous(const std::string& resource) { return resource + std::string(kPrevious); }
+
+std::string history_source(const std::string& name) {
+  if (name.size() <= kPrevious.size() || !name.ends_with(kPrevious)) return "";
+  return name.substr(0, name.size() - kPrevious.size());
+}
 
 uint64_t ResourceDesc::raw_bytes() const {
   if (is_buffer) return buffer_size;
@@ -49,6 +61,17 @@ PassDecl& PassDecl::modify(std::string resource, Use use) {
   u.modifies = true;
   outputs.push_back(std::move(u));
   return *this;
+}
+
+PassDecl& PassDecl::read_previous(std::string resource, Use use) {
+  read(std::move(resource), use);
+  inputs.back().history = true;
+  return *this;
+}
+
+PassDecl& PassDecl::can_disable(std::string reason) {
+  disabled_reason = std::move(reason);
+  return param("enabled", 1.0, 0.0, 1.0, "0 skips the pass (" + disabled_reason + ")");
 }
 
 PassDecl& PassDecl::param(std::string param_name, double default_value, double min, double max, std::string help) {

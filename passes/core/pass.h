@@ -78,6 +78,7 @@ struct ResourceUse {
   Use use = Use::sampled;
   bool prefix = false;    // reads every resource whose name starts with `resource`
   bool modifies = false;  // output that starts from the resource's previous version
+  bool history = false;   // input: the value `resource` had at the end of the previous frame
   bool is_buffer = false;
   ImageDecl image;
   BufferDecl buffer;
@@ -95,7 +96,14 @@ struct SkipContext {
   std::set<std::string> features;
   uint32_t frame_index = 0;
   bool camera_moved = false;
+  bool camera_cut = false;  // the view jumped: every history starts again from its initial value
 };
+
+// The name under which a pass reads the previous frame's `resource` (PassDecl::read_previous):
+// "exposure.value" -> "exposure.value@previous". '@' is reserved for it.
+std::string previous(const std::string& resource);
+// previous()'s inverse: "exposure.value@previous" -> "exposure.value"; "" for any other name.
+std::string history_source(const std::string& name);
 
 struct PassDecl {
   std::string name;
@@ -107,6 +115,7 @@ struct PassDecl {
   std::function<void(PassContext&)> execute;
   // Extra frame-dependent skip condition: returns the reason, or "" to run.
   std::function<std::string(const SkipContext&)> skip_if;
+  std::string disabled_reason;  // set by can_disable: the skip reason when `enabled` is 0
 
   PassDecl(std::string pass_name, PassType pass_type) : name(std::move(pass_name)), type(pass_type) {}
   PassDecl& read(std::string resource, Use use);
@@ -114,6 +123,12 @@ struct PassDecl {
   PassDecl& write(std::string resource, Use use, ImageDecl decl);
   PassDecl& write(std::string resource, Use use, BufferDecl decl);
   PassDecl& modify(std::string resource, Use use);
+  // The value `resource` had at the end of the previous frame, bound as previous(resource). On
+  // frame 0, after a camera cut or a resize it is the resource's declared clear value. The
+  // resource's writer runs whenever this pass does, so the next frame has its history.
+  PassDecl& read_previous(std::string resource, Use use);
+  // A parameter `enabled` (default 1): at 0 the pass is skipped with `reason`, e.g. "fixed exposure".
+  PassDecl& can_disable(std::string reason);
   PassDecl& param(std::string param_name, double default_value, double min, double max, std::string help);
   PassDecl& needs(std::string feature);
   PassDecl& shader(std::string path);

@@ -23,6 +23,10 @@ PassDecl normals_pack_pass();
 PassDecl depth_pyramid_pass();
 PassDecl lighting_deferred_pass();
 PassDecl lighting_composite_pass();
+PassDecl exposure_pass();
 PassDecl tonemap_pass();
+
+// exposure.histogram's bin count (passes/post/exposure.comp).
+constexpr uint32_t kExposureBins = 256;
 
 }  // namespace nightcap

@@ -16,6 +16,7 @@ std::vector<PassDecl> frame_passes() {
   passes.push_back(depth_pyramid_pass());
   passes.push_back(lighting_deferred_pass());
   passes.push_back(lighting_composite_pass());
+  passes.push_back(exposure_pass());
   passes.push_back(tonemap_pass());
   return passes;
 }

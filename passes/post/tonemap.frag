@@ -1,5 +1,6 @@
 #version 460
 layout(set = 0, binding = 0) uniform sampler2D lit_map;
+layout(set = 0, binding = 1) uniform sampler2D exposure_value;  // 1×1; x: automatic exposure, 0: none
 layout(push_constant) uniform Params { float exposure; };
 layout(location = 0) in vec2 in_uv;
 layout(location = 0) out vec4 out_ldr;
@@ -8,7 +9,8 @@ layout(location = 0) out vec4 out_ldr;
 vec3 aces(vec3 x) { return clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0); }
 
 void main() {
-  vec3 hdr = texelFetch(lit_map, ivec2(gl_FragCoord.xy), 0).rgb * exposure;
+  float automatic = texelFetch(exposure_value, ivec2(0), 0).x;
+  vec3 hdr = texelFetch(lit_map, ivec2(gl_FragCoord.xy), 0).rgb * (exposure * (automatic > 0.0 ? automatic : 1.0));
   // A NaN (or 0 × Inf) must not reach the display. Test before any max() or clamp(): their
   // result for a NaN operand is undefined, and lavapipe's max() returns the other operand.
   if (any(isnan(hdr))) hdr = vec3(0.0);
