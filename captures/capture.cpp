@@ -209,6 +209,9 @@ json to_json(const CaptureManifest& m) {
     frames.push_back({{"index", f.index},
                       {"output", {{"width", f.width}, {"height", f.height}}},
                       {"sinks", f.sinks},
+                      {"time", f.time},
+                      {"camera_cut", f.camera_cut},
+                      {"history_reset", f.history_reset},
                       {"camera",
                        {{"view", f.camera.view},
                         {"projection", f.camera.projection},
@@ -260,6 +263,11 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
     f.sinks = field<std::vector<std::string>>(frames[fi], "sinks", file, fw);
     for (const std::string& sink : f.sinks)
       if (!safe_name(sink)) fail(file, fw, "bad sink name");
+    f.time = field<double>(frames[fi], "time", file, fw);
+    f.camera_cut = field<bool>(frames[fi], "camera_cut", file, fw);
+    f.history_reset = field<std::map<std::string, std::string>>(frames[fi], "history_reset", file, fw);
+    for (const auto& [resource, reason] : f.history_reset)
+      if (!safe_name(resource)) fail(file, fw + ".history_reset", "bad resource name");
     if (frames[fi].contains("camera")) {
       const json& c = frames[fi].at("camera");
       try {

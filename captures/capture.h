@@ -23,9 +23,10 @@
 namespace nightcap {
 
 // 2: frames record their output size and sinks, shaders their GLSL source, passes the pipeline
-// and sampler state they bound, outputs their comparison contract. Version 1 captures lack what replay and the tools
-// need from these.
-constexpr int kCaptureVersion = 2;
+// and sampler state they bound, outputs their comparison contract.
+// 3: frames record their time, camera cut and history resets; frame.camera carries the cut and
+// time step. Earlier captures lack what replay and the tools need from these.
+constexpr int kCaptureVersion = 3;
 constexpr uint32_t kMaxImageSide = 16384;
 
 struct ResourceRecord {
@@ -76,6 +77,10 @@ struct FrameRecord {
   uint32_t index = 0;
   uint32_t width = 0, height = 0;  // output size the graph resolved relative sizes against
   std::vector<std::string> sinks;  // resources the frame had to produce
+  double time = 0.0;               // seconds since frame 0
+  bool camera_cut = false;         // the view jumped here: every history restarted
+  // History resources that started from their initial value in this frame, and why.
+  std::map<std::string, std::string> history_reset;
   CameraRecord camera;
   std::vector<PassRecord> passes;
 };

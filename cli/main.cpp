@@ -92,9 +92,36 @@ std::string ms(const std::optional<double>& value) {
   return s.str();
 }
 
-int run_render(const std::string& scene_path, const std::string& out, const std::string& size, uint32_t frames,
-               uint32_t seed, const std::string& device, const std::vector<std::string>& sets, bool force,
-               const std::string& orbit, const std::string& target, double fov, const std::string& codec) {
+struct RenderFlags {
+  std::string scene_path, out, size = "1280x720", device, orbit, target, codec = "zip", motion = "walk", record;
+  uint32_t frames = 1, seed = 1;
+  double fov = 45.0;
+  std::vector<std::string> sets;
+  std::vector<uint32_t> cuts;
+  bool force = false;
+};
+
+// "A..B" or "A": the frames to record, inclusive.
+std::pair<uint32_t, uint32_t> parse_frame_range(const std::string& text, uint32_t frames) {
+  const size_t dots = text.find("..");
+  const std::string a = text.substr(0, dots), b = dots == std::string::npos ? a : text.substr(dots + 2);
+  auto number = [&](const std::string& digits) {
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos)
+      throw UsageError("--record-frames '" + text + "': expected FIRST..LAST (frame indices from 0)");
+    return uint32_t(std::stoul(digits));
+  };
+  const uint32_t first = number(a), last = number(b);
+  if (first > last || last >= frames)
+    throw UsageError("--record-frames '" + text + "': expected FIRST <= LAST < --frames (" + std::to_string(frames) +
+                     ")");
+  return {first, last};
+}
+
+int run_render(const RenderFlags& flags) {
+  const std::string &scene_path = flags.scene_path, &size = flags.size, &orbit = flags.orbit, &target = flags.target,
+                    &codec = flags.codec;
+  const uint32_t frames = flags.frames, seed = flags.seed;
+  const double fov = flags.fov;
   nc::RenderSettings settings;
   const std::map<std::string, nc::ExrCompression> codecs = {{"zip", nc::ExrCompression::zip},
                                                             {"rle", nc::ExrCompression::rle},
@@ -105,7 +132,16 @@ int run_render(const std::string& scene_path, const std::string& out, const std:
   std::tie(settings.width, settings.height) = parse_size(size);
   if (frames < 1 || frames > 1000) throw UsageError("--frames " + std::to_string(frames) + ": expected 1 to 1000");
   settings.frames = frames;
-  for (const std::string& s : sets) nc::parse_set(s, settings.params);
+  settings.path.motion = nc::CameraPath::parse_motion(flags.motion);
+  for (uint32_t cut : flags.cuts) {
+    if (cut == 0 || cut >= frames)
+      throw UsageError("--cut-at " + std::to_string(cut) + ": expected a frame from 1 to " +
+                       std::to_string(frames - 1) + " (frame 0 has no history to cut)");
+    settings.path.cuts.insert(cut);
+  }
+  if (!flags.record.empty())
+    std::tie(settings.first_recorded, settings.last_recorded) = parse_frame_range(flags.record, frames);
+  for (const std::string& s : flags.sets) nc::parse_set(s, settings.params);
   nc::validate_params(nc::frame_passes(), settings.params);
   if (!orbit.empty()) {
     auto o = parse_numbers("--orbit", orbit, 3);
@@ -123,16 +159,20 @@ int run_render(const std::string& scene_path, const std::string& out, const std:
                           {"frames", frames},
                           {"scene", scene_path.empty() ? "built-in" : scene_path},
                           {"scene_seed", seed},
-                          {"set", sets},
+                          {"set", flags.sets},
+                          {"motion", flags.motion},
+                          {"cut_at", flags.cuts},
+                          {"record_frames", flags.record},
                           {"orbit", orbit},
                           {"target", target},
                           {"fov", fov},
                           {"codec", codec}};
-  nc::GpuDevice gpu({device, validation_requested()});
+  nc::GpuDevice gpu({flags.device, validation_requested()});
   stop_on_signals();
-  nc::RenderSummary summary = nc::render_to_capture(gpu, scene, settings, out, force, render_monitor());
+  nc::RenderSummary summary = nc::render_to_capture(gpu, scene, settings, flags.out, flags.force, render_monitor());
   if (isatty(STDERR_FILENO)) std::cerr << "\r\033[K";
-  std::cout << "capture written to " << out << " (" << frames << " frame" << (frames > 1 ? "s" : "") << ", "
+  const uint32_t recorded = std::min(settings.last_recorded, frames - 1) - settings.first_recorded + 1;
+  std::cout << "capture written to " << flags.out << " (" << recorded << " frame" << (recorded > 1 ? "s" : "") << ", "
             << gpu.name() << ", " << std::fixed << std::setprecision(1) << summary.disk_bytes / 1048576.0
             << " MiB on disk)\n";
   return 0;
@@ -147,7 +187,11 @@ int run_passes(const std::string& path, bool json) {
     return 0;
   }
   for (const nc::FrameRecord& frame : capture.manifest().frames) {
-    std::cout << "frame " << frame.index << "\n";
+    std::cout << "frame " << frame.index << " at " << std::fixed << std::setprecision(3) << frame.time << " s"
+              << (frame.camera_cut ? ", camera cut" : "");
+    for (const auto& [resource, reason] : frame.history_reset)
+      std::cout << "; history of " << resource << " restarted (" << reason << ")";
+    std::cout << "\n";
     std::cout << std::left << std::setw(22) << "  pass" << std::setw(9) << "status" << std::right << std::setw(10)
               << "gpu ms" << std::setw(10) << "cpu ms"
               << "  outputs\n";
@@ -272,25 +316,29 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every command");
 
-  std::string scene_path, out, size = "1280x720", device, orbit, target, codec = "zip";
-  uint32_t frames = 1, seed = 1;
-  double fov = 45.0;
+  RenderFlags r;
   std::vector<std::string> sets, shaders, pass_names;
-  bool force = false, json = false, verify = false, chain = false;
+  std::string device;
+  bool json = false, verify = false, chain = false;
   auto* render = app.add_subcommand("render", "Render a scene (glTF, or the built-in city) to a capture");
-  render->add_option("scene", scene_path, "glTF 2.0 file (.gltf/.glb); omitted: the built-in Night City block");
-  render->add_option("-o,--output", out, "capture folder to create")->required();
-  render->add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
-  render->add_option("--frames", frames, "number of frames to render and record")->capture_default_str();
-  render->add_option("--scene-seed", seed, "seed of the built-in city")->capture_default_str();
-  render->add_option("--device", device, "Vulkan device name (substring); default: lavapipe (llvmpipe)");
-  render->add_option("--set", sets, "PASS.PARAM=VALUE parameter override (repeatable)");
-  render->add_option("--orbit", orbit, "orbit camera THETA,PHI,RADIUS (degrees, scene units)");
-  render->add_option("--target", target, "orbit target X,Y,Z (default 0,0,0)");
-  render->add_option("--fov", fov, "vertical field of view of the orbit camera, degrees")->capture_default_str();
-  render->add_option("--codec", codec, "OpenEXR compression of image blobs: zip, rle, piz or none")
+  render->add_option("scene", r.scene_path, "glTF 2.0 file (.gltf/.glb); omitted: the built-in Night City block");
+  render->add_option("-o,--output", r.out, "capture folder to create")->required();
+  render->add_option("--size", r.size, "output size WIDTHxHEIGHT")->capture_default_str();
+  render->add_option("--frames", r.frames, "number of frames to render (1/60 s apart)")->capture_default_str();
+  render->add_option("--motion", r.motion, "camera motion along the view: static, walk (1.4 m/s) or drive (14 m/s)")
       ->capture_default_str();
-  render->add_flag("--force", force, "replace an existing capture");
+  render->add_option("--cut-at", r.cuts, "frame K cuts to another view; every history restarts (repeatable)");
+  render->add_option("--record-frames", r.record,
+                     "record only frames A..B (inclusive); the frames before still render so history carries");
+  render->add_option("--scene-seed", r.seed, "seed of the built-in city")->capture_default_str();
+  render->add_option("--device", r.device, "Vulkan device name (substring); default: lavapipe (llvmpipe)");
+  render->add_option("--set", r.sets, "PASS.PARAM=VALUE parameter override (repeatable)");
+  render->add_option("--orbit", r.orbit, "orbit camera THETA,PHI,RADIUS (degrees, scene units)");
+  render->add_option("--target", r.target, "orbit target X,Y,Z (default 0,0,0)");
+  render->add_option("--fov", r.fov, "vertical field of view of the orbit camera, degrees")->capture_default_str();
+  render->add_option("--codec", r.codec, "OpenEXR compression of image blobs: zip, rle, piz or none")
+      ->capture_default_str();
+  render->add_flag("--force", r.force, "replace an existing capture");
 
   std::string capture_path, capture_b;
   auto* passes = app.add_subcommand("passes", "List the passes of a capture");
@@ -339,7 +387,7 @@ int main(int argc, char** argv) {
   }
   int code = kExitBadInput;
   try {
-    if (*render) code = run_render(scene_path, out, size, frames, seed, device, sets, force, orbit, target, fov, codec);
+    if (*render) code = run_render(r);
     if (*passes) code = run_passes(capture_path, json);
     if (*replay) code = run_replay(capture_path, frame, pass_names, sets, shaders, device, verify, chain, json);
     if (*diff)

@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include "passes/core/pass.h"
+
 namespace nightcap {
 namespace {
 
@@ -72,11 +74,12 @@ std::string shape_text(const ResourceRecord& r) {
 // carry recorded text.
 class FrameGraph {
  public:
-  explicit FrameGraph(const FrameRecord& frame) {
+  explicit FrameGraph(const FrameRecord& frame) : frame_(frame) {
     out_ << "digraph frame_" << frame.index << " {\n"
          << "  label=" << label({"frame " + std::to_string(frame.index)}) << ";\n  labelloc=t;\n"
          << "  node [fontname=\"Helvetica\", fontsize=10];\n  edge [color=\"grey30\"];\n";
     for (size_t i = 0; i < frame.passes.size(); ++i) add_pass(i, frame.passes[i]);
+    add_history_kept();
     out_ << "}\n";
   }
 
@@ -101,7 +104,8 @@ class FrameGraph {
     // Inputs first: a pass that reads and writes a resource reads the version before its own.
     for (const ResourceRecord& input : pass.inputs) {
       const std::string source = input_source(input);  // may declare the source's node first
-      out_ << "  " << source << " -> " << node << edge_style << ";\n";
+      const bool history = !history_source(input.resource).empty();
+      out_ << "  " << source << " -> " << node << (history ? kHistoryEdge : edge_style) << ";\n";
     }
     for (const ResourceRecord& output : pass.outputs) {
       const std::string version = add_version(output);
@@ -118,17 +122,45 @@ class FrameGraph {
   }
 
   // The version an input edge starts from: the latest one written in this frame when the bytes
-  // read are its bytes, otherwise a version this frame did not write (scene data, the camera),
-  // one node per resource and content hash. History edges belong here: once PassRecord marks an
-  // input as read from the previous frame, this returns a node for that frame's version instead.
+  // read are its bytes, otherwise a version this frame did not write (scene data, the camera, a
+  // history read from the previous frame), one node per resource and content hash.
   std::string input_source(const ResourceRecord& input) {
     if (auto it = written_.find(input.resource); it != written_.end() && it->second.hash == input.hash)
       return it->second.node;
     auto [it, added] = unwritten_.try_emplace({input.resource, input.hash});
-    if (added) it->second = add_version(input);
+    if (!added) return it->second;
+    const std::string remembered = history_source(input.resource);
+    if (remembered.empty()) {
+      it->second = add_version(input);
+    } else {
+      auto reset = frame_.history_reset.find(remembered);
+      const std::string origin = reset == frame_.history_reset.end() ? "from frame " + std::to_string(frame_.index - 1)
+                                                                     : "initial value (" + reset->second + ")";
+      it->second = "r" + std::to_string(versions_++);
+      out_ << "  " << it->second << " [shape=ellipse, style=\"dashed\", color=\"blue\", label="
+           << label({input.resource, shape_text(input), origin, "#" + input.hash.substr(0, 8)}) << "];\n";
+      history_read_.push_back(remembered);
+    }
     return it->second;
   }
 
+  // The final version of each resource read as history is what the next frame reads.
+  void add_history_kept() {
+    for (const std::string& resource : history_read_) {
+      auto it = written_.find(resource);
+      if (it == written_.end()) continue;
+      const std::string node = "h" + std::to_string(kept_++);
+      out_ << "  " << node << " [shape=plaintext, fontcolor=\"blue\", label="
+           << label({"history of frame " + std::to_string(frame_.index + 1)}) << "];\n";
+      out_ << "  " << it->second.node << " -> " << node << kHistoryEdge << ";\n";
+    }
+  }
+
+  static constexpr const char* kHistoryEdge = " [style=\"dashed\", color=\"blue\", label=\"history\"]";
+
+  const FrameRecord& frame_;
+  std::vector<std::string> history_read_;  // resources whose previous value a pass read
+  int kept_ = 0;
   std::ostringstream out_;
   int versions_ = 0;
   std::map<std::string, Version> written_;                                // resource -> latest version

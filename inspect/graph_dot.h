@@ -10,8 +10,10 @@ namespace nightcap {
 
 // One node per pass (name, status, GPU or CPU time; skipped and culled ones dashed and grey with
 // their reason) and one per resource version (name, format and size or buffer bytes, content
-// hash), with edges writer → version → readers. Every text taken from the record is escaped, so
-// any name or reason gives valid DOT.
+// hash), with edges writer → version → readers. A history input (previous(name)) is a blue
+// dashed node saying whether it came from the previous frame or is the initial value (and why),
+// and the final version of that resource has a blue edge to the next frame's history. Every text
+// taken from the record is escaped, so any name or reason gives valid DOT.
 std::string frame_to_dot(const FrameRecord& frame);
 
 }  // namespace nightcap

@@ -140,6 +140,19 @@ void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& hos
     }
   graph.before_uploads = planner.flush();
 
+  graph.history.clear();
+  for (const CompiledPass& pass : graph.passes)
+    if (on_gpu(pass))
+      for (const BoundUse& in : pass.inputs)
+        if (in.history && !host_resources.count(in.resource) &&
+            std::find(graph.history.begin(), graph.history.end(), in.resource) == graph.history.end())
+          graph.history.push_back(in.resource);
+  for (const std::string& slot : graph.history) planner.use_whole(slot, transfer_state(true), true);
+  graph.before_history_clears = planner.flush();
+  if (graph.settings.capture)
+    for (const std::string& slot : graph.history) planner.use_whole(slot, transfer_state(false), false);
+  graph.before_history_readback = planner.flush();
+
   std::map<std::string, size_t> final_writer;
   for (size_t i = 0; i < graph.passes.size(); ++i)
     if (on_gpu(graph.passes[i]))
@@ -185,6 +198,12 @@ void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& hos
     }
     sync.before_readback = planner.flush();
   }
+
+  for (const std::string& slot : graph.history) {
+    planner.use_whole(history_source(slot), transfer_state(false), false);
+    planner.use_whole(slot, transfer_state(true), true);
+  }
+  graph.before_history_copy = planner.flush();
 }
 
 }  // namespace nightcap

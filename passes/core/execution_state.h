@@ -20,6 +20,7 @@ struct PhysicalResource {
   GpuBuffer buffer;
   std::map<std::tuple<int, int, int>, VkImageView> views;  // (aspect, mip, layer) -> view
   int version = -1;                                        // current version index
+  bool owned = true;  // false: a history slot's image or buffer, which the pool destroys
 };
 
 struct PassContext::Shared {

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "passes/core/execution_state.h"
+#include "passes/core/history.h"
 
 namespace nightcap {
 
@@ -114,6 +115,50 @@ void allocate(GpuDevice& gpu, const std::string& name, PhysicalResource& r, VkIm
   r.image = gpu.create_image(info, name);
 }
 
+Subresources whole(const ResourceDesc& d) { return {0, d.extent.mips, 0, d.extent.layers}; }
+
+// The contents a resource has when nothing computed it: its declared clear value (zero for a
+// buffer), here for `range`. It must be in the transfer-destination state.
+void clear_to_declared(VkCommandBuffer cmd, const PhysicalResource& r, const Subresources& range) {
+  if (r.desc.is_buffer) {
+    vkCmdFillBuffer(cmd, r.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
+    return;
+  }
+  const VkImageSubresourceRange vk_range{natural_aspects(r.desc.format), range.base_mip, range.mip_count,
+                                         range.base_layer, range.layer_count};
+  if (is_depth(r.desc))
+    vkCmdClearDepthStencilImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &r.desc.clear.depthStencil, 1,
+                                &vk_range);
+  else
+    vkCmdClearColorImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &r.desc.clear.color, 1, &vk_range);
+}
+
+// Every mip, layer and aspect of `from` into `to` (same description), both in transfer states.
+void copy_whole(VkCommandBuffer cmd, const PhysicalResource& from, const PhysicalResource& to) {
+  const ResourceDesc& d = from.desc;
+  if (d.is_buffer) {
+    const VkBufferCopy copy{0, 0, d.buffer_size};
+    vkCmdCopyBuffer(cmd, from.buffer.buffer, to.buffer.buffer, 1, &copy);
+    return;
+  }
+  std::vector<VkImageCopy> regions;
+  for (uint32_t a = 0; a < aspect_count(*format_info(d.format)); ++a)
+    for (uint32_t m = 0; m < d.extent.mips; ++m) {
+      VkImageCopy region{};
+      region.srcSubresource = region.dstSubresource = {raw_aspect(d.format, a), m, 0, d.extent.layers};
+      region.extent = {mip_size(d.extent.width, m), mip_size(d.extent.height, m), mip_size(d.extent.depth, m)};
+      regions.push_back(region);
+    }
+  vkCmdCopyImage(cmd, from.image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, to.image.image,
+                 VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, uint32_t(regions.size()), regions.data());
+}
+
+bool same_shape(const ResourceDesc& a, const ResourceDesc& b) {
+  const ImageExtent &x = a.extent, &y = b.extent;
+  return a.is_buffer == b.is_buffer && a.format == b.format && a.buffer_size == b.buffer_size && x.width == y.width &&
+         x.height == y.height && x.depth == y.depth && x.mips == y.mips && x.layers == y.layers;
+}
+
 struct Staging {
   GpuBuffer buffer;
   int version;
@@ -212,6 +257,7 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
     ~Cleanup() {
       for (auto& [name, r] : shared.resources) {
         for (auto& [key, view] : r.views) vkDestroyImageView(gpu.device(), view, nullptr);
+        if (!r.owned) continue;
         gpu.destroy(r.image);
         gpu.destroy(r.buffer);
       }
@@ -219,10 +265,40 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       if (queries) vkDestroyQueryPool(gpu.device(), queries, nullptr);
     }
   } cleanup{gpu, shared, {}, VK_NULL_HANDLE};
+  // previous(name) inputs the history pool supplies (a replay imports them instead).
+  std::map<std::string, std::string> pooled;  // previous(name) -> name
+  for (const std::string& name : graph.history) pooled[name] = history_source(name);
+  if (!options.history)
+    for (const CompiledPass& pass : graph.passes)
+      for (const BoundUse& in : pass.inputs)
+        if (pooled.count(in.resource))
+          throw GraphError(pass.decl->name + ": reads the previous frame's '" + pooled.at(in.resource) +
+                           "', but this run keeps no history");
   for (const auto& [name, flags] : usage) {
+    if (pooled.count(name)) continue;
     PhysicalResource& r = shared.resources[name];
     r.desc = graph.resources.at(name);
     allocate(gpu, name, r, flags);
+  }
+  std::map<std::string, HistorySlot*> slots;  // previous(name) -> its slot in the pool
+  for (const auto& [name, resource] : pooled) {
+    const ResourceDesc& desc = graph.resources.at(name);
+    HistorySlot* slot = options.history->find(resource);
+    const bool reshaped = slot && !same_shape(slot->resource.desc, desc);
+    if (!slot || reshaped || slot->usage != usage[name]) {
+      HistorySlot fresh;
+      fresh.resource.desc = desc;
+      fresh.usage = usage[name];
+      allocate(gpu, name, fresh.resource, fresh.usage);
+      slot = &options.history->replace(resource, std::move(fresh));
+    }
+    if (!slot->filled)
+      result.history_reset[resource] = reshaped ? "size changed" : "no earlier frame";
+    else if (graph.settings.frame.camera_cut)
+      result.history_reset[resource] = "camera cut";
+    PhysicalResource& r = shared.resources[name] = slot->resource;
+    r.owned = false;
+    slots[name] = slot;
   }
 
   auto query_info = vk_struct<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
@@ -274,6 +350,22 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
                                static_cast<uint32_t>(regions.size()), regions.data());
       }
     };
+    // The previous frame's values, or the declared initial value where there is no valid one.
+    // A slot with valid history is already where the plan's clear barriers would leave it.
+    std::vector<PlannedBarrier> reset;
+    for (const PlannedBarrier& b : graph.before_history_clears)
+      if (result.history_reset.count(pooled.at(b.resource))) reset.push_back(b);
+    issue(cmd, shared.resources, reset);
+    std::map<std::string, int> history_versions;
+    for (const auto& [name, resource] : pooled) {
+      PhysicalResource& r = shared.resources.at(name);
+      if (result.history_reset.count(resource)) clear_to_declared(cmd, r, whole(r.desc));
+      history_versions[name] = add_version(name, r.desc, nullptr);
+    }
+    issue(cmd, shared.resources, graph.before_history_readback);
+    if (graph.settings.capture)
+      for (const auto& [name, version] : history_versions) read_back(shared.resources.at(name), version, name);
+
     for (size_t i = 0; i < graph.passes.size(); ++i) {
       CompiledPass& pass = graph.passes[i];
       if (pass.culled || pass.decl->type == PassType::cpu) continue;
@@ -282,21 +374,8 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       // A skipped pass still leaves defined outputs for the passes after it, and a pass that
       // writes part of a fresh output leaves the rest defined.
       issue(cmd, shared.resources, pass.sync.before_clears);
-      for (const PlannedClear& clear : pass.sync.clears) {
-        PhysicalResource& r = shared.resources.at(clear.resource);
-        if (r.desc.is_buffer) {
-          vkCmdFillBuffer(cmd, r.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
-          continue;
-        }
-        const VkImageSubresourceRange range{natural_aspects(r.desc.format), clear.range.base_mip, clear.range.mip_count,
-                                            clear.range.base_layer, clear.range.layer_count};
-        if (is_depth(r.desc))
-          vkCmdClearDepthStencilImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                                      &r.desc.clear.depthStencil, 1, &range);
-        else
-          vkCmdClearColorImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &r.desc.clear.color, 1,
-                               &range);
-      }
+      for (const PlannedClear& clear : pass.sync.clears)
+        clear_to_declared(cmd, shared.resources.at(clear.resource), clear.range);
       if (pass.runs) {
         // A resource used in two ways (two mips, storage and index buffer) is one input version.
         for (const BoundUse& in : pass.inputs)
@@ -323,11 +402,18 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       for (const std::string& resource : pass.sync.readback)
         read_back(shared.resources.at(resource), written.at(resource), resource + " from " + pass.decl->name);
     }
+    // This frame's final values are the next frame's history.
+    issue(cmd, shared.resources, graph.before_history_copy);
+    for (const auto& [name, resource] : pooled)
+      copy_whole(cmd, shared.resources.at(resource), shared.resources.at(name));
   } catch (...) {
     vkEndCommandBuffer(cmd);
     throw;
   }
   gpu.end_and_wait(cmd);
+  for (const auto& [name, slot] : slots) {
+    slot->filled = true;
+  }
 
   std::vector<uint64_t> stamps(query_info.queryCount, 0);
   vkGetQueryPoolResults(gpu.device(), cleanup.queries, 0, query_info.queryCount, stamps.size() * 8, stamps.data(), 8,

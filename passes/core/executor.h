@@ -1,7 +1,7 @@
 // Runs a compiled graph on a device: CPU passes first (they read only host data), then every
 // GPU pass recorded into one command buffer with the barriers the graph derives, a
 // debug label and timestamps around each, and — when capturing — a readback of every version
-// of every resource a pass wrote.
+// of every resource a pass wrote or read from the history pool.
 #pragma once
 
 #include <map>
@@ -16,11 +16,16 @@
 
 namespace nightcap {
 
+class HistoryPool;
+
 // What is read back to the host is the graph's (GraphSettings::capture and readback).
 struct ExecutionOptions {
   std::map<std::string, ParamValues> params;  // per pass; missing ones take their defaults
   ShaderProvider shaders;
   std::string name;  // of the command buffer, for debuggers; empty: "frame <graph frame index>"
+  // Where previous(name) inputs that are not imported come from, and where this frame's values
+  // go (passes/core/history.h). Kept by the caller across frames.
+  HistoryPool* history = nullptr;
 };
 
 struct VersionData {
@@ -41,6 +46,9 @@ struct PassExecution {
 struct Execution {
   std::vector<VersionData> versions;
   std::vector<PassExecution> passes;  // parallel to CompiledGraph::passes
+  // Histories that started from their initial value this frame, and why ("first frame",
+  // "camera cut", "size changed").
+  std::map<std::string, std::string> history_reset;
   const VersionData* final_version(const std::string& resource) const;
 };
 

@@ -105,6 +105,8 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   for (const ImportedResource& r : imports) imported.insert(r.name);
   for (int i = 0; i < n; ++i) {
     for (const ResourceUse& out : passes[i].outputs) {
+      if (out.resource.find('@') != std::string::npos)
+        throw GraphError(passes[i].name + ": '" + out.resource + "': '@' is reserved for history (read_previous)");
       if (out.is_buffer && !out.modifies && out.buffer.size == 0 && passes[i].type != PassType::cpu)
         throw GraphError(passes[i].name + ": GPU buffer '" + out.resource +
                          "' has no declared size (only a CPU pass may size its output when it runs)");
@@ -128,13 +130,27 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   std::set<std::string> all_names = imported;
   for (const auto& [name, writer] : fresh_writer) all_names.insert(name);
   std::vector<std::vector<std::string>> reads(n);
+  // History reads: the resource whose previous value each pass reads from the pool. They order
+  // nothing this frame; they keep the resource's writer running.
+  std::vector<std::vector<std::string>> history_reads(n);
   for (int i = 0; i < n; ++i) {
     for (const ResourceUse& in : passes[i].inputs) {
       // A resource read in two ways (storage and index buffer, two mips) is one read.
       auto add = [&](const std::string& name) {
         if (std::find(reads[i].begin(), reads[i].end(), name) == reads[i].end()) reads[i].push_back(name);
       };
-      if (in.prefix) {
+      if (in.history) {
+        if (imported.count(previous(in.resource))) {
+          add(previous(in.resource));
+        } else if (fresh_writer.count(in.resource)) {
+          if (passes[fresh_writer.at(in.resource)].type == PassType::cpu)
+            throw GraphError(passes[i].name + ": reads the previous frame's '" + in.resource +
+                             "', a CPU pass's output (the history pool keeps GPU resources)");
+          history_reads[i].push_back(in.resource);
+        } else {
+          throw GraphError(passes[i].name + ": reads the previous frame's '" + in.resource + "', which no pass writes");
+        }
+      } else if (in.prefix) {
         for (const std::string& name : all_names)
           if (name.rfind(in.resource, 0) == 0) add(name);
       } else {
@@ -228,6 +244,7 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
       }
     };
     for (const std::string& r : reads[i]) need(version_read_by(i, r));
+    for (const std::string& r : history_reads[i]) need(last_writer(r));
     for (const ResourceUse& out : passes[i].outputs)
       if (out.modifies) need(writer_before_modifier(out.resource, i));
   }
@@ -273,16 +290,22 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
     if (!compiled.culled) {
       for (size_t k = 0; k < decl.inputs.size(); ++k) {
         const ResourceUse& in = decl.inputs[k];
+        if (in.history && !imported.count(previous(in.resource))) {
+          // Its description is the resource's, known once its writer is placed (below).
+          compiled.inputs.push_back({previous(in.resource), in.use, false, true, {}, -1, in.range});
+          continue;
+        }
         for (const std::string& r : reads[i]) {
-          const bool matches = in.prefix ? r.rfind(in.resource, 0) == 0 : r == in.resource;
+          const bool matches =
+              in.prefix ? r.rfind(in.resource, 0) == 0 : r == (in.history ? previous(in.resource) : in.resource);
           if (!matches) continue;
           int w = version_read_by(i, r);
-          compiled.inputs.push_back({r, in.use, false, graph.resources.at(r), w < 0 ? -1 : position.at(w),
+          compiled.inputs.push_back({r, in.use, false, in.history, graph.resources.at(r), w < 0 ? -1 : position.at(w),
                                      in.prefix ? Subresources{} : in.range});
         }
       }
       for (const ResourceUse& out : decl.outputs) {
-        BoundUse bound{out.resource, out.use, out.modifies, {}, -1, out.range};
+        BoundUse bound{out.resource, out.use, out.modifies, false, {}, -1, out.range};
         if (out.modifies) {
           int w = writer_before_modifier(out.resource, i);
           bound.producer = w < 0 ? -1 : position.at(w);
@@ -299,15 +322,28 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
         }
         compiled.outputs.push_back(bound);
       }
-      // Only a pass that runs touches its ranges (a skipped one clears whole fresh outputs):
-      // a level that does not exist at this output size may be skipped rather than be an error.
-      for (auto* uses : {&compiled.inputs, &compiled.outputs})
-        for (BoundUse& u : *uses)
-          u.range = compiled.runs ? resolve_range(u.range, u.desc, decl.name, u.resource)
-                                  : resolve_range({}, u.desc, decl.name, u.resource);
     }
     graph.passes.push_back(std::move(compiled));
   }
+  // History inputs take the description of the resource they remember, known now that every
+  // writer is placed.
+  for (CompiledPass& pass : graph.passes)
+    for (BoundUse& in : pass.inputs) {
+      if (!in.history || imported.count(in.resource)) continue;
+      const std::string resource = history_source(in.resource);
+      const ResourceDesc& desc = graph.resources.at(resource);
+      if (desc.is_buffer && desc.buffer_size == 0)
+        throw GraphError(pass.decl->name + ": reads the previous frame's '" + resource +
+                         "', a buffer whose size is only known when its CPU pass runs");
+      in.desc = graph.resources[in.resource] = desc;
+    }
+  // Only a pass that runs touches its ranges (a skipped one clears whole fresh outputs): a
+  // level that does not exist at this output size may be skipped rather than be an error.
+  for (CompiledPass& pass : graph.passes)
+    for (auto* uses : {&pass.inputs, &pass.outputs})
+      for (BoundUse& u : *uses)
+        u.range = pass.runs ? resolve_range(u.range, u.desc, pass.decl->name, u.resource)
+                            : resolve_range({}, u.desc, pass.decl->name, u.resource);
   std::set<std::string> host = imported;
   for (const CompiledPass& pass : graph.passes)
     if (!pass.culled && pass.decl->type == PassType::cpu)

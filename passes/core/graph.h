@@ -40,6 +40,7 @@ struct BoundUse {
   std::string resource;
   Use use = Use::sampled;
   bool modifies = false;
+  bool history = false;  // previous(name) of a read_previous: from the history pool, or imported
   ResourceDesc desc;
   int producer = -1;   // index into CompiledGraph::passes of the pass that wrote this version; -1: imported
   Subresources range;  // concrete (no kAll) for the uses of a pass that runs
@@ -98,13 +99,21 @@ struct CompiledGraph {
   // Host data (imports, CPU pass outputs) that GPU passes use, copied to the GPU before them.
   std::vector<std::string> uploads;
   std::vector<PlannedBarrier> before_uploads;
+  // previous(name) inputs the executor's history pool supplies (a replay imports them instead).
+  // After the uploads, a slot without valid history is cleared (before_history_clears is issued
+  // for those slots only: a filled slot is already in that state, the previous frame's copy into
+  // it having been its last use) and, in a capture, each is read back; after the last pass each
+  // name's final version is copied into its slot.
+  std::vector<std::string> history;
+  std::vector<PlannedBarrier> before_history_clears, before_history_readback, before_history_copy;
 };
 
 // Throws GraphError for: a read of a resource nobody writes or imports, two fresh writers of
 // one resource, a modify with no earlier version, a cycle, an unknown `like` size, a buffer
-// written by a GPU pass without a declared size, a subresource range outside its image (or on
-// a buffer), one pass using a subresource in two layouts, a 3D array or a cube that is not
-// square with a multiple of 6 layers.
+// written by a GPU pass without a declared size, a history of a resource nobody writes (unless
+// previous(name) is imported, as replay does) or of a buffer sized at run time, a name with '@',
+// a subresource range outside its image (or on a buffer), one pass using a subresource in two
+// layouts, a 3D array or a cube that is not square with a multiple of 6 layers.
 CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
                             const GraphSettings& settings);
 

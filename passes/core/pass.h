@@ -98,6 +98,7 @@ struct ResourceUse {
   Subresources range;     // images: the mips and layers the use touches (all by default)
   bool prefix = false;    // reads every resource whose name starts with `resource`
   bool modifies = false;  // output that starts from the resource's previous version
+  bool history = false;   // input: the value `resource` had at the end of the previous frame
   bool is_buffer = false;
   ImageDecl image;
   BufferDecl buffer;
@@ -116,7 +117,14 @@ struct SkipContext {
   uint32_t frame_index = 0;
   bool camera_moved = false;
   uint32_t width = 0, height = 0;  // the output size (compile_graph sets it from GraphSettings)
+  bool camera_cut = false;         // the view jumped: every history starts again from its initial value
 };
+
+// The name under which a pass reads the previous frame's `resource` (PassDecl::read_previous):
+// "exposure.value" -> "exposure.value@previous". '@' is reserved for it.
+std::string previous(const std::string& resource);
+// previous()'s inverse: "exposure.value@previous" -> "exposure.value"; "" for any other name.
+std::string history_source(const std::string& name);
 
 struct PassDecl {
   std::string name;
@@ -142,6 +150,10 @@ struct PassDecl {
   PassDecl& read(std::string resource, Use use, Subresources range);
   PassDecl& write(std::string resource, Use use, ImageDecl decl, Subresources range);
   PassDecl& modify(std::string resource, Use use, Subresources range);
+  // The value `resource` had at the end of the previous frame, bound as previous(resource). On
+  // frame 0, after a camera cut or a resize it is the resource's declared clear value. The
+  // resource's writer runs whenever this pass does, so the next frame has its history.
+  PassDecl& read_previous(std::string resource, Use use);
   // A parameter `enabled` (default 1): at 0 the pass is skipped with `reason`, e.g. "fixed exposure".
   PassDecl& can_disable(std::string reason);
   PassDecl& param(std::string param_name, double default_value, double min, double max, std::string help);

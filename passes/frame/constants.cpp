@@ -32,7 +32,8 @@ void build_constants(PassContext& ctx) {
       glm::mat4(previous_relative_view_projection(previous, world, camera.yfov, aspect, camera.znear));
   c.camera_world = glm::vec4(glm::vec3(eye), 1.0f);
   c.viewport = {float(camera.width), float(camera.height), 1.0f / camera.width, 1.0f / camera.height};
-  c.projection_params = {float(camera.znear), float(camera.yfov), float(aspect), float(camera.time)};
+  c.projection_params = {float(camera.znear), float(camera.yfov), float(aspect), 0.0f};
+  c.timing = {float(camera.time), float(camera.time_step), 0.0f, 0.0f};
 
   std::vector<GpuLight> list;
   bool has_sun = false;
@@ -56,7 +57,7 @@ void build_constants(PassContext& ctx) {
     g.cos_inner = glm::vec4(std::cos(l.inner_cone), 0, 0, 0);
     list.push_back(g);
   }
-  c.counts = {uint32_t(list.size()), camera.frame_index, 0, 0};
+  c.counts = {uint32_t(list.size()), camera.frame_index, camera.cut, 0};
 
   auto& constants = ctx.output("frame.constants");
   constants.resize(sizeof(c));

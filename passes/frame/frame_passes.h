@@ -26,6 +26,10 @@ PassDecl lighting_composite_pass();
 // bloom.chain's levels, one pass each (passes/post/bloom.cpp).
 constexpr uint32_t kBloomLevels = 6;
 PassDecl bloom_level_pass(uint32_t level);
+PassDecl exposure_pass();
 PassDecl tonemap_pass();
+
+// exposure.histogram's bin count (passes/post/exposure.comp).
+constexpr uint32_t kExposureBins = 256;
 
 }  // namespace nightcap

@@ -18,10 +18,11 @@ struct GpuFrameConstants {
   glm::vec4 viewport;                  // width, height, 1/width, 1/height
   glm::vec4 sun_direction;             // xyz: the way sunlight travels; w: 1 when there is a sun
   glm::vec4 sun_radiance;              // rgb × illuminance
-  glm::vec4 projection_params;         // znear, yfov, aspect, time
-  glm::uvec4 counts;                   // light count, frame index
+  glm::vec4 projection_params;         // znear, yfov, aspect
+  glm::vec4 timing;                    // seconds since frame 0, seconds since the previous frame
+  glm::uvec4 counts;                   // light count, frame index, 1 on a camera cut
 };
-static_assert(sizeof(GpuFrameConstants) == 5 * 64 + 6 * 16);
+static_assert(sizeof(GpuFrameConstants) == 5 * 64 + 7 * 16);
 
 // Camera-relative light. Types as LightType.
 struct GpuLight {

@@ -13,3 +13,6 @@ vec3 nearest_half(vec3 x) {
   vec3 ulp = ldexp(vec3(1.0), max(e - 1, ivec3(-14)) - 10);
   return roundEven(x / ulp) * ulp;
 }
+
+// Signed two-channel targets (motion vectors): the same rounding, limited to ±65504.
+vec2 nearest_half(vec2 x) { return nearest_half(vec3(max(x, vec2(-HALF_MAX)), 0.0)).xy; }

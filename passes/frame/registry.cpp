@@ -17,6 +17,7 @@ std::vector<PassDecl> frame_passes() {
   passes.push_back(lighting_deferred_pass());
   passes.push_back(lighting_composite_pass());
   for (uint32_t level = 0; level < kBloomLevels; ++level) passes.push_back(bloom_level_pass(level));
+  passes.push_back(exposure_pass());
   passes.push_back(tonemap_pass());
   return passes;
 }

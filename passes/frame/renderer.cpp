@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <mutex>
 #include <thread>
 
@@ -80,11 +82,49 @@ Camera base_camera(const Scene& scene, const RenderSettings& settings) {
   return framing_camera(scene, double(settings.width) / settings.height);
 }
 
-Camera frame_camera(const Camera& base, const Scene& scene, uint32_t frame) {
+CameraPath::Motion CameraPath::parse_motion(const std::string& name) {
+  if (name == "static") return Motion::still;
+  if (name == "walk") return Motion::walk;
+  if (name == "drive") return Motion::drive;
+  throw SceneError("--motion '" + name + "': expected static, walk or drive");
+}
+
+std::string CameraPath::motion_name(Motion motion) {
+  switch (motion) {
+    case Motion::still:
+      return "static";
+    case Motion::walk:
+      return "walk";
+    case Motion::drive:
+      return "drive";
+  }
+  return "";
+}
+
+double CameraPath::speed() const {
+  switch (motion) {
+    case Motion::still:
+      return 0.0;
+    case Motion::walk:
+      return 1.4;
+    case Motion::drive:
+      return 14.0;
+  }
+  return 0.0;
+}
+
+Camera frame_camera(const Camera& base, const Scene& scene, const CameraPath& path, uint32_t frame) {
+  const auto cuts_so_far = std::distance(path.cuts.begin(), path.cuts.upper_bound(frame));
+  const uint32_t since = cuts_so_far ? *std::prev(path.cuts.upper_bound(frame)) : 0;
+  const glm::dvec3 centre = 0.5 * (glm::dvec3(scene.bounds_min()) + glm::dvec3(scene.bounds_max()));
+  const glm::dmat4 turn =
+      glm::translate(glm::dmat4(1.0), centre) *
+      glm::rotate(glm::dmat4(1.0), glm::half_pi<double>() * double(cuts_so_far), glm::dvec3(0.0, 1.0, 0.0)) *
+      glm::translate(glm::dmat4(1.0), -centre);
   Camera camera = base;
-  const double size = glm::length(scene.bounds_max() - scene.bounds_min());
-  const glm::dvec3 forward = -glm::dvec3(base.world[2]);
-  camera.world[3] += glm::dvec4(forward * (0.002 * size * frame), 0.0);
+  camera.world = turn * base.world;
+  const glm::dvec3 forward = -glm::dvec3(camera.world[2]);
+  camera.world[3] += glm::dvec4(forward * (path.speed() * (frame - since) * kFrameSeconds), 0.0);
   return camera;
 }
 
@@ -103,6 +143,7 @@ Renderer::Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings)
       settings_(std::move(settings)),
       passes_(frame_passes()),
       cache_(gpu),
+      history_(gpu),
       scene_imports_(scene_imports(scene)),
       base_(base_camera(scene, settings_)) {
   validate_params(passes_, settings_.params);
@@ -110,11 +151,13 @@ Renderer::Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings)
 
 RenderedFrame Renderer::render_frame(uint32_t index, bool capture) {
   RenderedFrame frame;
-  frame.camera = frame_camera(base_, scene_, index);
-  const Camera previous = index == 0 ? frame.camera : frame_camera(base_, scene_, index - 1);
+  const bool cut = settings_.path.cut_at(index);
+  frame.camera = frame_camera(base_, scene_, settings_.path, index);
+  frame.time = index * kFrameSeconds;
+  // Across a cut nothing moved on screen: the previous view is another shot.
+  const Camera previous = index == 0 || cut ? frame.camera : frame_camera(base_, scene_, settings_.path, index - 1);
   Imports imports = scene_imports_;
-  for (auto& [name, data] :
-       camera_import(frame.camera, previous, settings_.width, settings_.height, index, index / 60.0))
+  for (auto& [name, data] : camera_import(frame.camera, previous, settings_.width, settings_.height, index, cut))
     imports[name] = data;
 
   GraphSettings graph_settings;
@@ -123,6 +166,7 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture) {
   graph_settings.frame.features = scene_.features();
   graph_settings.frame.frame_index = index;
   graph_settings.frame.camera_moved = previous.world != frame.camera.world;
+  graph_settings.frame.camera_cut = cut;
   graph_settings.sinks = frame_sinks();
   graph_settings.params = settings_.params;
   graph_settings.capture = capture;
@@ -132,6 +176,7 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture) {
   ExecutionOptions options;
   options.params = settings_.params;
   options.shaders = [](const std::string&, const std::string& path) { return builtin_spirv(path); };
+  options.history = &history_;
   std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> bytes;
   for (const auto& [name, data] : imports) bytes[name] = data.bytes;
   frame.execution = execute_graph(gpu_, cache_, frame.graph, bytes, options);
@@ -145,6 +190,9 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
   record.width = frame.graph.settings.width;
   record.height = frame.graph.settings.height;
   record.sinks = frame.graph.settings.sinks;
+  record.time = frame.time;
+  record.camera_cut = frame.graph.settings.frame.camera_cut;
+  record.history_reset = frame.execution.history_reset;
   const CameraRecordGpu* camera = nullptr;
   if (const VersionData* v = frame.execution.final_version("frame.camera"))
     camera = reinterpret_cast<const CameraRecordGpu*>(v->bytes->data());
@@ -220,6 +268,10 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
 RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const RenderSettings& settings,
                                 const std::filesystem::path& out, bool force, const RenderMonitor& monitor) {
   RenderSummary summary;
+  const uint32_t first = settings.first_recorded, last = std::min(settings.last_recorded, settings.frames - 1);
+  if (first > last)
+    throw SceneError("--record-frames: frame " + std::to_string(first) + " is past the last frame, " +
+                     std::to_string(settings.frames - 1));
   CaptureWriter writer(out, force, settings.capture);
   Renderer renderer(gpu, scene, settings);
   CaptureManifest manifest;
@@ -230,7 +282,17 @@ RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const Render
                                          std::to_string(VK_API_VERSION_PATCH(gpu.properties().apiVersion))},
                      {"vendor_id", gpu.properties().vendorID},
                      {"device_id", gpu.properties().deviceID}};
+  // As given on the command line, and as resolved: what every frame of the capture shares.
   manifest.settings = settings.description;
+  manifest.settings["resolved"] = {{"width", settings.width},
+                                   {"height", settings.height},
+                                   {"frames", settings.frames},
+                                   {"recorded_frames", {first, last}},
+                                   {"frame_seconds", kFrameSeconds},
+                                   {"motion", CameraPath::motion_name(settings.path.motion)},
+                                   {"speed_m_per_s", settings.path.speed()},
+                                   {"cuts", settings.path.cuts},
+                                   {"sinks", frame_sinks()}};
   manifest.scene = {{"source", scene.source},
                     {"instances", scene.instances.size()},
                     {"triangles", scene.indices.size() / 3},
@@ -241,13 +303,16 @@ RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const Render
   gpu.renderdoc_begin();
   std::vector<uint8_t> final_pixels;
   try {
-    for (uint32_t k = 0; k < settings.frames; ++k) {
+    // Every frame up to the last recorded one renders, so history carries into the recorded ones.
+    for (uint32_t k = 0; k <= last; ++k) {
       if (monitor.stop_requested()) throw RenderInterrupted("interrupted: no capture written to " + out.string());
-      monitor.progress("frame " + std::to_string(k + 1) + "/" + std::to_string(settings.frames) + ": rendering");
+      monitor.progress("frame " + std::to_string(k + 1) + "/" + std::to_string(last + 1) + ": rendering");
       auto start = std::chrono::steady_clock::now();
-      RenderedFrame frame = renderer.render_frame(k, true);
+      const bool recorded = k >= first;
+      RenderedFrame frame = renderer.render_frame(k, recorded);
       summary.render_ms += ms_since(start);
-      monitor.progress("frame " + std::to_string(k + 1) + "/" + std::to_string(settings.frames) + ": writing capture");
+      if (!recorded) continue;
+      monitor.progress("frame " + std::to_string(k + 1) + "/" + std::to_string(last + 1) + ": writing capture");
       start = std::chrono::steady_clock::now();
       manifest.frames.push_back(record_frame(writer, frame, k, settings.params));
       summary.capture_ms += ms_since(start);

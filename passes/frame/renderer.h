@@ -5,18 +5,34 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "captures/capture.h"
 #include "passes/core/executor.h"
+#include "passes/core/history.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/scene/scene.h"
 
 namespace nightcap {
 
+// How the camera moves from frame to frame: along its view at a walker's or a car's speed
+// (metres per second; scene units are metres), and which frames cut to another view.
+struct CameraPath {
+  enum class Motion { still, walk, drive } motion = Motion::walk;
+  std::set<uint32_t> cuts;  // frames that start from another view: every history resets
+
+  static Motion parse_motion(const std::string& name);  // "static", "walk", "drive"; throws SceneError
+  static std::string motion_name(Motion motion);
+  double speed() const;  // 0, 1.4 or 14 m/s
+  bool cut_at(uint32_t frame) const { return cuts.count(frame) != 0; }
+};
+
 struct RenderSettings {
   uint32_t width = 1280, height = 720;
   uint32_t frames = 1;
+  uint32_t first_recorded = 0, last_recorded = UINT32_MAX;  // --record-frames A..B; others only render
+  CameraPath path;
   std::map<std::string, ParamValues> params;  // --set overrides, per pass
   std::optional<Camera> camera;               // --orbit; else the scene's, else a framing one
   nlohmann::json description;                 // settings as given, recorded in the manifest
@@ -31,20 +47,23 @@ void parse_set(const std::string& text, std::map<std::string, ParamValues>& para
 // Adds a key light when the scene has none, as glTF viewers do (recorded in scene.notes).
 void add_default_lighting(Scene& scene);
 
-// The camera of frame k: the base camera dollied forward a little each frame, so multi-frame
-// captures carry camera motion (and motion vectors).
-Camera frame_camera(const Camera& base, const Scene& scene, uint32_t frame);
+// The camera of frame k: after the n-th cut the base view turned n quarter turns about the
+// vertical axis through the scene's centre (for a street, the next street; for an orbit, the
+// next side), moved along its view at the path's speed for the time since that cut.
+Camera frame_camera(const Camera& base, const Scene& scene, const CameraPath& path, uint32_t frame);
 Camera base_camera(const Scene& scene, const RenderSettings& settings);
 
 struct RenderedFrame {
   CompiledGraph graph;
   Execution execution;
   Camera camera;
+  double time = 0;  // seconds since frame 0
 };
 
 class Renderer {
  public:
   Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings);
+  // Frame `index`, reading the history the previous render_frame left (render them in order).
   RenderedFrame render_frame(uint32_t index, bool capture);
   const std::vector<PassDecl>& passes() const { return passes_; }
   GpuDevice& gpu() { return gpu_; }
@@ -55,6 +74,7 @@ class Renderer {
   RenderSettings settings_;
   std::vector<PassDecl> passes_;
   PipelineCache cache_;
+  HistoryPool history_;
   Imports scene_imports_;
   Camera base_;
   std::map<std::string, std::vector<uint32_t>> spirv_;

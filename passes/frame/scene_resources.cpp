@@ -177,7 +177,7 @@ Imports scene_imports(const Scene& scene) {
 }
 
 Imports camera_import(const Camera& current, const Camera& previous, uint32_t width, uint32_t height,
-                      uint32_t frame_index, double time) {
+                      uint32_t frame_index, bool cut) {
   CameraRecordGpu r{};
   std::memcpy(r.world, &current.world[0][0], sizeof(r.world));
   std::memcpy(r.previous_world, &previous.world[0][0], sizeof(r.previous_world));
@@ -186,7 +186,9 @@ Imports camera_import(const Camera& current, const Camera& previous, uint32_t wi
   r.width = width;
   r.height = height;
   r.frame_index = frame_index;
-  r.time = time;
+  r.cut = cut;
+  r.time = frame_index * kFrameSeconds;
+  r.time_step = kFrameSeconds;
   auto bytes = std::make_shared<std::vector<uint8_t>>(sizeof(r));
   std::memcpy(bytes->data(), &r, sizeof(r));
   Imports imports;

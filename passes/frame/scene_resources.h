@@ -40,13 +40,16 @@ struct LightRecord {
   uint32_t type;
 };
 
-// frame.camera: this frame's and the previous frame's camera.
+// frame.camera: this frame's and the previous frame's camera (the same on a cut), and the clock.
 struct CameraRecordGpu {
   double world[16], previous_world[16];
   double yfov, znear;
-  uint32_t width, height, frame_index, pad;
-  double time;
+  uint32_t width, height, frame_index, cut;
+  double time, time_step;  // seconds
 };
+
+// Frames advance this much each: the clock of motion, adaptation and every history.
+constexpr double kFrameSeconds = 1.0 / 60.0;
 
 struct ImportedData {
   ResourceDesc desc;
@@ -57,8 +60,9 @@ using Imports = std::map<std::string, ImportedData>;
 // scene.geometry, scene.instances, scene.materials, scene.lights and scene.texture.<n>
 // (mip chains built here; the last texture is 1×1 white, bound where a material has none).
 Imports scene_imports(const Scene& scene);
+// frame.camera of frame `frame_index` (at frame_index × kFrameSeconds); `cut`: the view jumped.
 Imports camera_import(const Camera& current, const Camera& previous, uint32_t width, uint32_t height,
-                      uint32_t frame_index, double time);
+                      uint32_t frame_index, bool cut);
 
 std::string texture_resource(uint32_t index);
 uint32_t pack_sampler(const SamplerDesc& desc);

@@ -10,6 +10,7 @@ struct FrameConstants {
   vec4 sun_direction;
   vec4 sun_radiance;
   vec4 projection_params;
+  vec4 timing;
   uvec4 counts;
 };
 

@@ -1,4 +1,5 @@
 #version 460
+#include "../frame/half.glsl"
 #include "../frame/types.glsl"
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
@@ -93,6 +94,6 @@ void main() {
   vec4 previous = frame.previous_view_projection * vec4(in_position, 1.0);
   vec2 previous_uv = previous.xy / previous.w * 0.5 + 0.5;
   vec2 current_uv = gl_FragCoord.xy * frame.viewport.zw;
-  out_motion = current_uv - previous_uv;
+  out_motion = nearest_half(current_uv - previous_uv);
   out_emissive = emitted;
 }

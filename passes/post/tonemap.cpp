@@ -1,7 +1,8 @@
-// tonemap: HDR lit colour plus bloom → display (R8G8B8A8_SRGB) with an exposure multiplier and
-// a filmic curve. The bloom is the mean of bloom.chain's levels, each upsampled bilinearly (in
-// the shader, with exact weights) to the pixel centre. Auto-exposure and the grading LUT of
-// frame.md feed it once they exist.
+// tonemap: HDR lit colour plus bloom → display (R8G8B8A8_SRGB): scaled by the manual exposure
+// and, when the exposure pass ran, by its automatic one (exposure.value.x; 0 when it was
+// skipped), then a filmic curve. The bloom is the mean of bloom.chain's levels, each upsampled
+// bilinearly (in the shader, with exact weights) to the pixel centre. The grading LUT of
+// frame.md feeds it once it exists.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 
@@ -10,9 +11,11 @@ namespace nightcap {
 PassDecl tonemap_pass() {
   return PassDecl("tonemap", PassType::graphics)
       .read("lighting.lit", Use::sampled)
+      .read("exposure.value", Use::sampled)
       .read("bloom.chain", Use::sampled)
       .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_SRGB, ResourceKind::colour})
-      .param("exposure", 1.0, 0.0, 1e6, "multiplies the HDR colour before the curve")
+      .param("exposure", 1.0, 0.0, 1e6,
+             "multiplies the HDR colour before the curve (with the automatic exposure, if any)")
       .param("bloom", 0.05, 0.0, 1e3, "weight of the bloom added to the lit colour")
       .compare("final.ldr", ComparisonContract::codes(1,
                                                       "within 0.67 of a code of the exact sRGB encoding "

@@ -1,6 +1,7 @@
 #version 460
 layout(set = 0, binding = 0) uniform sampler2D lit_map;
-layout(set = 0, binding = 1) uniform sampler2D bloom_chain;
+layout(set = 0, binding = 1) uniform sampler2D exposure_value;  // 1×1; x: automatic exposure, 0: none
+layout(set = 0, binding = 2) uniform sampler2D bloom_chain;
 layout(push_constant) uniform Params {
   float exposure;
   float bloom;
@@ -30,7 +31,9 @@ vec3 bloom_at(vec2 uv) {
 
 void main() {
   const vec2 uv = gl_FragCoord.xy / vec2(textureSize(lit_map, 0));
-  vec3 hdr = (texelFetch(lit_map, ivec2(gl_FragCoord.xy), 0).rgb + bloom * bloom_at(uv)) * exposure;
+  float automatic = texelFetch(exposure_value, ivec2(0), 0).x;
+  vec3 hdr = (texelFetch(lit_map, ivec2(gl_FragCoord.xy), 0).rgb + bloom * bloom_at(uv)) *
+             (exposure * (automatic > 0.0 ? automatic : 1.0));
   // A NaN (or 0 × Inf) must not reach the display. Test before any max() or clamp(): their
   // result for a NaN operand is undefined, and lavapipe's max() returns the other operand.
   if (any(isnan(hdr))) hdr = vec3(0.0);

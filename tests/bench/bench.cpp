@@ -437,6 +437,57 @@ void bench_bloom(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
   figure("bloom.chain_max_rel_err", chain_err);
 }
 
+// exposure: time, and the error of the histogram's mean log2 luminance (bin centres) against the
+// exact mean over every pixel, for the default 24-EV range and a twice as wide, coarser one.
+void bench_exposure(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> level(-10.0, 10.0);
+  std::vector<uint16_t> texels;
+  double exact = 0;
+  for (size_t i = 0; i < size_t(width) * height; ++i) {
+    const uint16_t h = nc::float_to_half(float(std::exp2(level(rng))));
+    texels.insert(texels.end(), {h, h, h, 0x3c00});
+    exact += std::log2(double(nc::half_to_float(h)) * (0.2126 + 0.7152 + 0.0722));
+  }
+  exact /= double(width) * height;
+  std::vector<uint8_t> lit(texels.size() * 2);
+  std::memcpy(lit.data(), texels.data(), lit.size());
+  nc::GpuFrameConstants constants{};
+  constants.timing.y = float(nc::kFrameSeconds);
+  nc::IsolatedInput constants_in;
+  constants_in.desc.is_buffer = true;
+  constants_in.desc.buffer_size = sizeof(constants);
+  auto constant_bytes = std::make_shared<std::vector<uint8_t>>(sizeof(constants));
+  std::memcpy(constant_bytes->data(), &constants, sizeof(constants));
+  constants_in.bytes = constant_bytes;
+  table() << "\n## exposure (" << width << "x" << height << ", log2 luminance uniform in [-10, 10])\n";
+  for (const double range : {24.0, 48.0}) {
+    nc::ParamValues params = nc::exposure_pass().default_params();
+    params["log2_min"] = -range / 2;
+    params["log2_max"] = range / 2;
+    std::vector<double> times;
+    nc::IsolatedRun run;
+    for (int r = 0; r < 3; ++r) {
+      run = nc::run_isolated(
+          gpu, cache, nc::exposure_pass(),
+          {{"frame.constants", constants_in},
+           {"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, nc::ResourceKind::hdr_colour, width, height, lit)},
+           {nc::previous("exposure.value"),
+            image(VK_FORMAT_R32G32B32A32_SFLOAT, nc::ResourceKind::hdr_colour, 1, 1, std::vector<uint8_t>(16, 0))}},
+          params, width, height, builtin());
+      times.push_back(gpu_ms(run));
+    }
+    float value[4];
+    std::memcpy(value, run.outputs.at("exposure.value")->data(), sizeof value);
+    const double error = std::abs(value[2] - exact);
+    const std::string row = "exposure.range" + std::to_string(int(range));
+    table() << row << "   gpu " << std::fixed << std::setprecision(3) << median(times) << " ms, |mean - exact| "
+            << std::setprecision(5) << error << " EV (bin width " << range / nc::kExposureBins << " EV)\n";
+    figure(row + ".gpu_ms", median(times));
+    figure(row + ".err_ev", error);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -474,6 +525,7 @@ int main(int argc, char** argv) {
     bench_tube_samples(gpu, width / 2, height / 2);
     bench_depth(gpu, cache, width, height);
     bench_bloom(gpu, cache, width, height);
+    bench_exposure(gpu, cache, width, height);
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

@@ -15,7 +15,7 @@ const char* kCity = "--size 320x180 --frames 2";
 const std::vector<std::string> kFramePasses = {
     "frame.constants", "cull.main",     "depth.prepass",     "gbuffer.opaque",     "depth.convert", "normals.bfn_lut",
     "normals.pack",    "depth.pyramid", "lighting.deferred", "lighting.composite", "bloom.level0",  "bloom.level1",
-    "bloom.level2",    "bloom.level3",  "bloom.level4",      "bloom.level5",       "tonemap"};
+    "bloom.level2",    "bloom.level3",  "bloom.level4",      "bloom.level5",       "exposure",      "tonemap"};
 
 nlohmann::json passes_json(const fs::path& capture) {
   const CliResult r = run_cli("passes --json " + quote(capture));
@@ -50,7 +50,7 @@ TEST(CaptureLoop, RenderWritesACompleteCapture) {
 TEST(CaptureLoop, ManifestRecordsOutputSizeSinksShaderSourcesAndPipelineState) {
   const fs::path capture = shared_capture("city", kCity);
   const nlohmann::json manifest = read_json(capture / "manifest.json");
-  EXPECT_EQ(manifest.at("version"), 2);
+  EXPECT_EQ(manifest.at("version"), 3);
   for (const auto& frame : manifest.at("frames")) {
     EXPECT_EQ(frame.at("output"), (nlohmann::json{{"width", 320}, {"height", 180}}));
     const auto sinks = frame.at("sinks").get<std::vector<std::string>>();

@@ -17,6 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const char* kCity = "--size 320x180 --frames 2";
+const char* kWalk = "--size 160x90 --frames 8 --cut-at 5";  // as tests/e2e/history_test.cpp
 
 struct Node {
   std::string attributes, label;  // label as written in the DOT, escapes included
@@ -66,9 +67,11 @@ std::string resource_label(const nlohmann::json& r) {
   return text;
 }
 
+// The first two lines of a resource node's label: name, then format and size.
 std::string resource_text(const Dot& dot, const std::string& id) {
   const std::string& label = dot.nodes.at(id).label;
-  return label.substr(0, label.rfind("\\n"));  // without the hash line
+  const size_t first = label.find("\\n");
+  return label.substr(0, first == std::string::npos ? first : label.find("\\n", first + 2));
 }
 
 // Every pass of `frame` is a node in execution order, with its status (and reason when skipped),
@@ -145,6 +148,32 @@ TEST(Graph, DotDrawsEveryPassAndResourceVersion) {
   text << file.rdbuf();
   EXPECT_EQ(text.str(), run_cli("graph --dot " + quote(capture)).out);
   if (!render_svg(text.str(), dir)) GTEST_SKIP() << "Graphviz `dot` is not installed";
+}
+
+TEST(Graph, HistoryEdgesComeFromThePreviousFrameAndGoToTheNext) {
+  const fs::path capture = shared_capture("walk-8", kWalk);
+  const nlohmann::json manifest = read_json(capture / "manifest.json");
+  for (const auto& [frame, origin] : std::vector<std::pair<int, std::string>>{
+           {0, "initial value (no earlier frame)"}, {3, "from frame 2"}, {5, "initial value (camera cut)"}}) {
+    const CliResult r = run_cli("graph --dot --frame " + std::to_string(frame) + " " + quote(capture));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Dot dot = parse_dot(r.out);
+    expect_frame_drawn(dot, manifest.at("frames")[frame]);
+    std::string history_node, kept_node;
+    for (const auto& [id, node] : dot.nodes) {
+      if (node.label.rfind("exposure.value@previous\\n", 0) == 0) history_node = id;
+      if (node.label == "history of frame " + std::to_string(frame + 1)) kept_node = id;
+    }
+    ASSERT_FALSE(history_node.empty()) << r.out;
+    EXPECT_NE(dot.nodes.at(history_node).label.find(origin), std::string::npos) << dot.nodes.at(history_node).label;
+    EXPECT_NE(dot.nodes.at(history_node).attributes.find("dashed"), std::string::npos);
+    ASSERT_FALSE(kept_node.empty()) << "the exposure.value this frame leaves for the next";
+    bool kept_from_exposure = false;
+    for (const auto& [from, to] : dot.edges)
+      kept_from_exposure |= to == kept_node && dot.nodes.at(from).label.rfind("exposure.value\\n", 0) == 0;
+    EXPECT_TRUE(kept_from_exposure);
+    if (!render_svg(r.out, scratch("svg-history"))) GTEST_SKIP() << "Graphviz `dot` is not installed";
+  }
 }
 
 TEST(Graph, SkippedPassesAreDashedWithTheirReason) {

@@ -146,7 +146,7 @@ class CullMain : public GpuTest {
     std::map<std::string, IsolatedInput> inputs;
     for (const char* name : {"scene.instances", "scene.materials"}) inputs[name] = input(scene.at(name));
     inputs["frame.camera"] =
-        input(camera_import(view.camera, view.camera, view.width, view.height, 0, 0.0).at("frame.camera"));
+        input(camera_import(view.camera, view.camera, view.width, view.height, 0, false).at("frame.camera"));
     const IsolatedRun run_result = run(cull_main_pass(), inputs, view.width, view.height);
     return {records<GpuDraw>(run_result.outputs.at("draws.depth.prepass")),
             records<GpuDraw>(run_result.outputs.at("draws.gbuffer.opaque"))};
@@ -350,10 +350,10 @@ class FrameConstants : public GpuTest {
   };
 
   static Result build(const Scene& scene, const Camera& camera, const Camera& previous, uint32_t width, uint32_t height,
-                      uint32_t frame, double time) {
+                      uint32_t frame, bool cut) {
     std::map<std::string, IsolatedInput> inputs;
     inputs["scene.lights"] = input(scene_imports(scene).at("scene.lights"));
-    inputs["frame.camera"] = input(camera_import(camera, previous, width, height, frame, time).at("frame.camera"));
+    inputs["frame.camera"] = input(camera_import(camera, previous, width, height, frame, cut).at("frame.camera"));
     const IsolatedRun run_result = run(frame_constants_pass(), inputs, width, height);
     Result r;
     const auto constants = records<GpuFrameConstants>(run_result.outputs.at("frame.constants"));
@@ -379,7 +379,7 @@ class FrameConstants : public GpuTest {
   }
 
   static void check(const Scene& scene, const Camera& camera, const Camera& previous, uint32_t width, uint32_t height) {
-    const Result r = build(scene, camera, previous, width, height, 7, 0.125);
+    const Result r = build(scene, camera, previous, width, height, 7, true);
     const GpuFrameConstants& c = r.constants;
     const glm::dvec3 eye(camera.world[3]);
     // The view only rotates: the transpose of the camera's orthonormal basis.
@@ -405,8 +405,10 @@ class FrameConstants : public GpuTest {
                   "previous_view_projection");
     for (int k = 0; k < 3; ++k) EXPECT_EQ(c.camera_world[k], float(eye[k]));
     EXPECT_EQ(c.viewport, glm::vec4(float(width), float(height), 1.0f / width, 1.0f / height));
-    EXPECT_EQ(c.projection_params, glm::vec4(camera.znear, camera.yfov, float(aspect), 0.125f));
+    EXPECT_EQ(c.projection_params, glm::vec4(camera.znear, camera.yfov, float(aspect), 0.0f));
+    EXPECT_EQ(c.timing, glm::vec4(float(7 * kFrameSeconds), float(kFrameSeconds), 0.0f, 0.0f));
     EXPECT_EQ(c.counts.y, 7u);
+    EXPECT_EQ(c.counts.z, 1u) << "frame 7 was built as a camera cut";
 
     // The reference light list: every light but the first directional one, in scene order.
     const Light* sun = nullptr;
@@ -493,7 +495,7 @@ TEST_F(FrameConstants, EightKilometresOutLightsStayExactAndTheFirstDirectionalIs
   const Camera camera = make_camera(eye, 0.3, 0.1, 0.0, glm::radians(60.0), 0.1);
   check(scene, camera, camera, 320, 180);
 
-  const Result r = build(scene, camera, camera, 320, 180, 7, 0.125);
+  const Result r = build(scene, camera, camera, 320, 180, 7, false);
   double worst = 0, naive = 0;
   for (size_t i = 0; i < r.lights.size(); ++i) {
     const Light& l = scene.lights[i == 0 ? 0 : i + 1];

@@ -158,6 +158,87 @@ TEST(Graph, PrefixReadsBindEveryMatchingImport) {
   EXPECT_EQ(graph.passes[0].inputs[1].resource, "scene.texture.1");
 }
 
+TEST(Graph, AHistoryReadOrdersNothingAndKeepsItsWriterRunning) {
+  // "taa" reads its own previous output, and "probe" the previous output of a pass nothing
+  // else consumes: that writer must run (for the next frame) but is not ordered before probe.
+  std::vector<PassDecl> passes;
+  ImageDecl half = image(VK_FORMAT_R16G16B16A16_SFLOAT);
+  half.size.mode = SizeRule::Mode::output_half;
+  half.clear.color.float32[0] = 0.5f;
+  passes.push_back(PassDecl("probe", PassType::graphics)
+                       .read_previous("stats", Use::sampled)
+                       .write("final.ldr", Use::color_attachment, image()));
+  passes.push_back(PassDecl("taa", PassType::graphics)
+                       .read_previous("taa.history", Use::sampled)
+                       .write("taa.history", Use::color_attachment, half));
+  passes.push_back(PassDecl("stats", PassType::compute).write("stats", Use::storage_write, half));
+  GraphSettings settings;
+  settings.sinks = {"final.ldr", "taa.history"};
+  const CompiledGraph graph = compile_graph(passes, {}, settings);
+  EXPECT_EQ(order(graph), (std::vector<std::string>{"probe", "taa", "stats"}));
+  EXPECT_FALSE(pass(graph, "stats").culled) << "the next frame's probe reads what it writes now";
+  const BoundUse& history = pass(graph, "taa").inputs.at(0);
+  EXPECT_EQ(history.resource, "taa.history@previous");
+  EXPECT_TRUE(history.history);
+  EXPECT_EQ(history.producer, -1);
+  EXPECT_EQ(history.desc.extent.width, 640u) << "described like the resource it remembers";
+  EXPECT_EQ(history.desc.clear.color.float32[0], 0.5f) << "whose clear value is its initial value";
+  EXPECT_EQ(graph.resources.at("taa.history@previous").format, VK_FORMAT_R16G16B16A16_SFLOAT);
+}
+
+TEST(Graph, AnImportedHistoryIsReadAsIs) {
+  // Replay imports previous(name) from the capture: no writer is needed, nothing is pooled.
+  std::vector<PassDecl> passes;
+  passes.push_back(PassDecl("exposure", PassType::compute)
+                       .read_previous("exposure.value", Use::sampled)
+                       .write("exposure.value", Use::storage_write, image(VK_FORMAT_R32G32B32A32_SFLOAT)));
+  ResourceDesc recorded;
+  recorded.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+  GraphSettings settings;
+  settings.keep = {"exposure"};
+  const CompiledGraph graph = compile_graph(passes, {{"exposure.value@previous", recorded}}, settings);
+  const BoundUse& history = pass(graph, "exposure").inputs.at(0);
+  EXPECT_EQ(history.resource, "exposure.value@previous");
+  EXPECT_TRUE(history.history);
+  EXPECT_EQ(history.desc.extent.width, 1u);
+}
+
+TEST(Graph, HistoryMistakesAreCaughtBeforeRunning) {
+  auto expect_error = [](std::vector<PassDecl> passes, const std::string& message) {
+    try {
+      compile_graph(passes, {}, GraphSettings());
+      ADD_FAILURE() << "expected: " << message;
+    } catch (const GraphError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  };
+  expect_error({PassDecl("taa", PassType::graphics)
+                    .read_previous("nobody.writes", Use::sampled)
+                    .write("final.ldr", Use::color_attachment, image())},
+               "taa: reads the previous frame's 'nobody.writes', which no pass writes");
+  expect_error({PassDecl("cpu", PassType::cpu).write("list", Use::host, BufferDecl{ResourceKind::buffer}),
+                PassDecl("reader", PassType::graphics)
+                    .read_previous("list", Use::storage_read)
+                    .write("final.ldr", Use::color_attachment, image())},
+               "a CPU pass's output");
+  expect_error({PassDecl("bad", PassType::graphics).write("final.ldr@previous", Use::color_attachment, image())},
+               "'@' is reserved");
+}
+
+TEST(Graph, CanDisableSkipsWithItsReason) {
+  std::vector<PassDecl> passes;
+  passes.push_back(PassDecl("exposure", PassType::compute)
+                       .can_disable("fixed exposure")
+                       .write("final.ldr", Use::storage_write, image()));
+  EXPECT_EQ(passes[0].default_params().at("enabled"), 1.0);
+  GraphSettings settings;
+  EXPECT_TRUE(compile_graph(passes, {}, settings).passes[0].runs);
+  settings.params["exposure"]["enabled"] = 0;
+  const CompiledGraph graph = compile_graph(passes, {}, settings);
+  EXPECT_FALSE(graph.passes[0].runs);
+  EXPECT_EQ(graph.passes[0].reason, "fixed exposure (exposure.enabled=0)");
+}
+
 TEST(Barriers, ReadAfterWriteWaitsOnceAndLayoutChangesAlwaysWait) {
   SyncState state;
   // First write discards: a layout transition from UNDEFINED.

@@ -1,4 +1,5 @@
-// tonemap against a double-precision reference over every half-float input: colour × exposure,
+// tonemap against a double-precision reference over every half-float input: colour × exposure
+// (the manual one, times exposure.value.x when the exposure pass wrote one, i.e. it is > 0),
 // Narkowicz's ACES fit clamped to [0, 1], then the exact sRGB OETF (12.92·x up to 0.0031308,
 // 1.055·x^(1/2.4) − 0.055 above) and rounding to the nearest 8-bit code, which is what the
 // R8G8B8A8_SRGB target stands for. Negative channels give 0; a pixel with a NaN channel (after
@@ -46,11 +47,28 @@ std::vector<uint16_t> every_half_pattern() {
   return texels;
 }
 
-class Tonemap : public GpuTest, public ::testing::WithParamInterface<double> {};
+// exposure.value as the exposure pass writes it: x is the automatic scale (0: none).
+IsolatedInput exposure_value(float automatic) {
+  const float texel[4] = {automatic, 0.0f, 0.0f, 0.0f};
+  std::vector<uint8_t> bytes(sizeof texel);
+  std::memcpy(bytes.data(), texel, sizeof texel);
+  IsolatedInput input;
+  input.desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
+  input.desc.kind = ResourceKind::hdr_colour;
+  input.bytes = std::make_shared<const std::vector<uint8_t>>(std::move(bytes));
+  return input;
+}
+
+struct Exposures {
+  double manual, automatic;
+};
+
+class Tonemap : public GpuTest, public ::testing::WithParamInterface<Exposures> {};
 class TonemapBloom : public GpuTest {};
 
 TEST_P(Tonemap, StaysWithinTheBoundOfTheExactAcesAndSrgbEncoding) {
-  const double exposure = GetParam();
+  const auto [manual, automatic] = GetParam();
+  const double exposure = manual * (automatic > 0 ? double(float(automatic)) : 1.0);
   const uint32_t width = 256, height = 512;
   const std::vector<uint16_t> texels = every_half_pattern();
   std::vector<uint8_t> bytes(texels.size() * 2);
@@ -62,8 +80,9 @@ TEST_P(Tonemap, StaysWithinTheBoundOfTheExactAcesAndSrgbEncoding) {
   const IsolatedRun result =
       run(tonemap_pass(),
           {{"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height, bytes)},
+           {"exposure.value", exposure_value(float(automatic))},
            {"bloom.chain", chain}},
-          width, height, {{"exposure", exposure}});
+          width, height, {{"exposure", manual}});
   const std::vector<uint8_t>& out = *result.outputs.at("final.ldr");
   ASSERT_EQ(out.size(), size_t(width) * height * 4);
 
@@ -92,7 +111,12 @@ TEST_P(Tonemap, StaysWithinTheBoundOfTheExactAcesAndSrgbEncoding) {
       exposure, worst, off_by_one, size_t(width) * height * 3);
 }
 
-INSTANTIATE_TEST_SUITE_P(, Tonemap, ::testing::Values(1.0, 0.25, 3.7, 1e-3, 1e6, 0.0));
+// Manual alone (no automatic exposure, 0), automatic alone, and both; a negative automatic value
+// (never written by the exposure pass) counts as none.
+INSTANTIATE_TEST_SUITE_P(, Tonemap,
+                         ::testing::Values(Exposures{1.0, 0.0}, Exposures{0.25, 0.0}, Exposures{3.7, 0.0},
+                                           Exposures{1e-3, 0.0}, Exposures{1e6, 0.0}, Exposures{0.0, 0.0},
+                                           Exposures{1.0, 0.37}, Exposures{2.0, 11.5}, Exposures{1.0, -1.0}));
 
 // The bloom term: lit colour + weight × the mean over bloom.chain's levels of each level
 // interpolated bilinearly at the pixel centre (uv = (x + ½)/width; texel t = uv·size − ½, the
@@ -116,6 +140,7 @@ TEST_F(TonemapBloom, AddsTheMeanOfTheLevelsInterpolatedAtThePixelCentre) {
   const IsolatedRun result =
       run(tonemap_pass(),
           {{"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height, lit_bytes)},
+           {"exposure.value", exposure_value(0.0f)},
            {"bloom.chain", chain}},
           width, height, {{"bloom", weight}});
   const std::vector<uint8_t>& out = *result.outputs.at("final.ldr");

@@ -1,0 +1,40 @@
+// The history pool: what passes read one frame later (PassDecl::read_previous). The caller keeps
+// it across frames; execute_graph binds each previous(name) to its slot, starts a slot from the
+// resource's clear value when it has no valid history (first frame, camera cut, resize), and at
+// the end of the frame copies the resource's final version into the slot for the next frame.
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "passes/core/execution_state.h"
+
+namespace nightcap {
+
+struct HistorySlot {
+  // Between frames it is where the frame's last command, the copy into it, left it: the graph's
+  // barrier plan starts it there (or clears it when its history is reset).
+  PhysicalResource resource;
+  VkImageUsageFlags usage = 0;
+  bool filled = false;  // holds a value some frame wrote
+};
+
+class HistoryPool {
+ public:
+  explicit HistoryPool(GpuDevice& gpu) : gpu_(gpu) {}
+  ~HistoryPool();
+  HistoryPool(const HistoryPool&) = delete;
+  HistoryPool& operator=(const HistoryPool&) = delete;
+
+  // The slot remembering `resource`; nullptr when there is none yet.
+  HistorySlot* find(const std::string& resource);
+  // A new, unfilled slot for `resource` (replacing one of another size or usage).
+  HistorySlot& replace(const std::string& resource, HistorySlot slot);
+
+ private:
+  void destroy(HistorySlot& slot);
+  GpuDevice& gpu_;
+  std::map<std::string, HistorySlot> slots_;
+};
+
+}  // namespace nightcap

@@ -1,0 +1,65 @@
+// exposure (frame.md section 7): auto-exposure from a 256-bin histogram of the lit image's log2
+// luminance, adapted toward the histogram's mean over frames (exponentially, with a time
+// constant in seconds) from the previous frame's value, a history input. exposure.value
+// (1×1 RGBA32F) holds x: the scale tonemap multiplies by, y: the adapted log2 luminance (the
+// history the next frame adapts from), z: this frame's measured mean log2 luminance. Its
+// initial value, 0, means "no history": the first frame after a cut exposes for what it
+// measures. The key (the luminance the mean maps to) is a parameter, or by default follows the
+// mean as Krawczyk, Myszkowski and Seidel (2005) propose, so night stays night. Skipped (fixed exposure:
+// tonemap.exposure alone) with exposure.enabled=0, which leaves exposure.value 0.
+//
+// Deviation from frame.md: it reads lighting.lit, the resolved colour until TAA exists.
+#include "passes/core/context.h"
+#include "passes/frame/frame_passes.h"
+
+namespace nightcap {
+
+PassDecl exposure_pass() {
+  ImageDecl value{VK_FORMAT_R32G32B32A32_SFLOAT, ResourceKind::hdr_colour};
+  value.size = {SizeRule::Mode::absolute, 1, 1, {}};
+  return PassDecl("exposure", PassType::compute)
+      .read("frame.constants", Use::uniform_buffer)
+      .read("lighting.lit", Use::sampled)
+      .read_previous("exposure.value", Use::sampled)
+      .write("exposure.histogram", Use::storage_write, BufferDecl{ResourceKind::buffer, kExposureBins * 4})
+      .write("exposure.value", Use::storage_write, value)
+      .can_disable("fixed exposure")
+      .param("adapt_seconds", 1.0, 0.0, 60.0,
+             "time constant of the adaptation toward the measured exposure; 0: instant")
+      .param("key", 0.0, 0.0, 100.0,
+             "the luminance the adapted mean is exposed to; 0: 1.03 - 2 / (2 + log10(mean + 1)) (Krawczyk et al. "
+             "2005), which keeps night scenes dark")
+      .param("log2_min", -12.0, -64.0, 64.0, "lowest log2 luminance the histogram tells apart")
+      .param("log2_max", 12.0, -64.0, 64.0, "highest log2 luminance the histogram tells apart")
+      .shader("post/exposure.comp")
+      .run([](PassContext& ctx) {
+        struct {
+          uint32_t phase;
+          float log2_min, log2_max, key, adapt_seconds;
+        } constants{0, float(ctx.param("log2_min")), float(ctx.param("log2_max")), float(ctx.param("key")),
+                    float(ctx.param("adapt_seconds"))};
+        if (!(constants.log2_max > constants.log2_min)) throw GraphError("exposure: log2_max must be above log2_min");
+        ComputePipelineDesc desc;
+        desc.shader = "post/exposure.comp";
+        desc.bindings = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+        desc.push_constant_bytes = sizeof constants;
+        ctx.bind(desc);
+        ctx.push({Binding::uniform(0, "frame.constants"), Binding::texture(1, "lighting.lit", ctx.nearest_clamp()),
+                  Binding::texture(2, previous("exposure.value"), ctx.nearest_clamp()),
+                  Binding::storage(3, "exposure.histogram"), Binding::image(4, "exposure.value")});
+        const ImageExtent lit = ctx.desc("lighting.lit").extent;
+        for (uint32_t phase = 0; phase < 3; ++phase) {
+          constants.phase = phase;
+          ctx.push_constants(&constants, sizeof constants);
+          if (phase == 1)
+            vkCmdDispatch(ctx.cmd(), (lit.width + 15) / 16, (lit.height + 15) / 16, 1);
+          else
+            vkCmdDispatch(ctx.cmd(), 1, 1, 1);
+          if (phase < 2) ctx.storage_barrier();
+        }
+      });
+}
+
+}  // namespace nightcap

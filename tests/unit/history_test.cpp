@@ -1,0 +1,121 @@
+// The history pool across frames: a pass that reads its own previous output sees the value the
+// previous execution left, its declared clear value on the first frame, after a camera cut and
+// after a resize; the capture records that history as an input version equal to the previous
+// frame's output.
+#include <cstring>
+
+#include "passes/core/history.h"
+#include "passes/core/shader.h"
+#include "tests/unit/gpu_fixture.h"
+
+namespace nightcap::test {
+namespace {
+
+// Adds 1 to every texel of the previous frame's sum.
+constexpr const char* kAccumulate = R"(#version 460
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(set = 0, binding = 0) uniform sampler2D previous_sum;
+layout(set = 0, binding = 1, r32f) uniform writeonly image2D sum;
+void main() {
+  ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(p, imageSize(sum)))) return;
+  imageStore(sum, p, vec4(texelFetch(previous_sum, p, 0).r + 1.0));
+}
+)";
+
+PassDecl accumulate_pass() {
+  ImageDecl sum{VK_FORMAT_R32_SFLOAT, ResourceKind::colour};
+  sum.clear.color.float32[0] = 10.0f;  // the initial value of the history
+  return PassDecl("accumulate", PassType::compute)
+      .read_previous("sum", Use::sampled)
+      .write("sum", Use::storage_write, sum)
+      .shader("test/accumulate.comp")
+      .run([](PassContext& ctx) {
+        ComputePipelineDesc desc;
+        desc.shader = "test/accumulate.comp";
+        desc.bindings = {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+        ctx.bind(desc);
+        ctx.push({Binding::texture(0, previous("sum"), ctx.nearest_clamp()), Binding::image(1, "sum")});
+        const ImageExtent e = ctx.desc("sum").extent;
+        vkCmdDispatch(ctx.cmd(), (e.width + 7) / 8, (e.height + 7) / 8, 1);
+      });
+}
+
+class History : public GpuTest {
+ protected:
+  struct Frame {
+    std::vector<float> history, sum;  // what the pass read, and wrote
+    std::map<std::string, std::string> reset;
+  };
+
+  static Frame run_frame(const std::vector<PassDecl>& passes, HistoryPool* pool, uint32_t width, bool cut) {
+    GraphSettings settings;
+    settings.width = width;
+    settings.height = 3;
+    settings.sinks = {"sum"};
+    settings.frame.camera_cut = cut;
+    settings.capture = true;
+    CompiledGraph graph = compile_graph(passes, {}, settings);
+    ExecutionOptions options;
+    options.history = pool;
+    options.shaders = [](const std::string&, const std::string& path) { return compile_glsl(path, kAccumulate); };
+    const Execution execution = execute_graph(*gpu_, *cache_, graph, {}, options);
+    auto floats = [&](int version) {
+      const auto& bytes = *execution.versions.at(version).bytes;
+      std::vector<float> values(bytes.size() / 4);
+      std::memcpy(values.data(), bytes.data(), bytes.size());
+      return values;
+    };
+    const PassExecution& pass = execution.passes.at(0);
+    EXPECT_EQ(execution.versions.at(pass.inputs.at(0)).resource, "sum@previous");
+    return {floats(pass.inputs.at(0)), floats(pass.outputs.at(0)), execution.history_reset};
+  }
+};
+
+TEST_F(History, CarriesAcrossFramesAndRestartsOnCutsAndResizes) {
+  const std::vector<PassDecl> passes{accumulate_pass()};
+  HistoryPool pool(*gpu_);
+  auto all = [](const std::vector<float>& values, float expected) {
+    for (float v : values)
+      if (v != expected) return false;
+    return !values.empty();
+  };
+  using Resets = std::map<std::string, std::string>;
+
+  Frame f0 = run_frame(passes, &pool, 5, false);
+  EXPECT_TRUE(all(f0.history, 10.0f)) << "frame 0 reads the declared initial value";
+  EXPECT_TRUE(all(f0.sum, 11.0f));
+  EXPECT_EQ(f0.reset, (Resets{{"sum", "no earlier frame"}}));
+
+  Frame f1 = run_frame(passes, &pool, 5, false);
+  EXPECT_EQ(f1.history, f0.sum) << "frame 1's history is frame 0's output";
+  EXPECT_TRUE(all(f1.sum, 12.0f));
+  EXPECT_TRUE(f1.reset.empty());
+
+  Frame f2 = run_frame(passes, &pool, 5, true);
+  EXPECT_TRUE(all(f2.history, 10.0f)) << "a camera cut restarts the history";
+  EXPECT_EQ(f2.reset, (Resets{{"sum", "camera cut"}}));
+
+  Frame f3 = run_frame(passes, &pool, 9, false);
+  EXPECT_EQ(f3.history.size(), 9u * 3);
+  EXPECT_TRUE(all(f3.history, 10.0f)) << "a resize restarts the history";
+  EXPECT_EQ(f3.reset, (Resets{{"sum", "size changed"}}));
+
+  Frame f4 = run_frame(passes, &pool, 9, false);
+  EXPECT_EQ(f4.history, f3.sum);
+  EXPECT_TRUE(all(f4.sum, 12.0f));
+}
+
+TEST_F(History, AGraphThatReadsHistoryNeedsAPool) {
+  try {
+    run_frame({accumulate_pass()}, nullptr, 4, false);
+    ADD_FAILURE() << "expected a GraphError";
+  } catch (const GraphError& e) {
+    EXPECT_NE(std::string(e.what()).find("accumulate: reads the previous frame's 'sum', but this run keeps no history"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace nightcap::test
