@@ -17,14 +17,15 @@
 #include <vector>
 
 #include "captures/blob_codec.h"
+#include "passes/core/buffer_schema.h"
 #include "passes/core/contract.h"
 #include "passes/core/format.h"
 
 namespace nightcap {
 
 // 2: frames record their output size and sinks, shaders their GLSL source, passes the pipeline
-// and sampler state they bound, outputs their comparison contract. Version 1 captures lack what replay and the tools
-// need from these.
+// and sampler state they bound, outputs their comparison contract (buffer outputs their schema,
+// where declared). Version 1 captures lack what replay and the tools need from these.
 constexpr int kCaptureVersion = 2;
 constexpr uint32_t kMaxImageSide = 16384;
 
@@ -38,6 +39,7 @@ struct ResourceRecord {
   std::string hash;                       // content_hash of the raw bytes
   std::string blob;                       // path relative to the capture folder
   ComparisonContract contract;            // outputs only: how two versions of it compare
+  std::optional<BufferSchema> schema;     // buffer outputs whose pass declared how they decode
 
   uint64_t raw_bytes() const;
 };
