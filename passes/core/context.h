@@ -9,6 +9,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "passes/core/device.h"
@@ -65,15 +66,26 @@ class PassContext {
   GpuDevice& gpu() const;
   VkBuffer buffer(const std::string& resource) const;
   VkImageView view(const std::string& resource, ViewAspect aspect = ViewAspect::natural, int mip = -1);
+  // The pipeline the declaration describes (passes/core/declared_pipeline.h).
+  void bind_pipeline();
   void bind(const GraphicsPipelineDesc& desc);
   void bind(const ComputePipelineDesc& desc);
+  // The first binding the declaration gives `resource` (a resource or a read prefix).
+  uint32_t slot(const std::string& resource) const;
   void push(const std::vector<Binding>& bindings);
   void push_constants(const void* data, uint32_t bytes);
+  template <typename Constants>
+  void push_constants(const Constants& constants) {
+    static_assert(std::is_trivially_copyable_v<Constants>, "push constants are copied as bytes");
+    push_constants(&constants, uint32_t(sizeof constants));
+  }
   VkSampler sampler(const SamplerDesc& desc);
   VkSampler nearest_clamp();
   // Colour outputs and an optional depth output: declared fresh outputs are cleared to their
   // clear value, modified ones keep their previous contents.
   void begin_rendering(const std::vector<std::string>& colors, const std::string& depth = "");
+  // The declared colour attachments in declaration order and the declared depth attachment.
+  void begin_rendering();
   void end_rendering();
   // Orders this pass's own storage writes before its next reads (e.g. between mip levels).
   void storage_barrier();
