@@ -131,6 +131,18 @@ ComparisonContract contract_from_json(const json& output, const std::string& fil
   return contract;
 }
 
+// Optional: captures from before schemas were declared compare their buffers as words.
+std::optional<BufferSchema> output_schema(const json& output, const ResourceRecord& record, const std::string& file,
+                                          const std::string& where) {
+  if (!output.contains("schema")) return std::nullopt;
+  if (!record.is_buffer) fail(file, where, "an image has no buffer schema");
+  try {
+    return schema_from_json(output.at("schema"));
+  } catch (const std::invalid_argument& e) {
+    fail(file, where + ".schema", e.what());
+  }
+}
+
 void fsync_path(const fs::path& path, bool directory) {
   const int fd = ::open(path.c_str(), directory ? O_RDONLY | O_DIRECTORY : O_RDONLY);
   if (fd >= 0) {
@@ -197,6 +209,7 @@ json to_json(const CaptureManifest& m) {
                            {"relative", r.contract.relative},
                            {"order_dependent", r.contract.order_dependent},
                            {"reason", r.contract.reason}};
+        if (r.schema) out["schema"] = to_json(*r.schema);
         outputs.push_back(out);
       }
       pass["shaders"] = shaders;
@@ -321,7 +334,10 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
         for (size_t ri = 0; ri < list.size(); ++ri) {
           const std::string rw = pw + "." + side + "[" + std::to_string(ri) + "]";
           ResourceRecord r = resource_from_json(list[ri], file, rw);
-          if (std::string(side) == "outputs") r.contract = contract_from_json(list[ri], file, rw);
+          if (std::string(side) == "outputs") {
+            r.contract = contract_from_json(list[ri], file, rw);
+            r.schema = output_schema(list[ri], r, file, rw);
+          }
           (std::string(side) == "inputs" ? p.inputs : p.outputs).push_back(std::move(r));
         }
       }

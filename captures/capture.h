@@ -17,13 +17,15 @@
 #include <vector>
 
 #include "captures/blob_codec.h"
+#include "passes/core/buffer_schema.h"
 #include "passes/core/contract.h"
 #include "passes/core/format.h"
 
 namespace nightcap {
 
 // 2: frames record their output size and sinks, shaders their GLSL source, passes the pipeline
-// and sampler state they bound, outputs their comparison contract.
+// and sampler state they bound, outputs their comparison contract (buffer outputs their schema,
+// where declared).
 // 3: frames record their time, camera cut and history resets; frame.camera carries the cut and
 // time step. Earlier captures lack what replay and the tools need from these.
 constexpr int kCaptureVersion = 3;
@@ -40,6 +42,7 @@ struct ResourceRecord {
   std::string hash;                       // content_hash of the raw bytes
   std::string blob;                       // path relative to the capture folder
   ComparisonContract contract;            // outputs only: how two versions of it compare
+  std::optional<BufferSchema> schema;     // buffer outputs whose pass declared how they decode
 
   uint64_t raw_bytes() const;
 };

@@ -239,13 +239,15 @@ int run_replay(const std::string& path, uint32_t frame, const std::vector<std::s
       pass["cpu_ms"] = p.cpu_ms;
       if (verify) {
         pass["outputs"] = nlohmann::json::array();
-        for (const nc::OutputCheck& o : p.outputs)
+        for (const nc::OutputCheck& o : p.outputs) {
           pass["outputs"].push_back({{"resource", o.resource},
                                      {"verdict", nc::verdict_name(o.verdict)},
                                      {"metric", o.metric},
                                      {"max_abs", o.amount},
                                      {"recorded_hash", o.recorded_hash},
                                      {"replayed_hash", o.replayed_hash}});
+          if (!o.first_difference.empty()) pass["outputs"].back()["first_difference"] = o.first_difference;
+        }
       }
       out["passes"].push_back(pass);
     }
@@ -264,7 +266,9 @@ int run_replay(const std::string& path, uint32_t frame, const std::vector<std::s
       if (!verify) continue;
       for (const nc::OutputCheck& o : p.outputs) {
         std::cout << "      " << std::left << std::setw(22) << o.resource << nc::verdict_name(o.verdict);
-        if (o.verdict != nc::Verdict::identical) std::cout << " (" << o.metric << ", max abs " << o.amount << ")";
+        if (o.verdict != nc::Verdict::identical)
+          std::cout << " (" << o.metric << ", max abs " << o.amount
+                    << (o.first_difference.empty() ? "" : ", first at " + o.first_difference) << ")";
         std::cout << "\n";
       }
     }

@@ -187,6 +187,7 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
         else if (!c.comparable)
           out << "  " << c.note;
         if (!o.held_to.empty()) out << "  held to " << o.held_to << (o.beyond ? ": beyond" : ": met");
+        if (!c.first_difference.empty()) out << "  first at " << c.first_difference;
         out << "\n";
       }
     }
@@ -224,6 +225,7 @@ nlohmann::json diff_to_json(const CaptureDiff& diff) {
           j["angular_mean_deg"] = c.angular_mean_deg;
         }
         if (!c.note.empty()) j["note"] = c.note;
+        if (!c.first_difference.empty()) j["first_difference"] = c.first_difference;
         if (!o.held_to.empty()) {
           j["held_to"] = o.held_to;
           j["beyond"] = o.beyond;

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <iomanip>
+#include <sstream>
 #include <vector>
 
 namespace nightcap {
@@ -27,6 +29,76 @@ double threshold(const FormatInfo& f, uint32_t aspect, double reference) {
   if (is_float(f)) return 1e-3 * std::max(1.0, std::abs(reference));
   if (f.encoding == ChannelEncoding::packed_a2b10g10r10) return 1.0 / 1023.0;
   return 1.0 / 255.0;
+}
+
+// Calls visit(element, field, component, a, b) for every schema component whose bytes differ
+// (field null: a padding or trailing byte), in buffer order; stops when visit returns false.
+template <typename Visit>
+void each_difference(const BufferSchema& schema, std::span<const uint8_t> a, std::span<const uint8_t> b, Visit visit) {
+  const uint64_t elements = a.size() / schema.stride;
+  std::vector<bool> covered(schema.stride, false);
+  for (const SchemaField& f : schema.fields)
+    for (uint32_t i = 0; i < f.bytes(); ++i) covered[f.offset + i] = true;
+  for (uint64_t e = 0; e < elements; ++e) {
+    const uint64_t base = e * schema.stride;
+    if (std::equal(a.begin() + base, a.begin() + base + schema.stride, b.begin() + base)) continue;
+    for (const SchemaField& f : schema.fields) {
+      const uint32_t size = f.bytes() / f.count;
+      for (uint32_t c = 0; c < f.count; ++c) {
+        const uint64_t at = base + f.offset + c * size;
+        if (std::memcmp(a.data() + at, b.data() + at, size) == 0) continue;
+        if (!visit(e, &f, c, read_component(a, schema.stride, e, f, c), read_component(b, schema.stride, e, f, c)))
+          return;
+      }
+    }
+    for (uint32_t i = 0; i < schema.stride; ++i)
+      if (!covered[i] && a[base + i] != b[base + i] && !visit(e, nullptr, i, a[base + i], b[base + i])) return;
+  }
+  for (uint64_t i = elements * schema.stride; i < a.size(); ++i)
+    if (a[i] != b[i] && !visit(elements, nullptr, uint32_t(i - elements * schema.stride), a[i], b[i])) return;
+}
+
+std::string describe_difference(uint64_t element, const SchemaField* field, uint32_t component, double a, double b) {
+  std::ostringstream text;
+  text << std::setprecision(9) << "element " << element << " "
+       << (field ? component_name(*field, component) : "byte " + std::to_string(component) + " outside the fields")
+       << ": " << a << " vs " << b;
+  return text.str();
+}
+
+bool is_float_field(const SchemaField* field) {
+  return field && (field->scalar == Scalar::f32 || field->scalar == Scalar::f64);
+}
+
+void compare_fields(const BufferSchema& schema, std::span<const uint8_t> a, std::span<const uint8_t> b,
+                    ResourceComparison& r) {
+  r.metric = "buffer fields";
+  const uint64_t elements = (a.size() + schema.stride - 1) / schema.stride;
+  uint64_t last_element = UINT64_MAX, float_values = 0;
+  double sum = 0;
+  for (uint64_t e = 0; e < a.size() / schema.stride; ++e)
+    for (const SchemaField& f : schema.fields)
+      for (uint32_t c = 0; c < f.count && is_float_field(&f); ++c) {
+        const double va = read_component(a, schema.stride, e, f, c), vb = read_component(b, schema.stride, e, f, c);
+        r.nan_a += std::isnan(va);
+        r.nan_b += std::isnan(vb);
+        r.inf_a += std::isinf(va);
+        r.inf_b += std::isinf(vb);
+        ++float_values;
+      }
+  each_difference(schema, a, b, [&](uint64_t e, const SchemaField* f, uint32_t c, double va, double vb) {
+    if (std::isnan(va) && std::isnan(vb)) return true;  // NaN in the same place is agreement
+    if (r.first_difference.empty()) r.first_difference = describe_difference(e, f, c, va, vb);
+    if (e != last_element) ++r.differing;
+    last_element = e;
+    const double d = std::isfinite(va) && std::isfinite(vb) ? std::abs(va - vb) : INFINITY;
+    r.max_abs = std::max(r.max_abs, d);
+    if (is_float_field(f) && std::isfinite(d)) sum += d * d;
+    return true;
+  });
+  r.over_threshold_share = elements ? double(r.differing) / elements : 0.0;
+  r.rmse = float_values ? std::sqrt(sum / float_values) : 0.0;
+  r.psnr = r.rmse > 0 ? 20.0 * std::log10(1.0 / r.rmse) : INFINITY;
 }
 
 void compare_buffers(std::span<const uint8_t> a, std::span<const uint8_t> b, ResourceComparison& r) {
@@ -70,7 +142,10 @@ ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uin
     return r;
   }
   if (a.is_buffer) {
-    compare_buffers(a_raw, b_raw, r);
+    if (a.schema)
+      compare_fields(*a.schema, a_raw, b_raw, r);
+    else
+      compare_buffers(a_raw, b_raw, r);
     return r;
   }
   const FormatInfo f = *format_info(a.format);
@@ -211,8 +286,24 @@ ContractCheck check_contract(const ComparisonContract& contract, const ResourceR
     case Kind::unorm_codes:
     case Kind::linear_depth: {
       if (a.is_buffer) {
-        check.measure = "buffers are compared as words";
-        check.worst = INFINITY;
+        if (!a.schema || contract.kind != Kind::float_values) {
+          check.measure = a.schema ? "a buffer holds no codes or depths" : "a buffer without a schema is words";
+          check.worst = INFINITY;
+          break;
+        }
+        check.measure = "multiples of the bound";
+        check.bound = 1.0;
+        each_difference(*a.schema, a_raw, b_raw, [&](uint64_t, const SchemaField* f, uint32_t, double va, double vb) {
+          double departure = INFINITY;  // integers and padding: exact
+          if (is_float_field(f) && !(std::isnan(va) && std::isnan(vb))) {
+            const double allowed = contract.absolute + contract.relative * std::abs(va);
+            departure = va == vb ? 0.0 : allowed > 0 ? std::abs(va - vb) / allowed : INFINITY;
+            if (std::isnan(departure)) departure = INFINITY;
+          } else if (is_float_field(f))
+            departure = 0.0;  // NaN in both: agreement
+          check.worst = std::max(check.worst, departure);
+          return std::isfinite(check.worst);
+        });
         break;
       }
       const FormatInfo f = *format_info(a.format);

@@ -12,8 +12,10 @@ namespace nightcap {
 struct ResourceComparison {
   bool identical = false;  // same bytes
   bool comparable = true;  // same format and size
-  std::string metric;      // "float", "unorm", "integer (exact)", "angle", "depth + stencil", "buffer words"
-  std::string note;        // why not comparable
+  // "float", "unorm", "integer (exact)", "angle", "depth + stencil", "buffer fields" (decoded by
+  // the recorded schema), "buffer words" (no schema)
+  std::string metric;
+  std::string note;  // why not comparable
   double max_abs = 0.0;
   double rmse = 0.0;
   double psnr = INFINITY;             // dB; infinite when identical
@@ -21,9 +23,12 @@ struct ResourceComparison {
   uint64_t differing = 0;             // texels (or words) that differ at all
   uint64_t nan_a = 0, nan_b = 0, inf_a = 0, inf_b = 0;
   double angular_max_deg = 0.0, angular_mean_deg = 0.0;  // normals only
+  // Buffers with a schema: where they first differ, e.g. "element 3 model[13]: 1.5 vs 1.25".
+  std::string first_difference;
 };
 
-// `a` and `b` are raw bytes of the records' resources (format.h's raw layout).
+// `a` and `b` are raw bytes of the records' resources (format.h's raw layout). Buffers are
+// decoded by a's schema where it has one (`differing` then counts elements), else as words.
 ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uint8_t> a_raw, const ResourceRecord& b,
                                     std::span<const uint8_t> b_raw);
 
@@ -31,7 +36,9 @@ ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uin
 struct ContractCheck {
   bool holds = false;
   // The largest departure, in the contract's unit (bytes for exact, the value for float, codes,
-  // degrees, relative depth, words for sets), and the bound it was held to.
+  // degrees, relative depth, words for sets), and the bound it was held to. A buffer is held to
+  // a float contract field by field through its schema: float fields within the bound, integer
+  // fields and padding exactly.
   double worst = 0.0, bound = 0.0;
   std::string measure;  // what `worst` counts, e.g. "degrees"
 };

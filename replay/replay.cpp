@@ -168,6 +168,7 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
       const ResourceComparison cmp = compare_resource(out, recorded, replayed_record, *produced->bytes);
       check.amount = cmp.max_abs;
       check.metric = cmp.metric;
+      check.first_difference = cmp.first_difference;
       // On the same machine a replay is bitwise, unless the recorded contract says the result
       // depends on execution order; then it is held to that contract.
       const bool order_dependent =

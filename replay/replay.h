@@ -27,8 +27,9 @@ std::string verdict_name(Verdict verdict);
 struct OutputCheck {
   std::string resource;
   Verdict verdict = Verdict::identical;
-  std::string metric;   // how "different" / "within tolerance" was measured
-  double amount = 0.0;  // max abs difference
+  std::string metric;            // how "different" / "within tolerance" was measured
+  double amount = 0.0;           // max abs difference
+  std::string first_difference;  // buffers with a schema: the first differing element and field
   std::string recorded_hash, replayed_hash;
 };
 

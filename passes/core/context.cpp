@@ -1,6 +1,7 @@
 // PassContext: what a pass may reach while it records, checked against its declaration.
 #include "passes/core/context.h"
 
+#include "passes/core/declared_pipeline.h"
 #include "passes/core/execution_state.h"
 
 #include <algorithm>
@@ -116,6 +117,21 @@ void PassContext::check_declared(const std::string& resource, int mip, int layer
                          resource + "' in a way it did not declare (the graph's barriers would not cover it)");
 }
 
+void PassContext::bind_pipeline() {
+  const DescOf desc_of = [this](const std::string& resource) -> const ResourceDesc& { return desc(resource); };
+  if (declaration().type == PassType::compute)
+    bind(declared_compute_pipeline(declaration(), desc_of));
+  else
+    bind(declared_graphics_pipeline(declaration(), desc_of));
+}
+
+uint32_t PassContext::slot(const std::string& resource) const {
+  const DescOf desc_of = [this](const std::string& name) -> const ResourceDesc& { return desc(name); };
+  for (const DeclaredSlot& s : declared_slots(declaration(), desc_of))
+    if (s.use->bound_name() == resource) return s.first;
+  throw GraphError(pass() + ": declares no binding for '" + resource + "'");
+}
+
 void PassContext::bind(const GraphicsPipelineDesc& desc) {
   auto code = [&](const std::string& path) {
     auto spirv = shared_.shaders(pass(), path);
@@ -126,6 +142,10 @@ void PassContext::bind(const GraphicsPipelineDesc& desc) {
                                              desc.fragment.empty() ? std::vector<uint32_t>{} : code(desc.fragment));
   vkCmdBindPipeline(cmd(), VK_PIPELINE_BIND_POINT_GRAPHICS, entry.pipeline);
   record_state(shared_.current->pipelines, describe(desc));
+  if (desc.raster.per_draw_faces) {
+    vkCmdSetCullMode(cmd(), desc.raster.cull_mode);
+    vkCmdSetFrontFace(cmd(), desc.raster.front_face);
+  }
   layout_ = entry.layout;
   bind_point_ = VK_PIPELINE_BIND_POINT_GRAPHICS;
   push_constant_bytes_ = desc.push_constant_bytes;
@@ -228,10 +248,10 @@ void PassContext::begin_rendering(const std::vector<std::string>& colors, const 
   VkRect2D scissor{{0, 0}, {extent.width, extent.height}};
   vkCmdSetViewport(cmd(), 0, 1, &viewport);
   vkCmdSetScissor(cmd(), 0, 1, &scissor);
-  vkCmdSetCullMode(cmd(), VK_CULL_MODE_NONE);
-  vkCmdSetFrontFace(cmd(), VK_FRONT_FACE_COUNTER_CLOCKWISE);
   vkCmdSetStencilReference(cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, 0);
 }
+
+void PassContext::begin_rendering() { begin_rendering(colour_targets(declaration()), depth_target(declaration())); }
 
 void PassContext::end_rendering() { vkCmdEndRendering(cmd()); }
 

@@ -9,6 +9,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "passes/core/device.h"
@@ -77,10 +78,19 @@ class PassContext {
   // A view of one mip (or every mip: -1) and one layer as a 2D image (or every layer: -1, as the
   // image's own type: array, cube or 3D).
   VkImageView view(const std::string& resource, ViewAspect aspect = ViewAspect::natural, int mip = -1, int layer = -1);
+  // The pipeline the declaration describes (passes/core/declared_pipeline.h).
+  void bind_pipeline();
   void bind(const GraphicsPipelineDesc& desc);
   void bind(const ComputePipelineDesc& desc);
+  // The first binding the declaration gives `resource` (a resource or a read prefix).
+  uint32_t slot(const std::string& resource) const;
   void push(const std::vector<Binding>& bindings);
   void push_constants(const void* data, uint32_t bytes);
+  template <typename Constants>
+  void push_constants(const Constants& constants) {
+    static_assert(std::is_trivially_copyable_v<Constants>, "push constants are copied as bytes");
+    push_constants(&constants, uint32_t(sizeof constants));
+  }
   VkSampler sampler(const SamplerDesc& desc);
   VkSampler nearest_clamp();
   // Colour outputs and an optional depth output, at one mip and one layer of each: declared
@@ -88,6 +98,8 @@ class PassContext {
   // The pass must have declared that mip and layer as an attachment.
   void begin_rendering(const std::vector<std::string>& colors, const std::string& depth = "", uint32_t mip = 0,
                        uint32_t layer = 0);
+  // The declared colour attachments in declaration order and the declared depth attachment.
+  void begin_rendering();
   void end_rendering();
   // Orders this pass's own storage writes before its next reads (e.g. between mip levels).
   void storage_barrier();

@@ -218,6 +218,7 @@ GpuDevice::GpuDevice(const Options& options) {
   features.pNext = &features11;
   features.features.samplerAnisotropy = VK_FALSE;
   features.features.fragmentStoresAndAtomics = VK_TRUE;
+  features.features.depthBiasClamp = VK_TRUE;  // RasterState's depth bias may be limited
   features.features.shaderStorageImageWriteWithoutFormat = VK_TRUE;
 
   const char* device_extensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};

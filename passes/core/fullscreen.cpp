@@ -9,24 +9,19 @@ int single(uint32_t base, uint32_t count) { return count == 1 ? int(base) : -1; 
 
 }  // namespace
 
-void record_fullscreen(PassContext& ctx, const std::string& fragment, std::span<const uint8_t> constants) {
-  GraphicsPipelineDesc desc;
-  desc.vertex = "frame/fullscreen.vert";
-  desc.fragment = fragment;
-  desc.push_constant_bytes = uint32_t(constants.size());
+void record_fullscreen(PassContext& ctx, std::span<const uint8_t> constants) {
   std::vector<Binding> bindings;
   for (const ResourceUse& input : ctx.declaration().inputs) {
-    const uint32_t slot = uint32_t(bindings.size());
     switch (input.use) {
       case Use::uniform_buffer:
-        bindings.push_back(Binding::uniform(slot, input.resource));
+        bindings.push_back(Binding::uniform(ctx.slot(input.bound_name()), input.bound_name()));
         break;
       case Use::storage_read:
-        bindings.push_back(Binding::storage(slot, input.resource));
+        bindings.push_back(Binding::storage(ctx.slot(input.bound_name()), input.bound_name()));
         break;
       case Use::sampled:
-        bindings.push_back(Binding::texture(slot, input.resource, ctx.nearest_clamp(), ViewAspect::natural,
-                                            single(input.range.base_mip, input.range.mip_count),
+        bindings.push_back(Binding::texture(ctx.slot(input.bound_name()), input.bound_name(), ctx.nearest_clamp(),
+                                            ViewAspect::natural, single(input.range.base_mip, input.range.mip_count),
                                             single(input.range.base_layer, input.range.layer_count)));
         break;
       case Use::host:
@@ -34,7 +29,6 @@ void record_fullscreen(PassContext& ctx, const std::string& fragment, std::span<
       default:
         throw GraphError(ctx.pass() + ": a full-screen pass cannot bind '" + input.resource + "' for that use");
     }
-    desc.bindings.push_back(bindings.back().type);
   }
   // The targets are drawn at the mip and layer the first output declares.
   std::vector<std::string> targets;
@@ -45,10 +39,9 @@ void record_fullscreen(PassContext& ctx, const std::string& fragment, std::span<
                        "'");
     if (targets.empty()) at = output.range;
     targets.push_back(output.resource);
-    desc.color_formats.push_back(ctx.desc(output.resource).format);
   }
   ctx.begin_rendering(targets, "", at.base_mip, at.base_layer);
-  ctx.bind(desc);
+  ctx.bind_pipeline();
   ctx.push(bindings);
   if (!constants.empty()) ctx.push_constants(constants.data(), uint32_t(constants.size()));
   vkCmdDraw(ctx.cmd(), 3, 1, 0, 0);

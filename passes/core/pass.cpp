@@ -107,6 +107,35 @@ PassDecl& PassDecl::shader(std::string path) {
   return *this;
 }
 
+PassDecl& PassDecl::slots(const std::string& resource, uint32_t count) {
+  for (std::vector<ResourceUse>* uses : {&inputs, &outputs})
+    for (ResourceUse& use : *uses)
+      if (use.resource == resource) {
+        use.slots = count;
+        return *this;
+      }
+  throw std::logic_error(name + ": slots() names '" + resource + "', which it does not use");
+}
+
+PassDecl& PassDecl::raster(RasterState state) {
+  raster_state = state;
+  return *this;
+}
+
+PassDecl& PassDecl::depth_stencil(DepthStencilState state) {
+  depth_stencil_state = state;
+  return *this;
+}
+
+PassDecl& PassDecl::blend(const std::string& output, BlendState state) {
+  for (const ResourceUse& out : outputs)
+    if (out.resource == output && out.use == Use::color_attachment) {
+      blend_states[output] = state;
+      return *this;
+    }
+  throw std::logic_error(name + ": blend() names '" + output + "', which is not one of its colour outputs");
+}
+
 PassDecl& PassDecl::run(std::function<void(PassContext&)> function) {
   execute = std::move(function);
   return *this;
@@ -126,6 +155,21 @@ PassDecl& PassDecl::compare(const std::string& output, ComparisonContract contra
   throw std::logic_error(name + ": compare() names '" + output + "', which it does not write");
 }
 
+PassDecl& PassDecl::layout(const std::string& output, BufferSchema schema) {
+  for (ResourceUse& out : outputs)
+    if (out.resource == output && out.is_buffer) {
+      out.buffer.schema = std::move(schema);
+      return *this;
+    }
+  throw std::logic_error(name + ": layout() names '" + output + "', which is not a buffer it writes");
+}
+
+const BufferSchema* PassDecl::schema_of(const std::string& output) const {
+  for (const ResourceUse& out : outputs)
+    if (out.resource == output && out.buffer.schema) return &*out.buffer.schema;
+  return nullptr;
+}
+
 const ComparisonContract& PassDecl::contract_of(const std::string& output) const {
   for (const ResourceUse& out : outputs)
     if (out.resource == output) return out.contract;
@@ -135,7 +179,7 @@ const ComparisonContract& PassDecl::contract_of(const std::string& output) const
 PassDecl& PassDecl::fullscreen(std::string fragment) {
   shader("frame/fullscreen.vert");
   shader(fragment);
-  execute = [fragment](PassContext& ctx) { record_fullscreen(ctx, fragment, {}); };
+  execute = [](PassContext& ctx) { record_fullscreen(ctx, {}); };
   return *this;
 }
 

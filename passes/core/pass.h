@@ -8,14 +8,17 @@
 
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <span>
 #include <string>
 #include <type_traits>
 #include <vector>
 
+#include "passes/core/buffer_schema.h"
 #include "passes/core/contract.h"
 #include "passes/core/format.h"
+#include "passes/core/pipeline_state.h"
 
 namespace nightcap {
 
@@ -76,7 +79,8 @@ struct BufferDecl {
   BufferDecl() = default;
   explicit BufferDecl(ResourceKind buffer_kind, uint64_t bytes = 0) : kind(buffer_kind), size(bytes) {}
   ResourceKind kind = ResourceKind::buffer;
-  uint64_t size = 0;  // 0: the producing CPU pass decides at run time (a GPU writer must declare it)
+  uint64_t size = 0;                   // 0: the producing CPU pass decides at run time (a GPU writer must declare it)
+  std::optional<BufferSchema> schema;  // how its bytes decode (PassDecl::layout); none: 32-bit words
 };
 
 // A concrete resource: what the graph allocates and the capture records.
@@ -92,6 +96,12 @@ struct ResourceDesc {
   uint64_t raw_bytes() const;
 };
 
+// The name under which a pass reads the previous frame's `resource` (PassDecl::read_previous):
+// "exposure.value" -> "exposure.value@previous". '@' is reserved for it.
+std::string previous(const std::string& resource);
+// previous()'s inverse: "exposure.value@previous" -> "exposure.value"; "" for any other name.
+std::string history_source(const std::string& name);
+
 struct ResourceUse {
   std::string resource;
   Use use = Use::sampled;
@@ -103,6 +113,10 @@ struct ResourceUse {
   ImageDecl image;
   BufferDecl buffer;
   ComparisonContract contract;  // outputs: how two versions of it compare (exact by default)
+  // The name the pass binds it by: previous(resource) for a history input.
+  std::string bound_name() const { return history ? previous(resource) : resource; }
+  // Consecutive descriptor bindings it takes (PassDecl::slots) if a shader binds it.
+  uint32_t slots = 1;
 };
 
 struct ParamDecl {
@@ -120,12 +134,6 @@ struct SkipContext {
   bool camera_cut = false;         // the view jumped: every history starts again from its initial value
 };
 
-// The name under which a pass reads the previous frame's `resource` (PassDecl::read_previous):
-// "exposure.value" -> "exposure.value@previous". '@' is reserved for it.
-std::string previous(const std::string& resource);
-// previous()'s inverse: "exposure.value@previous" -> "exposure.value"; "" for any other name.
-std::string history_source(const std::string& name);
-
 struct PassDecl {
   std::string name;
   PassType type = PassType::graphics;
@@ -133,6 +141,11 @@ struct PassDecl {
   std::vector<ParamDecl> params;
   std::vector<std::string> features;  // all must be present, or the pass is skipped
   std::vector<std::string> shaders;   // GLSL paths relative to passes/
+  // Pipeline state: one pipeline per pass, built from the declaration (passes/core/declared_pipeline.h).
+  RasterState raster_state;
+  DepthStencilState depth_stencil_state;
+  std::map<std::string, BlendState> blend_states;  // by colour output; absent: no blending
+  uint32_t push_constant_bytes = 0;
   std::function<void(PassContext&)> execute;
   // Extra frame-dependent skip condition: returns the reason, or "" to run.
   std::function<std::string(const SkipContext&)> skip_if;
@@ -159,15 +172,28 @@ struct PassDecl {
   PassDecl& param(std::string param_name, double default_value, double min, double max, std::string help);
   PassDecl& needs(std::string feature);
   PassDecl& shader(std::string path);
+  // Descriptor set 0 binds the inputs, then the outputs, in declaration order, one binding
+  // each for uniform and storage buffers, sampled and storage images; `slots` gives `resource`
+  // (a resource or a read prefix) `count` consecutive bindings: the textures of a prefix read
+  // bound per draw, one image bound at two mips.
+  PassDecl& slots(const std::string& resource, uint32_t count);
+  PassDecl& raster(RasterState state);
+  PassDecl& depth_stencil(DepthStencilState state);
+  PassDecl& blend(const std::string& output, BlendState state);
+  // The push constants are a Constants struct (its size is the pipeline's push-constant range).
+  template <typename Constants>
+  PassDecl& push_constants();
   PassDecl& run(std::function<void(PassContext&)> function);
   PassDecl& skip_when(std::function<std::string(const SkipContext&)> condition);
   // How `output` compares across replays, builds and devices (passes/core/contract.h).
   PassDecl& compare(const std::string& output, ComparisonContract contract);
+  // How the bytes of buffer `output` decode (passes/core/buffer_schema.h).
+  PassDecl& layout(const std::string& output, BufferSchema schema);
   // A fragment shader drawn over the whole output, recorded from the declaration alone
-  // (passes/core/fullscreen.cpp): set 0 binds the GPU inputs in declaration order (buffers as
-  // uniform or storage buffers by their use, images through a nearest clamp-to-edge sampler,
-  // depth by its depth aspect), the colour outputs are the render targets in declaration order,
-  // and `make_constants(ctx)` — a struct built from the parameters — fills the push constants.
+  // (passes/core/fullscreen.cpp): set 0 binds the GPU inputs in declaration order (images
+  // through a nearest clamp-to-edge sampler, depth by its depth aspect), the colour outputs are
+  // the render targets in declaration order, and `make_constants(ctx)` — a struct built from
+  // the parameters — fills the push constants.
   PassDecl& fullscreen(std::string fragment);
   template <typename MakeConstants>
   PassDecl& fullscreen(std::string fragment, MakeConstants make_constants);
@@ -175,20 +201,28 @@ struct PassDecl {
   ParamValues default_params() const;
   const ParamDecl* find_param(const std::string& param_name) const;
   const ComparisonContract& contract_of(const std::string& output) const;
+  const BufferSchema* schema_of(const std::string& output) const;
 };
 
 const PassDecl* find_pass(const std::vector<PassDecl>& passes, const std::string& name);
 
 // Records a full-screen pass from its declaration; `constants` are the push constants' bytes.
-void record_fullscreen(PassContext& ctx, const std::string& fragment, std::span<const uint8_t> constants);
+void record_fullscreen(PassContext& ctx, std::span<const uint8_t> constants);
+
+template <typename Constants>
+PassDecl& PassDecl::push_constants() {
+  static_assert(std::is_trivially_copyable_v<Constants>, "push constants are copied as bytes");
+  push_constant_bytes = uint32_t(sizeof(Constants));
+  return *this;
+}
 
 template <typename MakeConstants>
 PassDecl& PassDecl::fullscreen(std::string fragment, MakeConstants make_constants) {
   fullscreen(fragment);
-  execute = [fragment, make_constants](PassContext& ctx) {
+  push_constants<std::invoke_result_t<MakeConstants, const PassContext&>>();
+  execute = [make_constants](PassContext& ctx) {
     const auto constants = make_constants(static_cast<const PassContext&>(ctx));
-    static_assert(std::is_trivially_copyable_v<decltype(constants)>, "push constants are copied as bytes");
-    record_fullscreen(ctx, fragment, {reinterpret_cast<const uint8_t*>(&constants), sizeof constants});
+    record_fullscreen(ctx, {reinterpret_cast<const uint8_t*>(&constants), sizeof constants});
   };
   return *this;
 }

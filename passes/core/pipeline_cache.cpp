@@ -67,6 +67,46 @@ std::string pipeline_name(const std::string& shaders, const std::vector<int32_t>
   return name + "}";
 }
 
+std::string cull_name(VkCullModeFlags mode) {
+  static const char* names[] = {"none", "front", "back", "front_and_back"};
+  return mode < 4 ? names[mode] : "cull mode " + std::to_string(mode);
+}
+
+std::string name_of(VkBlendFactor factor) {
+  static const char* names[] = {"zero",
+                                "one",
+                                "src_color",
+                                "one_minus_src_color",
+                                "dst_color",
+                                "one_minus_dst_color",
+                                "src_alpha",
+                                "one_minus_src_alpha",
+                                "dst_alpha",
+                                "one_minus_dst_alpha",
+                                "constant_color",
+                                "one_minus_constant_color",
+                                "constant_alpha",
+                                "one_minus_constant_alpha",
+                                "src_alpha_saturate"};
+  return factor >= 0 && factor < 15 ? names[factor] : "blend factor " + std::to_string(factor);
+}
+
+std::string name_of(VkBlendOp op) {
+  static const char* names[] = {"add", "subtract", "reverse_subtract", "min", "max"};
+  return op >= 0 && op < 5 ? names[op] : "blend op " + std::to_string(op);
+}
+
+nlohmann::json describe(const BlendState& b) {
+  std::string mask;
+  for (int c = 0; c < 4; ++c)
+    if (b.write_mask & (1u << c)) mask += "rgba"[c];
+  if (!b.enabled) return {{"enabled", false}, {"write_mask", mask}};
+  return {{"enabled", true},
+          {"color", {{"src", name_of(b.src_color)}, {"dst", name_of(b.dst_color)}, {"op", name_of(b.color_op)}}},
+          {"alpha", {{"src", name_of(b.src_alpha)}, {"dst", name_of(b.dst_alpha)}, {"op", name_of(b.alpha_op)}}},
+          {"write_mask", mask}};
+}
+
 std::string filter_name(VkFilter filter) { return filter == VK_FILTER_NEAREST ? "nearest" : "linear"; }
 
 std::string wrap_name(VkSamplerAddressMode mode) {
@@ -85,23 +125,41 @@ std::string wrap_name(VkSamplerAddressMode mode) {
 }  // namespace
 
 nlohmann::json describe(const GraphicsPipelineDesc& desc) {
-  nlohmann::json colors = nlohmann::json::array();
-  for (VkFormat f : desc.color_formats) colors.push_back(name_of(f));
-  nlohmann::json j = {{"kind", "graphics"},
-                      {"vertex", desc.vertex},
-                      {"fragment", desc.fragment},
-                      {"bindings", bindings_json(desc.bindings)},
-                      {"push_constant_bytes", desc.push_constant_bytes},
-                      {"color_formats", colors},
-                      {"specialization", desc.specialization},
-                      {"stencil_write", desc.stencil_write},
-                      // Cull mode and front face are dynamic: nightcap sets them per draw.
-                      {"dynamic_state", {"viewport", "scissor", "cull_mode", "front_face", "stencil_reference"}}};
-  if (desc.depth_format != VK_FORMAT_UNDEFINED)
-    j["depth"] = {{"format", name_of(desc.depth_format)},
-                  {"test", desc.depth_test},
-                  {"write", desc.depth_write},
-                  {"compare", name_of(desc.depth_compare)}};
+  nlohmann::json colors = nlohmann::json::array(), blends = nlohmann::json::array();
+  for (size_t i = 0; i < desc.color_formats.size(); ++i) {
+    colors.push_back(name_of(desc.color_formats[i]));
+    blends.push_back(describe(i < desc.blend.size() ? desc.blend[i] : BlendState{}));
+  }
+  const RasterState& r = desc.raster;
+  nlohmann::json dynamic = {"viewport", "scissor", "stencil_reference"};
+  if (r.per_draw_faces) dynamic.insert(dynamic.end(), {"cull_mode", "front_face"});
+  nlohmann::json j = {
+      {"kind", "graphics"},
+      {"vertex", desc.vertex},
+      {"fragment", desc.fragment},
+      {"bindings", bindings_json(desc.bindings)},
+      {"push_constant_bytes", desc.push_constant_bytes},
+      {"color_formats", colors},
+      {"blend", blends},
+      {"raster",
+       {{"cull_mode", cull_name(r.cull_mode)},
+        {"front_face", r.front_face == VK_FRONT_FACE_CLOCKWISE ? "clockwise" : "counter_clockwise"},
+        // Per draw: not culled where the material is double-sided, winding flipped where mirrored.
+        {"per_draw_faces", r.per_draw_faces},
+        {"depth_bias",
+         {{"constant", r.depth_bias.constant}, {"slope", r.depth_bias.slope}, {"clamp", r.depth_bias.clamp}}}}},
+      {"specialization", desc.specialization},
+      {"dynamic_state", dynamic}};
+  if (desc.depth_format != VK_FORMAT_UNDEFINED) {
+    const DepthStencilState& d = desc.depth_stencil;
+    j["depth"] = {
+        {"format", name_of(desc.depth_format)}, {"test", d.test}, {"write", d.write}, {"compare", name_of(d.compare)}};
+    j["stencil"] = {{"test", d.stencil_test()},
+                    {"compare", name_of(d.stencil_compare)},
+                    {"write", d.stencil_write},
+                    {"read_mask", d.stencil_read_mask},
+                    {"write_mask", d.stencil_write_mask}};
+  }
   return j;
 }
 
@@ -170,12 +228,9 @@ std::pair<VkDescriptorSetLayout, VkPipelineLayout> PipelineCache::layout(const s
 
 const PipelineCache::Entry& PipelineCache::graphics(const GraphicsPipelineDesc& desc, const std::vector<uint32_t>& vs,
                                                     const std::vector<uint32_t>& fs) {
+  // The description names every piece of state the pipeline is built from, so it is the key.
   std::ostringstream key;
-  key << "g:" << code_key(vs) << ":" << (fs.empty() ? "-" : code_key(fs)) << ":" << desc.push_constant_bytes << ":"
-      << desc.depth_format << desc.depth_test << desc.depth_write << desc.depth_compare << desc.stencil_write;
-  for (auto b : desc.bindings) key << "," << b;
-  for (auto f : desc.color_formats) key << ";" << f;
-  for (auto s : desc.specialization) key << "s" << s;
+  key << "g:" << code_key(vs) << ":" << (fs.empty() ? "-" : code_key(fs)) << ":" << describe(desc).dump();
   auto it = pipelines_.find(key.str());
   if (it != pipelines_.end()) return it->second;
 
@@ -207,31 +262,46 @@ const PipelineCache::Entry& PipelineCache::graphics(const GraphicsPipelineDesc& 
   auto raster =
       vk_struct<VkPipelineRasterizationStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO);
   raster.polygonMode = VK_POLYGON_MODE_FILL;
-  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+  raster.cullMode = desc.raster.cull_mode;
+  raster.frontFace = desc.raster.front_face;
+  raster.depthBiasEnable = desc.raster.depth_bias.enabled();
+  raster.depthBiasConstantFactor = desc.raster.depth_bias.constant;
+  raster.depthBiasSlopeFactor = desc.raster.depth_bias.slope;
+  raster.depthBiasClamp = desc.raster.depth_bias.clamp;
   raster.lineWidth = 1.0f;
   auto multisample =
       vk_struct<VkPipelineMultisampleStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO);
   multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
   auto depth =
       vk_struct<VkPipelineDepthStencilStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO);
-  depth.depthTestEnable = desc.depth_test;
-  depth.depthWriteEnable = desc.depth_write;
-  depth.depthCompareOp = desc.depth_compare;
-  if (desc.stencil_write) {
+  const DepthStencilState& ds = desc.depth_stencil;
+  depth.depthTestEnable = ds.test;
+  depth.depthWriteEnable = ds.write;
+  depth.depthCompareOp = ds.compare;
+  if (ds.stencil_test()) {
     depth.stencilTestEnable = VK_TRUE;
-    depth.front = {VK_STENCIL_OP_KEEP, VK_STENCIL_OP_REPLACE, VK_STENCIL_OP_KEEP, VK_COMPARE_OP_ALWAYS, 0xff, 0xff, 0};
+    depth.front = {VK_STENCIL_OP_KEEP,
+                   ds.stencil_write ? VK_STENCIL_OP_REPLACE : VK_STENCIL_OP_KEEP,
+                   VK_STENCIL_OP_KEEP,
+                   ds.stencil_compare,
+                   ds.stencil_read_mask,
+                   ds.stencil_write_mask,
+                   0};
     depth.back = depth.front;
   }
   std::vector<VkPipelineColorBlendAttachmentState> blends(desc.color_formats.size());
-  for (auto& b : blends) b.colorWriteMask = 0xf;
+  for (size_t i = 0; i < blends.size(); ++i) {
+    const BlendState b = i < desc.blend.size() ? desc.blend[i] : BlendState{};
+    blends[i] = {b.enabled, b.src_color, b.dst_color, b.color_op, b.src_alpha, b.dst_alpha, b.alpha_op, b.write_mask};
+  }
   auto blend = vk_struct<VkPipelineColorBlendStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO);
   blend.attachmentCount = static_cast<uint32_t>(blends.size());
   blend.pAttachments = blends.data();
   const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR,
-                                           VK_DYNAMIC_STATE_CULL_MODE, VK_DYNAMIC_STATE_FRONT_FACE,
-                                           VK_DYNAMIC_STATE_STENCIL_REFERENCE};
+                                           VK_DYNAMIC_STATE_STENCIL_REFERENCE, VK_DYNAMIC_STATE_CULL_MODE,
+                                           VK_DYNAMIC_STATE_FRONT_FACE};
   auto dynamic = vk_struct<VkPipelineDynamicStateCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO);
-  dynamic.dynamicStateCount = 5;
+  dynamic.dynamicStateCount = desc.raster.per_draw_faces ? 5 : 3;
   dynamic.pDynamicStates = dynamic_states;
   const bool has_stencil = desc.depth_format == VK_FORMAT_D32_SFLOAT_S8_UINT;
   auto rendering = vk_struct<VkPipelineRenderingCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);

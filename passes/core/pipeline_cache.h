@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "passes/core/device.h"
+#include "passes/core/pipeline_state.h"
 #include "passes/scene/scene.h"
 
 namespace nightcap {
@@ -21,10 +22,10 @@ struct GraphicsPipelineDesc {
   std::vector<VkDescriptorType> bindings;  // set 0, binding i (push descriptors)
   uint32_t push_constant_bytes = 0;
   std::vector<VkFormat> color_formats;
+  std::vector<BlendState> blend;  // parallel to color_formats; missing ones do not blend
   VkFormat depth_format = VK_FORMAT_UNDEFINED;
-  bool depth_test = false, depth_write = false;
-  VkCompareOp depth_compare = VK_COMPARE_OP_GREATER_OR_EQUAL;  // reversed-Z
-  bool stencil_write = false;           // writes the dynamic stencil reference where depth passes
+  RasterState raster;
+  DepthStencilState depth_stencil;
   std::vector<int32_t> specialization;  // constant_id i = value
 };
 

@@ -89,6 +89,8 @@ PassDecl cull_main_pass() {
       .read("scene.materials", Use::host)
       .write("draws.depth.prepass", Use::host, BufferDecl{ResourceKind::draw_list})
       .write("draws.gbuffer.opaque", Use::host, BufferDecl{ResourceKind::draw_list})
+      .layout("draws.depth.prepass", draw_schema())
+      .layout("draws.gbuffer.opaque", draw_schema())
       .param("frustum", 1, 0, 1, "1: drop instances outside the view frustum")
       .run(cull);
 }

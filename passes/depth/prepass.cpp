@@ -16,18 +16,13 @@ PassDecl depth_prepass_pass() {
       .read("scene.materials", Use::host)
       .read("draws.depth.prepass", Use::storage_read)
       .write("scene.depth", Use::depth_attachment, depth)
+      .raster(RasterState::per_draw(VK_CULL_MODE_BACK_BIT))
+      .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_GREATER, true))
       .needs("opaque_geometry")
       .shader("depth/prepass.vert")
       .run([](PassContext& ctx) {
-        GraphicsPipelineDesc desc;
-        desc.vertex = "depth/prepass.vert";
-        desc.bindings = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
-        desc.depth_format = VK_FORMAT_D32_SFLOAT_S8_UINT;
-        desc.depth_test = desc.depth_write = true;
-        desc.depth_compare = VK_COMPARE_OP_GREATER;
-        ctx.begin_rendering({}, "scene.depth");
-        ctx.bind(desc);
+        ctx.begin_rendering();
+        ctx.bind_pipeline();
         ctx.push(geometry_bindings(ctx, "draws.depth.prepass"));
         draw_scene(ctx, "draws.depth.prepass", [](uint32_t, const GpuMaterial&) {});
         ctx.end_rendering();

@@ -75,6 +75,8 @@ PassDecl frame_constants_pass() {
       .read("scene.lights", Use::host)
       .write("frame.constants", Use::host, BufferDecl{ResourceKind::buffer})
       .write("frame.lights", Use::host, BufferDecl{ResourceKind::buffer})
+      .layout("frame.constants", frame_constants_schema())
+      .layout("frame.lights", light_schema())
       .run(build_constants);
 }
 

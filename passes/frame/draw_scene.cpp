@@ -23,10 +23,10 @@ GeometryHeader geometry_header(PassContext& ctx) {
 
 std::vector<Binding> geometry_bindings(PassContext& ctx, const std::string& draws) {
   const GeometryHeader header = geometry_header(ctx);
-  return {Binding::uniform(0, "frame.constants"),
-          Binding::storage(1, "scene.geometry", header.vertex_offset,
+  return {Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
+          Binding::storage(ctx.slot("scene.geometry"), "scene.geometry", header.vertex_offset,
                            std::max<uint64_t>(header.vertex_count, 1) * sizeof(Vertex)),
-          Binding::storage(2, draws)};
+          Binding::storage(ctx.slot(draws), draws)};
 }
 
 void draw_scene(PassContext& ctx, const std::string& draws,
@@ -38,8 +38,13 @@ void draw_scene(PassContext& ctx, const std::string& draws,
   const size_t material_count = material_bytes.size() / sizeof(GpuMaterial);
   if (draw_count == 0) return;
   vkCmdBindIndexBuffer(ctx.cmd(), ctx.buffer("scene.geometry"), header.index_offset, VK_INDEX_TYPE_UINT32);
+  // The declared faces, which the pipeline bound as the current dynamic state.
+  const RasterState& declared = ctx.declaration().raster_state;
+  if (!declared.per_draw_faces) throw GraphError(ctx.pass() + ": scene draws set faces per draw (per_draw_faces)");
+  const VkFrontFace flipped =
+      declared.front_face == VK_FRONT_FACE_CLOCKWISE ? VK_FRONT_FACE_COUNTER_CLOCKWISE : VK_FRONT_FACE_CLOCKWISE;
   uint32_t current = UINT32_MAX;
-  VkFrontFace current_front = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+  VkFrontFace current_front = declared.front_face;
   for (uint32_t i = 0; i < draw_count; ++i) {
     GpuDraw draw;
     std::memcpy(&draw, draw_bytes.data() + i * sizeof(GpuDraw), sizeof(draw));
@@ -50,11 +55,11 @@ void draw_scene(PassContext& ctx, const std::string& draws,
       GpuMaterial material;
       std::memcpy(&material, material_bytes.data() + current * sizeof(GpuMaterial), sizeof(material));
       const bool double_sided = (int(material.extra.w) & 2) != 0;
-      vkCmdSetCullMode(ctx.cmd(), double_sided ? VK_CULL_MODE_NONE : VK_CULL_MODE_BACK_BIT);
+      vkCmdSetCullMode(ctx.cmd(), double_sided ? VkCullModeFlags(VK_CULL_MODE_NONE) : declared.cull_mode);
       on_material(current, material);
     }
     // glTF: a mirroring transform turns counter-clockwise front faces clockwise.
-    const VkFrontFace front = draw.mirrored ? VK_FRONT_FACE_CLOCKWISE : VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    const VkFrontFace front = draw.mirrored ? flipped : declared.front_face;
     if (front != current_front) {
       vkCmdSetFrontFace(ctx.cmd(), front);
       current_front = front;

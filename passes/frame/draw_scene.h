@@ -1,6 +1,8 @@
 // Issues the draws of a `draws.<pass>` list: binds scene.geometry's index stream, sets the
-// cull mode per material (double-sided ones are not culled) and the stencil reference per
-// draw, and calls `on_material` whenever the material changes (draws are sorted by it).
+// declared cull mode per material (double-sided ones are not culled), the declared front face
+// per draw (flipped where mirrored) and the stencil reference per draw, and calls
+// `on_material` whenever the material changes (draws are sorted by it). The pass declares
+// RasterState::per_draw_faces.
 #pragma once
 
 #include <functional>
@@ -14,7 +16,7 @@ namespace nightcap {
 void draw_scene(PassContext& ctx, const std::string& draws,
                 const std::function<void(uint32_t material, const GpuMaterial&)>& on_material);
 
-// Bindings 0-2 of geometry.glsl: frame constants, vertex stream, draw list.
+// geometry.glsl's frame constants, vertex stream and draw list at their declared bindings.
 std::vector<Binding> geometry_bindings(PassContext& ctx, const std::string& draws);
 
 }  // namespace nightcap

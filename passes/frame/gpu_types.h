@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 
+#include "passes/core/buffer_schema.h"
+
 namespace nightcap {
 
 struct GpuFrameConstants {
@@ -61,5 +63,10 @@ struct GpuMaterial {
   glm::uvec4 samplers2;
 };
 static_assert(sizeof(GpuMaterial) == 128);
+
+// How frame.constants, frame.lights and the draws.* lists decode (PassDecl::layout).
+BufferSchema frame_constants_schema();
+BufferSchema light_schema();
+BufferSchema draw_schema();
 
 }  // namespace nightcap

@@ -233,6 +233,8 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
     for (int v : exec.outputs) {
       p.outputs.push_back(describe(frame.execution.versions[v]));
       p.outputs.back().contract = pass.decl->contract_of(p.outputs.back().resource);
+      if (const BufferSchema* schema = pass.decl->schema_of(p.outputs.back().resource))
+        p.outputs.back().schema = *schema;
     }
     record.passes.push_back(std::move(p));
   }

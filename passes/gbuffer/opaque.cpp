@@ -18,9 +18,10 @@ PassDecl gbuffer_opaque_pass() {
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
       .read("scene.geometry", Use::index_buffer)
-      .read("scene.materials", Use::storage_read)
       .read("draws.gbuffer.opaque", Use::storage_read)
+      .read("scene.materials", Use::storage_read)
       .read_all("scene.texture.", Use::sampled)
+      .slots("scene.texture.", MaterialTexture::count)
       .modify("scene.depth", Use::depth_attachment)
       .write("gbuffer.albedo", Use::color_attachment, target(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::colour))
       .write("gbuffer.normal", Use::color_attachment, target(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::normal))
@@ -28,6 +29,10 @@ PassDecl gbuffer_opaque_pass() {
       .write("gbuffer.motion", Use::color_attachment, target(VK_FORMAT_R16G16_SFLOAT, ResourceKind::motion))
       .write("gbuffer.emissive", Use::color_attachment,
              target(VK_FORMAT_B10G11R11_UFLOAT_PACK32, ResourceKind::hdr_colour))
+      .raster(RasterState::per_draw(VK_CULL_MODE_BACK_BIT))
+      // GREATER_OR_EQUAL: what the prepass drew passes at its own depth. The stencil takes each
+      // draw's material class.
+      .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_GREATER_OR_EQUAL, true).writing_stencil())
       .skip_when([](const SkipContext& frame) {
         const bool any = frame.features.count("opaque_geometry") || frame.features.count("mask_geometry");
         return any ? std::string() : std::string("scene has no opaque geometry");
@@ -35,32 +40,22 @@ PassDecl gbuffer_opaque_pass() {
       .shader("gbuffer/opaque.vert")
       .shader("gbuffer/opaque.frag")
       .run([](PassContext& ctx) {
-        GraphicsPipelineDesc desc;
-        desc.vertex = "gbuffer/opaque.vert";
-        desc.fragment = "gbuffer/opaque.frag";
-        desc.bindings = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                         VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
-        desc.bindings.resize(9, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER);
-        desc.color_formats = {VK_FORMAT_A2B10G10R10_UNORM_PACK32, VK_FORMAT_A2B10G10R10_UNORM_PACK32,
-                              VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_R16G16_SFLOAT, VK_FORMAT_B10G11R11_UFLOAT_PACK32};
-        desc.depth_format = VK_FORMAT_D32_SFLOAT_S8_UINT;
-        desc.depth_test = desc.depth_write = true;
-        desc.stencil_write = true;
-        ctx.begin_rendering(
-            {"gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "gbuffer.motion", "gbuffer.emissive"},
-            "scene.depth");
-        ctx.bind(desc);
+        ctx.begin_rendering();
+        ctx.bind_pipeline();
         auto bindings = geometry_bindings(ctx, "draws.gbuffer.opaque");
-        bindings.push_back(Binding::storage(3, "scene.materials"));
+        bindings.push_back(Binding::storage(ctx.slot("scene.materials"), "scene.materials"));
         ctx.push(bindings);
         draw_scene(ctx, "draws.gbuffer.opaque", [&](uint32_t, const GpuMaterial& m) {
-          const int32_t indices[5] = {m.textures.x, m.textures.y, m.textures.z, m.textures.w, m.textures2.x};
-          const uint32_t samplers[5] = {m.samplers.x, m.samplers.y, m.samplers.z, m.samplers.w, m.samplers2.x};
+          const int32_t indices[MaterialTexture::count] = {m.textures.x, m.textures.y, m.textures.z, m.textures.w,
+                                                           m.textures2.x};
+          const uint32_t samplers[MaterialTexture::count] = {m.samplers.x, m.samplers.y, m.samplers.z, m.samplers.w,
+                                                             m.samplers2.x};
           std::vector<Binding> textures;
-          for (uint32_t slot = 0; slot < 5; ++slot) {
+          const uint32_t first = ctx.slot("scene.texture.");
+          for (uint32_t slot = 0; slot < MaterialTexture::count; ++slot) {
             const bool used = indices[slot] >= 0;
             const std::string name = texture_resource(uint32_t(used ? indices[slot] : m.textures2.w));
-            textures.push_back(Binding::texture(4 + slot, name, ctx.sampler(unpack_sampler(samplers[slot]))));
+            textures.push_back(Binding::texture(first + slot, name, ctx.sampler(unpack_sampler(samplers[slot]))));
           }
           ctx.push(textures);
         });

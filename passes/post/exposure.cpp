@@ -13,6 +13,14 @@
 #include "passes/frame/frame_passes.h"
 
 namespace nightcap {
+namespace {
+
+struct ExposureConstants {
+  uint32_t phase;
+  float log2_min, log2_max, key, adapt_seconds;
+};
+
+}  // namespace
 
 PassDecl exposure_pass() {
   ImageDecl value{VK_FORMAT_R32G32B32A32_SFLOAT, ResourceKind::hdr_colour};
@@ -31,28 +39,23 @@ PassDecl exposure_pass() {
              "2005), which keeps night scenes dark")
       .param("log2_min", -12.0, -64.0, 64.0, "lowest log2 luminance the histogram tells apart")
       .param("log2_max", 12.0, -64.0, 64.0, "highest log2 luminance the histogram tells apart")
+      .push_constants<ExposureConstants>()
       .shader("post/exposure.comp")
       .run([](PassContext& ctx) {
-        struct {
-          uint32_t phase;
-          float log2_min, log2_max, key, adapt_seconds;
-        } constants{0, float(ctx.param("log2_min")), float(ctx.param("log2_max")), float(ctx.param("key")),
-                    float(ctx.param("adapt_seconds"))};
+        ExposureConstants constants{0, float(ctx.param("log2_min")), float(ctx.param("log2_max")),
+                                    float(ctx.param("key")), float(ctx.param("adapt_seconds"))};
         if (!(constants.log2_max > constants.log2_min)) throw GraphError("exposure: log2_max must be above log2_min");
-        ComputePipelineDesc desc;
-        desc.shader = "post/exposure.comp";
-        desc.bindings = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                         VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                         VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
-        desc.push_constant_bytes = sizeof constants;
-        ctx.bind(desc);
-        ctx.push({Binding::uniform(0, "frame.constants"), Binding::texture(1, "lighting.lit", ctx.nearest_clamp()),
-                  Binding::texture(2, previous("exposure.value"), ctx.nearest_clamp()),
-                  Binding::storage(3, "exposure.histogram"), Binding::image(4, "exposure.value")});
+        ctx.bind_pipeline();
+        const std::string history = previous("exposure.value");
+        ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
+                  Binding::texture(ctx.slot("lighting.lit"), "lighting.lit", ctx.nearest_clamp()),
+                  Binding::texture(ctx.slot(history), history, ctx.nearest_clamp()),
+                  Binding::storage(ctx.slot("exposure.histogram"), "exposure.histogram"),
+                  Binding::image(ctx.slot("exposure.value"), "exposure.value")});
         const ImageExtent lit = ctx.desc("lighting.lit").extent;
         for (uint32_t phase = 0; phase < 3; ++phase) {
           constants.phase = phase;
-          ctx.push_constants(&constants, sizeof constants);
+          ctx.push_constants(constants);
           if (phase == 1)
             vkCmdDispatch(ctx.cmd(), (lit.width + 15) / 16, (lit.height + 15) / 16, 1);
           else

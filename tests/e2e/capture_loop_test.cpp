@@ -81,6 +81,20 @@ TEST(CaptureLoop, ManifestRecordsOutputSizeSinksShaderSourcesAndPipelineState) {
   EXPECT_EQ(tonemap.at("samplers")[0].at("mag_filter"), "nearest");
   EXPECT_EQ(tonemap.at("samplers")[0].at("wrap_u"), "clamp_to_edge");
   EXPECT_EQ(tonemap.at("pipelines")[0].at("color_formats"), nlohmann::json::array({"R8G8B8A8_SRGB"}));
+  // The declared state: scene draws cull back faces per draw, the G-buffer writes the stencil.
+  const auto& gbuffer = find_pass(manifest.at("frames")[0], "gbuffer.opaque").at("pipelines")[0];
+  EXPECT_EQ(gbuffer.at("raster").at("cull_mode"), "back");
+  EXPECT_EQ(gbuffer.at("raster").at("per_draw_faces"), true);
+  EXPECT_EQ(gbuffer.at("stencil").at("write"), true);
+  EXPECT_EQ(gbuffer.at("depth").at("compare"), "greater_or_equal");
+  // Buffer outputs carry the schema their pass declared.
+  for (const auto& out : find_pass(manifest.at("frames")[0], "cull.main").at("outputs")) {
+    ASSERT_TRUE(out.contains("schema")) << out.at("resource");
+    EXPECT_EQ(out.at("schema").at("stride"), 160) << out.at("resource");
+    EXPECT_EQ(out.at("schema").at("fields")[0], (nlohmann::json{{"name", "model"}, {"type", "mat4"}, {"offset", 0}}));
+  }
+  for (const auto& out : find_pass(manifest.at("frames")[0], "frame.constants").at("outputs"))
+    EXPECT_TRUE(out.contains("schema")) << out.at("resource");
 }
 
 TEST(CaptureLoop, ReplayTakesTheOutputSizeFromTheFrameNotTheCommandLine) {

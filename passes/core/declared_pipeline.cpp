@@ -1,0 +1,103 @@
+#include "passes/core/declared_pipeline.h"
+
+#include "passes/core/graph.h"
+
+namespace nightcap {
+namespace {
+
+bool ends_with(const std::string& text, const std::string& suffix) {
+  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// The pass's one shader of a stage ("" when it has none); two would leave the pipeline ambiguous.
+std::string stage_shader(const PassDecl& decl, const std::string& extension) {
+  std::string found;
+  for (const std::string& path : decl.shaders)
+    if (ends_with(path, extension)) {
+      if (!found.empty()) throw GraphError(decl.name + ": declares two " + extension + " shaders");
+      found = path;
+    }
+  return found;
+}
+
+}  // namespace
+
+std::vector<DeclaredSlot> declared_slots(const PassDecl& decl, const DescOf& desc_of) {
+  std::vector<DeclaredSlot> slots;
+  uint32_t next = 0;
+  for (const std::vector<ResourceUse>* uses : {&decl.inputs, &decl.outputs})
+    for (const ResourceUse& use : *uses) {
+      DeclaredSlot slot{&use, next, use.slots};
+      switch (use.use) {
+        case Use::uniform_buffer:
+          slot.type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+          break;
+        case Use::sampled:
+          slot.type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+          break;
+        case Use::storage_read:
+        case Use::storage_write: {
+          if (use.prefix) throw GraphError(decl.name + ": a prefix read is bound as sampled images only");
+          const bool buffer = use.is_buffer || desc_of(use.resource).is_buffer;
+          slot.type = buffer ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+          break;
+        }
+        default:
+          continue;  // attachments, index buffers and host data are not descriptors
+      }
+      if (slot.count == 0) continue;
+      slots.push_back(slot);
+      next += slot.count;
+    }
+  return slots;
+}
+
+std::vector<VkDescriptorType> declared_layout(const PassDecl& decl, const DescOf& desc_of) {
+  std::vector<VkDescriptorType> layout;
+  for (const DeclaredSlot& slot : declared_slots(decl, desc_of)) layout.insert(layout.end(), slot.count, slot.type);
+  return layout;
+}
+
+std::vector<std::string> colour_targets(const PassDecl& decl) {
+  std::vector<std::string> targets;
+  for (const ResourceUse& out : decl.outputs)
+    if (out.use == Use::color_attachment) targets.push_back(out.resource);
+  return targets;
+}
+
+std::string depth_target(const PassDecl& decl) {
+  for (const std::vector<ResourceUse>* uses : {&decl.outputs, &decl.inputs})
+    for (const ResourceUse& use : *uses)
+      if (use.use == Use::depth_attachment) return use.resource;
+  return "";
+}
+
+GraphicsPipelineDesc declared_graphics_pipeline(const PassDecl& decl, const DescOf& desc_of) {
+  GraphicsPipelineDesc desc;
+  desc.vertex = stage_shader(decl, ".vert");
+  if (desc.vertex.empty()) throw GraphError(decl.name + ": a graphics pass needs a .vert shader");
+  desc.fragment = stage_shader(decl, ".frag");
+  desc.bindings = declared_layout(decl, desc_of);
+  desc.push_constant_bytes = decl.push_constant_bytes;
+  for (const std::string& target : colour_targets(decl)) {
+    desc.color_formats.push_back(desc_of(target).format);
+    auto blend = decl.blend_states.find(target);
+    desc.blend.push_back(blend == decl.blend_states.end() ? BlendState{} : blend->second);
+  }
+  const std::string depth = depth_target(decl);
+  if (!depth.empty()) desc.depth_format = desc_of(depth).format;
+  desc.raster = decl.raster_state;
+  desc.depth_stencil = decl.depth_stencil_state;
+  return desc;
+}
+
+ComputePipelineDesc declared_compute_pipeline(const PassDecl& decl, const DescOf& desc_of) {
+  ComputePipelineDesc desc;
+  desc.shader = stage_shader(decl, ".comp");
+  if (desc.shader.empty()) throw GraphError(decl.name + ": a compute pass needs a .comp shader");
+  desc.bindings = declared_layout(decl, desc_of);
+  desc.push_constant_bytes = decl.push_constant_bytes;
+  return desc;
+}
+
+}  // namespace nightcap

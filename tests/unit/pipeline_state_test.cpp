@@ -1,0 +1,237 @@
+// Declared pipeline state (passes/core/pipeline_state.h) reaches both the pipeline and the
+// description the capture records, and changes what is rendered as Vulkan says it must: one
+// triangle over an 8×8 target, in fullscreen.vert's winding (clockwise in framebuffer space,
+// so back-facing under a counter-clockwise front face), at depth `depth` + `slope`·x (NDC).
+// Targets are cleared to colour 0.25, depth 0.25 and stencil 0; the triangle writes colour 0.5
+// and the stencil reference 7.
+#include <cstring>
+
+#include "passes/core/context.h"
+#include "passes/core/declared_pipeline.h"
+#include "passes/core/shader.h"
+#include "tests/unit/gpu_fixture.h"
+
+namespace nightcap::test {
+namespace {
+
+constexpr uint32_t kSize = 8;
+
+const std::map<std::string, std::string> kSources = {{"test/triangle.vert", R"(#version 460
+layout(push_constant) uniform Constants { float depth, slope; };
+void main() {
+  vec2 p = vec2((gl_VertexIndex << 1) & 2, gl_VertexIndex & 2) * 2.0 - 1.0;
+  gl_Position = vec4(p, depth + slope * p.x, 1.0);
+})"},
+                                                     {"test/triangle.frag", R"(#version 460
+layout(location = 0) out vec4 colour;
+void main() { colour = vec4(0.5); })"}};
+
+struct TriangleConstants {
+  float depth, slope;
+};
+
+// The pass under test: `declare` adds the state.
+PassDecl triangle_pass(const std::function<void(PassDecl&)>& declare) {
+  ImageDecl colour{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour};
+  for (int c = 0; c < 4; ++c) colour.clear.color.float32[c] = 0.25f;
+  ImageDecl depth{VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil};
+  depth.clear.depthStencil = {0.25f, 0};
+  PassDecl pass("test.triangle", PassType::graphics);
+  pass.write("colour", Use::color_attachment, colour)
+      .write("depth", Use::depth_attachment, depth)
+      .param("depth", 0.5, 0.0, 1.0, "depth of the triangle")
+      .param("slope", 0.0, -1.0, 1.0, "depth change per NDC unit of x")
+      .push_constants<TriangleConstants>()
+      .shader("test/triangle.vert")
+      .shader("test/triangle.frag")
+      .run([](PassContext& ctx) {
+        ctx.begin_rendering();
+        ctx.bind_pipeline();
+        vkCmdSetStencilReference(ctx.cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, 7);
+        ctx.push_constants(TriangleConstants{float(ctx.param("depth")), float(ctx.param("slope"))});
+        vkCmdDraw(ctx.cmd(), 3, 1, 0, 0);
+        ctx.end_rendering();
+      });
+  declare(pass);
+  return pass;
+}
+
+struct Target {
+  std::vector<uint16_t> colour;  // half-float codes, RGBA per pixel
+  std::vector<float> depth;
+  std::vector<uint8_t> stencil;
+  nlohmann::json pipeline;  // as the capture records it
+};
+
+class PipelineState : public GpuTest {
+ protected:
+  static Target draw(const std::function<void(PassDecl&)>& declare, ParamValues params = {}) {
+    const PassDecl pass = triangle_pass(declare);
+    ParamValues all = pass.default_params();
+    for (const auto& [k, v] : params) all[k] = v;
+    const IsolatedRun run =
+        run_isolated(*gpu_, *cache_, pass, {}, all, kSize, kSize,
+                     [](const std::string&, const std::string& path) { return compile_glsl(path, kSources.at(path)); });
+    Target t;
+    const auto& colour = *run.outputs.at("colour");
+    t.colour.resize(colour.size() / 2);
+    std::memcpy(t.colour.data(), colour.data(), colour.size());
+    const auto& depth = *run.outputs.at("depth");
+    const FormatInfo f = *format_info(VK_FORMAT_D32_SFLOAT_S8_UINT);
+    const ImageExtent extent = run.output_descs.at("depth").extent;
+    const uint64_t stencil_offset = raw_subresource_offset(f, extent, 1, 0, 0);
+    t.depth.resize(kSize * kSize);
+    std::memcpy(t.depth.data(), depth.data(), t.depth.size() * 4);
+    t.stencil.assign(depth.begin() + stencil_offset, depth.begin() + stencil_offset + kSize * kSize);
+    t.pipeline = run.execution.passes.at(0).pipelines.at(0);
+    return t;
+  }
+};
+
+constexpr uint16_t kHalfQuarter = 0x3400, kHalfHalf = 0x3800, kHalfThreeQuarters = 0x3A00;
+
+void expect_every_pixel(const Target& t, uint16_t colour, float depth, uint8_t stencil) {
+  for (uint32_t i = 0; i < kSize * kSize; ++i) {
+    for (int c = 0; c < 4; ++c) ASSERT_EQ(t.colour[4 * i + c], colour) << "pixel " << i << " channel " << c;
+    ASSERT_EQ(t.depth[i], depth) << "pixel " << i;
+    ASSERT_EQ(t.stencil[i], stencil) << "pixel " << i;
+  }
+}
+
+TEST_F(PipelineState, EveryDeclaredStateIsRecorded) {
+  const Target t = draw([](PassDecl& p) {
+    RasterState raster;
+    raster.cull_mode = VK_CULL_MODE_FRONT_BIT;
+    raster.front_face = VK_FRONT_FACE_CLOCKWISE;
+    raster.depth_bias = {3.0f, 1.5f, 0.25f};
+    DepthStencilState depth = DepthStencilState::depth(VK_COMPARE_OP_ALWAYS, true).writing_stencil();
+    depth.stencil_write_mask = 0x0f;
+    p.raster(raster).depth_stencil(depth).blend("colour", BlendState::additive());
+  });
+  const nlohmann::json& d = t.pipeline;
+  EXPECT_EQ(d.at("vertex"), "test/triangle.vert");
+  EXPECT_EQ(d.at("fragment"), "test/triangle.frag");
+  EXPECT_EQ(d.at("push_constant_bytes"), sizeof(TriangleConstants));
+  EXPECT_EQ(d.at("color_formats"), nlohmann::json::array({"R16G16B16A16_SFLOAT"}));
+  EXPECT_EQ(d.at("blend")[0].at("enabled"), true);
+  EXPECT_EQ(d.at("blend")[0].at("color"), (nlohmann::json{{"src", "one"}, {"dst", "one"}, {"op", "add"}}));
+  EXPECT_EQ(d.at("blend")[0].at("write_mask"), "rgba");
+  EXPECT_EQ(d.at("raster").at("cull_mode"), "front");
+  EXPECT_EQ(d.at("raster").at("front_face"), "clockwise");
+  EXPECT_EQ(d.at("raster").at("per_draw_faces"), false);
+  EXPECT_EQ(d.at("raster").at("depth_bias"), (nlohmann::json{{"constant", 3.0}, {"slope", 1.5}, {"clamp", 0.25}}));
+  EXPECT_EQ(d.at("depth"),
+            (nlohmann::json{{"format", "D32_SFLOAT_S8_UINT"}, {"test", true}, {"write", true}, {"compare", "always"}}));
+  EXPECT_EQ(d.at("stencil").at("write"), true);
+  EXPECT_EQ(d.at("stencil").at("write_mask"), 0x0f);
+  EXPECT_EQ(d.at("dynamic_state"), nlohmann::json::array({"viewport", "scissor", "stencil_reference"}));
+}
+
+TEST_F(PipelineState, TheDefaultsDrawEverythingAndWriteNothingButColour) {
+  // No depth test, no depth or stencil write, no culling, no blending.
+  expect_every_pixel(draw([](PassDecl&) {}), kHalfHalf, 0.25f, 0);
+}
+
+TEST_F(PipelineState, AdditiveBlendingAddsToTheTarget) {
+  const Target t = draw([](PassDecl& p) { p.blend("colour", BlendState::additive()); });
+  expect_every_pixel(t, kHalfThreeQuarters, 0.25f, 0);  // 0.5 + 0.25
+}
+
+TEST_F(PipelineState, CullingFollowsTheDeclaredModeAndFrontFace) {
+  auto cull = [](VkCullModeFlags mode, VkFrontFace front) {
+    return [=](PassDecl& p) { p.raster({mode, front, false, {}}); };
+  };
+  // Clockwise in framebuffer space: back-facing under counter-clockwise, front-facing under clockwise.
+  expect_every_pixel(draw(cull(VK_CULL_MODE_BACK_BIT, VK_FRONT_FACE_COUNTER_CLOCKWISE)), kHalfQuarter, 0.25f, 0);
+  expect_every_pixel(draw(cull(VK_CULL_MODE_NONE, VK_FRONT_FACE_COUNTER_CLOCKWISE)), kHalfHalf, 0.25f, 0);
+  expect_every_pixel(draw(cull(VK_CULL_MODE_BACK_BIT, VK_FRONT_FACE_CLOCKWISE)), kHalfHalf, 0.25f, 0);
+  expect_every_pixel(draw(cull(VK_CULL_MODE_FRONT_BIT, VK_FRONT_FACE_CLOCKWISE)), kHalfQuarter, 0.25f, 0);
+}
+
+TEST_F(PipelineState, DepthTestCompareOpAndStencilWriteAreHonoured) {
+  auto depth = [](VkCompareOp op, bool stencil) {
+    return [=](PassDecl& p) {
+      const DepthStencilState state = DepthStencilState::depth(op, true);
+      p.depth_stencil(stencil ? state.writing_stencil() : state);
+    };
+  };
+  // The triangle (0.5) is in front of the cleared 0.25 under reversed-Z: GREATER passes, LESS fails.
+  expect_every_pixel(draw(depth(VK_COMPARE_OP_GREATER, false)), kHalfHalf, 0.5f, 0);
+  expect_every_pixel(draw(depth(VK_COMPARE_OP_GREATER, true)), kHalfHalf, 0.5f, 7);
+  expect_every_pixel(draw(depth(VK_COMPARE_OP_LESS, true)), kHalfQuarter, 0.25f, 0);
+  // Tested but not written.
+  expect_every_pixel(draw([](PassDecl& p) { p.depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_GREATER, false)); }),
+                     kHalfHalf, 0.25f, 0);
+}
+
+TEST_F(PipelineState, DepthBiasMovesDepthByTheDeclaredAmount) {
+  auto biased = [](float constant, float slope) {
+    return [=](PassDecl& p) {
+      RasterState raster;
+      raster.depth_bias = {constant, slope, 0.0f};
+      p.raster(raster).depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_ALWAYS, true));
+    };
+  };
+  // Constant: r = 2^(e − 23) for a float depth buffer, e the exponent of the primitive's largest
+  // depth (0.5 = 2^-1): 1024 units are 2^-14.
+  expect_every_pixel(draw(biased(1024.0f, 0.0f)), kHalfHalf, 0.5f + 0x1p-14f, 0);
+  // The clamp limits it.
+  expect_every_pixel(draw([](PassDecl& p) {
+                       RasterState raster;
+                       raster.depth_bias = {1024.0f, 0.0f, 0x1p-16f};
+                       p.raster(raster).depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_ALWAYS, true));
+                     }),
+                     kHalfHalf, 0.5f + 0x1p-16f, 0);
+  // Slope: depth 0.5 + x/64 over NDC x, so ∂z/∂x is (1/64)·(2/8) = 2^-8 per pixel; slope factor 4
+  // adds 2^-6 on top of each pixel's unbiased depth.
+  const Target flat = draw(biased(0.0f, 0.0f), {{"slope", 1.0 / 64}});
+  const Target sloped = draw(biased(0.0f, 4.0f), {{"slope", 1.0 / 64}});
+  for (uint32_t i = 0; i < kSize * kSize; ++i) {
+    const float x = ((i % kSize) + 0.5f) / kSize * 2.0f - 1.0f;
+    ASSERT_EQ(flat.depth[i], 0.5f + x / 64) << "pixel " << i;
+    ASSERT_NEAR(sloped.depth[i], flat.depth[i] + 0x1p-6f, 0x1p-22f) << "pixel " << i;
+  }
+}
+
+// The pipeline a declaration implies, without a device: every fact from one place.
+TEST(DeclaredPipeline, LayoutFormatsShadersAndConstantsComeFromTheDeclaration) {
+  ImageDecl colour{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour};
+  PassDecl pass("test.declared", PassType::graphics);
+  pass.read("constants", Use::uniform_buffer)
+      .read("list", Use::storage_read)
+      .read("host.only", Use::host)
+      .read_all("texture.", Use::sampled)
+      .slots("texture.", 3)
+      .read("depth", Use::depth_attachment)
+      .write("lit", Use::color_attachment, colour)
+      .write("extra", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour})
+      .blend("extra", BlendState::additive())
+      .push_constants<TriangleConstants>()
+      .shader("test/a.vert")
+      .shader("test/a.frag");
+  std::map<std::string, ResourceDesc> descs;
+  descs["list"].is_buffer = true;
+  descs["depth"].format = VK_FORMAT_D32_SFLOAT;
+  descs["lit"].format = VK_FORMAT_R16G16B16A16_SFLOAT;
+  descs["extra"].format = VK_FORMAT_R8G8B8A8_UNORM;
+  const GraphicsPipelineDesc desc =
+      declared_graphics_pipeline(pass, [&](const std::string& r) -> const ResourceDesc& { return descs.at(r); });
+  EXPECT_EQ(desc.vertex, "test/a.vert");
+  EXPECT_EQ(desc.fragment, "test/a.frag");
+  EXPECT_EQ(desc.bindings, (std::vector<VkDescriptorType>{
+                               VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                               VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                               VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}));
+  EXPECT_EQ(desc.color_formats, (std::vector<VkFormat>{VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R8G8B8A8_UNORM}));
+  ASSERT_EQ(desc.blend.size(), 2u);
+  EXPECT_FALSE(desc.blend[0].enabled);
+  EXPECT_TRUE(desc.blend[1].enabled);
+  EXPECT_EQ(desc.depth_format, VK_FORMAT_D32_SFLOAT);
+  EXPECT_EQ(desc.push_constant_bytes, sizeof(TriangleConstants));
+  EXPECT_EQ(colour_targets(pass), (std::vector<std::string>{"lit", "extra"}));
+  EXPECT_EQ(depth_target(pass), "depth");
+  EXPECT_THROW(pass.blend("depth", BlendState::additive()), std::logic_error);
+}
+
+}  // namespace
+}  // namespace nightcap::test
