@@ -57,7 +57,7 @@ struct CompiledGraph {
 // Throws GraphError for: a read of a resource nobody writes or imports, two fresh writers of
 // one resource, a modify with no earlier version, a cycle, an unknown `like` size, a buffer
 // written by a GPU pass without a declared size, a history of a resource nobody writes (unless
-// previous(name) is imported, as replay does) or of a buffer sized at run time, a name with '@'.
+// previous(name) is imported, as replay does) or of a CPU pass's output, a name with '@'.
 CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
                             const GraphSettings& settings);
 
