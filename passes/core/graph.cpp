@@ -330,12 +330,8 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   for (CompiledPass& pass : graph.passes)
     for (BoundUse& in : pass.inputs) {
       if (!in.history || imported.count(in.resource)) continue;
-      const std::string resource = history_source(in.resource);
-      const ResourceDesc& desc = graph.resources.at(resource);
-      if (desc.is_buffer && desc.buffer_size == 0)
-        throw GraphError(pass.decl->name + ": reads the previous frame's '" + resource +
-                         "', a buffer whose size is only known when its CPU pass runs");
-      in.desc = graph.resources[in.resource] = desc;
+      // A GPU writer declares every size, so the description is complete.
+      in.desc = graph.resources[in.resource] = graph.resources.at(history_source(in.resource));
     }
   // Only a pass that runs touches its ranges (a skipped one clears whole fresh outputs): a
   // level that does not exist at this output size may be skipped rather than be an error.

@@ -111,8 +111,8 @@ struct CompiledGraph {
 // Throws GraphError for: a read of a resource nobody writes or imports, two fresh writers of
 // one resource, a modify with no earlier version, a cycle, an unknown `like` size, a buffer
 // written by a GPU pass without a declared size, a history of a resource nobody writes (unless
-// previous(name) is imported, as replay does) or of a buffer sized at run time, a name with '@',
-// a subresource range outside its image (or on a buffer), one pass using a subresource in two
+// previous(name) is imported, as replay does) or of a CPU pass's output, a name with '@', a
+// subresource range outside its image (or on a buffer), one pass using a subresource in two
 // layouts, a 3D array or a cube that is not square with a multiple of 6 layers.
 CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
                             const GraphSettings& settings);

@@ -5,6 +5,7 @@
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 
 #include "captures/hash.h"
@@ -82,36 +83,35 @@ Camera base_camera(const Scene& scene, const RenderSettings& settings) {
   return framing_camera(scene, double(settings.width) / settings.height);
 }
 
+namespace {
+
+// Each motion's flag name and speed along the view, in metres per second.
+struct MotionInfo {
+  CameraPath::Motion motion;
+  const char* name;
+  double speed;
+};
+constexpr MotionInfo kMotions[] = {{CameraPath::Motion::still, "static", 0.0},
+                                   {CameraPath::Motion::walk, "walk", 1.4},
+                                   {CameraPath::Motion::drive, "drive", 14.0}};
+
+const MotionInfo& info(CameraPath::Motion motion) {
+  for (const MotionInfo& m : kMotions)
+    if (m.motion == motion) return m;
+  throw std::logic_error("unknown camera motion");
+}
+
+}  // namespace
+
 CameraPath::Motion CameraPath::parse_motion(const std::string& name) {
-  if (name == "static") return Motion::still;
-  if (name == "walk") return Motion::walk;
-  if (name == "drive") return Motion::drive;
+  for (const MotionInfo& m : kMotions)
+    if (name == m.name) return m.motion;
   throw SceneError("--motion '" + name + "': expected static, walk or drive");
 }
 
-std::string CameraPath::motion_name(Motion motion) {
-  switch (motion) {
-    case Motion::still:
-      return "static";
-    case Motion::walk:
-      return "walk";
-    case Motion::drive:
-      return "drive";
-  }
-  return "";
-}
+std::string CameraPath::motion_name(Motion motion) { return info(motion).name; }
 
-double CameraPath::speed() const {
-  switch (motion) {
-    case Motion::still:
-      return 0.0;
-    case Motion::walk:
-      return 1.4;
-    case Motion::drive:
-      return 14.0;
-  }
-  return 0.0;
-}
+double CameraPath::speed() const { return info(motion).speed; }
 
 Camera frame_camera(const Camera& base, const Scene& scene, const CameraPath& path, uint32_t frame) {
   const auto cuts_so_far = std::distance(path.cuts.begin(), path.cuts.upper_bound(frame));

@@ -141,6 +141,18 @@ nc::IsolatedInput image(VkFormat format, nc::ResourceKind kind, uint32_t w, uint
   return in;
 }
 
+// frame.constants as an input of a pass run on its own.
+nc::IsolatedInput constants_input(const nc::GpuFrameConstants& constants) {
+  nc::IsolatedInput input;
+  input.desc.is_buffer = true;
+  input.desc.kind = nc::ResourceKind::buffer;
+  input.desc.buffer_size = sizeof(constants);
+  auto bytes = std::make_shared<std::vector<uint8_t>>(sizeof(constants));
+  std::memcpy(bytes->data(), &constants, sizeof(constants));
+  input.bytes = bytes;
+  return input;
+}
+
 double gpu_ms(const nc::IsolatedRun& run) { return run.execution.passes.at(0).gpu_ms.value_or(0.0); }
 
 // normals.pack: LUT size against mean/max angular error over a Fibonacci sphere.
@@ -321,13 +333,7 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
   std::memcpy(depth_bytes.data(), device_depth.data(), device_depth.size() * 4);
   nc::GpuFrameConstants constants{};
   constants.projection_params.x = 0.05f;
-  auto constant_bytes = std::make_shared<std::vector<uint8_t>>(sizeof(constants));
-  std::memcpy(constant_bytes->data(), &constants, sizeof(constants));
-  nc::IsolatedInput constants_in;
-  constants_in.desc.is_buffer = true;
-  constants_in.desc.kind = nc::ResourceKind::buffer;
-  constants_in.desc.buffer_size = sizeof(constants);
-  constants_in.bytes = constant_bytes;
+  const nc::IsolatedInput constants_in = constants_input(constants);
   std::vector<double> times;
   nc::IsolatedRun convert;
   for (int r = 0; r < 3; ++r) {
@@ -468,12 +474,7 @@ void bench_exposure(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width
   std::memcpy(lit.data(), texels.data(), lit.size());
   nc::GpuFrameConstants constants{};
   constants.timing.y = float(nc::kFrameSeconds);
-  nc::IsolatedInput constants_in;
-  constants_in.desc.is_buffer = true;
-  constants_in.desc.buffer_size = sizeof(constants);
-  auto constant_bytes = std::make_shared<std::vector<uint8_t>>(sizeof(constants));
-  std::memcpy(constant_bytes->data(), &constants, sizeof(constants));
-  constants_in.bytes = constant_bytes;
+  const nc::IsolatedInput constants_in = constants_input(constants);
   table() << "\n## exposure (" << width << "x" << height << ", log2 luminance uniform in [-10, 10])\n";
   for (const double range : {24.0, 48.0}) {
     nc::ParamValues params = nc::exposure_pass().default_params();

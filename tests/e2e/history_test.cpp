@@ -6,6 +6,7 @@
 // says.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -14,6 +15,7 @@
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
 #include "tests/e2e/cli.h"
+#include "tests/reference/exposure_reference.h"
 
 namespace nightcap::test {
 namespace {
@@ -83,43 +85,30 @@ TEST(History, TheAdaptedExposureMatchesACpuComputationOverTheRecordedFrames) {
     const double log2_min = exposure.params.at("log2_min"), log2_max = exposure.params.at("log2_max");
     const double tau = exposure.params.at("adapt_seconds");
     // The histogram of the recorded lit image, in double precision.
-    const ResourceRecord& lit_record = find(exposure.inputs, "lighting.lit");
-    const std::vector<uint8_t> lit = capture.load(lit_record);
-    std::vector<uint64_t> reference(kExposureBins, 0);
-    uint64_t near_edges = 0, pixels = 0;
+    const std::vector<uint8_t> lit = capture.load(find(exposure.inputs, "lighting.lit"));
+    std::vector<std::array<double, 3>> rgb;
     for (size_t p = 0; p + 8 <= lit.size(); p += 8) {
       uint16_t h[3];
       std::memcpy(h, lit.data() + p, 6);
-      const double l = 0.2126 * half_to_float(h[0]) + 0.7152 * half_to_float(h[1]) + 0.0722 * half_to_float(h[2]);
-      if (std::isnan(l)) continue;
-      ++pixels;
-      size_t bin = 0;
-      if (l > std::exp2(log2_min)) {
-        const double t = (std::log2(l) - log2_min) / (log2_max - log2_min) * kExposureBins;
-        bin = size_t(std::clamp(std::floor(t), 0.0, double(kExposureBins - 1)));
-        near_edges += std::abs(t - std::round(t)) < 1e-4;
-      }
-      ++reference[bin];
+      rgb.push_back({half_to_float(h[0]), half_to_float(h[1]), half_to_float(h[2])});
     }
+    const reference::ExposureHistogram reference = reference::exposure_histogram(rgb, log2_min, log2_max);
     std::vector<uint32_t> recorded(kExposureBins);
     const std::vector<uint8_t> histogram_bytes = capture.load(find(exposure.outputs, "exposure.histogram"));
     ASSERT_EQ(histogram_bytes.size(), recorded.size() * 4);
     std::memcpy(recorded.data(), histogram_bytes.data(), histogram_bytes.size());
     uint64_t l1 = 0;
-    double sum = 0;
-    const double width = (log2_max - log2_min) / kExposureBins;
-    for (size_t i = 0; i < kExposureBins; ++i) {
-      l1 += uint64_t(std::llabs(int64_t(recorded[i]) - int64_t(reference[i])));
-      sum += double(reference[i]) * (log2_min + (i + 0.5) * width);
-    }
-    EXPECT_LE(l1, 2 * near_edges) << "frame " << k;
-    const double measured = sum / double(pixels);
+    for (size_t i = 0; i < kExposureBins; ++i)
+      l1 += uint64_t(std::llabs(int64_t(recorded[i]) - int64_t(reference.bins[i])));
+    EXPECT_LE(l1, 2 * reference.near_edges) << "frame " << k;
+    const double measured = reference.measured;
     const bool restarted = capture.frame(k).history_reset.count("exposure.value") != 0;
-    adapted = restarted ? measured : measured + (adapted - measured) * std::exp(-kFrameSeconds / tau);
+    adapted = restarted ? measured : reference::adapt_exposure(measured, adapted, kFrameSeconds, tau);
     const double mean = std::exp2(adapted);
-    const double scale = (1.03 - 2.0 / (2.0 + std::log10(mean + 1.0))) / mean;  // the automatic key
+    const double scale = reference::automatic_key(mean) / mean;
     const std::vector<float> value = floats(capture.load(find(exposure.outputs, "exposure.value")));
-    const double bound = 1e-5 * (k + 1) + double(near_edges) * width / double(pixels);
+    const double width = (log2_max - log2_min) / kExposureBins;
+    const double bound = 1e-5 * (k + 1) + double(reference.near_edges) * width / double(reference.counted);
     EXPECT_NEAR(value[2], measured, bound) << "frame " << k;
     EXPECT_NEAR(value[1], adapted, bound) << "frame " << k;
     EXPECT_NEAR(value[0], scale, scale * bound) << "frame " << k;

@@ -10,6 +10,7 @@
 // the mean is a float tree sum of 256 products (relative error < 2⁻²⁴·8 each way), the
 // adaptation one float exp and mix: |adapted − reference| ≤ 10⁻⁵ + moved·bin_width/N log2 units,
 // and the scale within the same relative bound times ln 2 (allowing for float exp2).
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -17,6 +18,7 @@
 #include "passes/core/format.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
+#include "tests/reference/exposure_reference.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {
@@ -28,39 +30,15 @@ struct Rgb {
   float r, g, b;
 };
 
-struct Reference {
-  std::vector<uint64_t> histogram = std::vector<uint64_t>(kExposureBins, 0);
-  uint64_t near_edges = 0;  // pixels whose bin the GPU may legitimately choose one off
-  double measured = 0;      // mean log2 luminance
-};
+using Reference = reference::ExposureHistogram;
 
+// The reference over the half-float texels the pass reads.
 Reference reference(const std::vector<Rgb>& pixels) {
-  Reference ref;
-  for (const Rgb& p : pixels) {
-    // The half-float texel the pass reads.
-    const double r = half_to_float(float_to_half(p.r)), g = half_to_float(float_to_half(p.g)),
-                 b = half_to_float(float_to_half(p.b));
-    const double l = 0.2126 * r + 0.7152 * g + 0.0722 * b;
-    if (std::isnan(l)) continue;
-    size_t bin = 0;
-    if (std::isinf(l) && l > 0) {
-      bin = kExposureBins - 1;
-    } else if (l > std::exp2(kLog2Min)) {
-      const double t = (std::log2(l) - kLog2Min) / (kLog2Max - kLog2Min) * kExposureBins;
-      bin = size_t(std::clamp(std::floor(t), 0.0, double(kExposureBins - 1)));
-      if (std::abs(t - std::round(t)) < 1e-4) ++ref.near_edges;
-    }
-    ++ref.histogram[bin];
-  }
-  const double width = (kLog2Max - kLog2Min) / kExposureBins;
-  double sum = 0;
-  uint64_t count = 0;
-  for (size_t i = 0; i < kExposureBins; ++i) {
-    sum += double(ref.histogram[i]) * (kLog2Min + (i + 0.5) * width);
-    count += ref.histogram[i];
-  }
-  ref.measured = sum / double(count);
-  return ref;
+  std::vector<std::array<double, 3>> rgb;
+  for (const Rgb& p : pixels)
+    rgb.push_back(
+        {half_to_float(float_to_half(p.r)), half_to_float(float_to_half(p.g)), half_to_float(float_to_half(p.b))});
+  return reference::exposure_histogram(rgb, kLog2Min, kLog2Max);
 }
 
 class Exposure : public GpuTest {
@@ -111,16 +89,17 @@ class Exposure : public GpuTest {
     ASSERT_EQ(got.histogram.size(), kExposureBins);
     uint64_t l1 = 0;
     for (size_t i = 0; i < kExposureBins; ++i)
-      l1 += uint64_t(std::llabs(int64_t(got.histogram[i]) - int64_t(ref.histogram[i])));
+      l1 += uint64_t(std::llabs(int64_t(got.histogram[i]) - int64_t(ref.bins[i])));
     EXPECT_LE(l1, 2 * ref.near_edges) << "histogram differs beyond pixels on bin edges";
     const double width = (kLog2Max - kLog2Min) / kExposureBins;
     const double bound = 1e-5 + double(ref.near_edges) * width / double(std::max<size_t>(pixels, 1));
-    const double keep = adapt_seconds > 0 ? std::exp(-kFrameSeconds / adapt_seconds) : 0.0;
-    const double adapted = has_history ? ref.measured + (previous_adapted - ref.measured) * keep : ref.measured;
+    const double adapted = has_history
+                               ? reference::adapt_exposure(ref.measured, previous_adapted, kFrameSeconds, adapt_seconds)
+                               : ref.measured;
     EXPECT_NEAR(got.value[2], ref.measured, bound) << "measured mean log2 luminance";
     EXPECT_NEAR(got.value[1], adapted, bound) << "adapted log2 luminance";
     const double mean = std::exp2(adapted);
-    const double scale = (key > 0 ? key : 1.03 - 2.0 / (2.0 + std::log10(mean + 1.0))) / mean;
+    const double scale = (key > 0 ? key : reference::automatic_key(mean)) / mean;
     EXPECT_NEAR(got.value[0], scale, scale * (bound * std::log(2.0) + 1e-6)) << "exposure scale";
   }
 };
