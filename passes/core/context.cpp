@@ -132,6 +132,13 @@ uint32_t PassContext::slot(const std::string& resource) const {
   throw GraphError(pass() + ": declares no binding for '" + resource + "'");
 }
 
+uint32_t PassContext::slot(const std::string& resource, Use use) const {
+  const DescOf desc_of = [this](const std::string& name) -> const ResourceDesc& { return desc(name); };
+  for (const DeclaredSlot& s : declared_slots(declaration(), desc_of))
+    if (s.use->bound_name() == resource && s.use->use == use) return s.first;
+  throw GraphError(pass() + ": declares no binding of '" + resource + "' for that use");
+}
+
 void PassContext::bind(const GraphicsPipelineDesc& desc) {
   auto code = [&](const std::string& path) {
     auto spirv = shared_.shaders(pass(), path);

@@ -84,6 +84,9 @@ class PassContext {
   void bind(const ComputePipelineDesc& desc);
   // The first binding the declaration gives `resource` (a resource or a read prefix).
   uint32_t slot(const std::string& resource) const;
+  // The binding of the use of `resource` for `use`, where a pass binds one resource twice (one
+  // mip sampled, another written).
+  uint32_t slot(const std::string& resource, Use use) const;
   void push(const std::vector<Binding>& bindings);
   void push_constants(const void* data, uint32_t bytes);
   template <typename Constants>

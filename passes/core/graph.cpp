@@ -276,10 +276,10 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
           break;
         }
       if (compiled.runs && !decl.disabled_reason.empty()) {
-        auto params = settings.params.find(decl.name);
+        auto params = settings.params.find(decl.disable_switch);
         if (params != settings.params.end() && params->second.count("enabled") && params->second.at("enabled") == 0) {
           compiled.runs = false;
-          compiled.reason = decl.disabled_reason + " (" + decl.name + ".enabled=0)";
+          compiled.reason = decl.disabled_reason + " (" + decl.disable_switch + ".enabled=0)";
         }
       }
       if (compiled.runs && decl.skip_if) {

@@ -87,8 +87,13 @@ PassDecl& PassDecl::read_previous(std::string resource, Use use) {
   return *this;
 }
 
-PassDecl& PassDecl::can_disable(std::string reason) {
+PassDecl& PassDecl::can_disable(std::string reason, std::string group) {
   disabled_reason = std::move(reason);
+  if (!group.empty() && group != name) {
+    disable_switch = std::move(group);
+    return *this;
+  }
+  disable_switch = name;
   return param("enabled", 1.0, 0.0, 1.0, "0 skips the pass (" + disabled_reason + ")");
 }
 

@@ -150,6 +150,7 @@ struct PassDecl {
   // Extra frame-dependent skip condition: returns the reason, or "" to run.
   std::function<std::string(const SkipContext&)> skip_if;
   std::string disabled_reason;  // set by can_disable: the skip reason when `enabled` is 0
+  std::string disable_switch;   // set by can_disable: whose `enabled` (this pass, or its group)
 
   PassDecl(std::string pass_name, PassType pass_type) : name(std::move(pass_name)), type(pass_type) {}
   PassDecl& read(std::string resource, Use use);
@@ -168,7 +169,9 @@ struct PassDecl {
   // resource's writer runs whenever this pass does, so the next frame has its history.
   PassDecl& read_previous(std::string resource, Use use);
   // A parameter `enabled` (default 1): at 0 the pass is skipped with `reason`, e.g. "fixed exposure".
-  PassDecl& can_disable(std::string reason);
+  // Passes that carry out one pass of frame.md in steps share one switch, named by `group`
+  // (bloom.level0…5: `--set bloom.enabled=0`); the parameter then belongs to the group.
+  PassDecl& can_disable(std::string reason, std::string group = "");
   PassDecl& param(std::string param_name, double default_value, double min, double max, std::string help);
   PassDecl& needs(std::string feature);
   PassDecl& shader(std::string path);

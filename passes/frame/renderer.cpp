@@ -1,5 +1,6 @@
 #include "passes/frame/renderer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <glm/gtc/constants.hpp>
@@ -50,7 +51,18 @@ void parse_set(const std::string& text, std::map<std::string, ParamValues>& para
 void validate_params(const std::vector<PassDecl>& passes, const std::map<std::string, ParamValues>& params) {
   for (const auto& [pass, values] : params) {
     const PassDecl* decl = find_pass(passes, pass);
-    if (!decl) throw SceneError("--set " + pass + ".*: no pass named '" + pass + "'");
+    if (!decl) {
+      // A group's switch (bloom.enabled for bloom.level0…5) is its only parameter.
+      const bool group = std::any_of(passes.begin(), passes.end(), [&](const PassDecl& p) {
+        return !p.disabled_reason.empty() && p.disable_switch == pass;
+      });
+      if (!group) throw SceneError("--set " + pass + ".*: no pass named '" + pass + "'");
+      for (const auto& [name, value] : values)
+        if (name != "enabled" || (value != 0 && value != 1))
+          throw SceneError("--set " + pass + "." + name + ": '" + pass +
+                           "' is a group of passes whose only parameter is 'enabled' (0 or 1)");
+      continue;
+    }
     for (const auto& [name, value] : values) {
       const ParamDecl* p = decl->find_param(name);
       if (!p) {

@@ -18,7 +18,7 @@ layout(set = 0, binding = 1, rgba16f) uniform writeonly image2D target;
 layout(push_constant) uniform Params {
   ivec2 source_size;
   ivec2 target_size;
-  int radius;                      // ≤ MAX_RADIUS
+  int radius;                     // ≤ MAX_RADIUS
   float weights[MAX_RADIUS + 1];  // weights[k] for offsets ±k, summing to 1 over -radius..radius
 };
 

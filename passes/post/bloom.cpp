@@ -54,7 +54,7 @@ PassDecl bloom_level_pass(uint32_t level) {
     pass.read("bloom.chain", Use::sampled, Subresources::mip(level - 1))
         .modify("bloom.chain", Use::storage_write, Subresources::mip(level));
   }
-  return pass.can_disable("bloom disabled by settings")
+  return pass.can_disable("bloom disabled by settings", "bloom")
       .param("sigma", 1.5, 0.25, 2.6,
              "Gaussian blur of each level, in texels of that level (radius ceil(3 sigma) <= 8)")
       .skip_when([level](const SkipContext& frame) -> std::string {
@@ -64,22 +64,20 @@ PassDecl bloom_level_pass(uint32_t level) {
                std::to_string(frame.width) + "x" + std::to_string(frame.height);
       })
       .shader("post/bloom.comp")
+      .push_constants<BloomConstants>()
       .compare("bloom.chain",
                ComparisonContract::floats(0x1p-24, 0x1p-7,
                                           "each level is within one half ULP of its filter of the level above "
                                           "(tests/unit/bloom_test.cpp) and carries the levels above it: six levels "
                                           "on two devices erring apart, twelve half ULPs"))
       .run([level, source, source_mip](PassContext& ctx) {
-        ComputePipelineDesc desc;
-        desc.shader = "post/bloom.comp";
-        desc.bindings = {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
-        desc.push_constant_bytes = sizeof(BloomConstants);
-        ctx.bind(desc);
+        ctx.bind_pipeline();
         const BloomConstants c =
             constants(ctx.param("sigma"), ctx.desc(source).extent, source_mip, ctx.desc("bloom.chain").extent, level);
-        ctx.push({Binding::texture(0, source, ctx.nearest_clamp(), ViewAspect::natural, int(source_mip)),
-                  Binding::image(1, "bloom.chain", int(level))});
-        ctx.push_constants(&c, sizeof c);
+        ctx.push({Binding::texture(ctx.slot(source, Use::sampled), source, ctx.nearest_clamp(), ViewAspect::natural,
+                                   int(source_mip)),
+                  Binding::image(ctx.slot("bloom.chain", Use::storage_write), "bloom.chain", int(level))});
+        ctx.push_constants(c);
         vkCmdDispatch(ctx.cmd(), (c.target_size[0] + 15) / 16, (c.target_size[1] + 15) / 16, 1);
       });
 }

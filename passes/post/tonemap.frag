@@ -22,9 +22,9 @@ vec3 bloom_at(vec2 uv) {
     const vec2 t = uv * vec2(size) - 0.5;
     const vec2 f = t - floor(t);
     const ivec2 a = max(ivec2(floor(t)), ivec2(0)), b = min(ivec2(floor(t)) + 1, size - 1);
-    sum += mix(mix(texelFetch(bloom_chain, a, level).rgb, texelFetch(bloom_chain, ivec2(b.x, a.y), level).rgb, f.x),
-               mix(texelFetch(bloom_chain, ivec2(a.x, b.y), level).rgb, texelFetch(bloom_chain, b, level).rgb, f.x),
-               f.y);
+    sum +=
+        mix(mix(texelFetch(bloom_chain, a, level).rgb, texelFetch(bloom_chain, ivec2(b.x, a.y), level).rgb, f.x),
+            mix(texelFetch(bloom_chain, ivec2(a.x, b.y), level).rgb, texelFetch(bloom_chain, b, level).rgb, f.x), f.y);
   }
   return sum / float(levels);
 }

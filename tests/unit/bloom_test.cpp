@@ -16,6 +16,7 @@
 #include <random>
 
 #include "passes/frame/frame_passes.h"
+#include "passes/frame/renderer.h"
 #include "tests/reference/bloom_reference.h"
 #include "tests/unit/gpu_fixture.h"
 
@@ -198,17 +199,25 @@ TEST_F(Bloom, TinyOutputsShortenTheChain) {
   }
 }
 
-TEST_F(Bloom, DisabledLevelsAreSkippedAndTheChainIsCleared) {
+TEST_F(Bloom, OneSwitchSkipsEveryLevelAndTheChainIsCleared) {
   std::map<std::string, ParamValues> params;
-  for (uint32_t level = 0; level < kBloomLevels; ++level) params["bloom.level" + std::to_string(level)]["enabled"] = 0;
+  params["bloom"]["enabled"] = 0;
   const ChainRun run = run_chain(night_scene(64, 64, 1), 64, 64, params);
   for (uint32_t level = 0; level < kBloomLevels; ++level) {
     EXPECT_FALSE(run.pass(level).runs);
-    EXPECT_EQ(run.pass(level).reason,
-              "bloom disabled by settings (bloom.level" + std::to_string(level) + ".enabled=0)");
+    EXPECT_EQ(run.pass(level).reason, "bloom disabled by settings (bloom.enabled=0)");
   }
   const auto& bytes = *run.chain().bytes;
   EXPECT_TRUE(std::all_of(bytes.begin(), bytes.end(), [](uint8_t b) { return b == 0; }));
+}
+
+TEST(BloomSwitch, TheGroupTakesEnabledOnly) {
+  EXPECT_NO_THROW(validate_params(frame_passes(), {{"bloom", {{"enabled", 0}}}}));
+  EXPECT_NO_THROW(validate_params(frame_passes(), {{"bloom.level3", {{"sigma", 2}}}}));
+  EXPECT_THROW(validate_params(frame_passes(), {{"bloom", {{"sigma", 2}}}}), SceneError);
+  EXPECT_THROW(validate_params(frame_passes(), {{"bloom", {{"enabled", 0.5}}}}), SceneError);
+  EXPECT_THROW(validate_params(frame_passes(), {{"bloom.level3", {{"enabled", 0}}}}), SceneError)
+      << "a level has no switch of its own";
 }
 
 }  // namespace
