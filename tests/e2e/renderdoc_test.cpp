@@ -53,15 +53,17 @@ TEST(RenderDoc, OneCaptureLabelledWithThePassesThatRanAndTheirImagesNamed) {
   const std::string command = "renderdoccmd capture -w -c " + quote(dir / "frame") + " " + NIGHTCAP_CLI +
                               " render --size 96x54 --frames 2 -o " + quote(dir / "capture") + " >" +
                               quote(dir / "log") + " 2>&1";
-  ASSERT_EQ(std::system(command.c_str()), 0) << "renderdoccmd failed, see " << dir / "log";
-  // renderdoccmd's exit code is its own: the render's success shows in its output.
+  // renderdoccmd's exit code is its own, and not the render's: on a loaded machine the render
+  // can finish before renderdoccmd connects to it to wait, and it then fails although the
+  // .rdc was written. The render's success shows in its output and the .rdc file.
+  const int code = std::system(command.c_str());
   std::ifstream log(dir / "log");
   const std::string output((std::istreambuf_iterator<char>(log)), {});
-  ASSERT_NE(output.find("capture written to"), std::string::npos) << output;
+  ASSERT_NE(output.find("capture written to"), std::string::npos) << "renderdoccmd exit " << code << ": " << output;
   std::vector<fs::path> captures;
   for (const auto& e : fs::directory_iterator(dir))
     if (e.path().extension() == ".rdc") captures.push_back(e.path());
-  ASSERT_EQ(captures.size(), 1u);
+  ASSERT_EQ(captures.size(), 1u) << "renderdoccmd exit " << code << ": " << output;
 
   // The passes that ran on the GPU, in order, and the images they read or wrote, from the
   // capture's own manifest.
