@@ -72,6 +72,9 @@ class Planner {
     const ResourceDesc& desc = graph_.resources.at(resource);
     if (desc.is_buffer) state.layout = VK_IMAGE_LAYOUT_UNDEFINED;  // buffers have none
     auto it = step_.try_emplace(resource, Grid<std::optional<Need>>(desc)).first;
+    Lifetime& lifetime = lifetimes_[resource];
+    if (lifetime.first < 0) lifetime.first = steps_;
+    lifetime.last = steps_;
     for (uint32_t m = range.base_mip; m < range.base_mip + range.mip_count; ++m)
       for (uint32_t l = range.base_layer; l < range.base_layer + range.layer_count; ++l) {
         std::optional<Need>& need = it->second.at(m, l);
@@ -95,16 +98,37 @@ class Planner {
   std::vector<PlannedBarrier> flush() {
     std::vector<PlannedBarrier> barriers;
     for (auto& [resource, needs] : step_) {
-      auto state = states_.try_emplace(resource, Grid<SyncState>(graph_.resources.at(resource))).first;
-      Grid<std::optional<BarrierPlan>> plans(graph_.resources.at(resource));
+      const ResourceDesc& desc = graph_.resources.at(resource);
+      auto state = states_.try_emplace(resource, Grid<Cell>(desc)).first;
+      Grid<std::optional<std::pair<BarrierPlan, bool>>> plans(desc);  // and whether it is a first use
       for (uint32_t m = 0; m < needs.mips; ++m)
         for (uint32_t l = 0; l < needs.layers; ++l)
-          if (const std::optional<Need>& need = needs.at(m, l))
-            plans.at(m, l) = plan_barrier(state->second.at(m, l), need->state, need->discard);
-      for (auto& [range, plan] : rectangles(plans)) barriers.push_back({resource, range, plan});
+          if (const std::optional<Need>& need = needs.at(m, l)) {
+            Cell& cell = state->second.at(m, l);
+            std::optional<BarrierPlan> plan = plan_barrier(cell.sync, need->state, need->discard);
+            if (!cell.used)
+              plans.at(m, l) = {plan.value_or(BarrierPlan{{}, need->state}), true};
+            else if (plan)
+              plans.at(m, l) = {*plan, false};
+            cell.used = true;
+          }
+      for (auto& [range, plan] : rectangles(plans)) barriers.push_back({resource, range, plan.first, plan.second});
     }
     step_.clear();
+    ++steps_;
     return barriers;
+  }
+
+  // Each resource's lifetime, with the state its last step left it in.
+  std::map<std::string, Lifetime> lifetimes() {
+    for (auto& [resource, lifetime] : lifetimes_) {
+      lifetime.last_use = {};
+      for (const Cell& cell : states_.at(resource).cells) {
+        lifetime.last_use.stages |= cell.sync.last_write.stages | cell.sync.read_stages;
+        lifetime.last_use.access |= cell.sync.last_write.access;
+      }
+    }
+    return lifetimes_;
   }
 
   Subresources whole(const std::string& resource) const {
@@ -113,9 +137,15 @@ class Planner {
   }
 
  private:
+  struct Cell {
+    SyncState sync;
+    bool used = false;  // by an earlier step
+  };
   const CompiledGraph& graph_;
-  std::map<std::string, Grid<SyncState>> states_;
+  std::map<std::string, Grid<Cell>> states_;
   std::map<std::string, Grid<std::optional<Need>>> step_;
+  int steps_ = 0;  // flushed so far
+  std::map<std::string, Lifetime> lifetimes_;
 };
 
 bool on_gpu(const CompiledPass& pass) { return !pass.culled && pass.decl->type != PassType::cpu; }
@@ -125,16 +155,16 @@ bool versions(const CompiledPass& pass, const BoundUse& out) { return pass.runs 
 
 }  // namespace
 
-void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& host_resources) {
+void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& imports) {
   Planner planner(graph);
-  std::set<std::string> used;
+  std::set<std::string> used_on_gpu;
   for (const CompiledPass& pass : graph.passes)
     if (on_gpu(pass))
       for (const auto* uses : {&pass.inputs, &pass.outputs})
-        for (const BoundUse& u : *uses) used.insert(u.resource);
+        for (const BoundUse& u : *uses) used_on_gpu.insert(u.resource);
   graph.uploads.clear();
-  for (const std::string& resource : used)
-    if (host_resources.count(resource)) {
+  for (const std::string& resource : used_on_gpu)
+    if (imports.count(resource)) {
       graph.uploads.push_back(resource);
       planner.use_whole(resource, transfer_state(true), true);
     }
@@ -144,7 +174,7 @@ void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& hos
   for (const CompiledPass& pass : graph.passes)
     if (on_gpu(pass))
       for (const BoundUse& in : pass.inputs)
-        if (in.history && !host_resources.count(in.resource) &&
+        if (in.history && !imports.count(in.resource) &&
             std::find(graph.history.begin(), graph.history.end(), in.resource) == graph.history.end())
           graph.history.push_back(in.resource);
   for (const std::string& slot : graph.history) planner.use_whole(slot, transfer_state(true), true);
@@ -158,12 +188,34 @@ void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& hos
     if (on_gpu(graph.passes[i]))
       for (const BoundUse& out : graph.passes[i].outputs)
         if (versions(graph.passes[i], out)) final_writer[out.resource] = i;
+  // A version's bytes are on the host when it is imported or a CPU pass wrote it.
+  auto on_host = [&](const BoundUse& in) {
+    if (in.history) return imports.count(in.resource) > 0;
+    return in.producer < 0 || graph.passes[size_t(in.producer)].decl->type == PassType::cpu;
+  };
 
   for (size_t i = 0; i < graph.passes.size(); ++i) {
     CompiledPass& pass = graph.passes[i];
-    if (!on_gpu(pass)) continue;
     PassSync& sync = pass.sync;
     sync = {};
+    if (pass.culled) continue;
+    if (pass.decl->type == PassType::cpu) {
+      if (pass.runs && !graph.settings.capture)
+        for (const BoundUse& in : pass.inputs)
+          if (!on_host(in) &&
+              std::find(sync.host_reads.begin(), sync.host_reads.end(), in.resource) == sync.host_reads.end()) {
+            sync.host_reads.push_back(in.resource);
+            planner.use_whole(in.resource, transfer_state(false), false);
+          }
+      sync.before_host_reads = planner.flush();
+      for (const BoundUse& out : pass.outputs)
+        if (used_on_gpu.count(out.resource)) {
+          sync.uploads.push_back(out.resource);
+          planner.use_whole(out.resource, transfer_state(true), true);
+        }
+      sync.before_uploads = planner.flush();
+      continue;
+    }
     // Fresh outputs start defined: a skipped pass's wholly, a running pass's outside the part it
     // writes.
     for (const BoundUse& out : pass.outputs) {
@@ -204,6 +256,7 @@ void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& hos
     planner.use_whole(slot, transfer_state(true), true);
   }
   graph.before_history_copy = planner.flush();
+  graph.lifetimes = planner.lifetimes();
 }
 
 }  // namespace nightcap

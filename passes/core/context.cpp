@@ -33,6 +33,30 @@ const BoundUse* PassContext::find_use(const std::string& resource) const {
   return nullptr;
 }
 
+VkBuffer PassContext::indirect_args(const std::string& resource, uint64_t offset, uint64_t bytes) const {
+  const bool declared = std::any_of(pass_.inputs.begin(), pass_.inputs.end(), [&](const BoundUse& u) {
+    return u.resource == resource && u.use == Use::indirect_args;
+  });
+  if (!declared)
+    throw GraphError(pass() + ": takes indirect arguments from '" + resource +
+                     "' without declaring it as Use::indirect_args");
+  const uint64_t size = desc(resource).buffer_size;
+  if (offset > size || bytes > size - offset)
+    throw GraphError(pass() + ": indirect arguments at bytes " + std::to_string(offset) + "+" + std::to_string(bytes) +
+                     " of '" + resource + "', which holds " + std::to_string(size));
+  return buffer(resource);
+}
+
+void PassContext::dispatch_indirect(const std::string& resource, uint64_t offset) {
+  vkCmdDispatchIndirect(cmd(), indirect_args(resource, offset, sizeof(VkDispatchIndirectCommand)), offset);
+}
+
+void PassContext::draw_indexed_indirect(const std::string& resource, uint64_t offset, uint32_t count, uint32_t stride) {
+  if (count == 0) return;
+  const uint64_t bytes = uint64_t(count - 1) * stride + sizeof(VkDrawIndexedIndirectCommand);
+  vkCmdDrawIndexedIndirect(cmd(), indirect_args(resource, offset, bytes), offset, count, stride);
+}
+
 const ResourceDesc& PassContext::desc(const std::string& resource) const {
   if (!find_use(resource)) throw GraphError(pass() + ": uses undeclared resource '" + resource + "'");
   return shared_.resources.count(resource) ? shared_.resources.at(resource).desc : find_use(resource)->desc;

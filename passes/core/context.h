@@ -106,9 +106,15 @@ class PassContext {
   void end_rendering();
   // Orders this pass's own storage writes before its next reads (e.g. between mip levels).
   void storage_barrier();
+  // Draws and dispatches whose arguments a GPU pass computed: `resource` must be declared as
+  // Use::indirect_args, so the graph's barrier makes the arguments visible to the indirect read.
+  void dispatch_indirect(const std::string& resource, uint64_t offset = 0);
+  void draw_indexed_indirect(const std::string& resource, uint64_t offset, uint32_t count, uint32_t stride);
 
  private:
   const BoundUse* find_use(const std::string& resource) const;
+  // The buffer holding `bytes` of indirect arguments at `offset`; throws unless declared so.
+  VkBuffer indirect_args(const std::string& resource, uint64_t offset, uint64_t bytes) const;
   // Throws unless the pass declared a use of every subresource the view selects, in a use that
   // leaves it in `layout` (the graph's barriers put it there and nowhere else).
   void check_declared(const std::string& resource, int mip, int layer, VkImageLayout layout) const;

@@ -302,18 +302,70 @@ void GpuDevice::destroy(GpuBuffer& buffer) {
 }
 
 GpuImage GpuDevice::create_image(const VkImageCreateInfo& info, const std::string& name) {
+  GpuImage result = create_unbound_image(info, name);
+  const Placement needs = placement(result);
+  result.memory = allocate(needs.size, needs.type, name + " memory");
+  bind(result, result.memory, 0);
+  return result;
+}
+
+GpuImage GpuDevice::create_unbound_image(const VkImageCreateInfo& info, const std::string& name) {
   GpuImage result;
   vk_check(vkCreateImage(device_, &info, nullptr, &result.image), "vkCreateImage");
   this->name(VK_OBJECT_TYPE_IMAGE, result.image, name);
-  VkMemoryRequirements req;
-  vkGetImageMemoryRequirements(device_, result.image, &req);
-  auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
-  alloc.allocationSize = req.size;
-  alloc.memoryTypeIndex = memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  vk_check(vkAllocateMemory(device_, &alloc, nullptr, &result.memory), "vkAllocateMemory");
-  this->name(VK_OBJECT_TYPE_DEVICE_MEMORY, result.memory, name + " memory");
-  vk_check(vkBindImageMemory(device_, result.image, result.memory, 0), "vkBindImageMemory");
   return result;
+}
+
+GpuBuffer GpuDevice::create_unbound_buffer(uint64_t size, VkBufferUsageFlags usage, const std::string& name) {
+  GpuBuffer result;
+  result.size = size;
+  auto info = vk_struct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
+  info.size = std::max<uint64_t>(size, 16);
+  info.usage = usage;
+  vk_check(vkCreateBuffer(device_, &info, nullptr, &result.buffer), "vkCreateBuffer");
+  this->name(VK_OBJECT_TYPE_BUFFER, result.buffer, name);
+  return result;
+}
+
+namespace {
+
+GpuDevice::Placement placement_of(const VkMemoryRequirements& req, uint32_t type, uint64_t granularity) {
+  // Buffers and optimal-tiling images share blocks, so every offset keeps them a granule apart.
+  return {req.size, std::max<uint64_t>(req.alignment, granularity), type};
+}
+
+}  // namespace
+
+GpuDevice::Placement GpuDevice::placement(const GpuImage& image) const {
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(device_, image.image, &req);
+  return placement_of(req, memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT),
+                      properties_.limits.bufferImageGranularity);
+}
+
+GpuDevice::Placement GpuDevice::placement(const GpuBuffer& buffer) const {
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(device_, buffer.buffer, &req);
+  return placement_of(req, memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT),
+                      properties_.limits.bufferImageGranularity);
+}
+
+VkDeviceMemory GpuDevice::allocate(uint64_t bytes, uint32_t type, const std::string& name) {
+  auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
+  alloc.allocationSize = bytes;
+  alloc.memoryTypeIndex = type;
+  VkDeviceMemory memory;
+  vk_check(vkAllocateMemory(device_, &alloc, nullptr, &memory), "vkAllocateMemory");
+  this->name(VK_OBJECT_TYPE_DEVICE_MEMORY, memory, name);
+  return memory;
+}
+
+void GpuDevice::bind(const GpuImage& image, VkDeviceMemory memory, uint64_t offset) {
+  vk_check(vkBindImageMemory(device_, image.image, memory, offset), "vkBindImageMemory");
+}
+
+void GpuDevice::bind(const GpuBuffer& buffer, VkDeviceMemory memory, uint64_t offset) {
+  vk_check(vkBindBufferMemory(device_, buffer.buffer, memory, offset), "vkBindBufferMemory");
 }
 
 void GpuDevice::destroy(GpuImage& image) {

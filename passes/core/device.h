@@ -70,6 +70,21 @@ class GpuDevice {
   void destroy(GpuBuffer& buffer);
   GpuImage create_image(const VkImageCreateInfo& info, const std::string& name);
   void destroy(GpuImage& image);
+
+  // Placement in memory the caller allocates and frees (the graph's aliased transient memory):
+  // the resource is created unbound, `placement` says what it needs, `bind` puts it at an
+  // offset of a block from `allocate`. Its `memory` stays null, so destroy() frees only it.
+  struct Placement {
+    uint64_t size = 0, alignment = 1;  // alignment includes bufferImageGranularity
+    uint32_t type = 0;                 // the device-local memory type it goes in
+  };
+  GpuImage create_unbound_image(const VkImageCreateInfo& info, const std::string& name);
+  GpuBuffer create_unbound_buffer(uint64_t size, VkBufferUsageFlags usage, const std::string& name);
+  Placement placement(const GpuImage& image) const;
+  Placement placement(const GpuBuffer& buffer) const;
+  VkDeviceMemory allocate(uint64_t bytes, uint32_t type, const std::string& name);
+  void bind(const GpuImage& image, VkDeviceMemory memory, uint64_t offset);
+  void bind(const GpuBuffer& buffer, VkDeviceMemory memory, uint64_t offset);
   // A view of the image named `image_name`, named after it plus the mips, layer and aspect it
   // selects when those are not the whole image (`image_mips` levels, `image_layers` layers, every
   // aspect of info.format).

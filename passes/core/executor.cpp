@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "passes/core/execution_state.h"
+#include "passes/core/frame_memory.h"
 #include "passes/core/history.h"
 
 namespace nightcap {
@@ -34,12 +35,20 @@ VkImageUsageFlags usage_for(Use use) {
 }
 
 // Issues one step of the graph's barrier plan as one dependency.
+// `waits`: a resource's first-use barriers also wait for the last use of the resources whose
+// memory it takes over (FrameMemory::waits).
 void issue(VkCommandBuffer cmd, std::map<std::string, PhysicalResource>& resources,
-           const std::vector<PlannedBarrier>& planned) {
+           const std::vector<PlannedBarrier>& planned, const std::map<std::string, AccessState>& waits) {
   if (planned.empty()) return;
   std::vector<VkImageMemoryBarrier2> images;
   std::vector<VkBufferMemoryBarrier2> buffers;
-  for (const PlannedBarrier& b : planned) {
+  for (const PlannedBarrier& planned_barrier : planned) {
+    PlannedBarrier b = planned_barrier;
+    auto wait = b.first_use ? waits.find(b.resource) : waits.end();
+    if (wait != waits.end()) {
+      b.plan.before.stages |= wait->second.stages;
+      b.plan.before.access |= wait->second.access;
+    }
     const PhysicalResource& r = resources.at(b.resource);
     const VkPipelineStageFlags2 src_stages =
         b.plan.before.stages ? b.plan.before.stages : VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT;
@@ -90,14 +99,16 @@ std::vector<VkBufferImageCopy> raw_copy_regions(const ResourceDesc& d) {
   return regions;
 }
 
-void allocate(GpuDevice& gpu, const std::string& name, PhysicalResource& r, VkImageUsageFlags usage) {
+// Creates the image or buffer of `r.desc`: with its own memory, or unbound for FrameMemory.
+void create(GpuDevice& gpu, const std::string& name, PhysicalResource& r, VkImageUsageFlags usage, bool bound) {
   const ResourceDesc& d = r.desc;
   if (d.is_buffer) {
-    r.buffer = gpu.create_buffer(std::max<uint64_t>(d.buffer_size, 16),
-                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
-                                     VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                                     VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                 false, name);
+    const VkBufferUsageFlags buffer_usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+                                            VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                            VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    const uint64_t size = std::max<uint64_t>(d.buffer_size, 16);
+    r.buffer = bound ? gpu.create_buffer(size, buffer_usage, false, name)
+                     : gpu.create_unbound_buffer(size, buffer_usage, name);
     return;
   }
   auto info = vk_struct<VkImageCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO);
@@ -112,7 +123,7 @@ void allocate(GpuDevice& gpu, const std::string& name, PhysicalResource& r, VkIm
   info.usage = usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   // Sampling depth uses DEPTH_STENCIL_READ_ONLY_OPTIMAL, which needs attachment usage.
   if (format_info(d.format)->is_depth) info.usage |= VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
-  r.image = gpu.create_image(info, name);
+  r.image = bound ? gpu.create_image(info, name) : gpu.create_unbound_image(info, name);
 }
 
 Subresources whole(const ResourceDesc& d) { return {0, d.extent.mips, 0, d.extent.layers}; }
@@ -203,17 +214,10 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       for (const auto& [k, v] : it->second) values[k] = v;
     return values;
   };
-
-  // CPU passes: they may read only host data, so they all run before the GPU work.
-  for (size_t i = 0; i < graph.passes.size(); ++i) {
+  // Runs a CPU pass whose inputs are on the host; its outputs become host data.
+  auto run_cpu_pass = [&](size_t i) {
     CompiledPass& pass = graph.passes[i];
-    if (pass.culled || pass.decl->type != PassType::cpu) continue;
     PassExecution& exec = result.passes[i];
-    for (const BoundUse& in : pass.inputs) {
-      if (!shared.host.count(in.resource))
-        throw GraphError(pass.decl->name + ": a CPU pass cannot read GPU-produced '" + in.resource + "'");
-      exec.inputs.push_back(latest.at(in.resource));
-    }
     shared.cpu_outputs.clear();
     if (pass.runs) {
       const ParamValues params = params_of(*pass.decl);
@@ -235,20 +239,27 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       graph.resources[out.resource] = out.desc;
       shared.host[out.resource] = bytes;
       exec.outputs.push_back(add_version(out.resource, out.desc, bytes));
+      // Later passes saw the declared (size 0) description of a CPU buffer.
+      for (size_t later = i + 1; later < graph.passes.size(); ++later)
+        for (BoundUse& in : graph.passes[later].inputs)
+          if (in.resource == out.resource) in.desc = out.desc;
     }
-  }
-  // Later passes saw the declared (size 0) descriptors of CPU buffers: refresh them.
-  for (CompiledPass& pass : graph.passes)
-    for (BoundUse& in : pass.inputs)
-      if (graph.resources.count(in.resource)) in.desc = graph.resources.at(in.resource);
+  };
 
-  // Allocate what the GPU passes touch.
+  // Allocate what the GPU passes touch: transients placed together by FrameMemory, history
+  // slots from the pool; a CPU pass's outputs when it has run (a buffer's size is known then).
   std::map<std::string, VkImageUsageFlags> usage;
+  std::set<std::string> cpu_outputs;
   for (const CompiledPass& pass : graph.passes) {
-    if (pass.culled || pass.decl->type == PassType::cpu) continue;
+    if (pass.culled) continue;
+    if (pass.decl->type == PassType::cpu) {
+      for (const BoundUse& u : pass.outputs) cpu_outputs.insert(u.resource);
+      continue;
+    }
     for (const BoundUse& u : pass.inputs) usage[u.resource] |= usage_for(u.use);
     for (const BoundUse& u : pass.outputs) usage[u.resource] |= usage_for(u.use);
   }
+  FrameMemory memory(gpu);
   struct Cleanup {
     GpuDevice& gpu;
     PassContext::Shared& shared;
@@ -274,12 +285,18 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
         if (pooled.count(in.resource))
           throw GraphError(pass.decl->name + ": reads the previous frame's '" + pooled.at(in.resource) +
                            "', but this run keeps no history");
+  std::map<std::string, PhysicalResource*> transients;
   for (const auto& [name, flags] : usage) {
-    if (pooled.count(name)) continue;
+    // A resource no step of the plan touches (an input of a skipped pass only) needs no memory.
+    if (pooled.count(name) || cpu_outputs.count(name) || !graph.lifetimes.count(name)) continue;
     PhysicalResource& r = shared.resources[name];
     r.desc = graph.resources.at(name);
-    allocate(gpu, name, r, flags);
+    create(gpu, name, r, flags, false);
+    transients[name] = &r;
   }
+  memory.place(transients, graph.lifetimes, options.alias_memory);
+  result.memory_bytes = memory.bytes();
+  result.memory_bytes_without_aliasing = memory.bytes_without_aliasing();
   std::map<std::string, HistorySlot*> slots;  // previous(name) -> its slot in the pool
   for (const auto& [name, resource] : pooled) {
     const ResourceDesc& desc = graph.resources.at(name);
@@ -289,7 +306,7 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       HistorySlot fresh;
       fresh.resource.desc = desc;
       fresh.usage = usage[name];
-      allocate(gpu, name, fresh.resource, fresh.usage);
+      create(gpu, name, fresh.resource, fresh.usage, true);
       slot = &options.history->replace(resource, std::move(fresh));
     }
     if (!slot->filled)
@@ -299,7 +316,13 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
     PhysicalResource& r = shared.resources[name] = slot->resource;
     r.owned = false;
     slots[name] = slot;
+    const GpuDevice::Placement held = r.desc.is_buffer ? gpu.placement(r.buffer) : gpu.placement(r.image);
+    result.memory_bytes += held.size;
+    result.memory_bytes_without_aliasing += held.size;
   }
+  auto issue_step = [&](const std::vector<PlannedBarrier>& planned) {
+    issue(shared.cmd, shared.resources, planned, memory.waits());
+  };
 
   auto query_info = vk_struct<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
   query_info.queryType = VK_QUERY_TYPE_TIMESTAMP;
@@ -308,13 +331,23 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
   gpu.name(VK_OBJECT_TYPE_QUERY_POOL, cleanup.queries, "pass timestamps");
   vkResetQueryPool(gpu.device(), cleanup.queries, 0, query_info.queryCount);
 
-  VkCommandBuffer cmd = gpu.begin_commands(
-      options.name.empty() ? "frame " + std::to_string(graph.settings.frame.frame_index) : options.name);
-  shared.cmd = cmd;
+  const std::string frame_name =
+      options.name.empty() ? "frame " + std::to_string(graph.settings.frame.frame_index) : options.name;
+  shared.cmd = gpu.begin_commands(frame_name);
+  result.submits = 1;
+  // Copies the staging buffers filled so far into their versions (after a wait for the GPU).
+  size_t harvested = 0;
+  auto harvest = [&] {
+    for (; harvested < cleanup.staging.size(); ++harvested) {
+      const Staging& s = cleanup.staging[harvested];
+      if (s.version < 0) continue;
+      VersionData& v = result.versions[s.version];
+      const auto* begin = static_cast<const uint8_t*>(s.buffer.mapped);
+      v.bytes = std::make_shared<std::vector<uint8_t>>(begin, begin + v.desc.raw_bytes());
+    }
+  };
   try {
-    // Uploads of host data the GPU reads.
-    issue(cmd, shared.resources, graph.before_uploads);
-    for (const std::string& name : graph.uploads) {
+    auto upload = [&](const std::string& name) {
       PhysicalResource& r = shared.resources.at(name);
       auto host = shared.host.find(name);
       if (host == shared.host.end()) throw GraphError("no bytes were given for imported '" + name + "'");
@@ -326,14 +359,14 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       if (r.desc.is_buffer) {
         if (!bytes.empty()) {
           VkBufferCopy copy{0, 0, bytes.size()};
-          vkCmdCopyBuffer(cmd, staging.buffer, r.buffer.buffer, 1, &copy);
+          vkCmdCopyBuffer(shared.cmd, staging.buffer, r.buffer.buffer, 1, &copy);
         }
       } else {
         auto regions = raw_copy_regions(r.desc);
-        vkCmdCopyBufferToImage(cmd, staging.buffer, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+        vkCmdCopyBufferToImage(shared.cmd, staging.buffer, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                                static_cast<uint32_t>(regions.size()), regions.data());
       }
-    }
+    };
     // `what`: the resource and the pass that wrote this version, e.g. "gbuffer.normal from gbuffer.opaque".
     auto read_back = [&](PhysicalResource& r, int version, const std::string& what) {
       GpuBuffer staging = gpu.create_buffer(std::max<uint64_t>(r.desc.raw_bytes(), 16),
@@ -342,54 +375,90 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       if (r.desc.is_buffer) {
         if (r.desc.buffer_size) {
           VkBufferCopy copy{0, 0, r.desc.buffer_size};
-          vkCmdCopyBuffer(cmd, r.buffer.buffer, staging.buffer, 1, &copy);
+          vkCmdCopyBuffer(shared.cmd, r.buffer.buffer, staging.buffer, 1, &copy);
         }
       } else {
         auto regions = raw_copy_regions(r.desc);
-        vkCmdCopyImageToBuffer(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer,
+        vkCmdCopyImageToBuffer(shared.cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.buffer,
                                static_cast<uint32_t>(regions.size()), regions.data());
       }
     };
+    // Uploads of imported data the GPU reads.
+    issue_step(graph.before_uploads);
+    for (const std::string& name : graph.uploads) upload(name);
     // The previous frame's values, or the declared initial value where there is no valid one.
     // A slot with valid history is already where the plan's clear barriers would leave it.
     std::vector<PlannedBarrier> reset;
     for (const PlannedBarrier& b : graph.before_history_clears)
       if (result.history_reset.count(pooled.at(b.resource))) reset.push_back(b);
-    issue(cmd, shared.resources, reset);
+    issue_step(reset);
     std::map<std::string, int> history_versions;
     for (const auto& [name, resource] : pooled) {
       PhysicalResource& r = shared.resources.at(name);
-      if (result.history_reset.count(resource)) clear_to_declared(cmd, r, whole(r.desc));
+      if (result.history_reset.count(resource)) clear_to_declared(shared.cmd, r, whole(r.desc));
       history_versions[name] = add_version(name, r.desc, nullptr);
     }
-    issue(cmd, shared.resources, graph.before_history_readback);
+    issue_step(graph.before_history_readback);
     if (graph.settings.capture)
       for (const auto& [name, version] : history_versions) read_back(shared.resources.at(name), version, name);
 
     for (size_t i = 0; i < graph.passes.size(); ++i) {
       CompiledPass& pass = graph.passes[i];
-      if (pass.culled || pass.decl->type == PassType::cpu) continue;
+      if (pass.culled) continue;
       PassExecution& exec = result.passes[i];
       shared.current = &exec;
+      if (pass.decl->type == PassType::cpu) {
+        for (const BoundUse& in : pass.inputs)
+          if (std::find(exec.inputs.begin(), exec.inputs.end(), latest.at(in.resource)) == exec.inputs.end())
+            exec.inputs.push_back(latest.at(in.resource));
+        // A version a GPU pass computed has no host bytes until the frame so far has run.
+        const bool needs_gpu_results =
+            pass.runs && std::any_of(pass.inputs.begin(), pass.inputs.end(), [&](const BoundUse& in) {
+              return !result.versions[latest.at(in.resource)].bytes;
+            });
+        if (needs_gpu_results) {
+          // The frame so far runs now, so this pass can read what it computed.
+          issue_step(pass.sync.before_host_reads);
+          for (const std::string& resource : pass.sync.host_reads)
+            read_back(shared.resources.at(resource), latest.at(resource), resource + " for " + pass.decl->name);
+          gpu.end_and_wait(shared.cmd);
+          shared.cmd = VK_NULL_HANDLE;
+          harvest();
+          shared.cmd = gpu.begin_commands(frame_name + " after " + pass.decl->name);
+          ++result.submits;
+          for (const BoundUse& in : pass.inputs)
+            shared.host[in.resource] = result.versions[latest.at(in.resource)].bytes;
+        }
+        run_cpu_pass(i);
+        for (const std::string& name : pass.sync.uploads) {
+          PhysicalResource& r = shared.resources[name];
+          r.desc = graph.resources.at(name);
+          create(gpu, name, r, usage[name], true);
+        }
+        issue_step(pass.sync.before_uploads);
+        for (const std::string& name : pass.sync.uploads) upload(name);
+        continue;
+      }
       // A skipped pass still leaves defined outputs for the passes after it, and a pass that
       // writes part of a fresh output leaves the rest defined.
-      issue(cmd, shared.resources, pass.sync.before_clears);
+      issue_step(pass.sync.before_clears);
       for (const PlannedClear& clear : pass.sync.clears)
-        clear_to_declared(cmd, shared.resources.at(clear.resource), clear.range);
+        clear_to_declared(shared.cmd, shared.resources.at(clear.resource), clear.range);
       if (pass.runs) {
         // A resource used in two ways (two mips, storage and index buffer) is one input version.
         for (const BoundUse& in : pass.inputs)
           if (std::find(exec.inputs.begin(), exec.inputs.end(), latest.at(in.resource)) == exec.inputs.end())
             exec.inputs.push_back(latest.at(in.resource));
-        issue(cmd, shared.resources, pass.sync.before_pass);
-        gpu.begin_label(cmd, pass.decl->name);
-        vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, cleanup.queries, static_cast<uint32_t>(2 * i));
+        issue_step(pass.sync.before_pass);
+        gpu.begin_label(shared.cmd, pass.decl->name);
+        vkCmdWriteTimestamp2(shared.cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, cleanup.queries,
+                             static_cast<uint32_t>(2 * i));
         const ParamValues params = params_of(*pass.decl);
         PassContext ctx(shared, pass, params);
         pass.decl->execute(ctx);
-        vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, cleanup.queries,
+        vkCmdWriteTimestamp2(shared.cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, cleanup.queries,
                              static_cast<uint32_t>(2 * i + 1));
-        gpu.end_label(cmd);
+        gpu.end_label(shared.cmd);
         exec.gpu_ms = 0.0;  // filled from the queries after the submit
       }
       std::map<std::string, int> written;
@@ -398,22 +467,21 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
         written[out.resource] = add_version(out.resource, shared.resources.at(out.resource).desc, nullptr);
         exec.outputs.push_back(written[out.resource]);
       }
-      issue(cmd, shared.resources, pass.sync.before_readback);
+      issue_step(pass.sync.before_readback);
       for (const std::string& resource : pass.sync.readback)
         read_back(shared.resources.at(resource), written.at(resource), resource + " from " + pass.decl->name);
     }
     // This frame's final values are the next frame's history.
-    issue(cmd, shared.resources, graph.before_history_copy);
+    issue_step(graph.before_history_copy);
     for (const auto& [name, resource] : pooled)
-      copy_whole(cmd, shared.resources.at(resource), shared.resources.at(name));
+      copy_whole(shared.cmd, shared.resources.at(resource), shared.resources.at(name));
   } catch (...) {
-    vkEndCommandBuffer(cmd);
+    if (shared.cmd) vkEndCommandBuffer(shared.cmd);
     throw;
   }
-  gpu.end_and_wait(cmd);
-  for (const auto& [name, slot] : slots) {
-    slot->filled = true;
-  }
+  gpu.end_and_wait(shared.cmd);
+  harvest();
+  for (const auto& [name, slot] : slots) slot->filled = true;
 
   std::vector<uint64_t> stamps(query_info.queryCount, 0);
   vkGetQueryPoolResults(gpu.device(), cleanup.queries, 0, query_info.queryCount, stamps.size() * 8, stamps.data(), 8,
@@ -421,12 +489,6 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
   for (size_t i = 0; i < graph.passes.size(); ++i)
     if (result.passes[i].gpu_ms)
       result.passes[i].gpu_ms = double(stamps[2 * i + 1] - stamps[2 * i]) * gpu.timestamp_period_ns() / 1e6;
-  for (const Staging& s : cleanup.staging) {
-    if (s.version < 0) continue;
-    VersionData& v = result.versions[s.version];
-    const auto* begin = static_cast<const uint8_t*>(s.buffer.mapped);
-    v.bytes = std::make_shared<std::vector<uint8_t>>(begin, begin + v.desc.raw_bytes());
-  }
   return result;
 }
 

@@ -1,7 +1,9 @@
-// Runs a compiled graph on a device: CPU passes first (they read only host data), then every
-// GPU pass recorded into one command buffer with the barriers the graph derives, a
-// debug label and timestamps around each, and — when capturing — a readback of every version
-// of every resource a pass wrote or read from the history pool.
+// Runs a compiled graph on a device, pass by pass in its order: GPU passes are recorded with
+// the barriers the graph planned, a debug label and timestamps around each, and — when
+// capturing — a readback of every version of every resource a pass wrote or read from the
+// history pool; a CPU pass runs on the host while the frame is recorded, and where it reads
+// what GPU passes computed, the frame so far is submitted and waited for first (one more
+// submit). Transient resources share memory where their lifetimes allow (FrameMemory).
 #pragma once
 
 #include <map>
@@ -26,6 +28,9 @@ struct ExecutionOptions {
   // Where previous(name) inputs that are not imported come from, and where this frame's values
   // go (passes/core/history.h). Kept by the caller across frames.
   HistoryPool* history = nullptr;
+  // Transient resources alive at different steps share memory; false gives each its own (the
+  // results must not change).
+  bool alias_memory = true;
 };
 
 struct VersionData {
@@ -49,6 +54,10 @@ struct Execution {
   // Histories that started from their initial value this frame, and why ("first frame",
   // "camera cut", "size changed").
   std::map<std::string, std::string> history_reset;
+  // Device memory of the frame's resources (transient ones and history slots), as allocated and
+  // as it would be with every transient resource in memory of its own.
+  uint64_t memory_bytes = 0, memory_bytes_without_aliasing = 0;
+  uint32_t submits = 0;  // command buffers the frame ran as (a CPU pass reading GPU results splits it)
   const VersionData* final_version(const std::string& resource) const;
 };
 

@@ -340,11 +340,7 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
       for (BoundUse& u : *uses)
         u.range = pass.runs ? resolve_range(u.range, u.desc, pass.decl->name, u.resource)
                             : resolve_range({}, u.desc, pass.decl->name, u.resource);
-  std::set<std::string> host = imported;
-  for (const CompiledPass& pass : graph.passes)
-    if (!pass.culled && pass.decl->type == PassType::cpu)
-      for (const BoundUse& out : pass.outputs) host.insert(out.resource);
-  plan_synchronisation(graph, host);
+  plan_synchronisation(graph, imported);
   return graph;
 }
 
@@ -372,6 +368,8 @@ AccessState required_state(Use use, PassType type, bool depth_format) {
       return {VK_IMAGE_LAYOUT_UNDEFINED, shader_stages, VK_ACCESS_2_UNIFORM_READ_BIT};
     case Use::index_buffer:
       return {VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT, VK_ACCESS_2_INDEX_READ_BIT};
+    case Use::indirect_args:
+      return {VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT, VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT};
     case Use::host:
       return {VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE};
   }

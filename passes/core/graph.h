@@ -65,6 +65,9 @@ struct PlannedBarrier {
   std::string resource;
   Subresources range;  // concrete
   BarrierPlan plan;
+  // The first use of these subresources in the frame (planned even where nothing came before
+  // it): a resource placed in memory that others used earlier waits here for their last use.
+  bool first_use = false;
 };
 
 // Subresources set to the resource's declared clear value by a transfer clear.
@@ -73,14 +76,31 @@ struct PlannedClear {
   Subresources range;  // concrete
 };
 
-// What the executor does around one GPU pass, in this order; every barrier is planned here.
+// What the executor does around one pass, in this order; every barrier is planned here.
 struct PassSync {
+  // A CPU pass that runs: its inputs that GPU passes computed, copied to the host before it
+  // (the executor submits the frame so far and waits for it). In a capture every version is
+  // already copied after its writer, so this is empty, but the wait is still needed.
+  std::vector<PlannedBarrier> before_host_reads;
+  std::vector<std::string> host_reads;
+  // A GPU pass:
   std::vector<PlannedBarrier> before_clears;
   // A skipped pass's fresh outputs, and the part of a fresh output its pass does not write.
   std::vector<PlannedClear> clears;
   std::vector<PlannedBarrier> before_pass;  // a running pass's inputs and outputs
   std::vector<PlannedBarrier> before_readback;
   std::vector<std::string> readback;  // outputs copied to the host after the pass
+  // A CPU pass: its outputs that GPU passes use, copied to the GPU after it runs.
+  std::vector<PlannedBarrier> before_uploads;
+  std::vector<std::string> uploads;
+};
+
+// When a resource is in use, in steps of the barrier plan (each list of barriers it plans is a
+// step; a resource's commands follow the barriers of their step), and what its last step did:
+// whatever takes over its memory afterwards waits for that.
+struct Lifetime {
+  int first = -1, last = -1;
+  AccessState last_use;  // the stages that touched it last and the writes among them
 };
 
 struct CompiledPass {
@@ -96,7 +116,8 @@ struct CompiledGraph {
   GraphSettings settings;            // what it was compiled for: output size, sinks, frame
   std::vector<CompiledPass> passes;  // execution order
   std::map<std::string, ResourceDesc> resources;
-  // Host data (imports, CPU pass outputs) that GPU passes use, copied to the GPU before them.
+  std::map<std::string, Lifetime> lifetimes;  // every resource a GPU pass or an upload touches
+  // Imports that GPU passes use, copied to the GPU before the first pass.
   std::vector<std::string> uploads;
   std::vector<PlannedBarrier> before_uploads;
   // previous(name) inputs the executor's history pool supplies (a replay imports them instead).
@@ -118,9 +139,10 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
                             const GraphSettings& settings);
 
 // The barrier plan of a compiled graph (passes/core/barrier_plan.cpp): fills `uploads`,
-// `before_uploads` and every GPU pass's `sync`, tracking each mip and layer of every resource
-// from UNDEFINED. compile_graph calls it; it is pure.
-void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& host_resources);
+// `before_uploads`, the history steps, `lifetimes` and every pass's `sync`, tracking each mip
+// and layer of every resource from UNDEFINED. `imports` are host data from outside the frame.
+// compile_graph calls it; it is pure.
+void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& imports);
 AccessState required_state(Use use, PassType type, bool depth_format);
 AccessState transfer_state(bool write);
 bool writes(const AccessState& state);

@@ -35,7 +35,8 @@ enum class Use {
   depth_attachment,  // depth-stencil attachment, read and written
   uniform_buffer,
   index_buffer,
-  host,  // CPU pass: read or written on the host
+  indirect_args,  // draw or dispatch arguments of vkCmd*Indirect (PassContext::dispatch_indirect)
+  host,           // CPU pass: read or written on the host
 };
 
 using ParamValues = std::map<std::string, double>;

@@ -189,6 +189,7 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture) {
   options.params = settings_.params;
   options.shaders = [](const std::string&, const std::string& path) { return builtin_spirv(path); };
   options.history = &history_;
+  options.alias_memory = settings_.alias_memory;
   std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> bytes;
   for (const auto& [name, data] : imports) bytes[name] = data.bytes;
   frame.execution = execute_graph(gpu_, cache_, frame.graph, bytes, options);

@@ -37,6 +37,7 @@ struct RenderSettings {
   std::optional<Camera> camera;               // --orbit; else the scene's, else a framing one
   nlohmann::json description;                 // settings as given, recorded in the manifest
   CaptureWriter::Options capture;             // blob codecs
+  bool alias_memory = true;                   // ExecutionOptions::alias_memory
 };
 
 // Throws SceneError naming the flag for a parameter that no pass declares or out of range.

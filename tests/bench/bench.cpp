@@ -2,6 +2,8 @@
 //  - per-pass GPU time (median over repeats) for the built-in city and the glTF models;
 //  - frame time with capture off and on, and their ratio, in the same run;
 //  - capture bytes on disk against the raw sum of recorded resources;
+//  - the frame's GPU memory with transient resources aliased and without (peak_gpu_mib,
+//    peak_gpu_mib_no_aliasing: the built-in city);
 //  - time against error for each pass knob (normals.pack LUT size, lighting.deferred tube samples
 //    against the CPU segment integral, depth.convert, depth.pyramid and bloom against their
 //    references).
@@ -55,7 +57,8 @@ nc::ShaderProvider builtin() {
   return [](const std::string&, const std::string& path) { return nc::builtin_spirv(path); };
 }
 
-// Per-pass medians over `repeats` frames, capture off, plus frame time off/on and capture size.
+// Per-pass medians over `repeats` frames, capture off, and the frame's GPU memory; with
+// `capture_figures`, frame time off/on and capture size too, and the unsuffixed figures.
 void bench_scene(nc::GpuDevice& gpu, const std::string& key, const std::string& label, nc::Scene scene, uint32_t width,
                  uint32_t height, int repeats, bool capture_figures) {
   nc::add_default_lighting(scene);
@@ -67,10 +70,13 @@ void bench_scene(nc::GpuDevice& gpu, const std::string& key, const std::string& 
   std::map<std::string, std::vector<double>> pass_ms;
   std::vector<std::string> order;
   std::vector<double> frame_off, frame_on;
+  uint64_t memory = 0, memory_without_aliasing = 0;
   for (int r = 0; r < repeats; ++r) {
     double start = now_ms();
     nc::RenderedFrame frame = renderer.render_frame(0, false);
     frame_off.push_back(now_ms() - start);
+    memory = frame.execution.memory_bytes;
+    memory_without_aliasing = frame.execution.memory_bytes_without_aliasing;
     for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
       const std::string& name = frame.graph.passes[i].decl->name;
       if (r == 0) order.push_back(name);
@@ -95,7 +101,16 @@ void bench_scene(nc::GpuDevice& gpu, const std::string& key, const std::string& 
   figure("frame_ms." + key, median(frame_off));
   table() << std::left << std::setw(22) << "frame (capture off)" << std::right << std::setw(12) << median(frame_off)
           << "\n";
+  // Device memory of the frame's resources: transients sharing memory where their lifetimes
+  // allow, and each in its own.
+  const double mib = memory / 1048576.0, mib_apart = memory_without_aliasing / 1048576.0;
+  table() << std::left << std::setw(22) << "GPU memory (MiB)" << std::right << std::setw(12) << std::setprecision(1)
+          << mib << "  (" << mib_apart << " without aliasing)\n";
+  figure("peak_gpu_mib." + key, mib);
+  figure("peak_gpu_mib_no_aliasing." + key, mib_apart);
   if (!capture_figures) return;
+  figure("peak_gpu_mib", mib);
+  figure("peak_gpu_mib_no_aliasing", mib_apart);
   const fs::path dir = fs::temp_directory_path() / "nightcap-bench";
   fs::remove_all(dir);
   const std::pair<const char*, nc::ExrCompression> codecs[] = {{"zip", nc::ExrCompression::zip},

@@ -61,7 +61,9 @@ TEST(Aliasing, RandomFramesNeverOverlapLiveResources) {
       EXPECT_LE(plan.offsets.at(needs[i].resource) + needs[i].size, plan.bytes);
       for (size_t j = i + 1; j < needs.size(); ++j) {
         const bool alive_together = needs[i].first <= needs[j].last && needs[j].first <= needs[i].last;
-        if (alive_together) ASSERT_FALSE(bytes_overlap(plan, needs[i], needs[j])) << trial << ": " << i << ", " << j;
+        if (alive_together) {
+          ASSERT_FALSE(bytes_overlap(plan, needs[i], needs[j])) << trial << ": " << i << ", " << j;
+        }
       }
     }
     EXPECT_GE(plan.bytes, peak_alive);

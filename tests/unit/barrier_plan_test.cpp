@@ -267,7 +267,9 @@ TEST(BarrierPlan, UploadsComeFirstAndTwoUsesOfABufferWaitTogether) {
           .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour}));
   const CompiledGraph graph = compile_graph(passes, {{"scene.geometry", buffer}}, GraphSettings());
   EXPECT_EQ(graph.uploads, std::vector<std::string>{"scene.geometry"});
-  EXPECT_TRUE(graph.before_uploads.empty()) << "nothing precedes a buffer's first write, and it has no layout";
+  ASSERT_EQ(graph.before_uploads.size(), 1u) << "a first use is planned, so memory it takes over can be waited for";
+  EXPECT_TRUE(graph.before_uploads[0].first_use);
+  EXPECT_EQ(graph.before_uploads[0].plan.before, AccessState{}) << "nothing of the frame precedes it";
   const auto draw = of(pass(graph, "draw").sync.before_pass, "scene.geometry");
   ASSERT_EQ(draw.size(), 1u) << "the two reads of the buffer wait together for the upload";
   EXPECT_EQ(draw[0].plan.before.access, VK_ACCESS_2_TRANSFER_WRITE_BIT);
