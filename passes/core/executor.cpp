@@ -426,8 +426,11 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
           harvest();
           shared.cmd = gpu.begin_commands(frame_name + " after " + pass.decl->name);
           ++result.submits;
-          for (const BoundUse& in : pass.inputs)
+          for (const BoundUse& in : pass.inputs) {
             shared.host[in.resource] = result.versions[latest.at(in.resource)].bytes;
+            if (!shared.host[in.resource])
+              throw GraphError(pass.decl->name + ": '" + in.resource + "' was not copied to the host for it");
+          }
         }
         run_cpu_pass(i);
         for (const std::string& name : pass.sync.uploads) {
