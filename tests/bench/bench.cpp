@@ -1,7 +1,8 @@
 // nightcap's benchmark: prints figures, asserts nothing.
 //  - per-pass GPU time (median over repeats) for the built-in city and the glTF models;
 //  - frame time with capture off and on, and their ratio, in the same run;
-//  - capture bytes on disk against the raw sum of recorded resources;
+//  - capture bytes on disk against the raw sum of recorded resources, and per extra frame of a
+//    still and of a walking camera;
 //  - the frame's GPU memory with transient resources aliased and without (peak_gpu_mib,
 //    peak_gpu_mib_no_aliasing: the built-in city);
 //  - time against error for each pass knob (normals.pack LUT size, lighting.deferred tube samples
@@ -142,6 +143,36 @@ void bench_scene(nc::GpuDevice& gpu, const std::string& key, const std::string& 
       figure("capture_on_off_ratio", median(frame_on) / median(frame_off));
       figure("capture_bytes_ratio", double(disk) / raw);
     }
+  }
+  fs::remove_all(dir);
+}
+
+// What each frame after the first adds to a capture of the city: a resource equal to one already
+// stored is stored once, so a still camera should add little and a walking one nearly a frame.
+void bench_extra_frames(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
+  constexpr uint32_t kFrames = 4;
+  nc::Scene scene = nc::build_city(1);
+  nc::add_default_lighting(scene);
+  const fs::path dir = fs::temp_directory_path() / "nightcap-bench-frames";
+  table() << "\n## capture size per extra frame (city, " << width << "x" << height << ", 1 and " << kFrames
+          << " frames)\n";
+  const std::pair<const char*, nc::CameraPath::Motion> motions[] = {{"static", nc::CameraPath::Motion::still},
+                                                                    {"moving", nc::CameraPath::Motion::walk}};
+  for (const auto& [name, motion] : motions) {
+    nc::RenderSettings settings;
+    settings.width = width;
+    settings.height = height;
+    settings.path.motion = motion;
+    uint64_t disk[2] = {0, 0};
+    for (int i = 0; i < 2; ++i) {
+      settings.frames = i == 0 ? 1 : kFrames;
+      fs::remove_all(dir);
+      disk[i] = nc::render_to_capture(gpu, scene, settings, dir, false).disk_bytes;
+    }
+    const double per_frame = (double(disk[1]) - double(disk[0])) / (kFrames - 1) / 1048576.0;
+    table() << "  " << std::left << std::setw(8) << name << std::right << std::fixed << std::setprecision(2)
+            << std::setw(8) << per_frame << " MiB per extra frame (one frame: " << disk[0] / 1048576.0 << " MiB)\n";
+    figure(std::string("capture_mib_per_extra_frame_") + name, per_frame);
   }
   fs::remove_all(dir);
 }
@@ -551,6 +582,7 @@ int main(int argc, char** argv) {
           bench_scene(gpu, model, model, nc::load_gltf(file.string()), width, height, int(repeats), false);
       }
     }
+    bench_extra_frames(gpu, width, height);
     bench_normals(gpu, cache, directions);
     bench_tube_samples(gpu, width / 2, height / 2);
     bench_depth(gpu, cache, width, height);
