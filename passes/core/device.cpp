@@ -274,23 +274,14 @@ void GpuDevice::name(VkObjectType type, uint64_t handle, const std::string& name
 
 GpuBuffer GpuDevice::create_buffer(uint64_t size, VkBufferUsageFlags usage, bool host_visible,
                                    const std::string& name) {
-  GpuBuffer result;
-  result.size = size;
-  auto info = vk_struct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
-  info.size = std::max<uint64_t>(size, 16);
-  info.usage = usage;
-  vk_check(vkCreateBuffer(device_, &info, nullptr, &result.buffer), "vkCreateBuffer");
-  this->name(VK_OBJECT_TYPE_BUFFER, result.buffer, name);
+  GpuBuffer result = create_unbound_buffer(size, usage, name);
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device_, result.buffer, &req);
-  auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
-  alloc.allocationSize = req.size;
-  alloc.memoryTypeIndex = memory_type(
+  const uint32_t type = memory_type(
       req.memoryTypeBits, host_visible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
                                        : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  vk_check(vkAllocateMemory(device_, &alloc, nullptr, &result.memory), "vkAllocateMemory");
-  this->name(VK_OBJECT_TYPE_DEVICE_MEMORY, result.memory, name + " memory");
-  vk_check(vkBindBufferMemory(device_, result.buffer, result.memory, 0), "vkBindBufferMemory");
+  result.memory = allocate(req.size, type, name + " memory");
+  bind(result, result.memory, 0);
   if (host_visible) vk_check(vkMapMemory(device_, result.memory, 0, VK_WHOLE_SIZE, 0, &result.mapped), "vkMapMemory");
   return result;
 }
