@@ -11,6 +11,7 @@
 #include <ImfPartType.h>
 #include <ImfStringAttribute.h>
 #include <ImfThreading.h>
+#include <half.h>
 #include <zstd.h>
 
 #include <algorithm>
@@ -33,8 +34,9 @@ static_assert(std::endian::native == std::endian::little);
 // Readers reject anything larger, so writers must not produce it.
 constexpr uint64_t kMaxBufferBytes = uint64_t(4) << 30;
 
-// How one aspect of a format lands in EXR. UINT samples are 4 bytes, so narrower integer codes
-// are widened on write and narrowed on read; a packed word is one UINT sample.
+// How one aspect of a format lands in EXR. Integer codes narrower than their sample are widened
+// on write and narrowed on read: 8-bit codes into HALF samples holding the integer, 16-bit ones
+// into UINT samples; a packed word is one UINT sample.
 struct Layout {
   Imf::PixelType type;
   std::vector<std::string> channels;
@@ -42,6 +44,23 @@ struct Layout {
 };
 
 uint32_t sample_bytes(Imf::PixelType type) { return type == Imf::HALF ? 2 : 4; }
+
+// The HALF bit pattern of each 8-bit integer, and back (-1: not an integer in 0..255).
+struct HalfCodes {
+  std::array<uint16_t, 256> half_of_code;
+  std::vector<int16_t> code_of_half = std::vector<int16_t>(65536, -1);
+  HalfCodes() {
+    for (uint32_t code = 0; code < 256; ++code) {
+      const half h{float(code)};
+      half_of_code[code] = h.bits();
+      code_of_half[h.bits()] = int16_t(code);
+    }
+  }
+};
+const HalfCodes& half_codes() {
+  static const HalfCodes codes;
+  return codes;
+}
 
 Layout layout_of(const FormatInfo& format, uint32_t aspect) {
   using E = ChannelEncoding;
@@ -56,7 +75,7 @@ Layout layout_of(const FormatInfo& format, uint32_t aspect) {
     case E::unorm8:
     case E::srgb8:
     case E::uint8:
-      return {Imf::UINT, names, 1};
+      return {Imf::HALF, names, 1};
     case E::unorm16:
     case E::uint16:
       return {Imf::UINT, names, 2};
@@ -66,7 +85,7 @@ Layout layout_of(const FormatInfo& format, uint32_t aspect) {
     case E::packed_b10g11r11:
       return {Imf::UINT, {"packed"}, 4};
     case E::depth32_stencil8:
-      return aspect == 0 ? Layout{Imf::FLOAT, {"Z"}, 4} : Layout{Imf::UINT, {"S"}, 1};
+      return aspect == 0 ? Layout{Imf::FLOAT, {"Z"}, 4} : Layout{Imf::HALF, {"S"}, 1};
   }
   throw std::invalid_argument("blob_codec: unknown channel encoding of " + std::string(format.name));
 }
@@ -101,22 +120,37 @@ std::vector<Part> parts_of(const std::filesystem::path& file, const FormatInfo& 
 // Compression runs on OpenEXR's pool, split by blocks of scanlines. Small images (most mips,
 // 1x1 parameters) stay on the calling thread: handing their few blocks to the pool costs more
 // than it saves.
-int exr_threads(uint64_t raw_bytes) {
+int exr_threads(uint64_t raw_bytes, int requested) {
   static std::once_flag once;
   std::call_once(once, [] { Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency()))); });
+  if (requested >= 0) return std::min(requested, Imf::globalThreadCount());
   return raw_bytes < (256u << 10) ? 0 : Imf::globalThreadCount();
 }
 
-Imf::Compression exr_compression(ExrCompression compression) {
+constexpr std::array<std::pair<ExrCompression, std::string_view>, 6> kCompressionNames = {{
+    {ExrCompression::none, "none"},
+    {ExrCompression::rle, "rle"},
+    {ExrCompression::zips, "zips"},
+    {ExrCompression::zip, "zip"},
+    {ExrCompression::piz, "piz"},
+    {ExrCompression::pxr24, "pxr24"},
+}};
+
+// PXR24 rounds FLOAT samples to 24 bits: where a part has them, ZIP keeps them exact instead.
+Imf::Compression exr_compression(ExrCompression compression, const Layout& layout) {
   switch (compression) {
     case ExrCompression::none:
       return Imf::NO_COMPRESSION;
     case ExrCompression::rle:
       return Imf::RLE_COMPRESSION;
+    case ExrCompression::zips:
+      return Imf::ZIPS_COMPRESSION;
     case ExrCompression::zip:
       return Imf::ZIP_COMPRESSION;
     case ExrCompression::piz:
       return Imf::PIZ_COMPRESSION;
+    case ExrCompression::pxr24:
+      return layout.type == Imf::FLOAT ? Imf::ZIP_COMPRESSION : Imf::PXR24_COMPRESSION;
   }
   throw std::invalid_argument("blob_codec: unknown ExrCompression");
 }
@@ -135,32 +169,75 @@ std::string describe(const ImageExtent& e) {
 }
 
 // The samples of one part. Where EXR samples are as wide as the raw codes, the slices point
-// straight into the raw bytes; otherwise into `widened`, one uint32 per code.
+// straight into the raw bytes; otherwise into `widened`, one sample per code. The scratch is
+// kept per thread: a fresh allocation per part costs page faults comparable to the encoding.
 struct PartPixels {
-  std::vector<uint32_t> widened;
+  explicit PartPixels(std::vector<uint8_t>& scratch) : widened(scratch) {}
+  std::vector<uint8_t>& widened;
+  uint64_t codes = 0;
   Imf::FrameBuffer frame_buffer;
 };
 
+std::vector<uint8_t>& widening_scratch() {
+  thread_local std::vector<uint8_t> scratch;
+  return scratch;
+}
+
 void bind(PartPixels& pixels, const Layout& layout, const Part& part, const Imath::Box2i& window, uint8_t* raw) {
-  const uint64_t codes = uint64_t(part.width) * part.rows * layout.channels.size();
+  const size_t sample = sample_bytes(layout.type), texel = sample * layout.channels.size();
   char* base = reinterpret_cast<char*>(raw);
-  if (layout.raw_bytes != sample_bytes(layout.type)) {
-    pixels.widened.resize(codes);
+  if (layout.raw_bytes != sample) {
+    pixels.codes = uint64_t(part.width) * part.rows * layout.channels.size();
+    if (pixels.widened.size() < pixels.codes * sample) pixels.widened.resize(pixels.codes * sample);
     base = reinterpret_cast<char*>(pixels.widened.data());
   }
-  const size_t sample = sample_bytes(layout.type), texel = sample * layout.channels.size();
   for (size_t c = 0; c < layout.channels.size(); ++c)
     pixels.frame_buffer.insert(layout.channels[c], Imf::Slice::Make(layout.type, base + c * sample, window, texel,
                                                                     texel * size_t(part.width)));
 }
 
+void widen(PartPixels& pixels, const Layout& layout, const uint8_t* codes) {
+  if (layout.type == Imf::HALF) {
+    const auto& table = half_codes().half_of_code;
+    auto* samples = reinterpret_cast<uint16_t*>(pixels.widened.data());
+    for (uint64_t i = 0; i < pixels.codes; ++i) samples[i] = table[codes[i]];
+    return;
+  }
+  auto* samples = reinterpret_cast<uint32_t*>(pixels.widened.data());
+  for (uint64_t i = 0; i < pixels.codes; ++i) {
+    samples[i] = 0;
+    std::memcpy(&samples[i], codes + i * layout.raw_bytes, layout.raw_bytes);
+  }
+}
+
+// False when a sample holds no code of the raw width (a damaged or foreign file).
+bool narrow(const PartPixels& pixels, const Layout& layout, uint8_t* codes) {
+  if (layout.type == Imf::HALF) {
+    const auto& table = half_codes().code_of_half;
+    const auto* samples = reinterpret_cast<const uint16_t*>(pixels.widened.data());
+    for (uint64_t i = 0; i < pixels.codes; ++i) {
+      const int16_t code = table[samples[i]];
+      if (code < 0) return false;
+      codes[i] = uint8_t(code);
+    }
+    return true;
+  }
+  const auto* samples = reinterpret_cast<const uint32_t*>(pixels.widened.data());
+  for (uint64_t i = 0; i < pixels.codes; ++i) {
+    if (samples[i] >> (8 * layout.raw_bytes)) return false;
+    std::memcpy(codes + i * layout.raw_bytes, &samples[i], layout.raw_bytes);
+  }
+  return true;
+}
+
 // `level0` is the first part: the display window is an attribute all parts must share, so it
 // is the level-0 size, and each part's data window is its own mip.
 Imf::Header header_of(const FormatInfo& format, const ImageExtent& extent, const Part& level0, const Part& part,
-                      const Layout& layout, ExrCompression compression) {
+                      const Layout& layout, ImageEncoding encoding) {
   const Imath::Box2i display({0, 0}, {level0.width - 1, level0.rows - 1});
   Imf::Header header(display, Imath::Box2i({0, 0}, {part.width - 1, part.rows - 1}), 1.0f, Imath::V2f(0, 0), 1.0f,
-                     Imf::INCREASING_Y, exr_compression(compression));
+                     Imf::INCREASING_Y, exr_compression(encoding.compression, layout));
+  header.zipCompressionLevel() = encoding.zip_level;
   header.setName(part.name);
   header.setType(Imf::SCANLINEIMAGE);
   for (const std::string& channel : layout.channels) header.channels().insert(channel, Imf::Channel(layout.type));
@@ -238,29 +315,59 @@ void check_attribute_sizes(const std::filesystem::path& file) {
 
 }  // namespace
 
+namespace {
+
+bool has_zip_level(ExrCompression compression) {
+  return compression == ExrCompression::zip || compression == ExrCompression::zips ||
+         compression == ExrCompression::pxr24;
+}
+
+}  // namespace
+
+std::string image_encoding_name(ImageEncoding encoding) {
+  for (const auto& [value, name] : kCompressionNames)
+    if (value == encoding.compression) {
+      if (!has_zip_level(value)) return std::string(name);
+      return std::string(name) + (value == ExrCompression::pxr24 ? "_" : "") + std::to_string(encoding.zip_level);
+    }
+  throw std::invalid_argument("blob_codec: unknown ExrCompression");
+}
+
+std::optional<ImageEncoding> image_encoding_by_name(std::string_view text) {
+  for (const auto& [value, name] : kCompressionNames) {
+    if (text.substr(0, name.size()) != name) continue;
+    std::string_view level = text.substr(name.size());
+    if (level.empty()) return ImageEncoding{value, 4};
+    if (!has_zip_level(value)) continue;
+    if (value == ExrCompression::pxr24 && level.front() == '_') level.remove_prefix(1);
+    if (level.size() == 1 && level[0] >= '1' && level[0] <= '9') return ImageEncoding{value, level[0] - '0'};
+  }
+  return std::nullopt;
+}
+
 std::string image_blob_extension() { return "exr"; }
 std::string buffer_blob_extension() { return "bin.zst"; }
 
 void write_image_blob(const std::filesystem::path& file, const FormatInfo& format, const ImageExtent& extent,
-                      std::span<const uint8_t> raw, ExrCompression compression) {
+                      std::span<const uint8_t> raw, ImageEncoding encoding, int threads) {
   if (raw.size() != raw_image_bytes(format, extent))
     throw std::invalid_argument("write_image_blob: " + file.string() + ": raw size does not match " +
                                 std::string(format.name) + " " + describe(extent));
   const std::vector<Part> parts = parts_of(file, format, extent);
   std::vector<Imf::Header> headers;
   for (const Part& part : parts)
-    headers.push_back(header_of(format, extent, parts.front(), part, layout_of(format, part.aspect), compression));
+    headers.push_back(header_of(format, extent, parts.front(), part, layout_of(format, part.aspect), encoding));
   try {
-    Imf::MultiPartOutputFile out(file.c_str(), headers.data(), int(headers.size()), false, exr_threads(raw.size()));
+    Imf::MultiPartOutputFile out(file.c_str(), headers.data(), int(headers.size()), false,
+                                 exr_threads(raw.size(), threads));
     for (size_t p = 0; p < parts.size(); ++p) {
       const Part& part = parts[p];
       const Layout layout = layout_of(format, part.aspect);
       // OpenEXR only reads through an output frame buffer's pointers.
       uint8_t* codes = const_cast<uint8_t*>(raw.data() + part.offset);
-      PartPixels pixels;
+      PartPixels pixels(widening_scratch());
       bind(pixels, layout, part, headers[p].dataWindow(), codes);
-      for (size_t i = 0; i < pixels.widened.size(); ++i)
-        std::memcpy(&pixels.widened[i], codes + i * layout.raw_bytes, layout.raw_bytes);
+      widen(pixels, layout, codes);
       Imf::OutputPart output(out, int(p));
       output.setFrameBuffer(pixels.frame_buffer);
       output.writePixels(part.rows);
@@ -276,28 +383,25 @@ std::vector<uint8_t> read_image_blob(const std::filesystem::path& file, const Fo
   check_attribute_sizes(file);
   std::vector<uint8_t> raw(raw_image_bytes(format, extent));
   try {
-    Imf::MultiPartInputFile in(file.c_str(), exr_threads(raw.size()));
+    Imf::MultiPartInputFile in(file.c_str(), exr_threads(raw.size(), -1));
     if (size_t(in.parts()) != parts.size())
       fail(file, "has " + std::to_string(in.parts()) + " parts, expected " + std::to_string(parts.size()) + " for " +
                      std::string(format.name) + " " + describe(extent));
     for (size_t p = 0; p < parts.size(); ++p) {
       const Part& part = parts[p];
-      const Layout layout = layout_of(format, part.aspect);
       const Imf::Header& header = in.header(int(p));
+      const Layout layout = layout_of(format, part.aspect);
       if (const std::string problem = mismatch(header, format, extent, part, layout); !problem.empty())
         fail(file, "part " + std::to_string(p) + " (" + part.name + ") " + problem);
       uint8_t* codes = raw.data() + part.offset;
-      PartPixels pixels;
+      PartPixels pixels(widening_scratch());
       bind(pixels, layout, part, header.dataWindow(), codes);
       Imf::InputPart input(in, int(p));
       input.setFrameBuffer(pixels.frame_buffer);
       input.readPixels(header.dataWindow().min.y, header.dataWindow().max.y);
-      for (size_t i = 0; i < pixels.widened.size(); ++i) {
-        if (pixels.widened[i] >> (8 * layout.raw_bytes))
-          fail(file, "part " + std::to_string(p) + " (" + part.name + ") holds a code too wide for " +
-                         std::string(format.name));
-        std::memcpy(codes + i * layout.raw_bytes, &pixels.widened[i], layout.raw_bytes);
-      }
+      if (pixels.codes && !narrow(pixels, layout, codes))
+        fail(file, "part " + std::to_string(p) + " (" + part.name + ") holds a sample that is no code of " +
+                       std::string(format.name));
     }
   } catch (const CaptureError&) {
     throw;

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "captures/codec_choice.h"
 #include "captures/hash.h"
 
 namespace nightcap {
@@ -383,42 +384,85 @@ CaptureWriter::CaptureWriter(fs::path target, bool force, Options options)
   fs::remove_all(temp_, error);
   fs::create_directories(temp_ / "blobs", error);
   if (error) throw CaptureError(target_.string() + ": cannot create the capture folder: " + error.message());
+  const unsigned workers = options_.workers ? options_.workers : std::max(1u, std::thread::hardware_concurrency());
+  for (unsigned w = 0; w < workers; ++w) workers_.emplace_back([this] { work(); });
 }
 
 CaptureWriter::~CaptureWriter() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+    queue_.clear();
+  }
+  queued_.notify_all();
+  for (std::thread& worker : workers_) worker.join();
   if (committed_) return;
   std::error_code error;
   fs::remove_all(temp_, error);
 }
 
-void CaptureWriter::add_resource(ResourceRecord& record, std::span<const uint8_t> raw) {
-  if (raw.size() != record.raw_bytes()) throw std::logic_error("add_resource: " + record.resource + " size mismatch");
-  record.hash = content_hash(raw);
-  const std::string ext = record.is_buffer ? buffer_blob_extension() : image_blob_extension();
-  record.blob = "blobs/" + record.hash + "." + ext;
-  {
-    std::unique_lock lock(mutex_);
-    // Another thread may be writing the same blob: wait until it is on disk (or failed).
-    written_.wait(lock, [&] { return !blobs_.count(record.hash) || !blobs_.at(record.hash).empty(); });
-    if (blobs_.count(record.hash)) return;
-    blobs_[record.hash] = "";
-  }
-  const fs::path file = temp_ / record.blob;
-  try {
-    if (record.is_buffer)
-      write_buffer_blob(file, raw, options_.zstd_level);
-    else
-      write_image_blob(file, *format_info(record.format), record.extent, raw, options_.compression);
-  } catch (...) {
+void CaptureWriter::work() {
+  for (;;) {
+    std::function<void()> task;
+    {
+      std::unique_lock lock(mutex_);
+      queued_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+      if (stopping_) return;
+      task = std::move(queue_.front());
+      queue_.pop_front();
+    }
+    try {
+      task();
+    } catch (...) {
+      std::lock_guard lock(mutex_);
+      if (!failure_) failure_ = std::current_exception();
+    }
     std::lock_guard lock(mutex_);
-    blobs_.erase(record.hash);
-    written_.notify_all();
-    throw;
+    if (--busy_ == 0) drained_.notify_all();
   }
+}
+
+void CaptureWriter::add_resource(ResourceRecord& record, std::shared_ptr<const std::vector<uint8_t>> raw) {
+  if (!raw || raw->size() != record.raw_bytes())
+    throw std::logic_error("add_resource: " + record.resource + " size mismatch");
+  record.hash = content_hash(*raw);
+  // Equal bytes in two image formats or extents are two files: the blob states its format.
+  std::string name = record.hash;
+  if (!record.is_buffer) {
+    name += "." + std::string(format_info(record.format)->name) + "." + std::to_string(record.extent.width) + "x" +
+            std::to_string(record.extent.height) + "x" + std::to_string(record.extent.depth) + "m" +
+            std::to_string(record.extent.mips) + "l" + std::to_string(record.extent.layers);
+  }
+  record.blob = "blobs/" + name + "." + (record.is_buffer ? buffer_blob_extension() : image_blob_extension());
   std::lock_guard lock(mutex_);
-  blobs_[record.hash] = record.blob;
-  bytes_written_ += fs::file_size(file);
-  written_.notify_all();
+  if (!blobs_.insert(record.blob).second) return;
+  ++busy_;
+  queue_.push_back([this, record, raw = std::move(raw)] { encode(record, raw); });
+  queued_.notify_one();
+}
+
+void CaptureWriter::encode(const ResourceRecord& record, const std::shared_ptr<const std::vector<uint8_t>>& raw) {
+  const fs::path file = temp_ / record.blob;
+  if (record.is_buffer)
+    write_buffer_blob(file, *raw, options_.zstd_level);
+  else
+    write_image_blob(file, *format_info(record.format), record.extent, *raw,
+                     options_.images.value_or(image_encoding_for(record.kind)), 0);
+  const uint64_t size = fs::file_size(file);
+  std::lock_guard lock(mutex_);
+  bytes_written_ += size;
+}
+
+void CaptureWriter::flush() {
+  std::unique_lock lock(mutex_);
+  drained_.wait(lock, [&] { return busy_ == 0; });
+  if (failure_) std::rethrow_exception(failure_);
+}
+
+uint64_t CaptureWriter::bytes_written() {
+  flush();
+  std::lock_guard lock(mutex_);
+  return bytes_written_;
 }
 
 ShaderRecord CaptureWriter::add_shader(const std::string& path, std::span<const uint32_t> spirv,
@@ -436,11 +480,11 @@ std::pair<std::string, std::string> CaptureWriter::add_file_blob(std::span<const
   const std::string hash = content_hash(bytes);
   const std::string blob = "blobs/" + hash + "." + extension;
   std::lock_guard lock(mutex_);
-  if (!blobs_.count(hash)) {
+  if (!blobs_.count(blob)) {
     std::ofstream out(temp_ / blob, std::ios::binary);
     out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
     if (!out) throw CaptureError((temp_ / blob).string() + ": cannot write");
-    blobs_[hash] = blob;
+    blobs_.insert(blob);
     bytes_written_ += bytes.size();
   }
   return {hash, blob};
@@ -453,17 +497,22 @@ void CaptureWriter::write_final_png(const std::vector<uint8_t>& rgba8, uint32_t 
   if (!out || !out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgba8.data()) ||
       !out->close())
     throw CaptureError(file.string() + ": cannot write PNG");
+  std::lock_guard lock(mutex_);
   bytes_written_ += fs::file_size(file);
 }
 
 void CaptureWriter::commit(const CaptureManifest& manifest) {
+  flush();
   const fs::path manifest_file = temp_ / "manifest.json";
   {
     std::ofstream out(manifest_file, std::ios::binary | std::ios::trunc);
     out << to_json(manifest).dump(1) << "\n";
     if (!out) throw CaptureError(manifest_file.string() + ": cannot write");
   }
-  bytes_written_ += fs::file_size(manifest_file);
+  {
+    std::lock_guard lock(mutex_);
+    bytes_written_ += fs::file_size(manifest_file);
+  }
   fsync_path(manifest_file, false);
   fsync_path(temp_ / "blobs", true);
   fsync_path(temp_, true);

@@ -7,13 +7,18 @@
 
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
+#include <exception>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <span>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "captures/blob_codec.h"
@@ -28,7 +33,8 @@ namespace nightcap {
 // where declared).
 // 3: frames record their time, camera cut and history resets; frame.camera carries the cut and
 // time step. Earlier captures lack what replay and the tools need from these.
-constexpr int kCaptureVersion = 3;
+// 4: 8-bit codes are HALF samples in image blobs (UINT before).
+constexpr int kCaptureVersion = 4;
 constexpr uint32_t kMaxImageSide = 16384;
 
 struct ResourceRecord {
@@ -103,28 +109,36 @@ nlohmann::json to_json(const CaptureManifest& manifest);
 CaptureManifest manifest_from_json(const nlohmann::json& json, const std::string& file);
 
 // Builds a capture in `<target>.tmp-<pid>` and renames it to `target` on commit. Blobs are
-// written once per hash. Safe to call add_* from several threads.
+// written once per hash, encoded on a pool of workers while the caller goes on (rendering the
+// next frame). Safe to call add_* from several threads.
 class CaptureWriter {
  public:
   struct Options {
-    ExrCompression compression = ExrCompression::zip;
+    // The codec of every image blob; unset: the one chosen for its kind (codec_choice.h).
+    std::optional<ImageEncoding> images;
     int zstd_level = 3;
+    unsigned workers = 0;  // blobs encoded at once; 0: one per core
   };
   // Throws CaptureError if target exists and !force, or the folder cannot be created.
   CaptureWriter(std::filesystem::path target, bool force, Options options);
-  ~CaptureWriter();  // removes the temporary folder unless committed
+  ~CaptureWriter();  // abandons queued blobs and removes the temporary folder unless committed
   CaptureWriter(const CaptureWriter&) = delete;
   CaptureWriter& operator=(const CaptureWriter&) = delete;
 
-  // Fills hash and blob of `record` (whose other fields describe `raw`) and writes the blob.
-  void add_resource(ResourceRecord& record, std::span<const uint8_t> raw);
+  // Fills hash and blob of `record` (whose other fields describe `raw`) at once, and queues the
+  // blob's encoding; `raw` is kept until it is written.
+  void add_resource(ResourceRecord& record, std::shared_ptr<const std::vector<uint8_t>> raw);
   ShaderRecord add_shader(const std::string& path, std::span<const uint32_t> spirv, const std::string& source);
   void write_final_png(const std::vector<uint8_t>& rgba8, uint32_t width, uint32_t height);
-  void commit(const CaptureManifest& manifest);
+  // Waits for every queued blob; throws the first error any of them met.
+  void flush();
+  void commit(const CaptureManifest& manifest);  // flushes first
 
-  uint64_t bytes_written() const { return bytes_written_; }
+  uint64_t bytes_written();  // flushes first
 
  private:
+  void encode(const ResourceRecord& record, const std::shared_ptr<const std::vector<uint8_t>>& raw);
+  void work();
   // Writes `bytes` once as blobs/<hash>.<extension>; returns the hash and the blob path.
   std::pair<std::string, std::string> add_file_blob(std::span<const uint8_t> bytes, const std::string& extension);
   std::filesystem::path target_, temp_;
@@ -132,9 +146,14 @@ class CaptureWriter {
   Options options_;
   bool committed_ = false;
   std::mutex mutex_;
-  std::condition_variable written_;
-  std::map<std::string, std::string> blobs_;  // hash -> relative path; "" while being written
+  std::condition_variable queued_, drained_;
+  std::set<std::string> blobs_;  // hashes written or queued
+  std::deque<std::function<void()>> queue_;
+  size_t busy_ = 0;  // queued or being encoded
+  bool stopping_ = false;
+  std::exception_ptr failure_;
   uint64_t bytes_written_ = 0;
+  std::vector<std::thread> workers_;
 };
 
 class Capture {

@@ -93,7 +93,7 @@ std::string ms(const std::optional<double>& value) {
 }
 
 struct RenderFlags {
-  std::string scene_path, out, size = "1280x720", device, orbit, target, codec = "zip", motion = "walk", record;
+  std::string scene_path, out, size = "1280x720", device, orbit, target, codec = "auto", motion = "walk", record;
   uint32_t frames = 1, seed = 1;
   double fov = 45.0;
   std::vector<std::string> sets;
@@ -123,12 +123,12 @@ int run_render(const RenderFlags& flags) {
   const uint32_t frames = flags.frames, seed = flags.seed;
   const double fov = flags.fov;
   nc::RenderSettings settings;
-  const std::map<std::string, nc::ExrCompression> codecs = {{"zip", nc::ExrCompression::zip},
-                                                            {"rle", nc::ExrCompression::rle},
-                                                            {"piz", nc::ExrCompression::piz},
-                                                            {"none", nc::ExrCompression::none}};
-  if (!codecs.count(codec)) throw UsageError("--codec '" + codec + "': expected zip, rle, piz or none");
-  settings.capture.compression = codecs.at(codec);
+  if (codec != "auto") {
+    settings.capture.images = nc::image_encoding_by_name(codec);
+    if (!settings.capture.images)
+      throw UsageError("--codec '" + codec +
+                       "': expected auto, none, rle, zips, zip, piz or pxr24 (zip1 … zip9: a zlib level)");
+  }
   std::tie(settings.width, settings.height) = parse_size(size);
   if (frames < 1 || frames > 1000) throw UsageError("--frames " + std::to_string(frames) + ": expected 1 to 1000");
   settings.frames = frames;
@@ -340,7 +340,10 @@ int main(int argc, char** argv) {
   render->add_option("--orbit", r.orbit, "orbit camera THETA,PHI,RADIUS (degrees, scene units)");
   render->add_option("--target", r.target, "orbit target X,Y,Z (default 0,0,0)");
   render->add_option("--fov", r.fov, "vertical field of view of the orbit camera, degrees")->capture_default_str();
-  render->add_option("--codec", r.codec, "OpenEXR compression of image blobs: zip, rle, piz or none")
+  render
+      ->add_option("--codec", r.codec,
+                   "OpenEXR compression of every image blob: none, rle, zips, zip, piz or pxr24 (zip1 … zip9: "
+                   "with a zlib level); auto: chosen per kind of data")
       ->capture_default_str();
   render->add_flag("--force", r.force, "replace an existing capture");
 

@@ -19,7 +19,9 @@
 #include <iomanip>
 #include <iostream>
 #include <random>
+#include <thread>
 
+#include "captures/capture.h"
 #include "passes/core/isolated.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
@@ -57,6 +59,8 @@ double now_ms() {
 nc::ShaderProvider builtin() {
   return [](const std::string&, const std::string& path) { return nc::builtin_spirv(path); };
 }
+
+void bench_capture_cost(nc::Renderer& renderer, const nc::RenderSettings& settings, int repeats);
 
 // Per-pass medians over `repeats` frames, capture off, and the frame's GPU memory; with
 // `capture_figures`, frame time off/on and capture size too, and the unsuffixed figures.
@@ -112,37 +116,88 @@ void bench_scene(nc::GpuDevice& gpu, const std::string& key, const std::string& 
   if (!capture_figures) return;
   figure("peak_gpu_mib", mib);
   figure("peak_gpu_mib_no_aliasing", mib_apart);
+  bench_capture_cost(renderer, settings, repeats);
+}
+
+// Capture on against off on the warm renderer, frames alternating so that both see the same
+// machine: readback, hashing, encoding every blob and committing the capture folder (manifest,
+// fsync), against the frame alone. Then the encoding alone, codec by codec and with 1 or all
+// cores, on one frame's resources.
+void bench_capture_cost(nc::Renderer& renderer, const nc::RenderSettings& settings, int repeats) {
   const fs::path dir = fs::temp_directory_path() / "nightcap-bench";
   fs::remove_all(dir);
-  const std::pair<const char*, nc::ExrCompression> codecs[] = {{"zip", nc::ExrCompression::zip},
-                                                               {"rle", nc::ExrCompression::rle},
-                                                               {"piz", nc::ExrCompression::piz},
-                                                               {"none", nc::ExrCompression::none}};
-  table() << "capture codec        frame ms    on/off   MiB on disk   of raw\n";
-  for (const auto& [name, codec] : codecs) {
-    settings.capture.compression = codec;
-    frame_on.clear();
-    uint64_t raw = 0, disk = 0;
-    for (int r = 0; r < repeats; ++r) {
-      const double start = now_ms();
-      const nc::RenderSummary summary =
-          nc::render_to_capture(gpu, scene, settings, dir / (std::string(name) + std::to_string(r)), false);
-      frame_on.push_back(now_ms() - start);
-      raw = summary.raw_bytes;
-      disk = summary.disk_bytes;
+  std::vector<double> frame_off, frame_on;
+  uint64_t raw = 0, disk = 0;
+  for (int r = 0; r < repeats; ++r) {
+    double start = now_ms();
+    renderer.render_frame(0, false);
+    frame_off.push_back(now_ms() - start);
+    start = now_ms();
+    nc::CaptureWriter writer(dir / ("on" + std::to_string(r)), false, settings.capture);
+    nc::CaptureManifest manifest;
+    const nc::RenderedFrame frame = renderer.render_frame(0, true);
+    manifest.frames.push_back(nc::record_frame(writer, frame, 0, settings.params));
+    writer.commit(manifest);
+    frame_on.push_back(now_ms() - start);
+    raw = 0;
+    for (const nc::VersionData& v : frame.execution.versions) raw += v.bytes ? v.bytes->size() : 0;
+    disk = writer.bytes_written();
+  }
+  table() << std::left << std::setw(22) << "frame (capture on)" << std::right << std::setw(12) << std::fixed
+          << std::setprecision(3) << median(frame_on) << "  (" << std::setprecision(2)
+          << median(frame_on) / median(frame_off) << "x capture off, " << median(frame_off) << " ms; "
+          << std::setprecision(1) << disk / 1048576.0 << " MiB on disk, " << std::setprecision(3) << double(disk) / raw
+          << " of " << std::setprecision(1) << raw / 1048576.0 << " MiB raw)\n";
+  figure("capture_frame_ms", median(frame_on));
+  figure("capture_on_off_ratio", median(frame_on) / median(frame_off));
+  figure("capture_bytes_ratio", double(disk) / raw);
+
+  const nc::RenderedFrame frame = renderer.render_frame(0, true);
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  struct Row {
+    std::string codec;
+    unsigned workers;
+    double ms;
+    uint64_t bytes;
+  };
+  std::vector<Row> rows;
+  const char* codecs[] = {"auto", "zip1", "zip4", "zips1", "piz", "pxr24_1", "rle", "none"};
+  for (const char* codec : codecs)
+    for (unsigned workers : {1u, cores}) {
+      if (workers == cores && cores == 1 && rows.size() && rows.back().codec == codec) continue;
+      nc::CaptureWriter::Options options;
+      if (std::string(codec) != "auto") options.images = nc::image_encoding_by_name(codec);
+      options.workers = workers;
+      std::vector<double> times;
+      uint64_t bytes = 0;
+      for (int r = 0; r < repeats; ++r) {
+        fs::remove_all(dir / "encode");
+        nc::CaptureWriter writer(dir / "encode", false, options);
+        const double start = now_ms();
+        nc::record_frame(writer, frame, 0, settings.params);
+        writer.flush();
+        times.push_back(now_ms() - start);
+        bytes = writer.bytes_written();
+      }
+      rows.push_back({codec, workers, median(times), bytes});
     }
-    table() << "  " << std::left << std::setw(16) << name << std::right << std::fixed << std::setprecision(1)
-            << std::setw(12) << median(frame_on) << std::setprecision(2) << std::setw(9)
-            << median(frame_on) / median(frame_off) << "x" << std::setprecision(1) << std::setw(13) << disk / 1048576.0
-            << std::setprecision(3) << std::setw(9) << double(disk) / raw << "\n";
-    figure(std::string("capture_frame_ms.") + name, median(frame_on));
-    figure(std::string("capture_on_off_ratio.") + name, median(frame_on) / median(frame_off));
-    figure(std::string("capture_mib.") + name, disk / 1048576.0);
-    figure(std::string("capture_bytes_ratio.") + name, double(disk) / raw);
-    if (codec == nc::RenderSettings{}.capture.compression) {
-      figure("capture_on_off_ratio", median(frame_on) / median(frame_off));
-      figure("capture_bytes_ratio", double(disk) / raw);
-    }
+  table() << "\nencoding one frame's resources (" << std::fixed << std::setprecision(1) << raw / 1048576.0
+          << " MiB raw; Pareto: no other codec with as many workers is both faster and smaller)\n"
+          << "  codec      workers        ms   MB/s/core   of raw   Pareto\n";
+  for (const Row& row : rows) {
+    const bool pareto = std::none_of(rows.begin(), rows.end(), [&](const Row& other) {
+      return other.workers == row.workers && other.ms <= row.ms && other.bytes <= row.bytes &&
+             (other.ms < row.ms || other.bytes < row.bytes);
+    });
+    const double mb_per_s_core = raw / 1e6 / (row.ms / 1000.0) / row.workers;
+    table() << "  " << std::left << std::setw(10) << row.codec << std::right << std::setw(8) << row.workers
+            << std::setprecision(1) << std::setw(10) << row.ms << std::setw(12) << mb_per_s_core << std::setprecision(3)
+            << std::setw(9) << double(row.bytes) / raw << std::setw(9) << (pareto ? "yes" : "") << "\n";
+    const std::string key = row.codec + ".workers" + std::to_string(row.workers);
+    figure("capture_encode_ms." + key, row.ms);
+    figure("capture_encode_bytes_ratio." + key, double(row.bytes) / raw);
+    figure("capture_encode_pareto." + key, pareto ? 1 : 0);
+    if (row.codec == "auto" && row.workers == 1) figure("capture_mb_per_s", mb_per_s_core);
   }
   fs::remove_all(dir);
 }

@@ -2,12 +2,18 @@
 // -0, denormals and packed words included); mismatched, truncated or damaged files fail with a
 // CaptureError naming the file, except damaged pixel data, which comes back at the right size
 // for the capture's content hash to catch. Nothing crashes.
+#include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputPart.h>
+#include <ImfIntAttribute.h>
 #include <ImfMultiPartInputFile.h>
+#include <ImfMultiPartOutputFile.h>
+#include <ImfOutputPart.h>
+#include <ImfPartType.h>
 #include <ImfStringAttribute.h>
 #include <gtest/gtest.h>
+#include <half.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -72,13 +78,10 @@ std::vector<uint8_t> random_raw(const FormatInfo& format, const ImageExtent& ext
   return raw;
 }
 
-const ExrCompression kCompressions[] = {ExrCompression::none, ExrCompression::rle, ExrCompression::zip,
-                                        ExrCompression::piz};
-
-std::string compression_name(ExrCompression c) {
-  const char* names[] = {"none", "rle", "zip", "piz"};
-  return names[int(c)];
-}
+// PXR24 included: it is lossless on HALF and UINT samples and falls back to ZIP for FLOAT ones.
+const ImageEncoding kEncodings[] = {{ExrCompression::none},    {ExrCompression::rle},    {ExrCompression::zips, 1},
+                                    {ExrCompression::zip, 1},  {ExrCompression::zip, 9}, {ExrCompression::piz},
+                                    {ExrCompression::pxr24, 4}};
 
 class ImageRoundTrip : public testing::TestWithParam<FormatInfo> {};
 
@@ -90,13 +93,13 @@ TEST_P(ImageRoundTrip, BitExactForEveryExtentAndCompression) {
   BlobDir dir;
   uint32_t seed = 1;
   for (const ImageExtent& extent : extents)
-    for (ExrCompression compression : kCompressions) {
+    for (ImageEncoding encoding : kEncodings) {
       SCOPED_TRACE(std::to_string(extent.width) + "x" + std::to_string(extent.height) + "x" +
                    std::to_string(extent.depth) + " mips " + std::to_string(extent.mips) + " layers " +
-                   std::to_string(extent.layers) + " " + compression_name(compression));
+                   std::to_string(extent.layers) + " " + image_encoding_name(encoding));
       const std::vector<uint8_t> raw = random_raw(format, extent, seed++);
       const fs::path file = dir / ("blob." + image_blob_extension());
-      write_image_blob(file, format, extent, raw, compression);
+      write_image_blob(file, format, extent, raw, encoding);
       const std::vector<uint8_t> back = read_image_blob(file, format, extent);
       ASSERT_EQ(back.size(), raw.size());
       EXPECT_TRUE(back == raw);
@@ -113,7 +116,7 @@ TEST(ImageBlob, OtherToolsSeeTheCodesAndTheFormat) {
   const ImageExtent extent{2, 1, 1, 1, 2};
   const std::vector<uint8_t> raw = {0x34, 0x12, 0xff, 0xff, 0x01, 0x00, 0x00, 0x80, 0, 0, 0, 0, 0, 0, 0, 0};
   const fs::path file = dir / "codes.exr";
-  write_image_blob(file, format, extent, raw, ExrCompression::zip);
+  write_image_blob(file, format, extent, raw, {ExrCompression::zip});
   Imf::MultiPartInputFile in(file.c_str());
   ASSERT_EQ(in.parts(), 2);
   EXPECT_EQ(in.header(1).name(), "a0.m0.l1");
@@ -133,12 +136,60 @@ TEST(ImageBlob, OtherToolsSeeTheCodesAndTheFormat) {
   EXPECT_EQ(rg[1][1], 0x8000u);
 }
 
+TEST(ImageBlob, EightBitCodesAreHalfSamplesHoldingTheInteger) {
+  BlobDir dir;
+  const FormatInfo format = *format_info(VK_FORMAT_R8G8_UNORM);
+  const std::vector<uint8_t> raw = {0, 255, 1, 128};
+  const fs::path file = dir / "codes8.exr";
+  write_image_blob(file, format, {2, 1}, raw, {ExrCompression::piz});
+  half rg[2][2];
+  {
+    Imf::MultiPartInputFile in(file.c_str());
+    Imf::FrameBuffer frame_buffer;
+    frame_buffer.insert("R", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(&rg[0][0]), 4, 8));
+    frame_buffer.insert("G", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(&rg[0][1]), 4, 8));
+    Imf::InputPart part(in, 0);
+    part.setFrameBuffer(frame_buffer);
+    part.readPixels(0, 0);
+  }
+  EXPECT_EQ(float(rg[0][0]), 0.0f);
+  EXPECT_EQ(float(rg[0][1]), 255.0f);
+  EXPECT_EQ(float(rg[1][0]), 1.0f);
+  EXPECT_EQ(float(rg[1][1]), 128.0f);
+
+  // A sample that is no 8-bit integer (here 0.5) is damage, not a code.
+  Imf::Header header(2, 1);
+  header.setName("a0.m0.l0");
+  header.setType(Imf::SCANLINEIMAGE);
+  header.channels().insert("R", Imf::Channel(Imf::HALF));
+  header.channels().insert("G", Imf::Channel(Imf::HALF));
+  header.insert("nightcap.format", Imf::StringAttribute("R8G8_UNORM"));
+  for (const char* name : {"nightcap.width", "nightcap.height", "nightcap.depth", "nightcap.mips", "nightcap.layers"})
+    header.insert(name, Imf::IntAttribute(std::string(name) == "nightcap.width" ? 2 : 1));
+  rg[1][1] = 0.5f;
+  {
+    Imf::MultiPartOutputFile out(file.c_str(), &header, 1);
+    Imf::FrameBuffer frame_buffer;
+    frame_buffer.insert("R", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(&rg[0][0]), 4, 8));
+    frame_buffer.insert("G", Imf::Slice(Imf::HALF, reinterpret_cast<char*>(&rg[0][1]), 4, 8));
+    Imf::OutputPart part(out, 0);
+    part.setFrameBuffer(frame_buffer);
+    part.writePixels(1);
+  }
+  try {
+    read_image_blob(file, format, {2, 1});
+    FAIL() << "a non-integer sample was read as a code";
+  } catch (const CaptureError& e) {
+    EXPECT_NE(std::string(e.what()).find("no code of R8G8_UNORM"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ImageBlob, DepthStencilAspectsAreSeparateParts) {
   BlobDir dir;
   const FormatInfo format = *format_info(VK_FORMAT_D32_SFLOAT_S8_UINT);
   const ImageExtent extent{3, 2, 1, 2, 1};
   const std::vector<uint8_t> raw = random_raw(format, extent, 7);
-  write_image_blob(dir / "ds.exr", format, extent, raw, ExrCompression::piz);
+  write_image_blob(dir / "ds.exr", format, extent, raw, {ExrCompression::piz});
   EXPECT_EQ(read_image_blob(dir / "ds.exr", format, extent), raw);
   // Four parts (2 aspects x 2 mips): the same file read as D32_SFLOAT has the wrong part count.
   EXPECT_THROW(read_image_blob(dir / "ds.exr", *format_info(VK_FORMAT_D32_SFLOAT), extent), CaptureError);
@@ -158,7 +209,7 @@ TEST(ImageBlob, MismatchedFormatOrExtentIsRejected) {
   const FormatInfo rgba16f = *format_info(VK_FORMAT_R16G16B16A16_SFLOAT);
   const ImageExtent extent{7, 5, 1, 3, 2};
   const fs::path file = dir / "image.exr";
-  write_image_blob(file, rgba16f, extent, random_raw(rgba16f, extent, 3), ExrCompression::zip);
+  write_image_blob(file, rgba16f, extent, random_raw(rgba16f, extent, 3), {ExrCompression::zip});
   const auto read_as = [&](VkFormat format, ImageExtent e) {
     expect_capture_error([&] { read_image_blob(file, *format_info(format), e); }, file);
   };
@@ -174,13 +225,13 @@ TEST(ImageBlob, MismatchedFormatOrExtentIsRejected) {
 
   // Packed formats share one UINT channel; only the recorded format tells them apart.
   const FormatInfo a2b10 = *format_info(VK_FORMAT_A2B10G10R10_UNORM_PACK32);
-  write_image_blob(file, a2b10, {4, 4}, random_raw(a2b10, {4, 4}, 4), ExrCompression::rle);
+  write_image_blob(file, a2b10, {4, 4}, random_raw(a2b10, {4, 4}, 4), {ExrCompression::rle});
   read_as(VK_FORMAT_B10G11R11_UFLOAT_PACK32, {4, 4});
   read_as(VK_FORMAT_R32_UINT, {4, 4});
 
   // A 16-bit code cannot be read back as an 8-bit one, though both are UINT channels.
   const FormatInfo r16 = *format_info(VK_FORMAT_R16_UINT);
-  write_image_blob(file, r16, {4, 4}, random_raw(r16, {4, 4}, 5), ExrCompression::none);
+  write_image_blob(file, r16, {4, 4}, random_raw(r16, {4, 4}, 5), {ExrCompression::none});
   read_as(VK_FORMAT_R8_UINT, {4, 4});
 }
 
@@ -236,19 +287,19 @@ TEST(ImageBlob, TruncatedOrFlippedFilesFailCleanly) {
   struct Case {
     VkFormat format;
     ImageExtent extent;
-    ExrCompression compression;
+    ImageEncoding encoding;
   };
   const Case cases[] = {
-      {VK_FORMAT_R16G16B16A16_SFLOAT, {7, 5, 1, 2, 2}, ExrCompression::zip},
-      {VK_FORMAT_D32_SFLOAT_S8_UINT, {6, 5, 1, 2, 1}, ExrCompression::piz},
-      {VK_FORMAT_R8G8B8A8_UNORM, {9, 4, 1, 2, 1}, ExrCompression::none},
-      {VK_FORMAT_A2B10G10R10_UNORM_PACK32, {5, 2, 3, 1, 1}, ExrCompression::rle},
+      {VK_FORMAT_R16G16B16A16_SFLOAT, {7, 5, 1, 2, 2}, {ExrCompression::zip}},
+      {VK_FORMAT_D32_SFLOAT_S8_UINT, {6, 5, 1, 2, 1}, {ExrCompression::piz}},
+      {VK_FORMAT_R8G8B8A8_UNORM, {9, 4, 1, 2, 1}, {ExrCompression::none}},
+      {VK_FORMAT_A2B10G10R10_UNORM_PACK32, {5, 2, 3, 1, 1}, {ExrCompression::rle}},
   };
   for (const Case& c : cases) {
     const FormatInfo format = *format_info(c.format);
-    SCOPED_TRACE(std::string(format.name) + " " + compression_name(c.compression));
+    SCOPED_TRACE(std::string(format.name) + " " + image_encoding_name(c.encoding));
     const fs::path file = dir / (std::string(format.name) + ".exr");
-    write_image_blob(file, format, c.extent, random_raw(format, c.extent, 9), c.compression);
+    write_image_blob(file, format, c.extent, random_raw(format, c.extent, 9), c.encoding);
     damage(
         file, [&] { return read_image_blob(file, format, c.extent); }, raw_image_bytes(format, c.extent));
   }

@@ -1,0 +1,43 @@
+#include "captures/codec_choice.h"
+
+namespace nightcap {
+
+// Chosen from the resources of the city frame at 1280x720 (2026-11-23, one core each, sizes as
+// a fraction of raw bytes; ZIP at zlib level 1 unless named):
+//   hdr_colour RGBA16F   ZIP 0.29, ZIP4 0.26 at 0.75x the speed, PIZ 0.33, RLE 0.41
+//   colour sRGB8         PIZ 0.25, ZIP 0.36, RLE 0.71
+//   colour A2B10G10R10   PIZ 0.18 at 1.5x ZIP's speed, ZIP 0.22
+//   motion RG16F         PIZ 0.17 at 1.5x ZIP's speed, ZIP 0.15
+//   packed_normal RGBA8  PIZ 0.022, ZIP 0.041
+//   depth_stencil        ZIP 0.25, PIZ 0.34
+//   linear_depth R32F    ZIP 0.53, PIZ 0.47 at 0.8x the speed
+//   depth_minmax RG32F   ZIP 0.57, PIZ 0.55 at 0.7x the speed
+//   normal A2B10G10R10   ZIP 0.019, PIZ 0.040
+//   material RGBA8       ZIP 0.042, PIZ 0.034
+//   lookup_table R8      PIZ 0.84, ZIP 0.87
+// Noisy, dithered or 8-bit-per-channel content compresses best with PIZ's wavelet; smooth
+// content and float depth with ZIP, whose higher levels cost more time than they save bytes.
+ImageEncoding image_encoding_for(ResourceKind kind) {
+  constexpr ImageEncoding piz{ExrCompression::piz, 1};
+  constexpr ImageEncoding zip{ExrCompression::zip, 1};
+  switch (kind) {
+    case ResourceKind::colour:
+    case ResourceKind::packed_normal:
+    case ResourceKind::motion:
+    case ResourceKind::lookup_table:
+      return piz;
+    case ResourceKind::hdr_colour:
+    case ResourceKind::normal:
+    case ResourceKind::material:
+    case ResourceKind::depth_stencil:
+    case ResourceKind::linear_depth:
+    case ResourceKind::depth_minmax:
+    case ResourceKind::texture:
+    case ResourceKind::buffer:
+    case ResourceKind::draw_list:
+      return zip;
+  }
+  return zip;
+}
+
+}  // namespace nightcap

@@ -1,0 +1,11 @@
+// Which OpenEXR codec an image blob gets, by the kind of data it holds.
+#pragma once
+
+#include "captures/blob_codec.h"
+#include "passes/core/format.h"
+
+namespace nightcap {
+
+ImageEncoding image_encoding_for(ResourceKind kind);
+
+}  // namespace nightcap
