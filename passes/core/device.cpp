@@ -401,20 +401,31 @@ VkCommandBuffer GpuDevice::begin_commands(const std::string& name) {
   return cmd;
 }
 
-void GpuDevice::end_and_wait(VkCommandBuffer cmd) {
-  vk_check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
-  auto submit = vk_struct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
-  submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &cmd;
+GpuDevice::Submission GpuDevice::submit(VkCommandBuffer cmd) {
+  Submission submission{cmd, VK_NULL_HANDLE};
+  VkResult result = vkEndCommandBuffer(cmd);
   auto fence_info = vk_struct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
-  VkFence fence;
-  vk_check(vkCreateFence(device_, &fence_info, nullptr, &fence), "vkCreateFence");
-  name(VK_OBJECT_TYPE_FENCE, fence, "submit fence");
-  VkResult result = vkQueueSubmit(queue_, 1, &submit, fence);
-  if (result == VK_SUCCESS) result = vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX);
-  vkDestroyFence(device_, fence, nullptr);
-  vkFreeCommandBuffers(device_, pool_, 1, &cmd);
-  vk_check(result, "vkQueueSubmit/vkWaitForFences");
+  if (result == VK_SUCCESS) result = vkCreateFence(device_, &fence_info, nullptr, &submission.fence);
+  if (result == VK_SUCCESS) {
+    name(VK_OBJECT_TYPE_FENCE, submission.fence, "submit fence");
+    auto info = vk_struct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
+    info.commandBufferCount = 1;
+    info.pCommandBuffers = &cmd;
+    result = vkQueueSubmit(queue_, 1, &info, submission.fence);
+  }
+  if (result != VK_SUCCESS) {
+    if (submission.fence) vkDestroyFence(device_, submission.fence, nullptr);
+    vkFreeCommandBuffers(device_, pool_, 1, &cmd);
+    vk_check(result, "vkEndCommandBuffer/vkQueueSubmit");
+  }
+  return submission;
+}
+
+void GpuDevice::wait(Submission submission) {
+  const VkResult result = vkWaitForFences(device_, 1, &submission.fence, VK_TRUE, UINT64_MAX);
+  vkDestroyFence(device_, submission.fence, nullptr);
+  vkFreeCommandBuffers(device_, pool_, 1, &submission.cmd);
+  vk_check(result, "vkWaitForFences");
 }
 
 void GpuDevice::begin_label(VkCommandBuffer cmd, const std::string& name) const {

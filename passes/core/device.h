@@ -100,8 +100,16 @@ class GpuDevice {
   }
 
   VkCommandBuffer begin_commands(const std::string& name);  // one-time primary command buffer
-  // Submits, waits for completion, frees the command buffer.
-  void end_and_wait(VkCommandBuffer cmd);
+  // A command buffer on its way through the queue, and the fence it signals.
+  struct Submission {
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    VkFence fence = VK_NULL_HANDLE;
+  };
+  // Ends and submits without waiting.
+  Submission submit(VkCommandBuffer cmd);
+  // Waits for completion and frees the command buffer and fence.
+  void wait(Submission submission);
+  void end_and_wait(VkCommandBuffer cmd) { wait(submit(cmd)); }
 
   void begin_label(VkCommandBuffer cmd, const std::string& name) const;
   void end_label(VkCommandBuffer cmd) const;

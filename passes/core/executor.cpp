@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <deque>
+#include <utility>
 
 #include "passes/core/execution_state.h"
 #include "passes/core/frame_memory.h"
@@ -260,12 +262,23 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
     for (const BoundUse& u : pass.outputs) usage[u.resource] |= usage_for(u.use);
   }
   FrameMemory memory(gpu);
+  // A submitted part of the frame, and how many staging buffers it fills.
+  struct InFlight {
+    GpuDevice::Submission submission;
+    size_t staging_end;
+  };
   struct Cleanup {
     GpuDevice& gpu;
     PassContext::Shared& shared;
     std::vector<Staging> staging;
     VkQueryPool queries = VK_NULL_HANDLE;
+    std::deque<InFlight> in_flight;
     ~Cleanup() {
+      // Nothing may be destroyed while the queue still uses it (after an exception).
+      for (InFlight& part : in_flight) {
+        vkWaitForFences(gpu.device(), 1, &part.submission.fence, VK_TRUE, UINT64_MAX);
+        vkDestroyFence(gpu.device(), part.submission.fence, nullptr);
+      }
       for (auto& [name, r] : shared.resources) {
         for (auto& [key, view] : r.views) vkDestroyImageView(gpu.device(), view, nullptr);
         if (!r.owned) continue;
@@ -275,7 +288,7 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       for (Staging& s : staging) gpu.destroy(s.buffer);
       if (queries) vkDestroyQueryPool(gpu.device(), queries, nullptr);
     }
-  } cleanup{gpu, shared, {}, VK_NULL_HANDLE};
+  } cleanup{gpu, shared, {}, VK_NULL_HANDLE, {}};
   // previous(name) inputs the history pool supplies (a replay imports them instead).
   std::map<std::string, std::string> pooled;  // previous(name) -> name
   for (const std::string& name : graph.history) pooled[name] = history_source(name);
@@ -335,16 +348,29 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       options.name.empty() ? "frame " + std::to_string(graph.settings.frame.frame_index) : options.name;
   shared.cmd = gpu.begin_commands(frame_name);
   result.submits = 1;
-  // Copies the staging buffers filled so far into their versions (after a wait for the GPU).
+  // Copies the staging buffers up to `end` into their versions (after a wait for the GPU).
   size_t harvested = 0;
-  auto harvest = [&] {
-    for (; harvested < cleanup.staging.size(); ++harvested) {
+  auto harvest = [&](size_t end) {
+    for (; harvested < end; ++harvested) {
       const Staging& s = cleanup.staging[harvested];
       if (s.version < 0) continue;
       VersionData& v = result.versions[s.version];
       const auto* begin = static_cast<const uint8_t*>(s.buffer.mapped);
       v.bytes = std::make_shared<std::vector<uint8_t>>(begin, begin + v.desc.raw_bytes());
+      if (options.on_read_back) options.on_read_back(v);
     }
+  };
+  auto wait_oldest = [&] {
+    InFlight part = cleanup.in_flight.front();
+    cleanup.in_flight.pop_front();
+    gpu.wait(part.submission);
+    harvest(part.staging_end);
+  };
+  // Submits what is recorded so far; with `wait_all`, waits for it and every earlier part, so
+  // that everything read back so far is on the host.
+  auto submit = [&](bool wait_all) {
+    cleanup.in_flight.push_back({gpu.submit(std::exchange(shared.cmd, VK_NULL_HANDLE)), cleanup.staging.size()});
+    while (cleanup.in_flight.size() > (wait_all ? 0 : 1)) wait_oldest();
   };
   try {
     auto upload = [&](const std::string& name) {
@@ -421,9 +447,7 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
           issue_step(pass.sync.before_host_reads);
           for (const std::string& resource : pass.sync.host_reads)
             read_back(shared.resources.at(resource), latest.at(resource), resource + " for " + pass.decl->name);
-          gpu.end_and_wait(shared.cmd);
-          shared.cmd = VK_NULL_HANDLE;
-          harvest();
+          submit(true);
           shared.cmd = gpu.begin_commands(frame_name + " after " + pass.decl->name);
           ++result.submits;
           for (const BoundUse& in : pass.inputs) {
@@ -473,6 +497,11 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       issue_step(pass.sync.before_readback);
       for (const std::string& resource : pass.sync.readback)
         read_back(shared.resources.at(resource), written.at(resource), resource + " from " + pass.decl->name);
+      if (options.on_read_back && !pass.sync.readback.empty() && i + 1 < graph.passes.size()) {
+        submit(false);
+        shared.cmd = gpu.begin_commands(frame_name + " after " + pass.decl->name);
+        ++result.submits;
+      }
     }
     // This frame's final values are the next frame's history.
     issue_step(graph.before_history_copy);
@@ -482,8 +511,7 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
     if (shared.cmd) vkEndCommandBuffer(shared.cmd);
     throw;
   }
-  gpu.end_and_wait(shared.cmd);
-  harvest();
+  submit(true);
   for (const auto& [name, slot] : slots) slot->filled = true;
 
   std::vector<uint64_t> stamps(query_info.queryCount, 0);

@@ -6,6 +6,7 @@
 // submit). Transient resources share memory where their lifetimes allow (FrameMemory).
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -21,6 +22,8 @@ namespace nightcap {
 class HistoryPool;
 
 // What is read back to the host is the graph's (GraphSettings::capture and readback).
+struct VersionData;
+
 struct ExecutionOptions {
   std::map<std::string, ParamValues> params;  // per pass; missing ones take their defaults
   ShaderProvider shaders;
@@ -31,6 +34,11 @@ struct ExecutionOptions {
   // Transient resources alive at different steps share memory; false gives each its own (the
   // results must not change).
   bool alias_memory = true;
+  // Called on this thread with each version as soon as its bytes reach the host, while later
+  // passes may still run: a capture writer starts encoding it there. When set (and the graph
+  // reads back), the frame is submitted in parts, one after each pass whose outputs are read
+  // back, with one part in flight while the next is recorded.
+  std::function<void(const VersionData&)> on_read_back;
 };
 
 struct VersionData {

@@ -179,7 +179,7 @@ Renderer::Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings)
   keep_freed_memory();
 }
 
-RenderedFrame Renderer::render_frame(uint32_t index, bool capture) {
+RenderedFrame Renderer::render_frame(uint32_t index, bool capture, CaptureWriter* writer) {
   RenderedFrame frame;
   const bool cut = settings_.path.cut_at(index);
   frame.camera = frame_camera(base_, scene_, settings_.path, index);
@@ -208,6 +208,11 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture) {
   options.shaders = [](const std::string&, const std::string& path) { return builtin_spirv(path); };
   options.history = &history_;
   options.alias_memory = settings_.alias_memory;
+  if (capture && writer)
+    options.on_read_back = [writer](const VersionData& version) {
+      ResourceRecord record = describe(version);
+      writer->add_resource(record, version.bytes);
+    };
   std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> bytes;
   for (const auto& [name, data] : imports) bytes[name] = data.bytes;
   frame.execution = execute_graph(gpu_, cache_, frame.graph, bytes, options);
@@ -329,7 +334,7 @@ RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const Render
       monitor.progress("frame " + std::to_string(k + 1) + "/" + std::to_string(last + 1) + ": rendering");
       auto start = std::chrono::steady_clock::now();
       const bool recorded = k >= first;
-      RenderedFrame frame = renderer.render_frame(k, recorded);
+      RenderedFrame frame = renderer.render_frame(k, recorded, &writer);
       summary.render_ms += ms_since(start);
       if (!recorded) continue;
       monitor.progress("frame " + std::to_string(k + 1) + "/" + std::to_string(last + 1) + ": writing capture");

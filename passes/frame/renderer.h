@@ -65,7 +65,9 @@ class Renderer {
  public:
   Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings);
   // Frame `index`, reading the history the previous render_frame left (render them in order).
-  RenderedFrame render_frame(uint32_t index, bool capture);
+  // With `capture`, every version is read back; a `writer` starts encoding each one as soon as
+  // it reaches the host, while the rest of the frame runs (record_frame completes the record).
+  RenderedFrame render_frame(uint32_t index, bool capture, CaptureWriter* writer = nullptr);
   const std::vector<PassDecl>& passes() const { return passes_; }
   GpuDevice& gpu() { return gpu_; }
 

@@ -135,7 +135,7 @@ void bench_capture_cost(nc::Renderer& renderer, const nc::RenderSettings& settin
     start = now_ms();
     nc::CaptureWriter writer(dir / ("on" + std::to_string(r)), false, settings.capture);
     nc::CaptureManifest manifest;
-    const nc::RenderedFrame frame = renderer.render_frame(0, true);
+    const nc::RenderedFrame frame = renderer.render_frame(0, true, &writer);
     manifest.frames.push_back(nc::record_frame(writer, frame, 0, settings.params));
     writer.commit(manifest);
     frame_on.push_back(now_ms() - start);
@@ -161,26 +161,25 @@ void bench_capture_cost(nc::Renderer& renderer, const nc::RenderSettings& settin
     uint64_t bytes;
   };
   std::vector<Row> rows;
-  const char* codecs[] = {"auto", "zip1", "zip4", "zips1", "piz", "pxr24_1", "rle", "none"};
-  for (const char* codec : codecs)
-    for (unsigned workers : {1u, cores}) {
-      if (workers == cores && cores == 1 && rows.size() && rows.back().codec == codec) continue;
+  for (const char* codec : {"auto", "zip1", "zip4", "zips1", "piz", "pxr24_1", "rle", "none"})
+    for (unsigned workers : {1u, cores})
+      if (workers == 1 || cores > 1) rows.push_back({codec, workers, 0, 0});
+  // Round after round over every row, so that a busy spell of the machine spreads over all.
+  std::vector<std::vector<double>> times(rows.size());
+  for (int r = 0; r < repeats; ++r)
+    for (size_t i = 0; i < rows.size(); ++i) {
       nc::CaptureWriter::Options options;
-      if (std::string(codec) != "auto") options.images = nc::image_encoding_by_name(codec);
-      options.workers = workers;
-      std::vector<double> times;
-      uint64_t bytes = 0;
-      for (int r = 0; r < repeats; ++r) {
-        fs::remove_all(dir / "encode");
-        nc::CaptureWriter writer(dir / "encode", false, options);
-        const double start = now_ms();
-        nc::record_frame(writer, frame, 0, settings.params);
-        writer.flush();
-        times.push_back(now_ms() - start);
-        bytes = writer.bytes_written();
-      }
-      rows.push_back({codec, workers, median(times), bytes});
+      if (rows[i].codec != "auto") options.images = nc::image_encoding_by_name(rows[i].codec);
+      options.workers = rows[i].workers;
+      fs::remove_all(dir / "encode");
+      nc::CaptureWriter writer(dir / "encode", false, options);
+      const double start = now_ms();
+      nc::record_frame(writer, frame, 0, settings.params);
+      writer.flush();
+      times[i].push_back(now_ms() - start);
+      rows[i].bytes = writer.bytes_written();
     }
+  for (size_t i = 0; i < rows.size(); ++i) rows[i].ms = median(times[i]);
   table() << "\nencoding one frame's resources (" << std::fixed << std::setprecision(1) << raw / 1048576.0
           << " MiB raw; Pareto: no other codec with as many workers is both faster and smaller)\n"
           << "  codec      workers        ms   MB/s/core   of raw   Pareto\n";
