@@ -1,6 +1,5 @@
 #include "captures/capture.h"
 
-#include <OpenImageIO/imageio.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
@@ -14,6 +13,7 @@
 #include <thread>
 
 #include "captures/hash.h"
+#include "images/images.h"
 
 namespace nightcap {
 namespace fs = std::filesystem;
@@ -448,11 +448,11 @@ std::pair<std::string, std::string> CaptureWriter::add_file_blob(std::span<const
 
 void CaptureWriter::write_final_png(const std::vector<uint8_t>& rgba8, uint32_t width, uint32_t height) {
   const fs::path file = temp_ / "final.png";
-  auto out = OIIO::ImageOutput::create(file.string());
-  OIIO::ImageSpec spec(int(width), int(height), 4, OIIO::TypeDesc::UINT8);
-  if (!out || !out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgba8.data()) ||
-      !out->close())
-    throw CaptureError(file.string() + ": cannot write PNG");
+  try {
+    write_png(file, rgba8, width, height);
+  } catch (const ImageError& e) {
+    throw CaptureError(file.string() + ": cannot write PNG: " + e.what());
+  }
   bytes_written_ += fs::file_size(file);
 }
 
