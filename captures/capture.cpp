@@ -542,6 +542,15 @@ std::vector<uint8_t> Capture::load(const ResourceRecord& record) const {
   return raw;
 }
 
+std::string Capture::load_shader_source(const ShaderRecord& record) const {
+  const fs::path file = checked_blob(folder_, record.source_blob);
+  const std::vector<uint8_t> bytes = read_file(file);
+  if (content_hash(bytes) != record.source_hash)
+    throw CaptureError(file.string() + ": content does not match its hash " + record.source_hash +
+                       " (corrupt capture)");
+  return std::string(bytes.begin(), bytes.end());
+}
+
 std::vector<uint32_t> Capture::load_shader(const ShaderRecord& record) const {
   const fs::path file = checked_blob(folder_, record.blob);
   const std::vector<uint8_t> bytes = read_file(file);
