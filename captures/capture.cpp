@@ -1,6 +1,5 @@
 #include "captures/capture.h"
 
-#include <OpenImageIO/imageio.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
@@ -15,6 +14,7 @@
 
 #include "captures/codec_choice.h"
 #include "captures/hash.h"
+#include "images/images.h"
 
 namespace nightcap {
 namespace fs = std::filesystem;
@@ -45,6 +45,14 @@ bool safe_blob_path(const std::string& blob, const std::string& hash) {
   return name.rfind(hash + ".", 0) == 0;
 }
 
+// The member, or null when absent (or `object` is not an object), without copying it: the
+// frames array is most of the manifest.
+const json& member(const json& object, const char* key) {
+  static const json null;
+  const auto found = object.find(key);
+  return found == object.end() ? null : *found;
+}
+
 template <typename T>
 T field(const json& object, const char* key, const std::string& file, const std::string& where) {
   if (!object.is_object() || !object.contains(key)) fail(file, where, std::string("missing \"") + key + "\"");
@@ -56,7 +64,7 @@ T field(const json& object, const char* key, const std::string& file, const std:
 }
 
 uint32_t bounded(const json& object, const char* key, uint32_t max, const std::string& file, const std::string& where) {
-  const json& value = object.contains(key) ? object.at(key) : json();
+  const json& value = member(object, key);
   if (!value.is_number_integer()) fail(file, where, std::string("\"") + key + "\" must be an integer");
   const int64_t v = value.get<int64_t>();
   if (v < 1 || v > int64_t(max))
@@ -79,7 +87,7 @@ ResourceRecord resource_from_json(const json& j, const std::string& file, const 
   if (!safe_blob_path(r.blob, r.hash))
     fail(file, where, "blob path '" + r.blob + "' leaves blobs/ or does not match its hash");
   const uint64_t bytes = [&] {
-    const json& b = j.contains("bytes") ? j.at("bytes") : json();
+    const json& b = member(j, "bytes");
     if (!b.is_number_unsigned() && !b.is_number_integer()) fail(file, where, "\"bytes\" must be an integer");
     if (b.is_number_integer() && b.get<int64_t>() < 0) fail(file, where, "\"bytes\" is negative");
     return b.get<uint64_t>();
@@ -120,7 +128,7 @@ ResourceRecord resource_from_json(const json& j, const std::string& file, const 
 }
 
 ComparisonContract contract_from_json(const json& output, const std::string& file, const std::string& where) {
-  const json c = output.contains("contract") ? output.at("contract") : json();
+  const json& c = member(output, "contract");
   ComparisonContract contract;
   const std::string kind = field<std::string>(c, "kind", file, where + ".contract");
   if (!contract_kind_by_name(kind, contract.kind)) fail(file, where, "unknown contract kind '" + kind + "'");
@@ -265,13 +273,13 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
       if (!v.is_number_integer() || v.get<int64_t>() < 1 || v.get<int64_t>() > kMaxImageSide)
         fail(file, std::string("settings.") + key, "outside 1.." + std::to_string(kMaxImageSide));
     }
-  const json frames = j.contains("frames") ? j.at("frames") : json();
+  const json& frames = member(j, "frames");
   if (!frames.is_array()) fail(file, "", "missing \"frames\" array");
   for (size_t fi = 0; fi < frames.size(); ++fi) {
     const std::string fw = "frames[" + std::to_string(fi) + "]";
     FrameRecord f;
     f.index = field<uint32_t>(frames[fi], "index", file, fw);
-    const json output = frames[fi].contains("output") ? frames[fi].at("output") : json();
+    const json& output = member(frames[fi], "output");
     f.width = bounded(output, "width", kMaxImageSide, file, fw + ".output");
     f.height = bounded(output, "height", kMaxImageSide, file, fw + ".output");
     f.sinks = field<std::vector<std::string>>(frames[fi], "sinks", file, fw);
@@ -295,7 +303,7 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
         fail(file, fw + ".camera", e.what());
       }
     }
-    const json passes = frames[fi].contains("passes") ? frames[fi].at("passes") : json();
+    const json& passes = member(frames[fi], "passes");
     if (!passes.is_array()) fail(file, fw, "missing \"passes\" array");
     for (size_t pi = 0; pi < passes.size(); ++pi) {
       const std::string pw = fw + ".passes[" + std::to_string(pi) + "]";
@@ -330,7 +338,7 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
         p.shaders.push_back(shader);
       }
       for (const char* side : {"inputs", "outputs"}) {
-        const json list = pj.contains(side) ? pj.at(side) : json();
+        const json& list = member(pj, side);
         if (!list.is_array()) fail(file, pw, std::string("missing \"") + side + "\" array");
         for (size_t ri = 0; ri < list.size(); ++ri) {
           const std::string rw = pw + "." + side + "[" + std::to_string(ri) + "]";
@@ -492,11 +500,11 @@ std::pair<std::string, std::string> CaptureWriter::add_file_blob(std::span<const
 
 void CaptureWriter::write_final_png(const std::vector<uint8_t>& rgba8, uint32_t width, uint32_t height) {
   const fs::path file = temp_ / "final.png";
-  auto out = OIIO::ImageOutput::create(file.string());
-  OIIO::ImageSpec spec(int(width), int(height), 4, OIIO::TypeDesc::UINT8);
-  if (!out || !out->open(file.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgba8.data()) ||
-      !out->close())
-    throw CaptureError(file.string() + ": cannot write PNG");
+  try {
+    write_png(file, rgba8, width, height);
+  } catch (const ImageError& e) {
+    throw CaptureError(file.string() + ": cannot write PNG: " + e.what());
+  }
   std::lock_guard lock(mutex_);
   bytes_written_ += fs::file_size(file);
 }
@@ -581,6 +589,15 @@ std::vector<uint8_t> Capture::load(const ResourceRecord& record) const {
     throw CaptureError((folder_ / record.blob).string() + ": content does not match its hash " + record.hash +
                        " (corrupt capture)");
   return raw;
+}
+
+std::string Capture::load_shader_source(const ShaderRecord& record) const {
+  const fs::path file = checked_blob(folder_, record.source_blob);
+  const std::vector<uint8_t> bytes = read_file(file);
+  if (content_hash(bytes) != record.source_hash)
+    throw CaptureError(file.string() + ": content does not match its hash " + record.source_hash +
+                       " (corrupt capture)");
+  return std::string(bytes.begin(), bytes.end());
 }
 
 std::vector<uint32_t> Capture::load_shader(const ShaderRecord& record) const {

@@ -158,16 +158,18 @@ class CaptureWriter {
 
 class Capture {
  public:
-  // Reads and validates the manifest. Throws CaptureError naming the file.
+  // Reads and validates the manifest, and nothing else. Throws CaptureError naming the file.
   static Capture open(const std::filesystem::path& folder);
 
   const std::filesystem::path& folder() const { return folder_; }
   const CaptureManifest& manifest() const { return manifest_; }
   const FrameRecord& frame(uint32_t index) const;  // throws CaptureError if absent
 
-  // Decodes a resource's blob and checks its content hash. Throws CaptureError.
-  std::vector<uint8_t> load(const ResourceRecord& record) const;
+  // Blobs are read only through these, when a command needs them, and each one's content hash is
+  // checked as it is read. They throw CaptureError naming the blob file.
+  std::vector<uint8_t> load(const ResourceRecord& record) const;  // decoded to its raw bytes
   std::vector<uint32_t> load_shader(const ShaderRecord& record) const;
+  std::string load_shader_source(const ShaderRecord& record) const;  // the GLSL of the SPIR-V
 
  private:
   std::filesystem::path folder_;

@@ -180,9 +180,8 @@ int run_render(const RenderFlags& flags) {
 
 int run_passes(const std::string& path, bool json) {
   const nc::Capture capture = nc::Capture::open(path);
-  const nlohmann::json manifest = nc::to_json(capture.manifest());
   if (json) {
-    nlohmann::json out = {{"frames", manifest.at("frames")}};
+    const nlohmann::json out = {{"frames", nc::to_json(capture.manifest()).at("frames")}};
     std::cout << out.dump(1) << "\n";
     return 0;
   }

@@ -1,11 +1,9 @@
-// glTF 2.0 through tinygltf. Images are decoded with OpenImageIO (tinygltf's bundled stb is
-// not used), so every format OIIO reads works and errors name the file.
+// glTF 2.0 through tinygltf. Images are decoded with OpenImageIO through the image module
+// (tinygltf's bundled stb is not used), so every format OIIO reads works and errors name the file.
 #define TINYGLTF_IMPLEMENTATION
 #define TINYGLTF_NO_STB_IMAGE
 #define TINYGLTF_NO_STB_IMAGE_WRITE
 #define TINYGLTF_NO_EXTERNAL_IMAGE
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 #include <tiny_gltf.h>
 
 #include <cmath>
@@ -14,6 +12,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <map>
 
+#include "images/images.h"
 #include "passes/scene/scene.h"
 
 namespace nightcap {
@@ -21,56 +20,15 @@ namespace {
 
 constexpr uint32_t kMaxTextureSide = 16384;
 
-struct DecodedImage {
-  uint32_t width = 0, height = 0;
-  std::vector<uint8_t> rgba8;
-};
-
-// Any channel count to RGBA8: grey fills RGB, missing alpha is opaque.
-bool decode(OIIO::ImageInput& input, DecodedImage& out, std::string& error) {
-  const OIIO::ImageSpec& spec = input.spec();
-  if (spec.width <= 0 || spec.height <= 0 || uint32_t(spec.width) > kMaxTextureSide ||
-      uint32_t(spec.height) > kMaxTextureSide || spec.nchannels < 1 || spec.nchannels > 16) {
-    error = "image size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " not supported";
-    return false;
-  }
-  const int channels = spec.nchannels;
-  std::vector<uint8_t> pixels(size_t(spec.width) * spec.height * channels);
-  if (!input.read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, pixels.data())) {
-    error = input.geterror();
-    return false;
-  }
-  out.width = uint32_t(spec.width);
-  out.height = uint32_t(spec.height);
-  out.rgba8.resize(size_t(out.width) * out.height * 4);
-  for (size_t i = 0; i < size_t(out.width) * out.height; ++i) {
-    const uint8_t* p = &pixels[i * channels];
-    uint8_t* q = &out.rgba8[i * 4];
-    if (channels < 3) {
-      q[0] = q[1] = q[2] = p[0];
-      q[3] = channels == 2 ? p[1] : 255;
-    } else {
-      q[0] = p[0];
-      q[1] = p[1];
-      q[2] = p[2];
-      q[3] = channels >= 4 ? p[3] : 255;
-    }
-  }
-  return true;
-}
-
 // tinygltf hands embedded images (data URIs, .glb buffer views) to this callback.
 bool decode_embedded(tinygltf::Image* image, const int, std::string* err, std::string*, int, int,
                      const unsigned char* bytes, int size, void*) {
-  OIIO::Filesystem::IOMemReader reader(bytes, size_t(size));
-  OIIO::ImageSpec config;
-  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &reader);
-  std::string extension = image->mimeType == "image/png" ? "png" : "jpg";
-  auto input = OIIO::ImageInput::open("embedded." + extension, &config);
-  DecodedImage decoded;
-  std::string error;
-  if (!input || !decode(*input, decoded, error)) {
-    if (err) *err += "cannot decode embedded image '" + image->name + "': " + (input ? error : OIIO::geterror()) + "\n";
+  const std::string name = image->mimeType == "image/png" ? "embedded.png" : "embedded.jpg";
+  Rgba8Image decoded;
+  try {
+    decoded = decode_image_memory(name, {bytes, size_t(size)}, kMaxTextureSide);
+  } catch (const ImageError& e) {
+    if (err) *err += "cannot decode embedded image '" + image->name + "': " + e.what() + "\n";
     return false;
   }
   image->width = int(decoded.width);
@@ -78,7 +36,7 @@ bool decode_embedded(tinygltf::Image* image, const int, std::string* err, std::s
   image->component = 4;
   image->bits = 8;
   image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-  image->image = std::move(decoded.rgba8);
+  image->image = std::move(decoded.pixels);
   return true;
 }
 
@@ -327,14 +285,15 @@ class Loader {
     } else {
       const std::string file = (folder_ / url_decode(image.uri)).string();
       if (image.uri.empty() || !std::filesystem::exists(file)) fail("missing texture '" + image.uri + "'");
-      auto input = OIIO::ImageInput::open(file);
-      DecodedImage decoded;
-      std::string error;
-      if (!input || !decode(*input, decoded, error))
-        fail("cannot read texture '" + image.uri + "': " + (input ? error : OIIO::geterror()));
+      Rgba8Image decoded;
+      try {
+        decoded = decode_image_file(file, kMaxTextureSide);
+      } catch (const ImageError& e) {
+        fail("cannot read texture '" + image.uri + "': " + e.what());
+      }
       out.width = decoded.width;
       out.height = decoded.height;
-      out.rgba8 = std::move(decoded.rgba8);
+      out.rgba8 = std::move(decoded.pixels);
     }
     scene_.textures.push_back(std::move(out));
     const int32_t index = int32_t(scene_.textures.size() - 1);

@@ -7,7 +7,12 @@
 //    peak_gpu_mib_no_aliasing: the built-in city);
 //  - time against error for each pass knob (normals.pack LUT size, lighting.deferred tube samples
 //    against the CPU segment integral, depth.convert, depth.pyramid and bloom against their
-//    references).
+//    references);
+//  - the CLI's start-up: `nightcap --help` and `nightcap passes` of a city capture, wall clock.
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -228,6 +233,57 @@ void bench_extra_frames(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
             << std::setw(8) << per_frame << " MiB per extra frame (one frame: " << disk[0] / 1048576.0 << " MiB)\n";
     figure(std::string("capture_mib_per_extra_frame_") + name, per_frame);
   }
+  fs::remove_all(dir);
+}
+
+// Wall-clock milliseconds of `nightcap ARGS`, its output discarded; a failed run throws.
+double cli_wall_ms(const std::vector<std::string>& args) {
+  std::vector<std::string> strings = {NIGHTCAP_CLI};
+  strings.insert(strings.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : strings) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&files, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  const double start = now_ms();
+  pid_t pid = -1;
+  const int error = posix_spawn(&pid, NIGHTCAP_CLI, &files, nullptr, argv.data(), environ);
+  int status = 0;
+  if (error == 0) waitpid(pid, &status, 0);
+  const double elapsed = now_ms() - start;
+  posix_spawn_file_actions_destroy(&files);
+  if (error != 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    throw std::runtime_error(std::string(NIGHTCAP_CLI) + " " + args.front() + " failed");
+  return elapsed;
+}
+
+// How long the CLI takes before it has done anything: `--help`, and `passes` of a one-frame city
+// capture, which reads the manifest and nothing else. Median of 5 runs after one that warms the
+// file cache.
+void bench_startup(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
+  nc::Scene scene = nc::build_city(1);
+  nc::add_default_lighting(scene);
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  const fs::path dir = fs::temp_directory_path() / "nightcap-bench-startup";
+  fs::remove_all(dir);
+  nc::render_to_capture(gpu, scene, settings, dir, false);
+  auto median_ms = [](const std::vector<std::string>& args) {
+    cli_wall_ms(args);
+    std::vector<double> runs;
+    for (int r = 0; r < 5; ++r) runs.push_back(cli_wall_ms(args));
+    return median(runs);
+  };
+  const double help = median_ms({"--help"}), passes = median_ms({"passes", dir.string()});
+  table() << "\n## CLI start-up, wall clock (median of 5 runs, warm file cache)\n"
+          << std::fixed << std::setprecision(1) << "  nightcap --help          " << std::setw(7) << help << " ms\n"
+          << "  nightcap passes CAP      " << std::setw(7) << passes << " ms (city, " << width << "x" << height
+          << ", 1 frame)\n";
+  figure("startup_ms_help", help);
+  figure("startup_ms_passes", passes);
   fs::remove_all(dir);
 }
 
@@ -642,6 +698,7 @@ int main(int argc, char** argv) {
     bench_depth(gpu, cache, width, height);
     bench_bloom(gpu, cache, width, height);
     bench_exposure(gpu, cache, width, height);
+    bench_startup(gpu, width, height);
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

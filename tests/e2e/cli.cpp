@@ -31,11 +31,11 @@ fs::path test_root() {
 
 std::string quote(const fs::path& path) { return "'" + path.string() + "'"; }
 
-CliResult run_cli(const std::string& args) {
+CliResult run_cli(const std::string& args, const std::string& environment) {
   const fs::path dir = test_root() / ("run-" + std::to_string(getpid()));
   fs::create_directories(dir);
-  const std::string command =
-      std::string(NIGHTCAP_CLI) + " " + args + " >" + quote(dir / "out") + " 2>" + quote(dir / "err") + " </dev/null";
+  const std::string command = (environment.empty() ? "" : "env " + environment + " ") + std::string(NIGHTCAP_CLI) +
+                              " " + args + " >" + quote(dir / "out") + " 2>" + quote(dir / "err") + " </dev/null";
   const int status = std::system(command.c_str());
   CliResult result;
   result.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -13,7 +13,8 @@ struct CliResult {
 };
 
 // Runs `nightcap ARGS` (a shell-quoted argument string) and collects its exit code and output.
-CliResult run_cli(const std::string& args);
+// `environment`: shell-quoted NAME=VALUE assignments for that run only.
+CliResult run_cli(const std::string& args, const std::string& environment = "");
 
 // A scratch folder unique to this test, emptied first.
 std::filesystem::path scratch(const std::string& name);
