@@ -33,8 +33,8 @@ Written write_capture(const fs::path& folder) {
   Written w{folder, {}, {}};
   w.buffer.resource = "probe.buffer";
   w.buffer.buffer_size = 64;
-  std::vector<uint8_t> raw(64);
-  for (size_t i = 0; i < raw.size(); ++i) raw[i] = uint8_t(i * 7);
+  auto raw = std::make_shared<std::vector<uint8_t>>(64);
+  for (size_t i = 0; i < raw->size(); ++i) (*raw)[i] = uint8_t(i * 7);
   writer.add_resource(w.buffer, raw);
   const std::vector<uint32_t> spirv = {0x07230203, 0x00010000, 0, 1, 0};
   w.shader = writer.add_shader("probe/probe.comp", spirv, "#version 450\nvoid main() {}\n");
