@@ -7,6 +7,7 @@
 #include <iterator>
 
 #include "captures/blob_codec.h"
+#include "passes/scene/scene.h"
 #include "tests/fuzz/image_blob_input.h"
 
 namespace nc = nightcap;
@@ -47,4 +48,13 @@ TEST(FuzzRegressions, ExrChannelListPastItsStatedSize) {
       error_of<nc::CaptureError>([&] { nc::read_image_blob(blob, parsed->format, parsed->extent); });
   EXPECT_NE(error.find(blob.string() + ": has a channel list that does not end at its stated size"), std::string::npos)
       << error;
+}
+
+// tinygltf 2.7 hands an image's buffer view to the image callback without checking it lies in
+// its buffer: the decoder read past the buffer (freed memory, under the fuzzer).
+TEST(FuzzRegressions, GltfImageBufferViewOutsideItsBuffer) {
+  const fs::path file = kCorpus / "gltf/image_view_outside_buffer.glb";
+  const std::string error = error_of<nc::SceneError>([&] { nc::load_gltf(file.string()); });
+  EXPECT_NE(error.find(file.string()), std::string::npos) << error;
+  EXPECT_NE(error.find("its buffer view lies outside its buffer"), std::string::npos) << error;
 }
