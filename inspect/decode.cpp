@@ -1,0 +1,220 @@
+#include "inspect/decode.h"
+
+#include <cmath>
+#include <cstring>
+
+namespace nightcap {
+
+namespace {
+
+using E = ChannelEncoding;
+
+uint32_t load_u32(std::span<const uint8_t> bytes, uint64_t offset) {
+  uint32_t value;
+  std::memcpy(&value, bytes.data() + offset, 4);
+  return value;
+}
+
+uint16_t load_u16(std::span<const uint8_t> bytes, uint64_t offset) {
+  uint16_t value;
+  std::memcpy(&value, bytes.data() + offset, 2);
+  return value;
+}
+
+// The integer codes one texel of one aspect stores, or nothing for float channels.
+std::vector<uint64_t> stored_codes(const FormatInfo& format, uint32_t aspect, std::span<const uint8_t> plane,
+                                   uint64_t index) {
+  const uint64_t base = index * aspect_texel_bytes(format, aspect);
+  std::vector<uint64_t> codes;
+  switch (format.encoding) {
+    case E::unorm8:
+    case E::srgb8:
+    case E::uint8:
+      for (uint32_t c = 0; c < format.channels; ++c) codes.push_back(plane[base + c]);
+      break;
+    case E::unorm16:
+    case E::uint16:
+      for (uint32_t c = 0; c < format.channels; ++c) codes.push_back(load_u16(plane, base + 2 * c));
+      break;
+    case E::uint32:
+      for (uint32_t c = 0; c < format.channels; ++c) codes.push_back(load_u32(plane, base + 4 * c));
+      break;
+    case E::packed_a2b10g10r10: {
+      const uint32_t w = load_u32(plane, base);
+      codes = {w & 1023u, (w >> 10) & 1023u, (w >> 20) & 1023u, w >> 30};
+      break;
+    }
+    case E::packed_b10g11r11: {
+      const uint32_t w = load_u32(plane, base);
+      codes = {w & 0x7ffu, (w >> 11) & 0x7ffu, w >> 22};
+      break;
+    }
+    case E::depth32_stencil8:
+      if (aspect == 1) codes.push_back(plane[base]);
+      break;
+    case E::sfloat16:
+    case E::sfloat32:
+      break;
+  }
+  return codes;
+}
+
+nlohmann::ordered_json vector_json(const double* v, size_t n) { return std::vector<double>(v, v + n); }
+
+double rec709_luminance(double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }
+
+// `n` scaled to unit length; the stored vector's length says how far off unit it was stored.
+void decode_direction(nlohmann::ordered_json& out, double x, double y, double z) {
+  const double length = std::sqrt(x * x + y * y + z * z);
+  if (length == 0.0) {
+    out["normal"] = nullptr;  // the zero vector has no direction (a cleared target)
+  } else {
+    out["normal"] = {x / length, y / length, z / length};
+  }
+  out["stored_length"] = length;
+}
+
+void decode_kind(const ResourceRecord& record, const FrameRecord& frame, const std::vector<double>& v,
+                 const std::vector<uint64_t>& codes, nlohmann::ordered_json& out) {
+  switch (record.kind) {
+    case ResourceKind::normal:  // 0.5n + 0.5 (gbuffer.opaque); the 2-bit alpha marks hair
+      decode_direction(out, v[0] * 2 - 1, v[1] * 2 - 1, v[2] * 2 - 1);
+      if (v.size() > 3) out["hair"] = v[3] != 0.0;
+      return;
+    case ResourceKind::packed_normal:  // best-fit 8-bit vector (normals.pack), roughness in alpha
+      decode_direction(out, codes[0] * (2.0 / 255.0) - 1, codes[1] * (2.0 / 255.0) - 1, codes[2] * (2.0 / 255.0) - 1);
+      out["roughness"] = v[3];
+      return;
+    case ResourceKind::material:  // gbuffer.material: the emissive channel is log2(1 + L) / 16
+      out["metalness"] = v[0];
+      out["roughness"] = v[1];
+      out["translucency"] = v[2];
+      out["emissive_luminance"] = std::exp2(16.0 * v[3]) - 1.0;
+      return;
+    case ResourceKind::motion:  // UV units, current − previous
+      out["motion_uv"] = {v[0], v[1]};
+      out["motion_pixels"] = {v[0] * frame.width, v[1] * frame.height};
+      return;
+    case ResourceKind::depth_stencil: {
+      // Reversed-Z with an infinite far plane: device depth d is znear / distance.
+      const double d = v[0];
+      out["device_depth"] = d;
+      if (d > 0.0)
+        out["linear_m"] = frame.camera.znear / d;
+      else
+        out["linear_m"] = "infinite (nothing drawn)";
+      if (v.size() > 1) {
+        const uint32_t stencil = uint32_t(codes.at(0));
+        out["stencil"] = stencil;
+        out["class"] = stencil_class_name(stencil);
+        out["flags"] = stencil_flags(stencil);
+      }
+      return;
+    }
+    case ResourceKind::linear_depth:
+      out["linear_m"] = v[0];
+      return;
+    case ResourceKind::depth_minmax:
+      out["min_m"] = v[0];
+      out["max_m"] = v[1];
+      return;
+    case ResourceKind::hdr_colour:
+      out["rgb"] = vector_json(v.data(), std::min<size_t>(3, v.size()));
+      if (v.size() >= 3) out["luminance"] = rec709_luminance(v[0], v[1], v[2]);
+      return;
+    case ResourceKind::colour:
+      out["rgb_linear"] = vector_json(v.data(), std::min<size_t>(3, v.size()));
+      if (v.size() > 3) out["alpha"] = v[3];
+      return;
+    case ResourceKind::lookup_table:
+    case ResourceKind::texture:
+    case ResourceKind::buffer:
+    case ResourceKind::draw_list:
+      return;  // their raw values are what they hold
+  }
+}
+
+}  // namespace
+
+std::string stencil_class_name(uint32_t stencil) {
+  // frame.md's tags; 0x02 is the "moving" flag, not part of the class.
+  switch (stencil & ~0x02u) {
+    case 0x00:
+      return "plain";
+    case 0x08:
+      return "road";
+    case 0x15:
+      return "body";
+    case 0x35:
+      return "face";
+    case 0x40:
+      return "vehicle";
+    case 0x95:
+      return "hair";
+    case 0xA0:
+      return "foliage";
+    default:
+      return "unknown";
+  }
+}
+
+std::vector<std::string> stencil_flags(uint32_t stencil) {
+  std::vector<std::string> flags;
+  if (stencil & 0x02u) flags.push_back("moving");
+  return flags;
+}
+
+TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRecord& frame, uint32_t x, uint32_t y,
+                                    uint32_t mip, uint32_t layer) {
+  if (record.is_buffer) throw InspectError(record.resource + " is a buffer: use `buffer " + record.resource + "`");
+  if (x >= frame.width || y >= frame.height)
+    throw InspectError("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
+                       std::to_string(frame.width) + "x" + std::to_string(frame.height) + " output");
+  if (mip >= record.extent.mips)
+    throw InspectError(record.resource + " has " + std::to_string(record.extent.mips) + " mip(s): no mip " +
+                       std::to_string(mip));
+  if (layer >= record.extent.layers)
+    throw InspectError(record.resource + " has " + std::to_string(record.extent.layers) + " layer(s): no layer " +
+                       std::to_string(layer));
+  const uint64_t width = mip_size(record.extent.width, mip), height = mip_size(record.extent.height, mip);
+  return {uint32_t(x * width / frame.width), uint32_t(y * height / frame.height), mip, layer};
+}
+
+PixelReading read_pixel(const ResourceRecord& record, std::span<const uint8_t> raw, const FrameRecord& frame,
+                        const TexelAddress& texel) {
+  const FormatInfo format = *format_info(record.format);
+  PixelReading reading;
+  reading.texel = texel;
+  const uint64_t index = uint64_t(texel.y) * mip_size(record.extent.width, texel.mip) + texel.x;
+  for (uint32_t aspect = 0; aspect < aspect_count(format); ++aspect) {
+    const std::span<const uint8_t> plane =
+        raw.subspan(raw_subresource_offset(format, record.extent, aspect, texel.mip, texel.layer),
+                    raw_subresource_bytes(format, record.extent, aspect, texel.mip));
+    float values[4] = {};
+    decode_texel(format, aspect, plane, index, values);
+    const uint32_t channels = aspect_channels(format, aspect);
+    reading.raw.insert(reading.raw.end(), values, values + channels);
+    const std::vector<uint64_t> codes = stored_codes(format, aspect, plane, index);
+    reading.codes.insert(reading.codes.end(), codes.begin(), codes.end());
+  }
+  // Integer channels wider than a float's mantissa are exact only as codes.
+  if (format.encoding == E::uint32)
+    for (size_t c = 0; c < reading.codes.size(); ++c) reading.raw[c] = double(reading.codes[c]);
+  decode_kind(record, frame, reading.raw, reading.codes, reading.decoded);
+  return reading;
+}
+
+uint64_t buffer_elements(const BufferSchema& schema, uint64_t bytes) { return bytes / schema.stride; }
+
+nlohmann::ordered_json decode_buffer_element(const BufferSchema& schema, std::span<const uint8_t> raw,
+                                             uint64_t element) {
+  nlohmann::ordered_json fields = nlohmann::ordered_json::object();
+  for (const SchemaField& field : schema.fields) {
+    std::vector<double> values;
+    for (uint32_t c = 0; c < field.count; ++c) values.push_back(read_component(raw, schema.stride, element, field, c));
+    fields[field.name] = field.count == 1 ? nlohmann::ordered_json(values[0]) : nlohmann::ordered_json(values);
+  }
+  return fields;
+}
+
+}  // namespace nightcap
