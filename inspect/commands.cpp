@@ -2,13 +2,17 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <iomanip>
 #include <map>
 #include <sstream>
 
 #include "inspect/disassemble.h"
+#include "inspect/export.h"
 #include "inspect/stats.h"
+#include "inspect/visualise.h"
 
 namespace nightcap {
 
@@ -56,6 +60,12 @@ const std::vector<CommandSpec>& specs() {
         "per channel: min, max, mean of the finite values, a 16-bin histogram, NaN, Inf and denormal counts; "
         "--rect in output pixels"},
        {{"--mip", 1}, {"--layer", 1}, {"--rect", 4}}},
+      {{"export", "export RESOURCE [--mip M] [--layer L] [--stencil] -o FILE.exr|FILE.png; export PASS --all -o DIR",
+        "FILE.exr: the values as float channels; FILE.png: a picture for its kind (normals as colour, depth "
+        "linearised, motion on a colour wheel, HDR tonemapped; --stencil: stencil classes as a palette). --all: "
+        "every output of PASS into DIR, images as RESOURCE.exr and RESOURCE.png (and RESOURCE.stencil.png), "
+        "buffers as their raw bytes, RESOURCE.bin"},
+       {{"--mip", 1}, {"--layer", 1}, {"--stencil", 0}, {"--all", 0}, {"-o", 1}}},
       {{"help", "help [COMMAND]", "the commands, or one command's usage"}, {}},
       {{"quit", "quit", "end the session"}, {}},
   };
@@ -72,7 +82,7 @@ Arguments parse_arguments(const CommandSpec& spec, const std::vector<std::string
   Arguments args;
   for (size_t i = 1; i < words.size(); ++i) {
     const std::string& word = words[i];
-    if (word.rfind("--", 0) != 0) {
+    if (word.size() < 2 || word[0] != '-') {
       args.positional.push_back(word);
       continue;
     }
@@ -183,8 +193,8 @@ class Runner {
         {"passes", &Runner::passes},     {"goto", &Runner::go},       {"next", &Runner::go},
         {"prev", &Runner::go},           {"frame", &Runner::frame},   {"info", &Runner::info},
         {"pipeline", &Runner::pipeline}, {"shader", &Runner::shader}, {"pixel", &Runner::pixel},
-        {"buffer", &Runner::buffer},     {"stats", &Runner::stats},   {"help", &Runner::help},
-        {"quit", &Runner::quit}};
+        {"buffer", &Runner::buffer},     {"stats", &Runner::stats},   {"export", &Runner::export_files},
+        {"help", &Runner::help},         {"quit", &Runner::quit}};
     (this->*handlers.at(spec.help.name))(spec, args);
   }
 
@@ -505,6 +515,67 @@ class Runner {
            << "; finite " << s.finite << " NaN " << s.nan << " Inf " << s.inf << " denormal " << s.denormal
            << "\n    histogram " << brief(list[c]["histogram"]) << "\n";
     }
+  }
+
+  void export_files(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 1, 1);
+    if (!args.has("-o")) throw InspectError("export: usage: " + spec.help.usage);
+    const std::filesystem::path target = args.options.at("-o")[0];
+    ojson files = ojson::array();
+    if (args.has("--all")) {
+      const PassRecord* pass = nullptr;
+      for (const PassRecord& p : session_.frame().passes)
+        if (p.name == args.positional[0]) pass = &p;
+      if (!pass)
+        throw InspectError("no pass '" + args.positional[0] + "' in frame " + std::to_string(session_.frame().index));
+      std::error_code error;
+      std::filesystem::create_directories(target, error);
+      if (error) throw InspectError(target.string() + ": cannot create: " + error.message());
+      for (const ResourceRecord& r : pass->outputs) {
+        const std::vector<uint8_t>& raw = session_.load(r);
+        if (r.is_buffer) {
+          const std::filesystem::path file = target / (r.resource + ".bin");
+          std::ofstream out(file, std::ios::binary | std::ios::trunc);
+          out.write(reinterpret_cast<const char*>(raw.data()), std::streamsize(raw.size()));
+          if (!out) throw InspectError(file.string() + ": cannot write");
+          files.push_back(file.string());
+          continue;
+        }
+        write_values_exr(target / (r.resource + ".exr"), r, raw, 0, 0);
+        files.push_back((target / (r.resource + ".exr")).string());
+        write_picture(target / (r.resource + ".png"), r, raw, 0, 0, VisualAspect::depth_or_colour);
+        files.push_back((target / (r.resource + ".png")).string());
+        if (format_info(r.format)->has_stencil) {
+          write_picture(target / (r.resource + ".stencil.png"), r, raw, 0, 0, VisualAspect::stencil);
+          files.push_back((target / (r.resource + ".stencil.png")).string());
+        }
+      }
+    } else {
+      const ResourceRecord& record = session_.resource(args.positional[0]);
+      if (record.is_buffer) throw InspectError(record.resource + " is a buffer: `export PASS --all` writes its bytes");
+      const uint32_t mip = option_index(args, "--mip", 0), layer = option_index(args, "--layer", 0);
+      // Validates the mip and layer as `pixel` does.
+      texel_for_output_pixel(record, session_.frame(), 0, 0, mip, layer);
+      const std::string extension = target.extension().string();
+      if (extension == ".exr" && !args.has("--stencil")) {
+        write_values_exr(target, record, session_.load(record), mip, layer);
+      } else if (extension == ".png") {
+        write_picture(target, record, session_.load(record), mip, layer,
+                      args.has("--stencil") ? VisualAspect::stencil : VisualAspect::depth_or_colour);
+      } else {
+        throw InspectError("export -o " + target.string() + ": expected a .exr file (values) or a .png (picture)" +
+                           (args.has("--stencil") ? "; --stencil is a picture: .png" : ""));
+      }
+      files.push_back(target.string());
+    }
+    if (json_) return emit({{"files", files}});
+    for (const ojson& f : files) out_ << "wrote " << f.get<std::string>() << "\n";
+  }
+
+  void write_picture(const std::filesystem::path& file, const ResourceRecord& record, std::span<const uint8_t> raw,
+                     uint32_t mip, uint32_t layer, VisualAspect aspect) {
+    const Rgba8Image image = visualise(record, raw, session_.frame(), mip, layer, aspect);
+    write_png(file, image.pixels, image.width, image.height);
   }
 
   void help(const CommandSpec& spec, const Arguments& args) {

@@ -1,10 +1,12 @@
 // `nightcap inspect` in scripted mode, against values decoded here from the capture's raw bytes
 // by formulas of this file (bit fields, half floats, znear / depth), never by inspect's decoder.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "captures/capture.h"
@@ -366,6 +368,25 @@ TEST_F(InspectTest, StatsOfLinearDepth) {
   }
 }
 
+// Half-float denormals counted from the stored bits: the first frame's motion is tiny noise, much
+// of it below the smallest normal half.
+TEST_F(InspectTest, StatsCountStoredHalfDenormals) {
+  const ResourceRecord& r = output_named(pass_named(frame0(), "gbuffer.opaque"), "gbuffer.motion");
+  const std::vector<uint8_t> raw = capture_->load(r);
+  const Inspected run = inspect(path_, "stats gbuffer.motion --json");
+  ASSERT_EQ(run.result.code, 0) << run.result.err;
+  ASSERT_EQ(run.objects.size(), 1u);
+  for (int channel = 0; channel < 2; ++channel) {
+    uint64_t denormal = 0;
+    for (uint64_t i = 0; i < 320 * 180; ++i) {
+      const uint16_t bits = uint16_t(raw[4 * i + 2 * channel] | (raw[4 * i + 2 * channel + 1] << 8));
+      denormal += (bits & 0x7c00) == 0 && (bits & 0x3ff) != 0;
+    }
+    EXPECT_GT(denormal, 0u) << "the test needs denormals to count";
+    EXPECT_EQ(run.objects[0]["channels"][channel]["denormal"], denormal) << channel;
+  }
+}
+
 TEST_F(InspectTest, ErrorsAreOneLineAndTheSessionGoesOn) {
   const Inspected run =
       inspect(path_,
@@ -408,6 +429,93 @@ TEST_F(InspectTest, ScriptFileHelpAndUsage) {
   const CliResult help = run_cli("inspect --help");
   EXPECT_EQ(help.code, 0);
   EXPECT_NE(help.out.find("pixel X Y [RESOURCE]"), std::string::npos) << help.out;
+}
+
+// Every channel of a file as float, read by OpenImageIO (not nightcap's code).
+std::vector<float> read_image(const fs::path& file, int& width, int& height, int& channels,
+                              std::vector<std::string>* names = nullptr) {
+  auto in = OIIO::ImageInput::open(file.string());
+  if (!in) return {};
+  const OIIO::ImageSpec& spec = in->spec();
+  width = spec.width;
+  height = spec.height;
+  channels = spec.nchannels;
+  if (names) *names = spec.channelnames;
+  std::vector<float> pixels(size_t(width) * height * channels);
+  in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data());
+  return pixels;
+}
+
+TEST_F(InspectTest, ExportValuesAndPictures) {
+  const fs::path dir = scratch("export");
+  const Inspected run =
+      inspect(path_, "goto gbuffer.opaque --json; export gbuffer.opaque --all -o " + dir.string() +
+                         "/all --json; export depth.pyramid --mip 1 -o " + dir.string() +
+                         "/pyramid.exr --json; export scene.depth --stencil -o " + dir.string() +
+                         "/stencil.png --json; export gbuffer.normal -o " + dir.string() + "/normal.tiff --json");
+  EXPECT_EQ(run.result.code, 2) << "a .tiff is refused";
+  ASSERT_EQ(run.objects.size(), 4u) << run.result.err;
+  const PassRecord& gbuffer = pass_named(frame0(), "gbuffer.opaque");
+  std::set<std::string> written;
+  for (const json& f : run.objects[1]["files"]) written.insert(fs::path(f.get<std::string>()).filename().string());
+  for (const ResourceRecord& r : gbuffer.outputs) {
+    EXPECT_TRUE(written.count(r.resource + ".exr") && written.count(r.resource + ".png")) << r.resource;
+    EXPECT_TRUE(fs::exists(dir / "all" / (r.resource + ".png"))) << r.resource;
+  }
+  EXPECT_TRUE(written.count("scene.depth.stencil.png"));
+
+  // Normals as colour: 0.5·n + 0.5 of the unit vector of the codes.
+  const ResourceRecord& normal = output_named(gbuffer, "gbuffer.normal");
+  const std::vector<uint8_t> normal_raw = capture_->load(normal);
+  int w = 0, h = 0, c = 0;
+  const std::vector<float> png = read_image(dir / "all" / "gbuffer.normal.png", w, h, c);
+  ASSERT_EQ(w, 320);
+  ASSERT_EQ(h, 180);
+  for (auto [x, y] : kPixels) {
+    const uint32_t word = word_at(normal_raw, 4 * (uint64_t(y) * 320 + x));
+    double n[3] = {(word & 1023) / 1023.0 * 2 - 1, ((word >> 10) & 1023) / 1023.0 * 2 - 1,
+                   ((word >> 20) & 1023) / 1023.0 * 2 - 1};
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(png[(size_t(y) * w + x) * c + k] * 255.0, std::round((0.5 * n[k] / length + 0.5) * 255), 1.0001)
+          << x << "," << y;
+  }
+
+  // Real values: the albedo's 10-bit codes / 1023, the depth as stored.
+  const ResourceRecord& depth = output_named(gbuffer, "scene.depth");
+  const std::vector<uint8_t> depth_raw = capture_->load(depth);
+  std::vector<std::string> names;
+  const std::vector<float> exr = read_image(dir / "all" / "scene.depth.exr", w, h, c, &names);
+  ASSERT_EQ(c, 2);
+  const size_t z = names[0] == "Z" ? 0 : 1;
+  ASSERT_EQ(names[z], "Z");
+  ASSERT_EQ(names[1 - z], "S");
+  for (auto [x, y] : kPixels) {
+    const uint64_t index = uint64_t(y) * 320 + x;
+    EXPECT_EQ(exr[index * 2 + z], float_at(depth_raw, 4 * index));
+    EXPECT_EQ(exr[index * 2 + 1 - z], float(depth_raw[320 * 180 * 4 + index]));
+  }
+
+  const ResourceRecord& pyramid = output_named(pass_named(frame0(), "depth.pyramid"), "depth.pyramid");
+  const std::vector<uint8_t> pyramid_raw = capture_->load(pyramid);
+  const std::vector<float> mip1 = read_image(dir / "pyramid.exr", w, h, c);
+  ASSERT_EQ(w, int(std::max(1u, pyramid.extent.width / 2)));
+  ASSERT_EQ(c, 2);
+  const uint64_t mip0_bytes = uint64_t(pyramid.extent.width) * pyramid.extent.height * 8;
+  for (uint64_t i = 0; i < uint64_t(w) * h; ++i) {
+    ASSERT_EQ(mip1[2 * i], float_at(pyramid_raw, mip0_bytes + 8 * i)) << i;
+    ASSERT_EQ(mip1[2 * i + 1], float_at(pyramid_raw, mip0_bytes + 8 * i + 4)) << i;
+  }
+
+  // Stencil as a palette: plain static geometry (0) is black.
+  const std::vector<float> stencil = read_image(dir / "stencil.png", w, h, c);
+  for (auto [x, y] : kPixels) {
+    const uint32_t tag = depth_raw[320 * 180 * 4 + uint64_t(y) * 320 + x];
+    if (tag == 0) {
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(stencil[(size_t(y) * w + x) * c + k], 0.0f);
+    }
+  }
+  EXPECT_NE(run.result.err.find("expected a .exr file"), std::string::npos) << run.result.err;
 }
 
 }  // namespace
