@@ -11,6 +11,7 @@
 //  - the CLI's start-up: `nightcap --help` and `nightcap passes` of a city capture, wall clock.
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <CLI/CLI.hpp>
@@ -237,7 +238,8 @@ void bench_extra_frames(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
 }
 
 // Wall-clock milliseconds of `nightcap ARGS`, its output discarded; a failed run throws.
-double cli_wall_ms(const std::vector<std::string>& args) {
+// `peak_kib`: the child's peak resident memory (ru_maxrss of wait4), where asked for.
+double cli_wall_ms(const std::vector<std::string>& args, long* peak_kib = nullptr) {
   std::vector<std::string> strings = {NIGHTCAP_CLI};
   strings.insert(strings.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -251,8 +253,10 @@ double cli_wall_ms(const std::vector<std::string>& args) {
   pid_t pid = -1;
   const int error = posix_spawn(&pid, NIGHTCAP_CLI, &files, nullptr, argv.data(), environ);
   int status = 0;
-  if (error == 0) waitpid(pid, &status, 0);
+  rusage usage{};
+  if (error == 0) wait4(pid, &status, 0, &usage);
   const double elapsed = now_ms() - start;
+  if (peak_kib) *peak_kib = usage.ru_maxrss;
   posix_spawn_file_actions_destroy(&files);
   if (error != 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
     throw std::runtime_error(std::string(NIGHTCAP_CLI) + " " + args.front() + " failed");
@@ -260,8 +264,9 @@ double cli_wall_ms(const std::vector<std::string>& args) {
 }
 
 // How long the CLI takes before it has done anything: `--help`, and `passes` of a one-frame city
-// capture, which reads the manifest and nothing else. Median of 5 runs after one that warms the
-// file cache.
+// capture, which reads the manifest and nothing else; and the debugger's first answer, one
+// decoded pixel of gbuffer.normal (one blob read), with the peak memory of that process. Median of
+// 5 runs after one that warms the file cache.
 void bench_startup(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   nc::Scene scene = nc::build_city(1);
   nc::add_default_lighting(scene);
@@ -278,11 +283,21 @@ void bench_startup(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
     return median(runs);
   };
   const double help = median_ms({"--help"}), passes = median_ms({"passes", dir.string()});
+  const std::vector<std::string> first_answer = {
+      "inspect", dir.string(), "-c",
+      "pixel " + std::to_string(width / 2) + " " + std::to_string(height / 2) + " gbuffer.normal"};
+  const double inspect = median_ms(first_answer);
+  long peak_kib = 0;
+  cli_wall_ms(first_answer, &peak_kib);
   table() << "\n## CLI start-up, wall clock (median of 5 runs, warm file cache)\n"
           << std::fixed << std::setprecision(1) << "  nightcap --help          " << std::setw(7) << help << " ms\n"
           << "  nightcap passes CAP      " << std::setw(7) << passes << " ms (city, " << width << "x" << height
-          << ", 1 frame)\n";
+          << ", 1 frame)\n"
+          << "  nightcap inspect CAP -c 'pixel " << width / 2 << " " << height / 2 << " gbuffer.normal' "
+          << std::setw(7) << inspect << " ms, peak " << peak_kib / 1024.0 << " MiB\n";
   figure("startup_ms_help", help);
+  figure("inspect_first_answer_ms", inspect);
+  figure("inspect_peak_mib", peak_kib / 1024.0);
   figure("startup_ms_passes", passes);
   fs::remove_all(dir);
 }

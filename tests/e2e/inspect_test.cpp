@@ -387,6 +387,25 @@ TEST_F(InspectTest, StatsCountStoredHalfDenormals) {
   }
 }
 
+// A pixel reads the one blob it decodes: with every other blob made unreadable it still answers,
+// and a command needing a damaged blob fails alone, naming the file.
+TEST_F(InspectTest, ReadsOnlyTheBlobItDecodes) {
+  const fs::path copy = scratch("damaged") / "capture";
+  fs::copy(path_, copy, fs::copy_options::recursive);
+  const ResourceRecord& normal = output_named(pass_named(frame0(), "gbuffer.opaque"), "gbuffer.normal");
+  const ResourceRecord& material = output_named(pass_named(frame0(), "gbuffer.opaque"), "gbuffer.material");
+  for (const auto& entry : fs::directory_iterator(copy / "blobs"))
+    if (entry.path().filename() != fs::path(normal.blob).filename())
+      std::ofstream(entry.path(), std::ios::binary | std::ios::trunc) << "damaged";
+  const Inspected run = inspect(copy,
+                                "passes --json; pixel 160 90 gbuffer.normal --json; pixel 160 90 "
+                                "gbuffer.material --json; info --json");
+  EXPECT_EQ(run.result.code, 2);
+  ASSERT_EQ(run.objects.size(), 3u) << run.result.err;
+  EXPECT_EQ(run.objects[1]["hash"], normal.hash);
+  EXPECT_NE(run.result.err.find(fs::path(material.blob).filename().string()), std::string::npos) << run.result.err;
+}
+
 TEST_F(InspectTest, ErrorsAreOneLineAndTheSessionGoesOn) {
   const Inspected run =
       inspect(path_,
