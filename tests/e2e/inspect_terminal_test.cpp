@@ -81,13 +81,19 @@ TEST(InspectTerminal, CompletesPassNamesAndRecallsHistory) {
   ASSERT_TRUE(terminal.read_until(": gbuffer.opaque\r\n")) << terminal.transcript();
   ASSERT_TRUE(terminal.read_until("frame 0 gbuffer.opaque> ")) << terminal.transcript();
 
-  terminal.type("next\r");
+  // A command name completes too.
+  terminal.type("nex\t\r");
   ASSERT_TRUE(terminal.read_until("frame 0 depth.convert> ")) << terminal.transcript();
 
   // Up twice: back past `next` to the completed `goto`, which runs again.
   terminal.type("\x1b[A\x1b[A\r");
   ASSERT_TRUE(terminal.read_until(": gbuffer.opaque\r\n")) << terminal.transcript();
   ASSERT_TRUE(terminal.read_until("frame 0 gbuffer.opaque> ")) << terminal.transcript();
+
+  // And a resource name: gbuffer.mot is only gbuffer.motion.
+  terminal.type("pixel 0 0 gbuffer.mot\t\r");
+  ASSERT_TRUE(terminal.read_until("gbuffer.motion (motion, R16G16_SFLOAT) frame 0 texel (0, 0)"))
+      << terminal.transcript();
 
   terminal.type("pixel 0 0 no.such.resource\r");
   ASSERT_TRUE(terminal.read_until("no resource 'no.such.resource'")) << terminal.transcript();

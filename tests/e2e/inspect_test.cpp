@@ -471,9 +471,10 @@ TEST_F(InspectTest, ExportValuesAndPictures) {
       inspect(path_, "goto gbuffer.opaque --json; export gbuffer.opaque --all -o " + dir.string() +
                          "/all --json; export depth.pyramid --mip 1 -o " + dir.string() +
                          "/pyramid.exr --json; export scene.depth --stencil -o " + dir.string() +
-                         "/stencil.png --json; export gbuffer.normal -o " + dir.string() + "/normal.tiff --json");
+                         "/stencil.png --json; export lighting.lit -o " + dir.string() +
+                         "/lit.png --json; export gbuffer.normal -o " + dir.string() + "/normal.tiff --json");
   EXPECT_EQ(run.result.code, 2) << "a .tiff is refused";
-  ASSERT_EQ(run.objects.size(), 4u) << run.result.err;
+  ASSERT_EQ(run.objects.size(), 5u) << run.result.err;
   const PassRecord& gbuffer = pass_named(frame0(), "gbuffer.opaque");
   std::set<std::string> written;
   for (const json& f : run.objects[1]["files"]) written.insert(fs::path(f.get<std::string>()).filename().string());
@@ -535,6 +536,17 @@ TEST_F(InspectTest, ExportValuesAndPictures) {
     }
   }
   EXPECT_NE(run.result.err.find("expected a .exr file"), std::string::npos) << run.result.err;
+
+  // HDR colour tonemapped: x / (1 + x), then the sRGB curve.
+  const ResourceRecord& lit = output_named(pass_named(frame0(), "lighting.composite"), "lighting.lit");
+  const std::vector<uint8_t> lit_raw = capture_->load(lit);
+  const std::vector<float> lit_png = read_image(dir / "lit.png", w, h, c);
+  for (auto [x, y] : kPixels)
+    for (int k = 0; k < 3; ++k) {
+      const double v = half_at(lit_raw, 8 * (uint64_t(y) * 320 + x) + 2 * k), t = v > 0 ? v / (1 + v) : 0;
+      const double srgb = t <= 0.0031308 ? 12.92 * t : 1.055 * std::pow(t, 1 / 2.4) - 0.055;
+      EXPECT_NEAR(lit_png[(size_t(y) * w + x) * c + k] * 255.0, srgb * 255.0, 0.51) << x << "," << y;
+    }
 }
 
 }  // namespace
