@@ -4,7 +4,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <iomanip>
 #include <map>
 #include <sstream>
@@ -363,8 +362,8 @@ class Runner {
                {"texel", {texel.x, texel.y}},
                {"mip", texel.mip},
                {"layer", texel.layer},
-               {"raw", reading.raw}};
-    if (!reading.codes.empty()) j["codes"] = reading.codes;
+               {"raw", reading.values.raw}};
+    if (!reading.values.codes.empty()) j["codes"] = reading.values.codes;
     j["decoded"] = reading.decoded;
     return j;
   }
@@ -600,6 +599,7 @@ class Runner {
   void quit(const CommandSpec& spec, const Arguments& args) {
     expect_positionals(spec, args, 0, 0);
     finished_ = true;
+    if (json_) emit({{"quit", true}});
   }
 
   InspectSession& session_;

@@ -63,48 +63,42 @@ nlohmann::ordered_json vector_json(const double* v, size_t n) { return std::vect
 
 double rec709_luminance(double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }
 
-// `n` scaled to unit length; the stored vector's length says how far off unit it was stored.
-void decode_direction(nlohmann::ordered_json& out, double x, double y, double z) {
-  const double length = std::sqrt(x * x + y * y + z * z);
-  if (length == 0.0) {
-    out["normal"] = nullptr;  // the zero vector has no direction (a cleared target)
-  } else {
-    out["normal"] = {x / length, y / length, z / length};
-  }
-  out["stored_length"] = length;
-}
-
-void decode_kind(const ResourceRecord& record, const FrameRecord& frame, const std::vector<double>& v,
-                 const std::vector<uint64_t>& codes, nlohmann::ordered_json& out) {
+void decode_kind(const ResourceRecord& record, const FrameRecord& frame, const TexelValues& texel,
+                 nlohmann::ordered_json& out) {
+  const std::vector<double>& v = texel.raw;
   switch (record.kind) {
-    case ResourceKind::normal:  // 0.5n + 0.5 (gbuffer.opaque); the 2-bit alpha marks hair
-      decode_direction(out, v[0] * 2 - 1, v[1] * 2 - 1, v[2] * 2 - 1);
-      if (v.size() > 3) out["hair"] = v[3] != 0.0;
+    case ResourceKind::normal:
+    case ResourceKind::packed_normal: {
+      const std::array<double, 3> n = *stored_normal(record.kind, texel);
+      const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      // The zero vector (a cleared target) has no direction.
+      out["normal"] = length == 0.0 ? nlohmann::ordered_json(nullptr)
+                                    : nlohmann::ordered_json{n[0] / length, n[1] / length, n[2] / length};
+      out["stored_length"] = length;
+      if (record.kind == ResourceKind::packed_normal)
+        out["roughness"] = v[3];
+      else if (v.size() > 3)
+        out["hair"] = v[3] != 0.0;  // gbuffer.normal's 2-bit alpha marks hair
       return;
-    case ResourceKind::packed_normal:  // best-fit 8-bit vector (normals.pack), roughness in alpha
-      decode_direction(out, codes[0] * (2.0 / 255.0) - 1, codes[1] * (2.0 / 255.0) - 1, codes[2] * (2.0 / 255.0) - 1);
-      out["roughness"] = v[3];
-      return;
+    }
     case ResourceKind::material:  // gbuffer.material: the emissive channel is log2(1 + L) / 16
       out["metalness"] = v[0];
       out["roughness"] = v[1];
       out["translucency"] = v[2];
       out["emissive_luminance"] = std::exp2(16.0 * v[3]) - 1.0;
       return;
-    case ResourceKind::motion:  // UV units, current − previous
+    case ResourceKind::motion: {
+      const auto pixels = motion_pixels(v[0], v[1], frame);
       out["motion_uv"] = {v[0], v[1]};
-      out["motion_pixels"] = {v[0] * frame.width, v[1] * frame.height};
+      out["motion_pixels"] = {pixels[0], pixels[1]};
       return;
+    }
     case ResourceKind::depth_stencil: {
-      // Reversed-Z with an infinite far plane: device depth d is znear / distance.
-      const double d = v[0];
-      out["device_depth"] = d;
-      if (d > 0.0)
-        out["linear_m"] = frame.camera.znear / d;
-      else
-        out["linear_m"] = "infinite (nothing drawn)";
+      out["device_depth"] = v[0];
+      const std::optional<double> metres = linear_metres(v[0], frame);
+      out["linear_m"] = metres ? nlohmann::ordered_json(*metres) : nlohmann::ordered_json("infinite (nothing drawn)");
       if (v.size() > 1) {
-        const uint32_t stencil = uint32_t(codes.at(0));
+        const uint32_t stencil = uint32_t(texel.codes.at(0));
         out["stencil"] = stencil;
         out["class"] = stencil_class_name(stencil);
         out["flags"] = stencil_flags(stencil);
@@ -180,27 +174,49 @@ TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRec
   return {uint32_t(x * width / frame.width), uint32_t(y * height / frame.height), mip, layer};
 }
 
-PixelReading read_pixel(const ResourceRecord& record, std::span<const uint8_t> raw, const FrameRecord& frame,
-                        const TexelAddress& texel) {
+TexelValues read_texel(const ResourceRecord& record, std::span<const uint8_t> raw, const TexelAddress& texel) {
   const FormatInfo format = *format_info(record.format);
-  PixelReading reading;
-  reading.texel = texel;
+  TexelValues values;
   const uint64_t index = uint64_t(texel.y) * mip_size(record.extent.width, texel.mip) + texel.x;
   for (uint32_t aspect = 0; aspect < aspect_count(format); ++aspect) {
     const std::span<const uint8_t> plane =
         raw.subspan(raw_subresource_offset(format, record.extent, aspect, texel.mip, texel.layer),
                     raw_subresource_bytes(format, record.extent, aspect, texel.mip));
-    float values[4] = {};
-    decode_texel(format, aspect, plane, index, values);
-    const uint32_t channels = aspect_channels(format, aspect);
-    reading.raw.insert(reading.raw.end(), values, values + channels);
+    float decoded[4] = {};
+    decode_texel(format, aspect, plane, index, decoded);
+    values.raw.insert(values.raw.end(), decoded, decoded + aspect_channels(format, aspect));
     const std::vector<uint64_t> codes = stored_codes(format, aspect, plane, index);
-    reading.codes.insert(reading.codes.end(), codes.begin(), codes.end());
+    values.codes.insert(values.codes.end(), codes.begin(), codes.end());
   }
   // Integer channels wider than a float's mantissa are exact only as codes.
   if (format.encoding == E::uint32)
-    for (size_t c = 0; c < reading.codes.size(); ++c) reading.raw[c] = double(reading.codes[c]);
-  decode_kind(record, frame, reading.raw, reading.codes, reading.decoded);
+    for (size_t c = 0; c < values.codes.size(); ++c) values.raw[c] = double(values.codes[c]);
+  return values;
+}
+
+std::optional<std::array<double, 3>> stored_normal(ResourceKind kind, const TexelValues& texel) {
+  const std::vector<double>& v = texel.raw;
+  if (kind == ResourceKind::normal) return std::array<double, 3>{v[0] * 2 - 1, v[1] * 2 - 1, v[2] * 2 - 1};
+  if (kind == ResourceKind::packed_normal) {
+    const std::vector<uint64_t>& c = texel.codes;
+    return std::array<double, 3>{c[0] * (2.0 / 255.0) - 1, c[1] * (2.0 / 255.0) - 1, c[2] * (2.0 / 255.0) - 1};
+  }
+  return std::nullopt;
+}
+
+std::optional<double> linear_metres(double device_depth, const FrameRecord& frame) {
+  if (!(device_depth > 0.0)) return std::nullopt;
+  return frame.camera.znear / device_depth;
+}
+
+std::array<double, 2> motion_pixels(double u, double v, const FrameRecord& frame) {
+  return {u * frame.width, v * frame.height};
+}
+
+PixelReading read_pixel(const ResourceRecord& record, std::span<const uint8_t> raw, const FrameRecord& frame,
+                        const TexelAddress& texel) {
+  PixelReading reading{texel, read_texel(record, raw, texel)};
+  decode_kind(record, frame, reading.values, reading.decoded);
   return reading;
 }
 

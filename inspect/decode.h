@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -34,14 +35,29 @@ struct TexelAddress {
 TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRecord& frame, uint32_t x, uint32_t y,
                                     uint32_t mip, uint32_t layer);
 
-struct PixelReading {
-  TexelAddress texel;
+struct TexelValues {
   // Per aspect (depth then stencil): the channel values as format.h decodes them (UNORM in
   // [0, 1], sRGB linearised, integers as their values).
   std::vector<double> raw;
   // The integer codes the format stores, where it stores codes (UNORM, UINT, packed words,
   // stencil); empty for float formats, whose raw values are exact.
   std::vector<uint64_t> codes;
+};
+TexelValues read_texel(const ResourceRecord& record, std::span<const uint8_t> raw, const TexelAddress& texel);
+
+// The decodings by kind, stated once for `pixel` and for the pictures of visualise.h:
+// The stored vector of a normal (0.5n + 0.5, gbuffer.opaque) or packed normal (8-bit codes
+// · 2/255 − 1, normals.pack), before normalising; nullopt for other kinds.
+std::optional<std::array<double, 3>> stored_normal(ResourceKind kind, const TexelValues& texel);
+// Reversed-Z with an infinite far plane: device depth d is znear / distance; nullopt for 0
+// (nothing drawn).
+std::optional<double> linear_metres(double device_depth, const FrameRecord& frame);
+// Motion is stored in UV units (current − previous); in pixels of the frame's output.
+std::array<double, 2> motion_pixels(double u, double v, const FrameRecord& frame);
+
+struct PixelReading {
+  TexelAddress texel;
+  TexelValues values;
   // What the texel means for the resource's kind, in order: "normal", "linear_m", "class", …
   nlohmann::ordered_json decoded = nlohmann::ordered_json::object();
 };

@@ -61,18 +61,16 @@ std::array<uint8_t, 3> stencil_colour(uint32_t stencil) {
 Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw, const FrameRecord& frame, uint32_t mip,
                      uint32_t layer, VisualAspect aspect) {
   const FormatInfo format = *format_info(record.format);
+  if (aspect == VisualAspect::stencil && !format.has_stencil) throw InspectError(record.resource + " has no stencil");
   Rgba8Image image;
   image.width = mip_size(record.extent.width, mip);
   image.height = mip_size(record.extent.height, mip);
   const uint64_t texels = uint64_t(image.width) * image.height;
   image.pixels.assign(texels * 4, 255);
-  const uint32_t plane_aspect = aspect == VisualAspect::stencil ? 1 : 0;
-  if (plane_aspect >= aspect_count(format)) throw InspectError(record.resource + " has no stencil");
-  // Each texel decoded once, in the terms the visualisation needs.
-  std::vector<PixelReading> readings(texels);
+  std::vector<TexelValues> values(texels);
   for (uint32_t y = 0; y < image.height; ++y)
     for (uint32_t x = 0; x < image.width; ++x)
-      readings[uint64_t(y) * image.width + x] = read_pixel(record, raw, frame, {x, y, mip, layer});
+      values[uint64_t(y) * image.width + x] = read_texel(record, raw, {x, y, mip, layer});
   auto put = [&](uint64_t i, double r, double g, double b) {
     image.pixels[4 * i] = to_code(r);
     image.pixels[4 * i + 1] = to_code(g);
@@ -81,7 +79,7 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
 
   if (aspect == VisualAspect::stencil) {
     for (uint64_t i = 0; i < texels; ++i) {
-      const auto colour = stencil_colour(uint32_t(readings[i].codes.back()));
+      const auto colour = stencil_colour(uint32_t(values[i].codes.back()));
       std::copy(colour.begin(), colour.end(), image.pixels.begin() + 4 * i);
     }
     return image;
@@ -90,11 +88,12 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
     case ResourceKind::normal:
     case ResourceKind::packed_normal:
       for (uint64_t i = 0; i < texels; ++i) {
-        const auto& n = readings[i].decoded["normal"];
-        if (n.is_null())
+        const std::array<double, 3> n = *stored_normal(record.kind, values[i]);
+        const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (length == 0.0)
           put(i, 0, 0, 0);
         else
-          put(i, 0.5 * n[0].get<double>() + 0.5, 0.5 * n[1].get<double>() + 0.5, 0.5 * n[2].get<double>() + 0.5);
+          put(i, 0.5 * n[0] / length + 0.5, 0.5 * n[1] / length + 0.5, 0.5 * n[2] / length + 0.5);
       }
       return image;
     case ResourceKind::depth_stencil:
@@ -102,10 +101,10 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
     case ResourceKind::depth_minmax: {
       std::vector<double> metres(texels, 0.0);  // 0: nothing drawn
       for (uint64_t i = 0; i < texels; ++i) {
-        const auto& d = readings[i].decoded;
-        const auto& value = d.contains("linear_m") ? d["linear_m"] : d["min_m"];
-        if (value.is_number() && std::isfinite(value.get<double>()) && value.get<double>() > 0)
-          metres[i] = value.get<double>();
+        const double v = values[i].raw[0];  // device depth, metres, or the pyramid's min
+        const std::optional<double> m =
+            record.kind == ResourceKind::depth_stencil ? linear_metres(v, frame) : std::optional<double>(v);
+        if (m && std::isfinite(*m) && *m > 0) metres[i] = *m;
       }
       double nearest = INFINITY, farthest = 0;
       for (double m : metres)
@@ -121,8 +120,7 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
       double longest = 0;
       std::vector<std::array<double, 2>> motion(texels);
       for (uint64_t i = 0; i < texels; ++i) {
-        const auto& p = readings[i].decoded["motion_pixels"];
-        motion[i] = {p[0].get<double>(), p[1].get<double>()};
+        motion[i] = motion_pixels(values[i].raw[0], values[i].raw[1], frame);
         if (std::isfinite(motion[i][0]) && std::isfinite(motion[i][1]))
           longest = std::max(longest, std::hypot(motion[i][0], motion[i][1]));
       }
@@ -138,7 +136,7 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
     case ResourceKind::hdr_colour:
     case ResourceKind::colour:
       for (uint64_t i = 0; i < texels; ++i) {
-        const std::vector<double>& v = readings[i].raw;
+        const std::vector<double>& v = values[i].raw;
         double rgb[3];
         for (int c = 0; c < 3; ++c) {
           const double x = v[std::min<size_t>(c, v.size() - 1)];
@@ -154,7 +152,7 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
     case ResourceKind::buffer:
     case ResourceKind::draw_list:
       for (uint64_t i = 0; i < texels; ++i) {
-        const std::vector<double>& v = readings[i].raw;
+        const std::vector<double>& v = values[i].raw;
         put(i, v[0], v[std::min<size_t>(1, v.size() - 1)], v[std::min<size_t>(2, v.size() - 1)]);
       }
       return image;

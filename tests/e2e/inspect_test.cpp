@@ -430,14 +430,16 @@ TEST_F(InspectTest, ErrorsAreOneLineAndTheSessionGoesOn) {
 
 TEST_F(InspectTest, ScriptFileHelpAndUsage) {
   const fs::path script = scratch("script") / "commands.txt";
-  std::ofstream(script) << "# a comment\ngoto tonemap --json\n\nhelp --json; help pixel --json\n";
+  std::ofstream(script) << "# a comment\ngoto tonemap --json\n\nhelp --json; help pixel --json\nquit --json\n"
+                        << "goto depth.convert --json\n";
   const CliResult run = run_cli("inspect " + quote(path_) + " --script " + quote(script));
   ASSERT_EQ(run.code, 0) << run.err;
   std::istringstream lines(run.out);
   std::vector<json> objects;
   for (std::string line; std::getline(lines, line);) objects.push_back(json::parse(line));
-  ASSERT_EQ(objects.size(), 3u);
+  ASSERT_EQ(objects.size(), 4u) << "nothing runs after quit";
   EXPECT_EQ(objects[0]["pass"], "tonemap");
+  EXPECT_EQ(objects[3]["quit"], true);
   std::set<std::string> commands;
   for (const json& c : objects[1]["commands"]) commands.insert(c["name"]);
   for (const char* name : {"passes", "goto", "next", "prev", "frame", "info", "pipeline", "shader", "pixel", "buffer",
