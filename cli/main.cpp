@@ -313,7 +313,8 @@ int run_graph(const std::string& path, uint32_t frame, const std::string& output
   return 0;
 }
 
-// Scripted (-c, --script): every command runs, and the exit code says whether any failed.
+// Interactive without -c or --script. Scripted, every command runs (a failed one does not stop
+// the others) and the exit code says whether any failed.
 int run_inspect(const std::string& path, const std::string& commands, const std::string& script_file) {
   nc::InspectSession session(nc::Capture::open(path));
   nc::InspectCommands runner(session, std::cout, std::cerr);
