@@ -549,6 +549,39 @@ TEST_F(InspectTest, ExportValuesAndPictures) {
       const double srgb = t <= 0.0031308 ? 12.92 * t : 1.055 * std::pow(t, 1 / 2.4) - 0.055;
       EXPECT_NEAR(lit_png[(size_t(y) * w + x) * c + k] * 255.0, srgb * 255.0, 0.51) << x << "," << y;
     }
+
+  // Depth linearised: znear / depth on a log scale from the nearest (white) to the farthest
+  // (black) drawn texel; nothing drawn is black.
+  const std::vector<float> depth_png = read_image(dir / "all" / "scene.depth.png", w, h, c);
+  const double znear = frame0().camera.znear;
+  double nearest = INFINITY, farthest = 0;
+  for (uint64_t i = 0; i < 320 * 180; ++i)
+    if (const float d = float_at(depth_raw, 4 * i); d > 0) {
+      nearest = std::min(nearest, znear / d);
+      farthest = std::max(farthest, znear / d);
+    }
+  for (uint64_t i = 0; i < 320 * 180; ++i) {
+    const float d = float_at(depth_raw, 4 * i);
+    const double grey = d > 0 ? 1 - std::log(znear / d / nearest) / std::log(farthest / nearest) : 0;
+    ASSERT_NEAR(depth_png[i * c] * 255.0, grey * 255.0, 0.51) << i;
+  }
+
+  // Motion on a colour wheel: no motion is black, the longest motion at full brightness.
+  const ResourceRecord& motion = output_named(gbuffer, "gbuffer.motion");
+  const std::vector<uint8_t> motion_raw = capture_->load(motion);
+  const std::vector<float> motion_png = read_image(dir / "all" / "gbuffer.motion.png", w, h, c);
+  double longest = 0;
+  uint64_t longest_at = 0;
+  for (uint64_t i = 0; i < 320 * 180; ++i) {
+    const double length = std::hypot(half_at(motion_raw, 4 * i) * 320, half_at(motion_raw, 4 * i + 2) * 180);
+    if (length > longest) longest = length, longest_at = i;
+    if (length == 0) {
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(motion_png[i * c + k], 0.0f) << i;
+    }
+  }
+  ASSERT_GT(longest, 0);
+  EXPECT_EQ(std::max({motion_png[longest_at * c], motion_png[longest_at * c + 1], motion_png[longest_at * c + 2]}),
+            1.0f);
 }
 
 }  // namespace
