@@ -24,6 +24,8 @@
 #include <thread>
 #include <tuple>
 
+#include "captures/exr_headers.h"
+
 namespace nightcap {
 namespace {
 
@@ -279,44 +281,6 @@ std::string mismatch(const Imf::Header& header, const FormatInfo& format, const 
   return "";
 }
 
-// OpenEXR 3.1 allocates and clears an attribute's stated size before reading its value, so a
-// single damaged size field costs up to 2 GiB. Walking the headers first bounds every
-// attribute by the bytes the file holds; OpenEXR validates the values themselves.
-void check_attribute_sizes(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::error_code error;
-  const uint64_t file_size = std::filesystem::file_size(file, error);
-  if (!in || error) fail(file, "cannot open");
-  uint32_t magic_and_version[2];
-  if (!in.read(reinterpret_cast<char*>(magic_and_version), sizeof magic_and_version))
-    fail(file, "is too short for OpenEXR");
-  const bool multipart = magic_and_version[1] & 0x1000;
-  const auto read_name = [&](std::string& name) {
-    if (!std::getline(in, name, '\0') || name.size() > 255) fail(file, "has a damaged OpenEXR header");
-  };
-  // A single-part file has one header; a multi-part file ends its headers with an empty one.
-  for (bool header_empty = true;;) {
-    std::string name, type;
-    read_name(name);
-    if (name.empty()) {
-      if (!multipart || header_empty) return;
-      header_empty = true;
-      continue;
-    }
-    read_name(type);
-    int32_t size;
-    if (!in.read(reinterpret_cast<char*>(&size), sizeof size) || size < 0 ||
-        uint64_t(size) > file_size - uint64_t(in.tellg()))
-      fail(file, "has a damaged OpenEXR attribute " + name);
-    in.seekg(size, std::ios::cur);
-    header_empty = false;
-  }
-}
-
-}  // namespace
-
-namespace {
-
 bool has_zip_level(ExrCompression compression) {
   return compression == ExrCompression::zip || compression == ExrCompression::zips ||
          compression == ExrCompression::pxr24;
@@ -380,7 +344,9 @@ void write_image_blob(const std::filesystem::path& file, const FormatInfo& forma
 std::vector<uint8_t> read_image_blob(const std::filesystem::path& file, const FormatInfo& format,
                                      const ImageExtent& extent) {
   const std::vector<Part> parts = parts_of(file, format, extent);
-  check_attribute_sizes(file);
+  std::vector<ExpectedPart> expected;
+  for (const Part& part : parts) expected.push_back({part.width, part.rows});
+  check_exr_headers(file, expected);
   std::vector<uint8_t> raw(raw_image_bytes(format, extent));
   try {
     Imf::MultiPartInputFile in(file.c_str(), exr_threads(raw.size(), -1));

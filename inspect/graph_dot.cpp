@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "passes/core/pass.h"
+#include "passes/core/history_name.h"
 
 namespace nightcap {
 namespace {

@@ -10,6 +10,7 @@ packages=(
   libglm-dev libtinygltf-dev nlohmann-json3-dev libcli11-dev
   libzstd-dev libxxhash-dev libgtest-dev renderdoccmd python3-renderdoc
   graphviz spirv-tools libedit-dev
+  clang-14 libfuzzer-14-dev libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do

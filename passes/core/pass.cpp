@@ -1,20 +1,8 @@
 #include "passes/core/pass.h"
 
 #include <stdexcept>
-#include <string_view>
 
 namespace nightcap {
-
-namespace {
-constexpr std::string_view kPrevious = "@previous";
-}
-
-std::string previous(const std::string& resource) { return resource + std::string(kPrevious); }
-
-std::string history_source(const std::string& name) {
-  if (name.size() <= kPrevious.size() || !name.ends_with(kPrevious)) return "";
-  return name.substr(0, name.size() - kPrevious.size());
-}
 
 uint64_t ResourceDesc::raw_bytes() const {
   if (is_buffer) return buffer_size;

@@ -18,6 +18,7 @@
 #include "passes/core/buffer_schema.h"
 #include "passes/core/contract.h"
 #include "passes/core/format.h"
+#include "passes/core/history_name.h"
 #include "passes/core/pipeline_state.h"
 
 namespace nightcap {
@@ -96,12 +97,6 @@ struct ResourceDesc {
 
   uint64_t raw_bytes() const;
 };
-
-// The name under which a pass reads the previous frame's `resource` (PassDecl::read_previous):
-// "exposure.value" -> "exposure.value@previous". '@' is reserved for it.
-std::string previous(const std::string& resource);
-// previous()'s inverse: "exposure.value@previous" -> "exposure.value"; "" for any other name.
-std::string history_source(const std::string& name);
 
 struct ResourceUse {
   std::string resource;

@@ -20,9 +20,21 @@ namespace {
 
 constexpr uint32_t kMaxTextureSide = 16384;
 
-// tinygltf hands embedded images (data URIs, .glb buffer views) to this callback.
+// tinygltf hands embedded images (data URIs, .glb buffer views) to this callback, with the
+// model being loaded as `model`. tinygltf 2.7 does not check that an image's buffer view lies
+// inside its buffer (found by tests/fuzz/gltf_fuzz.cpp: it read freed memory), so that is
+// checked here before a byte is read.
 bool decode_embedded(tinygltf::Image* image, const int, std::string* err, std::string*, int, int,
-                     const unsigned char* bytes, int size, void*) {
+                     const unsigned char* bytes, int size, void* model) {
+  if (image->bufferView >= 0) {
+    const auto& m = *static_cast<const tinygltf::Model*>(model);
+    const tinygltf::BufferView& view = m.bufferViews.at(size_t(image->bufferView));
+    const uint64_t buffer_size = m.buffers.at(size_t(view.buffer)).data.size();
+    if (view.byteOffset > buffer_size || view.byteLength > buffer_size - view.byteOffset || size < 0) {
+      if (err) *err += "image '" + image->name + "': its buffer view lies outside its buffer\n";
+      return false;
+    }
+  }
   const std::string name = image->mimeType == "image/png" ? "embedded.png" : "embedded.jpg";
   Rgba8Image decoded;
   try {
@@ -466,8 +478,8 @@ class Loader {
 Scene load_gltf(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) throw SceneError(path + ": cannot open file (no such file)");
   tinygltf::TinyGLTF reader;
-  reader.SetImageLoader(decode_embedded, nullptr);
   tinygltf::Model model;
+  reader.SetImageLoader(decode_embedded, &model);
   std::string error, warning;
   const bool binary = std::filesystem::path(path).extension() == ".glb";
   bool ok = false;

@@ -1,0 +1,60 @@
+// Every input that once crashed a fuzzing harness (tests/fuzz/corpus, named for what it does)
+// gets the clear error it should have got: the fix is checked in this build too, not only in the
+// instrumented one that runs the corpus.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <iterator>
+
+#include "captures/blob_codec.h"
+#include "passes/scene/scene.h"
+#include "tests/fuzz/image_blob_input.h"
+
+namespace nc = nightcap;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kCorpus = fs::path(NIGHTCAP_SOURCE) / "tests/fuzz/corpus";
+
+std::vector<uint8_t> read_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+template <class Error, class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+}  // namespace
+
+// OpenEXR reads a channel list to its end whatever size the header states; the header walk that
+// bounded attribute sizes skipped by the stated size, so it and OpenEXR parted ways and OpenEXR
+// went on to allocate a 2 GiB string.
+TEST(FuzzRegressions, ExrChannelListPastItsStatedSize) {
+  const std::vector<uint8_t> input = read_bytes(kCorpus / "image_blob/channel_list_past_its_size.exr");
+  const auto parsed = nc::fuzz::parse_image_blob_input(input);
+  ASSERT_TRUE(parsed);
+  const fs::path blob = fs::path(testing::TempDir()) / "channel_list_past_its_size.exr";
+  std::ofstream(blob, std::ios::binary).write(reinterpret_cast<const char*>(parsed->blob.data()),
+                                              std::streamsize(parsed->blob.size()));
+  const std::string error =
+      error_of<nc::CaptureError>([&] { nc::read_image_blob(blob, parsed->format, parsed->extent); });
+  EXPECT_NE(error.find(blob.string() + ": has a channel list that does not end at its stated size"), std::string::npos)
+      << error;
+}
+
+// tinygltf 2.7 hands an image's buffer view to the image callback without checking it lies in
+// its buffer: the decoder read past the buffer (freed memory, under the fuzzer).
+TEST(FuzzRegressions, GltfImageBufferViewOutsideItsBuffer) {
+  const fs::path file = kCorpus / "gltf/image_view_outside_buffer.glb";
+  const std::string error = error_of<nc::SceneError>([&] { nc::load_gltf(file.string()); });
+  EXPECT_NE(error.find(file.string()), std::string::npos) << error;
+  EXPECT_NE(error.find("its buffer view lies outside its buffer"), std::string::npos) << error;
+}
