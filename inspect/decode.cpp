@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <utility>
+
+#include "passes/scene/scene.h"
 
 namespace nightcap {
 
@@ -131,30 +134,17 @@ void decode_kind(const ResourceRecord& record, const FrameRecord& frame, const T
 }  // namespace
 
 std::string stencil_class_name(uint32_t stencil) {
-  // frame.md's tags; 0x02 is the "moving" flag, not part of the class.
-  switch (stencil & ~0x02u) {
-    case 0x00:
-      return "plain";
-    case 0x08:
-      return "road";
-    case 0x15:
-      return "body";
-    case 0x35:
-      return "face";
-    case 0x40:
-      return "vehicle";
-    case 0x95:
-      return "hair";
-    case 0xA0:
-      return "foliage";
-    default:
-      return "unknown";
-  }
+  static const std::pair<uint8_t, const char*> kClasses[] = {
+      {stencil::plain, "plain"},     {stencil::road, "road"}, {stencil::body, "body"},      {stencil::face, "face"},
+      {stencil::vehicle, "vehicle"}, {stencil::hair, "hair"}, {stencil::foliage, "foliage"}};
+  for (const auto& [tag, name] : kClasses)
+    if ((stencil & ~uint32_t(stencil::moving)) == tag) return name;
+  return "unknown";
 }
 
 std::vector<std::string> stencil_flags(uint32_t stencil) {
   std::vector<std::string> flags;
-  if (stencil & 0x02u) flags.push_back("moving");
+  if (stencil & stencil::moving) flags.push_back("moving");
   return flags;
 }
 
