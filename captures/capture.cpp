@@ -275,10 +275,14 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
     }
   const json& frames = member(j, "frames");
   if (!frames.is_array()) fail(file, "", "missing \"frames\" array");
+  // The tools align frames by index, passes by name and versions by resource name: a name that
+  // repeats would pair records that are not the same thing.
+  std::set<uint32_t> frame_indices;
   for (size_t fi = 0; fi < frames.size(); ++fi) {
     const std::string fw = "frames[" + std::to_string(fi) + "]";
     FrameRecord f;
     f.index = field<uint32_t>(frames[fi], "index", file, fw);
+    if (!frame_indices.insert(f.index).second) fail(file, fw, "frame " + std::to_string(f.index) + " appears twice");
     const json& output = member(frames[fi], "output");
     f.width = bounded(output, "width", kMaxImageSide, file, fw + ".output");
     f.height = bounded(output, "height", kMaxImageSide, file, fw + ".output");
@@ -305,12 +309,14 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
     }
     const json& passes = member(frames[fi], "passes");
     if (!passes.is_array()) fail(file, fw, "missing \"passes\" array");
+    std::set<std::string> pass_names;
     for (size_t pi = 0; pi < passes.size(); ++pi) {
       const std::string pw = fw + ".passes[" + std::to_string(pi) + "]";
       const json& pj = passes[pi];
       PassRecord p;
       p.name = field<std::string>(pj, "name", file, pw);
       if (!safe_name(p.name)) fail(file, pw, "bad pass name");
+      if (!pass_names.insert(p.name).second) fail(file, pw, "pass '" + p.name + "' appears twice in the frame");
       const std::string status = field<std::string>(pj, "status", file, pw);
       if (status != "ran" && status != "skipped") fail(file, pw, "status must be ran or skipped");
       p.ran = status == "ran";
@@ -340,9 +346,12 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
       for (const char* side : {"inputs", "outputs"}) {
         const json& list = member(pj, side);
         if (!list.is_array()) fail(file, pw, std::string("missing \"") + side + "\" array");
+        std::set<std::string> resources;
         for (size_t ri = 0; ri < list.size(); ++ri) {
           const std::string rw = pw + "." + side + "[" + std::to_string(ri) + "]";
           ResourceRecord r = resource_from_json(list[ri], file, rw);
+          if (!resources.insert(r.resource).second)
+            fail(file, rw, "resource '" + r.resource + "' appears twice among the " + side);
           if (std::string(side) == "outputs") {
             r.contract = contract_from_json(list[ri], file, rw);
             r.schema = output_schema(list[ri], r, file, rw);

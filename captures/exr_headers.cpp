@@ -36,8 +36,8 @@ const std::map<std::string_view, std::string_view> kAttributes = {
     {"nightcap.mips", "int"},
     {"nightcap.layers", "int"},
 };
-const std::map<std::string_view, int32_t> kFixedSizes = {
-    {"int", 4}, {"float", 4}, {"compression", 1}, {"lineOrder", 1}, {"box2i", 16}, {"v2f", 8}};
+const std::map<std::string_view, int32_t> kFixedSizes = {{"int", 4},       {"float", 4},  {"compression", 1},
+                                                         {"lineOrder", 1}, {"box2i", 16}, {"v2f", 8}};
 constexpr int32_t kMaxString = 256;
 constexpr int32_t kChannelTail = 16;  // pixel type, pLinear, 3 reserved bytes, x and y sampling
 
@@ -99,8 +99,7 @@ void check_exr_headers(const std::filesystem::path& file, const std::vector<Expe
   if (version & (kTiled | kDeep)) reader.fail("is not a scanline image");
   if (version & ~uint32_t(0xff | kLongNames | kMultipart)) reader.fail("has unknown OpenEXR flags");
   const bool multipart = version & kMultipart;
-  if (!multipart && parts.size() != 1)
-    reader.fail("has 1 part, expected " + std::to_string(parts.size()));
+  if (!multipart && parts.size() != 1) reader.fail("has 1 part, expected " + std::to_string(parts.size()));
   const size_t longest_name = (version & kLongNames) ? 255 : 31;
 
   for (size_t part = 0;; ++part) {
@@ -117,7 +116,8 @@ void check_exr_headers(const std::filesystem::path& file, const std::vector<Expe
       const std::string type = reader.name(longest_name, "attribute type");
       if (type != known->second) reader.fail("has attribute " + attribute + " of type " + type);
       const int32_t size = reader.value<int32_t>("an attribute size");
-      if (size < 0 || uint64_t(size) > reader.left()) reader.fail("has attribute " + attribute + " past the end of the file");
+      if (size < 0 || uint64_t(size) > reader.left())
+        reader.fail("has attribute " + attribute + " past the end of the file");
       if (const auto fixed = kFixedSizes.find(type); fixed != kFixedSizes.end()) {
         if (size != fixed->second) reader.fail("has attribute " + attribute + " of the wrong size");
       } else if (type == "string" && size > kMaxString) {
@@ -140,7 +140,8 @@ void check_exr_headers(const std::filesystem::path& file, const std::vector<Expe
     if (seen.empty()) {
       // An empty header ends a multi-part file's list; a single-part file has no such header.
       if (part == 0) reader.fail("has no OpenEXR header");
-      if (part != parts.size()) reader.fail("has " + std::to_string(part) + " parts, expected " + std::to_string(parts.size()));
+      if (part != parts.size())
+        reader.fail("has " + std::to_string(part) + " parts, expected " + std::to_string(parts.size()));
       return;
     }
     if (data_rows < 0) reader.fail("part " + std::to_string(part) + " has no data window");

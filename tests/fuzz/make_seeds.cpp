@@ -62,8 +62,9 @@ void image_seeds(const fs::path& dir, std::mt19937& random) {
       }
       const fs::path blob = dir / "blob.tmp";
       nc::write_image_blob(blob, formats[f], e, raw, codecs[n % codecs.size()], 0);
-      write_seed(blob, {uint8_t(f), uint8_t(e.width - 1), uint8_t(e.height - 1), uint8_t(e.mips - 1),
-                        uint8_t(e.layers - 1), uint8_t(e.depth - 1)},
+      write_seed(blob,
+                 {uint8_t(f), uint8_t(e.width - 1), uint8_t(e.height - 1), uint8_t(e.mips - 1), uint8_t(e.layers - 1),
+                  uint8_t(e.depth - 1)},
                  dir / ("image_" + std::to_string(n++)));
       fs::remove(blob);
     }
@@ -124,20 +125,19 @@ void textured_scene(Builder& b, const std::vector<uint8_t>& png, bool image_in_b
   const int tangent = b.add_accessor<float>({1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, -1, 1, 0, 0, 1}, 5126, "VEC4", 4);
   const int uv = b.add_accessor<float>({0, 1, 1, 1, 1, 0, 0, 0}, 5126, "VEC2", 4);
   const int uv1 = b.add_accessor<uint16_t>({0, 65535, 65535, 65535, 65535, 0, 0, 0}, 5123, "VEC2", 4);
-  const int color = b.add_accessor<uint8_t>({255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 9, 9, 9, 255}, 5121,
-                                            "VEC4", 4);
+  const int color =
+      b.add_accessor<uint8_t>({255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 9, 9, 9, 255}, 5121, "VEC4", 4);
   const int indices16 = b.add_accessor<uint16_t>({0, 1, 2, 0, 2, 3}, 5123, "SCALAR", 6);
   const int indices8 = b.add_accessor<uint8_t>({0, 1, 2}, 5121, "SCALAR", 3);
   const int indices32 = b.add_accessor<uint32_t>({2, 3, 0}, 5125, "SCALAR", 3);
-  json attributes = {{"POSITION", position}, {"NORMAL", normal},     {"TANGENT", tangent},
-                     {"TEXCOORD_0", uv},     {"TEXCOORD_1", uv1},    {"COLOR_0", color}};
-  g["meshes"] = {
-      {{"name", "quad"},
-       {"primitives",
-        {{{"attributes", attributes}, {"indices", indices16}, {"material", 0}},
-         {{"attributes", attributes}, {"indices", indices8}, {"material", 1}},
-         {{"attributes", attributes}, {"indices", indices32}, {"material", 2}},
-         {{"attributes", {{"POSITION", position}}}, {"mode", 4}}}}}};
+  json attributes = {{"POSITION", position}, {"NORMAL", normal},  {"TANGENT", tangent},
+                     {"TEXCOORD_0", uv},     {"TEXCOORD_1", uv1}, {"COLOR_0", color}};
+  g["meshes"] = {{{"name", "quad"},
+                  {"primitives",
+                   {{{"attributes", attributes}, {"indices", indices16}, {"material", 0}},
+                    {{"attributes", attributes}, {"indices", indices8}, {"material", 1}},
+                    {{"attributes", attributes}, {"indices", indices32}, {"material", 2}},
+                    {{"attributes", {{"POSITION", position}}}, {"mode", 4}}}}}};
   if (image_in_buffer) {
     const size_t offset = b.bin.size();
     b.bin.insert(b.bin.end(), png.begin(), png.end());
@@ -180,8 +180,8 @@ void textured_scene(Builder& b, const std::vector<uint8_t>& png, bool image_in_b
 }
 
 void write_gltf(const fs::path& file, Builder& b) {
-  b.gltf["buffers"] = {{{"byteLength", b.bin.size()},
-                        {"uri", "data:application/octet-stream;base64," + base64(b.bin)}}};
+  b.gltf["buffers"] = {
+      {{"byteLength", b.bin.size()}, {"uri", "data:application/octet-stream;base64," + base64(b.bin)}}};
   const std::string text = b.gltf.dump();
   write_file(file, {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
 }
@@ -192,7 +192,9 @@ void write_glb(const fs::path& file, Builder& b) {
   std::string text = b.gltf.dump();
   while (text.size() % 4) text += ' ';
   std::vector<uint8_t> out;
-  auto word = [&](uint32_t w) { out.insert(out.end(), reinterpret_cast<uint8_t*>(&w), reinterpret_cast<uint8_t*>(&w) + 4); };
+  auto word = [&](uint32_t w) {
+    out.insert(out.end(), reinterpret_cast<uint8_t*>(&w), reinterpret_cast<uint8_t*>(&w) + 4);
+  };
   word(0x46546C67), word(2), word(uint32_t(12 + 8 + text.size() + 8 + b.bin.size()));
   word(uint32_t(text.size())), word(0x4E4F534A);
   out.insert(out.end(), text.begin(), text.end());

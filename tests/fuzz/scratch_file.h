@@ -17,7 +17,8 @@ namespace nightcap::fuzz {
 inline const std::filesystem::path& scratch_folder() {
   static const std::filesystem::path folder = [] {
     const std::filesystem::path shm = "/dev/shm";
-    const std::filesystem::path base = std::filesystem::is_directory(shm) ? shm : std::filesystem::temp_directory_path();
+    const std::filesystem::path base =
+        std::filesystem::is_directory(shm) ? shm : std::filesystem::temp_directory_path();
     std::filesystem::path made = base / ("nightcap-fuzz-" + std::to_string(::getpid()));
     std::filesystem::create_directories(made);
     std::atexit([] { std::filesystem::remove_all(scratch_folder()); });

@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <functional>
 #include <iterator>
 
 #include "captures/blob_codec.h"
+#include "captures/capture.h"
 #include "passes/scene/scene.h"
 #include "tests/fuzz/image_blob_input.h"
 
@@ -42,8 +44,8 @@ TEST(FuzzRegressions, ExrChannelListPastItsStatedSize) {
   const auto parsed = nc::fuzz::parse_image_blob_input(input);
   ASSERT_TRUE(parsed);
   const fs::path blob = fs::path(testing::TempDir()) / "channel_list_past_its_size.exr";
-  std::ofstream(blob, std::ios::binary).write(reinterpret_cast<const char*>(parsed->blob.data()),
-                                              std::streamsize(parsed->blob.size()));
+  std::ofstream(blob, std::ios::binary)
+      .write(reinterpret_cast<const char*>(parsed->blob.data()), std::streamsize(parsed->blob.size()));
   const std::string error =
       error_of<nc::CaptureError>([&] { nc::read_image_blob(blob, parsed->format, parsed->extent); });
   EXPECT_NE(error.find(blob.string() + ": has a channel list that does not end at its stated size"), std::string::npos)
@@ -57,4 +59,33 @@ TEST(FuzzRegressions, GltfImageBufferViewOutsideItsBuffer) {
   const std::string error = error_of<nc::SceneError>([&] { nc::load_gltf(file.string()); });
   EXPECT_NE(error.find(file.string()), std::string::npos) << error;
   EXPECT_NE(error.find("its buffer view lies outside its buffer"), std::string::npos) << error;
+}
+
+// A frame that lists a pass twice (manifest_fuzz copied part of the pass list) made a diff of the
+// capture with itself pair different versions and read blobs: the tools align by name, so a
+// repeated frame index, pass name, or resource among a pass's inputs or outputs is refused.
+TEST(FuzzRegressions, ManifestNamesThatRepeat) {
+  const fs::path capture = fs::path(testing::TempDir()) / "pass_named_twice";
+  fs::create_directories(capture);
+  fs::copy_file(kCorpus / "manifest/pass_named_twice.json", capture / "manifest.json",
+                fs::copy_options::overwrite_existing);
+  std::string error = error_of<nc::CaptureError>([&] { nc::Capture::open(capture); });
+  EXPECT_NE(error.find("pass 'exposure' appears twice in the frame"), std::string::npos) << error;
+
+  const nlohmann::json valid = nlohmann::json::parse(read_bytes(kCorpus / "manifest/city_16x9_1frame.json"));
+  const auto refused = [&](const std::function<void(nlohmann::json&)>& edit) {
+    nlohmann::json manifest = valid;
+    edit(manifest);
+    return error_of<nc::CaptureError>([&] { nc::manifest_from_json(manifest, "edited.json"); });
+  };
+  error = refused([](nlohmann::json& m) { m["frames"].push_back(m["frames"][0]); });
+  EXPECT_NE(error.find("frames[1]: frame 0 appears twice"), std::string::npos) << error;
+  error = refused([](nlohmann::json& m) {
+    for (nlohmann::json& pass : m["frames"][0]["passes"])
+      if (!pass["outputs"].empty()) {
+        pass["outputs"].push_back(pass["outputs"][0]);
+        return;
+      }
+  });
+  EXPECT_NE(error.find("appears twice among the outputs"), std::string::npos) << error;
 }
