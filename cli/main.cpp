@@ -1,5 +1,5 @@
 // nightcap: render a scene to a capture, list its passes, replay them, diff two captures, draw a
-// frame's graph.
+// frame's graph, step through a capture pass by pass.
 // Exit codes: 0 success, 1 differences beyond tolerance, 2 bad input or failure.
 #include <unistd.h>
 #include <CLI/CLI.hpp>
@@ -9,8 +9,11 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 #include "captures/capture.h"
+#include "cli/inspect_repl.h"
+#include "inspect/commands.h"
 #include "inspect/diff.h"
 #include "inspect/graph_dot.h"
 #include "passes/core/shader.h"
@@ -310,6 +313,37 @@ int run_graph(const std::string& path, uint32_t frame, const std::string& output
   return 0;
 }
 
+// Interactive without -c or --script. Scripted, every command runs (a failed one does not stop
+// the others) and the exit code says whether any failed.
+int run_inspect(const std::string& path, const std::string& commands, const std::string& script_file) {
+  nc::InspectSession session(nc::Capture::open(path));
+  nc::InspectCommands runner(session, std::cout, std::cerr);
+  if (commands.empty() && script_file.empty()) {
+    nc::run_interactive_inspect(session, runner);
+    return 0;
+  }
+  std::string script = commands;
+  if (!script_file.empty()) {
+    std::ifstream file(script_file, std::ios::binary);
+    if (!file) throw UsageError("--script " + script_file + ": cannot read");
+    std::ostringstream text;
+    text << file.rdbuf();
+    script = text.str();
+  }
+  bool failed = false;
+  for (const std::string& command : nc::split_commands(script)) {
+    failed |= !runner.run(command);
+    if (runner.finished()) break;
+  }
+  return failed ? kExitBadInput : 0;
+}
+
+std::string inspect_commands_help() {
+  std::string text = "Commands (every one takes --json; `help CMD` inside a session):\n";
+  for (const nc::InspectCommandHelp& c : nc::inspect_commands()) text += "  " + c.usage + "\n      " + c.summary + "\n";
+  return text;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -381,6 +415,18 @@ int main(int argc, char** argv) {
   graph->add_flag("--dot", dot, "write Graphviz DOT (render it with e.g. `dot -Tsvg`)")->required();
   graph->add_option("-o,--output", graph_output, "file to write (default: standard output)");
 
+  std::string inspect_commands, inspect_script;
+  auto* inspect = app.add_subcommand(
+      "inspect", "Step through a capture pass by pass: pixels, buffers and statistics decoded by what they hold");
+  inspect->add_option("capture", capture_path, "capture folder")->required();
+  auto* commands_option =
+      inspect->add_option("-c,--commands", inspect_commands, "run these commands (separated by ';') and exit");
+  inspect->add_option("--script", inspect_script, "run the commands of FILE (one a line, or separated by ';') and exit")
+      ->excludes(commands_option);
+  inspect->footer(inspect_commands_help() +
+                  "Without -c or --script the session is interactive (history, tab completion). Scripted, the exit "
+                  "code is 2 if any command failed, else 0.");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -400,6 +446,7 @@ int main(int argc, char** argv) {
       code = run_diff(capture_path, capture_b,
                       tolerance_option->count() ? std::optional<double>(tolerance) : std::nullopt, json);
     if (*graph) code = run_graph(capture_path, frame, graph_output);
+    if (*inspect) code = run_inspect(capture_path, inspect_commands, inspect_script);
   } catch (const std::exception& e) {
     std::cerr << "nightcap: " << e.what() << "\n";
   }

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <random>
@@ -259,9 +260,36 @@ double cli_wall_ms(const std::vector<std::string>& args) {
   return elapsed;
 }
 
+// Peak resident MiB of `nightcap ARGS`, measured by peak_rss (tests/bench/peak_rss.cpp says why
+// not here); a failed run throws.
+double cli_peak_mib(const std::vector<std::string>& args) {
+  const fs::path result = fs::temp_directory_path() / ("nightcap-bench-peak-" + std::to_string(getpid()));
+  std::vector<std::string> strings = {NIGHTCAP_PEAK_RSS, NIGHTCAP_CLI};
+  strings.insert(strings.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : strings) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, result.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = -1;
+  const int error = posix_spawn(&pid, NIGHTCAP_PEAK_RSS, &files, nullptr, argv.data(), environ);
+  int status = 0;
+  if (error == 0) waitpid(pid, &status, 0);
+  posix_spawn_file_actions_destroy(&files);
+  std::ifstream in(result);
+  long kib = -1;
+  in >> kib;
+  fs::remove(result);
+  if (error != 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0 || kib < 0)
+    throw std::runtime_error(std::string(NIGHTCAP_CLI) + " " + args.front() + " failed under peak_rss");
+  return kib / 1024.0;
+}
+
 // How long the CLI takes before it has done anything: `--help`, and `passes` of a one-frame city
-// capture, which reads the manifest and nothing else. Median of 5 runs after one that warms the
-// file cache.
+// capture, which reads the manifest and nothing else; and the debugger's first answer, one
+// decoded pixel of gbuffer.normal (one blob read), with the peak memory of that process. Median of
+// 5 runs after one that warms the file cache.
 void bench_startup(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   nc::Scene scene = nc::build_city(1);
   nc::add_default_lighting(scene);
@@ -278,11 +306,20 @@ void bench_startup(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
     return median(runs);
   };
   const double help = median_ms({"--help"}), passes = median_ms({"passes", dir.string()});
+  const std::vector<std::string> first_answer = {
+      "inspect", dir.string(), "-c",
+      "pixel " + std::to_string(width / 2) + " " + std::to_string(height / 2) + " gbuffer.normal"};
+  const double inspect = median_ms(first_answer);
+  const double peak_mib = cli_peak_mib(first_answer);
   table() << "\n## CLI start-up, wall clock (median of 5 runs, warm file cache)\n"
           << std::fixed << std::setprecision(1) << "  nightcap --help          " << std::setw(7) << help << " ms\n"
           << "  nightcap passes CAP      " << std::setw(7) << passes << " ms (city, " << width << "x" << height
-          << ", 1 frame)\n";
+          << ", 1 frame)\n"
+          << "  nightcap inspect CAP -c 'pixel " << width / 2 << " " << height / 2 << " gbuffer.normal' "
+          << std::setw(7) << inspect << " ms, peak " << peak_mib << " MiB\n";
   figure("startup_ms_help", help);
+  figure("inspect_first_answer_ms", inspect);
+  figure("inspect_peak_mib", peak_mib);
   figure("startup_ms_passes", passes);
   fs::remove_all(dir);
 }

@@ -1,0 +1,663 @@
+#include "inspect/commands.h"
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+#include "inspect/disassemble.h"
+#include "inspect/export.h"
+#include "inspect/stats.h"
+#include "inspect/visualise.h"
+
+namespace nightcap {
+
+namespace {
+
+using ojson = nlohmann::ordered_json;
+
+// A command's words after its name: positionals, and options with the number of values each
+// takes (`--json` and `--frames` none, `--mip` one, `--rect` four).
+struct Arguments {
+  std::vector<std::string> positional;
+  std::map<std::string, std::vector<std::string>> options;
+
+  bool has(const std::string& option) const { return options.count(option) > 0; }
+};
+
+struct CommandSpec {
+  InspectCommandHelp help;
+  std::map<std::string, int> options;  // besides --json, which every command takes
+};
+
+const std::vector<CommandSpec>& specs() {
+  static const std::vector<CommandSpec> table = {
+      {{"passes", "passes", "the frame's passes: ran or why skipped, GPU/CPU time, outputs; '>' marks the current"},
+       {}},
+      {{"goto", "goto PASS", "make PASS the current pass"}, {}},
+      {{"next", "next", "go to the next pass"}, {}},
+      {{"prev", "prev", "go to the previous pass"}, {}},
+      {{"frame", "frame [K]", "show the current frame, or go to recorded frame K (keeping the pass)"}, {}},
+      {{"info", "info",
+        "what the current pass read and wrote: kind, format, size, hash, and each output's comparison contract"},
+       {}},
+      {{"pipeline", "pipeline", "the pipeline and sampler state the current pass bound"}, {}},
+      {{"shader", "shader [PATH]",
+        "the current pass's shaders (or the one whose path ends in PATH): recorded GLSL and SPIR-V disassembly"},
+       {}},
+      {{"pixel", "pixel X Y [RESOURCE] [--mip M] [--layer L] [--frames]",
+        "the texel under output pixel (X, Y) decoded by what RESOURCE holds (default: the current pass's first "
+        "output), with its raw values; --frames: the same pixel in every recorded frame"},
+       {{"--mip", 1}, {"--layer", 1}, {"--frames", 0}}},
+      {{"buffer", "buffer RESOURCE [--element N]",
+        "a buffer decoded field by field by the schema its pass declared, else as 32-bit words"},
+       {{"--element", 1}}},
+      {{"stats", "stats RESOURCE [--mip M] [--layer L] [--rect X Y W H]",
+        "per channel: min, max, mean of the finite values, a 16-bin histogram, NaN, Inf and denormal counts; "
+        "--rect in output pixels"},
+       {{"--mip", 1}, {"--layer", 1}, {"--rect", 4}}},
+      {{"export", "export RESOURCE [--mip M] [--layer L] [--stencil] -o FILE.exr|FILE.png; export PASS --all -o DIR",
+        "FILE.exr: the values as float channels; FILE.png: a picture for its kind (normals as colour, depth "
+        "linearised, motion on a colour wheel, HDR tonemapped; --stencil: stencil classes as a palette). --all: "
+        "every output of PASS into DIR, images as RESOURCE.exr and RESOURCE.png (and RESOURCE.stencil.png), "
+        "buffers as their raw bytes, RESOURCE.bin"},
+       {{"--mip", 1}, {"--layer", 1}, {"--stencil", 0}, {"--all", 0}, {"-o", 1}}},
+      {{"help", "help [COMMAND]", "the commands, or one command's usage"}, {}},
+      {{"quit", "quit", "end the session"}, {}},
+  };
+  return table;
+}
+
+const CommandSpec* spec_of(const std::string& name) {
+  for (const CommandSpec& spec : specs())
+    if (spec.help.name == name) return &spec;
+  return nullptr;
+}
+
+Arguments parse_arguments(const CommandSpec& spec, const std::vector<std::string>& words) {
+  Arguments args;
+  for (size_t i = 1; i < words.size(); ++i) {
+    const std::string& word = words[i];
+    if (word.size() < 2 || word[0] != '-') {
+      args.positional.push_back(word);
+      continue;
+    }
+    int count = 0;
+    if (word != "--json") {
+      const auto found = spec.options.find(word);
+      if (found == spec.options.end()) throw InspectError(spec.help.name + ": unknown option " + word);
+      count = found->second;
+    }
+    if (i + count >= words.size())
+      throw InspectError(spec.help.name + ": " + word + " takes " + std::to_string(count) + " value(s)");
+    std::vector<std::string>& values = args.options[word];
+    for (int k = 0; k < count; ++k) values.push_back(words[++i]);
+  }
+  return args;
+}
+
+uint32_t parse_index(const std::string& what, const std::string& text) {
+  if (text.empty() || text.size() > 9 || text.find_first_not_of("0123456789") != std::string::npos)
+    throw InspectError(what + " '" + text + "': expected a whole number");
+  return uint32_t(std::stoul(text));
+}
+
+uint32_t option_index(const Arguments& args, const std::string& option, uint32_t fallback) {
+  return args.has(option) ? parse_index(option, args.options.at(option)[0]) : fallback;
+}
+
+void expect_positionals(const CommandSpec& spec, const Arguments& args, size_t min, size_t max) {
+  if (args.positional.size() < min || args.positional.size() > max)
+    throw InspectError(spec.help.name + ": usage: " + spec.help.usage);
+}
+
+std::string format_ms(const std::optional<double>& value) {
+  if (!value) return "-";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(3) << *value;
+  return s.str();
+}
+
+std::string shape(const ResourceRecord& r) {
+  if (r.is_buffer) return std::to_string(r.buffer_size) + " B";
+  std::string text = std::string(format_info(r.format)->name) + " " + std::to_string(r.extent.width) + "x" +
+                     std::to_string(r.extent.height);
+  if (r.extent.depth > 1) text += "x" + std::to_string(r.extent.depth);
+  if (r.extent.mips > 1) text += " mips " + std::to_string(r.extent.mips);
+  if (r.extent.layers > 1) text += " layers " + std::to_string(r.extent.layers);
+  return text;
+}
+
+ojson resource_json(const ResourceRecord& r, bool output) {
+  ojson j = {{"resource", r.resource}, {"kind", kind_name(r.kind)}};
+  if (r.is_buffer) {
+    j["format"] = "BUFFER";
+    j["bytes"] = r.buffer_size;
+  } else {
+    j["format"] = format_info(r.format)->name;
+    j["width"] = r.extent.width;
+    j["height"] = r.extent.height;
+    j["depth"] = r.extent.depth;
+    j["mips"] = r.extent.mips;
+    j["layers"] = r.extent.layers;
+    j["bytes"] = r.raw_bytes();
+  }
+  j["hash"] = r.hash;
+  if (output) {
+    j["contract"] = {{"kind", contract_kind_name(r.contract.kind)},
+                     {"description", contract_description(r.contract)},
+                     {"reason", r.contract.reason}};
+    if (r.schema) j["schema"] = to_json(*r.schema);
+  }
+  return j;
+}
+
+// A JSON value on one line for people: numbers with 6 significant digits, arrays in brackets.
+std::string brief(const ojson& value) {
+  if (value.is_number_float()) {
+    std::ostringstream s;
+    s << std::setprecision(6) << value.get<double>();
+    return s.str();
+  }
+  if (value.is_array()) {
+    std::string text = "(";
+    for (size_t i = 0; i < value.size(); ++i) text += (i ? ", " : "") + brief(value[i]);
+    return text + ")";
+  }
+  if (value.is_string()) return value.get<std::string>();
+  return value.dump();
+}
+
+// Flattened "a.b.c: value" lines, for pipeline and sampler state.
+void print_flat(std::ostream& out, const nlohmann::json& value, const std::string& prefix) {
+  if (value.is_object()) {
+    for (const auto& [key, item] : value.items()) print_flat(out, item, prefix.empty() ? key : prefix + "." + key);
+  } else if (value.is_array() && !value.empty() && (value[0].is_object() || value[0].is_array())) {
+    for (size_t i = 0; i < value.size(); ++i) print_flat(out, value[i], prefix + "[" + std::to_string(i) + "]");
+  } else {
+    out << "  " << prefix << ": " << (value.is_string() ? value.get<std::string>() : value.dump()) << "\n";
+  }
+}
+
+class Runner {
+ public:
+  Runner(InspectSession& session, std::ostream& out, bool json, bool& finished)
+      : session_(session), out_(out), json_(json), finished_(finished) {}
+
+  void run(const CommandSpec& spec, const Arguments& args) {
+    static const std::map<std::string, void (Runner::*)(const CommandSpec&, const Arguments&)> handlers = {
+        {"passes", &Runner::passes},     {"goto", &Runner::go},       {"next", &Runner::go},
+        {"prev", &Runner::go},           {"frame", &Runner::frame},   {"info", &Runner::info},
+        {"pipeline", &Runner::pipeline}, {"shader", &Runner::shader}, {"pixel", &Runner::pixel},
+        {"buffer", &Runner::buffer},     {"stats", &Runner::stats},   {"export", &Runner::export_files},
+        {"help", &Runner::help},         {"quit", &Runner::quit}};
+    (this->*handlers.at(spec.help.name))(spec, args);
+  }
+
+ private:
+  void emit(const ojson& j) { out_ << j.dump() << "\n"; }
+
+  ojson where() const {
+    return {{"frame", session_.frame().index}, {"pass", session_.pass().name}, {"index", session_.pass_index()}};
+  }
+
+  void passes(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 0, 0);
+    const FrameRecord& frame = session_.frame();
+    ojson list = ojson::array();
+    for (const PassRecord& p : frame.passes) {
+      ojson pass = {{"name", p.name}, {"status", p.ran ? "ran" : "skipped"}};
+      if (!p.ran) pass["reason"] = p.reason;
+      pass["gpu_ms"] = p.gpu_ms ? ojson(*p.gpu_ms) : ojson(nullptr);
+      pass["cpu_ms"] = p.cpu_ms;
+      ojson outputs = ojson::array();
+      for (const ResourceRecord& r : p.outputs) outputs.push_back(r.resource);
+      pass["outputs"] = outputs;
+      list.push_back(pass);
+    }
+    if (json_) return emit({{"frame", frame.index}, {"current", session_.pass().name}, {"passes", list}});
+    out_ << "frame " << frame.index << "\n";
+    for (size_t i = 0; i < frame.passes.size(); ++i) {
+      const PassRecord& p = frame.passes[i];
+      out_ << (i == session_.pass_index() ? "> " : "  ") << std::left << std::setw(20) << p.name << std::setw(9)
+           << (p.ran ? "ran" : "skipped") << std::right << std::setw(10) << format_ms(p.gpu_ms) << std::setw(10)
+           << format_ms(p.cpu_ms) << "  ";
+      if (!p.ran) out_ << "(" << p.reason << ") ";
+      for (const ResourceRecord& r : p.outputs) out_ << r.resource << " ";
+      out_ << "\n";
+    }
+  }
+
+  void go(const CommandSpec& spec, const Arguments& args) {
+    if (spec.help.name == "goto") {
+      expect_positionals(spec, args, 1, 1);
+      session_.go_to_pass(args.positional[0]);
+    } else {
+      expect_positionals(spec, args, 0, 0);
+      spec.help.name == "next" ? session_.next_pass() : session_.previous_pass();
+    }
+    show_current();
+  }
+
+  void show_current() {
+    const PassRecord& p = session_.pass();
+    if (json_) return emit(where());
+    out_ << "frame " << session_.frame().index << ", pass " << session_.pass_index() + 1 << "/"
+         << session_.frame().passes.size() << ": " << p.name << (p.ran ? "" : " (skipped: " + p.reason + ")") << "\n";
+  }
+
+  void frame(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 0, 1);
+    if (!args.positional.empty()) session_.go_to_frame(parse_index("frame", args.positional[0]));
+    const FrameRecord& f = session_.frame();
+    ojson frames = ojson::array();
+    for (const FrameRecord& r : session_.capture().manifest().frames) frames.push_back(r.index);
+    if (json_) {
+      ojson j = where();
+      j["time"] = f.time;
+      j["camera_cut"] = f.camera_cut;
+      j["width"] = f.width;
+      j["height"] = f.height;
+      j["recorded_frames"] = frames;
+      return emit(j);
+    }
+    out_ << "frame " << f.index << " of recorded " << brief(frames) << ", " << f.width << "x" << f.height << " at "
+         << f.time << " s" << (f.camera_cut ? ", camera cut" : "") << "; pass " << session_.pass().name << "\n";
+  }
+
+  void info(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 0, 0);
+    const PassRecord& p = session_.pass();
+    ojson j = where();
+    j["status"] = p.ran ? "ran" : "skipped";
+    if (!p.ran) j["reason"] = p.reason;
+    j["gpu_ms"] = p.gpu_ms ? ojson(*p.gpu_ms) : ojson(nullptr);
+    j["cpu_ms"] = p.cpu_ms;
+    j["params"] = p.params;
+    j["inputs"] = ojson::array();
+    j["outputs"] = ojson::array();
+    for (const ResourceRecord& r : p.inputs) j["inputs"].push_back(resource_json(r, false));
+    for (const ResourceRecord& r : p.outputs) j["outputs"].push_back(resource_json(r, true));
+    if (json_) return emit(j);
+    show_current();
+    out_ << "  gpu " << format_ms(p.gpu_ms) << " ms, cpu " << format_ms(p.cpu_ms) << " ms\n";
+    for (const auto& [name, value] : p.params) out_ << "  param " << name << " = " << value << "\n";
+    out_ << "  reads:\n";
+    for (const ResourceRecord& r : p.inputs)
+      out_ << "    " << std::left << std::setw(26) << r.resource << kind_name(r.kind) << ", " << shape(r) << ", "
+           << r.hash.substr(0, 12) << "\n";
+    out_ << "  writes:\n";
+    for (const ResourceRecord& r : p.outputs) {
+      out_ << "    " << std::left << std::setw(26) << r.resource << kind_name(r.kind) << ", " << shape(r) << ", "
+           << r.hash.substr(0, 12) << "\n"
+           << "      contract: " << contract_description(r.contract)
+           << (r.contract.reason.empty() ? "" : " (" + r.contract.reason + ")") << "\n";
+      if (r.schema) out_ << "      schema: " << to_json(*r.schema).dump() << "\n";
+    }
+  }
+
+  void pipeline(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 0, 0);
+    const PassRecord& p = session_.pass();
+    if (json_) {
+      ojson j = where();
+      j["pipelines"] = ojson::parse(p.pipelines.dump());
+      j["samplers"] = ojson::parse(p.samplers.dump());
+      return emit(j);
+    }
+    show_current();
+    if (p.pipelines.empty()) out_ << "  no pipeline recorded (" << (p.ran ? "a CPU pass" : "skipped") << ")\n";
+    for (size_t i = 0; i < p.pipelines.size(); ++i) {
+      out_ << "pipeline " << i << ":\n";
+      print_flat(out_, p.pipelines[i], "");
+    }
+    for (size_t i = 0; i < p.samplers.size(); ++i) {
+      out_ << "sampler " << i << ":\n";
+      print_flat(out_, p.samplers[i], "");
+    }
+  }
+
+  void shader(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 0, 1);
+    const PassRecord& p = session_.pass();
+    const std::string wanted = args.positional.empty() ? "" : args.positional[0];
+    ojson list = ojson::array();
+    for (const ShaderRecord& s : p.shaders) {
+      if (!wanted.empty() &&
+          (s.path.size() < wanted.size() || s.path.compare(s.path.size() - wanted.size(), wanted.size(), wanted) != 0))
+        continue;
+      const std::vector<uint32_t> words = session_.capture().load_shader(s);
+      list.push_back({{"path", s.path},
+                      {"hash", s.hash},
+                      {"glsl", session_.capture().load_shader_source(s)},
+                      {"spirv", disassemble_spirv(words)}});
+    }
+    if (list.empty())
+      throw InspectError(p.name + " has no shader" + (wanted.empty() ? "" : " ending in '" + wanted + "'") +
+                         (p.shaders.empty() ? " (a CPU or skipped pass)" : ""));
+    if (json_) {
+      ojson j = where();
+      j["shaders"] = list;
+      return emit(j);
+    }
+    for (const ojson& s : list)
+      out_ << "// " << s["path"].get<std::string>() << ": GLSL\n"
+           << s["glsl"].get<std::string>() << "\n// " << s["path"].get<std::string>() << ": SPIR-V\n"
+           << s["spirv"].get<std::string>();
+  }
+
+  ojson reading_json(const ResourceRecord& record, const FrameRecord& frame, uint32_t x, uint32_t y, uint32_t mip,
+                     uint32_t layer) {
+    const TexelAddress texel = texel_for_output_pixel(record, frame, x, y, mip, layer);
+    const PixelReading reading = read_pixel(record, session_.load(record), frame, texel);
+    ojson j = {{"frame", frame.index},
+               {"resource", record.resource},
+               {"kind", kind_name(record.kind)},
+               {"format", format_info(record.format)->name},
+               {"hash", record.hash},
+               {"pixel", {x, y}},
+               {"texel", {texel.x, texel.y}},
+               {"mip", texel.mip},
+               {"layer", texel.layer},
+               {"raw", reading.values.raw}};
+    if (!reading.values.codes.empty()) j["codes"] = reading.values.codes;
+    j["decoded"] = reading.decoded;
+    return j;
+  }
+
+  void print_reading(const ojson& j) {
+    out_ << j["resource"].get<std::string>() << " (" << j["kind"].get<std::string>() << ", "
+         << j["format"].get<std::string>() << ") frame " << j["frame"] << " texel " << brief(j["texel"]) << " mip "
+         << j["mip"] << " layer " << j["layer"] << "\n";
+    out_ << "  raw: " << brief(j["raw"]) << "\n";
+    if (j.contains("codes")) out_ << "  codes: " << brief(j["codes"]) << "\n";
+    for (const auto& [name, value] : j["decoded"].items()) out_ << "  " << name << ": " << brief(value) << "\n";
+  }
+
+  void pixel(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 2, 3);
+    const uint32_t x = parse_index("X", args.positional[0]), y = parse_index("Y", args.positional[1]);
+    const uint32_t mip = option_index(args, "--mip", 0), layer = option_index(args, "--layer", 0);
+    std::string name;
+    if (args.positional.size() == 3) {
+      name = args.positional[2];
+    } else {
+      const PassRecord& p = session_.pass();
+      if (p.outputs.empty()) throw InspectError(p.name + " has no output: name a resource");
+      name = p.outputs[0].resource;
+    }
+    const ResourceRecord& record = session_.resource(name);
+    if (!args.has("--frames")) {
+      const ojson j = reading_json(record, session_.frame(), x, y, mip, layer);
+      return json_ ? emit(j) : print_reading(j);
+    }
+    ojson frames = ojson::array();
+    for (const FrameRecord& frame : session_.capture().manifest().frames) {
+      const ResourceRecord* version = session_.resource_in_frame(frame, name);
+      if (!version) {
+        frames.push_back({{"frame", frame.index}, {"missing", "no " + name + " at " + session_.pass().name}});
+        continue;
+      }
+      frames.push_back(reading_json(*version, frame, x, y, mip, layer));
+    }
+    if (json_) return emit({{"resource", name}, {"pixel", {x, y}}, {"frames", frames}});
+    for (const ojson& f : frames) {
+      if (f.contains("missing")) {
+        out_ << "frame " << f["frame"] << ": " << f["missing"].get<std::string>() << "\n";
+        continue;
+      }
+      print_reading(f);
+    }
+  }
+
+  void buffer(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 1, 1);
+    const ResourceRecord& record = session_.resource(args.positional[0]);
+    if (!record.is_buffer) throw InspectError(record.resource + " is an image: use `pixel` or `stats`");
+    const std::vector<uint8_t>& raw = session_.load(record);
+    const BufferSchema* schema = session_.schema_of(record);
+    ojson j = {{"resource", record.resource}, {"bytes", record.buffer_size}, {"hash", record.hash}};
+    const uint64_t count = schema ? buffer_elements(*schema, raw.size()) : raw.size() / 4;
+    uint64_t first = 0, last = count;
+    if (args.has("--element")) {
+      first = option_index(args, "--element", 0);
+      if (first >= count)
+        throw InspectError(record.resource + " has " + std::to_string(count) + (schema ? " element(s)" : " word(s)") +
+                           ": no " + std::to_string(first));
+      last = first + 1;
+    }
+    ojson values = ojson::array();
+    if (schema) {
+      j["stride"] = schema->stride;
+      j["elements"] = count;
+      for (uint64_t e = first; e < last; ++e)
+        values.push_back({{"element", e}, {"fields", decode_buffer_element(*schema, raw, e)}});
+    } else {
+      j["words_count"] = count;
+      for (uint64_t w = first; w < last; ++w) {
+        uint32_t word;
+        float as_float;
+        std::memcpy(&word, raw.data() + 4 * w, 4);
+        std::memcpy(&as_float, raw.data() + 4 * w, 4);
+        values.push_back(
+            {{"word", w}, {"u32", word}, {"f32", std::isfinite(as_float) ? ojson(as_float) : ojson(nullptr)}});
+      }
+    }
+    j[schema ? "values" : "words"] = values;
+    if (json_) return emit(j);
+    out_ << record.resource << " (" << record.buffer_size << " B, "
+         << (schema ? std::to_string(count) + " elements of " + std::to_string(schema->stride) + " B"
+                    : std::to_string(count) + " 32-bit words, no schema")
+         << ")\n";
+    for (const ojson& v : values) {
+      if (schema) {
+        out_ << "element " << v["element"] << ":\n";
+        for (const auto& [field, value] : v["fields"].items()) out_ << "  " << field << ": " << brief(value) << "\n";
+      } else {
+        std::ostringstream hex;
+        hex << std::hex << std::setw(8) << std::setfill('0') << v["u32"].get<uint32_t>();
+        out_ << "word " << v["word"] << ": 0x" << hex.str() << " u32 " << v["u32"] << " f32 " << brief(v["f32"])
+             << "\n";
+      }
+    }
+  }
+
+  void stats(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 1, 1);
+    const ResourceRecord& record = session_.resource(args.positional[0]);
+    const FrameRecord& frame = session_.frame();
+    const uint32_t mip = option_index(args, "--mip", 0), layer = option_index(args, "--layer", 0);
+    // The texels covering the output rectangle: from the first pixel's texel to the last one's.
+    uint32_t x = 0, y = 0, w = frame.width, h = frame.height;
+    if (args.has("--rect")) {
+      const auto& r = args.options.at("--rect");
+      x = parse_index("X", r[0]);
+      y = parse_index("Y", r[1]);
+      w = parse_index("W", r[2]);
+      h = parse_index("H", r[3]);
+      if (w == 0 || h == 0) throw InspectError("--rect: width and height must be at least 1");
+    }
+    if (uint64_t(x) + w > frame.width || uint64_t(y) + h > frame.height)
+      throw InspectError("--rect " + std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(w) + " " +
+                         std::to_string(h) + " is outside the " + std::to_string(frame.width) + "x" +
+                         std::to_string(frame.height) + " output");
+    const TexelAddress first = texel_for_output_pixel(record, frame, x, y, mip, layer);
+    const TexelAddress last = texel_for_output_pixel(record, frame, x + w - 1, y + h - 1, mip, layer);
+    const TexelRect rect{first.x, first.y, last.x - first.x + 1, last.y - first.y + 1};
+    const std::vector<ChannelStats> channels = image_stats(record, session_.load(record), mip, layer, rect);
+    ojson list = ojson::array();
+    for (const ChannelStats& c : channels)
+      list.push_back({{"min", c.min},
+                      {"max", c.max},
+                      {"mean", c.mean},
+                      {"finite", c.finite},
+                      {"nan", c.nan},
+                      {"inf", c.inf},
+                      {"denormal", c.denormal},
+                      {"histogram", c.histogram}});
+    ojson j = {{"resource", record.resource},
+               {"kind", kind_name(record.kind)},
+               {"format", format_info(record.format)->name},
+               {"mip", mip},
+               {"layer", layer},
+               {"texels", {rect.x, rect.y, rect.width, rect.height}},
+               {"channels", list}};
+    if (json_) return emit(j);
+    out_ << record.resource << " (" << j["format"].get<std::string>() << ") mip " << mip << " layer " << layer
+         << ", texels " << rect.x << "," << rect.y << " " << rect.width << "x" << rect.height << "\n";
+    for (size_t c = 0; c < channels.size(); ++c) {
+      const ChannelStats& s = channels[c];
+      out_ << "  channel " << c << ": min " << brief(s.min) << " max " << brief(s.max) << " mean " << brief(s.mean)
+           << "; finite " << s.finite << " NaN " << s.nan << " Inf " << s.inf << " denormal " << s.denormal
+           << "\n    histogram " << brief(list[c]["histogram"]) << "\n";
+    }
+  }
+
+  void export_files(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 1, 1);
+    if (!args.has("-o")) throw InspectError("export: usage: " + spec.help.usage);
+    const std::filesystem::path target = args.options.at("-o")[0];
+    ojson files = ojson::array();
+    if (args.has("--all")) {
+      const PassRecord* pass = nullptr;
+      for (const PassRecord& p : session_.frame().passes)
+        if (p.name == args.positional[0]) pass = &p;
+      if (!pass)
+        throw InspectError("no pass '" + args.positional[0] + "' in frame " + std::to_string(session_.frame().index));
+      std::error_code error;
+      std::filesystem::create_directories(target, error);
+      if (error) throw InspectError(target.string() + ": cannot create: " + error.message());
+      for (const ResourceRecord& r : pass->outputs) {
+        const std::vector<uint8_t>& raw = session_.load(r);
+        if (r.is_buffer) {
+          const std::filesystem::path file = target / (r.resource + ".bin");
+          std::ofstream out(file, std::ios::binary | std::ios::trunc);
+          out.write(reinterpret_cast<const char*>(raw.data()), std::streamsize(raw.size()));
+          if (!out) throw InspectError(file.string() + ": cannot write");
+          files.push_back(file.string());
+          continue;
+        }
+        write_values_exr(target / (r.resource + ".exr"), r, raw, 0, 0);
+        files.push_back((target / (r.resource + ".exr")).string());
+        write_picture(target / (r.resource + ".png"), r, raw, 0, 0, VisualAspect::depth_or_colour);
+        files.push_back((target / (r.resource + ".png")).string());
+        if (format_info(r.format)->has_stencil) {
+          write_picture(target / (r.resource + ".stencil.png"), r, raw, 0, 0, VisualAspect::stencil);
+          files.push_back((target / (r.resource + ".stencil.png")).string());
+        }
+      }
+    } else {
+      const ResourceRecord& record = session_.resource(args.positional[0]);
+      if (record.is_buffer) throw InspectError(record.resource + " is a buffer: `export PASS --all` writes its bytes");
+      const uint32_t mip = option_index(args, "--mip", 0), layer = option_index(args, "--layer", 0);
+      // Validates the mip and layer as `pixel` does.
+      texel_for_output_pixel(record, session_.frame(), 0, 0, mip, layer);
+      const std::string extension = target.extension().string();
+      if (extension == ".exr" && !args.has("--stencil")) {
+        write_values_exr(target, record, session_.load(record), mip, layer);
+      } else if (extension == ".png") {
+        write_picture(target, record, session_.load(record), mip, layer,
+                      args.has("--stencil") ? VisualAspect::stencil : VisualAspect::depth_or_colour);
+      } else {
+        throw InspectError("export -o " + target.string() + ": expected a .exr file (values) or a .png (picture)" +
+                           (args.has("--stencil") ? "; --stencil is a picture: .png" : ""));
+      }
+      files.push_back(target.string());
+    }
+    if (json_) return emit({{"files", files}});
+    for (const ojson& f : files) out_ << "wrote " << f.get<std::string>() << "\n";
+  }
+
+  void write_picture(const std::filesystem::path& file, const ResourceRecord& record, std::span<const uint8_t> raw,
+                     uint32_t mip, uint32_t layer, VisualAspect aspect) {
+    const Rgba8Image image = visualise(record, raw, session_.frame(), mip, layer, aspect);
+    write_png(file, image.pixels, image.width, image.height);
+  }
+
+  void help(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 0, 1);
+    if (args.positional.empty()) {
+      ojson list = ojson::array();
+      for (const InspectCommandHelp& c : inspect_commands())
+        list.push_back({{"name", c.name}, {"usage", c.usage}, {"summary", c.summary}});
+      if (json_) return emit({{"commands", list}});
+      for (const InspectCommandHelp& c : inspect_commands())
+        out_ << "  " << std::left << std::setw(56) << c.usage << c.summary << "\n";
+      out_ << "Every command takes --json: one JSON object per command.\n";
+      return;
+    }
+    const CommandSpec* wanted = spec_of(args.positional[0]);
+    if (!wanted) throw InspectError("no command '" + args.positional[0] + "' (see `help`)");
+    if (json_)
+      return emit({{"name", wanted->help.name}, {"usage", wanted->help.usage}, {"summary", wanted->help.summary}});
+    out_ << "usage: " << wanted->help.usage << " [--json]\n  " << wanted->help.summary << "\n";
+  }
+
+  void quit(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 0, 0);
+    finished_ = true;
+    if (json_) emit({{"quit", true}});
+  }
+
+  InspectSession& session_;
+  std::ostream& out_;
+  bool json_;
+  bool& finished_;
+};
+
+std::vector<std::string> words_of(const std::string& command) {
+  std::istringstream stream(command);
+  std::vector<std::string> words;
+  for (std::string word; stream >> word;) words.push_back(word);
+  return words;
+}
+
+}  // namespace
+
+const std::vector<InspectCommandHelp>& inspect_commands() {
+  static const std::vector<InspectCommandHelp> list = [] {
+    std::vector<InspectCommandHelp> l;
+    for (const CommandSpec& spec : specs()) l.push_back(spec.help);
+    return l;
+  }();
+  return list;
+}
+
+std::vector<std::string> split_commands(const std::string& script) {
+  std::vector<std::string> commands;
+  std::istringstream lines(script);
+  for (std::string line; std::getline(lines, line);) {
+    const size_t start = line.find_first_not_of(" \t\r");
+    if (start == std::string::npos || line[start] == '#') continue;
+    std::istringstream parts(line);
+    for (std::string part; std::getline(parts, part, ';');)
+      if (part.find_first_not_of(" \t\r") != std::string::npos) commands.push_back(part);
+  }
+  return commands;
+}
+
+InspectCommands::InspectCommands(InspectSession& session, std::ostream& out, std::ostream& err)
+    : session_(session), out_(out), err_(err) {}
+
+bool InspectCommands::run(const std::string& command) {
+  const std::vector<std::string> words = words_of(command);
+  if (words.empty()) return true;
+  try {
+    const CommandSpec* spec = spec_of(words[0]);
+    if (!spec) throw InspectError("unknown command '" + words[0] + "' (see `help`)");
+    const Arguments args = parse_arguments(*spec, words);
+    Runner(session_, out_, args.has("--json"), finished_).run(*spec, args);
+    out_.flush();
+    return true;
+  } catch (const std::exception& e) {
+    // CaptureError (a damaged blob) ends this command only: the session can go on with others.
+    err_ << "inspect: " << e.what() << "\n";
+    err_.flush();
+    return false;
+  }
+}
+
+}  // namespace nightcap

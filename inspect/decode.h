@@ -1,0 +1,80 @@
+// A resource's contents in its own terms: one pixel of an image decoded by the kind of data it
+// holds (a packed normal as a unit vector, device depth as metres, a stencil tag as its class,
+// motion in pixels), and a buffer decoded by the schema its pass declared. The raw values are
+// always kept beside the decoded ones, so a reader can check the decoding.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "captures/capture.h"
+
+namespace nightcap {
+
+// A request the capture cannot answer (unknown pass or resource, a pixel outside the image):
+// the message is one line for the user.
+struct InspectError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Where a pixel of the frame's output lands in one subresource of an image.
+struct TexelAddress {
+  uint32_t x = 0, y = 0, mip = 0, layer = 0;
+};
+
+// Output coordinates (full resolution) scaled to mip `mip` of `record`: half-resolution
+// resources, mips and fixed-size tables take the texel that covers the same place of the
+// screen. Throws InspectError when the pixel, mip or layer is outside.
+TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRecord& frame, uint32_t x, uint32_t y,
+                                    uint32_t mip, uint32_t layer);
+
+struct TexelValues {
+  // Per aspect (depth then stencil): the channel values as format.h decodes them (UNORM in
+  // [0, 1], sRGB linearised, integers as their values).
+  std::vector<double> raw;
+  // The integer codes the format stores, where it stores codes (UNORM, UINT, packed words,
+  // stencil); empty for float formats, whose raw values are exact.
+  std::vector<uint64_t> codes;
+};
+TexelValues read_texel(const ResourceRecord& record, std::span<const uint8_t> raw, const TexelAddress& texel);
+
+// The decodings by kind, stated once for `pixel` and for the pictures of visualise.h:
+// The stored vector of a normal (0.5n + 0.5, gbuffer.opaque) or packed normal (8-bit codes
+// · 2/255 − 1, normals.pack), before normalising; nullopt for other kinds.
+std::optional<std::array<double, 3>> stored_normal(ResourceKind kind, const TexelValues& texel);
+// Reversed-Z with an infinite far plane: device depth d is znear / distance; nullopt for 0
+// (nothing drawn).
+std::optional<double> linear_metres(double device_depth, const FrameRecord& frame);
+// Motion is stored in UV units (current − previous); in pixels of the frame's output.
+std::array<double, 2> motion_pixels(double u, double v, const FrameRecord& frame);
+
+struct PixelReading {
+  TexelAddress texel;
+  TexelValues values;
+  // What the texel means for the resource's kind, in order: "normal", "linear_m", "class", …
+  nlohmann::ordered_json decoded = nlohmann::ordered_json::object();
+};
+
+// Names of the stencil material classes of frame.md, and the "moving" flag OR-ed onto them.
+std::string stencil_class_name(uint32_t stencil);
+std::vector<std::string> stencil_flags(uint32_t stencil);
+
+// `raw`: the record's bytes in format.h's raw layout. The frame supplies the camera (depth
+// linearisation) and the output size (motion in pixels).
+PixelReading read_pixel(const ResourceRecord& record, std::span<const uint8_t> raw, const FrameRecord& frame,
+                        const TexelAddress& texel);
+
+// Element `element` of a buffer decoded by `schema`, field by field (values exact: every 32-bit
+// value and every f64 fits a double).
+nlohmann::ordered_json decode_buffer_element(const BufferSchema& schema, std::span<const uint8_t> raw,
+                                             uint64_t element);
+uint64_t buffer_elements(const BufferSchema& schema, uint64_t bytes);
+
+}  // namespace nightcap

@@ -1,0 +1,19 @@
+// Resources written to files: the values as float OpenEXR (what the pass wrote, decoded to
+// numbers), the picture through visualise.h as PNG.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+
+#include "captures/capture.h"
+
+namespace nightcap {
+
+// One subresource with every channel as FLOAT, as format.h decodes it (UNORM in [0, 1], sRGB
+// linearised, integer codes as their values): R, G, B, A in order, or Z and S for depth and
+// stencil. Throws InspectError when the file cannot be written.
+void write_values_exr(const std::filesystem::path& file, const ResourceRecord& record, std::span<const uint8_t> raw,
+                      uint32_t mip, uint32_t layer);
+
+}  // namespace nightcap

@@ -1,0 +1,588 @@
+// `nightcap inspect` in scripted mode, against values decoded here from the capture's raw bytes
+// by formulas of this file (bit fields, half floats, znear / depth), never by inspect's decoder.
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "captures/capture.h"
+#include "tests/e2e/cli.h"
+
+namespace nightcap::test {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const char* kCity = "--size 320x180 --frames 2";  // as tests/e2e/capture_loop_test.cpp
+
+struct Inspected {
+  CliResult result;
+  std::vector<json> objects;  // one per command that printed
+};
+
+// Runs `inspect CAPTURE -c COMMANDS` and parses each line of its output as one JSON object.
+Inspected inspect(const fs::path& capture, const std::string& commands) {
+  Inspected run{run_cli("inspect " + quote(capture) + " -c '" + commands + "'"), {}};
+  std::istringstream lines(run.result.out);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.empty()) continue;
+    run.objects.push_back(json::parse(line));
+  }
+  return run;
+}
+
+const PassRecord& pass_named(const FrameRecord& frame, const std::string& name) {
+  for (const PassRecord& p : frame.passes)
+    if (p.name == name) return p;
+  throw std::runtime_error("no pass " + name);
+}
+
+const ResourceRecord& output_named(const PassRecord& pass, const std::string& name) {
+  for (const ResourceRecord& r : pass.outputs)
+    if (r.resource == name) return r;
+  throw std::runtime_error(pass.name + " has no output " + name);
+}
+
+uint32_t word_at(const std::vector<uint8_t>& raw, uint64_t offset) {
+  uint32_t w;
+  std::memcpy(&w, raw.data() + offset, 4);
+  return w;
+}
+
+float float_at(const std::vector<uint8_t>& raw, uint64_t offset) {
+  float f;
+  std::memcpy(&f, raw.data() + offset, 4);
+  return f;
+}
+
+// IEEE half to double by its definition: sign, 5-bit exponent (bias 15), 10-bit mantissa.
+double half_at(const std::vector<uint8_t>& raw, uint64_t offset) {
+  const uint16_t h = uint16_t(raw[offset] | (raw[offset + 1] << 8));
+  const int exponent = (h >> 10) & 31, mantissa = h & 1023;
+  const double sign = (h & 0x8000) ? -1.0 : 1.0;
+  if (exponent == 0) return sign * std::ldexp(mantissa, -24);
+  if (exponent == 31) return mantissa ? NAN : sign * INFINITY;
+  return sign * std::ldexp(1024 + mantissa, exponent - 25);
+}
+
+void expect_unit_vector(const json& actual, double x, double y, double z) {
+  const double length = std::sqrt(x * x + y * y + z * z);
+  ASSERT_EQ(actual.size(), 3u) << actual;
+  EXPECT_NEAR(actual[0].get<double>(), x / length, 1e-6);
+  EXPECT_NEAR(actual[1].get<double>(), y / length, 1e-6);
+  EXPECT_NEAR(actual[2].get<double>(), z / length, 1e-6);
+}
+
+class InspectTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    path_ = shared_capture("city", kCity);
+    capture_ = std::make_unique<Capture>(Capture::open(path_));
+  }
+  const FrameRecord& frame0() const { return capture_->frame(0); }
+
+  fs::path path_;
+  std::unique_ptr<Capture> capture_;
+};
+
+// Pixels on geometry and sky, and across the screen, so both cleared and drawn texels are read.
+const std::vector<std::pair<uint32_t, uint32_t>> kPixels = {{160, 90}, {10, 170}, {300, 20}, {0, 0}, {319, 179}};
+
+std::string pixel_commands(const std::string& resource, const std::string& extra = "") {
+  std::string commands;
+  for (auto [x, y] : kPixels)
+    commands += "; pixel " + std::to_string(x) + " " + std::to_string(y) + " " + resource + extra + " --json";
+  return commands;
+}
+
+TEST_F(InspectTest, GbufferNormalIsTheUnitVectorOfItsCodes) {
+  const ResourceRecord& r = output_named(pass_named(frame0(), "gbuffer.opaque"), "gbuffer.normal");
+  const std::vector<uint8_t> raw = capture_->load(r);
+  const Inspected run = inspect(path_, "goto gbuffer.opaque --json" + pixel_commands("gbuffer.normal"));
+  ASSERT_EQ(run.result.code, 0) << run.result.err;
+  ASSERT_EQ(run.objects.size(), kPixels.size() + 1);
+  bool drawn = false;
+  for (size_t i = 0; i < kPixels.size(); ++i) {
+    const json& j = run.objects[i + 1];
+    const auto [x, y] = kPixels[i];
+    EXPECT_EQ(j["texel"], json::array({x, y}));
+    EXPECT_EQ(j["hash"], r.hash);
+    const uint32_t w = word_at(raw, 4 * (uint64_t(y) * r.extent.width + x));
+    const uint32_t codes[4] = {w & 1023, (w >> 10) & 1023, (w >> 20) & 1023, w >> 30};
+    EXPECT_EQ(j["codes"], json::array({codes[0], codes[1], codes[2], codes[3]}));
+    const double n[3] = {codes[0] / 1023.0 * 2 - 1, codes[1] / 1023.0 * 2 - 1, codes[2] / 1023.0 * 2 - 1};
+    expect_unit_vector(j["decoded"]["normal"], n[0], n[1], n[2]);
+    EXPECT_EQ(j["decoded"]["hair"], codes[3] != 0);
+    drawn |= std::abs(std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) - 1.0) < 0.01;
+  }
+  EXPECT_TRUE(drawn) << "no pixel of the test landed on geometry";
+}
+
+TEST_F(InspectTest, PackedNormalAndMaterialByChannel) {
+  const ResourceRecord& packed = output_named(pass_named(frame0(), "normals.pack"), "normals.packed");
+  const ResourceRecord& material = output_named(pass_named(frame0(), "gbuffer.opaque"), "gbuffer.material");
+  const std::vector<uint8_t> packed_raw = capture_->load(packed), material_raw = capture_->load(material);
+  const Inspected run = inspect(
+      path_, "goto normals.pack --json" + pixel_commands("normals.packed") + pixel_commands("gbuffer.material"));
+  ASSERT_EQ(run.result.code, 0) << run.result.err;
+  ASSERT_EQ(run.objects.size(), 2 * kPixels.size() + 1);
+  for (size_t i = 0; i < kPixels.size(); ++i) {
+    const auto [x, y] = kPixels[i];
+    const uint64_t at = 4 * (uint64_t(y) * 320 + x);
+    const json& p = run.objects[1 + i]["decoded"];
+    expect_unit_vector(p["normal"], packed_raw[at] * 2.0 / 255 - 1, packed_raw[at + 1] * 2.0 / 255 - 1,
+                       packed_raw[at + 2] * 2.0 / 255 - 1);
+    EXPECT_NEAR(p["roughness"].get<double>(), packed_raw[at + 3] / 255.0, 1e-7);
+    const json& m = run.objects[1 + kPixels.size() + i]["decoded"];
+    EXPECT_NEAR(m["metalness"].get<double>(), material_raw[at] / 255.0, 1e-7);
+    EXPECT_NEAR(m["roughness"].get<double>(), material_raw[at + 1] / 255.0, 1e-7);
+    EXPECT_NEAR(m["translucency"].get<double>(), material_raw[at + 2] / 255.0, 1e-7);
+    EXPECT_NEAR(m["emissive_luminance"].get<double>(), std::pow(2.0, 16.0 * material_raw[at + 3] / 255.0) - 1.0,
+                1e-5 * (1 + m["emissive_luminance"].get<double>()));
+  }
+}
+
+// scene.depth is written by depth.prepass and again by gbuffer.opaque (which adds the stencil):
+// each pass shows its own version.
+TEST_F(InspectTest, DepthInMetresAndStencilClassOfEachVersion) {
+  const double znear = frame0().camera.znear;
+  const char* kClasses[][2] = {{"0", "plain"},    {"8", "road"},   {"21", "body"},    {"53", "face"},
+                               {"64", "vehicle"}, {"149", "hair"}, {"160", "foliage"}};
+  for (const char* pass : {"depth.prepass", "gbuffer.opaque"}) {
+    const ResourceRecord& r = output_named(pass_named(frame0(), pass), "scene.depth");
+    const std::vector<uint8_t> raw = capture_->load(r);
+    const Inspected run = inspect(path_, std::string("goto ") + pass + " --json" + pixel_commands("scene.depth"));
+    ASSERT_EQ(run.result.code, 0) << run.result.err;
+    ASSERT_EQ(run.objects.size(), kPixels.size() + 1);
+    bool sky = false, drawn = false;
+    for (size_t i = 0; i < kPixels.size(); ++i) {
+      const auto [x, y] = kPixels[i];
+      const json& j = run.objects[1 + i];
+      EXPECT_EQ(j["hash"], r.hash) << pass;
+      const uint64_t index = uint64_t(y) * 320 + x;
+      const double device = float_at(raw, 4 * index);
+      const uint32_t stencil = raw[320 * 180 * 4 + index];  // the stencil plane follows the depth plane
+      EXPECT_EQ(j["decoded"]["device_depth"].get<double>(), device);
+      if (device > 0) {
+        drawn = true;
+        EXPECT_NEAR(j["decoded"]["linear_m"].get<double>(), znear / device, 1e-9 * znear / device);
+      } else {
+        sky = true;
+        EXPECT_TRUE(j["decoded"]["linear_m"].is_string());
+      }
+      EXPECT_EQ(j["decoded"]["stencil"], stencil);
+      std::string name = "unknown";
+      for (const auto& c : kClasses)
+        if (uint32_t(std::stoi(c[0])) == (stencil & ~2u)) name = c[1];
+      EXPECT_EQ(j["decoded"]["class"], name);
+      EXPECT_EQ(j["decoded"]["flags"].size(), (stencil & 2u) ? 1u : 0u);
+    }
+    EXPECT_TRUE(drawn && sky) << pass << ": the pixels should cover geometry and sky";
+  }
+}
+
+TEST_F(InspectTest, MotionInPixelsAcrossFrames) {
+  const Inspected run = inspect(path_, "goto gbuffer.opaque --json; pixel 160 90 gbuffer.motion --frames --json");
+  ASSERT_EQ(run.result.code, 0) << run.result.err;
+  ASSERT_EQ(run.objects.size(), 2u);
+  const json& frames = run.objects[1]["frames"];
+  ASSERT_EQ(frames.size(), 2u);
+  bool moving = false;
+  for (uint32_t f = 0; f < 2; ++f) {
+    const ResourceRecord& r = output_named(pass_named(capture_->frame(f), "gbuffer.opaque"), "gbuffer.motion");
+    const std::vector<uint8_t> raw = capture_->load(r);
+    const uint64_t at = 4 * (uint64_t(90) * 320 + 160);
+    const double u = half_at(raw, at), v = half_at(raw, at + 2);
+    EXPECT_EQ(frames[f]["frame"], f);
+    EXPECT_EQ(frames[f]["hash"], r.hash);
+    EXPECT_EQ(frames[f]["decoded"]["motion_uv"], json::array({u, v}));
+    EXPECT_NEAR(frames[f]["decoded"]["motion_pixels"][0].get<double>(), u * 320, 1e-9);
+    EXPECT_NEAR(frames[f]["decoded"]["motion_pixels"][1].get<double>(), v * 180, 1e-9);
+    moving |= f == 1 && (u != 0 || v != 0);
+  }
+  EXPECT_TRUE(moving) << "the walking camera should move the centre pixel in frame 1";
+}
+
+TEST_F(InspectTest, HdrLuminanceAndHalfResolutionMips) {
+  const ResourceRecord& lit = output_named(pass_named(frame0(), "lighting.composite"), "lighting.lit");
+  const ResourceRecord& pyramid = output_named(pass_named(frame0(), "depth.pyramid"), "depth.pyramid");
+  const std::vector<uint8_t> lit_raw = capture_->load(lit), pyramid_raw = capture_->load(pyramid);
+  const Inspected run = inspect(path_,
+                                "goto depth.pyramid --json; pixel 300 20 lighting.lit --json; "
+                                "pixel 300 20 depth.pyramid --mip 2 --json; pixel 300 20 --mip 9 --json");
+  EXPECT_EQ(run.result.code, 2) << "mip 9 does not exist";
+  ASSERT_EQ(run.objects.size(), 3u) << run.result.err;
+  EXPECT_NE(run.result.err.find("no mip 9"), std::string::npos) << run.result.err;
+
+  const uint64_t at = 8 * (uint64_t(20) * 320 + 300);
+  const double r = half_at(lit_raw, at), g = half_at(lit_raw, at + 2), b = half_at(lit_raw, at + 4);
+  EXPECT_EQ(run.objects[1]["decoded"]["rgb"], json::array({r, g, b}));
+  EXPECT_NEAR(run.objects[1]["decoded"]["luminance"].get<double>(), 0.2126 * r + 0.7152 * g + 0.0722 * b, 1e-12);
+
+  // Mip 2 of a half-resolution pyramid: the texel at (300, 20) · (its size / the output size).
+  uint64_t offset = 0;
+  uint32_t w = pyramid.extent.width, h = pyramid.extent.height;
+  for (int m = 0; m < 2; ++m) {
+    offset += uint64_t(w) * h * 8;
+    w = std::max(1u, w / 2);
+    h = std::max(1u, h / 2);
+  }
+  const uint32_t tx = 300 * w / 320, ty = 20 * h / 180;
+  const json& j = run.objects[2];
+  EXPECT_EQ(j["texel"], json::array({tx, ty}));
+  EXPECT_EQ(j["mip"], 2);
+  const uint64_t texel = offset + 8 * (uint64_t(ty) * w + tx);
+  EXPECT_EQ(j["decoded"]["min_m"].get<double>(), float_at(pyramid_raw, texel));
+  EXPECT_EQ(j["decoded"]["max_m"].get<double>(), float_at(pyramid_raw, texel + 4));
+}
+
+TEST_F(InspectTest, NavigationInfoPipelineAndShader) {
+  const std::vector<PassRecord>& passes = frame0().passes;
+  size_t gbuffer = 0;
+  while (passes[gbuffer].name != "gbuffer.opaque") ++gbuffer;
+  const Inspected run =
+      inspect(path_,
+              "passes --json; goto gbuffer.opaque --json; next --json; prev --json; info --json; "
+              "pipeline --json; shader opaque.frag --json; frame 1 --json; goto depth.convert --json; "
+              "info --json");
+  ASSERT_EQ(run.result.code, 0) << run.result.err;
+  ASSERT_EQ(run.objects.size(), 10u);
+  ASSERT_EQ(run.objects[0]["passes"].size(), passes.size());
+  for (size_t i = 0; i < passes.size(); ++i) {
+    EXPECT_EQ(run.objects[0]["passes"][i]["name"], passes[i].name);
+    EXPECT_EQ(run.objects[0]["passes"][i]["status"], passes[i].ran ? "ran" : "skipped");
+  }
+  EXPECT_EQ(run.objects[1]["pass"], "gbuffer.opaque");
+  EXPECT_EQ(run.objects[2]["pass"], passes[gbuffer + 1].name);
+  EXPECT_EQ(run.objects[3]["pass"], "gbuffer.opaque");
+
+  const json& info = run.objects[4];
+  ASSERT_EQ(info["outputs"].size(), passes[gbuffer].outputs.size());
+  for (size_t i = 0; i < passes[gbuffer].outputs.size(); ++i) {
+    const ResourceRecord& r = passes[gbuffer].outputs[i];
+    EXPECT_EQ(info["outputs"][i]["resource"], r.resource);
+    EXPECT_EQ(info["outputs"][i]["hash"], r.hash);
+    EXPECT_EQ(info["outputs"][i]["format"], format_info(r.format)->name);
+    EXPECT_EQ(info["outputs"][i]["width"], r.extent.width);
+    EXPECT_EQ(info["outputs"][i]["contract"]["kind"], contract_kind_name(r.contract.kind));
+  }
+  EXPECT_EQ(info["inputs"].size(), passes[gbuffer].inputs.size());
+
+  EXPECT_EQ(run.objects[5]["pipelines"], passes[gbuffer].pipelines);
+  EXPECT_EQ(run.objects[5]["samplers"], passes[gbuffer].samplers);
+
+  const json& shader = run.objects[6]["shaders"];
+  ASSERT_EQ(shader.size(), 1u);
+  const ShaderRecord* frag = nullptr;
+  for (const ShaderRecord& s : passes[gbuffer].shaders)
+    if (s.path == "gbuffer/opaque.frag") frag = &s;
+  ASSERT_NE(frag, nullptr);
+  EXPECT_EQ(shader[0]["glsl"], capture_->load_shader_source(*frag));
+  EXPECT_NE(shader[0]["spirv"].get<std::string>().find("OpEntryPoint Fragment"), std::string::npos);
+
+  EXPECT_EQ(run.objects[7]["frame"], 1);
+  EXPECT_EQ(run.objects[7]["pass"], "gbuffer.opaque") << "changing frame keeps the pass";
+  const PassRecord& convert = pass_named(capture_->frame(1), "depth.convert");
+  EXPECT_EQ(run.objects[9]["frame"], 1);
+  EXPECT_EQ(run.objects[9]["outputs"][0]["hash"], convert.outputs[0].hash);
+  EXPECT_EQ(run.objects[9]["outputs"][0]["contract"]["kind"], "linear_depth");
+  EXPECT_EQ(run.objects[9]["outputs"][0]["contract"]["description"], contract_description(convert.outputs[0].contract));
+}
+
+TEST_F(InspectTest, BufferBySchemaAndAsWords) {
+  const PassRecord& cull = pass_named(frame0(), "cull.main");
+  const ResourceRecord& draws = output_named(cull, "draws.gbuffer.opaque");
+  ASSERT_TRUE(draws.schema.has_value());
+  const std::vector<uint8_t> draws_raw = capture_->load(draws);
+  const ResourceRecord& histogram = output_named(pass_named(frame0(), "exposure"), "exposure.histogram");
+  ASSERT_FALSE(histogram.schema.has_value());
+  const std::vector<uint8_t> histogram_raw = capture_->load(histogram);
+  // Offsets from the manifest's schema JSON, read here field by field.
+  const json manifest = read_json(path_ / "manifest.json");
+  json schema;
+  for (const json& p : manifest["frames"][0]["passes"])
+    if (p["name"] == "cull.main")
+      for (const json& o : p["outputs"])
+        if (o["resource"] == "draws.gbuffer.opaque") schema = o["schema"];
+  const uint32_t stride = schema["stride"];
+  const uint64_t element = draws_raw.size() / stride - 1;
+  const Inspected run =
+      inspect(path_, "goto tonemap --json; buffer draws.gbuffer.opaque --element " + std::to_string(element) +
+                         " --json; buffer exposure.histogram --json; "
+                         "buffer exposure.histogram --element 100000 --json");
+  EXPECT_EQ(run.result.code, 2);
+  ASSERT_EQ(run.objects.size(), 3u) << run.result.err;
+  const json& fields = run.objects[1]["values"][0]["fields"];
+  for (const json& field : schema["fields"]) {
+    const std::string name = field["name"], type = field["type"];
+    const uint64_t offset = element * stride + field["offset"].get<uint64_t>();
+    if (type == "u32") {
+      EXPECT_EQ(fields[name].get<double>(), word_at(draws_raw, offset)) << name;
+    } else if (type == "mat4") {
+      for (int c = 0; c < 16; ++c)
+        EXPECT_EQ(fields[name][c].get<double>(), float_at(draws_raw, offset + 4 * c)) << name;
+    }
+  }
+  const json& words = run.objects[2]["words"];
+  ASSERT_EQ(words.size(), histogram_raw.size() / 4);
+  for (size_t i = 0; i < words.size(); ++i) EXPECT_EQ(words[i]["u32"], word_at(histogram_raw, 4 * i));
+}
+
+TEST_F(InspectTest, StatsOfLinearDepth) {
+  const ResourceRecord& r = output_named(pass_named(frame0(), "depth.convert"), "depth.linear");
+  const std::vector<uint8_t> raw = capture_->load(r);
+  const Inspected run = inspect(path_, "stats depth.linear --json; stats depth.linear --rect 100 50 40 30 --json");
+  ASSERT_EQ(run.result.code, 0) << run.result.err;
+  ASSERT_EQ(run.objects.size(), 2u);
+  struct Rect {
+    uint32_t x, y, w, h;
+  };
+  const Rect rects[2] = {{0, 0, 320, 180}, {100, 50, 40, 30}};
+  for (int k = 0; k < 2; ++k) {
+    double lo = INFINITY, hi = -INFINITY, sum = 0;
+    uint64_t count = 0, denormal = 0;
+    for (uint32_t y = rects[k].y; y < rects[k].y + rects[k].h; ++y)
+      for (uint32_t x = rects[k].x; x < rects[k].x + rects[k].w; ++x) {
+        const float v = float_at(raw, 4 * (uint64_t(y) * 320 + x));
+        lo = std::min(lo, double(v));
+        hi = std::max(hi, double(v));
+        sum += v;
+        ++count;
+        denormal += std::fpclassify(v) == FP_SUBNORMAL;
+      }
+    const json& c = run.objects[k]["channels"][0];
+    EXPECT_EQ(c["min"].get<double>(), lo);
+    EXPECT_EQ(c["max"].get<double>(), hi);
+    EXPECT_NEAR(c["mean"].get<double>(), sum / count, 1e-9 * std::abs(sum / count));
+    EXPECT_EQ(c["finite"], count);
+    EXPECT_EQ(c["nan"], 0);
+    EXPECT_EQ(c["inf"], 0);
+    EXPECT_EQ(c["denormal"], denormal);
+    uint64_t binned = 0;
+    for (const json& bin : c["histogram"]) binned += bin.get<uint64_t>();
+    EXPECT_EQ(binned, count);
+  }
+}
+
+// Half-float denormals counted from the stored bits: the first frame's motion is tiny noise, much
+// of it below the smallest normal half.
+TEST_F(InspectTest, StatsCountStoredHalfDenormals) {
+  const ResourceRecord& r = output_named(pass_named(frame0(), "gbuffer.opaque"), "gbuffer.motion");
+  const std::vector<uint8_t> raw = capture_->load(r);
+  const Inspected run = inspect(path_, "stats gbuffer.motion --json");
+  ASSERT_EQ(run.result.code, 0) << run.result.err;
+  ASSERT_EQ(run.objects.size(), 1u);
+  for (int channel = 0; channel < 2; ++channel) {
+    uint64_t denormal = 0;
+    for (uint64_t i = 0; i < 320 * 180; ++i) {
+      const uint16_t bits = uint16_t(raw[4 * i + 2 * channel] | (raw[4 * i + 2 * channel + 1] << 8));
+      denormal += (bits & 0x7c00) == 0 && (bits & 0x3ff) != 0;
+    }
+    EXPECT_GT(denormal, 0u) << "the test needs denormals to count";
+    EXPECT_EQ(run.objects[0]["channels"][channel]["denormal"], denormal) << channel;
+  }
+}
+
+// A pixel reads the one blob it decodes: with every other blob made unreadable it still answers,
+// and a command needing a damaged blob fails alone, naming the file.
+TEST_F(InspectTest, ReadsOnlyTheBlobItDecodes) {
+  const fs::path copy = scratch("damaged") / "capture";
+  fs::copy(path_, copy, fs::copy_options::recursive);
+  const ResourceRecord& normal = output_named(pass_named(frame0(), "gbuffer.opaque"), "gbuffer.normal");
+  const ResourceRecord& material = output_named(pass_named(frame0(), "gbuffer.opaque"), "gbuffer.material");
+  for (const auto& entry : fs::directory_iterator(copy / "blobs"))
+    if (entry.path().filename() != fs::path(normal.blob).filename())
+      std::ofstream(entry.path(), std::ios::binary | std::ios::trunc) << "damaged";
+  const Inspected run = inspect(copy,
+                                "passes --json; pixel 160 90 gbuffer.normal --json; pixel 160 90 "
+                                "gbuffer.material --json; info --json");
+  EXPECT_EQ(run.result.code, 2);
+  ASSERT_EQ(run.objects.size(), 3u) << run.result.err;
+  EXPECT_EQ(run.objects[1]["hash"], normal.hash);
+  EXPECT_NE(run.result.err.find(fs::path(material.blob).filename().string()), std::string::npos) << run.result.err;
+}
+
+TEST_F(InspectTest, ErrorsAreOneLineAndTheSessionGoesOn) {
+  const Inspected run =
+      inspect(path_,
+              "goto no.such.pass; pixel 320 0 gbuffer.normal; pixel 1 1 no.such.resource; frobnicate; "
+              "goto tonemap --json");
+  EXPECT_EQ(run.result.code, 2);
+  ASSERT_EQ(run.objects.size(), 1u) << run.result.out;
+  EXPECT_EQ(run.objects[0]["pass"], "tonemap");
+  std::istringstream lines(run.result.err);
+  std::vector<std::string> errors;
+  for (std::string line; std::getline(lines, line);) errors.push_back(line);
+  ASSERT_EQ(errors.size(), 4u) << run.result.err;
+  EXPECT_NE(errors[0].find("no pass 'no.such.pass'"), std::string::npos) << errors[0];
+  EXPECT_NE(errors[1].find("outside the 320x180 output"), std::string::npos) << errors[1];
+  EXPECT_NE(errors[2].find("no resource 'no.such.resource'"), std::string::npos) << errors[2];
+  EXPECT_NE(errors[3].find("unknown command 'frobnicate'"), std::string::npos) << errors[3];
+
+  const CliResult fine = run_cli("inspect " + quote(path_) + " -c 'goto tonemap; pixel 1 1'");
+  EXPECT_EQ(fine.code, 0) << fine.err;
+  EXPECT_NE(fine.out.find("final.ldr (colour, R8G8B8A8_SRGB) frame 0 texel (1, 1)"), std::string::npos) << fine.out;
+}
+
+TEST_F(InspectTest, ScriptFileHelpAndUsage) {
+  const fs::path script = scratch("script") / "commands.txt";
+  std::ofstream(script) << "# a comment\ngoto tonemap --json\n\nhelp --json; help pixel --json\nquit --json\n"
+                        << "goto depth.convert --json\n";
+  const CliResult run = run_cli("inspect " + quote(path_) + " --script " + quote(script));
+  ASSERT_EQ(run.code, 0) << run.err;
+  std::istringstream lines(run.out);
+  std::vector<json> objects;
+  for (std::string line; std::getline(lines, line);) objects.push_back(json::parse(line));
+  ASSERT_EQ(objects.size(), 4u) << "nothing runs after quit";
+  EXPECT_EQ(objects[0]["pass"], "tonemap");
+  EXPECT_EQ(objects[3]["quit"], true);
+  std::set<std::string> commands;
+  for (const json& c : objects[1]["commands"]) commands.insert(c["name"]);
+  for (const char* name : {"passes", "goto", "next", "prev", "frame", "info", "pipeline", "shader", "pixel", "buffer",
+                           "stats", "help", "quit"})
+    EXPECT_TRUE(commands.count(name)) << name;
+  EXPECT_EQ(objects[2]["name"], "pixel");
+
+  const CliResult help = run_cli("inspect --help");
+  EXPECT_EQ(help.code, 0);
+  EXPECT_NE(help.out.find("pixel X Y [RESOURCE]"), std::string::npos) << help.out;
+}
+
+// Every channel of a file as float, read by OpenImageIO (not nightcap's code).
+std::vector<float> read_image(const fs::path& file, int& width, int& height, int& channels,
+                              std::vector<std::string>* names = nullptr) {
+  auto in = OIIO::ImageInput::open(file.string());
+  if (!in) return {};
+  const OIIO::ImageSpec& spec = in->spec();
+  width = spec.width;
+  height = spec.height;
+  channels = spec.nchannels;
+  if (names) *names = spec.channelnames;
+  std::vector<float> pixels(size_t(width) * height * channels);
+  in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data());
+  return pixels;
+}
+
+TEST_F(InspectTest, ExportValuesAndPictures) {
+  const fs::path dir = scratch("export");
+  const Inspected run =
+      inspect(path_, "goto gbuffer.opaque --json; export gbuffer.opaque --all -o " + dir.string() +
+                         "/all --json; export depth.pyramid --mip 1 -o " + dir.string() +
+                         "/pyramid.exr --json; export scene.depth --stencil -o " + dir.string() +
+                         "/stencil.png --json; export lighting.lit -o " + dir.string() +
+                         "/lit.png --json; export gbuffer.normal -o " + dir.string() + "/normal.tiff --json");
+  EXPECT_EQ(run.result.code, 2) << "a .tiff is refused";
+  ASSERT_EQ(run.objects.size(), 5u) << run.result.err;
+  const PassRecord& gbuffer = pass_named(frame0(), "gbuffer.opaque");
+  std::set<std::string> written;
+  for (const json& f : run.objects[1]["files"]) written.insert(fs::path(f.get<std::string>()).filename().string());
+  for (const ResourceRecord& r : gbuffer.outputs) {
+    EXPECT_TRUE(written.count(r.resource + ".exr") && written.count(r.resource + ".png")) << r.resource;
+    EXPECT_TRUE(fs::exists(dir / "all" / (r.resource + ".png"))) << r.resource;
+  }
+  EXPECT_TRUE(written.count("scene.depth.stencil.png"));
+
+  // Normals as colour: 0.5·n + 0.5 of the unit vector of the codes.
+  const ResourceRecord& normal = output_named(gbuffer, "gbuffer.normal");
+  const std::vector<uint8_t> normal_raw = capture_->load(normal);
+  int w = 0, h = 0, c = 0;
+  const std::vector<float> png = read_image(dir / "all" / "gbuffer.normal.png", w, h, c);
+  ASSERT_EQ(w, 320);
+  ASSERT_EQ(h, 180);
+  for (auto [x, y] : kPixels) {
+    const uint32_t word = word_at(normal_raw, 4 * (uint64_t(y) * 320 + x));
+    double n[3] = {(word & 1023) / 1023.0 * 2 - 1, ((word >> 10) & 1023) / 1023.0 * 2 - 1,
+                   ((word >> 20) & 1023) / 1023.0 * 2 - 1};
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(png[(size_t(y) * w + x) * c + k] * 255.0, std::round((0.5 * n[k] / length + 0.5) * 255), 1.0001)
+          << x << "," << y;
+  }
+
+  // Real values: the albedo's 10-bit codes / 1023, the depth as stored.
+  const ResourceRecord& depth = output_named(gbuffer, "scene.depth");
+  const std::vector<uint8_t> depth_raw = capture_->load(depth);
+  std::vector<std::string> names;
+  const std::vector<float> exr = read_image(dir / "all" / "scene.depth.exr", w, h, c, &names);
+  ASSERT_EQ(c, 2);
+  const size_t z = names[0] == "Z" ? 0 : 1;
+  ASSERT_EQ(names[z], "Z");
+  ASSERT_EQ(names[1 - z], "S");
+  for (auto [x, y] : kPixels) {
+    const uint64_t index = uint64_t(y) * 320 + x;
+    EXPECT_EQ(exr[index * 2 + z], float_at(depth_raw, 4 * index));
+    EXPECT_EQ(exr[index * 2 + 1 - z], float(depth_raw[320 * 180 * 4 + index]));
+  }
+
+  const ResourceRecord& pyramid = output_named(pass_named(frame0(), "depth.pyramid"), "depth.pyramid");
+  const std::vector<uint8_t> pyramid_raw = capture_->load(pyramid);
+  const std::vector<float> mip1 = read_image(dir / "pyramid.exr", w, h, c);
+  ASSERT_EQ(w, int(std::max(1u, pyramid.extent.width / 2)));
+  ASSERT_EQ(c, 2);
+  const uint64_t mip0_bytes = uint64_t(pyramid.extent.width) * pyramid.extent.height * 8;
+  for (uint64_t i = 0; i < uint64_t(w) * h; ++i) {
+    ASSERT_EQ(mip1[2 * i], float_at(pyramid_raw, mip0_bytes + 8 * i)) << i;
+    ASSERT_EQ(mip1[2 * i + 1], float_at(pyramid_raw, mip0_bytes + 8 * i + 4)) << i;
+  }
+
+  // Stencil as a palette: plain static geometry (0) is black.
+  const std::vector<float> stencil = read_image(dir / "stencil.png", w, h, c);
+  for (auto [x, y] : kPixels) {
+    const uint32_t tag = depth_raw[320 * 180 * 4 + uint64_t(y) * 320 + x];
+    if (tag == 0) {
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(stencil[(size_t(y) * w + x) * c + k], 0.0f);
+    }
+  }
+  EXPECT_NE(run.result.err.find("expected a .exr file"), std::string::npos) << run.result.err;
+
+  // HDR colour tonemapped: x / (1 + x), then the sRGB curve.
+  const ResourceRecord& lit = output_named(pass_named(frame0(), "lighting.composite"), "lighting.lit");
+  const std::vector<uint8_t> lit_raw = capture_->load(lit);
+  const std::vector<float> lit_png = read_image(dir / "lit.png", w, h, c);
+  for (auto [x, y] : kPixels)
+    for (int k = 0; k < 3; ++k) {
+      const double v = half_at(lit_raw, 8 * (uint64_t(y) * 320 + x) + 2 * k), t = v > 0 ? v / (1 + v) : 0;
+      const double srgb = t <= 0.0031308 ? 12.92 * t : 1.055 * std::pow(t, 1 / 2.4) - 0.055;
+      EXPECT_NEAR(lit_png[(size_t(y) * w + x) * c + k] * 255.0, srgb * 255.0, 0.51) << x << "," << y;
+    }
+
+  // Depth linearised: znear / depth on a log scale from the nearest (white) to the farthest
+  // (black) drawn texel; nothing drawn is black.
+  const std::vector<float> depth_png = read_image(dir / "all" / "scene.depth.png", w, h, c);
+  const double znear = frame0().camera.znear;
+  double nearest = INFINITY, farthest = 0;
+  for (uint64_t i = 0; i < 320 * 180; ++i)
+    if (const float d = float_at(depth_raw, 4 * i); d > 0) {
+      nearest = std::min(nearest, znear / d);
+      farthest = std::max(farthest, znear / d);
+    }
+  for (uint64_t i = 0; i < 320 * 180; ++i) {
+    const float d = float_at(depth_raw, 4 * i);
+    const double grey = d > 0 ? 1 - std::log(znear / d / nearest) / std::log(farthest / nearest) : 0;
+    ASSERT_NEAR(depth_png[i * c] * 255.0, grey * 255.0, 0.51) << i;
+  }
+
+  // Motion on a colour wheel: no motion is black, the longest motion at full brightness.
+  const ResourceRecord& motion = output_named(gbuffer, "gbuffer.motion");
+  const std::vector<uint8_t> motion_raw = capture_->load(motion);
+  const std::vector<float> motion_png = read_image(dir / "all" / "gbuffer.motion.png", w, h, c);
+  double longest = 0;
+  uint64_t longest_at = 0;
+  for (uint64_t i = 0; i < 320 * 180; ++i) {
+    const double length = std::hypot(half_at(motion_raw, 4 * i) * 320, half_at(motion_raw, 4 * i + 2) * 180);
+    if (length > longest) longest = length, longest_at = i;
+    if (length == 0) {
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(motion_png[i * c + k], 0.0f) << i;
+    }
+  }
+  ASSERT_GT(longest, 0);
+  EXPECT_EQ(std::max({motion_png[longest_at * c], motion_png[longest_at * c + 1], motion_png[longest_at * c + 2]}),
+            1.0f);
+}
+
+}  // namespace
+}  // namespace nightcap::test

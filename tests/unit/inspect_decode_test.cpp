@@ -1,0 +1,101 @@
+// The debugger's decoding and statistics on images built here, whose answers are known by
+// construction: NaN, Inf and half denormals counted, stencil tags named, output pixels mapped
+// to half-resolution mips.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "inspect/decode.h"
+#include "inspect/stats.h"
+
+namespace nightcap {
+namespace {
+
+ResourceRecord image_record(const std::string& name, VkFormat format, ResourceKind kind, uint32_t width,
+                            uint32_t height, uint32_t mips = 1) {
+  ResourceRecord r;
+  r.resource = name;
+  r.is_buffer = false;
+  r.format = format;
+  r.kind = kind;
+  r.extent = {width, height, 1, mips, 1};
+  return r;
+}
+
+TEST(InspectStats, CountsNanInfAndStoredHalfDenormals) {
+  // One channel's halves across 6 texels: 1, NaN, +Inf, -Inf, the smallest denormal, -2.
+  const uint16_t halves[6] = {0x3c00, 0x7e00, 0x7c00, 0xfc00, 0x0001, 0xc000};
+  const ResourceRecord r = image_record("hdr", VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, 6, 1);
+  std::vector<uint8_t> raw(6 * 8, 0);
+  for (int i = 0; i < 6; ++i) std::memcpy(raw.data() + 8 * i, &halves[i], 2);
+  const std::vector<ChannelStats> stats = image_stats(r, raw, 0, 0, {0, 0, 6, 1});
+  ASSERT_EQ(stats.size(), 4u);
+  const ChannelStats& red = stats[0];
+  EXPECT_EQ(red.nan, 1u);
+  EXPECT_EQ(red.inf, 2u);
+  EXPECT_EQ(red.denormal, 1u);
+  EXPECT_EQ(red.finite, 3u);
+  EXPECT_EQ(red.min, -2.0);
+  EXPECT_EQ(red.max, 1.0);
+  EXPECT_DOUBLE_EQ(red.mean, (1.0 - 2.0 + std::ldexp(1.0, -24)) / 3.0);
+  EXPECT_EQ(red.histogram.front(), 1u);  // -2
+  EXPECT_EQ(red.histogram.back(), 1u);   // 1
+  // Green is all zero: finite, one bin, no denormal (zero is not one).
+  EXPECT_EQ(stats[1].finite, 6u);
+  EXPECT_EQ(stats[1].denormal, 0u);
+  EXPECT_EQ(stats[1].histogram[0], 6u);
+}
+
+TEST(InspectDecode, StencilClassesAndFlags) {
+  const std::pair<uint32_t, const char*> classes[] = {{0x00, "plain"},   {0x08, "road"},    {0x15, "body"},
+                                                      {0x35, "face"},    {0x40, "vehicle"}, {0x95, "hair"},
+                                                      {0xA0, "foliage"}, {0x11, "unknown"}};
+  for (const auto& [tag, name] : classes) {
+    EXPECT_EQ(stencil_class_name(tag), name) << tag;
+    EXPECT_EQ(stencil_class_name(tag | 0x02), name) << tag;
+    EXPECT_TRUE(stencil_flags(tag).empty()) << tag;
+    EXPECT_EQ(stencil_flags(tag | 0x02), std::vector<std::string>{"moving"}) << tag;
+  }
+}
+
+TEST(InspectDecode, DepthStencilTexelInMetresAndClass) {
+  const ResourceRecord r = image_record("scene.depth", VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, 2, 1);
+  const float depths[2] = {0.0f, 0.004f};
+  std::vector<uint8_t> raw(2 * 4 + 2);
+  std::memcpy(raw.data(), depths, 8);
+  raw[8] = 0x00;
+  raw[9] = 0x97;  // hair, moving
+  FrameRecord frame;
+  frame.width = 2;
+  frame.height = 1;
+  frame.camera.znear = 0.1;
+  const PixelReading sky = read_pixel(r, raw, frame, {0, 0, 0, 0});
+  EXPECT_TRUE(sky.decoded["linear_m"].is_string());
+  EXPECT_EQ(sky.decoded["class"], "plain");
+  const PixelReading hit = read_pixel(r, raw, frame, {1, 0, 0, 0});
+  EXPECT_DOUBLE_EQ(hit.decoded["linear_m"].get<double>(), 0.1 / double(0.004f));
+  EXPECT_EQ(hit.decoded["stencil"], 0x97);
+  EXPECT_EQ(hit.decoded["class"], "hair");
+  EXPECT_EQ(hit.decoded["flags"], nlohmann::ordered_json::array({"moving"}));
+}
+
+TEST(InspectDecode, OutputPixelsMapToHalfResolutionMips) {
+  FrameRecord frame;
+  frame.width = 1280;
+  frame.height = 720;
+  const ResourceRecord half =
+      image_record("chain", VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, 640, 360, 6);
+  const TexelAddress mip2 = texel_for_output_pixel(half, frame, 1279, 719, 2, 0);
+  EXPECT_EQ(mip2.x, 159u);  // mip 2 of 640x360 is 160x90
+  EXPECT_EQ(mip2.y, 89u);
+  const TexelAddress centre = texel_for_output_pixel(half, frame, 640, 360, 0, 0);
+  EXPECT_EQ(centre.x, 320u);
+  EXPECT_EQ(centre.y, 180u);
+  EXPECT_THROW(texel_for_output_pixel(half, frame, 1280, 0, 0, 0), InspectError);
+  EXPECT_THROW(texel_for_output_pixel(half, frame, 0, 0, 6, 0), InspectError);
+  EXPECT_THROW(texel_for_output_pixel(half, frame, 0, 0, 0, 1), InspectError);
+}
+
+}  // namespace
+}  // namespace nightcap
