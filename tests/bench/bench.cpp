@@ -237,26 +237,32 @@ void bench_extra_frames(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   fs::remove_all(dir);
 }
 
-// Wall-clock milliseconds of `nightcap ARGS`, its output discarded; a failed run throws.
-double cli_wall_ms(const std::vector<std::string>& args) {
-  std::vector<std::string> strings = {NIGHTCAP_CLI};
-  strings.insert(strings.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : strings) argv.push_back(a.data());
-  argv.push_back(nullptr);
+// Runs ARGV (its first word the program) with standard output into `out`, and standard error
+// discarded when `quiet`; waits for it. True when it ran and exited 0.
+bool run_program(std::vector<std::string> argv, const char* out, bool quiet) {
+  std::vector<char*> words;
+  for (std::string& a : argv) words.push_back(a.data());
+  words.push_back(nullptr);
   posix_spawn_file_actions_t files;
   posix_spawn_file_actions_init(&files);
-  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&files, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-  const double start = now_ms();
+  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (quiet) posix_spawn_file_actions_addopen(&files, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
   pid_t pid = -1;
-  const int error = posix_spawn(&pid, NIGHTCAP_CLI, &files, nullptr, argv.data(), environ);
+  const int error = posix_spawn(&pid, words.front(), &files, nullptr, words.data(), environ);
   int status = 0;
   if (error == 0) waitpid(pid, &status, 0);
-  const double elapsed = now_ms() - start;
   posix_spawn_file_actions_destroy(&files);
-  if (error != 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    throw std::runtime_error(std::string(NIGHTCAP_CLI) + " " + args.front() + " failed");
+  return error == 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+// Wall-clock milliseconds of `nightcap ARGS`, its output discarded; a failed run throws.
+double cli_wall_ms(const std::vector<std::string>& args) {
+  std::vector<std::string> argv = {NIGHTCAP_CLI};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const double start = now_ms();
+  const bool ok = run_program(argv, "/dev/null", true);
+  const double elapsed = now_ms() - start;
+  if (!ok) throw std::runtime_error(std::string(NIGHTCAP_CLI) + " " + args.front() + " failed");
   return elapsed;
 }
 
@@ -264,24 +270,14 @@ double cli_wall_ms(const std::vector<std::string>& args) {
 // not here); a failed run throws.
 double cli_peak_mib(const std::vector<std::string>& args) {
   const fs::path result = fs::temp_directory_path() / ("nightcap-bench-peak-" + std::to_string(getpid()));
-  std::vector<std::string> strings = {NIGHTCAP_PEAK_RSS, NIGHTCAP_CLI};
-  strings.insert(strings.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : strings) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t files;
-  posix_spawn_file_actions_init(&files);
-  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, result.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = -1;
-  const int error = posix_spawn(&pid, NIGHTCAP_PEAK_RSS, &files, nullptr, argv.data(), environ);
-  int status = 0;
-  if (error == 0) waitpid(pid, &status, 0);
-  posix_spawn_file_actions_destroy(&files);
+  std::vector<std::string> argv = {NIGHTCAP_PEAK_RSS, NIGHTCAP_CLI};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const bool ok = run_program(argv, result.c_str(), false);
   std::ifstream in(result);
   long kib = -1;
   in >> kib;
   fs::remove(result);
-  if (error != 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0 || kib < 0)
+  if (!ok || kib < 0)
     throw std::runtime_error(std::string(NIGHTCAP_CLI) + " " + args.front() + " failed under peak_rss");
   return kib / 1024.0;
 }
