@@ -249,6 +249,11 @@ int run_replay(const std::string& path, uint32_t frame, const std::vector<std::s
                                      {"recorded_hash", o.recorded_hash},
                                      {"replayed_hash", o.replayed_hash}});
           if (!o.first_difference.empty()) pass["outputs"].back()["first_difference"] = o.first_difference;
+          if (o.contract)
+            pass["outputs"].back()["contract"] = {{"holds", o.contract->holds},
+                                                  {"worst", o.contract->worst},
+                                                  {"bound", o.contract->bound},
+                                                  {"measure", o.contract->measure}};
         }
       }
       out["passes"].push_back(pass);
@@ -315,8 +320,9 @@ int run_graph(const std::string& path, uint32_t frame, const std::string& output
 
 // Interactive without -c or --script. Scripted, every command runs (a failed one does not stop
 // the others) and the exit code says whether any failed.
-int run_inspect(const std::string& path, const std::string& commands, const std::string& script_file) {
-  nc::InspectSession session(nc::Capture::open(path));
+int run_inspect(const std::string& path, const std::string& commands, const std::string& script_file,
+                const std::string& device) {
+  nc::InspectSession session(nc::Capture::open(path), {device, validation_requested()});
   nc::InspectCommands runner(session, std::cout, std::cerr);
   if (commands.empty() && script_file.empty()) {
     nc::run_interactive_inspect(session, runner);
@@ -423,6 +429,8 @@ int main(int argc, char** argv) {
       inspect->add_option("-c,--commands", inspect_commands, "run these commands (separated by ';') and exit");
   inspect->add_option("--script", inspect_script, "run the commands of FILE (one a line, or separated by ';') and exit")
       ->excludes(commands_option);
+  inspect->add_option("--device", device,
+                      "Vulkan device for the commands that run a pass again (replay, pick); default: lavapipe");
   inspect->footer(inspect_commands_help() +
                   "Without -c or --script the session is interactive (history, tab completion). Scripted, the exit "
                   "code is 2 if any command failed, else 0.");
@@ -446,7 +454,7 @@ int main(int argc, char** argv) {
       code = run_diff(capture_path, capture_b,
                       tolerance_option->count() ? std::optional<double>(tolerance) : std::nullopt, json);
     if (*graph) code = run_graph(capture_path, frame, graph_output);
-    if (*inspect) code = run_inspect(capture_path, inspect_commands, inspect_script);
+    if (*inspect) code = run_inspect(capture_path, inspect_commands, inspect_script, device);
   } catch (const std::exception& e) {
     std::cerr << "nightcap: " << e.what() << "\n";
   }

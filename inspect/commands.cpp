@@ -12,6 +12,8 @@
 #include "inspect/export.h"
 #include "inspect/stats.h"
 #include "inspect/visualise.h"
+#include "passes/frame/renderer.h"
+#include "replay/replay.h"
 
 namespace nightcap {
 
@@ -65,6 +67,11 @@ const std::vector<CommandSpec>& specs() {
         "every output of PASS into DIR, images as RESOURCE.exr and RESOURCE.png (and RESOURCE.stencil.png), "
         "buffers as their raw bytes, RESOURCE.bin"},
        {{"--mip", 1}, {"--layer", 1}, {"--stencil", 0}, {"--all", 0}, {"-o", 1}}},
+      {{"replay", "replay [--set PARAM=VALUE]... [--shader FILE]",
+        "run the current pass again from its recorded inputs on the session's device (inspect --device), with its "
+        "parameter PARAM or its shader of FILE's stage (.vert/.frag/.comp) replaced, and compare each output with "
+        "the recorded one: the bytes, and the output's comparison contract"},
+       {{"--set", 1}, {"--shader", 1}}},
       {{"help", "help [COMMAND]", "the commands, or one command's usage"}, {}},
       {{"quit", "quit", "end the session"}, {}},
   };
@@ -193,7 +200,7 @@ class Runner {
         {"prev", &Runner::go},           {"frame", &Runner::frame},   {"info", &Runner::info},
         {"pipeline", &Runner::pipeline}, {"shader", &Runner::shader}, {"pixel", &Runner::pixel},
         {"buffer", &Runner::buffer},     {"stats", &Runner::stats},   {"export", &Runner::export_files},
-        {"help", &Runner::help},         {"quit", &Runner::quit}};
+        {"replay", &Runner::replay},     {"help", &Runner::help},     {"quit", &Runner::quit}};
     (this->*handlers.at(spec.help.name))(spec, args);
   }
 
@@ -575,6 +582,70 @@ class Runner {
                      uint32_t mip, uint32_t layer, VisualAspect aspect) {
     const Rgba8Image image = visualise(record, raw, session_.frame(), mip, layer, aspect);
     write_png(file, image.pixels, image.width, image.height);
+  }
+
+  void replay(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 0, 0);
+    const PassRecord& pass = session_.pass();
+    if (!pass.ran)
+      throw InspectError(pass.name + " was skipped in the capture (" + pass.reason + "): nothing to replay");
+    ReplayOptions options;
+    options.frame = session_.frame().index;
+    options.passes = {pass.name};
+    if (args.has("--set"))
+      for (const std::string& set : args.options.at("--set")) parse_set(pass.name + "." + set, options.params);
+    if (args.has("--shader")) {
+      if (args.options.at("--shader").size() > 1) throw InspectError("replay: one --shader at a time");
+      options.shader_files[pass.name] = args.options.at("--shader")[0];
+    }
+    const ReplayReport report = replay_capture(session_.gpu(), session_.capture(), options);
+    const PassReplay& result = report.passes.at(0);
+    if (!result.replayed) throw InspectError(pass.name + ": not replayed: " + result.reason);
+    ojson outputs = ojson::array();
+    for (const OutputCheck& check : result.outputs) {
+      ojson o = {{"resource", check.resource},
+                 {"identical", check.verdict == Verdict::identical},
+                 {"metric", check.metric},
+                 {"max_abs", check.amount}};
+      if (!check.first_difference.empty()) o["first_difference"] = check.first_difference;
+      const ResourceRecord& recorded = session_.resource(check.resource);
+      o["contract"] = {{"description", contract_description(recorded.contract)}};
+      if (check.verdict == Verdict::identical) {
+        o["contract"]["holds"] = true;
+      } else if (check.contract) {
+        o["contract"]["holds"] = check.contract->holds;
+        o["contract"]["worst"] = check.contract->worst;
+        o["contract"]["bound"] = check.contract->bound;
+        o["contract"]["measure"] = check.contract->measure;
+      } else {
+        o["contract"]["holds"] = false;  // not produced, or another size: nothing to measure
+      }
+      outputs.push_back(o);
+    }
+    ojson j = where();
+    j["device"] = report.device;
+    j["gpu_ms"] = result.gpu_ms ? ojson(*result.gpu_ms) : ojson(nullptr);
+    j["recorded_gpu_ms"] = pass.gpu_ms ? ojson(*pass.gpu_ms) : ojson(nullptr);
+    j["notes"] = result.notes;
+    j["outputs"] = outputs;
+    if (json_) return emit(j);
+    out_ << "replayed " << pass.name << " on " << report.device << ": gpu " << format_ms(result.gpu_ms)
+         << " ms (recorded " << format_ms(pass.gpu_ms) << " ms)\n";
+    for (const std::string& note : result.notes) out_ << "  note: " << note << "\n";
+    for (const ojson& o : outputs) {
+      out_ << "  " << std::left << std::setw(24) << o["resource"].get<std::string>();
+      if (o["identical"].get<bool>()) {
+        out_ << "identical\n";
+        continue;
+      }
+      const ojson& c = o["contract"];
+      out_ << "differs (" << o["metric"].get<std::string>() << ", max abs " << brief(o["max_abs"])
+           << (o.contains("first_difference") ? ", first at " + o["first_difference"].get<std::string>() : "")
+           << "); contract " << c["description"].get<std::string>() << ": "
+           << (c["holds"].get<bool>() ? "holds" : "broken");
+      if (c.contains("worst")) out_ << " (worst " << brief(c["worst"]) << " " << c["measure"].get<std::string>() << ")";
+      out_ << "\n";
+    }
   }
 
   void help(const CommandSpec& spec, const Arguments& args) {

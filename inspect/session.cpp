@@ -32,7 +32,8 @@ const ResourceRecord* visible_at(const FrameRecord& frame, size_t pass_index, co
 
 }  // namespace
 
-InspectSession::InspectSession(Capture capture) : capture_(std::move(capture)) {
+InspectSession::InspectSession(Capture capture, GpuDevice::Options device)
+    : capture_(std::move(capture)), device_options_(std::move(device)) {
   if (capture_.manifest().frames.empty()) throw InspectError(capture_.folder().string() + ": the capture has no frame");
 }
 
@@ -94,6 +95,11 @@ const std::vector<uint8_t>& InspectSession::load(const ResourceRecord& record) {
   auto found = blobs_.find(record.hash);
   if (found == blobs_.end()) found = blobs_.emplace(record.hash, capture_.load(record)).first;
   return found->second;
+}
+
+GpuDevice& InspectSession::gpu() {
+  if (!gpu_) gpu_ = std::make_unique<GpuDevice>(device_options_);
+  return *gpu_;
 }
 
 std::vector<std::string> InspectSession::pass_names() const {

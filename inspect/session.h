@@ -5,17 +5,21 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "captures/capture.h"
 #include "inspect/decode.h"
+#include "passes/core/device.h"
 
 namespace nightcap {
 
 class InspectSession {
  public:
-  explicit InspectSession(Capture capture);
+  // `device`: where commands that run passes again (replay, pick) run them; the device is
+  // created when one first does, so a session that only reads the capture never starts Vulkan.
+  InspectSession(Capture capture, GpuDevice::Options device);
 
   const Capture& capture() const { return capture_; }
   const FrameRecord& frame() const { return capture_.manifest().frames[frame_position_]; }
@@ -41,11 +45,15 @@ class InspectSession {
 
   const std::vector<uint8_t>& load(const ResourceRecord& record);
 
+  GpuDevice& gpu();
+
   std::vector<std::string> pass_names() const;
   std::vector<std::string> resource_names() const;  // every resource of the current frame
 
  private:
   Capture capture_;
+  GpuDevice::Options device_options_;
+  std::unique_ptr<GpuDevice> gpu_;
   size_t frame_position_ = 0, pass_index_ = 0;
   std::map<std::string, std::vector<uint8_t>> blobs_;  // raw bytes by content hash
 };

@@ -169,10 +169,10 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
       check.amount = cmp.max_abs;
       check.metric = cmp.metric;
       check.first_difference = cmp.first_difference;
+      check.contract = check_contract(out.contract, out, recorded, *produced->bytes, cmp);
       // On the same machine a replay is bitwise, unless the recorded contract says the result
       // depends on execution order; then it is held to that contract.
-      const bool order_dependent =
-          out.contract.order_dependent && check_contract(out.contract, out, recorded, *produced->bytes, cmp).holds;
+      const bool order_dependent = out.contract.order_dependent && check.contract->holds;
       check.verdict = order_dependent ? Verdict::within_tolerance : Verdict::different;
       result.outputs.push_back(check);
     }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "captures/capture.h"
+#include "inspect/metrics.h"
 #include "passes/core/device.h"
 #include "passes/core/pass.h"
 
@@ -30,6 +31,10 @@ struct OutputCheck {
   std::string metric;            // how "different" / "within tolerance" was measured
   double amount = 0.0;           // max abs difference
   std::string first_difference;  // buffers with a schema: the first differing element and field
+  // Where the bytes differ but the shapes agree: how far the replay is from the recorded output
+  // in the terms of its recorded contract (an override is judged by it, a verify only for
+  // order-dependent outputs).
+  std::optional<ContractCheck> contract;
   std::string recorded_hash, replayed_hash;
 };
 
