@@ -54,6 +54,10 @@ const std::vector<CommandSpec>& specs() {
         "the texel under output pixel (X, Y) decoded by what RESOURCE holds (default: the current pass's first "
         "output), with its raw values; --frames: the same pixel in every recorded frame"},
        {{"--mip", 1}, {"--layer", 1}, {"--frames", 0}}},
+      {{"pick", "pick X Y",
+        "the draw that covers output pixel (X, Y): its instance, mesh (index range) and material, found by running "
+        "gbuffer.opaque again from its recorded inputs with one more target, the draw index (once per frame)"},
+       {}},
       {{"buffer", "buffer RESOURCE [--element N]",
         "a buffer decoded field by field by the schema its pass declared, else as 32-bit words"},
        {{"--element", 1}}},
@@ -191,8 +195,9 @@ void print_flat(std::ostream& out, const nlohmann::json& value, const std::strin
 
 class Runner {
  public:
-  Runner(InspectSession& session, std::ostream& out, bool json, bool& finished)
-      : session_(session), out_(out), json_(json), finished_(finished) {}
+  Runner(InspectSession& session, std::ostream& out, bool json, bool& finished,
+         std::map<uint32_t, DrawIdImage>& draw_ids)
+      : session_(session), out_(out), json_(json), finished_(finished), draw_ids_(draw_ids) {}
 
   void run(const CommandSpec& spec, const Arguments& args) {
     static const std::map<std::string, void (Runner::*)(const CommandSpec&, const Arguments&)> handlers = {
@@ -200,7 +205,8 @@ class Runner {
         {"prev", &Runner::go},           {"frame", &Runner::frame},   {"info", &Runner::info},
         {"pipeline", &Runner::pipeline}, {"shader", &Runner::shader}, {"pixel", &Runner::pixel},
         {"buffer", &Runner::buffer},     {"stats", &Runner::stats},   {"export", &Runner::export_files},
-        {"replay", &Runner::replay},     {"help", &Runner::help},     {"quit", &Runner::quit}};
+        {"pick", &Runner::pick_draw},    {"replay", &Runner::replay}, {"help", &Runner::help},
+        {"quit", &Runner::quit}};
     (this->*handlers.at(spec.help.name))(spec, args);
   }
 
@@ -418,6 +424,72 @@ class Runner {
       }
       print_reading(f);
     }
+  }
+
+  void pick_draw(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 2, 2);
+    const uint32_t x = parse_index("X", args.positional[0]), y = parse_index("Y", args.positional[1]);
+    const FrameRecord& frame = session_.frame();
+    if (x >= frame.width || y >= frame.height)
+      throw InspectError("pixel " + std::to_string(x) + "," + std::to_string(y) + " is outside the " +
+                         std::to_string(frame.width) + "x" + std::to_string(frame.height) + " output");
+    auto ids = draw_ids_.find(frame.index);
+    if (ids == draw_ids_.end())
+      ids = draw_ids_.emplace(frame.index, render_draw_ids(session_.gpu(), session_.capture(), frame)).first;
+    const std::optional<Pick> found = pick(ids->second, session_.capture(), frame, x, y);
+    ojson j = {{"frame", frame.index}, {"pixel", {x, y}}, {"covered", found.has_value()}};
+    if (!found) {
+      if (json_) return emit(j);
+      out_ << "pixel " << x << "," << y << ": no draw of " << kPickedPass << " covers it (sky)\n";
+      return;
+    }
+    const GpuDraw& draw = found->record;
+    const GpuMaterial& m = found->material;
+    auto vec = [](const auto& v, int n) {
+      ojson a = ojson::array();
+      for (int k = 0; k < n; ++k) a.push_back(v[k]);
+      return a;
+    };
+    static const char* const alpha_modes[] = {"opaque", "mask", "blend"};
+    const uint32_t alpha_mode = uint32_t(m.extra.z);
+    const uint32_t flags = uint32_t(m.extra.w);
+    j["draw"] = found->draw;
+    j["instance"] = draw.instance;
+    j["mesh"] = {{"first_index", draw.first_index},
+                 {"index_count", draw.index_count},
+                 {"triangles", draw.index_count / 3},
+                 {"vertex_offset", draw.vertex_offset}};
+    j["position_camera_relative"] = {draw.model[3][0], draw.model[3][1], draw.model[3][2]};
+    j["mirrored"] = draw.mirrored != 0;
+    j["stencil"] = {
+        {"value", draw.stencil}, {"class", stencil_class_name(draw.stencil)}, {"flags", stencil_flags(draw.stencil)}};
+    ojson textures = ojson::object();
+    const int32_t slots[] = {m.textures.x, m.textures.y, m.textures.z, m.textures.w, m.textures2.x};
+    const char* const slot_names[] = {"base_color", "metallic_roughness", "normal", "occlusion", "emissive"};
+    for (int k = 0; k < 5; ++k) textures[slot_names[k]] = slots[k] >= 0 ? ojson(slots[k]) : ojson(nullptr);
+    j["material"] = {{"index", draw.material},
+                     {"base_color", vec(m.base_color, 4)},
+                     {"emissive", vec(m.emissive, 3)},
+                     {"metallic", m.pbr.x},
+                     {"roughness", m.pbr.y},
+                     {"alpha_mode", alpha_mode < 3 ? alpha_modes[alpha_mode] : "unknown"},
+                     {"unlit", (flags & 1) != 0},
+                     {"double_sided", (flags & 2) != 0},
+                     {"textures", textures}};
+    if (alpha_mode == 1) j["material"]["alpha_cutoff"] = m.pbr.z;
+    if (json_) return emit(j);
+    out_ << "pixel " << x << "," << y << ": draw " << found->draw << " of " << kPickedPass << "\n"
+         << "  instance " << draw.instance << ", at " << brief(j["position_camera_relative"])
+         << " m from the camera (world axes)" << (draw.mirrored ? ", mirrored" : "") << "\n"
+         << "  mesh: indices " << draw.first_index << ".." << draw.first_index + draw.index_count - 1 << " ("
+         << draw.index_count / 3 << " triangles), vertex offset " << draw.vertex_offset << "\n"
+         << "  material " << draw.material << ": base colour " << brief(j["material"]["base_color"]) << ", metallic "
+         << brief(j["material"]["metallic"]) << ", roughness " << brief(j["material"]["roughness"]) << ", "
+         << j["material"]["alpha_mode"].get<std::string>() << ((flags & 1) ? ", unlit" : "")
+         << ((flags & 2) ? ", double-sided" : "") << "\n"
+         << "  stencil: " << j["stencil"]["class"].get<std::string>();
+    for (const ojson& flag : j["stencil"]["flags"]) out_ << " +" << flag.get<std::string>();
+    out_ << "\n";
   }
 
   void buffer(const CommandSpec& spec, const Arguments& args) {
@@ -677,6 +749,7 @@ class Runner {
   std::ostream& out_;
   bool json_;
   bool& finished_;
+  std::map<uint32_t, DrawIdImage>& draw_ids_;
 };
 
 std::vector<std::string> words_of(const std::string& command) {
@@ -720,7 +793,7 @@ bool InspectCommands::run(const std::string& command) {
     const CommandSpec* spec = spec_of(words[0]);
     if (!spec) throw InspectError("unknown command '" + words[0] + "' (see `help`)");
     const Arguments args = parse_arguments(*spec, words);
-    Runner(session_, out_, args.has("--json"), finished_).run(*spec, args);
+    Runner(session_, out_, args.has("--json"), finished_, draw_ids_).run(*spec, args);
     out_.flush();
     return true;
   } catch (const std::exception& e) {

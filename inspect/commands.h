@@ -3,10 +3,12 @@
 // line on the error stream and leaves the session as it was, so a session goes on after it.
 #pragma once
 
+#include <map>
 #include <ostream>
 #include <string>
 #include <vector>
 
+#include "inspect/pick.h"
 #include "inspect/session.h"
 
 namespace nightcap {
@@ -35,6 +37,7 @@ class InspectCommands {
   InspectSession& session_;
   std::ostream &out_, &err_;
   bool finished_ = false;
+  std::map<uint32_t, DrawIdImage> draw_ids_;  // by frame index: what `pick` rendered
 };
 
 }  // namespace nightcap

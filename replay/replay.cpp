@@ -51,6 +51,19 @@ std::string verdict_name(Verdict verdict) {
   return "";
 }
 
+std::map<std::string, IsolatedInput> recorded_inputs(const Capture& capture, const PassRecord& pass,
+                                                     const BytesByHash& substitutes) {
+  std::map<std::string, IsolatedInput> inputs;
+  for (const ResourceRecord& in : pass.inputs) {
+    if (inputs.count(in.resource)) continue;
+    auto substitute = substitutes.find(in.hash);
+    inputs[in.resource] = {desc_of(in), substitute != substitutes.end()
+                                            ? substitute->second
+                                            : std::make_shared<const std::vector<uint8_t>>(capture.load(in))};
+  }
+  return inputs;
+}
+
 bool ReplayReport::any_different() const {
   for (const PassReplay& p : passes)
     for (const OutputCheck& o : p.outputs)
@@ -80,7 +93,7 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
   report.frame = options.frame;
   report.device = gpu.name();
   PipelineCache cache(gpu);
-  std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> replayed_by_recorded_hash;
+  BytesByHash replayed_by_recorded_hash;
 
   for (const PassRecord& record : frame.passes) {
     const bool wanted = options.passes.empty() ||
@@ -100,14 +113,8 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
       continue;
     }
 
-    std::map<std::string, IsolatedInput> inputs;
-    for (const ResourceRecord& in : record.inputs) {
-      if (inputs.count(in.resource)) continue;
-      auto chained = replayed_by_recorded_hash.find(in.hash);
-      inputs[in.resource] = {desc_of(in), options.chain && chained != replayed_by_recorded_hash.end()
-                                              ? chained->second
-                                              : std::make_shared<const std::vector<uint8_t>>(capture.load(in))};
-    }
+    const std::map<std::string, IsolatedInput> inputs =
+        recorded_inputs(capture, record, options.chain ? replayed_by_recorded_hash : BytesByHash{});
     ParamValues params = record.params;
     if (auto it = options.params.find(record.name); it != options.params.end())
       for (const auto& [k, v] : it->second) params[k] = v;

@@ -10,6 +10,7 @@
 #include "captures/capture.h"
 #include "inspect/metrics.h"
 #include "passes/core/device.h"
+#include "passes/core/isolated.h"
 #include "passes/core/pass.h"
 
 namespace nightcap {
@@ -54,6 +55,12 @@ struct ReplayReport {
   std::vector<PassReplay> passes;
   bool any_different() const;
 };
+
+// The recorded inputs of `pass`, as run_isolated takes them. A version whose recorded hash is
+// in `substitutes` takes those bytes instead of the capture's (a chained replay).
+using BytesByHash = std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>>;
+std::map<std::string, IsolatedInput> recorded_inputs(const Capture& capture, const PassRecord& pass,
+                                                     const BytesByHash& substitutes = {});
 
 // Throws CaptureError for an unreadable capture, SceneError for bad options (unknown pass,
 // parameter, shader file), ShaderError for a shader that does not compile.
