@@ -10,6 +10,7 @@
 
 #include "inspect/disassemble.h"
 #include "inspect/export.h"
+#include "inspect/pixel_history.h"
 #include "inspect/stats.h"
 #include "inspect/visualise.h"
 #include "passes/frame/renderer.h"
@@ -54,6 +55,12 @@ const std::vector<CommandSpec>& specs() {
         "the texel under output pixel (X, Y) decoded by what RESOURCE holds (default: the current pass's first "
         "output), with its raw values; --frames: the same pixel in every recorded frame"},
        {{"--mip", 1}, {"--layer", 1}, {"--frames", 0}}},
+      {{"history", "history X Y [RESOURCE]",
+        "output pixel (X, Y) through the frame: each pass that wrote a screen-space resource (depth and stencil "
+        "included; every mip of a pyramid), in order, with the texel before and after, and 'unchanged' where the pass "
+        "wrote the resource but left that texel as it was. The capture records passes, not draws: a pass is one "
+        "step, however many of its draws touched the pixel"},
+       {}},
       {{"pick", "pick X Y",
         "the draw that covers output pixel (X, Y): its instance, mesh (index range) and material, found by running "
         "gbuffer.opaque again from its recorded inputs with one more target, the draw index (once per frame)"},
@@ -201,12 +208,12 @@ class Runner {
 
   void run(const CommandSpec& spec, const Arguments& args) {
     static const std::map<std::string, void (Runner::*)(const CommandSpec&, const Arguments&)> handlers = {
-        {"passes", &Runner::passes},     {"goto", &Runner::go},       {"next", &Runner::go},
-        {"prev", &Runner::go},           {"frame", &Runner::frame},   {"info", &Runner::info},
-        {"pipeline", &Runner::pipeline}, {"shader", &Runner::shader}, {"pixel", &Runner::pixel},
-        {"buffer", &Runner::buffer},     {"stats", &Runner::stats},   {"export", &Runner::export_files},
-        {"pick", &Runner::pick_draw},    {"replay", &Runner::replay}, {"help", &Runner::help},
-        {"quit", &Runner::quit}};
+        {"passes", &Runner::passes},     {"goto", &Runner::go},        {"next", &Runner::go},
+        {"prev", &Runner::go},           {"frame", &Runner::frame},    {"info", &Runner::info},
+        {"pipeline", &Runner::pipeline}, {"shader", &Runner::shader},  {"pixel", &Runner::pixel},
+        {"buffer", &Runner::buffer},     {"stats", &Runner::stats},    {"export", &Runner::export_files},
+        {"history", &Runner::history},   {"pick", &Runner::pick_draw}, {"replay", &Runner::replay},
+        {"help", &Runner::help},         {"quit", &Runner::quit}};
     (this->*handlers.at(spec.help.name))(spec, args);
   }
 
@@ -423,6 +430,61 @@ class Runner {
         continue;
       }
       print_reading(f);
+    }
+  }
+
+  void history(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 2, 3);
+    const uint32_t x = parse_index("X", args.positional[0]), y = parse_index("Y", args.positional[1]);
+    const std::string only = args.positional.size() == 3 ? args.positional[2] : "";
+    const FrameRecord& frame = session_.frame();
+    const std::vector<PixelWrite> writes = pixel_history(session_, x, y, only);
+    auto reading = [&](const ResourceRecord& record, const TexelAddress& texel) {
+      const PixelReading r = read_pixel(record, session_.load(record), frame, texel);
+      ojson j = {{"hash", record.hash}, {"raw", r.values.raw}};
+      if (!r.values.codes.empty()) j["codes"] = r.values.codes;
+      j["decoded"] = r.decoded;
+      return j;
+    };
+    ojson list = ojson::array();
+    for (const PixelWrite& w : writes) {
+      const PassRecord& pass = frame.passes[w.pass_index];
+      ojson j = {{"pass", pass.name},
+                 {"ran", pass.ran},
+                 {"resource", w.after->resource},
+                 {"format", format_info(w.after->format)->name},
+                 {"mip", w.texel.mip},
+                 {"texel", {w.texel.x, w.texel.y}},
+                 {"status", !w.before   ? "first"
+                            : w.changed ? "changed"
+                                        : "unchanged"}};
+      j["before"] = w.before ? reading(*w.before, w.texel) : ojson(nullptr);
+      j["after"] = reading(*w.after, w.texel);
+      list.push_back(j);
+    }
+    if (json_) return emit({{"frame", frame.index}, {"pixel", {x, y}}, {"granularity", "pass"}, {"writes", list}});
+    out_ << "pixel " << x << "," << y << " through frame " << frame.index
+         << " (one step per pass: the capture records passes, not draws)\n";
+    auto values = [](const ojson& r) {
+      std::string text;
+      for (const auto& [name, value] : r["decoded"].items())
+        text += (text.empty() ? "" : ", ") + name + " " + brief(value);
+      return text.empty() ? brief(r["raw"]) : text;
+    };
+    for (const ojson& w : list) {
+      std::string where = w["resource"].get<std::string>();
+      if (w["mip"].get<uint32_t>() > 0) where += " mip " + std::to_string(w["mip"].get<uint32_t>());
+      out_ << "  " << std::left << std::setw(20) << w["pass"].get<std::string>() << std::setw(24) << where;
+      const std::string status = w["status"].get<std::string>();
+      if (status == "unchanged") {
+        out_ << "unchanged: " << values(w["after"]) << "\n";
+      } else if (status == "first") {
+        out_ << (w["ran"].get<bool>() ? "first write: " : "cleared (pass skipped): ") << values(w["after"]) << "\n";
+      } else {
+        out_ << "changed\n"
+             << std::string(46, ' ') << "before: " << values(w["before"]) << "\n"
+             << std::string(46, ' ') << "after:  " << values(w["after"]) << "\n";
+      }
     }
   }
 
