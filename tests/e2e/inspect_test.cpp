@@ -11,41 +11,12 @@
 
 #include "captures/capture.h"
 #include "tests/e2e/cli.h"
+#include "tests/e2e/inspect_script.h"
 
 namespace nightcap::test {
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-const char* kCity = "--size 320x180 --frames 2";  // as tests/e2e/capture_loop_test.cpp
-
-struct Inspected {
-  CliResult result;
-  std::vector<json> objects;  // one per command that printed
-};
-
-// Runs `inspect CAPTURE -c COMMANDS` and parses each line of its output as one JSON object.
-Inspected inspect(const fs::path& capture, const std::string& commands) {
-  Inspected run{run_cli("inspect " + quote(capture) + " -c '" + commands + "'"), {}};
-  std::istringstream lines(run.result.out);
-  for (std::string line; std::getline(lines, line);) {
-    if (line.empty()) continue;
-    run.objects.push_back(json::parse(line));
-  }
-  return run;
-}
-
-const PassRecord& pass_named(const FrameRecord& frame, const std::string& name) {
-  for (const PassRecord& p : frame.passes)
-    if (p.name == name) return p;
-  throw std::runtime_error("no pass " + name);
-}
-
-const ResourceRecord& output_named(const PassRecord& pass, const std::string& name) {
-  for (const ResourceRecord& r : pass.outputs)
-    if (r.resource == name) return r;
-  throw std::runtime_error(pass.name + " has no output " + name);
-}
 
 uint32_t word_at(const std::vector<uint8_t>& raw, uint64_t offset) {
   uint32_t w;

@@ -1,0 +1,48 @@
+// Scripted `nightcap inspect` runs for the e2e tests, with each command's --json line parsed.
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "captures/capture.h"
+#include "tests/e2e/cli.h"
+
+namespace nightcap::test {
+
+// The small city the inspect tests share (as tests/e2e/capture_loop_test.cpp renders it).
+inline constexpr const char* kCity = "--size 320x180 --frames 2";
+
+struct Inspected {
+  CliResult result;
+  std::vector<nlohmann::json> objects;  // one per command that printed
+};
+
+// Runs `inspect CAPTURE -c COMMANDS` and parses each line of its output as one JSON object.
+inline Inspected inspect(const std::filesystem::path& capture, const std::string& commands,
+                         const std::string& environment = "") {
+  Inspected run{run_cli("inspect " + quote(capture) + " -c '" + commands + "'", environment), {}};
+  std::istringstream lines(run.result.out);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.empty()) continue;
+    run.objects.push_back(nlohmann::json::parse(line));
+  }
+  return run;
+}
+
+inline const PassRecord& pass_named(const FrameRecord& frame, const std::string& name) {
+  for (const PassRecord& p : frame.passes)
+    if (p.name == name) return p;
+  throw std::runtime_error("no pass " + name);
+}
+
+inline const ResourceRecord& output_named(const PassRecord& pass, const std::string& name) {
+  for (const ResourceRecord& r : pass.outputs)
+    if (r.resource == name) return r;
+  throw std::runtime_error(pass.name + " has no output " + name);
+}
+
+}  // namespace nightcap::test
