@@ -72,12 +72,22 @@ const std::vector<CommandSpec>& specs() {
         "per channel: min, max, mean of the finite values, a 16-bin histogram, NaN, Inf and denormal counts; "
         "--rect in output pixels"},
        {{"--mip", 1}, {"--layer", 1}, {"--rect", 4}}},
-      {{"export", "export RESOURCE [--mip M] [--layer L] [--stencil] -o FILE.exr|FILE.png; export PASS --all -o DIR",
+      {{"export",
+        "export RESOURCE [--mip M] [--layer L] [--stencil] [--half] [--uncompressed] -o FILE.exr|FILE.png; "
+        "export PASS --all [--no-pictures] [--half] [--uncompressed] -o DIR",
         "FILE.exr: the values as float channels; FILE.png: a picture for its kind (normals as colour, depth "
         "linearised, motion on a colour wheel, HDR tonemapped; --stencil: stencil classes as a palette). --all: "
         "every output of PASS into DIR, images as RESOURCE.exr and RESOURCE.png (and RESOURCE.stencil.png), "
-        "buffers as their raw bytes, RESOURCE.bin"},
-       {{"--mip", 1}, {"--layer", 1}, {"--stencil", 0}, {"--all", 0}, {"-o", 1}}},
+        "buffers as their raw bytes, RESOURCE.bin. EXR channels are FLOAT and ZIP-compressed unless --half (HALF, as "
+        "RenderDoc writes them) or --uncompressed; --no-pictures: --all writes no PNG"},
+       {{"--mip", 1},
+        {"--layer", 1},
+        {"--stencil", 0},
+        {"--all", 0},
+        {"--no-pictures", 0},
+        {"--half", 0},
+        {"--uncompressed", 0},
+        {"-o", 1}}},
       {{"replay", "replay [--set PARAM=VALUE]... [--shader FILE]",
         "run the current pass again from its recorded inputs on the session's device (inspect --device), with its "
         "parameter PARAM or its shader of FILE's stage (.vert/.frag/.comp) replaced, and compare each output with "
@@ -661,6 +671,7 @@ class Runner {
     expect_positionals(spec, args, 1, 1);
     if (!args.has("-o")) throw InspectError("export: usage: " + spec.help.usage);
     const std::filesystem::path target = args.options.at("-o")[0];
+    const ValuesExr values{args.has("--half"), !args.has("--uncompressed")};
     ojson files = ojson::array();
     if (args.has("--all")) {
       const PassRecord* pass = nullptr;
@@ -681,8 +692,9 @@ class Runner {
           files.push_back(file.string());
           continue;
         }
-        write_values_exr(target / (r.resource + ".exr"), r, raw, 0, 0);
+        write_values_exr(target / (r.resource + ".exr"), r, raw, 0, 0, values);
         files.push_back((target / (r.resource + ".exr")).string());
+        if (args.has("--no-pictures")) continue;
         write_picture(target / (r.resource + ".png"), r, raw, 0, 0, VisualAspect::depth_or_colour);
         files.push_back((target / (r.resource + ".png")).string());
         if (format_info(r.format)->has_stencil) {
@@ -698,7 +710,7 @@ class Runner {
       texel_for_output_pixel(record, session_.frame(), 0, 0, mip, layer);
       const std::string extension = target.extension().string();
       if (extension == ".exr" && !args.has("--stencil")) {
-        write_values_exr(target, record, session_.load(record), mip, layer);
+        write_values_exr(target, record, session_.load(record), mip, layer, values);
       } else if (extension == ".png") {
         write_picture(target, record, session_.load(record), mip, layer,
                       args.has("--stencil") ? VisualAspect::stencil : VisualAspect::depth_or_colour);

@@ -10,10 +10,17 @@
 
 namespace nightcap {
 
-// One subresource with every channel as FLOAT, as format.h decodes it (UNORM in [0, 1], sRGB
-// linearised, integer codes as their values): R, G, B, A in order, or Z and S for depth and
-// stencil. Throws InspectError when the file cannot be written.
+struct ValuesExr {
+  // HALF channels (what RenderDoc writes; exact for half formats, nearest for wider ones)
+  // instead of FLOAT.
+  bool half = false;
+  bool compressed = true;  // ZIP; false: uncompressed, the fastest to write and to read
+};
+
+// One subresource with every channel as FLOAT (or HALF), as format.h decodes it (UNORM in
+// [0, 1], sRGB linearised, integer codes as their values): R, G, B, A in order, or Z and S for
+// depth and stencil. Throws InspectError when the file cannot be written.
 void write_values_exr(const std::filesystem::path& file, const ResourceRecord& record, std::span<const uint8_t> raw,
-                      uint32_t mip, uint32_t layer);
+                      uint32_t mip, uint32_t layer, const ValuesExr& options = {});
 
 }  // namespace nightcap

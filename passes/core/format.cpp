@@ -39,13 +39,10 @@ constexpr std::array<std::string_view, 13> kKindNames = {
     "colour",       "hdr_colour",   "normal",       "packed_normal", "material", "motion",   "depth_stencil",
     "linear_depth", "depth_minmax", "lookup_table", "texture",       "buffer",   "draw_list"};
 
+// 10- and 11-bit floats have half's 5-bit exponent and bias: their bits are a half's, with the
+// mantissa cut short.
 float unsigned_small_float(uint32_t bits, int mantissa_bits) {
-  uint32_t exponent = bits >> mantissa_bits;
-  uint32_t mantissa = bits & ((1u << mantissa_bits) - 1);
-  float m = static_cast<float>(mantissa) / static_cast<float>(1u << mantissa_bits);
-  if (exponent == 0) return std::ldexp(m, -14);
-  if (exponent == 31) return mantissa ? NAN : INFINITY;
-  return std::ldexp(1.0f + m, static_cast<int>(exponent) - 15);
+  return half_to_float(static_cast<uint16_t>(bits << (10 - mantissa_bits)));
 }
 
 template <typename T>
@@ -110,14 +107,17 @@ uint64_t raw_image_bytes(const FormatInfo& format, const ImageExtent& extent) {
 }
 
 float half_to_float(uint16_t h) {
-  uint32_t sign = (h >> 15) & 1, exponent = (h >> 10) & 31, mantissa = h & 1023;
+  const uint32_t sign = (h >> 15) & 1, exponent = (h >> 10) & 31, mantissa = h & 1023;
   float value;
-  if (exponent == 0)
-    value = std::ldexp(static_cast<float>(mantissa), -24);
-  else if (exponent == 31)
+  if (exponent == 0) {
+    value = static_cast<float>(mantissa) * 0x1p-24f;  // subnormal: exact, a power-of-two scale
+  } else if (exponent == 31) {
     value = mantissa ? NAN : INFINITY;
-  else
-    value = std::ldexp(static_cast<float>(mantissa | 1024), static_cast<int>(exponent) - 25);
+  } else {
+    // A normal half is a normal float: rebias the exponent, widen the mantissa.
+    const uint32_t bits = ((exponent + 127 - 15) << 23) | (mantissa << 13);
+    std::memcpy(&value, &bits, 4);
+  }
   return sign ? -value : value;
 }
 

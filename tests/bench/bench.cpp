@@ -8,7 +8,8 @@
 //  - time against error for each pass knob (normals.pack LUT size, lighting.deferred tube samples
 //    against the CPU segment integral, depth.convert, depth.pyramid and bloom against their
 //    references);
-//  - the CLI's start-up: `nightcap --help` and `nightcap passes` of a city capture, wall clock.
+//  - the CLI's start-up: `nightcap --help` and `nightcap passes` of a city capture, wall clock;
+//    the debugger's first answer and its export of gbuffer.opaque's colour targets.
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -307,15 +308,25 @@ void bench_startup(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
       "pixel " + std::to_string(width / 2) + " " + std::to_string(height / 2) + " gbuffer.normal"};
   const double inspect = median_ms(first_answer);
   const double peak_mib = cli_peak_mib(first_answer);
+  // RenderDoc 1.24's "save the five G-buffer targets" as uncompressed half EXR, the same way.
+  const fs::path exported = dir / "exported";
+  std::string export_commands = "goto gbuffer.opaque";
+  for (const char* target : {"albedo", "normal", "material", "motion", "emissive"})
+    export_commands += std::string("; export gbuffer.") + target + " --half --uncompressed -o " +
+                       (exported / (std::string(target) + ".exr")).string();
+  const double export_pass = median_ms({"inspect", dir.string(), "-c", export_commands});
   table() << "\n## CLI start-up, wall clock (median of 5 runs, warm file cache)\n"
           << std::fixed << std::setprecision(1) << "  nightcap --help          " << std::setw(7) << help << " ms\n"
           << "  nightcap passes CAP      " << std::setw(7) << passes << " ms (city, " << width << "x" << height
           << ", 1 frame)\n"
           << "  nightcap inspect CAP -c 'pixel " << width / 2 << " " << height / 2 << " gbuffer.normal' "
-          << std::setw(7) << inspect << " ms, peak " << peak_mib << " MiB\n";
+          << std::setw(7) << inspect << " ms, peak " << peak_mib << " MiB\n"
+          << "  nightcap inspect CAP -c 'export' of gbuffer.opaque's five colour targets as uncompressed half EXR "
+          << std::setw(7) << export_pass << " ms\n";
   figure("startup_ms_help", help);
   figure("inspect_first_answer_ms", inspect);
   figure("inspect_peak_mib", peak_mib);
+  figure("inspect_export_pass_ms", export_pass);
   figure("startup_ms_passes", passes);
   fs::remove_all(dir);
 }
