@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <bit>
 #include <cerrno>
 #include <cstring>
@@ -152,6 +153,28 @@ std::optional<BufferSchema> output_schema(const json& output, const ResourceReco
   }
 }
 
+// Optional: only a pass rendered with `--inject-nan` has one, naming a float image output of the
+// pass and a texel of its mip 0.
+InjectedNanRecord injected_nan_from_json(const json& j, const PassRecord& pass, const std::string& file,
+                                         const std::string& where) {
+  if (!pass.ran) fail(file, where, "a skipped pass has no NaN injection");
+  InjectedNanRecord nan;
+  nan.resource = field<std::string>(j, "resource", file, where);
+  const auto out = std::find_if(pass.outputs.begin(), pass.outputs.end(),
+                                [&](const ResourceRecord& r) { return r.resource == nan.resource; });
+  if (out == pass.outputs.end() || out->is_buffer || !is_float_colour(*format_info(out->format)))
+    fail(file, where, "'" + nan.resource + "' is not a float image output of the pass");
+  auto coordinate = [&](const char* key, uint32_t extent) {
+    const json& value = member(j, key);
+    if (!value.is_number_integer() || value.get<int64_t>() < 0 || value.get<int64_t>() >= int64_t(extent))
+      fail(file, where, std::string("\"") + key + "\" must be an integer in 0.." + std::to_string(extent - 1));
+    return value.get<uint32_t>();
+  };
+  nan.x = coordinate("x", out->extent.width);
+  nan.y = coordinate("y", out->extent.height);
+  return nan;
+}
+
 void fsync_path(const fs::path& path, bool directory) {
   const int fd = ::open(path.c_str(), directory ? O_RDONLY | O_DIRECTORY : O_RDONLY);
   if (fd >= 0) {
@@ -226,6 +249,9 @@ json to_json(const CaptureManifest& m) {
       pass["samplers"] = p.samplers;
       pass["inputs"] = inputs;
       pass["outputs"] = outputs;
+      if (p.injected_nan)
+        pass["injected_nan"] = {
+            {"resource", p.injected_nan->resource}, {"x", p.injected_nan->x}, {"y", p.injected_nan->y}};
       passes.push_back(pass);
     }
     frames.push_back({{"index", f.index},
@@ -359,6 +385,8 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
           (std::string(side) == "inputs" ? p.inputs : p.outputs).push_back(std::move(r));
         }
       }
+      if (pj.contains("injected_nan"))
+        p.injected_nan = injected_nan_from_json(pj.at("injected_nan"), p, file, pw + ".injected_nan");
       f.passes.push_back(std::move(p));
     }
     m.frames.push_back(std::move(f));

@@ -61,6 +61,13 @@ struct ShaderRecord {
   std::string source_blob;
 };
 
+// The NaN `render --inject-nan` wrote into one texel of a pass's output after the pass ran; the
+// recorded output holds it, and replay writes it again.
+struct InjectedNanRecord {
+  std::string resource;
+  uint32_t x = 0, y = 0;  // a texel of mip 0, layer 0
+};
+
 struct PassRecord {
   std::string name;
   bool ran = false;
@@ -73,6 +80,7 @@ struct PassRecord {
   // Pipeline and sampler state the pass bound, as passes/core/pipeline_cache.h describes it:
   // for tools to show, not read back by replay (which re-runs the pass's own code).
   nlohmann::json pipelines = nlohmann::json::array(), samplers = nlohmann::json::array();
+  std::optional<InjectedNanRecord> injected_nan;
 };
 
 struct CameraRecord {

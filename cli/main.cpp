@@ -99,7 +99,7 @@ struct RenderFlags {
   std::string scene_path, out, size = "1280x720", device, orbit, target, codec = "auto", motion = "walk", record;
   uint32_t frames = 1, seed = 1;
   double fov = 45.0;
-  std::vector<std::string> sets;
+  std::vector<std::string> sets, inject_nan;
   std::vector<uint32_t> cuts;
   bool force = false;
 };
@@ -146,6 +146,8 @@ int run_render(const RenderFlags& flags) {
     std::tie(settings.first_recorded, settings.last_recorded) = parse_frame_range(flags.record, frames);
   for (const std::string& s : flags.sets) nc::parse_set(s, settings.params);
   nc::validate_params(nc::frame_passes(), settings.params);
+  for (const std::string& text : flags.inject_nan) settings.inject_nan.push_back(nc::parse_inject_nan(text));
+  nc::validate_nan_requests(nc::frame_passes(), settings.inject_nan, settings.width, settings.height);
   if (!orbit.empty()) {
     auto o = parse_numbers("--orbit", orbit, 3);
     auto t = target.empty() ? std::vector<double>{0, 0, 0} : parse_numbers("--target", target, 3);
@@ -169,7 +171,8 @@ int run_render(const RenderFlags& flags) {
                           {"orbit", orbit},
                           {"target", target},
                           {"fov", fov},
-                          {"codec", codec}};
+                          {"codec", codec},
+                          {"inject_nan", flags.inject_nan}};
   nc::GpuDevice gpu({flags.device, validation_requested()});
   stop_on_signals();
   nc::RenderSummary summary = nc::render_to_capture(gpu, scene, settings, flags.out, flags.force, render_monitor());
@@ -384,6 +387,9 @@ int main(int argc, char** argv) {
                    "OpenEXR compression of every image blob: none, rle, zips, zip, piz or pxr24 (zip1 … zip9: "
                    "with a zlib level); auto: chosen per kind of data")
       ->capture_default_str();
+  render->add_option("--inject-nan", r.inject_nan,
+                     "PASS:X,Y: after PASS runs, write a NaN into its first float output at output pixel (X, Y), "
+                     "to test `inspect` (nan) and the passes after it (repeatable, one per pass)");
   render->add_flag("--force", r.force, "replace an existing capture");
 
   std::string capture_path, capture_b;

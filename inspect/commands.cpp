@@ -10,6 +10,7 @@
 
 #include "inspect/disassemble.h"
 #include "inspect/export.h"
+#include "inspect/nan_origin.h"
 #include "inspect/pixel_history.h"
 #include "inspect/stats.h"
 #include "inspect/visualise.h"
@@ -93,6 +94,13 @@ const std::vector<CommandSpec>& specs() {
         "parameter PARAM or its shader of FILE's stage (.vert/.frag/.comp) replaced, and compare each output with "
         "the recorded one: the bytes, and the output's comparison contract"},
        {{"--set", 1}, {"--shader", 1}}},
+      {{"nan", "nan [--limit N]",
+        "where a NaN or Inf was born: walks the current frame's passes in order and names the first whose float "
+        "outputs hold NaN or Inf texels that the version it started from held finite (passes that carry one on are "
+        "not named), with how many, the first N (default 8) at their output pixels, and there the values of every "
+        "image input of the pass (mip 0, layer 0). It checks each pass's outputs: the capture records per pass, not "
+        "per draw"},
+       {{"--limit", 1}}},
       {{"help", "help [COMMAND]", "the commands, or one command's usage"}, {}},
       {{"quit", "quit", "end the session"}, {}},
   };
@@ -199,6 +207,13 @@ std::string brief(const ojson& value) {
   return value.dump();
 }
 
+// JSON has no NaN or Inf: those are named.
+ojson number_or_name(double value) {
+  if (std::isnan(value)) return "NaN";
+  if (std::isinf(value)) return value > 0 ? "+Inf" : "-Inf";
+  return value;
+}
+
 // Flattened "a.b.c: value" lines, for pipeline and sampler state.
 void print_flat(std::ostream& out, const nlohmann::json& value, const std::string& prefix) {
   if (value.is_object()) {
@@ -223,7 +238,7 @@ class Runner {
         {"pipeline", &Runner::pipeline}, {"shader", &Runner::shader},  {"pixel", &Runner::pixel},
         {"buffer", &Runner::buffer},     {"stats", &Runner::stats},    {"export", &Runner::export_files},
         {"history", &Runner::history},   {"pick", &Runner::pick_draw}, {"replay", &Runner::replay},
-        {"help", &Runner::help},         {"quit", &Runner::quit}};
+        {"nan", &Runner::nan_origin},    {"help", &Runner::help},      {"quit", &Runner::quit}};
     (this->*handlers.at(spec.help.name))(spec, args);
   }
 
@@ -722,6 +737,56 @@ class Runner {
     }
     if (json_) return emit({{"files", files}});
     for (const ojson& f : files) out_ << "wrote " << f.get<std::string>() << "\n";
+  }
+
+  void nan_origin(const CommandSpec& spec, const Arguments& args) {
+    expect_positionals(spec, args, 0, 0);
+    const FrameRecord& frame = session_.frame();
+    const std::optional<NanOrigin> origin = find_nan_origin(session_, option_index(args, "--limit", 8));
+    if (!origin) {
+      if (json_) return emit({{"frame", frame.index}, {"origin", nullptr}});
+      out_ << "frame " << frame.index << ": no pass wrote a NaN or an Inf\n";
+      return;
+    }
+    const PassRecord& pass = frame.passes[origin->pass_index];
+    ojson outputs = ojson::array();
+    for (const NonFiniteBirths& births : origin->outputs) {
+      ojson texels = ojson::array();
+      for (const NonFiniteTexel& t : births.first) {
+        ojson values = ojson::array(), inputs = ojson::array();
+        for (double v : t.values) values.push_back(number_or_name(v));
+        for (const ResourceRecord& in : pass.inputs)
+          if (!in.is_buffer) inputs.push_back(reading_json(in, frame, t.pixel_x, t.pixel_y, 0, 0));
+        ojson texel = {{"pixel", {t.pixel_x, t.pixel_y}}, {"texel", {t.x, t.y}}, {"mip", t.mip}, {"layer", t.layer}};
+        if (births.resource->extent.depth > 1) texel["slice"] = t.slice;
+        texel["values"] = values;
+        texel["inputs"] = inputs;
+        texels.push_back(texel);
+      }
+      outputs.push_back({{"resource", births.resource->resource},
+                         {"format", format_info(births.resource->format)->name},
+                         {"count", births.count},
+                         {"texels", texels}});
+    }
+    const ojson j = {{"frame", frame.index},
+                     {"origin", {{"pass", pass.name}, {"index", origin->pass_index}, {"outputs", outputs}}}};
+    if (json_) return emit(j);
+    out_ << "frame " << frame.index << ": the first NaN or Inf was written by " << pass.name << " (pass "
+         << origin->pass_index + 1 << "/" << frame.passes.size() << ")\n";
+    for (const ojson& output : outputs) {
+      out_ << "  " << output["resource"].get<std::string>() << " (" << output["format"].get<std::string>()
+           << "): " << output["count"] << " texel(s)\n";
+      for (const ojson& texel : output["texels"]) {
+        out_ << "    pixel " << brief(texel["pixel"]) << " texel " << brief(texel["texel"]) << " mip " << texel["mip"]
+             << " layer " << texel["layer"] << ": " << brief(texel["values"]) << "\n";
+        for (const ojson& in : texel["inputs"]) {
+          out_ << "      " << in["resource"].get<std::string>() << " texel " << brief(in["texel"]) << ": raw "
+               << brief(in["raw"]);
+          for (const auto& [name, value] : in["decoded"].items()) out_ << "; " << name << " " << brief(value);
+          out_ << "\n";
+        }
+      }
+    }
   }
 
   void write_picture(const std::filesystem::path& file, const ResourceRecord& record, std::span<const uint8_t> raw,

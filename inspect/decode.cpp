@@ -4,6 +4,7 @@
 #include <cstring>
 #include <utility>
 
+#include "passes/core/output_pixel.h"
 #include "passes/scene/scene.h"
 
 namespace nightcap {
@@ -160,8 +161,8 @@ TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRec
   if (layer >= record.extent.layers)
     throw InspectError(record.resource + " has " + std::to_string(record.extent.layers) + " layer(s): no layer " +
                        std::to_string(layer));
-  const uint64_t width = mip_size(record.extent.width, mip), height = mip_size(record.extent.height, mip);
-  return {uint32_t(x * width / frame.width), uint32_t(y * height / frame.height), mip, layer};
+  const uint32_t width = mip_size(record.extent.width, mip), height = mip_size(record.extent.height, mip);
+  return {texel_under_pixel(x, frame.width, width), texel_under_pixel(y, frame.height, height), mip, layer};
 }
 
 TexelValues read_texel(const ResourceRecord& record, std::span<const uint8_t> raw, const TexelAddress& texel) {

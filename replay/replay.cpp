@@ -134,7 +134,14 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
       result.notes.push_back("capture has no SPIR-V for " + path + ": built-in shader used");
       return builtin_spirv(path);
     };
-    const IsolatedRun run = run_isolated(gpu, cache, *decl, inputs, params, frame.width, frame.height, shaders);
+    std::vector<NanInjection> nan_injections;
+    if (const std::optional<InjectedNanRecord>& nan = record.injected_nan) {
+      nan_injections.push_back({record.name, nan->resource, nan->x, nan->y});
+      result.notes.push_back("NaN injected at texel (" + std::to_string(nan->x) + ", " + std::to_string(nan->y) +
+                             ") of " + nan->resource + " as recorded");
+    }
+    const IsolatedRun run =
+        run_isolated(gpu, cache, *decl, inputs, params, frame.width, frame.height, shaders, nan_injections);
     const Execution& execution = run.execution;
     result.replayed = true;
     result.gpu_ms = execution.passes.at(0).gpu_ms;

@@ -239,6 +239,13 @@ void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& imp
       for (const BoundUse& out : pass.outputs)
         planner.use(out.resource, out.range, required_state(out.use, type, depth(out)), !out.modifies, pass.decl->name);
       sync.before_pass = planner.flush();
+      for (const NanInjection& nan : graph.settings.nan_injections)
+        if (nan.pass == pass.decl->name) {
+          sync.injections.push_back(nan);
+          // One texel of the subresource changes: the rest keeps what the pass wrote.
+          planner.use(nan.resource, Subresources::at(0, 0), transfer_state(true), false, pass.decl->name);
+        }
+      sync.before_injections = planner.flush();
     }
     for (const BoundUse& out : pass.outputs) {
       if (!versions(pass, out)) continue;

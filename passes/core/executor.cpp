@@ -409,6 +409,21 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
                                static_cast<uint32_t>(regions.size()), regions.data());
       }
     };
+    // A NaN in one texel of what the pass wrote, through a staging buffer as uploads are.
+    auto inject_nan = [&](const NanInjection& nan) {
+      const PhysicalResource& r = shared.resources.at(nan.resource);
+      const std::vector<uint8_t> texel = quiet_nan_texel(*format_info(r.desc.format));
+      GpuBuffer staging = gpu.create_buffer(std::max<size_t>(texel.size(), 16), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true,
+                                            "NaN for " + nan.resource + " after " + nan.pass);
+      std::memcpy(staging.mapped, texel.data(), texel.size());
+      cleanup.staging.push_back({staging, -1});
+      VkBufferImageCopy region{};
+      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      region.imageOffset = {int32_t(nan.x), int32_t(nan.y), 0};
+      region.imageExtent = {1, 1, 1};
+      vkCmdCopyBufferToImage(shared.cmd, staging.buffer, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                             &region);
+    };
     // Uploads of imported data the GPU reads.
     issue_step(graph.before_uploads);
     for (const std::string& name : graph.uploads) upload(name);
@@ -487,6 +502,8 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
                              static_cast<uint32_t>(2 * i + 1));
         gpu.end_label(shared.cmd);
         exec.gpu_ms = 0.0;  // filled from the queries after the submit
+        issue_step(pass.sync.before_injections);
+        for (const NanInjection& nan : pass.sync.injections) inject_nan(nan);
       }
       std::map<std::string, int> written;
       for (const BoundUse& out : pass.outputs) {

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 namespace nightcap {
 namespace {
@@ -104,6 +105,27 @@ uint64_t raw_subresource_offset(const FormatInfo& format, const ImageExtent& ext
 
 uint64_t raw_image_bytes(const FormatInfo& format, const ImageExtent& extent) {
   return raw_subresource_offset(format, extent, aspect_count(format), 0, 0);
+}
+
+bool is_float_colour(const FormatInfo& format) {
+  return !format.is_depth &&
+         (format.encoding == E::sfloat16 || format.encoding == E::sfloat32 || format.encoding == E::packed_b10g11r11);
+}
+
+std::vector<uint8_t> quiet_nan_texel(const FormatInfo& format) {
+  if (!is_float_colour(format)) throw std::invalid_argument(std::string(format.name) + " holds no NaN");
+  std::vector<uint8_t> texel(format.texel_bytes);
+  auto fill = [&](auto nan) {
+    for (size_t offset = 0; offset + sizeof(nan) <= texel.size(); offset += sizeof(nan))
+      std::memcpy(texel.data() + offset, &nan, sizeof(nan));
+  };
+  if (format.encoding == E::sfloat16)
+    fill(uint16_t(0x7E00));
+  else if (format.encoding == E::sfloat32)
+    fill(uint32_t(0x7FC00000));
+  else  // B10G11R11: each small float's exponent all ones, its top mantissa bit set (r, g 5+6 bits; b 5+5)
+    fill(uint32_t(0x7E0u | (0x7E0u << 11) | (0x3F0u << 22)));
+  return texel;
 }
 
 float half_to_float(uint16_t h) {

@@ -38,6 +38,12 @@ struct FormatInfo {
   bool has_stencil = false;
 };
 
+// Whether its channels are floating point and colour (SFLOAT, UFLOAT; not depth): the formats
+// that can hold a NaN.
+bool is_float_colour(const FormatInfo& format);
+// One texel of a float colour format whose every channel is a quiet NaN, as raw bytes.
+std::vector<uint8_t> quiet_nan_texel(const FormatInfo& format);
+
 // Every image format a resource may have; nullopt for anything else.
 std::optional<FormatInfo> format_info(VkFormat format);
 std::optional<FormatInfo> format_by_name(std::string_view name);

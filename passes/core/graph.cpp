@@ -89,6 +89,24 @@ Subresources resolve_range(const Subresources& declared, const ResourceDesc& des
   return range;
 }
 
+// An injection the executor can carry out: into a float colour image that a GPU pass which runs
+// writes, at a texel it has.
+void check_nan_injection(const CompiledGraph& graph, const NanInjection& nan) {
+  const std::string what = "NaN injection into " + nan.pass + " (" + nan.resource + ")";
+  const auto pass = std::find_if(graph.passes.begin(), graph.passes.end(),
+                                 [&](const CompiledPass& p) { return p.decl->name == nan.pass; });
+  if (pass == graph.passes.end()) throw GraphError(what + ": no such pass");
+  if (!pass->runs) throw GraphError(what + ": the pass does not run (" + pass->reason + ")");
+  if (pass->decl->type == PassType::cpu) throw GraphError(what + ": a CPU pass (injections are written on the GPU)");
+  const auto out = std::find_if(pass->outputs.begin(), pass->outputs.end(),
+                                [&](const BoundUse& u) { return u.resource == nan.resource; });
+  if (out == pass->outputs.end() || out->desc.is_buffer || !is_float_colour(*format_info(out->desc.format)))
+    throw GraphError(what + ": not a float colour image the pass writes");
+  if (nan.x >= out->desc.extent.width || nan.y >= out->desc.extent.height)
+    throw GraphError(what + ": texel (" + std::to_string(nan.x) + ", " + std::to_string(nan.y) + ") is outside its " +
+                     std::to_string(out->desc.extent.width) + "x" + std::to_string(out->desc.extent.height) + " mip 0");
+}
+
 }  // namespace
 
 uint32_t full_mip_count(uint32_t width, uint32_t height) {
@@ -340,6 +358,7 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
       for (BoundUse& u : *uses)
         u.range = pass.runs ? resolve_range(u.range, u.desc, pass.decl->name, u.resource)
                             : resolve_range({}, u.desc, pass.decl->name, u.resource);
+  for (const NanInjection& nan : settings.nan_injections) check_nan_injection(graph, nan);
   plan_synchronisation(graph, imported);
   return graph;
 }

@@ -24,6 +24,15 @@ struct ImportedResource {
   ResourceDesc desc;
 };
 
+// A quiet NaN written into one texel of a pass's output right after the pass runs, so that later
+// passes read it on the GPU as they would a NaN the pass computed: a known origin for the tools
+// that trace NaNs (`render --inject-nan`, and the replay of such a capture).
+struct NanInjection {
+  std::string pass, resource;
+  uint32_t x = 0, y = 0;  // a texel of mip 0, layer 0
+  bool operator==(const NanInjection&) const = default;
+};
+
 struct GraphSettings {
   uint32_t width = 1280, height = 720;
   SkipContext frame;
@@ -34,6 +43,7 @@ struct GraphSettings {
   // Copies to the host: every version a pass writes (a capture), and the last version of these.
   bool capture = false;
   std::set<std::string> readback;
+  std::vector<NanInjection> nan_injections;
 };
 
 struct BoundUse {
@@ -88,6 +98,10 @@ struct PassSync {
   // A skipped pass's fresh outputs, and the part of a fresh output its pass does not write.
   std::vector<PlannedClear> clears;
   std::vector<PlannedBarrier> before_pass;  // a running pass's inputs and outputs
+  // A running pass's NaN injections (GraphSettings::nan_injections), after its commands and
+  // before its outputs are read back, so the capture records what later passes read.
+  std::vector<PlannedBarrier> before_injections;
+  std::vector<NanInjection> injections;
   std::vector<PlannedBarrier> before_readback;
   std::vector<std::string> readback;  // outputs copied to the host after the pass
   // A CPU pass: its outputs that GPU passes use, copied to the GPU after it runs.
@@ -134,7 +148,9 @@ struct CompiledGraph {
 // written by a GPU pass without a declared size, a history of a resource nobody writes (unless
 // previous(name) is imported, as replay does) or of a CPU pass's output, a name with '@', a
 // subresource range outside its image (or on a buffer), one pass using a subresource in two
-// layouts, a 3D array or a cube that is not square with a multiple of 6 layers.
+// layouts, a 3D array or a cube that is not square with a multiple of 6 layers; and for a NaN
+// injection whose pass is unknown or does not run (or runs on the CPU), whose resource is not a
+// float colour image the pass writes, or whose texel is outside the resource.
 CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
                             const GraphSettings& settings);
 

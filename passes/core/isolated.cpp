@@ -4,7 +4,8 @@ namespace nightcap {
 
 IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& pass,
                          const std::map<std::string, IsolatedInput>& inputs, const ParamValues& params, uint32_t width,
-                         uint32_t height, const ShaderProvider& shaders) {
+                         uint32_t height, const ShaderProvider& shaders,
+                         const std::vector<NanInjection>& nan_injections) {
   IsolatedRun run;
   std::vector<ImportedResource> imports;
   std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> bytes;
@@ -18,6 +19,7 @@ IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& p
   settings.sinks = {};
   settings.keep = {pass.name};
   settings.capture = true;
+  settings.nan_injections = nan_injections;
   const std::vector<PassDecl> single{pass};
   run.graph = compile_graph(single, imports, settings);
   ExecutionOptions options;

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "captures/hash.h"
+#include "passes/core/output_pixel.h"
 #include "passes/core/shader.h"
 #include "passes/frame/camera_math.h"
 #include "passes/frame/frame_passes.h"
@@ -78,6 +79,57 @@ void validate_params(const std::vector<PassDecl>& passes, const std::map<std::st
     }
   }
 }
+
+NanRequest parse_inject_nan(const std::string& text) {
+  const std::string usage = "--inject-nan '" + text + "': expected PASS:X,Y (an output pixel)";
+  const size_t colon = text.rfind(':'), comma = text.find(',', colon == std::string::npos ? 0 : colon);
+  if (colon == std::string::npos || colon == 0 || comma == std::string::npos) throw SceneError(usage);
+  auto coordinate = [&](const std::string& digits) {
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos)
+      throw SceneError(usage);
+    return uint32_t(std::stoul(digits));
+  };
+  return {text, text.substr(0, colon), coordinate(text.substr(colon + 1, comma - colon - 1)),
+          coordinate(text.substr(comma + 1))};
+}
+
+void validate_nan_requests(const std::vector<PassDecl>& passes, const std::vector<NanRequest>& requests, uint32_t width,
+                           uint32_t height) {
+  std::set<std::string> named;
+  for (const NanRequest& request : requests) {
+    const std::string flag = "--inject-nan " + request.text + ": ";
+    if (!find_pass(passes, request.pass)) throw SceneError(flag + "no pass named '" + request.pass + "'");
+    if (!named.insert(request.pass).second) throw SceneError(flag + "a second injection into " + request.pass);
+    if (request.x >= width || request.y >= height)
+      throw SceneError(flag + "pixel (" + std::to_string(request.x) + ", " + std::to_string(request.y) +
+                       ") is outside the " + std::to_string(width) + "x" + std::to_string(height) + " output");
+  }
+}
+
+namespace {
+
+// The texel of the pass's first float colour output under the requested pixel, from a graph
+// compiled for the frame: sizes and formats (a modified resource's included) are known there.
+NanInjection resolve_nan_request(const CompiledGraph& graph, const NanRequest& request) {
+  const std::string flag = "--inject-nan " + request.text + ": ";
+  for (const CompiledPass& pass : graph.passes) {
+    if (pass.decl->name != request.pass) continue;
+    if (!pass.runs)
+      throw SceneError(flag + request.pass + " does not run in frame " +
+                       std::to_string(graph.settings.frame.frame_index) + " (" + pass.reason + ")");
+    if (pass.decl->type == PassType::cpu)
+      throw SceneError(flag + request.pass + " runs on the CPU: the NaN is written on the GPU after a GPU pass");
+    for (const BoundUse& out : pass.outputs) {
+      if (out.desc.is_buffer || !is_float_colour(*format_info(out.desc.format))) continue;
+      return {request.pass, out.resource, texel_under_pixel(request.x, graph.settings.width, out.desc.extent.width),
+              texel_under_pixel(request.y, graph.settings.height, out.desc.extent.height)};
+    }
+    throw SceneError(flag + request.pass + " has no float colour output to hold a NaN");
+  }
+  throw SceneError(flag + "no pass named '" + request.pass + "'");
+}
+
+}  // namespace
 
 void add_default_lighting(Scene& scene) {
   if (!scene.lights.empty()) return;
@@ -176,6 +228,7 @@ Renderer::Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings)
       scene_imports_(scene_imports(scene)),
       base_(base_camera(scene, settings_)) {
   validate_params(passes_, settings_.params);
+  validate_nan_requests(passes_, settings_.inject_nan, settings_.width, settings_.height);
   keep_freed_memory();
 }
 
@@ -202,6 +255,11 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture, CaptureWriter
   graph_settings.capture = capture;
   graph_settings.readback = {"final.ldr"};
   frame.graph = compile_graph(passes_, as_graph_imports(imports), graph_settings);
+  if (!settings_.inject_nan.empty()) {
+    for (const NanRequest& request : settings_.inject_nan)
+      graph_settings.nan_injections.push_back(resolve_nan_request(frame.graph, request));
+    frame.graph = compile_graph(passes_, as_graph_imports(imports), graph_settings);
+  }
 
   ExecutionOptions options;
   options.params = settings_.params;
@@ -259,6 +317,7 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
     for (const auto& [path, code] : exec.spirv) p.shaders.push_back(writer.add_shader(path, code, shader_source(path)));
     p.pipelines = exec.pipelines;
     p.samplers = exec.samplers;
+    for (const NanInjection& nan : pass.sync.injections) p.injected_nan = InjectedNanRecord{nan.resource, nan.x, nan.y};
     for (int v : exec.inputs) p.inputs.push_back(describe(frame.execution.versions[v]));
     for (int v : exec.outputs) {
       p.outputs.push_back(describe(frame.execution.versions[v]));

@@ -28,6 +28,14 @@ struct CameraPath {
   bool cut_at(uint32_t frame) const { return cuts.count(frame) != 0; }
 };
 
+// `--inject-nan PASS:X,Y`: a NaN in PASS's first float colour output (in declaration order),
+// at the texel under output pixel (X, Y), written after PASS runs in every frame.
+struct NanRequest {
+  std::string text;  // as given, for messages
+  std::string pass;
+  uint32_t x = 0, y = 0;
+};
+
 struct RenderSettings {
   uint32_t width = 1280, height = 720;
   uint32_t frames = 1;
@@ -38,12 +46,20 @@ struct RenderSettings {
   nlohmann::json description;                 // settings as given, recorded in the manifest
   CaptureWriter::Options capture;             // blob codecs
   bool alias_memory = true;                   // ExecutionOptions::alias_memory
+  std::vector<NanRequest> inject_nan;
 };
 
 // Throws SceneError naming the flag for a parameter that no pass declares or out of range.
 void validate_params(const std::vector<PassDecl>& passes, const std::map<std::string, ParamValues>& params);
 // Parses "pass.param=value"; throws SceneError naming the flag.
 void parse_set(const std::string& text, std::map<std::string, ParamValues>& params);
+
+// Parses "PASS:X,Y"; throws SceneError naming the flag.
+NanRequest parse_inject_nan(const std::string& text);
+// Throws SceneError naming the flag for a pass that no pass declares, one named twice, or a
+// pixel outside the output.
+void validate_nan_requests(const std::vector<PassDecl>& passes, const std::vector<NanRequest>& requests, uint32_t width,
+                           uint32_t height);
 
 // Adds a key light when the scene has none, as glTF viewers do (recorded in scene.notes).
 void add_default_lighting(Scene& scene);

@@ -26,12 +26,6 @@ T at(const std::vector<uint8_t>& raw, uint64_t offset) {
   return value;
 }
 
-const ResourceRecord& input_named(const PassRecord& pass, const std::string& name) {
-  for (const ResourceRecord& r : pass.inputs)
-    if (r.resource == name) return r;
-  throw std::runtime_error(pass.name + " has no input " + name);
-}
-
 // D32_SFLOAT_S8_UINT in the raw layout: the depth plane (4 bytes a texel), then the stencil
 // plane (1 byte a texel).
 float depth_at(const std::vector<uint8_t>& raw, uint32_t width, uint32_t x, uint32_t y) {

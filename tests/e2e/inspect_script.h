@@ -39,6 +39,12 @@ inline const PassRecord& pass_named(const FrameRecord& frame, const std::string&
   throw std::runtime_error("no pass " + name);
 }
 
+inline const ResourceRecord& input_named(const PassRecord& pass, const std::string& name) {
+  for (const ResourceRecord& r : pass.inputs)
+    if (r.resource == name) return r;
+  throw std::runtime_error(pass.name + " has no input " + name);
+}
+
 inline const ResourceRecord& output_named(const PassRecord& pass, const std::string& name) {
   for (const ResourceRecord& r : pass.outputs)
     if (r.resource == name) return r;

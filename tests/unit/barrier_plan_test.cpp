@@ -1,8 +1,10 @@
 // The barrier plan of the compile step, per mip and layer: a mip written while another is
 // sampled, a layer rendered while the others keep their contents, a whole-image use after
-// per-mip ones, 3D images and cubes, the clears of a partly written image, readbacks, and the
-// declaration mistakes that must be GraphErrors.
+// per-mip ones, 3D images and cubes, the clears of a partly written image, readbacks, NaN
+// injections, and the declaration mistakes that must be GraphErrors.
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 #include "passes/core/graph.h"
 
@@ -314,6 +316,82 @@ TEST(BarrierPlan, DeclaredMipsStopAtTheChainOfASmallImage) {
   const CompiledGraph graph =
       compile_graph({PassDecl("w", PassType::compute).write("chain", Use::storage_write, tiny)}, {}, sinks({"chain"}));
   EXPECT_EQ(graph.resources.at("chain").extent.mips, 3u) << "5, 2, 1";
+}
+
+TEST(BarrierPlan, NanInjectionWritesOneSubresourceBetweenThePassAndItsReadback) {
+  const std::vector<PassDecl> passes = chain_passes(2);
+  GraphSettings settings = sinks({"chain"});
+  settings.capture = true;
+  settings.nan_injections = {{"level0", "chain", 3, 4}};
+  const CompiledGraph graph = compile_graph(passes, {}, settings);
+
+  const PassSync& level0 = pass(graph, "level0").sync;
+  EXPECT_EQ(level0.injections, settings.nan_injections);
+  ASSERT_EQ(level0.before_injections.size(), 1u);
+  const PlannedBarrier& inject = level0.before_injections[0];
+  EXPECT_EQ(inject.range, Subresources::at(0, 0));
+  EXPECT_EQ(inject.plan.before.layout, VK_IMAGE_LAYOUT_GENERAL) << "the texels around it are kept";
+  EXPECT_EQ(inject.plan.before.stages, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT);
+  EXPECT_EQ(inject.plan.before.access, kStorageWrite);
+  EXPECT_EQ(inject.plan.after, transfer_state(true));
+  // The readback of the version waits for the injected texel: mip 0 now moves from the transfer
+  // write as the cleared mip 1 does, so both go in one barrier.
+  const auto readback = of(level0.before_readback, "chain");
+  ASSERT_EQ(readback.size(), 1u);
+  EXPECT_EQ(readback[0].range, (Subresources{0, 2, 0, 1}));
+  EXPECT_EQ(readback[0].plan.before, transfer_state(true));
+  EXPECT_EQ(readback[0].plan.after, transfer_state(false));
+  EXPECT_TRUE(pass(graph, "level1").sync.injections.empty());
+  EXPECT_TRUE(pass(graph, "level1").sync.before_injections.empty());
+}
+
+TEST(BarrierPlan, NanInjectionIsVisibleToTheNextReaderWithoutACapture) {
+  const std::vector<PassDecl> passes = chain_passes(2);
+  GraphSettings settings = sinks({"chain"});
+  settings.nan_injections = {{"level0", "chain", 0, 0}};
+  const CompiledGraph graph = compile_graph(passes, {}, settings);
+  EXPECT_TRUE(pass(graph, "level0").sync.before_readback.empty());
+  const auto reader = of(pass(graph, "level1").sync.before_pass, "chain");
+  const auto mip0 = std::find_if(reader.begin(), reader.end(), [](const auto& b) { return b.range.base_mip == 0; });
+  ASSERT_NE(mip0, reader.end());
+  EXPECT_EQ(mip0->plan.before.layout, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+  EXPECT_EQ(mip0->plan.before.stages, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT);
+  EXPECT_EQ(mip0->plan.before.access, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  EXPECT_EQ(mip0->plan.after.layout, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+}
+
+TEST(BarrierPlan, NanInjectionMistakesAreGraphErrors) {
+  std::vector<PassDecl> passes = chain_passes(2);
+  passes[1].can_disable("off for the test");
+  passes.push_back(
+      PassDecl("ldr", PassType::graphics)
+          .read("chain", Use::sampled)
+          .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour})
+          .write("list", Use::storage_write, BufferDecl(ResourceKind::buffer, 64)));
+  auto message = [&](const NanInjection& nan) {
+    GraphSettings settings = sinks({"final.ldr", "list"});
+    settings.params["level1"]["enabled"] = 0;
+    settings.nan_injections = {nan};
+    try {
+      compile_graph(passes, {}, settings);
+    } catch (const GraphError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message({"level0", "chain", 63, 31}), "no error");
+  EXPECT_EQ(message({"nowhere", "chain", 0, 0}), "NaN injection into nowhere (chain): no such pass");
+  EXPECT_EQ(message({"level1", "chain", 0, 0}),
+            "NaN injection into level1 (chain): the pass does not run (off for the test (level1.enabled=0))");
+  EXPECT_EQ(message({"ldr", "final.ldr", 0, 0}),
+            "NaN injection into ldr (final.ldr): not a float colour image the pass writes");
+  EXPECT_EQ(message({"ldr", "list", 0, 0}), "NaN injection into ldr (list): not a float colour image the pass writes");
+  EXPECT_EQ(message({"ldr", "chain", 0, 0}), "NaN injection into ldr (chain): not a float colour image the pass writes")
+      << "an input is not an output";
+  EXPECT_EQ(message({"level0", "chain", 64, 0}),
+            "NaN injection into level0 (chain): texel (64, 0) is outside its 64x32 mip 0");
+  EXPECT_EQ(message({"level0", "chain", 0, 32}),
+            "NaN injection into level0 (chain): texel (0, 32) is outside its 64x32 mip 0");
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // The format table: raw layout offsets, texel decoding of every encoding on codes whose value
-// is known, and the half conversions against exact arithmetic.
+// is known, the half conversions against exact arithmetic, and the NaN texel of each float format.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -243,6 +243,25 @@ TEST(Format, SrgbTransferRoundTrips) {
     EXPECT_NEAR(linear_to_srgb(srgb_to_linear(c)), c, 1e-5f) << code;
   }
   EXPECT_NEAR(srgb_to_linear(0.5f), 0.21404114f, 1e-6f);
+}
+
+TEST(Format, QuietNanTexelIsNanInEveryChannelOfEachFloatColourFormat) {
+  uint32_t float_formats = 0;
+  for (const FormatInfo& f : all_formats()) {
+    SCOPED_TRACE(std::string(f.name));
+    if (!is_float_colour(f)) {
+      EXPECT_THROW(quiet_nan_texel(f), std::invalid_argument);
+      continue;
+    }
+    ++float_formats;
+    EXPECT_FALSE(f.is_depth);
+    const std::vector<uint8_t> texel = quiet_nan_texel(f);
+    ASSERT_EQ(texel.size(), f.texel_bytes);
+    for (float value : decode(f.vk, texel, 0)) EXPECT_TRUE(std::isnan(value));
+  }
+  EXPECT_GE(float_formats, 3u) << "half, float and B10G11R11 at least";
+  EXPECT_EQ(quiet_nan_texel(info(VK_FORMAT_R16_SFLOAT)), bytes_of<uint16_t>({0x7E00}));
+  EXPECT_EQ(quiet_nan_texel(info(VK_FORMAT_R32_SFLOAT)), bytes_of<uint32_t>({0x7FC00000}));
 }
 
 TEST(Format, KindNamesRoundTrip) {
