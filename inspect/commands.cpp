@@ -52,10 +52,11 @@ const std::vector<CommandSpec>& specs() {
       {{"shader", "shader [PATH]",
         "the current pass's shaders (or the one whose path ends in PATH): recorded GLSL and SPIR-V disassembly"},
        {}},
-      {{"pixel", "pixel X Y [RESOURCE] [--mip M] [--layer L] [--frames]",
+      {{"pixel", "pixel X Y [RESOURCE] [--mip M] [--layer L] [--slice Z] [--frames]",
         "the texel under output pixel (X, Y) decoded by what RESOURCE holds (default: the current pass's first "
-        "output), with its raw values; --frames: the same pixel in every recorded frame"},
-       {{"--mip", 1}, {"--layer", 1}, {"--frames", 0}}},
+        "output), with its raw values; --slice: the depth slice of a 3D image; --frames: the same pixel in every "
+        "recorded frame"},
+       {{"--mip", 1}, {"--layer", 1}, {"--slice", 1}, {"--frames", 0}}},
       {{"history", "history X Y [RESOURCE]",
         "output pixel (X, Y) through the frame: each pass that wrote a screen-space resource (depth and stencil "
         "included; every mip of a pyramid), in order, with the texel before and after, and 'unchanged' where the pass "
@@ -69,12 +70,12 @@ const std::vector<CommandSpec>& specs() {
       {{"buffer", "buffer RESOURCE [--element N]",
         "a buffer decoded field by field by the schema its pass declared, else as 32-bit words"},
        {{"--element", 1}}},
-      {{"stats", "stats RESOURCE [--mip M] [--layer L] [--rect X Y W H]",
+      {{"stats", "stats RESOURCE [--mip M] [--layer L] [--slice Z] [--rect X Y W H]",
         "per channel: min, max, mean of the finite values, a 16-bin histogram, NaN, Inf and denormal counts; "
         "--rect in output pixels"},
-       {{"--mip", 1}, {"--layer", 1}, {"--rect", 4}}},
+       {{"--mip", 1}, {"--layer", 1}, {"--slice", 1}, {"--rect", 4}}},
       {{"export",
-        "export RESOURCE [--mip M] [--layer L] [--stencil] [--half] [--uncompressed] -o FILE.exr|FILE.png; "
+        "export RESOURCE [--mip M] [--layer L] [--slice Z] [--stencil] [--half] [--uncompressed] -o FILE.exr|FILE.png; "
         "export PASS --all [--no-pictures] [--half] [--uncompressed] -o DIR",
         "FILE.exr: the values as float channels; FILE.png: a picture for its kind (normals as colour, depth "
         "linearised, motion on a colour wheel, HDR tonemapped; --stencil: stencil classes as a palette). --all: "
@@ -83,6 +84,7 @@ const std::vector<CommandSpec>& specs() {
         "RenderDoc writes them) or --uncompressed; --no-pictures: --all writes no PNG"},
        {{"--mip", 1},
         {"--layer", 1},
+        {"--slice", 1},
         {"--stencil", 0},
         {"--all", 0},
         {"--no-pictures", 0},
@@ -143,6 +145,10 @@ uint32_t parse_index(const std::string& what, const std::string& text) {
 
 uint32_t option_index(const Arguments& args, const std::string& option, uint32_t fallback) {
   return args.has(option) ? parse_index(option, args.options.at(option)[0]) : fallback;
+}
+
+Subimage subimage_of(const Arguments& args) {
+  return {option_index(args, "--mip", 0), option_index(args, "--layer", 0), option_index(args, "--slice", 0)};
 }
 
 void expect_positionals(const CommandSpec& spec, const Arguments& args, size_t min, size_t max) {
@@ -394,9 +400,9 @@ class Runner {
            << s["spirv"].get<std::string>();
   }
 
-  ojson reading_json(const ResourceRecord& record, const FrameRecord& frame, uint32_t x, uint32_t y, uint32_t mip,
-                     uint32_t layer) {
-    const TexelAddress texel = texel_for_output_pixel(record, frame, x, y, mip, layer);
+  ojson reading_json(const ResourceRecord& record, const FrameRecord& frame, uint32_t x, uint32_t y,
+                     const Subimage& subimage) {
+    const TexelAddress texel = texel_for_output_pixel(record, frame, x, y, subimage);
     const PixelReading reading = read_pixel(record, session_.load(record), frame, texel);
     ojson j = {{"frame", frame.index},
                {"resource", record.resource},
@@ -406,8 +412,9 @@ class Runner {
                {"pixel", {x, y}},
                {"texel", {texel.x, texel.y}},
                {"mip", texel.mip},
-               {"layer", texel.layer},
-               {"raw", reading.values.raw}};
+               {"layer", texel.layer}};
+    if (record.extent.depth > 1) j["slice"] = texel.slice;
+    j["raw"] = reading.values.raw;
     if (!reading.values.codes.empty()) j["codes"] = reading.values.codes;
     j["decoded"] = reading.decoded;
     return j;
@@ -416,7 +423,7 @@ class Runner {
   void print_reading(const ojson& j) {
     out_ << j["resource"].get<std::string>() << " (" << j["kind"].get<std::string>() << ", "
          << j["format"].get<std::string>() << ") frame " << j["frame"] << " texel " << brief(j["texel"]) << " mip "
-         << j["mip"] << " layer " << j["layer"] << "\n";
+         << j["mip"] << " layer " << j["layer"] << (j.contains("slice") ? " slice " + j["slice"].dump() : "") << "\n";
     out_ << "  raw: " << brief(j["raw"]) << "\n";
     if (j.contains("codes")) out_ << "  codes: " << brief(j["codes"]) << "\n";
     for (const auto& [name, value] : j["decoded"].items()) out_ << "  " << name << ": " << brief(value) << "\n";
@@ -425,7 +432,7 @@ class Runner {
   void pixel(const CommandSpec& spec, const Arguments& args) {
     expect_positionals(spec, args, 2, 3);
     const uint32_t x = parse_index("X", args.positional[0]), y = parse_index("Y", args.positional[1]);
-    const uint32_t mip = option_index(args, "--mip", 0), layer = option_index(args, "--layer", 0);
+    const Subimage subimage = subimage_of(args);
     std::string name;
     if (args.positional.size() == 3) {
       name = args.positional[2];
@@ -436,7 +443,7 @@ class Runner {
     }
     const ResourceRecord& record = session_.resource(name);
     if (!args.has("--frames")) {
-      const ojson j = reading_json(record, session_.frame(), x, y, mip, layer);
+      const ojson j = reading_json(record, session_.frame(), x, y, subimage);
       return json_ ? emit(j) : print_reading(j);
     }
     ojson frames = ojson::array();
@@ -446,7 +453,7 @@ class Runner {
         frames.push_back({{"frame", frame.index}, {"missing", "no " + name + " at " + session_.pass().name}});
         continue;
       }
-      frames.push_back(reading_json(*version, frame, x, y, mip, layer));
+      frames.push_back(reading_json(*version, frame, x, y, subimage));
     }
     if (json_) return emit({{"resource", name}, {"pixel", {x, y}}, {"frames", frames}});
     for (const ojson& f : frames) {
@@ -635,7 +642,7 @@ class Runner {
     expect_positionals(spec, args, 1, 1);
     const ResourceRecord& record = session_.resource(args.positional[0]);
     const FrameRecord& frame = session_.frame();
-    const uint32_t mip = option_index(args, "--mip", 0), layer = option_index(args, "--layer", 0);
+    const Subimage subimage = subimage_of(args);
     // The texels covering the output rectangle: from the first pixel's texel to the last one's.
     uint32_t x = 0, y = 0, w = frame.width, h = frame.height;
     if (args.has("--rect")) {
@@ -650,10 +657,10 @@ class Runner {
       throw InspectError("--rect " + std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(w) + " " +
                          std::to_string(h) + " is outside the " + std::to_string(frame.width) + "x" +
                          std::to_string(frame.height) + " output");
-    const TexelAddress first = texel_for_output_pixel(record, frame, x, y, mip, layer);
-    const TexelAddress last = texel_for_output_pixel(record, frame, x + w - 1, y + h - 1, mip, layer);
+    const TexelAddress first = texel_for_output_pixel(record, frame, x, y, subimage);
+    const TexelAddress last = texel_for_output_pixel(record, frame, x + w - 1, y + h - 1, subimage);
     const TexelRect rect{first.x, first.y, last.x - first.x + 1, last.y - first.y + 1};
-    const std::vector<ChannelStats> channels = image_stats(record, session_.load(record), mip, layer, rect);
+    const std::vector<ChannelStats> channels = image_stats(record, session_.load(record), subimage, rect);
     ojson list = ojson::array();
     for (const ChannelStats& c : channels)
       list.push_back({{"min", c.min},
@@ -667,13 +674,15 @@ class Runner {
     ojson j = {{"resource", record.resource},
                {"kind", kind_name(record.kind)},
                {"format", format_info(record.format)->name},
-               {"mip", mip},
-               {"layer", layer},
+               {"mip", subimage.mip},
+               {"layer", subimage.layer},
+               {"slice", subimage.slice},
                {"texels", {rect.x, rect.y, rect.width, rect.height}},
                {"channels", list}};
     if (json_) return emit(j);
-    out_ << record.resource << " (" << j["format"].get<std::string>() << ") mip " << mip << " layer " << layer
-         << ", texels " << rect.x << "," << rect.y << " " << rect.width << "x" << rect.height << "\n";
+    out_ << record.resource << " (" << j["format"].get<std::string>() << ") mip " << subimage.mip << " layer "
+         << subimage.layer << (record.extent.depth > 1 ? " slice " + std::to_string(subimage.slice) : "") << ", texels "
+         << rect.x << "," << rect.y << " " << rect.width << "x" << rect.height << "\n";
     for (size_t c = 0; c < channels.size(); ++c) {
       const ChannelStats& s = channels[c];
       out_ << "  channel " << c << ": min " << brief(s.min) << " max " << brief(s.max) << " mean " << brief(s.mean)
@@ -707,27 +716,26 @@ class Runner {
           files.push_back(file.string());
           continue;
         }
-        write_values_exr(target / (r.resource + ".exr"), r, raw, 0, 0, values);
+        write_values_exr(target / (r.resource + ".exr"), r, raw, {}, values);
         files.push_back((target / (r.resource + ".exr")).string());
         if (args.has("--no-pictures")) continue;
-        write_picture(target / (r.resource + ".png"), r, raw, 0, 0, VisualAspect::depth_or_colour);
+        write_picture(target / (r.resource + ".png"), r, raw, {}, VisualAspect::depth_or_colour);
         files.push_back((target / (r.resource + ".png")).string());
         if (format_info(r.format)->has_stencil) {
-          write_picture(target / (r.resource + ".stencil.png"), r, raw, 0, 0, VisualAspect::stencil);
+          write_picture(target / (r.resource + ".stencil.png"), r, raw, {}, VisualAspect::stencil);
           files.push_back((target / (r.resource + ".stencil.png")).string());
         }
       }
     } else {
       const ResourceRecord& record = session_.resource(args.positional[0]);
       if (record.is_buffer) throw InspectError(record.resource + " is a buffer: `export PASS --all` writes its bytes");
-      const uint32_t mip = option_index(args, "--mip", 0), layer = option_index(args, "--layer", 0);
-      // Validates the mip and layer as `pixel` does.
-      texel_for_output_pixel(record, session_.frame(), 0, 0, mip, layer);
+      const Subimage subimage = subimage_of(args);
+      check_subimage(record, subimage);
       const std::string extension = target.extension().string();
       if (extension == ".exr" && !args.has("--stencil")) {
-        write_values_exr(target, record, session_.load(record), mip, layer, values);
+        write_values_exr(target, record, session_.load(record), subimage, values);
       } else if (extension == ".png") {
-        write_picture(target, record, session_.load(record), mip, layer,
+        write_picture(target, record, session_.load(record), subimage,
                       args.has("--stencil") ? VisualAspect::stencil : VisualAspect::depth_or_colour);
       } else {
         throw InspectError("export -o " + target.string() + ": expected a .exr file (values) or a .png (picture)" +
@@ -756,7 +764,7 @@ class Runner {
         ojson values = ojson::array(), inputs = ojson::array();
         for (double v : t.values) values.push_back(number_or_name(v));
         for (const ResourceRecord& in : pass.inputs)
-          if (!in.is_buffer) inputs.push_back(reading_json(in, frame, t.pixel_x, t.pixel_y, 0, 0));
+          if (!in.is_buffer) inputs.push_back(reading_json(in, frame, t.pixel_x, t.pixel_y, {}));
         ojson texel = {{"pixel", {t.pixel_x, t.pixel_y}}, {"texel", {t.x, t.y}}, {"mip", t.mip}, {"layer", t.layer}};
         if (births.resource->extent.depth > 1) texel["slice"] = t.slice;
         texel["values"] = values;
@@ -790,8 +798,8 @@ class Runner {
   }
 
   void write_picture(const std::filesystem::path& file, const ResourceRecord& record, std::span<const uint8_t> raw,
-                     uint32_t mip, uint32_t layer, VisualAspect aspect) {
-    const Rgba8Image image = visualise(record, raw, session_.frame(), mip, layer, aspect);
+                     const Subimage& subimage, VisualAspect aspect) {
+    const Rgba8Image image = visualise(record, raw, session_.frame(), subimage, aspect);
     write_png(file, image.pixels, image.width, image.height);
   }
 

@@ -149,26 +149,37 @@ std::vector<std::string> stencil_flags(uint32_t stencil) {
   return flags;
 }
 
-TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRecord& frame, uint32_t x, uint32_t y,
-                                    uint32_t mip, uint32_t layer) {
+void check_subimage(const ResourceRecord& record, const Subimage& subimage) {
   if (record.is_buffer) throw InspectError(record.resource + " is a buffer: use `buffer " + record.resource + "`");
+  if (subimage.mip >= record.extent.mips)
+    throw InspectError(record.resource + " has " + std::to_string(record.extent.mips) + " mip(s): no mip " +
+                       std::to_string(subimage.mip));
+  if (subimage.layer >= record.extent.layers)
+    throw InspectError(record.resource + " has " + std::to_string(record.extent.layers) + " layer(s): no layer " +
+                       std::to_string(subimage.layer));
+  const uint32_t slices = mip_size(record.extent.depth, subimage.mip);
+  if (subimage.slice >= slices)
+    throw InspectError(record.resource + " has " + std::to_string(slices) + " slice(s) at mip " +
+                       std::to_string(subimage.mip) + ": no slice " + std::to_string(subimage.slice));
+}
+
+TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRecord& frame, uint32_t x, uint32_t y,
+                                    const Subimage& subimage) {
+  check_subimage(record, subimage);
   if (x >= frame.width || y >= frame.height)
     throw InspectError("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the " +
                        std::to_string(frame.width) + "x" + std::to_string(frame.height) + " output");
-  if (mip >= record.extent.mips)
-    throw InspectError(record.resource + " has " + std::to_string(record.extent.mips) + " mip(s): no mip " +
-                       std::to_string(mip));
-  if (layer >= record.extent.layers)
-    throw InspectError(record.resource + " has " + std::to_string(record.extent.layers) + " layer(s): no layer " +
-                       std::to_string(layer));
-  const uint32_t width = mip_size(record.extent.width, mip), height = mip_size(record.extent.height, mip);
-  return {texel_under_pixel(x, frame.width, width), texel_under_pixel(y, frame.height, height), mip, layer};
+  const uint32_t width = mip_size(record.extent.width, subimage.mip);
+  const uint32_t height = mip_size(record.extent.height, subimage.mip);
+  return {texel_under_pixel(x, frame.width, width), texel_under_pixel(y, frame.height, height), subimage.mip,
+          subimage.layer, subimage.slice};
 }
 
 TexelValues read_texel(const ResourceRecord& record, std::span<const uint8_t> raw, const TexelAddress& texel) {
   const FormatInfo format = *format_info(record.format);
   TexelValues values;
-  const uint64_t index = uint64_t(texel.y) * mip_size(record.extent.width, texel.mip) + texel.x;
+  const uint64_t width = mip_size(record.extent.width, texel.mip), height = mip_size(record.extent.height, texel.mip);
+  const uint64_t index = (texel.slice * height + texel.y) * width + texel.x;
   for (uint32_t aspect = 0; aspect < aspect_count(format); ++aspect) {
     const std::span<const uint8_t> plane =
         raw.subspan(raw_subresource_offset(format, record.extent, aspect, texel.mip, texel.layer),

@@ -24,16 +24,24 @@ struct InspectError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Where a pixel of the frame's output lands in one subresource of an image.
+// One 2D image of a resource: a mip of a layer and, in a 3D image, one depth slice of that mip.
+struct Subimage {
+  uint32_t mip = 0, layer = 0, slice = 0;
+};
+// Throws InspectError naming what `record` lacks: the mip, the layer, or the slice (a 2D image
+// has slice 0 only).
+void check_subimage(const ResourceRecord& record, const Subimage& subimage);
+
+// Where a pixel of the frame's output lands in one subimage of an image.
 struct TexelAddress {
-  uint32_t x = 0, y = 0, mip = 0, layer = 0;
+  uint32_t x = 0, y = 0, mip = 0, layer = 0, slice = 0;
 };
 
-// Output coordinates (full resolution) scaled to mip `mip` of `record`: half-resolution
+// Output coordinates (full resolution) scaled to `subimage` of `record`: half-resolution
 // resources, mips and fixed-size tables take the texel that covers the same place of the
-// screen. Throws InspectError when the pixel, mip or layer is outside.
+// screen. Throws InspectError when the pixel or the subimage is outside.
 TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRecord& frame, uint32_t x, uint32_t y,
-                                    uint32_t mip, uint32_t layer);
+                                    const Subimage& subimage);
 
 struct TexelValues {
   // Per aspect (depth then stencil): the channel values as format.h decodes them (UNORM in

@@ -38,20 +38,22 @@ class LinesOnThisThread {
   int pool_threads_;
 };
 
-// Decodes every channel of one subresource into planes of `Channel` (float or half) and writes
+// Decodes every channel of one subimage into planes of `Channel` (float or half) and writes
 // them: decoding straight to the stored type keeps one copy of the image in memory.
 template <typename Channel>
 void write_exr(const std::filesystem::path& file, const ResourceRecord& record, std::span<const uint8_t> raw,
-               uint32_t mip, uint32_t layer, Imf::PixelType type, Imf::Compression compression) {
+               const Subimage& subimage, Imf::PixelType type, Imf::Compression compression) {
   const FormatInfo format = *format_info(record.format);
+  const uint32_t mip = subimage.mip;
   const uint32_t width = mip_size(record.extent.width, mip), height = mip_size(record.extent.height, mip);
   const uint64_t texels = uint64_t(width) * height;
   std::vector<std::string> names;
   std::vector<std::vector<Channel>> planes;
   for (uint32_t aspect = 0; aspect < aspect_count(format); ++aspect) {
-    const std::span<const uint8_t> plane =
-        raw.subspan(raw_subresource_offset(format, record.extent, aspect, mip, layer),
-                    raw_subresource_bytes(format, record.extent, aspect, mip));
+    const uint64_t slice_bytes = texels * aspect_texel_bytes(format, aspect);
+    const std::span<const uint8_t> plane = raw.subspan(
+        raw_subresource_offset(format, record.extent, aspect, mip, subimage.layer) + subimage.slice * slice_bytes,
+        slice_bytes);
     const uint32_t channels = aspect_channels(format, aspect);
     const size_t first = planes.size();
     for (uint32_t c = 0; c < channels; ++c) {
@@ -96,12 +98,13 @@ void write_exr(const std::filesystem::path& file, const ResourceRecord& record, 
 }  // namespace
 
 void write_values_exr(const std::filesystem::path& file, const ResourceRecord& record, std::span<const uint8_t> raw,
-                      uint32_t mip, uint32_t layer, const ValuesExr& options) {
+                      const Subimage& subimage, const ValuesExr& options) {
+  check_subimage(record, subimage);
   const Imf::Compression compression = options.compressed ? Imf::ZIP_COMPRESSION : Imf::NO_COMPRESSION;
   if (options.half)
-    write_exr<Imath::half>(file, record, raw, mip, layer, Imf::HALF, compression);
+    write_exr<Imath::half>(file, record, raw, subimage, Imf::HALF, compression);
   else
-    write_exr<float>(file, record, raw, mip, layer, Imf::FLOAT, compression);
+    write_exr<float>(file, record, raw, subimage, Imf::FLOAT, compression);
 }
 
 }  // namespace nightcap

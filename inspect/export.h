@@ -7,6 +7,7 @@
 #include <span>
 
 #include "captures/capture.h"
+#include "inspect/decode.h"
 
 namespace nightcap {
 
@@ -17,10 +18,10 @@ struct ValuesExr {
   bool compressed = true;  // ZIP; false: uncompressed, the fastest to write and to read
 };
 
-// One subresource with every channel as FLOAT (or HALF), as format.h decodes it (UNORM in
+// One subimage with every channel as FLOAT (or HALF), as format.h decodes it (UNORM in
 // [0, 1], sRGB linearised, integer codes as their values): R, G, B, A in order, or Z and S for
 // depth and stencil. Throws InspectError when the file cannot be written.
 void write_values_exr(const std::filesystem::path& file, const ResourceRecord& record, std::span<const uint8_t> raw,
-                      uint32_t mip, uint32_t layer, const ValuesExr& options = {});
+                      const Subimage& subimage, const ValuesExr& options = {});
 
 }  // namespace nightcap

@@ -55,7 +55,7 @@ std::vector<PixelWrite> pixel_history(InspectSession& session, uint32_t x, uint3
       // entry; a first version shows every mip.
       const size_t first = writes.size();
       for (uint32_t mip = 0; mip < out.extent.mips; ++mip) {
-        PixelWrite write{i, before, &out, texel_for_output_pixel(out, frame, x, y, mip, 0), true};
+        PixelWrite write{i, before, &out, texel_for_output_pixel(out, frame, x, y, {mip, 0, 0}), true};
         if (before && before->hash == out.hash)
           write.changed = false;
         else if (before)
@@ -64,7 +64,7 @@ std::vector<PixelWrite> pixel_history(InspectSession& session, uint32_t x, uint3
         if (write.changed) writes.push_back(write);
       }
       if (writes.size() == first)
-        writes.push_back({i, before, &out, texel_for_output_pixel(out, frame, x, y, 0, 0), false});
+        writes.push_back({i, before, &out, texel_for_output_pixel(out, frame, x, y, {}), false});
     }
   }
   if (!only.empty() && !written)

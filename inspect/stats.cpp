@@ -26,10 +26,12 @@ bool stored_denormal(ChannelEncoding encoding, std::span<const uint8_t> plane, u
 
 }  // namespace
 
-std::vector<ChannelStats> image_stats(const ResourceRecord& record, std::span<const uint8_t> raw, uint32_t mip,
-                                      uint32_t layer, const TexelRect& rect) {
+std::vector<ChannelStats> image_stats(const ResourceRecord& record, std::span<const uint8_t> raw,
+                                      const Subimage& subimage, const TexelRect& rect) {
   const FormatInfo format = *format_info(record.format);
+  const uint32_t mip = subimage.mip, layer = subimage.layer;
   const uint32_t width = mip_size(record.extent.width, mip);
+  const uint64_t first_row = uint64_t(subimage.slice) * mip_size(record.extent.height, mip);
   std::vector<ChannelStats> result;
   for (uint32_t aspect = 0; aspect < aspect_count(format); ++aspect) {
     const std::span<const uint8_t> plane =
@@ -42,7 +44,7 @@ std::vector<ChannelStats> image_stats(const ResourceRecord& record, std::span<co
     std::vector<ChannelStats> stats(channels);
     for (uint32_t y = rect.y; y < rect.y + rect.height; ++y)
       for (uint32_t x = rect.x; x < rect.x + rect.width; ++x) {
-        const uint64_t index = uint64_t(y) * width + x;
+        const uint64_t index = (first_row + y) * width + x;
         float texel[4] = {};
         decode_texel(format, aspect, plane, index, texel);
         for (uint32_t c = 0; c < channels; ++c) {

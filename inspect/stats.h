@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "captures/capture.h"
+#include "inspect/decode.h"
 
 namespace nightcap {
 
@@ -24,9 +25,9 @@ struct ChannelStats {
 
 constexpr uint32_t kHistogramBins = 16;
 
-// Aspects follow one another (depth's channel, then stencil's). `rect` is in texels of `mip`
-// and must lie inside it.
-std::vector<ChannelStats> image_stats(const ResourceRecord& record, std::span<const uint8_t> raw, uint32_t mip,
-                                      uint32_t layer, const TexelRect& rect);
+// Aspects follow one another (depth's channel, then stencil's). `rect` is in texels of the
+// subimage and must lie inside it.
+std::vector<ChannelStats> image_stats(const ResourceRecord& record, std::span<const uint8_t> raw,
+                                      const Subimage& subimage, const TexelRect& rect);
 
 }  // namespace nightcap

@@ -58,8 +58,9 @@ std::array<uint8_t, 3> stencil_colour(uint32_t stencil) {
   return colour;
 }
 
-Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw, const FrameRecord& frame, uint32_t mip,
-                     uint32_t layer, VisualAspect aspect) {
+Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw, const FrameRecord& frame,
+                     const Subimage& subimage, VisualAspect aspect) {
+  const uint32_t mip = subimage.mip;
   const FormatInfo format = *format_info(record.format);
   if (aspect == VisualAspect::stencil && !format.has_stencil) throw InspectError(record.resource + " has no stencil");
   Rgba8Image image;
@@ -70,7 +71,7 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
   std::vector<TexelValues> values(texels);
   for (uint32_t y = 0; y < image.height; ++y)
     for (uint32_t x = 0; x < image.width; ++x)
-      values[uint64_t(y) * image.width + x] = read_texel(record, raw, {x, y, mip, layer});
+      values[uint64_t(y) * image.width + x] = read_texel(record, raw, {x, y, mip, subimage.layer, subimage.slice});
   auto put = [&](uint64_t i, double r, double g, double b) {
     image.pixels[4 * i] = to_code(r);
     image.pixels[4 * i + 1] = to_code(g);

@@ -10,6 +10,7 @@
 
 #include "captures/capture.h"
 #include "images/images.h"
+#include "inspect/decode.h"
 
 namespace nightcap {
 
@@ -27,8 +28,8 @@ enum class VisualAspect { depth_or_colour, stencil };
 // - hdr_colour: Reinhard x / (1 + x) per channel, then sRGB.
 // - colour: its linear values sRGB-encoded; material and the rest: channels as they are,
 //   clamped to [0, 1] (one channel: grey).
-Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw, const FrameRecord& frame, uint32_t mip,
-                     uint32_t layer, VisualAspect aspect);
+Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw, const FrameRecord& frame,
+                     const Subimage& subimage, VisualAspect aspect);
 
 // Palette entry of a stencil value (see above), RGB.
 std::array<uint8_t, 3> stencil_colour(uint32_t stencil);

@@ -29,7 +29,7 @@ TEST(InspectStats, CountsNanInfAndStoredHalfDenormals) {
   const ResourceRecord r = image_record("hdr", VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, 6, 1);
   std::vector<uint8_t> raw(6 * 8, 0);
   for (int i = 0; i < 6; ++i) std::memcpy(raw.data() + 8 * i, &halves[i], 2);
-  const std::vector<ChannelStats> stats = image_stats(r, raw, 0, 0, {0, 0, 6, 1});
+  const std::vector<ChannelStats> stats = image_stats(r, raw, {}, {0, 0, 6, 1});
   ASSERT_EQ(stats.size(), 4u);
   const ChannelStats& red = stats[0];
   EXPECT_EQ(red.nan, 1u);
@@ -86,15 +86,44 @@ TEST(InspectDecode, OutputPixelsMapToHalfResolutionMips) {
   frame.height = 720;
   const ResourceRecord half =
       image_record("chain", VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, 640, 360, 6);
-  const TexelAddress mip2 = texel_for_output_pixel(half, frame, 1279, 719, 2, 0);
+  const TexelAddress mip2 = texel_for_output_pixel(half, frame, 1279, 719, {2, 0, 0});
   EXPECT_EQ(mip2.x, 159u);  // mip 2 of 640x360 is 160x90
   EXPECT_EQ(mip2.y, 89u);
-  const TexelAddress centre = texel_for_output_pixel(half, frame, 640, 360, 0, 0);
+  const TexelAddress centre = texel_for_output_pixel(half, frame, 640, 360, {});
   EXPECT_EQ(centre.x, 320u);
   EXPECT_EQ(centre.y, 180u);
-  EXPECT_THROW(texel_for_output_pixel(half, frame, 1280, 0, 0, 0), InspectError);
-  EXPECT_THROW(texel_for_output_pixel(half, frame, 0, 0, 6, 0), InspectError);
-  EXPECT_THROW(texel_for_output_pixel(half, frame, 0, 0, 0, 1), InspectError);
+  EXPECT_THROW(texel_for_output_pixel(half, frame, 1280, 0, {}), InspectError);
+  EXPECT_THROW(texel_for_output_pixel(half, frame, 0, 0, {6, 0, 0}), InspectError);
+  EXPECT_THROW(texel_for_output_pixel(half, frame, 0, 0, {0, 1, 0}), InspectError);
+  EXPECT_THROW(texel_for_output_pixel(half, frame, 0, 0, {0, 0, 1}), InspectError) << "a 2D image has slice 0 only";
+}
+
+// A 16x8x4 R32_SFLOAT volume with 2 mips whose texel (x, y, z) of mip m holds 1000m + 100z + 10y + x:
+// each slice is read where the raw layout puts it (mip, then z, then rows).
+TEST(InspectDecode, SlicesOfA3DImage) {
+  ResourceRecord volume = image_record("froxels", VK_FORMAT_R32_SFLOAT, ResourceKind::buffer, 16, 8, 2);
+  volume.extent.depth = 4;
+  std::vector<uint8_t> raw;
+  for (uint32_t m = 0; m < 2; ++m)
+    for (uint32_t z = 0; z < (4u >> m); ++z)
+      for (uint32_t y = 0; y < (8u >> m); ++y)
+        for (uint32_t x = 0; x < (16u >> m); ++x) {
+          const float v = float(1000 * m + 100 * z + 10 * y + x);
+          const auto* bytes = reinterpret_cast<const uint8_t*>(&v);
+          raw.insert(raw.end(), bytes, bytes + 4);
+        }
+  FrameRecord frame;
+  frame.width = 16;
+  frame.height = 8;
+  const TexelAddress texel = texel_for_output_pixel(volume, frame, 5, 3, {0, 0, 2});
+  EXPECT_EQ(texel.slice, 2u);
+  EXPECT_EQ(read_texel(volume, raw, texel).raw, std::vector<double>{235});
+  EXPECT_EQ(read_texel(volume, raw, texel_for_output_pixel(volume, frame, 5, 3, {1, 0, 1})).raw,
+            std::vector<double>{1000 + 100 + 10 * 1 + 2});
+  EXPECT_THROW(texel_for_output_pixel(volume, frame, 0, 0, {1, 0, 2}), InspectError) << "mip 1 has 2 slices";
+  const std::vector<ChannelStats> stats = image_stats(volume, raw, {0, 0, 3}, {0, 0, 16, 8});
+  EXPECT_EQ(stats.at(0).min, 300);
+  EXPECT_EQ(stats.at(0).max, 385);  // 300 + 10·7 + 15
 }
 
 }  // namespace
