@@ -310,6 +310,7 @@ void bench_startup(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   const double peak_mib = cli_peak_mib(first_answer);
   // RenderDoc 1.24's "save the five G-buffer targets" as uncompressed half EXR, the same way.
   const fs::path exported = dir / "exported";
+  fs::create_directories(exported);
   std::string export_commands = "goto gbuffer.opaque";
   for (const char* target : {"albedo", "normal", "material", "motion", "emissive"})
     export_commands += std::string("; export gbuffer.") + target + " --half --uncompressed -o " +
