@@ -4,6 +4,7 @@
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <fstream>
@@ -15,6 +16,7 @@
 #include "cli/inspect_repl.h"
 #include "inspect/commands.h"
 #include "inspect/diff.h"
+#include "inspect/diff_results.h"
 #include "inspect/graph_dot.h"
 #include "passes/core/shader.h"
 #include "passes/frame/frame_passes.h"
@@ -288,17 +290,39 @@ int run_replay(const std::string& path, uint32_t frame, const std::vector<std::s
   return verify && report.any_different() ? kExitDifferent : 0;
 }
 
-int run_diff(const std::string& a, const std::string& b, std::optional<double> tolerance, bool json) {
+struct DiffFlags {
+  std::string thresholds, junit;
+  std::optional<double> tolerance;
+  std::optional<uint32_t> frame;
+  bool json = false;
+};
+
+// Exit 0 when every result is within what it was held to, 1 when one is not; the last line
+// counts them (on stderr when --json owns stdout).
+int run_diff(const std::string& a, const std::string& b, const DiffFlags& flags) {
+  const auto start = std::chrono::steady_clock::now();
   const nc::Capture capture_a = nc::Capture::open(a);
   const nc::Capture capture_b = nc::Capture::open(b);
+  nc::Thresholds thresholds;
   nc::DiffOptions options;
-  options.tolerance = tolerance;
+  if (!flags.thresholds.empty()) {
+    thresholds = nc::read_thresholds(flags.thresholds);
+    options.thresholds = &thresholds;
+  }
+  options.tolerance = flags.tolerance;
+  options.frame = flags.frame;
   const nc::CaptureDiff diff = nc::diff_captures(capture_a, capture_b, options);
-  if (json)
+  const std::vector<nc::DiffCase> cases = nc::diff_cases(diff);
+  const nc::DiffTally counts = nc::tally(cases);
+  if (!flags.junit.empty())
+    nc::write_junit(flags.junit, cases,
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  if (flags.json)
     std::cout << nc::diff_to_json(diff).dump(1) << "\n";
   else
     nc::print_diff_table(std::cout, diff);
-  return diff.beyond_tolerance ? kExitDifferent : 0;
+  (flags.json ? std::cerr : std::cout) << counts.passed << " passed, " << counts.failed << " failed\n";
+  return counts.failed > 0 ? kExitDifferent : 0;
 }
 
 int run_graph(const std::string& path, uint32_t frame, const std::string& output) {
@@ -410,13 +434,23 @@ int main(int argc, char** argv) {
   replay->add_flag("--json", json, "machine-readable output");
 
   double tolerance = 0.0;
-  auto* diff = app.add_subcommand("diff", "Compare two captures pass by pass and name the first divergent pass");
+  uint32_t diff_frame = 0;
+  DiffFlags diff_flags;
+  auto* diff = app.add_subcommand("diff",
+                                  "Compare two captures pass by pass and name the first divergent pass.\n"
+                                  "Exit codes: 0 every result within what it was held to, 1 a regression, 2 an error.");
   diff->add_option("capture_a", capture_path, "reference capture")->required();
   diff->add_option("capture_b", capture_b, "capture to compare")->required();
+  diff->add_option("--thresholds", diff_flags.thresholds,
+                   "JSON rules (glob on PASS/RESOURCE, metric, limit, allowed share, ignored rectangles) that replace "
+                   "the recorded contracts of the outputs they match (README: Thresholds)");
   auto* tolerance_option = diff->add_option(
       "--tolerance", tolerance,
-      "max abs difference accepted for float outputs, instead of their recorded contracts (others keep theirs)");
-  diff->add_flag("--json", json, "machine-readable output");
+      "max abs difference accepted for float outputs no --thresholds rule matches, instead of their recorded "
+      "contracts (others keep theirs)");
+  auto* diff_frame_option = diff->add_option("--frame", diff_frame, "compare frame K only");
+  diff->add_option("--junit", diff_flags.junit, "also write JUnit XML: one test case per pass and output");
+  diff->add_flag("--json", json, "machine-readable output (the last line, the counts, goes to stderr)");
 
   std::string graph_output;
   bool dot = false;
@@ -456,9 +490,12 @@ int main(int argc, char** argv) {
     if (*render) code = run_render(r);
     if (*passes) code = run_passes(capture_path, json);
     if (*replay) code = run_replay(capture_path, frame, pass_names, sets, shaders, device, verify, chain, json);
-    if (*diff)
-      code = run_diff(capture_path, capture_b,
-                      tolerance_option->count() ? std::optional<double>(tolerance) : std::nullopt, json);
+    if (*diff) {
+      if (tolerance_option->count()) diff_flags.tolerance = tolerance;
+      if (diff_frame_option->count()) diff_flags.frame = diff_frame;
+      diff_flags.json = json;
+      code = run_diff(capture_path, capture_b, diff_flags);
+    }
     if (*graph) code = run_graph(capture_path, frame, graph_output);
     if (*inspect) code = run_inspect(capture_path, inspect_commands, inspect_script, device);
   } catch (const std::exception& e) {

@@ -32,8 +32,16 @@ std::map<std::string, std::string> shader_hashes(const PassRecord& p) {
   return out;
 }
 
-PassDiff diff_pass(const Capture& ca, const PassRecord& a, const Capture& cb, const PassRecord& b,
-                   const DiffOptions& options) {
+// Outputs `--tolerance` applies to: float colour values (not normals, depth or buffers).
+bool float_output(const ResourceRecord& r) {
+  if (r.is_buffer || r.kind == ResourceKind::normal || r.kind == ResourceKind::packed_normal) return false;
+  const FormatInfo f = *format_info(r.format);
+  return !f.is_depth && (f.encoding == ChannelEncoding::sfloat16 || f.encoding == ChannelEncoding::sfloat32 ||
+                         f.encoding == ChannelEncoding::packed_b10g11r11);
+}
+
+PassDiff diff_pass(const Capture& ca, const FrameRecord& frame_a, const PassRecord& a, const Capture& cb,
+                   const PassRecord& b, const DiffOptions& options) {
   PassDiff d;
   d.name = a.name;
   if (!a.ran || !b.ran) {
@@ -56,19 +64,29 @@ PassDiff diff_pass(const Capture& ca, const PassRecord& a, const Capture& cb, co
       o.comparison.comparable = false;
       o.comparison.note = "only in A";
       differs = d.beyond_tolerance = true;
-    } else if (ra.hash == rb->hash) {
-      o.comparison.identical = true;
-      o.comparison.metric = "bytes";
     } else {
+      const ThresholdRule* rule = options.thresholds ? options.thresholds->match(a.name, ra) : nullptr;
+      const bool by_tolerance = !rule && options.tolerance && float_output(ra);
+      o.held_to = rule           ? rule->description() + " (" + rule->source + ")"
+                  : by_tolerance ? "max abs <= " + number(*options.tolerance) + " (--tolerance)"
+                                 : contract_description(ra.contract) + " (recorded contract)";
+      if (ra.hash == rb->hash) {
+        o.comparison.identical = true;
+        o.comparison.metric = "bytes";
+        d.outputs.push_back(std::move(o));
+        continue;
+      }
       const std::vector<uint8_t> raw_a = ca.load(ra), raw_b = cb.load(*rb);
       o.comparison = compare_resource(ra, raw_a, *rb, raw_b);
       differs = true;
-      if (options.tolerance && o.comparison.metric == "float") {
-        o.held_to = "max abs <= " + number(*options.tolerance) + " (--tolerance)";
+      if (rule) {
+        o.threshold = o.comparison.comparable ? check_threshold(*rule, frame_a, ra, raw_a, raw_b)
+                                              : ThresholdCheck{false, 0, 0, INFINITY, o.comparison.note};
+        o.beyond = !o.threshold->holds;
+      } else if (by_tolerance) {
         o.beyond = !o.comparison.comparable || !(o.comparison.max_abs <= *options.tolerance);
       } else {
         o.contract = check_contract(ra.contract, ra, raw_a, raw_b, o.comparison);
-        o.held_to = contract_description(ra.contract) + " (recorded contract)";
         o.beyond = !o.contract.holds;
       }
       if (o.beyond) d.beyond_tolerance = true;
@@ -120,7 +138,13 @@ std::string status_name(PassStatus status) {
 
 CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions& options) {
   CaptureDiff diff;
+  if (options.frame) {
+    a.frame(*options.frame);  // throws CaptureError naming the frames it has
+    b.frame(*options.frame);
+  }
+  auto wanted = [&](const FrameRecord& f) { return !options.frame || f.index == *options.frame; };
   for (const FrameRecord& fa : a.manifest().frames) {
+    if (!wanted(fa)) continue;
     const FrameRecord* fb = nullptr;
     for (const FrameRecord& f : b.manifest().frames)
       if (f.index == fa.index) fb = &f;
@@ -138,7 +162,7 @@ CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions&
         frame.passes.push_back({pa.name, PassStatus::only_in_a, false, false, false, {}, true});
         continue;
       }
-      frame.passes.push_back(diff_pass(a, pa, b, *pb, options));
+      frame.passes.push_back(diff_pass(a, fa, pa, b, *pb, options));
     }
     for (const PassRecord& pb : fb->passes)
       if (!find(fa, pb.name)) frame.passes.push_back({pb.name, PassStatus::only_in_b, false, false, false, {}, true});
@@ -153,6 +177,7 @@ CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions&
     diff.frames.push_back(std::move(frame));
   }
   for (const FrameRecord& fb : b.manifest().frames) {
+    if (!wanted(fb)) continue;
     bool found = false;
     for (const FrameRecord& fa : a.manifest().frames) found |= fa.index == fb.index;
     if (!found) {
@@ -187,6 +212,11 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
         else if (!c.comparable)
           out << "  " << c.note;
         if (!o.held_to.empty()) out << "  held to " << o.held_to << (o.beyond ? ": beyond" : ": met");
+        if (o.threshold && !o.comparison.identical)
+          out << (o.threshold->problem.empty()
+                      ? " (" + std::to_string(o.threshold->over) + " of " + std::to_string(o.threshold->counted) +
+                            " texels over, worst " + number(o.threshold->worst) + ")"
+                      : " (" + o.threshold->problem + ")");
         if (!c.first_difference.empty()) out << "  first at " << c.first_difference;
         out << "\n";
       }
@@ -233,6 +263,12 @@ nlohmann::json diff_to_json(const CaptureDiff& diff) {
             j["contract"] = {{"worst", finite_or_null(o.contract.worst)},
                              {"bound", o.contract.bound},
                              {"measure", o.contract.measure}};
+          if (o.threshold) {
+            j["threshold"] = {{"counted", o.threshold->counted},
+                              {"over", o.threshold->over},
+                              {"worst", finite_or_null(o.threshold->worst)}};
+            if (!o.threshold->problem.empty()) j["threshold"]["problem"] = o.threshold->problem;
+          }
         }
         outputs.push_back(j);
       }

@@ -13,22 +13,26 @@
 
 #include "captures/capture.h"
 #include "inspect/metrics.h"
+#include "inspect/thresholds.h"
 
 namespace nightcap {
 
 struct DiffOptions {
-  // Max abs difference accepted for float outputs, overriding their recorded contracts; every
-  // other output is held to the contract capture A recorded for it.
+  // What each output is held to, first that applies: the first rule of `thresholds` matching
+  // PASS/RESOURCE; for float outputs, max abs <= `tolerance`; the contract capture A recorded.
+  const Thresholds* thresholds = nullptr;
   std::optional<double> tolerance;
+  std::optional<uint32_t> frame;  // compare this frame only
 };
 
 struct OutputDiff {
   std::string resource;
   bool only_in_one = false;
   ResourceComparison comparison;
-  bool beyond = false;     // outside what it was held to
-  std::string held_to;     // the threshold and where it came from
-  ContractCheck contract;  // when held to the recorded contract
+  bool beyond = false;                      // outside what it was held to
+  std::string held_to;                      // the threshold and where it came from (every output compared)
+  ContractCheck contract;                   // when held to the recorded contract
+  std::optional<ThresholdCheck> threshold;  // when held to a rule of --thresholds
 };
 
 enum class PassStatus { identical, origin, inherited, skipped, skipped_in_a, skipped_in_b, only_in_a, only_in_b };
@@ -55,7 +59,7 @@ struct CaptureDiff {
   std::vector<std::string> notes;  // frames present in one capture only, ...
 };
 
-// Throws CaptureError when a blob cannot be read.
+// Throws CaptureError when a blob cannot be read or a capture lacks options.frame.
 CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions& options);
 void print_diff_table(std::ostream& out, const CaptureDiff& diff);
 nlohmann::json diff_to_json(const CaptureDiff& diff);

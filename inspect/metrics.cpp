@@ -213,19 +213,6 @@ ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uin
 
 namespace {
 
-// Codes per unit of a UNORM channel: what one step of the format is worth.
-double code_scale(const FormatInfo& f) {
-  using E = ChannelEncoding;
-  switch (f.encoding) {
-    case E::packed_a2b10g10r10:
-      return 1023.0;
-    case E::unorm16:
-      return 65535.0;
-    default:
-      return 255.0;
-  }
-}
-
 // Applies `visit(aspect, channel, value_a, value_b)` to every decoded value of two images of the
 // same format and size.
 template <typename Visit>

@@ -128,6 +128,17 @@ std::vector<uint8_t> quiet_nan_texel(const FormatInfo& format) {
   return texel;
 }
 
+double code_scale(const FormatInfo& format) {
+  switch (format.encoding) {
+    case E::packed_a2b10g10r10:
+      return 1023.0;
+    case E::unorm16:
+      return 65535.0;
+    default:
+      return 255.0;
+  }
+}
+
 float half_to_float(uint16_t h) {
   const uint32_t sign = (h >> 15) & 1, exponent = (h >> 10) & 31, mantissa = h & 1023;
   float value;

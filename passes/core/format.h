@@ -90,6 +90,10 @@ uint32_t aspect_channels(const FormatInfo& format, uint32_t aspect);
 uint32_t aspect_texel_bytes(const FormatInfo& format, uint32_t aspect);
 uint32_t aspect_count(const FormatInfo& format);
 
+// Codes per unit of a UNORM (or sRGB-encoded) colour channel: what one step of the format is
+// worth (the 2-bit alpha of A2B10G10R10 aside).
+double code_scale(const FormatInfo& format);
+
 float half_to_float(uint16_t h);
 uint16_t float_to_half(float f);
 float srgb_to_linear(float c);

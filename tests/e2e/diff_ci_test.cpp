@@ -1,0 +1,129 @@
+// `nightcap diff` as a CI gate: thresholds from a file (and where each came from), the last line
+// of counts, JUnit XML, exit codes, and one frame of a multi-frame pair.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+#include <set>
+
+#include "tests/e2e/cli.h"
+#include "tests/e2e/inspect_script.h"
+
+namespace nightcap::test {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const std::string kLight = std::string(kCity) + " --set lighting.deferred.intensity_scale=1.5";
+
+std::string last_line(const std::string& text) {
+  std::string trimmed = text;
+  while (!trimmed.empty() && trimmed.back() == '\n') trimmed.pop_back();
+  return trimmed.substr(trimmed.rfind('\n') == std::string::npos ? 0 : trimmed.rfind('\n') + 1);
+}
+
+size_t count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++n;
+  return n;
+}
+
+TEST(DiffCi, ThresholdsFileHoldsWhatItMatchesAndSaysWhereFrom) {
+  const fs::path a = shared_capture("city", kCity), b = shared_capture("city-light", kLight);
+  const fs::path dir = scratch("diff-thresholds");
+  const fs::path file = dir / "thresholds.json";
+  std::ofstream(file) << R"({"thresholds": [
+    {"match": "lighting.*/*", "metric": "rel", "limit": 1e9},
+    {"match": "tonemap/final.ldr", "metric": "codes", "limit": 255},
+    {"match": "*", "metric": "abs", "limit": 1e30}]})";
+  const CliResult r = run_cli("diff --json --thresholds " + quote(file) + " " + quote(a) + " " + quote(b));
+  EXPECT_EQ(r.code, 1) << "exposure's histogram, a buffer no 'abs' rule can measure, keeps its contract: " << r.err;
+  const json diff = json::parse(r.out);
+  EXPECT_EQ(diff.at("first_divergence"), (json{{"frame", 0}, {"pass", "lighting.deferred"}}));
+  std::set<std::string> buffers;
+  const Capture capture_a = Capture::open(a);
+  for (const PassRecord& p : capture_a.frame(0).passes)
+    for (const ResourceRecord& out : p.outputs)
+      if (out.is_buffer) buffers.insert(out.resource);
+  bool saw_lit = false, saw_ldr = false;
+  for (const json& frame : diff.at("frames"))
+    for (const json& p : frame.at("passes"))
+      for (const json& o : p.at("outputs")) {
+        ASSERT_TRUE(o.contains("held_to")) << o.dump();
+        // Buffers fit no rule here ('abs', 'rel' and 'codes' measure images): they keep their contracts.
+        const bool buffer = buffers.count(o.at("resource").get<std::string>()) > 0;
+        EXPECT_NE(o.at("held_to").get<std::string>().find(buffer ? "(recorded contract)" : file.string() + " rule "),
+                  std::string::npos)
+            << o.dump();
+        if (buffer) continue;
+        EXPECT_FALSE(o.at("beyond").get<bool>()) << o.dump();
+        if (o.at("resource") == "lighting.lit") {
+          saw_lit = true;
+          EXPECT_EQ(o.at("held_to"), "rel <= 1e+09 (" + file.string() + " rule 1)");
+          EXPECT_GT(o.at("threshold").at("counted").get<uint64_t>(), 0u);
+        }
+        if (o.at("resource") == "final.ldr") {
+          saw_ldr = true;
+          EXPECT_EQ(o.at("held_to"), "codes <= 255 (" + file.string() + " rule 2)");
+        }
+      }
+  EXPECT_TRUE(saw_lit && saw_ldr);
+  // --json owns stdout: the counts are the last line of stderr.
+  EXPECT_TRUE(std::regex_match(last_line(r.err), std::regex("[0-9]+ passed, 2 failed")))
+      << "the histogram of each frame: " << r.err;
+
+  // The same pair without the file: the recorded contracts fail from lighting down.
+  const CliResult plain = run_cli("diff " + quote(a) + " " + quote(b));
+  EXPECT_EQ(plain.code, 1);
+  std::smatch counts;
+  const std::string line = last_line(plain.out);
+  ASSERT_TRUE(std::regex_match(line, counts, std::regex("([0-9]+) passed, ([0-9]+) failed"))) << plain.out;
+  EXPECT_GT(std::stoi(counts[2]), 0);
+  EXPECT_NE(plain.out.find("(recorded contract)"), std::string::npos);
+}
+
+TEST(DiffCi, JunitHasOneCasePerPassAndOutput) {
+  const fs::path a = shared_capture("city", kCity), b = shared_capture("city-light", kLight);
+  const fs::path dir = scratch("diff-junit");
+  const CliResult r = run_cli("diff --junit " + quote(dir / "diff.xml") + " " + quote(a) + " " + quote(b));
+  EXPECT_EQ(r.code, 1);
+  std::smatch counts;
+  const std::string line = last_line(r.out);
+  ASSERT_TRUE(std::regex_match(line, counts, std::regex("([0-9]+) passed, ([0-9]+) failed")));
+  const size_t passed = std::stoul(counts[1]), failed = std::stoul(counts[2]);
+  std::ifstream in(dir / "diff.xml");
+  const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(xml.rfind("<?xml version=\"1.0\" encoding=\"UTF-8\"?>", 0), 0u);
+  EXPECT_EQ(count(xml, "<failure "), failed);
+  EXPECT_EQ(count(xml, "<testcase "), passed + failed + count(xml, "<skipped "));
+  EXPECT_EQ(count(xml, "<testsuite "), 2u) << "one suite per frame";
+  EXPECT_NE(xml.find("name=\"lighting.deferred/lighting.diffuse\""), std::string::npos);
+  EXPECT_NE(xml.find("name=\"gbuffer.opaque/gbuffer.normal\""), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "diff.xml.partial"));
+}
+
+TEST(DiffCi, OneFrameOfAMultiFramePair) {
+  const fs::path a = shared_capture("city", kCity), b = shared_capture("city-light", kLight);
+  const CliResult r = run_cli("diff --json --frame 1 " + quote(a) + " " + quote(b));
+  EXPECT_EQ(r.code, 1);
+  const json diff = json::parse(r.out);
+  ASSERT_EQ(diff.at("frames").size(), 1u);
+  EXPECT_EQ(diff.at("frames")[0].at("index"), 1);
+  EXPECT_EQ(diff.at("first_divergence"), (json{{"frame", 1}, {"pass", "lighting.deferred"}}));
+  const CliResult missing = run_cli("diff --frame 7 " + quote(a) + " " + quote(b));
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.err.find("no frame 7"), std::string::npos) << missing.err;
+}
+
+TEST(DiffCi, ABadThresholdsFileIsAnError) {
+  const fs::path a = shared_capture("city", kCity);
+  const fs::path dir = scratch("diff-bad-thresholds");
+  std::ofstream(dir / "t.json") << R"({"thresholds": [{"match": "*", "metric": "ssim", "limit": 1}]})";
+  const CliResult r = run_cli("diff --thresholds " + quote(dir / "t.json") + " " + quote(a) + " " + quote(a));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find((dir / "t.json").string() + ": rule 1: 'metric' must be one of"), std::string::npos) << r.err;
+  EXPECT_EQ(count(r.err, "\n"), 1u) << "one line: " << r.err;
+}
+
+}  // namespace
+}  // namespace nightcap::test
