@@ -1,0 +1,587 @@
+#include "inspect/flip.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+namespace nightcap {
+namespace {
+
+// The constants below are the papers' (HPG 2020 for LDR-FLIP, Eurographics 2021 for HDR-FLIP),
+// checked against the values of the authors' reference implementation (NVlabs/flip).
+
+// Colour pipeline: the contrast sensitivity functions of the achromatic, red-green and
+// blue-yellow channels as sums of two Gaussians a · sqrt(π/b) · exp(−π² x² / b), x in degrees.
+struct CsfTerm {
+  double a, b;
+};
+// A term with a = 0 is absent.
+constexpr CsfTerm kCsfAchromatic[2] = {{1.0, 0.0047}, {0.0, 0.0}};
+constexpr CsfTerm kCsfRedGreen[2] = {{1.0, 0.0053}, {0.0, 0.0}};
+constexpr CsfTerm kCsfBlueYellow[2] = {{34.1, 0.04}, {13.5, 0.025}};
+constexpr double kColourExponent = 0.7;    // q_c
+constexpr double kRemapBreakShare = 0.4;   // p_c: the share of c_max mapped to p_t
+constexpr double kRemapBreakValue = 0.95;  // p_t
+// Feature pipeline: the observer's edge detector has 0.082° from peak to trough, two standard
+// deviations. The feature exponent q_f is 0.5, hence the square root where it is applied.
+constexpr double kFeatureWidthDegrees = 0.082;
+// HDR-FLIP: Narkowicz's fit of the ACES curve, (k0 x² + k1 x) / (k3 x² + k4 x + k5), with its
+// 0.6 pre-exposure folded into the coefficients; both ends of the exposure range are where the
+// curve reaches 0.85.
+constexpr double kAces[6] = {0.6 * 0.6 * 2.51, 0.6 * 0.03, 0.0, 0.6 * 0.6 * 2.43, 0.6 * 0.59, 0.14};
+constexpr double kExposureToneTarget = 0.85;
+constexpr double kLuminance[3] = {0.2126, 0.7152, 0.0722};
+
+// sRGB primaries with the D65 white, as exact fractions.
+constexpr double kRgbToXyz[3][3] = {
+    {10135552.0 / 24577794.0, 8788810.0 / 24577794.0, 4435075.0 / 24577794.0},
+    {2613072.0 / 12288897.0, 8788810.0 / 12288897.0, 887015.0 / 12288897.0},
+    {1425312.0 / 73733382.0, 8788810.0 / 73733382.0, 70074185.0 / 73733382.0},
+};
+
+struct ColourSpace {
+  float to_xyz[3][3], to_rgb[3][3];
+  float inverse_white[3];  // 1 / (X_n, Y_n, Z_n): the white is what RGB (1, 1, 1) maps to
+  float white[3];
+  float max_distance;  // c_max: green to blue, the farthest colours of the gamut, to the power q_c
+};
+
+void lab_hunt(const float xyz[3], const ColourSpace& space, float out[3]);
+float hyab(const float a[3], const float b[3]) {
+  return std::abs(a[0] - b[0]) + std::sqrt((a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+ColourSpace make_colour_space() {
+  ColourSpace s{};
+  const auto& m = kRgbToXyz;
+  const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                     m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                     m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      // The inverse is the transposed cofactor matrix over the determinant.
+      const int r0 = (c + 1) % 3, r1 = (c + 2) % 3, c0 = (r + 1) % 3, c1 = (r + 2) % 3;
+      s.to_rgb[r][c] = float((m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]) / det);
+      s.to_xyz[r][c] = float(m[r][c]);
+    }
+  for (int r = 0; r < 3; ++r) {
+    const double white = m[r][0] + m[r][1] + m[r][2];
+    s.white[r] = float(white);
+    s.inverse_white[r] = float(1.0 / white);
+  }
+  float green[3], blue[3];
+  const float green_xyz[3] = {s.to_xyz[0][1], s.to_xyz[1][1], s.to_xyz[2][1]};
+  const float blue_xyz[3] = {s.to_xyz[0][2], s.to_xyz[1][2], s.to_xyz[2][2]};
+  lab_hunt(green_xyz, s, green);
+  lab_hunt(blue_xyz, s, blue);
+  s.max_distance = float(std::pow(double(hyab(green, blue)), kColourExponent));
+  return s;
+}
+
+const ColourSpace& colour_space() {
+  static const ColourSpace space = make_colour_space();
+  return space;
+}
+
+void multiply(const float m[3][3], const float v[3], float out[3]) {
+  for (int r = 0; r < 3; ++r) out[r] = m[r][0] * v[0] + m[r][1] * v[1] + m[r][2] * v[2];
+}
+
+// t^(1/3) for t > 0 to float precision: a guess from the exponent bits, then two Halley steps
+// (cubic convergence from a guess within 5 %). libm's cbrtf took a quarter of FLIP's time.
+float cube_root(float t) {
+  float y = std::bit_cast<float>(std::bit_cast<uint32_t>(t) / 3u + 709921077u);
+  for (int step = 0; step < 2; ++step) {
+    const float cube = y * y * y;
+    y *= (cube + 2.0f * t) / (2.0f * cube + t);
+  }
+  return y;
+}
+
+// CIELAB, then Hunt's adjustment: chroma scaled by lightness (a, b) · 0.01 L, so that dark
+// colours differ less in colour than bright ones. CIELAB's f(t) is taken less its 4/29, which
+// cancels exactly in L = 116 f(Y) − 16 and in the differences: near black, f = t / (3δ²) + 4/29
+// in float would lose the t that q_c = 0.7 later magnifies.
+void lab_hunt(const float xyz[3], const ColourSpace& space, float out[3]) {
+  constexpr float delta = 6.0f / 29.0f;
+  float f[3];
+  for (int i = 0; i < 3; ++i) {
+    const float t = xyz[i] * space.inverse_white[i];
+    f[i] = t > delta * delta * delta ? cube_root(t) - 4.0f / 29.0f : t / (3.0f * delta * delta);
+  }
+  const float lightness = 116.0f * f[1];
+  out[0] = lightness;
+  out[1] = 0.01f * lightness * 500.0f * (f[0] - f[1]);
+  out[2] = 0.01f * lightness * 200.0f * (f[1] - f[2]);
+}
+
+// Runs `rows_of(begin, end)` over [0, rows) split into contiguous bands, one per thread.
+template <typename Rows>
+void parallel_rows(uint32_t rows, unsigned threads, const Rows& rows_of) {
+  threads = std::max(1u, std::min(threads, rows));
+  std::vector<std::thread> workers;
+  for (unsigned t = 1; t < threads; ++t)
+    workers.emplace_back(
+        [&, t] { rows_of(uint32_t(uint64_t(rows) * t / threads), uint32_t(uint64_t(rows) * (t + 1) / threads)); });
+  rows_of(0u, uint32_t(rows / threads));
+  for (std::thread& w : workers) w.join();
+}
+
+struct Plane {
+  uint32_t width = 0, height = 0;
+  std::vector<float> values;
+  Plane(uint32_t w, uint32_t h) : width(w), height(h), values(size_t(w) * h) {}
+  float* row(uint32_t y) { return values.data() + size_t(y) * width; }
+  const float* row(uint32_t y) const { return values.data() + size_t(y) * width; }
+};
+
+// A 1D kernel of 2·radius + 1 taps, centre at index radius. A zero-sum kernel (a derivative of
+// a Gaussian) is applied to differences from the centre pixel: the same sum in exact arithmetic,
+// but exactly 0 on flat regions, where rounding would otherwise leave ~1e-8 that the feature
+// pipeline's square root turns into a visible 1e-4.
+struct Kernel {
+  std::vector<float> taps;
+  bool zero_sum = false;
+  int radius() const { return int(taps.size() / 2); }
+};
+
+// Four floats as one value (an SSE register): GCC and Clang compile its arithmetic to SIMD instructions, which
+// they would not do for the plain loops at -O2.
+using Lanes = float __attribute__((vector_size(16)));
+constexpr uint32_t kLanes = sizeof(Lanes) / sizeof(float);
+Lanes load(const float* p) {
+  Lanes v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+// dst[x] = Σ_k taps[k] · sources[k][x] for x in [0, n), or Σ_k taps[k] · (sources[k][x] −
+// centre[x]) for a zero-sum kernel; added to what dst holds where `add`.
+void weighted_sum(const Kernel& kernel, const float* const* sources, const float* centre, float* dst, uint32_t n,
+                  bool add) {
+  const size_t taps = kernel.taps.size();
+  uint32_t x = 0;
+  // Pixels outside, taps inside: each block of pixels sums in a register.
+  for (; x + kLanes <= n; x += kLanes) {
+    Lanes sum = add ? load(dst + x) : Lanes{};
+    const Lanes origin = kernel.zero_sum ? load(centre + x) : Lanes{};
+    for (size_t k = 0; k < taps; ++k) sum += kernel.taps[k] * (load(sources[k] + x) - origin);
+    std::memcpy(dst + x, &sum, sizeof sum);
+  }
+  for (; x < n; ++x) {
+    float sum = add ? dst[x] : 0.0f;
+    const float origin = kernel.zero_sum ? centre[x] : 0.0f;
+    for (size_t k = 0; k < taps; ++k) sum += kernel.taps[k] * (sources[k][x] - origin);
+    dst[x] = sum;
+  }
+}
+
+// out = in convolved along rows with `kernel`, edges clamped.
+void filter_rows(const Plane& in, const Kernel& kernel, Plane& out, unsigned threads) {
+  const int r = kernel.radius();
+  const uint32_t w = in.width;
+  parallel_rows(in.height, threads, [&](uint32_t begin, uint32_t end) {
+    std::vector<float> padded(w + 2 * r);
+    std::vector<const float*> sources(kernel.taps.size());
+    for (size_t k = 0; k < sources.size(); ++k) sources[k] = padded.data() + k;
+    for (uint32_t y = begin; y < end; ++y) {
+      const float* src = in.row(y);
+      std::fill(padded.begin(), padded.begin() + r, src[0]);
+      std::copy(src, src + w, padded.begin() + r);
+      std::fill(padded.begin() + r + w, padded.end(), src[w - 1]);
+      weighted_sum(kernel, sources.data(), padded.data() + r, out.row(y), w, false);
+    }
+  });
+}
+
+// Row y of `in` convolved along columns with `kernel`, edges clamped, into `dst` (added to what
+// it holds where `add`). `sources` has room for a pointer per tap.
+void filter_column_row(const Plane& in, const Kernel& kernel, uint32_t y, float* dst, bool add,
+                       std::vector<const float*>& sources) {
+  const int r = kernel.radius();
+  sources.resize(kernel.taps.size());
+  for (int k = 0; k <= 2 * r; ++k) sources[k] = in.row(uint32_t(std::clamp(int(y) + k - r, 0, int(in.height) - 1)));
+  weighted_sum(kernel, sources.data(), in.row(y), dst, in.width, add);
+}
+
+// A separable 2D kernel as a sum of products horizontal(x) · vertical(y).
+struct SeparableTerm {
+  Kernel horizontal, vertical;
+};
+
+// The CSF of one channel sampled at `radius` pixels either side, normalised to sum 1 so that a
+// flat colour keeps its value. A 2D Gaussian is the product of two 1D ones, so each term is a
+// normalised 1D Gaussian across times the same, scaled by the term's share of the sum, down.
+std::vector<SeparableTerm> csf_kernel(const CsfTerm (&csf)[2], int radius, double pixels_per_degree) {
+  std::vector<std::vector<double>> gaussians;  // normalised to sum 1
+  std::vector<double> sums;                    // of each term's unnormalised 2D kernel
+  double total = 0.0;
+  for (const CsfTerm& t : csf) {
+    if (t.a == 0.0) continue;
+    std::vector<double> gaussian;
+    double sum = 0.0;
+    for (int i = -radius; i <= radius; ++i) {
+      const double degrees = i / pixels_per_degree;
+      gaussian.push_back(std::exp(-std::numbers::pi * std::numbers::pi * degrees * degrees / t.b));
+      sum += gaussian.back();
+    }
+    for (double& v : gaussian) v /= sum;
+    gaussians.push_back(gaussian);
+    sums.push_back(t.a * std::sqrt(std::numbers::pi / t.b) * sum * sum);
+    total += sums.back();
+  }
+  std::vector<SeparableTerm> terms(gaussians.size());
+  for (size_t i = 0; i < terms.size(); ++i)
+    for (double v : gaussians[i]) {
+      terms[i].horizontal.taps.push_back(float(v));
+      terms[i].vertical.taps.push_back(float(v * sums[i] / total));
+    }
+  return terms;
+}
+
+// The paper's rule: three standard deviations of the widest Gaussian of the three CSFs.
+int csf_radius(double pixels_per_degree) {
+  double widest = 0.0;
+  for (const auto* csf : {&kCsfAchromatic, &kCsfRedGreen, &kCsfBlueYellow})
+    for (const CsfTerm& t : *csf) widest = std::max(widest, t.b);
+  return int(std::ceil(3.0 * std::sqrt(widest / (2.0 * std::numbers::pi * std::numbers::pi)) * pixels_per_degree));
+}
+
+// The feature detectors: the first and second derivatives of a Gaussian, each scaled so that its
+// positive taps sum to 1 and its negative ones to −1, along one axis, times the Gaussian
+// (normalised to sum 1) along the other; the product is the paper's 2D normalisation.
+struct FeatureKernels {
+  Kernel gaussian, edge, point;
+};
+FeatureKernels feature_kernels(double pixels_per_degree) {
+  const double sigma = 0.5 * kFeatureWidthDegrees * pixels_per_degree;
+  const int radius = int(std::ceil(3.0 * sigma));
+  std::vector<double> gaussian, edge, point;
+  for (int x = -radius; x <= radius; ++x) {
+    const double g = std::exp(-double(x) * x / (2.0 * sigma * sigma));
+    gaussian.push_back(g);
+    edge.push_back(-x * g);
+    point.push_back((double(x) * x / (sigma * sigma) - 1.0) * g);
+  }
+  auto normalised = [](const std::vector<double>& taps, bool zero_sum) {
+    double positive = 0.0, negative = 0.0;
+    for (double v : taps) (v > 0 ? positive : negative) += v;
+    Kernel k{{}, zero_sum};
+    for (double v : taps) k.taps.push_back(float(v > 0 ? v / positive : (v < 0 ? -v / negative : 0.0)));
+    return k;
+  };
+  return {normalised(gaussian, false), normalised(edge, true), normalised(point, true)};
+}
+
+void check_image(const FlipImage& image, const char* which) {
+  if (image.channels != 3 && image.channels != 4)
+    throw std::invalid_argument(std::string("flip: the ") + which + " image has " + std::to_string(image.channels) +
+                                " channels; 3 or 4 expected");
+  if (image.texels.size() != size_t(image.width) * image.height * image.channels)
+    throw std::invalid_argument(std::string("flip: the ") + which + " image holds " +
+                                std::to_string(image.texels.size()) + " values, not width · height · channels");
+  for (size_t i = 0; i < image.texels.size(); ++i)
+    if (!std::isfinite(image.texels[i])) {
+      const size_t pixel = i / image.channels;
+      throw std::invalid_argument(std::string("flip: the ") + which + " image is not finite at pixel (" +
+                                  std::to_string(pixel % image.width) + ", " + std::to_string(pixel / image.width) +
+                                  ")");
+    }
+}
+
+void check_pair(const FlipImage& reference, const FlipImage& test) {
+  check_image(reference, "reference");
+  check_image(test, "test");
+  if (reference.width != test.width || reference.height != test.height)
+    throw std::invalid_argument("flip: the images differ in size");
+}
+
+unsigned thread_count(const FlipOptions& options) {
+  return options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+}
+
+// What each image contributes to the comparison: its colour after the CSFs in Hunt-adjusted
+// L*a*b*, and the magnitudes of its edges and points.
+struct Perceived {
+  Plane lightness, a, b, edges, points;
+  Perceived(uint32_t w, uint32_t h) : lightness(w, h), a(w, h), b(w, h), edges(w, h), points(w, h) {}
+};
+
+struct Filters {
+  std::vector<SeparableTerm> achromatic, red_green, blue_yellow;
+  FeatureKernels features;
+};
+
+// Intermediate planes, allocated once for both images.
+struct Scratch {
+  Plane opponent[3], pass[3];
+  Scratch(uint32_t w, uint32_t h) : opponent{{w, h}, {w, h}, {w, h}}, pass{{w, h}, {w, h}, {w, h}} {}
+};
+
+void filter(const Plane& in, const std::vector<SeparableTerm>& kernel, Plane& pass, Plane& out, unsigned threads) {
+  for (size_t t = 0; t < kernel.size(); ++t) {
+    filter_rows(in, kernel[t].horizontal, pass, threads);
+    parallel_rows(in.height, threads, [&](uint32_t begin, uint32_t end) {
+      std::vector<const float*> sources;
+      for (uint32_t y = begin; y < end; ++y) filter_column_row(pass, kernel[t].vertical, y, out.row(y), t > 0, sources);
+    });
+  }
+}
+
+// `rgb` is linear RGB, `channels` floats per pixel, already clamped to what the display shows.
+void perceive(std::span<const float> rgb, uint32_t channels, const Filters& filters, Scratch& s, Perceived& out,
+              unsigned threads) {
+  const ColourSpace& space = colour_space();
+  const uint32_t w = out.edges.width, h = out.edges.height;
+  // To the opponent space YyCxCz: L*a*b* without the cube root, linear in XYZ so that filtering
+  // it is filtering light. Its achromatic channel is kept as Y/Y_n = (Yy + 16) / 116, which the
+  // normalised CSF filters the same way: in float, Yy's offset of −16 would drown the faint light
+  // a bright pixel spreads over dark neighbours, which q_c = 0.7 then makes visible (~1e-4).
+  parallel_rows(h, threads, [&](uint32_t begin, uint32_t end) {
+    for (uint32_t y = begin; y < end; ++y)
+      for (uint32_t x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * w + x;
+        float xyz[3];
+        multiply(space.to_xyz, &rgb[i * channels], xyz);
+        const float nx = xyz[0] * space.inverse_white[0], ny = xyz[1] * space.inverse_white[1],
+                    nz = xyz[2] * space.inverse_white[2];
+        s.opponent[0].values[i] = ny;
+        s.opponent[1].values[i] = 500.0f * (nx - ny);
+        s.opponent[2].values[i] = 200.0f * (ny - nz);
+      }
+  });
+
+  filter(s.opponent[0], filters.achromatic, s.pass[0], out.lightness, threads);
+  filter(s.opponent[1], filters.red_green, s.pass[0], out.a, threads);
+  filter(s.opponent[2], filters.blue_yellow, s.pass[0], out.b, threads);
+  // Back to linear RGB to clamp what the filters pushed out of the displayable gamut, then on to
+  // Hunt-adjusted L*a*b*, in place.
+  parallel_rows(h, threads, [&](uint32_t begin, uint32_t end) {
+    for (size_t i = size_t(begin) * w; i < size_t(end) * w; ++i) {
+      const float ny = out.lightness.values[i];
+      const float normalised[3] = {ny + out.a.values[i] / 500.0f, ny, ny - out.b.values[i] / 200.0f};
+      const float xyz[3] = {normalised[0] * space.white[0], normalised[1] * space.white[1],
+                            normalised[2] * space.white[2]};
+      float linear[3];
+      multiply(space.to_rgb, xyz, linear);
+      for (float& c : linear) c = std::clamp(c, 0.0f, 1.0f);
+      float clamped_xyz[3], lab[3];
+      multiply(space.to_xyz, linear, clamped_xyz);
+      lab_hunt(clamped_xyz, space, lab);
+      out.lightness.values[i] = lab[0];
+      out.a.values[i] = lab[1];
+      out.b.values[i] = lab[2];
+    }
+  });
+
+  const FeatureKernels& k = filters.features;
+  Plane &smoothed = s.pass[0], &slope = s.pass[1], &curvature = s.pass[2];
+  // The feature pipeline's input is the same normalised achromatic channel, unfiltered.
+  filter_rows(s.opponent[0], k.gaussian, smoothed, threads);
+  filter_rows(s.opponent[0], k.edge, slope, threads);
+  filter_rows(s.opponent[0], k.point, curvature, threads);
+  parallel_rows(h, threads, [&](uint32_t begin, uint32_t end) {
+    std::vector<float> edge_x(w), edge_y(w), point_x(w), point_y(w);
+    std::vector<const float*> sources;
+    for (uint32_t y = begin; y < end; ++y) {
+      filter_column_row(slope, k.gaussian, y, edge_x.data(), false, sources);
+      filter_column_row(smoothed, k.edge, y, edge_y.data(), false, sources);
+      filter_column_row(curvature, k.gaussian, y, point_x.data(), false, sources);
+      filter_column_row(smoothed, k.point, y, point_y.data(), false, sources);
+      float* edges = out.edges.row(y);
+      float* points = out.points.row(y);
+      for (uint32_t x = 0; x < w; ++x) {
+        edges[x] = std::sqrt(edge_x[x] * edge_x[x] + edge_y[x] * edge_y[x]);
+        points[x] = std::sqrt(point_x[x] * point_x[x] + point_y[x] * point_y[x]);
+      }
+    }
+  });
+}
+
+// The remap of HyAB^q_c to [0, 1]: the lower p_c of c_max to [0, p_t], the rest to [p_t, 1],
+// so that small differences spread over most of the scale.
+float colour_error(float distance_to_the_qc, float max_distance) {
+  const float knee = float(kRemapBreakShare) * max_distance;
+  if (distance_to_the_qc < knee) return float(kRemapBreakValue) / knee * distance_to_the_qc;
+  return float(kRemapBreakValue) + (distance_to_the_qc - knee) / (max_distance - knee) * float(1.0 - kRemapBreakValue);
+}
+
+// LDR-FLIP's error map of two checked, clamped images, written into `result`.
+class LdrFlip {
+ public:
+  LdrFlip(uint32_t w, uint32_t h, const FlipOptions& options)
+      : threads_(thread_count(options)), scratch_(w, h), reference_(w, h), test_(w, h) {
+    const double ppd = options.pixels_per_degree;
+    const int radius = csf_radius(ppd);
+    filters_ = {csf_kernel(kCsfAchromatic, radius, ppd), csf_kernel(kCsfRedGreen, radius, ppd),
+                csf_kernel(kCsfBlueYellow, radius, ppd), feature_kernels(ppd)};
+  }
+
+  // error[i] = FLIP of pixel i; colour and feature receive ΔE_c and ΔE_f where not null.
+  void run(std::span<const float> reference, std::span<const float> test, uint32_t channels, float* error,
+           float* colour, float* feature) {
+    perceive(reference, channels, filters_, scratch_, reference_, threads_);
+    perceive(test, channels, filters_, scratch_, test_, threads_);
+    const float max_distance = colour_space().max_distance;
+    const uint32_t w = reference_.edges.width;
+    parallel_rows(reference_.edges.height, threads_, [&](uint32_t begin, uint32_t end) {
+      for (size_t i = size_t(begin) * w; i < size_t(end) * w; ++i) {
+        const float r[3] = {reference_.lightness.values[i], reference_.a.values[i], reference_.b.values[i]};
+        const float t[3] = {test_.lightness.values[i], test_.a.values[i], test_.b.values[i]};
+        const float delta_c = colour_error(std::pow(hyab(r, t), float(kColourExponent)), max_distance);
+        const float feature_difference = std::max(std::abs(reference_.edges.values[i] - test_.edges.values[i]),
+                                                  std::abs(reference_.points.values[i] - test_.points.values[i]));
+        const float delta_f = std::sqrt(feature_difference / std::numbers::sqrt2_v<float>);
+        error[i] = std::pow(delta_c, 1.0f - delta_f);
+        if (colour) colour[i] = delta_c;
+        if (feature) feature[i] = delta_f;
+      }
+    });
+  }
+
+ private:
+  unsigned threads_;
+  Filters filters_;
+  Scratch scratch_;
+  Perceived reference_, test_;
+};
+
+// RGB clamped to [0, 1], alpha dropped.
+std::vector<float> displayed(const FlipImage& image) {
+  std::vector<float> rgb(size_t(image.width) * image.height * 3);
+  for (size_t p = 0; p < rgb.size() / 3; ++p)
+    for (int c = 0; c < 3; ++c) rgb[p * 3 + c] = std::clamp(image.texels[p * image.channels + c], 0.0f, 1.0f);
+  return rgb;
+}
+
+void summarise(FlipResult& result, float threshold) {
+  const std::vector<float>& e = result.error;
+  if (e.empty()) return;
+  double sum = 0.0;
+  size_t over = 0;
+  float max = 0.0f;
+  for (float v : e) {
+    sum += v;
+    over += v > threshold;
+    max = std::max(max, v);
+  }
+  result.mean = sum / double(e.size());
+  result.max = max;
+  result.over_threshold_share = double(over) / double(e.size());
+  std::vector<float> order = e;
+  auto percentile = [&](double share, size_t from) {
+    const size_t at = std::min(order.size() - 1, size_t(share * double(order.size() - 1) + 0.5));
+    std::nth_element(order.begin() + from, order.begin() + at, order.end());
+    return at;
+  };
+  // Each nth_element leaves the larger values after its pivot, so the next searches only those.
+  const size_t median = percentile(0.5, 0);
+  result.median = order[median];
+  const size_t p95 = percentile(0.95, median);
+  result.p95 = order[p95];
+  result.p99 = order[percentile(0.99, p95)];
+}
+
+double aces(double x) {
+  const double numerator = kAces[0] * x * x + kAces[1] * x + kAces[2];
+  const double denominator = kAces[3] * x * x + kAces[4] * x + kAces[5];
+  return std::clamp(numerator / denominator, 0.0, 1.0);
+}
+
+// The radiance that the ACES curve maps to `tone`: the positive root of
+// (k0 − t k3) x² + (k1 − t k4) x + (k2 − t k5) = 0.
+double aces_inverse(double tone) {
+  const double c0 = (kAces[1] - tone * kAces[4]) / (kAces[0] - tone * kAces[3]);
+  const double c1 = (kAces[2] - tone * kAces[5]) / (kAces[0] - tone * kAces[3]);
+  return -0.5 * c0 + std::sqrt(0.25 * c0 * c0 - c1);
+}
+
+}  // namespace
+
+FlipResult flip_ldr(const FlipImage& reference, const FlipImage& test, const FlipOptions& options) {
+  check_pair(reference, test);
+  FlipResult result;
+  result.width = reference.width;
+  result.height = reference.height;
+  const size_t pixels = size_t(reference.width) * reference.height;
+  if (pixels == 0) return result;
+  result.error.resize(pixels);
+  if (options.keep_components) {
+    result.colour_error.resize(pixels);
+    result.feature_error.resize(pixels);
+  }
+  LdrFlip flip(reference.width, reference.height, options);
+  flip.run(displayed(reference), displayed(test), 3, result.error.data(),
+           options.keep_components ? result.colour_error.data() : nullptr,
+           options.keep_components ? result.feature_error.data() : nullptr);
+  summarise(result, options.threshold);
+  return result;
+}
+
+FlipExposures flip_exposure_range(const FlipImage& reference) {
+  check_image(reference, "reference");
+  std::vector<double> luminance;
+  luminance.reserve(size_t(reference.width) * reference.height);
+  for (size_t p = 0; p < reference.texels.size(); p += reference.channels) {
+    double y = 0.0;
+    for (int c = 0; c < 3; ++c) y += kLuminance[c] * std::max(0.0f, reference.texels[p + c]);
+    luminance.push_back(y);
+  }
+  const double brightest = luminance.empty() ? 0.0 : *std::max_element(luminance.begin(), luminance.end());
+  if (brightest == 0.0) return {};
+  auto median_of = [](std::vector<double>& values, size_t from) {
+    // As numpy's 50th percentile: the mean of the two middle values of an even count.
+    const size_t n = values.size() - from, middle = from + n / 2;
+    std::nth_element(values.begin() + from, values.begin() + middle, values.end());
+    const double upper = values[middle];
+    if (n % 2) return upper;
+    return 0.5 * (upper + *std::max_element(values.begin() + from, values.begin() + middle));
+  };
+  double median = median_of(luminance, 0);
+  if (median == 0.0) {
+    const auto black_end = std::partition(luminance.begin(), luminance.end(), [](double y) { return y == 0.0; });
+    median = median_of(luminance, size_t(black_end - luminance.begin()));
+  }
+  const double tone_radiance = aces_inverse(kExposureToneTarget);
+  FlipExposures range;
+  range.start = std::log2(tone_radiance / brightest);
+  range.stop = std::log2(tone_radiance / median);
+  range.count = range.start == range.stop ? 1u : uint32_t(std::max(2.0, std::ceil(range.stop - range.start)));
+  return range;
+}
+
+FlipResult flip_hdr(const FlipImage& reference, const FlipImage& test, const FlipOptions& options,
+                    std::optional<FlipExposures> exposures) {
+  check_pair(reference, test);
+  const FlipExposures range = exposures ? *exposures : flip_exposure_range(reference);
+  if (range.count == 0 || range.stop < range.start)
+    throw std::invalid_argument("flip: the exposure range is empty or runs backwards");
+  FlipResult result;
+  result.width = reference.width;
+  result.height = reference.height;
+  const size_t pixels = size_t(reference.width) * reference.height;
+  if (pixels == 0) return result;
+  result.error.assign(pixels, 0.0f);
+  LdrFlip flip(reference.width, reference.height, options);
+  std::vector<float> tone_mapped_reference(pixels * 3), tone_mapped_test(pixels * 3), error(pixels);
+  for (uint32_t e = 0; e < range.count; ++e) {
+    const double exposure = range.start + e * (range.stop - range.start) / std::max(1u, range.count - 1);
+    const double scale = std::exp2(exposure);
+    for (size_t p = 0; p < pixels; ++p)
+      for (int c = 0; c < 3; ++c) {
+        tone_mapped_reference[p * 3 + c] =
+            float(aces(scale * std::max(0.0f, reference.texels[p * reference.channels + c])));
+        tone_mapped_test[p * 3 + c] = float(aces(scale * std::max(0.0f, test.texels[p * test.channels + c])));
+      }
+    flip.run(tone_mapped_reference, tone_mapped_test, 3, error.data(), nullptr, nullptr);
+    for (size_t p = 0; p < pixels; ++p) result.error[p] = std::max(result.error[p], error[p]);
+  }
+  summarise(result, options.threshold);
+  return result;
+}
+
+}  // namespace nightcap
