@@ -79,6 +79,7 @@ PassDiff diff_pass(const Capture& ca, const FrameRecord& frame_a, const PassReco
       const std::vector<uint8_t> raw_a = ca.load(ra), raw_b = cb.load(*rb);
       o.comparison = compare_resource(ra, raw_a, *rb, raw_b);
       differs = true;
+      if (o.comparison.comparable && displayed_colour(ra)) o.flip = flip_displayed(ra, raw_a, raw_b);
       if (rule) {
         o.threshold = o.comparison.comparable ? check_threshold(*rule, frame_a, ra, raw_a, raw_b)
                                               : ThresholdCheck{false, 0, 0, INFINITY, o.comparison.note};
@@ -217,6 +218,7 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
                       ? " (" + std::to_string(o.threshold->over) + " of " + std::to_string(o.threshold->counted) +
                             " texels over, worst " + number(o.threshold->worst) + ")"
                       : " (" + o.threshold->problem + ")");
+        if (o.flip) out << "  FLIP mean " << number(o.flip->mean) << " max " << number(o.flip->max);
         if (!c.first_difference.empty()) out << "  first at " << c.first_difference;
         out << "\n";
       }
@@ -254,6 +256,9 @@ nlohmann::json diff_to_json(const CaptureDiff& diff) {
           j["angular_max_deg"] = c.angular_max_deg;
           j["angular_mean_deg"] = c.angular_mean_deg;
         }
+        if (o.flip)
+          j["flip"] = {{"mean", o.flip->mean}, {"max", o.flip->max}, {"median", o.flip->median},
+                       {"p95", o.flip->p95},   {"p99", o.flip->p99}, {"over_0.1", o.flip->over_threshold_share}};
         if (!c.note.empty()) j["note"] = c.note;
         if (!c.first_difference.empty()) j["first_difference"] = c.first_difference;
         if (!o.held_to.empty()) {

@@ -33,6 +33,8 @@ struct OutputDiff {
   std::string held_to;                      // the threshold and where it came from (every output compared)
   ContractCheck contract;                   // when held to the recorded contract
   std::optional<ThresholdCheck> threshold;  // when held to a rule of --thresholds
+  // Displayed colour that differs: LDR-FLIP of B against A, with its error map.
+  std::optional<FlipResult> flip;
 };
 
 enum class PassStatus { identical, origin, inherited, skipped, skipped_in_a, skipped_in_b, only_in_a, only_in_b };

@@ -233,6 +233,29 @@ void each_value(const FormatInfo& f, const ImageExtent& extent, std::span<const 
 
 }  // namespace
 
+bool displayed_colour(const ResourceRecord& r) {
+  return !r.is_buffer && r.kind == ResourceKind::colour && format_info(r.format)->encoding == ChannelEncoding::srgb8 &&
+         format_info(r.format)->channels >= 3;
+}
+
+FlipResult flip_displayed(const ResourceRecord& a, std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw) {
+  const FormatInfo f = *format_info(a.format);
+  const uint64_t texels = uint64_t(a.extent.width) * a.extent.height;
+  // sRGB codes decode to linear values, what FLIP takes.
+  auto linear = [&](std::span<const uint8_t> raw) {
+    std::vector<float> rgb(texels * 3);
+    const auto plane = raw.subspan(0, raw_subresource_bytes(f, a.extent, 0, 0));
+    float v[4];
+    for (uint64_t t = 0; t < texels; ++t) {
+      decode_texel(f, 0, plane, t, v);
+      std::copy(v, v + 3, rgb.begin() + 3 * t);
+    }
+    return rgb;
+  };
+  const std::vector<float> reference = linear(a_raw), test = linear(b_raw);
+  return flip_ldr({a.extent.width, a.extent.height, 3, reference}, {a.extent.width, a.extent.height, 3, test});
+}
+
 ContractCheck check_contract(const ComparisonContract& contract, const ResourceRecord& a,
                              std::span<const uint8_t> a_raw, const ResourceRecord& b, std::span<const uint8_t> b_raw) {
   return check_contract(contract, a, a_raw, b_raw, compare_resource(a, a_raw, b, b_raw));

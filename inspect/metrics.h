@@ -6,6 +6,7 @@
 #include <string>
 
 #include "captures/capture.h"
+#include "inspect/flip.h"
 
 namespace nightcap {
 
@@ -31,6 +32,13 @@ struct ResourceComparison {
 // decoded by a's schema where it has one (`differing` then counts elements), else as words.
 ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uint8_t> a_raw, const ResourceRecord& b,
                                     std::span<const uint8_t> b_raw);
+
+// Displayed colour: an sRGB-encoded image of the colour kind (the frame's final picture), which
+// FLIP measures as an observer would see it.
+bool displayed_colour(const ResourceRecord& r);
+// LDR-FLIP between mip 0, layer 0 of two displayed-colour images of the same shape, `a` the
+// reference; the error map is per texel of that subimage.
+FlipResult flip_displayed(const ResourceRecord& a, std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw);
 
 // How far `b` is from `a` in the terms of a's comparison contract.
 struct ContractCheck {

@@ -1,5 +1,7 @@
 #include "inspect/thresholds.h"
 
+#include "inspect/metrics.h"
+
 #include <fnmatch.h>
 
 #include <cmath>
@@ -13,9 +15,10 @@ namespace nightcap {
 namespace {
 
 const std::map<std::string, TexelMetric>& metrics_by_name() {
-  static const std::map<std::string, TexelMetric> names = {
-      {"exact", TexelMetric::exact}, {"abs", TexelMetric::abs},     {"rel", TexelMetric::rel},
-      {"angle", TexelMetric::angle}, {"depth", TexelMetric::depth}, {"codes", TexelMetric::codes}};
+  static const std::map<std::string, TexelMetric> names = {{"exact", TexelMetric::exact}, {"abs", TexelMetric::abs},
+                                                           {"rel", TexelMetric::rel},     {"angle", TexelMetric::angle},
+                                                           {"depth", TexelMetric::depth}, {"codes", TexelMetric::codes},
+                                                           {"flip", TexelMetric::flip}};
   return names;
 }
 
@@ -86,6 +89,8 @@ std::string unfit(TexelMetric metric, const ResourceRecord& r) {
                      f.encoding == ChannelEncoding::unorm16 || f.encoding == ChannelEncoding::packed_a2b10g10r10;
   if (metric == TexelMetric::codes && !unorm)
     return "'codes' measures UNORM formats, and this is " + std::string(f.name);
+  if (metric == TexelMetric::flip && !displayed_colour(r))
+    return "'flip' measures displayed (sRGB colour) images, and this is " + std::string(f.name);
   return "";
 }
 
@@ -142,7 +147,7 @@ Thresholds read_thresholds(const std::string& path) {
     rule.match = entry["match"];
     if (!entry.contains("metric") || !entry["metric"].is_string() ||
         !metrics_by_name().count(entry["metric"].get<std::string>()))
-      fail(path, where + ": 'metric' must be one of exact, abs, rel, angle, depth, codes");
+      fail(path, where + ": 'metric' must be one of exact, abs, rel, angle, depth, codes, flip");
     rule.metric = metrics_by_name().at(entry["metric"]);
     if (rule.metric != TexelMetric::exact) {
       if (!entry.contains("limit") || !entry["limit"].is_number() || !(entry["limit"].get<double>() >= 0) ||
@@ -195,6 +200,8 @@ ThresholdCheck check_threshold(const ThresholdRule& rule, const FrameRecord& fra
   }
   const FormatInfo f = *format_info(a.format);
   const ImageExtent& extent = a.extent;
+  std::vector<float> flip_errors;  // the FLIP map of mip 0, layer 0
+  if (rule.metric == TexelMetric::flip) flip_errors = flip_displayed(a, a_raw, b_raw).error;
   float va[4], vb[4];
   // Per texel the worst over aspects, so depth and stencil count as one texel.
   for (uint32_t mip = 0; mip < extent.mips; ++mip) {
@@ -209,7 +216,9 @@ ThresholdCheck check_threshold(const ThresholdRule& rule, const FrameRecord& fra
         }
     for (uint32_t layer = 0; layer < extent.layers; ++layer) {
       std::vector<double> errors(uint64_t(w) * h * d, 0.0);
-      for (uint32_t aspect = 0; aspect < aspect_count(f); ++aspect) {
+      if (rule.metric == TexelMetric::flip && mip == 0 && layer == 0)
+        std::copy(flip_errors.begin(), flip_errors.end(), errors.begin());
+      for (uint32_t aspect = 0; aspect < aspect_count(f) && rule.metric != TexelMetric::flip; ++aspect) {
         const auto offset = raw_subresource_offset(f, extent, aspect, mip, layer);
         const auto bytes = raw_subresource_bytes(f, extent, aspect, mip);
         const auto plane_a = a_raw.subspan(offset, bytes), plane_b = b_raw.subspan(offset, bytes);

@@ -37,6 +37,7 @@ enum class TexelMetric {
   angle,  // degrees between the decoded normals (normal and packed-normal kinds)
   depth,  // relative linear depth: reversed-Z device depth d is znear / distance, so |a / b − 1|
   codes,  // whole steps of a UNORM or sRGB encoding
+  flip,   // LDR-FLIP's per-pixel error, in [0, 1], of displayed (sRGB colour) images
 };
 std::string metric_name(TexelMetric metric);
 

@@ -34,7 +34,7 @@ TEST(DiffCi, ThresholdsFileHoldsWhatItMatchesAndSaysWhereFrom) {
   const fs::path file = dir / "thresholds.json";
   std::ofstream(file) << R"({"thresholds": [
     {"match": "lighting.*/*", "metric": "rel", "limit": 1e9},
-    {"match": "tonemap/final.ldr", "metric": "codes", "limit": 255},
+    {"match": "tonemap/final.ldr", "metric": "flip", "limit": 1},
     {"match": "*", "metric": "abs", "limit": 1e30}]})";
   const CliResult r = run_cli("diff --json --thresholds " + quote(file) + " " + quote(a) + " " + quote(b));
   EXPECT_EQ(r.code, 1) << "exposure's histogram, a buffer no 'abs' rule can measure, keeps its contract: " << r.err;
@@ -64,7 +64,11 @@ TEST(DiffCi, ThresholdsFileHoldsWhatItMatchesAndSaysWhereFrom) {
         }
         if (o.at("resource") == "final.ldr") {
           saw_ldr = true;
-          EXPECT_EQ(o.at("held_to"), "codes <= 255 (" + file.string() + " rule 2)");
+          EXPECT_EQ(o.at("held_to"), "flip <= 1 (" + file.string() + " rule 2)");
+          // The displayed image gets FLIP whatever it is held to: brighter lights are visible.
+          EXPECT_GT(o.at("flip").at("mean").get<double>(), 0.0);
+          EXPECT_LE(o.at("flip").at("max").get<double>(), 1.0);
+          EXPECT_EQ(o.at("threshold").at("worst").get<double>(), o.at("flip").at("max").get<double>());
         }
       }
   EXPECT_TRUE(saw_lit && saw_ldr);

@@ -3,11 +3,13 @@
 // shift, NaN on one side and on both).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 
+#include "inspect/metrics.h"
 #include "inspect/thresholds.h"
 
 namespace nightcap {
@@ -198,6 +200,24 @@ TEST(Thresholds, AngleDepthCodesAndExactByKind) {
   EXPECT_FALSE(check_threshold(rule(TexelMetric::abs, 1), frame(1, 1), buffer, a, a).problem.empty());
   EXPECT_TRUE(check_threshold(rule(TexelMetric::exact, 0), frame(1, 1), buffer, a, a).holds);
   EXPECT_FALSE(check_threshold(rule(TexelMetric::exact, 0), frame(1, 1), buffer, a, b).holds);
+}
+
+TEST(Thresholds, FlipOfDisplayedColourPerPixel) {
+  const ResourceRecord ldr = image(VK_FORMAT_R8G8B8A8_SRGB, ResourceKind::colour, 16, 16);
+  std::vector<uint8_t> a(16 * 16 * 4, 128), b;
+  b = a;
+  for (size_t i = 8 * 16 + 8, c = 0; c < 3; ++c) b[4 * i + c] = 255;  // one bright texel at (8, 8)
+  const FlipResult flip = flip_displayed(ldr, a, b);
+  const ThresholdCheck check = check_threshold(rule(TexelMetric::flip, 0.05), frame(16, 16), ldr, a, b);
+  EXPECT_FLOAT_EQ(float(check.worst), float(flip.max));
+  EXPECT_GT(flip.max, 0.05);
+  EXPECT_EQ(check.over,
+            uint64_t(std::count_if(flip.error.begin(), flip.error.end(), [](float e) { return e > 0.05f; })));
+  EXPECT_EQ(check.counted, 256u);
+  EXPECT_TRUE(check_threshold(rule(TexelMetric::flip, 0), frame(16, 16), ldr, a, a).holds);
+  const ResourceRecord unorm = image(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::material, 16, 16);
+  EXPECT_NE(check_threshold(rule(TexelMetric::flip, 1), frame(16, 16), unorm, a, b).problem.find("'flip' measures"),
+            std::string::npos);
 }
 
 }  // namespace
