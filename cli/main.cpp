@@ -443,7 +443,7 @@ int main(int argc, char** argv) {
   diff->add_option("capture_b", capture_b, "capture to compare")->required();
   diff->add_option("--thresholds", diff_flags.thresholds,
                    "JSON rules (glob on PASS/RESOURCE, metric, limit, allowed share, ignored rectangles) that replace "
-                   "the recorded contracts of the outputs they match (README: Thresholds)");
+                   "the recorded contracts of the outputs they match (format: README, `diff`)");
   auto* tolerance_option = diff->add_option(
       "--tolerance", tolerance,
       "max abs difference accepted for float outputs no --thresholds rule matches, instead of their recorded "
