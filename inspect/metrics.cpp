@@ -126,6 +126,17 @@ void compare_buffers(std::span<const uint8_t> a, std::span<const uint8_t> b, Res
 
 }  // namespace
 
+double stored_normal_angle_deg(const float* a, const float* b) {
+  const glm::dvec3 na = glm::dvec3(a[0], a[1], a[2]) * 2.0 - 1.0, nb = glm::dvec3(b[0], b[1], b[2]) * 2.0 - 1.0;
+  return glm::degrees(std::atan2(glm::length(glm::cross(na, nb)), glm::dot(na, nb)));
+}
+
+double code_steps(const FormatInfo& format, uint32_t channel, float a, float b) {
+  const bool srgb = format.encoding == ChannelEncoding::srgb8 && channel < 3;
+  const double ea = srgb ? linear_to_srgb(a) : a, eb = srgb ? linear_to_srgb(b) : b;
+  return std::round(std::abs(ea - eb) * code_scale(format));
+}
+
 ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uint8_t> a_raw, const ResourceRecord& b,
                                     std::span<const uint8_t> b_raw) {
   ResourceComparison r;
@@ -191,9 +202,7 @@ ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uin
         ++values;
       }
       if (normal && aspect == 0) {
-        const glm::dvec3 na = glm::dvec3(va[0], va[1], va[2]) * 2.0 - 1.0,
-                         nb = glm::dvec3(vb[0], vb[1], vb[2]) * 2.0 - 1.0;
-        const double angle = glm::degrees(std::atan2(glm::length(glm::cross(na, nb)), glm::dot(na, nb)));
+        const double angle = stored_normal_angle_deg(va, vb);
         if (std::isfinite(angle)) {
           r.angular_max_deg = std::max(r.angular_max_deg, angle);
           angle_sum += angle;
@@ -330,12 +339,9 @@ ContractCheck check_contract(const ComparisonContract& contract, const ResourceR
           double departure;
           if (aspect == 1)  // stencil: exact under every contract
             departure = d > 0 ? INFINITY : 0.0;
-          else if (contract.kind == Kind::unorm_codes) {
-            // Codes are whole steps of the stored encoding (sRGB codes before decoding).
-            const bool srgb = f.encoding == ChannelEncoding::srgb8 && c < 3;
-            const double ea = srgb ? linear_to_srgb(va[c]) : va[c], eb = srgb ? linear_to_srgb(vb[c]) : vb[c];
-            departure = std::round(std::abs(ea - eb) * code_scale(f));
-          } else if (contract.kind == Kind::linear_depth)
+          else if (contract.kind == Kind::unorm_codes)
+            departure = code_steps(f, c, va[c], vb[c]);
+          else if (contract.kind == Kind::linear_depth)
             departure = va[c] != 0 ? d / std::abs(double(va[c])) : (d > 0 ? INFINITY : 0.0);
           else {
             const double allowed = contract.absolute + contract.relative * std::abs(double(va[c]));

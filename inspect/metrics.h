@@ -33,6 +33,13 @@ struct ResourceComparison {
 ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uint8_t> a_raw, const ResourceRecord& b,
                                     std::span<const uint8_t> b_raw);
 
+// Degrees between two stored normals (0.5n + 0.5: both normal kinds read so as UNORM values);
+// NaN where either is not a direction.
+double stored_normal_angle_deg(const float* a, const float* b);
+// Whole steps of `format`'s encoding between decoded values `a` and `b` of `channel`: sRGB colour
+// channels compare as the codes they were stored as.
+double code_steps(const FormatInfo& format, uint32_t channel, float a, float b);
+
 // Displayed colour: an sRGB-encoded image of the colour kind (the frame's final picture), which
 // FLIP measures as an observer would see it.
 bool displayed_colour(const ResourceRecord& r);

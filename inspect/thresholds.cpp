@@ -33,17 +33,7 @@ double texel_error(TexelMetric metric, const FormatInfo& format, uint32_t aspect
                    uint32_t channels) {
   if (metric == TexelMetric::angle && aspect == 0) {
     if (std::isnan(va[0]) != std::isnan(vb[0])) return INFINITY;
-    // Both kinds store 0.5n + 0.5 (a packed normal's codes · 2/255 − 1 is the same on UNORM values).
-    double na[3], nb[3];
-    for (int k = 0; k < 3; ++k) {
-      na[k] = va[k] * 2.0 - 1.0;
-      nb[k] = vb[k] * 2.0 - 1.0;
-    }
-    const double cross[3] = {na[1] * nb[2] - na[2] * nb[1], na[2] * nb[0] - na[0] * nb[2],
-                             na[0] * nb[1] - na[1] * nb[0]};
-    const double dot = na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2];
-    const double angle =
-        std::atan2(std::sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]), dot) * 180.0 / M_PI;
+    const double angle = stored_normal_angle_deg(va, vb);
     return std::isfinite(angle) ? angle : INFINITY;
   }
   double worst = 0.0;
@@ -62,12 +52,9 @@ double texel_error(TexelMetric metric, const FormatInfo& format, uint32_t aspect
       case TexelMetric::depth:
         e = va[c] == 0 || vb[c] == 0 ? INFINITY : std::abs(double(va[c]) / vb[c] - 1.0);
         break;
-      case TexelMetric::codes: {
-        const bool srgb = format.encoding == ChannelEncoding::srgb8 && c < 3;
-        const double ea = srgb ? linear_to_srgb(va[c]) : va[c], eb = srgb ? linear_to_srgb(vb[c]) : vb[c];
-        e = std::round(std::abs(ea - eb) * code_scale(format));
+      case TexelMetric::codes:
+        e = code_steps(format, c, va[c], vb[c]);
         break;
-      }
       default:
         break;
     }
