@@ -81,8 +81,10 @@ PassDiff diff_pass(const Capture& ca, const FrameRecord& frame_a, const PassReco
       differs = true;
       if (o.comparison.comparable && displayed_colour(ra)) o.flip = flip_displayed(ra, raw_a, raw_b);
       if (rule) {
-        o.threshold = o.comparison.comparable ? check_threshold(*rule, frame_a, ra, raw_a, raw_b)
-                                              : ThresholdCheck{false, 0, 0, INFINITY, o.comparison.note};
+        o.threshold = o.comparison.comparable
+                          ? check_threshold(*rule, frame_a, ra, raw_a, raw_b,
+                                            o.flip ? std::span<const float>(o.flip->error) : std::span<const float>())
+                          : ThresholdCheck{false, 0, 0, INFINITY, o.comparison.note};
         o.beyond = !o.threshold->holds;
       } else if (by_tolerance) {
         o.beyond = !o.comparison.comparable || !(o.comparison.max_abs <= *options.tolerance);

@@ -170,7 +170,8 @@ Thresholds read_thresholds(const std::string& path) {
 }
 
 ThresholdCheck check_threshold(const ThresholdRule& rule, const FrameRecord& frame, const ResourceRecord& a,
-                               std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw) {
+                               std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw,
+                               std::span<const float> flip_map) {
   ThresholdCheck check;
   check.problem = unfit(rule.metric, a);
   if (!check.problem.empty()) return check;
@@ -187,8 +188,11 @@ ThresholdCheck check_threshold(const ThresholdRule& rule, const FrameRecord& fra
   }
   const FormatInfo f = *format_info(a.format);
   const ImageExtent& extent = a.extent;
-  std::vector<float> flip_errors;  // the FLIP map of mip 0, layer 0
-  if (rule.metric == TexelMetric::flip) flip_errors = flip_displayed(a, a_raw, b_raw).error;
+  std::vector<float> computed_flip;  // the FLIP map of mip 0, layer 0, when the caller had none
+  if (rule.metric == TexelMetric::flip && flip_map.empty()) {
+    computed_flip = flip_displayed(a, a_raw, b_raw).error;
+    flip_map = computed_flip;
+  }
   float va[4], vb[4];
   // Per texel the worst over aspects, so depth and stencil count as one texel.
   for (uint32_t mip = 0; mip < extent.mips; ++mip) {
@@ -204,7 +208,7 @@ ThresholdCheck check_threshold(const ThresholdRule& rule, const FrameRecord& fra
     for (uint32_t layer = 0; layer < extent.layers; ++layer) {
       std::vector<double> errors(uint64_t(w) * h * d, 0.0);
       if (rule.metric == TexelMetric::flip && mip == 0 && layer == 0)
-        std::copy(flip_errors.begin(), flip_errors.end(), errors.begin());
+        std::copy(flip_map.begin(), flip_map.end(), errors.begin());
       for (uint32_t aspect = 0; aspect < aspect_count(f) && rule.metric != TexelMetric::flip; ++aspect) {
         const auto offset = raw_subresource_offset(f, extent, aspect, mip, layer);
         const auto bytes = raw_subresource_bytes(f, extent, aspect, mip);

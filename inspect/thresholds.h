@@ -76,7 +76,10 @@ struct ThresholdCheck {
 
 // Every texel of every subresource of two same-shaped images; a texel is ignored when the output
 // pixel under its centre lies in one of the rule's rectangles. Buffers are compared by bytes.
+// `flip_map`: flip_displayed(a, a_raw, b_raw).error where the caller has it already; the `flip`
+// metric computes it otherwise.
 ThresholdCheck check_threshold(const ThresholdRule& rule, const FrameRecord& frame, const ResourceRecord& a,
-                               std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw);
+                               std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw,
+                               std::span<const float> flip_map = {});
 
 }  // namespace nightcap
