@@ -400,23 +400,28 @@ class Runner {
            << s["spirv"].get<std::string>();
   }
 
+  // One texel of one version: its hash, the raw channel values, the stored codes and what they mean.
+  ojson texel_json(const ResourceRecord& record, const FrameRecord& frame, const TexelAddress& texel) {
+    const PixelReading reading = read_pixel(record, session_.load(record), frame, texel);
+    ojson j = {{"hash", record.hash}, {"raw", reading.values.raw}};
+    if (!reading.values.codes.empty()) j["codes"] = reading.values.codes;
+    j["decoded"] = reading.decoded;
+    return j;
+  }
+
   ojson reading_json(const ResourceRecord& record, const FrameRecord& frame, uint32_t x, uint32_t y,
                      const Subimage& subimage) {
     const TexelAddress texel = texel_for_output_pixel(record, frame, x, y, subimage);
-    const PixelReading reading = read_pixel(record, session_.load(record), frame, texel);
     ojson j = {{"frame", frame.index},
                {"resource", record.resource},
                {"kind", kind_name(record.kind)},
                {"format", format_info(record.format)->name},
-               {"hash", record.hash},
                {"pixel", {x, y}},
                {"texel", {texel.x, texel.y}},
                {"mip", texel.mip},
                {"layer", texel.layer}};
     if (record.extent.depth > 1) j["slice"] = texel.slice;
-    j["raw"] = reading.values.raw;
-    if (!reading.values.codes.empty()) j["codes"] = reading.values.codes;
-    j["decoded"] = reading.decoded;
+    j.update(texel_json(record, frame, texel));
     return j;
   }
 
@@ -471,13 +476,6 @@ class Runner {
     const std::string only = args.positional.size() == 3 ? args.positional[2] : "";
     const FrameRecord& frame = session_.frame();
     const std::vector<PixelWrite> writes = pixel_history(session_, x, y, only);
-    auto reading = [&](const ResourceRecord& record, const TexelAddress& texel) {
-      const PixelReading r = read_pixel(record, session_.load(record), frame, texel);
-      ojson j = {{"hash", record.hash}, {"raw", r.values.raw}};
-      if (!r.values.codes.empty()) j["codes"] = r.values.codes;
-      j["decoded"] = r.decoded;
-      return j;
-    };
     ojson list = ojson::array();
     for (const PixelWrite& w : writes) {
       const PassRecord& pass = frame.passes[w.pass_index];
@@ -490,8 +488,8 @@ class Runner {
                  {"status", !w.before   ? "first"
                             : w.changed ? "changed"
                                         : "unchanged"}};
-      j["before"] = w.before ? reading(*w.before, w.texel) : ojson(nullptr);
-      j["after"] = reading(*w.after, w.texel);
+      j["before"] = w.before ? texel_json(*w.before, frame, w.texel) : ojson(nullptr);
+      j["after"] = texel_json(*w.after, frame, w.texel);
       list.push_back(j);
     }
     if (json_) return emit({{"frame", frame.index}, {"pixel", {x, y}}, {"granularity", "pass"}, {"writes", list}});
