@@ -35,17 +35,7 @@ uint8_t stencil_at(const std::vector<uint8_t>& raw, uint32_t width, uint32_t hei
   return raw[4 * uint64_t(width) * height + uint64_t(y) * width + x];
 }
 
-class InspectRerunTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    path_ = shared_capture("city", kCity);
-    capture_ = std::make_unique<Capture>(Capture::open(path_));
-  }
-  const FrameRecord& frame0() const { return capture_->frame(0); }
-
-  fs::path path_;
-  std::unique_ptr<Capture> capture_;
-};
+class InspectRerunTest : public CityCaptureTest {};
 
 // Whether pixel (x, y)'s centre lies in one of the draw's triangles, placed as geometry.glsl
 // places them: the draw's model matrix, then the recorded camera's projection · view. The test is

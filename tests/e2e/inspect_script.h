@@ -1,7 +1,10 @@
 // Scripted `nightcap inspect` runs for the e2e tests, with each command's --json line parsed.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -32,6 +35,19 @@ inline Inspected inspect(const std::filesystem::path& capture, const std::string
   }
   return run;
 }
+
+// Tests of the shared city capture, opened for each test.
+class CityCaptureTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    path_ = shared_capture("city", kCity);
+    capture_ = std::make_unique<Capture>(Capture::open(path_));
+  }
+  const FrameRecord& frame0() const { return capture_->frame(0); }
+
+  std::filesystem::path path_;
+  std::unique_ptr<Capture> capture_;
+};
 
 inline const PassRecord& pass_named(const FrameRecord& frame, const std::string& name) {
   for (const PassRecord& p : frame.passes)

@@ -48,17 +48,7 @@ void expect_unit_vector(const json& actual, double x, double y, double z) {
   EXPECT_NEAR(actual[2].get<double>(), z / length, 1e-6);
 }
 
-class InspectTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    path_ = shared_capture("city", kCity);
-    capture_ = std::make_unique<Capture>(Capture::open(path_));
-  }
-  const FrameRecord& frame0() const { return capture_->frame(0); }
-
-  fs::path path_;
-  std::unique_ptr<Capture> capture_;
-};
+class InspectTest : public CityCaptureTest {};
 
 // Pixels on geometry and sky, and across the screen, so both cleared and drawn texels are read.
 const std::vector<std::pair<uint32_t, uint32_t>> kPixels = {{160, 90}, {10, 170}, {300, 20}, {0, 0}, {319, 179}};

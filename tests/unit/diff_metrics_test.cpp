@@ -5,26 +5,10 @@
 #include <cstring>
 
 #include "inspect/metrics.h"
+#include "tests/unit/image_record.h"
 
 namespace nightcap {
 namespace {
-
-ResourceRecord image_record(VkFormat format, ResourceKind kind, uint32_t w, uint32_t h) {
-  ResourceRecord r;
-  r.resource = "test";
-  r.kind = kind;
-  r.is_buffer = false;
-  r.format = format;
-  r.extent.width = w;
-  r.extent.height = h;
-  return r;
-}
-
-std::vector<uint8_t> floats(const std::vector<float>& values) {
-  std::vector<uint8_t> bytes(values.size() * 4);
-  std::memcpy(bytes.data(), values.data(), bytes.size());
-  return bytes;
-}
 
 TEST(DiffMetrics, FloatErrorsAreExact) {
   const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 4, 1);

@@ -8,25 +8,15 @@
 
 #include "inspect/decode.h"
 #include "inspect/stats.h"
+#include "tests/unit/image_record.h"
 
 namespace nightcap {
 namespace {
 
-ResourceRecord image_record(const std::string& name, VkFormat format, ResourceKind kind, uint32_t width,
-                            uint32_t height, uint32_t mips = 1) {
-  ResourceRecord r;
-  r.resource = name;
-  r.is_buffer = false;
-  r.format = format;
-  r.kind = kind;
-  r.extent = {width, height, 1, mips, 1};
-  return r;
-}
-
 TEST(InspectStats, CountsNanInfAndStoredHalfDenormals) {
   // One channel's halves across 6 texels: 1, NaN, +Inf, -Inf, the smallest denormal, -2.
   const uint16_t halves[6] = {0x3c00, 0x7e00, 0x7c00, 0xfc00, 0x0001, 0xc000};
-  const ResourceRecord r = image_record("hdr", VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, 6, 1);
+  const ResourceRecord r = image_record(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, 6, 1, 1, "hdr");
   std::vector<uint8_t> raw(6 * 8, 0);
   for (int i = 0; i < 6; ++i) std::memcpy(raw.data() + 8 * i, &halves[i], 2);
   const std::vector<ChannelStats> stats = image_stats(r, raw, {}, {0, 0, 6, 1});
@@ -60,7 +50,8 @@ TEST(InspectDecode, StencilClassesAndFlags) {
 }
 
 TEST(InspectDecode, DepthStencilTexelInMetresAndClass) {
-  const ResourceRecord r = image_record("scene.depth", VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, 2, 1);
+  const ResourceRecord r =
+      image_record(VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, 2, 1, 1, "scene.depth");
   const float depths[2] = {0.0f, 0.004f};
   std::vector<uint8_t> raw(2 * 4 + 2);
   std::memcpy(raw.data(), depths, 8);
@@ -85,7 +76,7 @@ TEST(InspectDecode, OutputPixelsMapToHalfResolutionMips) {
   frame.width = 1280;
   frame.height = 720;
   const ResourceRecord half =
-      image_record("chain", VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, 640, 360, 6);
+      image_record(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, 640, 360, 6, "chain");
   const TexelAddress mip2 = texel_for_output_pixel(half, frame, 1279, 719, {2, 0, 0});
   EXPECT_EQ(mip2.x, 159u);  // mip 2 of 640x360 is 160x90
   EXPECT_EQ(mip2.y, 89u);
@@ -101,7 +92,7 @@ TEST(InspectDecode, OutputPixelsMapToHalfResolutionMips) {
 // A 16x8x4 R32_SFLOAT volume with 2 mips whose texel (x, y, z) of mip m holds 1000m + 100z + 10y + x:
 // each slice is read where the raw layout puts it (mip, then z, then rows).
 TEST(InspectDecode, SlicesOfA3DImage) {
-  ResourceRecord volume = image_record("froxels", VK_FORMAT_R32_SFLOAT, ResourceKind::buffer, 16, 8, 2);
+  ResourceRecord volume = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::buffer, 16, 8, 2, "froxels");
   volume.extent.depth = 4;
   std::vector<uint8_t> raw;
   for (uint32_t m = 0; m < 2; ++m)
