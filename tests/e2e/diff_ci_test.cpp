@@ -84,6 +84,7 @@ TEST(DiffCi, ThresholdsFileHoldsWhatItMatchesAndSaysWhereFrom) {
   ASSERT_TRUE(std::regex_match(line, counts, std::regex("([0-9]+) passed, ([0-9]+) failed"))) << plain.out;
   EXPECT_GT(std::stoi(counts[2]), 0);
   EXPECT_NE(plain.out.find("(recorded contract)"), std::string::npos);
+  EXPECT_NE(plain.out.find("FLIP mean "), std::string::npos) << "the table shows FLIP of the displayed image";
 }
 
 TEST(DiffCi, JunitHasOneCasePerPassAndOutput) {
