@@ -46,6 +46,17 @@ float unsigned_small_float(uint32_t bits, int mantissa_bits) {
   return half_to_float(static_cast<uint16_t>(bits << (10 - mantissa_bits)));
 }
 
+// The 256 linear values of the sRGB codes, computed once: pow per channel dominated decoding
+// displayed images.
+float srgb_code_to_linear(uint8_t code) {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t;
+    for (int i = 0; i < 256; ++i) t[i] = srgb_to_linear(i / 255.0f);
+    return t;
+  }();
+  return table[code];
+}
+
 template <typename T>
 T load(std::span<const uint8_t> plane, uint64_t byte_offset) {
   T value;
@@ -190,7 +201,7 @@ void decode_texel(const FormatInfo& format, uint32_t aspect, std::span<const uin
       return;
     case E::srgb8:
       for (uint32_t c = 0; c < format.channels; ++c)
-        out[c] = c == 3 ? plane[base + c] / 255.0f : srgb_to_linear(plane[base + c] / 255.0f);
+        out[c] = c == 3 ? plane[base + c] / 255.0f : srgb_code_to_linear(plane[base + c]);
       return;
     case E::uint8:
       for (uint32_t c = 0; c < format.channels; ++c) out[c] = plane[base + c];
