@@ -1,8 +1,12 @@
 #include "inspect/diff.h"
 
+#include <atomic>
+#include <exception>
 #include <iomanip>
 #include <map>
+#include <mutex>
 #include <sstream>
+#include <thread>
 
 namespace nightcap {
 namespace {
@@ -40,8 +44,18 @@ bool float_output(const ResourceRecord& r) {
                          f.encoding == ChannelEncoding::packed_b10g11r11);
 }
 
-PassDiff diff_pass(const Capture& ca, const FrameRecord& frame_a, const PassRecord& a, const Capture& cb,
-                   const PassRecord& b, const DiffOptions& options) {
+// An output whose versions differ in bytes, to be measured (loaded, compared, held to its
+// threshold) apart from the walk over the passes, so that outputs are measured in parallel.
+struct PendingOutput {
+  OutputDiff* diff;
+  const FrameRecord* frame_a;
+  const ResourceRecord *a, *b;
+  const ThresholdRule* rule;
+  bool by_tolerance;
+};
+
+PassDiff diff_pass(const FrameRecord& frame_a, const PassRecord& a, const PassRecord& b, const DiffOptions& options,
+                   std::vector<PendingOutput>& pending) {
   PassDiff d;
   d.name = a.name;
   if (!a.ran || !b.ran) {
@@ -53,8 +67,9 @@ PassDiff diff_pass(const Capture& ca, const FrameRecord& frame_a, const PassReco
   d.params_agree = a.params == b.params;
   d.shaders_agree = shader_hashes(a) == shader_hashes(b);
   bool differs = false;
+  d.outputs.reserve(a.outputs.size() + b.outputs.size());
   for (const ResourceRecord& ra : a.outputs) {
-    OutputDiff o;
+    OutputDiff& o = d.outputs.emplace_back();
     o.resource = ra.resource;
     const ResourceRecord* rb = nullptr;
     for (const ResourceRecord& r : b.outputs)
@@ -63,54 +78,82 @@ PassDiff diff_pass(const Capture& ca, const FrameRecord& frame_a, const PassReco
       o.only_in_one = true;
       o.comparison.comparable = false;
       o.comparison.note = "only in A";
-      differs = d.beyond_tolerance = true;
-    } else {
-      const ThresholdRule* rule = options.thresholds ? options.thresholds->match(a.name, ra) : nullptr;
-      const bool by_tolerance = !rule && options.tolerance && float_output(ra);
-      o.held_to = rule           ? rule->description() + " (" + rule->source + ")"
-                  : by_tolerance ? "max abs <= " + number(*options.tolerance) + " (--tolerance)"
-                                 : contract_description(ra.contract) + " (recorded contract)";
-      if (ra.hash == rb->hash) {
-        o.comparison.identical = true;
-        o.comparison.metric = "bytes";
-        d.outputs.push_back(std::move(o));
-        continue;
-      }
-      const std::vector<uint8_t> raw_a = ca.load(ra), raw_b = cb.load(*rb);
-      o.comparison = compare_resource(ra, raw_a, *rb, raw_b);
-      differs = true;
-      if (o.comparison.comparable && displayed_colour(ra)) o.flip = flip_displayed(ra, raw_a, raw_b);
-      if (rule) {
-        o.threshold = o.comparison.comparable
-                          ? check_threshold(*rule, frame_a, ra, raw_a, raw_b,
-                                            o.flip ? std::span<const float>(o.flip->error) : std::span<const float>())
-                          : ThresholdCheck{false, 0, 0, INFINITY, o.comparison.note};
-        o.beyond = !o.threshold->holds;
-      } else if (by_tolerance) {
-        o.beyond = !o.comparison.comparable || !(o.comparison.max_abs <= *options.tolerance);
-      } else {
-        o.contract = check_contract(ra.contract, ra, raw_a, raw_b, o.comparison);
-        o.beyond = !o.contract.holds;
-      }
-      if (o.beyond) d.beyond_tolerance = true;
+      differs = o.beyond = true;
+      continue;
     }
-    d.outputs.push_back(std::move(o));
+    const ThresholdRule* rule = options.thresholds ? options.thresholds->match(a.name, ra) : nullptr;
+    const bool by_tolerance = !rule && options.tolerance && float_output(ra);
+    o.held_to = rule           ? rule->description() + " (" + rule->source + ")"
+                : by_tolerance ? "max abs <= " + number(*options.tolerance) + " (--tolerance)"
+                               : contract_description(ra.contract) + " (recorded contract)";
+    if (ra.hash == rb->hash) {
+      o.comparison.identical = true;
+      o.comparison.metric = "bytes";
+      continue;
+    }
+    differs = true;
+    pending.push_back({&o, &frame_a, &ra, rb, rule, by_tolerance});
   }
   const auto outputs_a = hashes(a.outputs);
   for (const ResourceRecord& rb : b.outputs)
     if (!outputs_a.count(rb.resource)) {
-      OutputDiff o;
+      OutputDiff& o = d.outputs.emplace_back();
       o.resource = rb.resource;
       o.only_in_one = true;
       o.comparison.comparable = false;
       o.comparison.note = "only in B";
-      d.outputs.push_back(std::move(o));
-      differs = d.beyond_tolerance = true;
+      differs = o.beyond = true;
     }
   // Equal inputs but different outputs: the change entered here (through a parameter, a
   // shader, or the pass's own behaviour); params_agree and shaders_agree say which.
   if (differs) d.status = d.inputs_agree ? PassStatus::origin : PassStatus::inherited;
   return d;
+}
+
+void measure(const Capture& ca, const Capture& cb, const PendingOutput& p, const DiffOptions& options) {
+  OutputDiff& o = *p.diff;
+  const std::vector<uint8_t> raw_a = ca.load(*p.a), raw_b = cb.load(*p.b);
+  const ResourcePair pair(*p.a, raw_a, *p.b, raw_b);
+  o.comparison = compare_resource(pair);
+  if (o.comparison.comparable && displayed_colour(*p.a)) o.flip = flip_displayed(pair);
+  if (p.rule) {
+    o.threshold = o.comparison.comparable
+                      ? check_threshold(*p.rule, *p.frame_a, pair,
+                                        o.flip ? std::span<const float>(o.flip->error) : std::span<const float>())
+                      : ThresholdCheck{false, 0, 0, INFINITY, o.comparison.note};
+    o.beyond = !o.threshold->holds;
+  } else if (p.by_tolerance) {
+    o.beyond = !o.comparison.comparable || !(o.comparison.max_abs <= *options.tolerance);
+  } else {
+    o.contract = check_contract(p.a->contract, pair, o.comparison);
+    o.beyond = !o.contract.holds;
+  }
+}
+
+// Loading, decoding and comparing are independent per output: a worker per core takes the next
+// one. The first error any of them met is thrown once all have stopped.
+void measure_all(const Capture& ca, const Capture& cb, const std::vector<PendingOutput>& pending,
+                 const DiffOptions& options) {
+  std::atomic<size_t> next = 0;
+  std::mutex failure_mutex;
+  std::exception_ptr failure;
+  auto work = [&] {
+    for (size_t i = next++; i < pending.size(); i = next++) {
+      try {
+        measure(ca, cb, pending[i], options);
+      } catch (...) {
+        const std::lock_guard lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+        next = pending.size();
+      }
+    }
+  };
+  const size_t workers = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), pending.size());
+  std::vector<std::thread> threads;
+  for (size_t i = 1; i < workers; ++i) threads.emplace_back(work);
+  work();
+  for (std::thread& t : threads) t.join();
+  if (failure) std::rethrow_exception(failure);
 }
 
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
@@ -146,6 +189,9 @@ CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions&
     b.frame(*options.frame);
   }
   auto wanted = [&](const FrameRecord& f) { return !options.frame || f.index == *options.frame; };
+  std::vector<PendingOutput> pending;
+  // Outputs point into diff.frames: each frame's passes are laid out before any is measured.
+  diff.frames.reserve(a.manifest().frames.size());
   for (const FrameRecord& fa : a.manifest().frames) {
     if (!wanted(fa)) continue;
     const FrameRecord* fb = nullptr;
@@ -157,19 +203,24 @@ CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions&
       diff.beyond_tolerance = true;
       continue;
     }
-    FrameDiff frame;
+    FrameDiff& frame = diff.frames.emplace_back();
     frame.index = fa.index;
+    frame.passes.reserve(fa.passes.size() + fb->passes.size());
     for (const PassRecord& pa : fa.passes) {
       const PassRecord* pb = find(*fb, pa.name);
       if (!pb) {
         frame.passes.push_back({pa.name, PassStatus::only_in_a, false, false, false, {}, true});
         continue;
       }
-      frame.passes.push_back(diff_pass(a, fa, pa, b, *pb, options));
+      frame.passes.push_back(diff_pass(fa, pa, *pb, options, pending));
     }
     for (const PassRecord& pb : fb->passes)
       if (!find(fa, pb.name)) frame.passes.push_back({pb.name, PassStatus::only_in_b, false, false, false, {}, true});
-    for (const PassDiff& p : frame.passes) {
+  }
+  measure_all(a, b, pending, options);
+  for (FrameDiff& frame : diff.frames)
+    for (PassDiff& p : frame.passes) {
+      for (const OutputDiff& o : p.outputs) p.beyond_tolerance |= o.beyond;
       if (p.status != PassStatus::identical && p.status != PassStatus::skipped) diff.identical = false;
       diff.beyond_tolerance |= p.beyond_tolerance;
       if (!diff.first_divergence && (p.status == PassStatus::origin || p.status == PassStatus::skipped_in_a ||
@@ -177,8 +228,6 @@ CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions&
                                      p.status == PassStatus::only_in_b))
         diff.first_divergence = {frame.index, p.name};
     }
-    diff.frames.push_back(std::move(frame));
-  }
   for (const FrameRecord& fb : b.manifest().frames) {
     if (!wanted(fb)) continue;
     bool found = false;

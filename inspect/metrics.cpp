@@ -23,10 +23,11 @@ bool is_float(const FormatInfo& f) {
          f.encoding == E::depth32_stencil8;
 }
 
-// Threshold a texel's channel must exceed to count in over_threshold_share.
-double threshold(const FormatInfo& f, uint32_t aspect, double reference) {
+// What a texel's channel must differ by to count in over_threshold_share, where it is fixed: any
+// difference of an integer, one code of a UNORM format. Floats are held to 1e-3 relative (of
+// values over 1; 1e-3 absolute below), where compare_resource reads them.
+double fixed_threshold(const FormatInfo& f, uint32_t aspect) {
   if (is_integer(f, aspect)) return 0.0;
-  if (is_float(f)) return 1e-3 * std::max(1.0, std::abs(reference));
   if (f.encoding == ChannelEncoding::packed_a2b10g10r10) return 1.0 / 1023.0;
   return 1.0 / 255.0;
 }
@@ -139,12 +140,14 @@ double code_steps(const FormatInfo& format, uint32_t channel, float a, float b) 
 
 ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uint8_t> a_raw, const ResourceRecord& b,
                                     std::span<const uint8_t> b_raw) {
+  return compare_resource(ResourcePair(a, a_raw, b, b_raw));
+}
+
+ResourceComparison compare_resource(const ResourcePair& pair) {
+  const ResourceRecord& a = pair.a;
   ResourceComparison r;
-  r.identical = a_raw.size() == b_raw.size() && std::equal(a_raw.begin(), a_raw.end(), b_raw.begin());
-  if (a.is_buffer != b.is_buffer || a_raw.size() != b_raw.size() ||
-      (!a.is_buffer &&
-       (a.format != b.format || a.extent.width != b.extent.width || a.extent.height != b.extent.height ||
-        a.extent.depth != b.extent.depth || a.extent.mips != b.extent.mips || a.extent.layers != b.extent.layers))) {
+  r.identical = pair.same_bytes();
+  if (!pair.same_shape()) {
     r.comparable = false;
     r.note = "format or size differs";
     r.max_abs = INFINITY;
@@ -154,9 +157,9 @@ ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uin
   }
   if (a.is_buffer) {
     if (a.schema)
-      compare_fields(*a.schema, a_raw, b_raw, r);
+      compare_fields(*a.schema, pair.a_raw, pair.b_raw, r);
     else
-      compare_buffers(a_raw, b_raw, r);
+      compare_buffers(pair.a_raw, pair.b_raw, r);
     return r;
   }
   const FormatInfo f = *format_info(a.format);
@@ -169,36 +172,42 @@ ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uin
   double peak = is_float(f) ? 1e-6 : 1.0;
   double sum_squares = 0, angle_sum = 0;
   uint64_t values = 0, texels_total = 0, over = 0;
-  float va[4], vb[4];
   for (uint32_t aspect = 0; aspect < aspect_count(f); ++aspect) {
     const uint32_t channels = aspect_channels(f, aspect);
-    const uint64_t begin = raw_subresource_offset(f, a.extent, aspect, 0, 0);
-    const uint64_t end = raw_subresource_offset(f, a.extent, aspect + 1, 0, 0);
-    const uint64_t texels = (end - begin) / aspect_texel_bytes(f, aspect);
-    const auto plane_a = a_raw.subspan(begin, end - begin), plane_b = b_raw.subspan(begin, end - begin);
+    const std::span<const float> plane_a = pair.a_values().aspect(aspect), plane_b = pair.b_values().aspect(aspect);
+    const uint64_t texels = plane_a.size() / channels;
+    const bool relative = is_float(f) && aspect == 0;
+    const double fixed = fixed_threshold(f, aspect);
     for (uint64_t t = 0; t < texels; ++t) {
-      decode_texel(f, aspect, plane_a, t, va);
-      decode_texel(f, aspect, plane_b, t, vb);
+      const float* va = plane_a.data() + t * channels;
+      const float* vb = plane_b.data() + t * channels;
       bool texel_over = false, texel_differs = false;
       for (uint32_t c = 0; c < channels; ++c) {
-        const bool nan_a = std::isnan(va[c]), nan_b = std::isnan(vb[c]);
+        const float x = va[c], y = vb[c];
+        if (std::isfinite(x) && std::isfinite(y)) [[likely]] {
+          const double d = std::abs(double(x) - y);
+          if (relative) peak = std::max(peak, double(std::abs(x)));
+          ++values;
+          if (d == 0) continue;
+          texel_differs = true;
+          texel_over |= d > (relative ? 1e-3 * std::max(1.0, double(std::abs(x))) : fixed);
+          r.max_abs = std::max(r.max_abs, d);
+          sum_squares += d * d;
+          continue;
+        }
+        const bool nan_a = std::isnan(x), nan_b = std::isnan(y);
         r.nan_a += nan_a;
         r.nan_b += nan_b;
-        r.inf_a += std::isinf(va[c]);
-        r.inf_b += std::isinf(vb[c]);
-        if (is_float(f) && aspect == 0 && std::isfinite(va[c])) peak = std::max(peak, double(std::abs(va[c])));
-        if (nan_a && nan_b) continue;  // NaN in the same place is agreement, not a difference
-        double d;
-        if (nan_a || nan_b)
-          d = INFINITY;
-        else if (std::isinf(va[c]) || std::isinf(vb[c]))
-          d = va[c] == vb[c] ? 0.0 : INFINITY;
-        else
-          d = std::abs(double(va[c]) - vb[c]);
-        if (d > 0) texel_differs = true;
-        if (d > threshold(f, aspect, va[c])) texel_over = true;
-        r.max_abs = std::max(r.max_abs, d);
-        if (std::isfinite(d)) sum_squares += d * d;
+        r.inf_a += std::isinf(x);
+        r.inf_b += std::isinf(y);
+        if (relative && std::isfinite(x)) peak = std::max(peak, double(std::abs(x)));
+        if (nan_a && nan_b) continue;      // NaN in the same place is agreement, not a difference
+        if (!nan_a && !nan_b && x == y) {  // the same infinity
+          ++values;
+          continue;
+        }
+        texel_differs = texel_over = true;
+        r.max_abs = INFINITY;
         ++values;
       }
       if (normal && aspect == 0) {
@@ -220,62 +229,36 @@ ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uin
   return r;
 }
 
-namespace {
-
-// Applies `visit(aspect, channel, value_a, value_b)` to every decoded value of two images of the
-// same format and size.
-template <typename Visit>
-void each_value(const FormatInfo& f, const ImageExtent& extent, std::span<const uint8_t> a, std::span<const uint8_t> b,
-                Visit visit) {
-  float va[4], vb[4];
-  for (uint32_t aspect = 0; aspect < aspect_count(f); ++aspect) {
-    const uint64_t begin = raw_subresource_offset(f, extent, aspect, 0, 0);
-    const uint64_t end = raw_subresource_offset(f, extent, aspect + 1, 0, 0);
-    const uint64_t texels = (end - begin) / aspect_texel_bytes(f, aspect);
-    for (uint64_t t = 0; t < texels; ++t) {
-      decode_texel(f, aspect, a.subspan(begin, end - begin), t, va);
-      decode_texel(f, aspect, b.subspan(begin, end - begin), t, vb);
-      visit(aspect, aspect_channels(f, aspect), va, vb);
-    }
-  }
-}
-
-}  // namespace
-
 bool displayed_colour(const ResourceRecord& r) {
   return !r.is_buffer && r.kind == ResourceKind::colour && format_info(r.format)->encoding == ChannelEncoding::srgb8 &&
          format_info(r.format)->channels >= 3;
 }
 
 FlipResult flip_displayed(const ResourceRecord& a, std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw) {
-  const FormatInfo f = *format_info(a.format);
-  const uint64_t texels = uint64_t(a.extent.width) * a.extent.height;
-  // sRGB codes decode to linear values, what FLIP takes.
-  auto linear = [&](std::span<const uint8_t> raw) {
-    std::vector<float> rgb(texels * 3);
-    const auto plane = raw.subspan(0, raw_subresource_bytes(f, a.extent, 0, 0));
-    float v[4];
-    for (uint64_t t = 0; t < texels; ++t) {
-      decode_texel(f, 0, plane, t, v);
-      std::copy(v, v + 3, rgb.begin() + 3 * t);
-    }
-    return rgb;
-  };
-  const std::vector<float> reference = linear(a_raw), test = linear(b_raw);
-  return flip_ldr({a.extent.width, a.extent.height, 3, reference}, {a.extent.width, a.extent.height, 3, test});
+  return flip_displayed(ResourcePair(a, a_raw, a, b_raw));
+}
+
+FlipResult flip_displayed(const ResourcePair& pair) {
+  // sRGB codes decode to linear values, what FLIP takes; alpha is ignored.
+  const ImageExtent& extent = pair.a.extent;
+  const uint32_t channels = format_info(pair.a.format)->channels;
+  return flip_ldr({extent.width, extent.height, channels, pair.a_values().subresource(0, 0, 0)},
+                  {extent.width, extent.height, channels, pair.b_values().subresource(0, 0, 0)});
 }
 
 ContractCheck check_contract(const ComparisonContract& contract, const ResourceRecord& a,
                              std::span<const uint8_t> a_raw, const ResourceRecord& b, std::span<const uint8_t> b_raw) {
-  return check_contract(contract, a, a_raw, b_raw, compare_resource(a, a_raw, b, b_raw));
+  const ResourcePair pair(a, a_raw, b, b_raw);
+  return check_contract(contract, pair, compare_resource(pair));
 }
 
-ContractCheck check_contract(const ComparisonContract& contract, const ResourceRecord& a,
-                             std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw,
+ContractCheck check_contract(const ComparisonContract& contract, const ResourcePair& pair,
                              const ResourceComparison& shape) {
   using Kind = ComparisonContract::Kind;
+  const ResourceRecord& a = pair.a;
+  const std::span<const uint8_t> a_raw = pair.a_raw, b_raw = pair.b_raw;
   ContractCheck check;
-  const bool same_bytes = a_raw.size() == b_raw.size() && std::equal(a_raw.begin(), a_raw.end(), b_raw.begin());
+  const bool same_bytes = pair.same_bytes();
   if (!shape.comparable) {
     check.measure = shape.note;
     check.worst = INFINITY;
@@ -332,25 +315,34 @@ ContractCheck check_contract(const ComparisonContract& contract, const ResourceR
       check.bound = contract.kind == Kind::unorm_codes    ? contract.absolute
                     : contract.kind == Kind::linear_depth ? contract.relative
                                                           : 1.0;
-      each_value(f, a.extent, a_raw, b_raw, [&](uint32_t aspect, uint32_t channels, const float* va, const float* vb) {
-        for (uint32_t c = 0; c < channels; ++c) {
-          if (std::isnan(va[c]) && std::isnan(vb[c])) continue;
-          const double d = va[c] == vb[c] ? 0.0 : std::abs(double(va[c]) - double(vb[c]));
+      if (contract.kind == Kind::unorm_codes &&
+          (f.encoding == ChannelEncoding::unorm8 || f.encoding == ChannelEncoding::srgb8)) {
+        // One byte per channel: the stored codes are what the contract counts.
+        for (size_t i = 0; i < a_raw.size(); ++i)
+          check.worst = std::max(check.worst, double(std::abs(int(a_raw[i]) - int(b_raw[i]))));
+        break;
+      }
+      for (uint32_t aspect = 0; aspect < aspect_count(f); ++aspect) {
+        const uint32_t channels = aspect_channels(f, aspect);
+        const std::span<const float> va = pair.a_values().aspect(aspect), vb = pair.b_values().aspect(aspect);
+        for (size_t i = 0; i < va.size(); ++i) {
+          if (va[i] == vb[i] || (std::isnan(va[i]) && std::isnan(vb[i]))) continue;  // departs by 0
+          const double d = std::abs(double(va[i]) - double(vb[i]));
           double departure;
           if (aspect == 1)  // stencil: exact under every contract
-            departure = d > 0 ? INFINITY : 0.0;
+            departure = INFINITY;
           else if (contract.kind == Kind::unorm_codes)
-            departure = code_steps(f, c, va[c], vb[c]);
+            departure = code_steps(f, uint32_t(i % channels), va[i], vb[i]);
           else if (contract.kind == Kind::linear_depth)
-            departure = va[c] != 0 ? d / std::abs(double(va[c])) : (d > 0 ? INFINITY : 0.0);
+            departure = va[i] != 0 ? d / std::abs(double(va[i])) : INFINITY;
           else {
-            const double allowed = contract.absolute + contract.relative * std::abs(double(va[c]));
-            departure = allowed > 0 ? d / allowed : (d > 0 ? INFINITY : 0.0);
+            const double allowed = contract.absolute + contract.relative * std::abs(double(va[i]));
+            departure = allowed > 0 ? d / allowed : INFINITY;
           }
           if (std::isnan(departure)) departure = INFINITY;
           check.worst = std::max(check.worst, departure);
         }
-      });
+      }
       break;
     }
   }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "captures/capture.h"
+#include "inspect/decoded_image.h"
 #include "inspect/flip.h"
 
 namespace nightcap {
@@ -32,6 +33,7 @@ struct ResourceComparison {
 // decoded by a's schema where it has one (`differing` then counts elements), else as words.
 ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uint8_t> a_raw, const ResourceRecord& b,
                                     std::span<const uint8_t> b_raw);
+ResourceComparison compare_resource(const ResourcePair& pair);
 
 // Degrees between two stored normals (0.5n + 0.5: both normal kinds read so as UNORM values);
 // NaN where either is not a direction.
@@ -46,6 +48,7 @@ bool displayed_colour(const ResourceRecord& r);
 // LDR-FLIP between mip 0, layer 0 of two displayed-colour images of the same shape, `a` the
 // reference; the error map is per texel of that subimage.
 FlipResult flip_displayed(const ResourceRecord& a, std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw);
+FlipResult flip_displayed(const ResourcePair& pair);
 
 // How far `b` is from `a` in the terms of a's comparison contract.
 struct ContractCheck {
@@ -59,9 +62,8 @@ struct ContractCheck {
 };
 ContractCheck check_contract(const ComparisonContract& contract, const ResourceRecord& a,
                              std::span<const uint8_t> a_raw, const ResourceRecord& b, std::span<const uint8_t> b_raw);
-// The same, reusing compare_resource(a, a_raw, b, b_raw) that the caller already has.
-ContractCheck check_contract(const ComparisonContract& contract, const ResourceRecord& a,
-                             std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw,
+// The same, reusing compare_resource(pair) that the caller already has.
+ContractCheck check_contract(const ComparisonContract& contract, const ResourcePair& pair,
                              const ResourceComparison& shape);
 
 }  // namespace nightcap

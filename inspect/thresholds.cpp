@@ -172,16 +172,22 @@ Thresholds read_thresholds(const std::string& path) {
 ThresholdCheck check_threshold(const ThresholdRule& rule, const FrameRecord& frame, const ResourceRecord& a,
                                std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw,
                                std::span<const float> flip_map) {
+  return check_threshold(rule, frame, ResourcePair(a, a_raw, a, b_raw), flip_map);
+}
+
+ThresholdCheck check_threshold(const ThresholdRule& rule, const FrameRecord& frame, const ResourcePair& pair,
+                               std::span<const float> flip_map) {
+  const ResourceRecord& a = pair.a;
   ThresholdCheck check;
   check.problem = unfit(rule.metric, a);
   if (!check.problem.empty()) return check;
-  if (a_raw.size() != b_raw.size()) {
+  if (pair.a_raw.size() != pair.b_raw.size()) {
     check.problem = "the sizes differ";
     return check;
   }
   if (a.is_buffer) {
     check.counted = 1;
-    check.over = std::equal(a_raw.begin(), a_raw.end(), b_raw.begin()) ? 0 : 1;
+    check.over = pair.same_bytes() ? 0 : 1;
     check.worst = check.over ? INFINITY : 0.0;
     check.holds = check.over == 0;
     return check;
@@ -190,10 +196,9 @@ ThresholdCheck check_threshold(const ThresholdRule& rule, const FrameRecord& fra
   const ImageExtent& extent = a.extent;
   std::vector<float> computed_flip;  // the FLIP map of mip 0, layer 0, when the caller had none
   if (rule.metric == TexelMetric::flip && flip_map.empty()) {
-    computed_flip = flip_displayed(a, a_raw, b_raw).error;
+    computed_flip = flip_displayed(pair).error;
     flip_map = computed_flip;
   }
-  float va[4], vb[4];
   // Per texel the worst over aspects, so depth and stencil count as one texel.
   for (uint32_t mip = 0; mip < extent.mips; ++mip) {
     const uint32_t w = mip_size(extent.width, mip), h = mip_size(extent.height, mip), d = mip_size(extent.depth, mip);
@@ -210,14 +215,12 @@ ThresholdCheck check_threshold(const ThresholdRule& rule, const FrameRecord& fra
       if (rule.metric == TexelMetric::flip && mip == 0 && layer == 0)
         std::copy(flip_map.begin(), flip_map.end(), errors.begin());
       for (uint32_t aspect = 0; aspect < aspect_count(f) && rule.metric != TexelMetric::flip; ++aspect) {
-        const auto offset = raw_subresource_offset(f, extent, aspect, mip, layer);
-        const auto bytes = raw_subresource_bytes(f, extent, aspect, mip);
-        const auto plane_a = a_raw.subspan(offset, bytes), plane_b = b_raw.subspan(offset, bytes);
-        for (uint64_t t = 0; t < errors.size(); ++t) {
-          decode_texel(f, aspect, plane_a, t, va);
-          decode_texel(f, aspect, plane_b, t, vb);
-          errors[t] = std::max(errors[t], texel_error(rule.metric, f, aspect, va, vb, aspect_channels(f, aspect)));
-        }
+        const uint32_t channels = aspect_channels(f, aspect);
+        const std::span<const float> va = pair.a_values().subresource(aspect, mip, layer),
+                                     vb = pair.b_values().subresource(aspect, mip, layer);
+        for (uint64_t t = 0; t < errors.size(); ++t)
+          errors[t] = std::max(errors[t], texel_error(rule.metric, f, aspect, va.data() + t * channels,
+                                                      vb.data() + t * channels, channels));
       }
       for (uint64_t t = 0; t < errors.size(); ++t) {
         if (ignored[t % (uint64_t(w) * h)]) continue;

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "captures/capture.h"
+#include "inspect/decoded_image.h"
 
 namespace nightcap {
 
@@ -80,6 +81,8 @@ struct ThresholdCheck {
 // metric computes it otherwise.
 ThresholdCheck check_threshold(const ThresholdRule& rule, const FrameRecord& frame, const ResourceRecord& a,
                                std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw,
+                               std::span<const float> flip_map = {});
+ThresholdCheck check_threshold(const ThresholdRule& rule, const FrameRecord& frame, const ResourcePair& pair,
                                std::span<const float> flip_map = {});
 
 }  // namespace nightcap

@@ -179,11 +179,12 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
       ResourceRecord replayed_record = out;
       replayed_record.buffer_size = produced->desc.buffer_size;
       const std::vector<uint8_t> recorded = capture.load(out);
-      const ResourceComparison cmp = compare_resource(out, recorded, replayed_record, *produced->bytes);
+      const ResourcePair pair(out, recorded, replayed_record, *produced->bytes);
+      const ResourceComparison cmp = compare_resource(pair);
       check.amount = cmp.max_abs;
       check.metric = cmp.metric;
       check.first_difference = cmp.first_difference;
-      check.contract = check_contract(out.contract, out, recorded, *produced->bytes, cmp);
+      check.contract = check_contract(out.contract, pair, cmp);
       // On the same machine a replay is bitwise, unless the recorded contract says the result
       // depends on execution order; then it is held to that contract.
       const bool order_dependent = out.contract.order_dependent && check.contract->holds;
