@@ -21,6 +21,7 @@
 #include "passes/core/shader.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/renderer.h"
+#include "replay/isolate.h"
 #include "replay/replay.h"
 
 namespace nc = nightcap;
@@ -295,6 +296,8 @@ struct DiffFlags {
   std::optional<double> tolerance;
   std::optional<uint32_t> frame;
   bool json = false;
+  bool isolate = false;
+  std::string device;  // of --isolate's replays
 };
 
 // Exit 0 when every result is within what it was held to, 1 when one is not; the last line
@@ -311,7 +314,11 @@ int run_diff(const std::string& a, const std::string& b, const DiffFlags& flags)
   }
   options.tolerance = flags.tolerance;
   options.frame = flags.frame;
-  const nc::CaptureDiff diff = nc::diff_captures(capture_a, capture_b, options);
+  nc::CaptureDiff diff = nc::diff_captures(capture_a, capture_b, options);
+  if (flags.isolate) {
+    nc::GpuDevice gpu({flags.device, validation_requested()});
+    nc::isolate_passes(gpu, capture_a, capture_b, diff);
+  }
   const std::vector<nc::DiffCase> cases = nc::diff_cases(diff);
   const nc::DiffTally counts = nc::tally(cases);
   if (!flags.junit.empty())
@@ -450,6 +457,10 @@ int main(int argc, char** argv) {
       "contracts (others keep theirs)");
   auto* diff_frame_option = diff->add_option("--frame", diff_frame, "compare frame K only");
   diff->add_option("--junit", diff_flags.junit, "also write JUnit XML: one test case per pass and output");
+  diff->add_flag("--isolate", diff_flags.isolate,
+                 "run each differing pass as B recorded it on A's inputs: did the pass change, or its inputs?");
+  diff->add_option("--device", diff_flags.device,
+                   "Vulkan device of --isolate's runs (name substring); default: lavapipe");
   diff->add_flag("--json", json, "machine-readable output (the last line, the counts, goes to stderr)");
 
   std::string graph_output;

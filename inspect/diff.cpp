@@ -44,6 +44,15 @@ bool float_output(const ResourceRecord& r) {
                          f.encoding == ChannelEncoding::packed_b10g11r11);
 }
 
+PassDiff run_by_one(const std::string& name, PassStatus status) {
+  PassDiff d;
+  d.name = name;
+  d.status = status;
+  d.inputs_agree = d.params_agree = d.shaders_agree = false;
+  d.beyond_tolerance = true;
+  return d;
+}
+
 // An output whose versions differ in bytes, to be measured (loaded, compared, held to its
 // threshold) apart from the walk over the passes, so that outputs are measured in parallel.
 struct PendingOutput {
@@ -160,6 +169,17 @@ nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::js
 
 }  // namespace
 
+// One line on what --isolate found for a pass.
+std::string isolation_summary(const PassIsolation& isolation) {
+  if (!isolation.reason.empty()) return "not isolated: " + isolation.reason;
+  if (!isolation.pass_changed)
+    return "B's pass on A's inputs reproduces A's outputs: the difference came through its inputs";
+  std::string changed;
+  for (const auto& [resource, made] : isolation.outputs)
+    if (made.rfind("different", 0) == 0) changed += (changed.empty() ? "" : ", ") + resource + " " + made;
+  return "B's pass on A's inputs does not reproduce A's outputs (" + changed + "): the pass itself changed";
+}
+
 std::string status_name(PassStatus status) {
   switch (status) {
     case PassStatus::identical:
@@ -209,13 +229,13 @@ CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions&
     for (const PassRecord& pa : fa.passes) {
       const PassRecord* pb = find(*fb, pa.name);
       if (!pb) {
-        frame.passes.push_back({pa.name, PassStatus::only_in_a, false, false, false, {}, true});
+        frame.passes.push_back(run_by_one(pa.name, PassStatus::only_in_a));
         continue;
       }
       frame.passes.push_back(diff_pass(fa, pa, *pb, options, pending));
     }
     for (const PassRecord& pb : fb->passes)
-      if (!find(fa, pb.name)) frame.passes.push_back({pb.name, PassStatus::only_in_b, false, false, false, {}, true});
+      if (!find(fa, pb.name)) frame.passes.push_back(run_by_one(pb.name, PassStatus::only_in_b));
   }
   measure_all(a, b, pending, options);
   for (FrameDiff& frame : diff.frames)
@@ -273,6 +293,7 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
         if (!c.first_difference.empty()) out << "  first at " << c.first_difference;
         out << "\n";
       }
+      if (p.isolation) out << "  " << std::left << std::setw(20) << p.name << isolation_summary(*p.isolation) << "\n";
     }
   }
   for (const std::string& note : diff.notes) out << "note: " << note << "\n";
@@ -284,6 +305,8 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
 
 nlohmann::json diff_to_json(const CaptureDiff& diff) {
   nlohmann::json frames = nlohmann::json::array();
+  nlohmann::json changed = nlohmann::json::array();  // passes --isolate found changed themselves
+  bool isolated = false;
   for (const FrameDiff& frame : diff.frames) {
     nlohmann::json passes = nlohmann::json::array();
     for (const PassDiff& p : frame.passes) {
@@ -328,23 +351,36 @@ nlohmann::json diff_to_json(const CaptureDiff& diff) {
         }
         outputs.push_back(j);
       }
-      passes.push_back({{"name", p.name},
-                        {"status", status_name(p.status)},
-                        {"inputs_agree", p.inputs_agree},
-                        {"params_agree", p.params_agree},
-                        {"shaders_agree", p.shaders_agree},
-                        {"beyond_tolerance", p.beyond_tolerance},
-                        {"outputs", outputs}});
+      nlohmann::json pass = {{"name", p.name},
+                             {"status", status_name(p.status)},
+                             {"inputs_agree", p.inputs_agree},
+                             {"params_agree", p.params_agree},
+                             {"shaders_agree", p.shaders_agree},
+                             {"beyond_tolerance", p.beyond_tolerance},
+                             {"outputs", outputs}};
+      if (p.isolation) {
+        isolated = true;
+        nlohmann::json made = nlohmann::json::object();
+        for (const auto& [resource, what] : p.isolation->outputs) made[resource] = what;
+        pass["isolation"] = {{"ran", p.isolation->reason.empty()},
+                             {"pass_changed", p.isolation->pass_changed},
+                             {"summary", isolation_summary(*p.isolation)},
+                             {"outputs", made}};
+        if (p.isolation->pass_changed) changed.push_back({{"frame", frame.index}, {"pass", p.name}});
+      }
+      passes.push_back(pass);
     }
     frames.push_back({{"index", frame.index}, {"passes", passes}});
   }
   nlohmann::json first = nullptr;
   if (diff.first_divergence) first = {{"frame", diff.first_divergence->first}, {"pass", diff.first_divergence->second}};
-  return {{"identical", diff.identical},
-          {"beyond_tolerance", diff.beyond_tolerance},
-          {"first_divergence", first},
-          {"notes", diff.notes},
-          {"frames", frames}};
+  nlohmann::json out = {{"identical", diff.identical},
+                        {"beyond_tolerance", diff.beyond_tolerance},
+                        {"first_divergence", first},
+                        {"notes", diff.notes},
+                        {"frames", frames}};
+  if (isolated) out["changed_passes"] = changed;
+  return out;
 }
 
 }  // namespace nightcap

@@ -40,12 +40,26 @@ struct OutputDiff {
 enum class PassStatus { identical, origin, inherited, skipped, skipped_in_a, skipped_in_b, only_in_a, only_in_b };
 std::string status_name(PassStatus status);
 
+// `diff --isolate`: the pass as capture B recorded it, run on the inputs capture A recorded for
+// it (replay/isolate.h).
+struct PassIsolation {
+  std::string reason;  // why it was not run; empty when it was
+  // An output that run does not reproduce (A's bytes, or its contract where the output depends
+  // on execution order): the pass itself changed. Otherwise the difference came through its
+  // inputs.
+  bool pass_changed = false;
+  std::vector<std::pair<std::string, std::string>> outputs;  // resource, what the run made of it
+};
+// One line on what the run found.
+std::string isolation_summary(const PassIsolation& isolation);
+
 struct PassDiff {
   std::string name;
   PassStatus status = PassStatus::identical;
   bool inputs_agree = true, params_agree = true, shaders_agree = true;
   std::vector<OutputDiff> outputs;
   bool beyond_tolerance = false;
+  std::optional<PassIsolation> isolation;
 };
 
 struct FrameDiff {
@@ -64,6 +78,7 @@ struct CaptureDiff {
 // Throws CaptureError when a blob cannot be read or a capture lacks options.frame.
 CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions& options);
 void print_diff_table(std::ostream& out, const CaptureDiff& diff);
+// With --isolate's results, "changed_passes" lists the passes found changed themselves.
 nlohmann::json diff_to_json(const CaptureDiff& diff);
 
 }  // namespace nightcap

@@ -85,6 +85,7 @@ std::vector<DiffCase> diff_cases(const CaptureDiff& diff) {
           c.message = "identical; held to " + o.held_to;
         else
           c.message = "held to " + o.held_to + ": " + measured(o);
+        if (p.isolation && !o.comparison.identical) c.message += "; " + isolation_summary(*p.isolation);
         cases.push_back(std::move(c));
       }
     }

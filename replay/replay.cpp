@@ -37,6 +37,84 @@ std::string extension(const std::string& path) {
   return dot == std::string::npos ? "" : path.substr(dot);
 }
 
+// A GLSL file compiled in place of the recorded shader of one stage (its extension).
+struct ShaderOverride {
+  std::string stage;
+  std::vector<uint32_t> spirv;
+};
+
+// Runs `decl` on `inputs` with `record`'s SPIR-V (read from `shaders_from`), the NaN it
+// recorded, and `params`; what it had to do otherwise goes to `notes`.
+IsolatedRun run_recorded(GpuDevice& gpu, PipelineCache& cache, const PassDecl& decl, const Capture& shaders_from,
+                         const PassRecord& record, const std::map<std::string, IsolatedInput>& inputs,
+                         const ParamValues& params, uint32_t width, uint32_t height,
+                         const std::optional<ShaderOverride>& override, std::vector<std::string>& notes) {
+  std::map<std::string, std::vector<uint32_t>> recorded_spirv;
+  for (const ShaderRecord& s : record.shaders) recorded_spirv[s.path] = shaders_from.load_shader(s);
+  auto shaders = [&](const std::string&, const std::string& path) -> std::vector<uint32_t> {
+    if (override && extension(path) == override->stage) return override->spirv;
+    auto it = recorded_spirv.find(path);
+    if (it != recorded_spirv.end()) return it->second;
+    notes.push_back("capture has no SPIR-V for " + path + ": built-in shader used");
+    return builtin_spirv(path);
+  };
+  std::vector<NanInjection> nan_injections;
+  if (const std::optional<InjectedNanRecord>& nan = record.injected_nan) {
+    nan_injections.push_back({record.name, nan->resource, nan->x, nan->y});
+    notes.push_back("NaN injected at texel (" + std::to_string(nan->x) + ", " + std::to_string(nan->y) + ") of " +
+                    nan->resource + " as recorded");
+  }
+  return run_isolated(gpu, cache, decl, inputs, params, width, height, shaders, nan_injections);
+}
+
+// What a run of `record`'s pass made, output by output, against what `capture` recorded for it.
+// Each output's bytes go to `produced_by_recorded_hash` where given (a chained replay's inputs).
+std::vector<OutputCheck> check_outputs(const Capture& capture, const PassRecord& record, const Execution& execution,
+                                       BytesByHash* produced_by_recorded_hash) {
+  std::vector<OutputCheck> checks;
+  const PassExecution& exec = execution.passes.at(0);
+  for (const ResourceRecord& out : record.outputs) {
+    OutputCheck& check = checks.emplace_back();
+    check.resource = out.resource;
+    check.recorded_hash = out.hash;
+    const VersionData* produced = nullptr;
+    for (int v : exec.outputs)
+      if (execution.versions[v].resource == out.resource) produced = &execution.versions[v];
+    if (!produced || !produced->bytes) {
+      check.verdict = Verdict::different;
+      check.metric = "not produced by the replay";
+      continue;
+    }
+    check.replayed_hash = content_hash(*produced->bytes);
+    if (produced_by_recorded_hash) (*produced_by_recorded_hash)[out.hash] = produced->bytes;
+    if (check.replayed_hash == out.hash) {
+      check.metric = "bytes";
+      continue;
+    }
+    const ResourceDesc recorded_desc = desc_of(out);
+    if (produced->desc.is_buffer != recorded_desc.is_buffer ||
+        produced->desc.raw_bytes() != recorded_desc.raw_bytes()) {
+      check.verdict = Verdict::different;
+      check.metric = "size differs";
+      continue;
+    }
+    ResourceRecord replayed_record = out;
+    replayed_record.buffer_size = produced->desc.buffer_size;
+    const std::vector<uint8_t> recorded = capture.load(out);
+    const ResourcePair pair(out, recorded, replayed_record, *produced->bytes);
+    const ResourceComparison cmp = compare_resource(pair);
+    check.amount = cmp.max_abs;
+    check.metric = cmp.metric;
+    check.first_difference = cmp.first_difference;
+    check.contract = check_contract(out.contract, pair, cmp);
+    // On the same machine a replay is bitwise, unless the recorded contract says the result
+    // depends on execution order; then it is held to that contract.
+    const bool order_dependent = out.contract.order_dependent && check.contract->holds;
+    check.verdict = order_dependent ? Verdict::within_tolerance : Verdict::different;
+  }
+  return checks;
+}
+
 }  // namespace
 
 std::string verdict_name(Verdict verdict) {
@@ -118,82 +196,49 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
     ParamValues params = record.params;
     if (auto it = options.params.find(record.name); it != options.params.end())
       for (const auto& [k, v] : it->second) params[k] = v;
-    std::map<std::string, std::vector<uint32_t>> recorded_spirv;
-    for (const ShaderRecord& s : record.shaders) recorded_spirv[s.path] = capture.load_shader(s);
-    std::optional<std::vector<uint32_t>> override_code;
-    std::string override_stage;
+    std::optional<ShaderOverride> override;
     if (auto it = options.shader_files.find(record.name); it != options.shader_files.end()) {
-      override_code = compile_glsl(it->second, read_text(it->second));
-      override_stage = extension(it->second);
-      result.notes.push_back("shader " + it->second + " replaces the recorded " + override_stage + " shader");
+      override = ShaderOverride{extension(it->second), compile_glsl(it->second, read_text(it->second))};
+      result.notes.push_back("shader " + it->second + " replaces the recorded " + override->stage + " shader");
     }
-    auto shaders = [&](const std::string&, const std::string& path) -> std::vector<uint32_t> {
-      if (override_code && extension(path) == override_stage) return *override_code;
-      auto it = recorded_spirv.find(path);
-      if (it != recorded_spirv.end()) return it->second;
-      result.notes.push_back("capture has no SPIR-V for " + path + ": built-in shader used");
-      return builtin_spirv(path);
-    };
-    std::vector<NanInjection> nan_injections;
-    if (const std::optional<InjectedNanRecord>& nan = record.injected_nan) {
-      nan_injections.push_back({record.name, nan->resource, nan->x, nan->y});
-      result.notes.push_back("NaN injected at texel (" + std::to_string(nan->x) + ", " + std::to_string(nan->y) +
-                             ") of " + nan->resource + " as recorded");
-    }
-    const IsolatedRun run =
-        run_isolated(gpu, cache, *decl, inputs, params, frame.width, frame.height, shaders, nan_injections);
+    const IsolatedRun run = run_recorded(gpu, cache, *decl, capture, record, inputs, params, frame.width, frame.height,
+                                         override, result.notes);
     const Execution& execution = run.execution;
     result.replayed = true;
     result.gpu_ms = execution.passes.at(0).gpu_ms;
     result.cpu_ms = execution.passes.at(0).cpu_ms;
-
-    const PassExecution& exec = execution.passes.at(0);
-    for (const ResourceRecord& out : record.outputs) {
-      OutputCheck check;
-      check.resource = out.resource;
-      check.recorded_hash = out.hash;
-      const VersionData* produced = nullptr;
-      for (int v : exec.outputs)
-        if (execution.versions[v].resource == out.resource) produced = &execution.versions[v];
-      if (!produced || !produced->bytes) {
-        check.verdict = Verdict::different;
-        check.metric = "not produced by the replay";
-        result.outputs.push_back(check);
-        continue;
-      }
-      check.replayed_hash = content_hash(*produced->bytes);
-      replayed_by_recorded_hash[out.hash] = produced->bytes;
-      if (check.replayed_hash == out.hash) {
-        check.metric = "bytes";
-        result.outputs.push_back(check);
-        continue;
-      }
-      const ResourceDesc recorded_desc = desc_of(out);
-      if (produced->desc.is_buffer != recorded_desc.is_buffer ||
-          produced->desc.raw_bytes() != recorded_desc.raw_bytes()) {
-        check.verdict = Verdict::different;
-        check.metric = "size differs";
-        result.outputs.push_back(check);
-        continue;
-      }
-      ResourceRecord replayed_record = out;
-      replayed_record.buffer_size = produced->desc.buffer_size;
-      const std::vector<uint8_t> recorded = capture.load(out);
-      const ResourcePair pair(out, recorded, replayed_record, *produced->bytes);
-      const ResourceComparison cmp = compare_resource(pair);
-      check.amount = cmp.max_abs;
-      check.metric = cmp.metric;
-      check.first_difference = cmp.first_difference;
-      check.contract = check_contract(out.contract, pair, cmp);
-      // On the same machine a replay is bitwise, unless the recorded contract says the result
-      // depends on execution order; then it is held to that contract.
-      const bool order_dependent = out.contract.order_dependent && check.contract->holds;
-      check.verdict = order_dependent ? Verdict::within_tolerance : Verdict::different;
-      result.outputs.push_back(check);
-    }
+    result.outputs = check_outputs(capture, record, execution, &replayed_by_recorded_hash);
     report.passes.push_back(std::move(result));
   }
   return report;
+}
+
+PassReplay replay_across(GpuDevice& gpu, const Capture& a, const Capture& b, uint32_t frame_index,
+                         const std::string& pass) {
+  const FrameRecord& frame_a = a.frame(frame_index);
+  const FrameRecord& frame_b = b.frame(frame_index);
+  const PassRecord *record_a = nullptr, *record_b = nullptr;
+  for (const PassRecord& p : frame_a.passes)
+    if (p.name == pass) record_a = &p;
+  for (const PassRecord& p : frame_b.passes)
+    if (p.name == pass) record_b = &p;
+  PassReplay result;
+  result.name = pass;
+  const std::vector<PassDecl> passes = frame_passes();
+  const PassDecl* decl = find_pass(passes, pass);
+  if (!record_a || !record_b || !record_a->ran || !record_b->ran)
+    result.reason = "not run by both captures";
+  else if (!decl)
+    result.reason = "this build has no pass named " + pass;
+  if (!result.reason.empty()) return result;
+  PipelineCache cache(gpu);
+  const IsolatedRun run = run_recorded(gpu, cache, *decl, b, *record_b, recorded_inputs(a, *record_a), record_b->params,
+                                       frame_a.width, frame_a.height, std::nullopt, result.notes);
+  result.replayed = true;
+  result.gpu_ms = run.execution.passes.at(0).gpu_ms;
+  result.cpu_ms = run.execution.passes.at(0).cpu_ms;
+  result.outputs = check_outputs(a, *record_a, run.execution, nullptr);
+  return result;
 }
 
 }  // namespace nightcap

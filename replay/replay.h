@@ -66,4 +66,11 @@ std::map<std::string, IsolatedInput> recorded_inputs(const Capture& capture, con
 // parameter, shader file), ShaderError for a shader that does not compile.
 ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const ReplayOptions& options);
 
+// `diff --isolate`: runs `pass` of frame `frame` as capture `b` recorded it (its SPIR-V, parameters
+// and injected NaN) on the inputs capture `a` recorded for it, and checks what it makes against
+// a's outputs as replay_capture checks a replay. Outputs a reproduces say the difference came
+// through the pass's inputs; outputs it does not, that the pass itself changed. Throws as
+// replay_capture does.
+PassReplay replay_across(GpuDevice& gpu, const Capture& a, const Capture& b, uint32_t frame, const std::string& pass);
+
 }  // namespace nightcap

@@ -130,5 +130,49 @@ TEST(DiffCi, ABadThresholdsFileIsAnError) {
   EXPECT_EQ(count(r.err, "\n"), 1u) << "one line: " << r.err;
 }
 
+// B changes two passes: lighting.deferred's intensity (where the difference starts) and
+// tonemap's bloom weight, behind it, whose inputs differ anyway. Only --isolate sees the second.
+TEST(DiffCi, IsolateTellsAPassThatChangedFromOneWhoseInputsChanged) {
+  const fs::path a = shared_capture("city", kCity),
+                 b = shared_capture("city-light-bloom", kLight + " --set tonemap.bloom=0.1");
+  const CliResult r = run_cli("diff --json --isolate --frame 1 " + quote(a) + " " + quote(b));
+  ASSERT_EQ(r.code, 1) << r.err;
+  const json diff = json::parse(r.out);
+  EXPECT_EQ(diff.at("first_divergence"), (json{{"frame", 1}, {"pass", "lighting.deferred"}}));
+  EXPECT_EQ(diff.at("changed_passes"),
+            (json{{{"frame", 1}, {"pass", "lighting.deferred"}}, {{"frame", 1}, {"pass", "tonemap"}}}));
+  std::set<std::string> isolated;
+  for (const json& p : diff.at("frames").at(0).at("passes")) {
+    const std::string status = p.at("status");
+    if (status != "origin" && status != "inherited") {
+      EXPECT_FALSE(p.contains("isolation")) << p.dump();
+      continue;
+    }
+    const json& isolation = p.at("isolation");
+    isolated.insert(p.at("name"));
+    EXPECT_TRUE(isolation.at("ran").get<bool>()) << isolation.dump();
+    const bool changed = p.at("name") == "lighting.deferred" || p.at("name") == "tonemap";
+    EXPECT_EQ(isolation.at("pass_changed").get<bool>(), changed) << p.dump();
+    if (p.at("name") == "tonemap") {
+      EXPECT_EQ(status, "inherited") << "its inputs differ, so the plain diff cannot tell";
+      EXPECT_EQ(isolation.at("outputs").at("final.ldr").get<std::string>().rfind("different", 0), 0u)
+          << isolation.dump();
+    }
+    if (!changed) {
+      for (const auto& [resource, made] : isolation.at("outputs").items())
+        EXPECT_NE(made.get<std::string>().rfind("different", 0), 0u) << resource << ": " << made;
+    }
+  }
+  EXPECT_TRUE(isolated.count("bloom.level0") && isolated.count("exposure") && isolated.count("tonemap"))
+      << "every pass below lighting differs and is isolated";
+
+  const CliResult table = run_cli("diff --isolate --frame 1 " + quote(a) + " " + quote(b));
+  EXPECT_NE(table.out.find("the pass itself changed"), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find("the difference came through its inputs"), std::string::npos) << table.out;
+  // Without --isolate nothing is run, and the JSON says nothing of it.
+  EXPECT_FALSE(
+      json::parse(run_cli("diff --json --frame 1 " + quote(a) + " " + quote(b)).out).contains("changed_passes"));
+}
+
 }  // namespace
 }  // namespace nightcap::test
