@@ -9,7 +9,8 @@
 //    against the CPU segment integral, depth.convert, depth.pyramid and bloom against their
 //    references);
 //  - the CLI's start-up: `nightcap --help` and `nightcap passes` of a city capture, wall clock;
-//    the debugger's first answer and its export of gbuffer.opaque's colour targets.
+//    the debugger's first answer and its export of gbuffer.opaque's colour targets;
+//  - `nightcap diff` of a 1280x720 pair against idiff over the same images.
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -238,9 +239,10 @@ void bench_extra_frames(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   fs::remove_all(dir);
 }
 
-// Runs ARGV (its first word the program) with standard output into `out`, and standard error
-// discarded when `quiet`; waits for it. True when it ran and exited 0.
-bool run_program(std::vector<std::string> argv, const char* out, bool quiet) {
+// Runs ARGV (its first word the program, looked up in PATH unless it holds a '/') with standard
+// output into `out`, and standard error discarded when `quiet`; waits for it. Its exit status, or
+// -1 when it could not start or was killed.
+int run_program(std::vector<std::string> argv, const char* out, bool quiet) {
   std::vector<char*> words;
   for (std::string& a : argv) words.push_back(a.data());
   words.push_back(nullptr);
@@ -249,11 +251,11 @@ bool run_program(std::vector<std::string> argv, const char* out, bool quiet) {
   posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
   if (quiet) posix_spawn_file_actions_addopen(&files, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
   pid_t pid = -1;
-  const int error = posix_spawn(&pid, words.front(), &files, nullptr, words.data(), environ);
+  const int error = posix_spawnp(&pid, words.front(), &files, nullptr, words.data(), environ);
   int status = 0;
   if (error == 0) waitpid(pid, &status, 0);
   posix_spawn_file_actions_destroy(&files);
-  return error == 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  return error == 0 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 // Wall-clock milliseconds of `nightcap ARGS`, its output discarded; a failed run throws.
@@ -261,7 +263,7 @@ double cli_wall_ms(const std::vector<std::string>& args) {
   std::vector<std::string> argv = {NIGHTCAP_CLI};
   argv.insert(argv.end(), args.begin(), args.end());
   const double start = now_ms();
-  const bool ok = run_program(argv, "/dev/null", true);
+  const bool ok = run_program(argv, "/dev/null", true) == 0;
   const double elapsed = now_ms() - start;
   if (!ok) throw std::runtime_error(std::string(NIGHTCAP_CLI) + " " + args.front() + " failed");
   return elapsed;
@@ -273,7 +275,7 @@ double cli_peak_mib(const std::vector<std::string>& args) {
   const fs::path result = fs::temp_directory_path() / ("nightcap-bench-peak-" + std::to_string(getpid()));
   std::vector<std::string> argv = {NIGHTCAP_PEAK_RSS, NIGHTCAP_CLI};
   argv.insert(argv.end(), args.begin(), args.end());
-  const bool ok = run_program(argv, result.c_str(), false);
+  const bool ok = run_program(argv, result.c_str(), false) == 0;
   std::ifstream in(result);
   long kib = -1;
   in >> kib;
@@ -329,6 +331,90 @@ void bench_startup(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   figure("inspect_peak_mib", peak_mib);
   figure("inspect_export_pass_ms", export_pass);
   figure("startup_ms_passes", passes);
+  fs::remove_all(dir);
+}
+
+// `nightcap diff` of two city captures that differ in lighting.deferred's intensity, so every
+// output from lighting down differs, against OpenImageIO's idiff over the same image pairs (the
+// blobs are EXR files idiff reads). Medians of 5 runs after one that warms the file cache.
+//  - diff_capture_ms: the whole CLI run, FLIP of the displayed image included;
+//  - diff_vs_idiff_ratio: time per differing image, idiff's over nightcap's, each less its
+//    start-up (idiff's on a 1x1 pair, nightcap's on a diff of a capture with itself, which
+//    reads both manifests and compares hashes).
+void bench_diff(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
+  nc::Scene scene = nc::build_city(1);
+  nc::add_default_lighting(scene);
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  const fs::path dir = fs::temp_directory_path() / ("nightcap-bench-diff-" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  const fs::path a = dir / "a", b = dir / "b";
+  nc::render_to_capture(gpu, scene, settings, a, false);
+  settings.params["lighting.deferred"]["intensity_scale"] = 1.5;
+  nc::render_to_capture(gpu, scene, settings, b, false);
+
+  auto timed = [](const std::vector<std::string>& argv, int expected_exit) {
+    auto once = [&] {
+      const double start = now_ms();
+      const int code = run_program(argv, "/dev/null", true);
+      if (code != expected_exit)
+        throw std::runtime_error(argv.front() + " " + argv.at(1) + " exited " + std::to_string(code) + ", not " +
+                                 std::to_string(expected_exit));
+      return now_ms() - start;
+    };
+    once();
+    std::vector<double> runs;
+    for (int r = 0; r < 5; ++r) runs.push_back(once());
+    return median(runs);
+  };
+  const double diff = timed({NIGHTCAP_CLI, "diff", a.string(), b.string()}, 1);
+  const double diff_itself = timed({NIGHTCAP_CLI, "diff", a.string(), a.string()}, 0);
+
+  // The image outputs whose bytes differ, as pairs of blob files.
+  const nc::Capture ca = nc::Capture::open(a), cb = nc::Capture::open(b);
+  std::vector<std::pair<fs::path, fs::path>> pairs;
+  const nc::FrameRecord &fa = ca.frame(0), &fb = cb.frame(0);
+  for (size_t p = 0; p < fa.passes.size() && p < fb.passes.size(); ++p)
+    for (const nc::ResourceRecord& ra : fa.passes[p].outputs)
+      for (const nc::ResourceRecord& rb : fb.passes[p].outputs)
+        if (ra.resource == rb.resource && !ra.is_buffer && ra.hash != rb.hash)
+          pairs.emplace_back(a / ra.blob, b / rb.blob);
+  // idiff exits 0 (match), 1 (within its warning threshold) or 2 (differs): any of them is a
+  // comparison made.
+  auto idiff_ms = [&](const fs::path& x, const fs::path& y) {
+    std::vector<double> runs;
+    for (int r = 0; r < 6; ++r) {
+      const double start = now_ms();
+      const int code = run_program({"idiff", x.string(), y.string()}, "/dev/null", true);
+      if (code < 0 || code > 2) throw std::runtime_error("idiff " + x.string() + " " + y.string() + " failed");
+      if (r > 0) runs.push_back(now_ms() - start);
+    }
+    return median(runs);
+  };
+  const fs::path tiny = dir / "tiny.exr";
+  if (run_program(
+          {"oiiotool", "--pattern", "constant:color=0.5,0.5,0.5", "1x1", "3", "-d", "half", "-o", tiny.string()},
+          "/dev/null", true) != 0)
+    throw std::runtime_error("oiiotool could not write " + tiny.string());
+  const double idiff_start = idiff_ms(tiny, tiny);
+  double idiff_total = 0.0;
+  for (const auto& [x, y] : pairs) idiff_total += idiff_ms(x, y);
+  const double n = double(pairs.size());
+  const double idiff_per_image = (idiff_total - n * idiff_start) / n;
+  const double nightcap_per_image = (diff - diff_itself) / n;
+  table() << "\n## diff of two city captures (" << width << "x" << height
+          << ", lighting.deferred.intensity_scale 1 vs 1.5; median of 5 runs)\n"
+          << std::fixed << std::setprecision(1) << "  nightcap diff A B        " << std::setw(8) << diff
+          << " ms (A A: " << diff_itself << " ms), " << pairs.size() << " differing images\n"
+          << "  idiff, the same pairs   " << std::setw(8) << idiff_total << " ms (1x1 pair: " << idiff_start << " ms)\n"
+          << "  per differing image, start-up removed: idiff " << idiff_per_image << " ms, nightcap "
+          << nightcap_per_image << " ms, ratio " << std::setprecision(2) << idiff_per_image / nightcap_per_image
+          << "\n";
+  figure("diff_capture_ms", diff);
+  figure("diff_itself_ms", diff_itself);
+  figure("diff_idiff_pairs_ms", idiff_total);
+  figure("diff_vs_idiff_ratio", idiff_per_image / nightcap_per_image);
   fs::remove_all(dir);
 }
 
@@ -744,6 +830,7 @@ int main(int argc, char** argv) {
     bench_bloom(gpu, cache, width, height);
     bench_exposure(gpu, cache, width, height);
     bench_startup(gpu, width, height);
+    bench_diff(gpu, width, height);
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

@@ -130,6 +130,54 @@ TEST(DiffCi, ABadThresholdsFileIsAnError) {
   EXPECT_EQ(count(r.err, "\n"), 1u) << "one line: " << r.err;
 }
 
+// idiff's output for two image files, as text (it exits 2 when they differ).
+std::string idiff(const fs::path& a, const fs::path& b) {
+  const std::string command = "idiff -fail 0 -warn 0 " + quote(a) + " " + quote(b) + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return "";
+  std::string text;
+  char buffer[4096];
+  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) text.append(buffer, n);
+  pclose(pipe);
+  return text;
+}
+
+double idiff_figure(const std::string& text, const std::string& pattern) {
+  std::smatch m;
+  if (!std::regex_search(text, m, std::regex(pattern))) return NAN;
+  return std::stod(m[1]);
+}
+
+// Where the metrics overlap OpenImageIO's idiff (max abs error, RMS error over every channel,
+// pixels that differ at all), both read the same blob files and agree. The blobs are EXR, which
+// idiff reads as they are.
+TEST(DiffCi, MetricsAgreeWithIdiffWhereTheyOverlap) {
+  const fs::path a = shared_capture("city", kCity), b = shared_capture("city-light", kLight);
+  const CliResult r = run_cli("diff --json --frame 0 " + quote(a) + " " + quote(b));
+  ASSERT_EQ(r.code, 1) << r.err;
+  const json diff = json::parse(r.out);
+  const Capture capture_a = Capture::open(a), capture_b = Capture::open(b);
+  int compared = 0;
+  for (const json& p : diff.at("frames").at(0).at("passes"))
+    for (const json& o : p.at("outputs")) {
+      const std::string resource = o.at("resource");
+      if (resource != "lighting.diffuse" && resource != "lighting.specular" && resource != "lighting.lit") continue;
+      const ResourceRecord& ra = output_named(pass_named(capture_a.frame(0), p.at("name")), resource);
+      const ResourceRecord& rb = output_named(pass_named(capture_b.frame(0), p.at("name")), resource);
+      const std::string text = idiff(a / ra.blob, b / rb.blob);
+      const double max_error = idiff_figure(text, R"(Max error\s*=\s*([0-9.eE+-]+))");
+      const double rms = idiff_figure(text, R"(RMS error\s*=\s*([0-9.eE+-]+))");
+      const double over = idiff_figure(text, R"(\n\s*([0-9]+) pixels \([0-9.]+%\) over 0)");
+      ASSERT_TRUE(std::isfinite(max_error) && std::isfinite(rms) && std::isfinite(over)) << text;
+      EXPECT_GT(max_error, 0.0) << resource;
+      EXPECT_NEAR(o.at("max_abs").get<double>(), max_error, 1e-5 * max_error) << resource << "\n" << text;
+      EXPECT_NEAR(o.at("rmse").get<double>(), rms, 1e-5 * rms) << resource << "\n" << text;
+      EXPECT_EQ(o.at("differing").get<double>(), over) << resource << "\n" << text;
+      ++compared;
+    }
+  EXPECT_EQ(compared, 3);
+}
+
 // B changes two passes: lighting.deferred's intensity (where the difference starts) and
 // tonemap's bloom weight, behind it, whose inputs differ anyway. Only --isolate sees the second.
 TEST(DiffCi, IsolateTellsAPassThatChangedFromOneWhoseInputsChanged) {
