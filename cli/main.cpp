@@ -17,6 +17,7 @@
 #include "inspect/commands.h"
 #include "inspect/diff.h"
 #include "inspect/diff_results.h"
+#include "inspect/flip_map.h"
 #include "inspect/graph_dot.h"
 #include "passes/core/shader.h"
 #include "passes/frame/frame_passes.h"
@@ -298,6 +299,7 @@ struct DiffFlags {
   bool json = false;
   bool isolate = false;
   std::string device;  // of --isolate's replays
+  std::string flip_maps;
 };
 
 // Exit 0 when every result is within what it was held to, 1 when one is not; the last line
@@ -319,6 +321,7 @@ int run_diff(const std::string& a, const std::string& b, const DiffFlags& flags)
     nc::GpuDevice gpu({flags.device, validation_requested()});
     nc::isolate_passes(gpu, capture_a, capture_b, diff);
   }
+  if (!flags.flip_maps.empty()) nc::write_flip_maps(diff, flags.flip_maps);
   const std::vector<nc::DiffCase> cases = nc::diff_cases(diff);
   const nc::DiffTally counts = nc::tally(cases);
   if (!flags.junit.empty())
@@ -457,6 +460,8 @@ int main(int argc, char** argv) {
       "contracts (others keep theirs)");
   auto* diff_frame_option = diff->add_option("--frame", diff_frame, "compare frame K only");
   diff->add_option("--junit", diff_flags.junit, "also write JUnit XML: one test case per pass and output");
+  diff->add_option("--flip-maps", diff_flags.flip_maps,
+                   "write the FLIP error map of each displayed image that differs into DIR as PNG (magma colours)");
   diff->add_flag("--isolate", diff_flags.isolate,
                  "run each differing pass as B recorded it on A's inputs: did the pass change, or its inputs?");
   diff->add_option("--device", diff_flags.device,

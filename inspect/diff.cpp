@@ -290,6 +290,7 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
                             " texels over, worst " + number(o.threshold->worst) + ")"
                       : " (" + o.threshold->problem + ")");
         if (o.flip) out << "  FLIP mean " << number(o.flip->mean) << " max " << number(o.flip->max);
+        if (!o.flip_map.empty()) out << " (map " << o.flip_map.string() << ")";
         if (!c.first_difference.empty()) out << "  first at " << c.first_difference;
         out << "\n";
       }
@@ -333,6 +334,7 @@ nlohmann::json diff_to_json(const CaptureDiff& diff) {
         if (o.flip)
           j["flip"] = {{"mean", o.flip->mean}, {"max", o.flip->max}, {"median", o.flip->median},
                        {"p95", o.flip->p95},   {"p99", o.flip->p99}, {"over_0.1", o.flip->over_threshold_share}};
+        if (!o.flip_map.empty()) j["flip"]["map"] = o.flip_map.string();
         if (!c.note.empty()) j["note"] = c.note;
         if (!c.first_difference.empty()) j["first_difference"] = c.first_difference;
         if (!o.held_to.empty()) {

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -35,6 +36,7 @@ struct OutputDiff {
   std::optional<ThresholdCheck> threshold;  // when held to a rule of --thresholds
   // Displayed colour that differs: LDR-FLIP of B against A, with its error map.
   std::optional<FlipResult> flip;
+  std::filesystem::path flip_map;  // the error map's picture, where `diff --flip-maps` wrote one
 };
 
 enum class PassStatus { identical, origin, inherited, skipped, skipped_in_a, skipped_in_b, only_in_a, only_in_b };

@@ -6,6 +6,7 @@
 #include <regex>
 #include <set>
 
+#include "images/images.h"
 #include "tests/e2e/cli.h"
 #include "tests/e2e/inspect_script.h"
 
@@ -176,6 +177,31 @@ TEST(DiffCi, MetricsAgreeWithIdiffWhereTheyOverlap) {
       ++compared;
     }
   EXPECT_EQ(compared, 3);
+}
+
+// --flip-maps writes the error map of the displayed image, one pixel per pixel, and names it.
+TEST(DiffCi, FlipMapsAreWrittenAndNamed) {
+  const fs::path a = shared_capture("city", kCity), b = shared_capture("city-light", kLight);
+  const fs::path maps = scratch("diff-flip-maps") / "maps";
+  const CliResult r = run_cli("diff --json --flip-maps " + quote(maps) + " " + quote(a) + " " + quote(b));
+  ASSERT_EQ(r.code, 1) << r.err;
+  std::set<std::string> named;
+  const json diff = json::parse(r.out);
+  for (const json& frame : diff.at("frames"))
+    for (const json& p : frame.at("passes"))
+      for (const json& o : p.at("outputs"))
+        if (o.contains("flip")) {
+          const fs::path file = o.at("flip").at("map").get<std::string>();
+          EXPECT_EQ(file.parent_path(), maps);
+          const Rgba8Image image = decode_image_file(file, 4096);
+          EXPECT_EQ(image.width, 320u);
+          EXPECT_EQ(image.height, 180u);
+          named.insert(file.filename().string());
+        }
+  EXPECT_EQ(named, (std::set<std::string>{"f0.tonemap.final.ldr.flip.png", "f1.tonemap.final.ldr.flip.png"}));
+  std::set<std::string> written;
+  for (const auto& entry : fs::directory_iterator(maps)) written.insert(entry.path().filename().string());
+  EXPECT_EQ(written, named) << "nothing else, no partial files";
 }
 
 // B changes two passes: lighting.deferred's intensity (where the difference starts) and

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "inspect/flip.h"
+#include "inspect/flip_map.h"
 
 namespace nightcap {
 namespace {
@@ -383,6 +384,28 @@ TEST(Flip, HdrConstantImagesTakeTheWorstExposure) {
   // reaches 0.85.
   const FlipExposures own = flip_exposure_range(constant(4, 4, a).view());
   EXPECT_EQ(own.count, 1u);
+}
+
+// The error map's colours: magma's ends and middle, brighter as the error grows, and the map of
+// a FLIP result pixel for pixel.
+TEST(FlipMap, MagmaRunsFromBlackToLightYellowAndBrightens) {
+  EXPECT_EQ(magma(0.0f), (std::array<uint8_t, 3>{0, 0, 4}));
+  EXPECT_EQ(magma(0.5f), (std::array<uint8_t, 3>{183, 55, 121}));
+  EXPECT_EQ(magma(1.0f), (std::array<uint8_t, 3>{252, 253, 191}));
+  EXPECT_EQ(magma(2.0f), magma(1.0f)) << "clamped";
+  EXPECT_EQ(magma(-1.0f), magma(0.0f)) << "clamped";
+  double last = -1.0;
+  for (int i = 0; i <= 100; ++i) {
+    const std::array<uint8_t, 3> c = magma(i / 100.0f);
+    const double luma = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    EXPECT_GE(luma, last) << "at " << i / 100.0;
+    last = luma;
+  }
+  FlipResult flip;
+  flip.width = 2;
+  flip.height = 1;
+  flip.error = {0.0f, 1.0f};
+  EXPECT_EQ(flip_map_rgba8(flip), (std::vector<uint8_t>{0, 0, 4, 255, 252, 253, 191, 255}));
 }
 
 }  // namespace
