@@ -24,7 +24,16 @@ std::string now_utc() {
   return text;
 }
 
-// Written and flushed to disk, so that a rename that follows never exposes a short file.
+// Flushed to disk before it is renamed into place, so that a crash never leaves a short file
+// under its final name.
+void sync_file(const fs::path& file) {
+  const int fd = ::open(file.c_str(), O_RDONLY);
+  if (fd >= 0) {
+    ::fsync(fd);
+    ::close(fd);
+  }
+}
+
 void write_synced(const fs::path& file, const std::string& text) {
   {
     std::ofstream out(file, std::ios::binary | std::ios::trunc);
@@ -32,11 +41,7 @@ void write_synced(const fs::path& file, const std::string& text) {
     out.close();
     if (!out) throw CaptureError(file.string() + ": cannot write");
   }
-  const int fd = ::open(file.c_str(), O_RDONLY);
-  if (fd >= 0) {
-    ::fsync(fd);
-    ::close(fd);
-  }
+  sync_file(file);
 }
 
 void rename_or_throw(const fs::path& from, const fs::path& to) {
@@ -136,9 +141,10 @@ GoldenUpdate GoldenStore::record(const Capture& source, const fs::path& source_p
   staging += ".tmp-" + std::to_string(::getpid());
   std::error_code error;
   fs::remove_all(staging, error);
-  fs::create_directories(staging / "blobs", error);
-  fs::create_directories(root_ / "goldens", error);
-  if (error) throw CaptureError(staging.string() + ": cannot create: " + error.message());
+  for (const fs::path& folder : {staging / "blobs", root_ / "goldens"}) {
+    fs::create_directories(folder, error);
+    if (error) throw CaptureError(folder.string() + ": cannot create: " + error.message());
+  }
   RemoveOnExit cleanup{staging};
 
   // Staged in the store and checked there, so that what is renamed into blobs/ is what was checked.
@@ -158,6 +164,7 @@ GoldenUpdate GoldenStore::record(const Capture& source, const fs::path& source_p
       check(from);  // names the capture's own file when that is what is damaged
       throw;
     }
+    sync_file(copy);
     staged.push_back(blob);
   }
   // Not a blob: the picture of the last frame, when the capture has one (and it is no link).
