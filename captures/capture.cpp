@@ -29,13 +29,6 @@ constexpr uint64_t kMaxResourceBytes = uint64_t(4) << 30;
   throw CaptureError(file + ": " + (where.empty() ? "" : where + ": ") + problem);
 }
 
-bool safe_name(const std::string& name) {
-  if (name.empty() || name.size() > 256) return false;
-  for (char c : name)
-    if (c < 0x21 || c > 0x7e || c == '/' || c == '\\') return false;
-  return true;
-}
-
 // A blob path stays inside the capture: blobs/<hash>.<ext>, nothing else.
 bool safe_blob_path(const std::string& blob, const std::string& hash) {
   if (blob.rfind("blobs/", 0) != 0 || blob.size() > 128) return false;
@@ -191,6 +184,13 @@ std::vector<uint8_t> read_file(const fs::path& file) {
 
 }  // namespace
 
+bool safe_name(const std::string& name) {
+  if (name.empty() || name.size() > 256 || name == "." || name == "..") return false;
+  for (char c : name)
+    if (c < 0x21 || c > 0x7e || c == '/' || c == '\\') return false;
+  return true;
+}
+
 uint64_t ResourceRecord::raw_bytes() const {
   return is_buffer ? buffer_size : raw_image_bytes(*format_info(format), extent);
 }
@@ -269,8 +269,11 @@ json to_json(const CaptureManifest& m) {
                         {"depth_convention", f.camera.depth_convention}}},
                       {"passes", passes}});
   }
-  return {{"format", "nightcap-capture"}, {"version", m.version}, {"device", m.device},
-          {"settings", m.settings},       {"scene", m.scene},     {"frames", frames}};
+  json j = {{"format", "nightcap-capture"}, {"version", m.version}, {"device", m.device},
+            {"settings", m.settings},       {"scene", m.scene},     {"frames", frames}};
+  if (m.blobs_in_store) j["blobs"] = "store";  // absent: in the capture folder
+  if (!m.golden.is_null()) j["golden"] = m.golden;
+  return j;
 }
 
 CaptureManifest manifest_from_json(const json& j, const std::string& file) {
@@ -299,6 +302,16 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
       if (!v.is_number_integer() || v.get<int64_t>() < 1 || v.get<int64_t>() > kMaxImageSide)
         fail(file, std::string("settings.") + key, "outside 1.." + std::to_string(kMaxImageSide));
     }
+  if (j.contains("blobs")) {
+    if (j.at("blobs") != "store") fail(file, "", "\"blobs\" must be \"store\" when present");
+    m.blobs_in_store = true;
+  }
+  if (j.contains("golden")) {
+    m.golden = j.at("golden");
+    for (const char* key : {"source", "updated"})
+      if (!m.golden.is_object() || !member(m.golden, key).is_string())
+        fail(file, "golden", std::string("missing string \"") + key + "\"");
+  }
   const json& frames = member(j, "frames");
   if (!frames.is_array()) fail(file, "", "missing \"frames\" array");
   // The tools align frames by index, passes by name and versions by resource name: a name that
@@ -394,10 +407,6 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
   return m;
 }
 
-namespace {
-
-// Folders `<target>.tmp-<pid>` and `<target>.old-<pid>` that a killed writer left behind: their
-// process is gone. Those of a live process (a render still running) are kept.
 void remove_stale_siblings(const fs::path& target) {
   std::error_code error;
   const fs::path parent = target.parent_path().empty() ? fs::path(".") : target.parent_path();
@@ -415,8 +424,6 @@ void remove_stale_siblings(const fs::path& target) {
     }
   }
 }
-
-}  // namespace
 
 CaptureWriter::CaptureWriter(fs::path target, bool force, Options options)
     : target_(std::move(target)), force_(force), options_(options) {
@@ -579,6 +586,25 @@ void CaptureWriter::commit(const CaptureManifest& manifest) {
   fsync_path(target_.parent_path().empty() ? fs::path(".") : target_.parent_path(), true);
 }
 
+namespace {
+
+// A golden's blobs are those of the store holding it, STORE/goldens/NAME: found from where the
+// golden is, never from anything its manifest says.
+fs::path store_root(const fs::path& folder, const fs::path& manifest_file) {
+  std::error_code error;
+  const fs::path real = fs::canonical(folder, error);
+  if (error) throw CaptureError(manifest_file.string() + ": cannot resolve its folder: " + error.message());
+  if (real.parent_path().filename() != "goldens")
+    throw CaptureError(manifest_file.string() + ": its blobs live in a store, but it is not in a store's goldens/");
+  const fs::path root = real.parent_path().parent_path();
+  if (!fs::is_regular_file(root / kStoreMarker))
+    throw CaptureError(manifest_file.string() + ": its blobs live in the store " + root.string() + ", which has no " +
+                       kStoreMarker);
+  return root;
+}
+
+}  // namespace
+
 Capture Capture::open(const fs::path& folder) {
   Capture capture;
   capture.folder_ = folder;
@@ -593,6 +619,7 @@ Capture Capture::open(const fs::path& folder) {
     throw CaptureError(file.string() + ": malformed JSON: " + e.what());
   }
   capture.manifest_ = manifest_from_json(j, file.string());
+  capture.blob_root_ = capture.manifest_.blobs_in_store ? store_root(folder, file) : folder;
   return capture;
 }
 
@@ -603,46 +630,46 @@ const FrameRecord& Capture::frame(uint32_t index) const {
                      std::to_string(manifest_.frames.size()) + ")");
 }
 
-namespace {
-
-fs::path checked_blob(const fs::path& folder, const std::string& blob) {
-  const fs::path file = folder / blob;
+fs::path Capture::blob_file(const std::string& blob) const {
+  const fs::path file = blob_root_ / blob;
   std::error_code error;
   const fs::path real = fs::weakly_canonical(file, error);
-  const fs::path root = fs::weakly_canonical(folder, error);
+  const fs::path root = fs::weakly_canonical(blob_root_, error);
   const std::string prefix = root.string() + "/";
-  if (error || real.string().rfind(prefix, 0) != 0) throw CaptureError(file.string() + ": leaves the capture folder");
+  if (error || real.string().rfind(prefix, 0) != 0)
+    throw CaptureError(file.string() + ": leaves the " + (manifest_.blobs_in_store ? "store" : "capture folder"));
   if (!fs::is_regular_file(real)) throw CaptureError(file.string() + ": missing blob");
   return real;
 }
 
-}  // namespace
-
-std::vector<uint8_t> Capture::load(const ResourceRecord& record) const {
-  const fs::path file = checked_blob(folder_, record.blob);
+std::vector<uint8_t> read_resource_blob(const fs::path& file, const ResourceRecord& record) {
   std::vector<uint8_t> raw = record.is_buffer ? read_buffer_blob(file, record.buffer_size)
                                               : read_image_blob(file, *format_info(record.format), record.extent);
   if (content_hash(raw) != record.hash)
-    throw CaptureError((folder_ / record.blob).string() + ": content does not match its hash " + record.hash +
-                       " (corrupt capture)");
+    throw CaptureError(file.string() + ": content does not match its hash " + record.hash + " (corrupt capture)");
   return raw;
 }
 
+std::vector<uint8_t> read_file_blob(const fs::path& file, const std::string& hash) {
+  std::vector<uint8_t> bytes = read_file(file);
+  if (content_hash(bytes) != hash)
+    throw CaptureError(file.string() + ": content does not match its hash " + hash + " (corrupt capture)");
+  return bytes;
+}
+
+std::vector<uint8_t> Capture::load(const ResourceRecord& record) const {
+  return read_resource_blob(blob_file(record.blob), record);
+}
+
 std::string Capture::load_shader_source(const ShaderRecord& record) const {
-  const fs::path file = checked_blob(folder_, record.source_blob);
-  const std::vector<uint8_t> bytes = read_file(file);
-  if (content_hash(bytes) != record.source_hash)
-    throw CaptureError(file.string() + ": content does not match its hash " + record.source_hash +
-                       " (corrupt capture)");
+  const std::vector<uint8_t> bytes = read_file_blob(blob_file(record.source_blob), record.source_hash);
   return std::string(bytes.begin(), bytes.end());
 }
 
 std::vector<uint32_t> Capture::load_shader(const ShaderRecord& record) const {
-  const fs::path file = checked_blob(folder_, record.blob);
-  const std::vector<uint8_t> bytes = read_file(file);
+  const fs::path file = blob_file(record.blob);
+  const std::vector<uint8_t> bytes = read_file_blob(file, record.hash);
   if (bytes.size() % 4 != 0 || bytes.empty()) throw CaptureError(file.string() + ": not SPIR-V");
-  if (content_hash(bytes) != record.hash)
-    throw CaptureError(file.string() + ": content does not match its hash " + record.hash + " (corrupt capture)");
   std::vector<uint32_t> words(bytes.size() / 4);
   std::memcpy(words.data(), bytes.data(), bytes.size());
   return words;

@@ -37,6 +37,14 @@ namespace nightcap {
 constexpr int kCaptureVersion = 4;
 constexpr uint32_t kMaxImageSide = 16384;
 
+// The file that marks a folder as a store of golden captures (captures/golden_store.h). A golden
+// lives in STORE/goldens/NAME, and its manifest's blob paths are relative to STORE.
+inline constexpr const char* kStoreMarker = "nightcap-store.json";
+
+// A name that can be a path component and a resource, pass or golden name: printable ASCII
+// without spaces, no '/' or '\\', not "." or "..", at most 256 characters.
+bool safe_name(const std::string& name);
+
 struct ResourceRecord {
   std::string resource;
   ResourceKind kind = ResourceKind::buffer;
@@ -108,6 +116,10 @@ struct CaptureManifest {
   nlohmann::json settings;  // size, frames, seed, params given on the command line
   nlohmann::json scene;     // source, counts, notes
   std::vector<FrameRecord> frames;
+  // A golden of a store ("blobs": "store"): blob paths are relative to the store, not the
+  // capture folder, and `golden` says where it came from ({"source", "updated"}).
+  bool blobs_in_store = false;
+  nlohmann::json golden;
 };
 
 nlohmann::json to_json(const ResourceRecord& record);
@@ -115,6 +127,15 @@ nlohmann::json to_json(const CaptureManifest& manifest);
 // Throws CaptureError naming `file` for anything malformed: missing fields, unknown formats,
 // sizes over kMaxImageSide or whose byte count overflows, blob paths that leave the capture.
 CaptureManifest manifest_from_json(const nlohmann::json& json, const std::string& file);
+
+// A blob file read and checked against the hash its record states: a resource decoded to its raw
+// bytes, a shader or its source as the bytes of the file. Throw CaptureError naming `file`.
+std::vector<uint8_t> read_resource_blob(const std::filesystem::path& file, const ResourceRecord& record);
+std::vector<uint8_t> read_file_blob(const std::filesystem::path& file, const std::string& hash);
+
+// Removes `<target>.tmp-<pid>` and `<target>.old-<pid>` folders whose process is gone (a killed
+// writer's); those of a live process are kept.
+void remove_stale_siblings(const std::filesystem::path& target);
 
 // Builds a capture in `<target>.tmp-<pid>` and renames it to `target` on commit. Blobs are
 // written once per hash, encoded on a pool of workers while the caller goes on (rendering the
@@ -170,6 +191,8 @@ class Capture {
   static Capture open(const std::filesystem::path& folder);
 
   const std::filesystem::path& folder() const { return folder_; }
+  // What blob paths are relative to: the capture folder, or the store a golden lives in.
+  const std::filesystem::path& blob_root() const { return blob_root_; }
   const CaptureManifest& manifest() const { return manifest_; }
   const FrameRecord& frame(uint32_t index) const;  // throws CaptureError if absent
 
@@ -178,9 +201,12 @@ class Capture {
   std::vector<uint8_t> load(const ResourceRecord& record) const;  // decoded to its raw bytes
   std::vector<uint32_t> load_shader(const ShaderRecord& record) const;
   std::string load_shader_source(const ShaderRecord& record) const;  // the GLSL of the SPIR-V
+  // The file of a blob path, refused (CaptureError) when it resolves outside blob_root(), a
+  // symbolic link included, or is not a regular file.
+  std::filesystem::path blob_file(const std::string& blob) const;
 
  private:
-  std::filesystem::path folder_;
+  std::filesystem::path folder_, blob_root_;
   CaptureManifest manifest_;
 };
 

@@ -1,5 +1,6 @@
-// nightcap: render a scene to a capture, list its passes, replay them, diff two captures, draw a
-// frame's graph, step through a capture pass by pass.
+// nightcap: render a scene to a capture, list its passes, replay them, diff two captures (or a
+// capture and a golden of a store), keep goldens, draw a frame's graph, step through a capture
+// pass by pass.
 // Exit codes: 0 success, 1 differences beyond tolerance, 2 bad input or failure.
 #include <unistd.h>
 #include <CLI/CLI.hpp>
@@ -13,6 +14,7 @@
 #include <sstream>
 
 #include "captures/capture.h"
+#include "captures/golden_store.h"
 #include "cli/inspect_repl.h"
 #include "inspect/commands.h"
 #include "inspect/diff.h"
@@ -300,16 +302,38 @@ struct DiffFlags {
   bool isolate = false;
   std::string device;  // of --isolate's replays
   std::string flip_maps;
+  std::optional<std::string> golden;  // capture A is this golden of `store`
+  std::string store;
 };
 
+void check_golden_name(const std::string& flag, const std::string& name) {
+  if (!nc::safe_name(name))
+    throw UsageError(flag + " '" + name +
+                     "': not a golden name (printable characters, no spaces, '/' or '\\', not . or ..)");
+}
+
+// A golden that is not there is its own result: the first run of a CI job, say, which has to
+// record it.
+nc::Capture open_golden(const DiffFlags& flags, const std::string& capture) {
+  const std::string& name = *flags.golden;
+  check_golden_name("--golden", name);
+  if (!std::filesystem::exists(flags.store) || !nc::GoldenStore::open(flags.store).contains(name))
+    throw UsageError("golden '" + name + "' missing from store " + flags.store +
+                     " (record it with: nightcap golden update " + capture + " --store " + flags.store + " --name " +
+                     name + ")");
+  return nc::GoldenStore::open(flags.store).golden(name);
+}
+
 // Exit 0 when every result is within what it was held to, 1 when one is not; the last line
-// counts them (on stderr when --json owns stdout).
+// counts them (on stderr when --json owns stdout). With a golden, `a` is unused: the golden is
+// capture A, the reference.
 int run_diff(const std::string& a, const std::string& b, const DiffFlags& flags) {
   const auto start = std::chrono::steady_clock::now();
-  const nc::Capture capture_a = nc::Capture::open(a);
+  const nc::Capture capture_a = flags.golden ? open_golden(flags, b) : nc::Capture::open(a);
   const nc::Capture capture_b = nc::Capture::open(b);
   nc::Thresholds thresholds;
   nc::DiffOptions options;
+  options.golden = flags.golden.has_value();
   if (!flags.thresholds.empty()) {
     thresholds = nc::read_thresholds(flags.thresholds);
     options.thresholds = &thresholds;
@@ -333,6 +357,35 @@ int run_diff(const std::string& a, const std::string& b, const DiffFlags& flags)
     nc::print_diff_table(std::cout, diff);
   (flags.json ? std::cerr : std::cout) << counts.passed << " passed, " << counts.failed << " failed\n";
   return counts.failed > 0 ? kExitDifferent : 0;
+}
+
+int run_golden_update(const std::string& capture, const std::string& store, const std::string& name) {
+  check_golden_name("--name", name);
+  const nc::GoldenUpdate update = nc::GoldenStore::update(store, capture, name);
+  std::cout << "golden '" << name << "' updated in " << store << " from " << update.golden.source << " ("
+            << update.blobs_copied << " blobs copied, " << update.blobs_shared << " already in the store)\n";
+  return 0;
+}
+
+int run_golden_list(const std::string& store_dir, bool json) {
+  const nc::GoldenStore store = nc::GoldenStore::open(store_dir);
+  const std::vector<nc::GoldenInfo> goldens = store.list();
+  if (json) {
+    nlohmann::json out = {{"store", store.root().string()}, {"goldens", nlohmann::json::array()}};
+    for (const nc::GoldenInfo& g : goldens)
+      out["goldens"].push_back(
+          {{"name", g.name}, {"frames", g.frames}, {"passes", g.passes}, {"source", g.source}, {"updated", g.updated}});
+    std::cout << out.dump(1) << "\n";
+    return 0;
+  }
+  std::cout << std::left << std::setw(24) << "name" << std::right << std::setw(7) << "frames" << std::setw(8)
+            << "passes"
+            << "  " << std::left << std::setw(22) << "updated"
+            << "source\n";
+  for (const nc::GoldenInfo& g : goldens)
+    std::cout << std::left << std::setw(24) << g.name << std::right << std::setw(7) << g.frames << std::setw(8)
+              << g.passes << "  " << std::left << std::setw(22) << g.updated << g.source << "\n";
+  return 0;
 }
 
 int run_graph(const std::string& path, uint32_t frame, const std::string& output) {
@@ -445,12 +498,21 @@ int main(int argc, char** argv) {
 
   double tolerance = 0.0;
   uint32_t diff_frame = 0;
+  auto* diff = app.add_subcommand(
+      "diff",
+      "Compare two captures pass by pass and name the first divergent pass: `diff CAP_A CAP_B`, or a capture with a "
+      "golden of a store, the reference: `diff --golden NAME --store DIR CAP`.\n"
+      "Exit codes: 0 every result within what it was held to, 1 a regression, 2 an error (a missing golden too).");
+  auto* capture_a_option =
+      diff->add_option("capture_a", capture_path, "reference capture (with --golden: the capture)");
+  auto* capture_b_option = diff->add_option("capture_b", capture_b, "capture to compare");
   DiffFlags diff_flags;
-  auto* diff = app.add_subcommand("diff",
-                                  "Compare two captures pass by pass and name the first divergent pass.\n"
-                                  "Exit codes: 0 every result within what it was held to, 1 a regression, 2 an error.");
-  diff->add_option("capture_a", capture_path, "reference capture")->required();
-  diff->add_option("capture_b", capture_b, "capture to compare")->required();
+  std::string diff_golden;
+  auto* golden_option =
+      diff->add_option("--golden", diff_golden, "compare the capture with golden NAME of --store (capture A)");
+  auto* store_option = diff->add_option("--store", diff_flags.store, "the golden store (`nightcap golden update`)");
+  golden_option->needs(store_option);
+  store_option->needs(golden_option);
   diff->add_option("--thresholds", diff_flags.thresholds,
                    "JSON rules (glob on PASS/RESOURCE, metric, limit, allowed share, ignored rectangles) that replace "
                    "the recorded contracts of the outputs they match (format: README, `diff`)");
@@ -467,6 +529,20 @@ int main(int argc, char** argv) {
   diff->add_option("--device", diff_flags.device,
                    "Vulkan device of --isolate's runs (name substring); default: lavapipe");
   diff->add_flag("--json", json, "machine-readable output (the last line, the counts, goes to stderr)");
+
+  std::string store_dir, golden_name;
+  auto* golden = app.add_subcommand("golden", "Keep golden captures in a store: the references of `diff --golden`");
+  golden->require_subcommand(1);
+  auto* golden_update = golden->add_subcommand(
+      "update",
+      "Record a capture as golden NAME of a store, replacing an earlier golden of that name (the store is created "
+      "when absent; blobs it holds already are not copied again)");
+  golden_update->add_option("capture", capture_path, "capture folder")->required();
+  golden_update->add_option("--store", store_dir, "store folder")->required();
+  golden_update->add_option("--name", golden_name, "golden name (printable, no spaces, '/' or '\\')")->required();
+  auto* golden_list = golden->add_subcommand("list", "List the goldens of a store");
+  golden_list->add_option("--store", store_dir, "store folder")->required();
+  golden_list->add_flag("--json", json, "machine-readable output");
 
   std::string graph_output;
   bool dot = false;
@@ -510,8 +586,22 @@ int main(int argc, char** argv) {
       if (tolerance_option->count()) diff_flags.tolerance = tolerance;
       if (diff_frame_option->count()) diff_flags.frame = diff_frame;
       diff_flags.json = json;
-      code = run_diff(capture_path, capture_b, diff_flags);
+      // Two captures, or a golden and one capture: never a mixture.
+      if (golden_option->count()) {
+        diff_flags.golden = diff_golden;
+        if (capture_b_option->count())
+          throw UsageError("--golden compares one capture with the golden: give one capture, not two");
+        if (!capture_a_option->count())
+          throw UsageError("--golden NAME --store DIR: the capture to compare is missing");
+        code = run_diff("", capture_path, diff_flags);
+      } else {
+        if (!capture_b_option->count())
+          throw UsageError("diff needs two captures (CAP_A CAP_B), or --golden NAME --store DIR and one capture");
+        code = run_diff(capture_path, capture_b, diff_flags);
+      }
     }
+    if (*golden_update) code = run_golden_update(capture_path, store_dir, golden_name);
+    if (*golden_list) code = run_golden_list(store_dir, json);
     if (*graph) code = run_graph(capture_path, frame, graph_output);
     if (*inspect) code = run_inspect(capture_path, inspect_commands, inspect_script, device);
   } catch (const std::exception& e) {

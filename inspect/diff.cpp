@@ -44,6 +44,14 @@ bool float_output(const ResourceRecord& r) {
                          f.encoding == ChannelEncoding::packed_b10g11r11);
 }
 
+// What one side lacks, named for the side: capture A or B, or against a golden (A) the output.
+void mark_only_in(OutputDiff& o, bool in_a, bool golden) {
+  o.only_in_one = true;
+  o.comparison.comparable = false;
+  o.comparison.note = golden ? (in_a ? "output missing" : "golden missing") : (in_a ? "only in A" : "only in B");
+  if (golden) o.missing = in_a ? "output" : "golden";
+}
+
 PassDiff run_by_one(const std::string& name, PassStatus status) {
   PassDiff d;
   d.name = name;
@@ -84,9 +92,7 @@ PassDiff diff_pass(const FrameRecord& frame_a, const PassRecord& a, const PassRe
     for (const ResourceRecord& r : b.outputs)
       if (r.resource == ra.resource) rb = &r;
     if (!rb) {
-      o.only_in_one = true;
-      o.comparison.comparable = false;
-      o.comparison.note = "only in A";
+      mark_only_in(o, true, options.golden);
       differs = o.beyond = true;
       continue;
     }
@@ -108,9 +114,7 @@ PassDiff diff_pass(const FrameRecord& frame_a, const PassRecord& a, const PassRe
     if (!outputs_a.count(rb.resource)) {
       OutputDiff& o = d.outputs.emplace_back();
       o.resource = rb.resource;
-      o.only_in_one = true;
-      o.comparison.comparable = false;
-      o.comparison.note = "only in B";
+      mark_only_in(o, false, options.golden);
       differs = o.beyond = true;
     }
   // Equal inputs but different outputs: the change entered here (through a parameter, a
@@ -202,8 +206,17 @@ std::string status_name(PassStatus status) {
   return "";
 }
 
+std::string status_name(PassStatus status, bool golden) {
+  if (golden && status == PassStatus::only_in_a) return "output_missing";
+  if (golden && status == PassStatus::only_in_b) return "golden_missing";
+  return status_name(status);
+}
+
 CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions& options) {
   CaptureDiff diff;
+  diff.golden = options.golden;
+  const std::string only_in_a = options.golden ? ": output missing" : " only in A",
+                    only_in_b = options.golden ? ": golden missing" : " only in B";
   if (options.frame) {
     a.frame(*options.frame);  // throws CaptureError naming the frames it has
     b.frame(*options.frame);
@@ -218,7 +231,7 @@ CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions&
     for (const FrameRecord& f : b.manifest().frames)
       if (f.index == fa.index) fb = &f;
     if (!fb) {
-      diff.notes.push_back("frame " + std::to_string(fa.index) + " only in A");
+      diff.notes.push_back("frame " + std::to_string(fa.index) + only_in_a);
       diff.identical = false;
       diff.beyond_tolerance = true;
       continue;
@@ -253,7 +266,7 @@ CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions&
     bool found = false;
     for (const FrameRecord& fa : a.manifest().frames) found |= fa.index == fb.index;
     if (!found) {
-      diff.notes.push_back("frame " + std::to_string(fb.index) + " only in B");
+      diff.notes.push_back("frame " + std::to_string(fb.index) + only_in_b);
       diff.identical = false;
       diff.beyond_tolerance = true;
     }
@@ -270,13 +283,14 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
         << "\n";
     for (const PassDiff& p : frame.passes) {
       if (p.outputs.empty() || (p.status != PassStatus::origin && p.status != PassStatus::inherited)) {
-        out << "  " << std::left << std::setw(20) << p.name << std::setw(22) << "" << status_name(p.status) << "\n";
+        out << "  " << std::left << std::setw(20) << p.name << std::setw(22) << "" << status_name(p.status, diff.golden)
+            << "\n";
         continue;
       }
       for (const OutputDiff& o : p.outputs) {
         const ResourceComparison& c = o.comparison;
         out << "  " << std::left << std::setw(20) << p.name << std::setw(22) << o.resource << std::setw(11)
-            << (c.identical ? "identical" : status_name(p.status));
+            << (c.identical ? "identical" : status_name(p.status, diff.golden));
         if (!c.identical && c.comparable)
           out << std::right << std::setw(11) << number(c.max_abs) << std::setw(11) << number(c.rmse) << std::setw(9)
               << number(c.psnr, 3) << std::setw(8) << number(100.0 * c.over_threshold_share, 3) << std::setw(12)
@@ -336,6 +350,7 @@ nlohmann::json diff_to_json(const CaptureDiff& diff) {
                        {"p95", o.flip->p95},   {"p99", o.flip->p99}, {"over_0.1", o.flip->over_threshold_share}};
         if (!o.flip_map.empty()) j["flip"]["map"] = o.flip_map.string();
         if (!c.note.empty()) j["note"] = c.note;
+        if (!o.missing.empty()) j["missing"] = o.missing;
         if (!c.first_difference.empty()) j["first_difference"] = c.first_difference;
         if (!o.held_to.empty()) {
           j["held_to"] = o.held_to;
@@ -354,7 +369,7 @@ nlohmann::json diff_to_json(const CaptureDiff& diff) {
         outputs.push_back(j);
       }
       nlohmann::json pass = {{"name", p.name},
-                             {"status", status_name(p.status)},
+                             {"status", status_name(p.status, diff.golden)},
                              {"inputs_agree", p.inputs_agree},
                              {"params_agree", p.params_agree},
                              {"shaders_agree", p.shaders_agree},

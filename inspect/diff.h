@@ -24,11 +24,15 @@ struct DiffOptions {
   const Thresholds* thresholds = nullptr;
   std::optional<double> tolerance;
   std::optional<uint32_t> frame;  // compare this frame only
+  // Capture A is a golden (`nightcap diff --golden`): what one side lacks is named for the side,
+  // "output missing" (the golden has it) or "golden missing", instead of "only in A" or "only in B".
+  bool golden = false;
 };
 
 struct OutputDiff {
   std::string resource;
   bool only_in_one = false;
+  std::string missing;  // against a golden, the side that lacks it: "output" or "golden"
   ResourceComparison comparison;
   bool beyond = false;                      // outside what it was held to
   std::string held_to;                      // the threshold and where it came from (every output compared)
@@ -41,6 +45,8 @@ struct OutputDiff {
 
 enum class PassStatus { identical, origin, inherited, skipped, skipped_in_a, skipped_in_b, only_in_a, only_in_b };
 std::string status_name(PassStatus status);
+// Against a golden, only_in_a and only_in_b are "output_missing" and "golden_missing".
+std::string status_name(PassStatus status, bool golden);
 
 // `diff --isolate`: the pass as capture B recorded it, run on the inputs capture A recorded for
 // it (replay/isolate.h).
@@ -75,6 +81,7 @@ struct CaptureDiff {
   bool identical = true;
   bool beyond_tolerance = false;
   std::vector<std::string> notes;  // frames present in one capture only, ...
+  bool golden = false;             // DiffOptions::golden
 };
 
 // Throws CaptureError when a blob cannot be read or a capture lacks options.frame.

@@ -72,7 +72,7 @@ std::vector<DiffCase> diff_cases(const CaptureDiff& diff) {
         case PassStatus::skipped_in_b:
         case PassStatus::only_in_a:
         case PassStatus::only_in_b:
-          cases.push_back({suite, p.name, Outcome::failed, status_name(p.status)});
+          cases.push_back({suite, p.name, Outcome::failed, status_name(p.status, diff.golden)});
           continue;
         default:
           break;
