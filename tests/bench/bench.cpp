@@ -24,6 +24,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <random>
@@ -258,15 +259,37 @@ int run_program(std::vector<std::string> argv, const char* out, bool quiet) {
   return error == 0 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-// Wall-clock milliseconds of `nightcap ARGS`, its output discarded; a failed run throws.
-double cli_wall_ms(const std::vector<std::string>& args) {
+// Median wall-clock milliseconds of ARGV over 5 runs after one that warms the file cache, output
+// discarded; a run whose exit status `accepted` refuses throws.
+double warm_median_ms(const std::vector<std::string>& argv, const std::function<bool(int)>& accepted) {
+  std::vector<double> runs;
+  for (int r = 0; r < 6; ++r) {
+    const double start = now_ms();
+    const int code = run_program(argv, "/dev/null", true);
+    const double elapsed = now_ms() - start;
+    if (!accepted(code)) throw std::runtime_error(argv.front() + " " + argv.at(1) + " exited " + std::to_string(code));
+    if (r > 0) runs.push_back(elapsed);
+  }
+  return median(runs);
+}
+
+// The same for `nightcap ARGS`, which must exit with `exit_code`.
+double cli_median_ms(const std::vector<std::string>& args, int exit_code = 0) {
   std::vector<std::string> argv = {NIGHTCAP_CLI};
   argv.insert(argv.end(), args.begin(), args.end());
-  const double start = now_ms();
-  const bool ok = run_program(argv, "/dev/null", true) == 0;
-  const double elapsed = now_ms() - start;
-  if (!ok) throw std::runtime_error(std::string(NIGHTCAP_CLI) + " " + args.front() + " failed");
-  return elapsed;
+  return warm_median_ms(argv, [exit_code](int code) { return code == exit_code; });
+}
+
+// A one-frame capture of the built-in city (seed 1, default lighting) in `dir`, with `params`.
+void render_city(nc::GpuDevice& gpu, uint32_t width, uint32_t height, const fs::path& dir,
+                 const std::map<std::string, nc::ParamValues>& params = {}) {
+  nc::Scene scene = nc::build_city(1);
+  nc::add_default_lighting(scene);
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.params = params;
+  nc::render_to_capture(gpu, scene, settings, dir, false);
 }
 
 // Peak resident MiB of `nightcap ARGS`, measured by peak_rss (tests/bench/peak_rss.cpp says why
@@ -290,25 +313,14 @@ double cli_peak_mib(const std::vector<std::string>& args) {
 // decoded pixel of gbuffer.normal (one blob read), with the peak memory of that process. Median of
 // 5 runs after one that warms the file cache.
 void bench_startup(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
-  nc::Scene scene = nc::build_city(1);
-  nc::add_default_lighting(scene);
-  nc::RenderSettings settings;
-  settings.width = width;
-  settings.height = height;
   const fs::path dir = fs::temp_directory_path() / "nightcap-bench-startup";
   fs::remove_all(dir);
-  nc::render_to_capture(gpu, scene, settings, dir, false);
-  auto median_ms = [](const std::vector<std::string>& args) {
-    cli_wall_ms(args);
-    std::vector<double> runs;
-    for (int r = 0; r < 5; ++r) runs.push_back(cli_wall_ms(args));
-    return median(runs);
-  };
-  const double help = median_ms({"--help"}), passes = median_ms({"passes", dir.string()});
+  render_city(gpu, width, height, dir);
+  const double help = cli_median_ms({"--help"}), passes = cli_median_ms({"passes", dir.string()});
   const std::vector<std::string> first_answer = {
       "inspect", dir.string(), "-c",
       "pixel " + std::to_string(width / 2) + " " + std::to_string(height / 2) + " gbuffer.normal"};
-  const double inspect = median_ms(first_answer);
+  const double inspect = cli_median_ms(first_answer);
   const double peak_mib = cli_peak_mib(first_answer);
   // RenderDoc 1.24's "save the five G-buffer targets" as uncompressed half EXR, the same way.
   const fs::path exported = dir / "exported";
@@ -317,7 +329,7 @@ void bench_startup(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   for (const char* target : {"albedo", "normal", "material", "motion", "emissive"})
     export_commands += std::string("; export gbuffer.") + target + " --half --uncompressed -o " +
                        (exported / (std::string(target) + ".exr")).string();
-  const double export_pass = median_ms({"inspect", dir.string(), "-c", export_commands});
+  const double export_pass = cli_median_ms({"inspect", dir.string(), "-c", export_commands});
   table() << "\n## CLI start-up, wall clock (median of 5 runs, warm file cache)\n"
           << std::fixed << std::setprecision(1) << "  nightcap --help          " << std::setw(7) << help << " ms\n"
           << "  nightcap passes CAP      " << std::setw(7) << passes << " ms (city, " << width << "x" << height
@@ -342,34 +354,13 @@ void bench_startup(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
 //    start-up (idiff's on a 1x1 pair, nightcap's on a diff of a capture with itself, which
 //    reads both manifests and compares hashes).
 void bench_diff(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
-  nc::Scene scene = nc::build_city(1);
-  nc::add_default_lighting(scene);
-  nc::RenderSettings settings;
-  settings.width = width;
-  settings.height = height;
   const fs::path dir = fs::temp_directory_path() / ("nightcap-bench-diff-" + std::to_string(getpid()));
   fs::remove_all(dir);
   const fs::path a = dir / "a", b = dir / "b";
-  nc::render_to_capture(gpu, scene, settings, a, false);
-  settings.params["lighting.deferred"]["intensity_scale"] = 1.5;
-  nc::render_to_capture(gpu, scene, settings, b, false);
-
-  auto timed = [](const std::vector<std::string>& argv, int expected_exit) {
-    auto once = [&] {
-      const double start = now_ms();
-      const int code = run_program(argv, "/dev/null", true);
-      if (code != expected_exit)
-        throw std::runtime_error(argv.front() + " " + argv.at(1) + " exited " + std::to_string(code) + ", not " +
-                                 std::to_string(expected_exit));
-      return now_ms() - start;
-    };
-    once();
-    std::vector<double> runs;
-    for (int r = 0; r < 5; ++r) runs.push_back(once());
-    return median(runs);
-  };
-  const double diff = timed({NIGHTCAP_CLI, "diff", a.string(), b.string()}, 1);
-  const double diff_itself = timed({NIGHTCAP_CLI, "diff", a.string(), a.string()}, 0);
+  render_city(gpu, width, height, a);
+  render_city(gpu, width, height, b, {{"lighting.deferred", {{"intensity_scale", 1.5}}}});
+  const double diff = cli_median_ms({"diff", a.string(), b.string()}, 1);
+  const double diff_itself = cli_median_ms({"diff", a.string(), a.string()});
 
   // The image outputs whose bytes differ, as pairs of blob files.
   const nc::Capture ca = nc::Capture::open(a), cb = nc::Capture::open(b);
@@ -382,15 +373,8 @@ void bench_diff(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
           pairs.emplace_back(a / ra.blob, b / rb.blob);
   // idiff exits 0 (match), 1 (within its warning threshold) or 2 (differs): any of them is a
   // comparison made.
-  auto idiff_ms = [&](const fs::path& x, const fs::path& y) {
-    std::vector<double> runs;
-    for (int r = 0; r < 6; ++r) {
-      const double start = now_ms();
-      const int code = run_program({"idiff", x.string(), y.string()}, "/dev/null", true);
-      if (code < 0 || code > 2) throw std::runtime_error("idiff " + x.string() + " " + y.string() + " failed");
-      if (r > 0) runs.push_back(now_ms() - start);
-    }
-    return median(runs);
+  auto idiff_ms = [](const fs::path& x, const fs::path& y) {
+    return warm_median_ms({"idiff", x.string(), y.string()}, [](int code) { return code >= 0 && code <= 2; });
   };
   const fs::path tiny = dir / "tiny.exr";
   if (run_program(
