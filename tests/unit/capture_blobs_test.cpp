@@ -7,6 +7,7 @@
 
 #include "captures/capture.h"
 #include "captures/hash.h"
+#include "tests/unit/scratch_folder.h"
 
 namespace nightcap {
 namespace {
@@ -16,16 +17,6 @@ struct Written {
   fs::path folder;
   ResourceRecord buffer;
   ShaderRecord shader;
-};
-
-// A folder of the test's own (unique to the process), removed when the test ends.
-struct Scratch {
-  const fs::path path = fs::temp_directory_path() / ("nightcap-blobs-test-" + std::to_string(::getpid()));
-  Scratch() {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Scratch() { fs::remove_all(path); }
 };
 
 Written write_capture(const fs::path& folder) {
@@ -72,7 +63,7 @@ void expect_hash_mismatch(Load load, const std::string& blob, const std::string&
 }
 
 TEST(CaptureBlobs, EachIsReadIntactAndOpeningReadsNone) {
-  const Scratch scratch;
+  const ScratchFolder scratch("blobs-test");
   const Written w = write_capture(scratch.path / "capture");
   const Capture capture = Capture::open(w.folder);
   const PassRecord& pass = capture.frame(0).passes.at(0);
@@ -86,7 +77,7 @@ TEST(CaptureBlobs, EachIsReadIntactAndOpeningReadsNone) {
 }
 
 TEST(CaptureBlobs, AResourceWhoseFileDecodesToOtherBytesIsRefused) {
-  const Scratch scratch;
+  const ScratchFolder scratch("blobs-test");
   const Written w = write_capture(scratch.path / "capture");
   write_buffer_blob(w.folder / w.buffer.blob, std::vector<uint8_t>(64, 0x5a), 3);
   const Capture capture = Capture::open(w.folder);
@@ -94,7 +85,7 @@ TEST(CaptureBlobs, AResourceWhoseFileDecodesToOtherBytesIsRefused) {
 }
 
 TEST(CaptureBlobs, ADamagedShaderOrShaderSourceIsRefused) {
-  const Scratch scratch;
+  const ScratchFolder scratch("blobs-test");
   const Written w = write_capture(scratch.path / "capture");
   overwrite(w.folder / w.shader.blob, 'x');
   overwrite(w.folder / w.shader.source_blob, 'x');

@@ -8,20 +8,12 @@
 
 #include "captures/golden_store.h"
 #include "captures/hash.h"
+#include "tests/unit/scratch_folder.h"
 
 namespace nightcap {
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-struct Scratch {
-  const fs::path path = fs::temp_directory_path() / ("nightcap-golden-store-test-" + std::to_string(::getpid()));
-  Scratch() {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Scratch() { fs::remove_all(path); }
-};
 
 std::vector<uint8_t> bytes_of(uint8_t seed) {
   std::vector<uint8_t> raw(64);
@@ -79,7 +71,7 @@ std::string capture_error(Call call) {
 }
 
 TEST(GoldenStore, GoldensFromCapturesSharingBlobsKeepOneCopyOfEach) {
-  const Scratch scratch;
+  const ScratchFolder scratch("golden-store-test");
   const fs::path store = scratch.path / "store";
   const fs::path a = write_capture(scratch.path / "a", {1, 2}), b = write_capture(scratch.path / "b", {1, 3});
   ASSERT_EQ(files_in(a / "blobs").size(), 4u) << "two buffers, the SPIR-V and its source";
@@ -112,7 +104,7 @@ TEST(GoldenStore, GoldensFromCapturesSharingBlobsKeepOneCopyOfEach) {
 }
 
 TEST(GoldenStore, AnUpdateReplacesTheGoldenOfThatName) {
-  const Scratch scratch;
+  const ScratchFolder scratch("golden-store-test");
   const fs::path store = scratch.path / "store";
   GoldenStore::update(store, write_capture(scratch.path / "a", {1}), "g");
   GoldenStore::update(store, write_capture(scratch.path / "b", {2}), "g");
@@ -124,7 +116,7 @@ TEST(GoldenStore, AnUpdateReplacesTheGoldenOfThatName) {
 }
 
 TEST(GoldenStore, ABlobLinkedOutOfTheStoreIsRefused) {
-  const Scratch scratch;
+  const ScratchFolder scratch("golden-store-test");
   const fs::path store = scratch.path / "store";
   GoldenStore::update(store, write_capture(scratch.path / "a", {1}), "g");
   const Capture golden = GoldenStore::open(store).golden("g");
@@ -144,7 +136,7 @@ TEST(GoldenStore, ABlobLinkedOutOfTheStoreIsRefused) {
 }
 
 TEST(GoldenStore, ABlobPathWithDotDotIsRefused) {
-  const Scratch scratch;
+  const ScratchFolder scratch("golden-store-test");
   const fs::path store = scratch.path / "store";
   GoldenStore::update(store, write_capture(scratch.path / "a", {1}), "g");
   const fs::path manifest = store / "goldens" / "g" / "manifest.json";
@@ -158,7 +150,7 @@ TEST(GoldenStore, ABlobPathWithDotDotIsRefused) {
 }
 
 TEST(GoldenStore, AStoreManifestOutsideAStoreIsRefused) {
-  const Scratch scratch;
+  const ScratchFolder scratch("golden-store-test");
   const fs::path store = scratch.path / "store";
   GoldenStore::update(store, write_capture(scratch.path / "a", {1}), "g");
   fs::remove(store / kStoreMarker);
@@ -176,7 +168,7 @@ TEST(GoldenStore, AStoreManifestOutsideAStoreIsRefused) {
 }
 
 TEST(GoldenStore, AStoreOfAnotherVersionIsRefused) {
-  const Scratch scratch;
+  const ScratchFolder scratch("golden-store-test");
   const fs::path store = scratch.path / "store";
   GoldenStore::update(store, write_capture(scratch.path / "a", {1}), "g");
   std::ofstream(store / kStoreMarker, std::ios::trunc) << R"({"format": "nightcap-store", "version": 99})";
@@ -185,7 +177,7 @@ TEST(GoldenStore, AStoreOfAnotherVersionIsRefused) {
 }
 
 TEST(GoldenStore, AHostileNameWritesNothing) {
-  const Scratch scratch;
+  const ScratchFolder scratch("golden-store-test");
   const fs::path store = scratch.path / "store";
   const fs::path a = write_capture(scratch.path / "a", {1});
   const std::set<std::string> before = files_in(scratch.path);
@@ -201,7 +193,7 @@ TEST(GoldenStore, AHostileNameWritesNothing) {
 class DamagedSource : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(DamagedSource, LeavesTheStoreAsItWas) {
-  const Scratch scratch;
+  const ScratchFolder scratch("golden-store-test");
   const fs::path store = scratch.path / "store";
   GoldenStore::update(store, write_capture(scratch.path / "a", {1}), "kept");
   const fs::path b = write_capture(scratch.path / "b", {1, 2, 3});

@@ -4,29 +4,19 @@
 // made from, a PNG it writes reads back exactly, and what it cannot decode is an ImageError.
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <fstream>
 
 #include "images/images.h"
 #include "passes/scene/scene.h"
 #include "tests/unit/gltf_reference.h"
+#include "tests/unit/scratch_folder.h"
 
 namespace nightcap {
 namespace {
 namespace fs = std::filesystem;
 
 const fs::path kBox = fs::path(NIGHTCAP_SHARED_DATA) / "gltf/BoxTextured/glTF";
-
-// A folder of the test's own (unique to the process), removed when the test ends.
-struct Scratch {
-  const fs::path path = fs::temp_directory_path() / ("nightcap-images-test-" + std::to_string(::getpid()));
-  Scratch() {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~Scratch() { fs::remove_all(path); }
-};
 
 std::string base64(const std::vector<uint8_t>& bytes) {
   static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -56,7 +46,7 @@ TEST(Images, FileAndMemoryDecodeAsOpenImageIOReads) {
 }
 
 TEST(Images, GreyAndGreyAlphaBecomeRgba) {
-  const Scratch scratch;
+  const ScratchFolder scratch("images-test");
   for (int channels : {1, 2}) {
     const fs::path file = scratch.path / ("grey" + std::to_string(channels) + ".png");
     // Opaque, or transparent black: OpenImageIO premultiplies what it reads, and these read the
@@ -75,7 +65,7 @@ TEST(Images, GreyAndGreyAlphaBecomeRgba) {
 }
 
 TEST(Images, AWrittenPngReadsBackExactly) {
-  const Scratch scratch;
+  const ScratchFolder scratch("images-test");
   const fs::path file = scratch.path / "out.png";
   // Opaque, as final frames are: OpenImageIO premultiplies alpha on reading.
   std::vector<uint8_t> rgba(5 * 3 * 4);
@@ -103,7 +93,7 @@ TEST(Images, WhatCannotBeDecodedOrWrittenIsAnImageError) {
 
 // tinygltf hands images in data URIs to the loader's callback, which decodes them in memory.
 TEST(Images, AnEmbeddedGltfImageDecodesLikeItsFile) {
-  const Scratch scratch;
+  const ScratchFolder scratch("images-test");
   const fs::path& dir = scratch.path;
   fs::copy_file(kBox / "BoxTextured0.bin", dir / "BoxTextured0.bin");
   nlohmann::json gltf = nlohmann::json::parse(std::ifstream(kBox / "BoxTextured.gltf"));
