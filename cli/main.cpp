@@ -317,11 +317,13 @@ void check_golden_name(const std::string& flag, const std::string& name) {
 nc::Capture open_golden(const DiffFlags& flags, const std::string& capture) {
   const std::string& name = *flags.golden;
   check_golden_name("--golden", name);
-  if (!std::filesystem::exists(flags.store) || !nc::GoldenStore::open(flags.store).contains(name))
-    throw UsageError("golden '" + name + "' missing from store " + flags.store +
-                     " (record it with: nightcap golden update " + capture + " --store " + flags.store + " --name " +
-                     name + ")");
-  return nc::GoldenStore::open(flags.store).golden(name);
+  if (std::filesystem::exists(flags.store)) {
+    const nc::GoldenStore store = nc::GoldenStore::open(flags.store);
+    if (store.contains(name)) return store.golden(name);
+  }
+  throw UsageError("golden '" + name + "' missing from store " + flags.store +
+                   " (record it with: nightcap golden update " + capture + " --store " + flags.store + " --name " +
+                   name + ")");
 }
 
 // Exit 0 when every result is within what it was held to, 1 when one is not; the last line
