@@ -1,5 +1,6 @@
 #include "inspect/diff.h"
 
+#include <algorithm>
 #include <atomic>
 #include <exception>
 #include <iomanip>
@@ -173,14 +174,18 @@ nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::js
 
 }  // namespace
 
+bool PassIsolation::pass_changed() const {
+  return std::any_of(outputs.begin(), outputs.end(), [](const Output& o) { return !o.reproduced; });
+}
+
 // One line on what --isolate found for a pass.
 std::string isolation_summary(const PassIsolation& isolation) {
   if (!isolation.reason.empty()) return "not isolated: " + isolation.reason;
-  if (!isolation.pass_changed)
+  if (!isolation.pass_changed())
     return "B's pass on A's inputs reproduces A's outputs: the difference came through its inputs";
   std::string changed;
-  for (const auto& [resource, made] : isolation.outputs)
-    if (made.rfind("different", 0) == 0) changed += (changed.empty() ? "" : ", ") + resource + " " + made;
+  for (const PassIsolation::Output& o : isolation.outputs)
+    if (!o.reproduced) changed += (changed.empty() ? "" : ", ") + o.resource + " " + o.made;
   return "B's pass on A's inputs does not reproduce A's outputs (" + changed + "): the pass itself changed";
 }
 
@@ -378,12 +383,12 @@ nlohmann::json diff_to_json(const CaptureDiff& diff) {
       if (p.isolation) {
         isolated = true;
         nlohmann::json made = nlohmann::json::object();
-        for (const auto& [resource, what] : p.isolation->outputs) made[resource] = what;
+        for (const PassIsolation::Output& o : p.isolation->outputs) made[o.resource] = o.made;
         pass["isolation"] = {{"ran", p.isolation->reason.empty()},
-                             {"pass_changed", p.isolation->pass_changed},
+                             {"pass_changed", p.isolation->pass_changed()},
                              {"summary", isolation_summary(*p.isolation)},
                              {"outputs", made}};
-        if (p.isolation->pass_changed) changed.push_back({{"frame", frame.index}, {"pass", p.name}});
+        if (p.isolation->pass_changed()) changed.push_back({{"frame", frame.index}, {"pass", p.name}});
       }
       passes.push_back(pass);
     }

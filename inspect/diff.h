@@ -51,12 +51,18 @@ std::string status_name(PassStatus status, bool golden);
 // `diff --isolate`: the pass as capture B recorded it, run on the inputs capture A recorded for
 // it (replay/isolate.h).
 struct PassIsolation {
+  struct Output {
+    std::string resource;
+    // Made as A recorded it: A's bytes, or within its contract where the output depends on
+    // execution order.
+    bool reproduced = false;
+    std::string made;  // the run's verdict, e.g. "different (float, max abs 2.9)"
+  };
   std::string reason;  // why it was not run; empty when it was
-  // An output that run does not reproduce (A's bytes, or its contract where the output depends
-  // on execution order): the pass itself changed. Otherwise the difference came through its
-  // inputs.
-  bool pass_changed = false;
-  std::vector<std::pair<std::string, std::string>> outputs;  // resource, what the run made of it
+  std::vector<Output> outputs;
+  // An output the run does not reproduce: the pass itself changed. Otherwise the difference came
+  // through its inputs.
+  bool pass_changed() const;
 };
 // One line on what the run found.
 std::string isolation_summary(const PassIsolation& isolation);

@@ -22,8 +22,7 @@ void isolate_passes(GpuDevice& gpu, const Capture& a, const Capture& b, CaptureD
           if (output.contract) made << ", max abs " << std::setprecision(4) << output.amount;
           made << ")";
         }
-        isolation.outputs.emplace_back(output.resource, made.str());
-        isolation.pass_changed |= output.verdict == Verdict::different;
+        isolation.outputs.push_back({output.resource, output.verdict != Verdict::different, made.str()});
       }
     }
 }
