@@ -31,6 +31,20 @@ void decode_plane(const FormatInfo& f, uint32_t aspect, std::span<const uint8_t>
     }
     return;
   }
+  if (aspect == 0 && (f.encoding == ChannelEncoding::unorm8 || f.encoding == ChannelEncoding::srgb8)) {
+    // A byte per channel: decode_texel's rules (sRGB colour, linear alpha) applied once per code
+    // and channel, then looked up.
+    std::array<std::array<float, 256>, 4> table;
+    for (uint32_t code = 0; code < 256; ++code) {
+      const std::array<uint8_t, 4> texel{uint8_t(code), uint8_t(code), uint8_t(code), uint8_t(code)};
+      float values[4];
+      decode_texel(f, aspect, texel, 0, values);
+      for (uint32_t c = 0; c < channels; ++c) table[c][code] = values[c];
+    }
+    for (uint64_t t = 0; t < texels; ++t)
+      for (uint32_t c = 0; c < channels; ++c) out[t * channels + c] = table[c][plane[t * channels + c]];
+    return;
+  }
   if (aspect == 0 && f.encoding == ChannelEncoding::sfloat32) {
     std::memcpy(out, plane.data(), texels * channels * sizeof(float));
     return;
