@@ -9,9 +9,11 @@
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "captures/capture.h"
@@ -27,6 +29,7 @@
 #include "passes/frame/renderer.h"
 #include "replay/isolate.h"
 #include "replay/replay.h"
+#include "reports/capture_report.h"
 
 namespace nc = nightcap;
 
@@ -411,6 +414,39 @@ int run_graph(const std::string& path, uint32_t frame, const std::string& output
   return 0;
 }
 
+// A folder `report --force` may replace: empty, or holding a report nightcap wrote (its
+// index.html says so), never any other folder.
+bool replaceable_report(const std::filesystem::path& folder) {
+  if (std::filesystem::is_empty(folder)) return true;
+  std::ifstream index(folder / "index.html");
+  std::string head(512, '\0');
+  index.read(head.data(), std::streamsize(head.size()));
+  return head.find("<meta name=\"generator\" content=\"nightcap report\">") != std::string::npos;
+}
+
+int run_report(const std::string& path, std::optional<uint32_t> frame, const std::string& output, bool force) {
+  const nc::Capture capture = nc::Capture::open(path);
+  if (frame) {
+    try {
+      capture.frame(*frame);
+    } catch (const nc::CaptureError& e) {
+      throw UsageError("--frame " + std::to_string(*frame) + ": " + e.what());
+    }
+  }
+  const std::filesystem::path folder(output);
+  if (std::filesystem::exists(folder) && !std::filesystem::is_empty(folder)) {
+    if (!force) throw UsageError(output + ": exists and is not empty (--force replaces an earlier report)");
+    if (!replaceable_report(folder))
+      throw UsageError(output + ": --force replaces only a folder holding a nightcap report, and this is not one");
+    std::filesystem::remove_all(folder);
+  }
+  nc::CaptureReportOptions options;
+  options.frame = frame;
+  nc::write_capture_report(capture, folder, options);
+  std::cout << "report: " << (folder / "index.html").string() << "\n";
+  return 0;
+}
+
 // Interactive without -c or --script. Scripted, every command runs (a failed one does not stop
 // the others) and the exit code says whether any failed.
 int run_inspect(const std::string& path, const std::string& commands, const std::string& script_file,
@@ -561,6 +597,17 @@ int main(int argc, char** argv) {
   graph->add_flag("--dot", dot, "write Graphviz DOT (render it with e.g. `dot -Tsvg`)")->required();
   graph->add_option("-o,--output", graph_output, "file to write (default: standard output)");
 
+  std::string report_output;
+  uint32_t report_frame = 0;
+  bool report_force = false;
+  auto* report =
+      app.add_subcommand("report", "Write a capture as a static HTML report (opens from disk, no server needed)");
+  report->add_option("capture", capture_path, "capture folder")->required();
+  report->add_option("-o,--output", report_output, "folder to write (must not exist, or be empty)")->required();
+  auto* report_frame_option =
+      report->add_option("--frame", report_frame, "frame to show (default: the first the capture recorded)");
+  report->add_flag("--force", report_force, "replace an earlier report in the output folder");
+
   std::string inspect_commands, inspect_script;
   auto* inspect = app.add_subcommand(
       "inspect", "Step through a capture pass by pass: pixels, buffers and statistics decoded by what they hold");
@@ -611,6 +658,10 @@ int main(int argc, char** argv) {
     if (*golden_update) code = run_golden_update(capture_path, store_dir, golden_name);
     if (*golden_list) code = run_golden_list(store_dir, json);
     if (*graph) code = run_graph(capture_path, frame, graph_output);
+    if (*report)
+      code =
+          run_report(capture_path, report_frame_option->count() ? std::optional<uint32_t>(report_frame) : std::nullopt,
+                     report_output, report_force);
     if (*inspect) code = run_inspect(capture_path, inspect_commands, inspect_script, device);
   } catch (const std::exception& e) {
     std::cerr << "nightcap: " << e.what() << "\n";

@@ -25,11 +25,11 @@ uint16_t load_u16(std::span<const uint8_t> bytes, uint64_t offset) {
   return value;
 }
 
-// The integer codes one texel of one aspect stores, or nothing for float channels.
-std::vector<uint64_t> stored_codes(const FormatInfo& format, uint32_t aspect, std::span<const uint8_t> plane,
-                                   uint64_t index) {
+// Appends the integer codes one texel of one aspect stores to `codes` (nothing for float
+// channels).
+void append_stored_codes(const FormatInfo& format, uint32_t aspect, std::span<const uint8_t> plane, uint64_t index,
+                         std::vector<uint64_t>& codes) {
   const uint64_t base = index * aspect_texel_bytes(format, aspect);
-  std::vector<uint64_t> codes;
   switch (format.encoding) {
     case E::unorm8:
     case E::srgb8:
@@ -45,12 +45,12 @@ std::vector<uint64_t> stored_codes(const FormatInfo& format, uint32_t aspect, st
       break;
     case E::packed_a2b10g10r10: {
       const uint32_t w = load_u32(plane, base);
-      codes = {w & 1023u, (w >> 10) & 1023u, (w >> 20) & 1023u, w >> 30};
+      codes.insert(codes.end(), {w & 1023u, (w >> 10) & 1023u, (w >> 20) & 1023u, w >> 30});
       break;
     }
     case E::packed_b10g11r11: {
       const uint32_t w = load_u32(plane, base);
-      codes = {w & 0x7ffu, (w >> 11) & 0x7ffu, w >> 22};
+      codes.insert(codes.end(), {w & 0x7ffu, (w >> 11) & 0x7ffu, w >> 22});
       break;
     }
     case E::depth32_stencil8:
@@ -60,7 +60,6 @@ std::vector<uint64_t> stored_codes(const FormatInfo& format, uint32_t aspect, st
     case E::sfloat32:
       break;
   }
-  return codes;
 }
 
 nlohmann::ordered_json vector_json(const double* v, size_t n) { return std::vector<double>(v, v + n); }
@@ -175,24 +174,34 @@ TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRec
           subimage.layer, subimage.slice};
 }
 
-TexelValues read_texel(const ResourceRecord& record, std::span<const uint8_t> raw, const TexelAddress& texel) {
-  const FormatInfo format = *format_info(record.format);
-  TexelValues values;
-  const uint64_t width = mip_size(record.extent.width, texel.mip), height = mip_size(record.extent.height, texel.mip);
-  const uint64_t index = (texel.slice * height + texel.y) * width + texel.x;
-  for (uint32_t aspect = 0; aspect < aspect_count(format); ++aspect) {
-    const std::span<const uint8_t> plane =
-        raw.subspan(raw_subresource_offset(format, record.extent, aspect, texel.mip, texel.layer),
-                    raw_subresource_bytes(format, record.extent, aspect, texel.mip));
+SubresourceReader::SubresourceReader(const ResourceRecord& record, std::span<const uint8_t> raw, uint32_t mip,
+                                     uint32_t layer)
+    : format_(*format_info(record.format)),
+      width_(mip_size(record.extent.width, mip)),
+      height_(mip_size(record.extent.height, mip)) {
+  for (uint32_t aspect = 0; aspect < aspect_count(format_); ++aspect)
+    planes_[aspect] = raw.subspan(raw_subresource_offset(format_, record.extent, aspect, mip, layer),
+                                  raw_subresource_bytes(format_, record.extent, aspect, mip));
+}
+
+void SubresourceReader::read(uint32_t x, uint32_t y, uint32_t slice, TexelValues& values) const {
+  values.raw.clear();
+  values.codes.clear();
+  const uint64_t index = (uint64_t(slice) * height_ + y) * width_ + x;
+  for (uint32_t aspect = 0; aspect < aspect_count(format_); ++aspect) {
     float decoded[4] = {};
-    decode_texel(format, aspect, plane, index, decoded);
-    values.raw.insert(values.raw.end(), decoded, decoded + aspect_channels(format, aspect));
-    const std::vector<uint64_t> codes = stored_codes(format, aspect, plane, index);
-    values.codes.insert(values.codes.end(), codes.begin(), codes.end());
+    decode_texel(format_, aspect, planes_[aspect], index, decoded);
+    values.raw.insert(values.raw.end(), decoded, decoded + aspect_channels(format_, aspect));
+    append_stored_codes(format_, aspect, planes_[aspect], index, values.codes);
   }
   // Integer channels wider than a float's mantissa are exact only as codes.
-  if (format.encoding == E::uint32)
+  if (format_.encoding == E::uint32)
     for (size_t c = 0; c < values.codes.size(); ++c) values.raw[c] = double(values.codes[c]);
+}
+
+TexelValues read_texel(const ResourceRecord& record, std::span<const uint8_t> raw, const TexelAddress& texel) {
+  TexelValues values;
+  SubresourceReader(record, raw, texel.mip, texel.layer).read(texel.x, texel.y, texel.slice, values);
   return values;
 }
 

@@ -53,6 +53,21 @@ struct TexelValues {
 };
 TexelValues read_texel(const ResourceRecord& record, std::span<const uint8_t> raw, const TexelAddress& texel);
 
+// read_texel for every texel of one subresource: the format and the planes are looked up once,
+// and `values` keeps its storage from one texel to the next (a picture reads a million).
+class SubresourceReader {
+ public:
+  SubresourceReader(const ResourceRecord& record, std::span<const uint8_t> raw, uint32_t mip, uint32_t layer);
+  uint32_t width() const { return width_; }
+  uint32_t height() const { return height_; }
+  void read(uint32_t x, uint32_t y, uint32_t slice, TexelValues& values) const;
+
+ private:
+  FormatInfo format_;
+  uint32_t width_, height_;
+  std::array<std::span<const uint8_t>, 2> planes_;
+};
+
 // The decodings by kind, stated once for `pixel` and for the pictures of visualise.h:
 // The stored vector of a normal (0.5n + 0.5, gbuffer.opaque) or packed normal (8-bit codes
 // · 2/255 − 1, normals.pack), before normalising; nullopt for other kinds.

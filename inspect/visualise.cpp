@@ -60,104 +60,105 @@ std::array<uint8_t, 3> stencil_colour(uint32_t stencil) {
 
 Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw, const FrameRecord& frame,
                      const Subimage& subimage, VisualAspect aspect) {
-  const uint32_t mip = subimage.mip;
   const FormatInfo format = *format_info(record.format);
   if (aspect == VisualAspect::stencil && !format.has_stencil) throw InspectError(record.resource + " has no stencil");
+  const SubresourceReader reader(record, raw, subimage.mip, subimage.layer);
   Rgba8Image image;
-  image.width = mip_size(record.extent.width, mip);
-  image.height = mip_size(record.extent.height, mip);
+  image.width = reader.width();
+  image.height = reader.height();
   const uint64_t texels = uint64_t(image.width) * image.height;
   image.pixels.assign(texels * 4, 255);
-  std::vector<TexelValues> values(texels);
-  for (uint32_t y = 0; y < image.height; ++y)
-    for (uint32_t x = 0; x < image.width; ++x)
-      values[uint64_t(y) * image.width + x] = read_texel(record, raw, {x, y, mip, subimage.layer, subimage.slice});
   auto put = [&](uint64_t i, double r, double g, double b) {
     image.pixels[4 * i] = to_code(r);
     image.pixels[4 * i + 1] = to_code(g);
     image.pixels[4 * i + 2] = to_code(b);
   };
+  // Depth and motion are drawn relative to their range in the image: kept per texel for a
+  // second pass.
+  std::vector<double> metres;                 // 0: nothing drawn
+  std::vector<std::array<double, 2>> motion;  // pixels
+  double nearest = INFINITY, farthest = 0, longest = 0;
+  const bool depth = record.kind == ResourceKind::depth_stencil || record.kind == ResourceKind::linear_depth ||
+                     record.kind == ResourceKind::depth_minmax;
+  if (aspect != VisualAspect::stencil && depth) metres.assign(texels, 0.0);
+  if (aspect != VisualAspect::stencil && record.kind == ResourceKind::motion) motion.resize(texels);
 
-  if (aspect == VisualAspect::stencil) {
-    for (uint64_t i = 0; i < texels; ++i) {
-      const auto colour = stencil_colour(uint32_t(values[i].codes.back()));
-      std::copy(colour.begin(), colour.end(), image.pixels.begin() + 4 * i);
-    }
-    return image;
-  }
-  switch (record.kind) {
-    case ResourceKind::normal:
-    case ResourceKind::packed_normal:
-      for (uint64_t i = 0; i < texels; ++i) {
-        const std::array<double, 3> n = *stored_normal(record.kind, values[i]);
-        const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        if (length == 0.0)
-          put(i, 0, 0, 0);
-        else
-          put(i, 0.5 * n[0] / length + 0.5, 0.5 * n[1] / length + 0.5, 0.5 * n[2] / length + 0.5);
+  TexelValues values;
+  for (uint32_t y = 0; y < image.height; ++y)
+    for (uint32_t x = 0; x < image.width; ++x) {
+      const uint64_t i = uint64_t(y) * image.width + x;
+      reader.read(x, y, subimage.slice, values);
+      const std::vector<double>& v = values.raw;
+      if (aspect == VisualAspect::stencil) {
+        const auto colour = stencil_colour(uint32_t(values.codes.back()));
+        std::copy(colour.begin(), colour.end(), image.pixels.begin() + 4 * i);
+        continue;
       }
-      return image;
-    case ResourceKind::depth_stencil:
-    case ResourceKind::linear_depth:
-    case ResourceKind::depth_minmax: {
-      std::vector<double> metres(texels, 0.0);  // 0: nothing drawn
-      for (uint64_t i = 0; i < texels; ++i) {
-        const double v = values[i].raw[0];  // device depth, metres, or the pyramid's min
-        const std::optional<double> m =
-            record.kind == ResourceKind::depth_stencil ? linear_metres(v, frame) : std::optional<double>(v);
-        if (m && std::isfinite(*m) && *m > 0) metres[i] = *m;
-      }
-      double nearest = INFINITY, farthest = 0;
-      for (double m : metres)
-        if (m > 0) nearest = std::min(nearest, m), farthest = std::max(farthest, m);
-      const double range = farthest > nearest ? std::log(farthest / nearest) : 1.0;
-      for (uint64_t i = 0; i < texels; ++i) {
-        const double grey = metres[i] > 0 ? 1.0 - std::log(metres[i] / nearest) / range : 0.0;
-        put(i, grey, grey, grey);
-      }
-      return image;
-    }
-    case ResourceKind::motion: {
-      double longest = 0;
-      std::vector<std::array<double, 2>> motion(texels);
-      for (uint64_t i = 0; i < texels; ++i) {
-        motion[i] = motion_pixels(values[i].raw[0], values[i].raw[1], frame);
-        if (std::isfinite(motion[i][0]) && std::isfinite(motion[i][1]))
-          longest = std::max(longest, std::hypot(motion[i][0], motion[i][1]));
-      }
-      for (uint64_t i = 0; i < texels; ++i) {
-        const double length = std::hypot(motion[i][0], motion[i][1]);
-        const auto rgb = longest > 0 && std::isfinite(length)
-                             ? wheel(std::atan2(motion[i][1], motion[i][0]) / (2 * M_PI), length / longest)
-                             : std::array<double, 3>{0, 0, 0};
-        put(i, rgb[0], rgb[1], rgb[2]);
-      }
-      return image;
-    }
-    case ResourceKind::hdr_colour:
-    case ResourceKind::colour:
-      for (uint64_t i = 0; i < texels; ++i) {
-        const std::vector<double>& v = values[i].raw;
-        double rgb[3];
-        for (int c = 0; c < 3; ++c) {
-          const double x = v[std::min<size_t>(c, v.size() - 1)];
-          const double shown = record.kind == ResourceKind::hdr_colour ? (x > 0 ? x / (1.0 + x) : 0.0) : x;
-          rgb[c] = linear_to_srgb(float(std::clamp(std::isnan(shown) ? 0.0 : shown, 0.0, 1.0)));
+      switch (record.kind) {
+        case ResourceKind::normal:
+        case ResourceKind::packed_normal: {
+          const std::array<double, 3> n = *stored_normal(record.kind, values);
+          const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+          if (length == 0.0)
+            put(i, 0, 0, 0);
+          else
+            put(i, 0.5 * n[0] / length + 0.5, 0.5 * n[1] / length + 0.5, 0.5 * n[2] / length + 0.5);
+          break;
         }
-        put(i, rgb[0], rgb[1], rgb[2]);
+        case ResourceKind::depth_stencil:
+        case ResourceKind::linear_depth:
+        case ResourceKind::depth_minmax: {
+          // device depth, metres, or the pyramid's min
+          const std::optional<double> m =
+              record.kind == ResourceKind::depth_stencil ? linear_metres(v[0], frame) : std::optional<double>(v[0]);
+          if (m && std::isfinite(*m) && *m > 0) {
+            metres[i] = *m;
+            nearest = std::min(nearest, *m);
+            farthest = std::max(farthest, *m);
+          }
+          break;
+        }
+        case ResourceKind::motion:
+          motion[i] = motion_pixels(v[0], v[1], frame);
+          if (std::isfinite(motion[i][0]) && std::isfinite(motion[i][1]))
+            longest = std::max(longest, std::hypot(motion[i][0], motion[i][1]));
+          break;
+        case ResourceKind::hdr_colour:
+        case ResourceKind::colour: {
+          double rgb[3];
+          for (int c = 0; c < 3; ++c) {
+            const double value = v[std::min<size_t>(c, v.size() - 1)];
+            const double shown =
+                record.kind == ResourceKind::hdr_colour ? (value > 0 ? value / (1.0 + value) : 0.0) : value;
+            rgb[c] = linear_to_srgb(float(std::clamp(std::isnan(shown) ? 0.0 : shown, 0.0, 1.0)));
+          }
+          put(i, rgb[0], rgb[1], rgb[2]);
+          break;
+        }
+        case ResourceKind::material:
+        case ResourceKind::lookup_table:
+        case ResourceKind::texture:
+        case ResourceKind::buffer:
+        case ResourceKind::draw_list:
+          put(i, v[0], v[std::min<size_t>(1, v.size() - 1)], v[std::min<size_t>(2, v.size() - 1)]);
+          break;
       }
-      return image;
-    case ResourceKind::material:
-    case ResourceKind::lookup_table:
-    case ResourceKind::texture:
-    case ResourceKind::buffer:
-    case ResourceKind::draw_list:
-      for (uint64_t i = 0; i < texels; ++i) {
-        const std::vector<double>& v = values[i].raw;
-        put(i, v[0], v[std::min<size_t>(1, v.size() - 1)], v[std::min<size_t>(2, v.size() - 1)]);
-      }
-      return image;
+    }
+  if (!metres.empty()) {
+    const double range = farthest > nearest ? std::log(farthest / nearest) : 1.0;
+    for (uint64_t i = 0; i < texels; ++i) {
+      const double grey = metres[i] > 0 ? 1.0 - std::log(metres[i] / nearest) / range : 0.0;
+      put(i, grey, grey, grey);
+    }
   }
+  if (!motion.empty())
+    for (uint64_t i = 0; i < texels; ++i) {
+      const double length = std::hypot(motion[i][0], motion[i][1]);
+      const auto rgb = longest > 0 && std::isfinite(length)
+                           ? wheel(std::atan2(motion[i][1], motion[i][0]) / (2 * M_PI), length / longest)
+                           : std::array<double, 3>{0, 0, 0};
+      put(i, rgb[0], rgb[1], rgb[2]);
+    }
   return image;
 }
 

@@ -1,0 +1,100 @@
+#include "reports/thumbnails.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "inspect/visualise.h"
+
+namespace nightcap {
+
+Rgba8Image shrink(const Rgba8Image& picture, uint32_t max_side, bool srgb) {
+  const uint32_t w = picture.width, h = picture.height;
+  if (w <= max_side && h <= max_side) return picture;
+  const double scale = double(max_side) / std::max(w, h);
+  Rgba8Image out;
+  out.width = std::max(1u, uint32_t(std::lround(w * scale)));
+  out.height = std::max(1u, uint32_t(std::lround(h * scale)));
+  out.pixels.resize(size_t(out.width) * out.height * 4);
+  std::array<float, 256> linear{};
+  for (int code = 0; code < 256; ++code) linear[code] = srgb ? srgb_to_linear(code / 255.0f) : code / 255.0f;
+  for (uint32_t y = 0; y < out.height; ++y) {
+    const uint32_t y0 = uint32_t(uint64_t(y) * h / out.height),
+                   y1 = std::max(y0 + 1, uint32_t(uint64_t(y + 1) * h / out.height));
+    for (uint32_t x = 0; x < out.width; ++x) {
+      const uint32_t x0 = uint32_t(uint64_t(x) * w / out.width),
+                     x1 = std::max(x0 + 1, uint32_t(uint64_t(x + 1) * w / out.width));
+      uint8_t* target = &out.pixels[(size_t(y) * out.width + x) * 4];
+      double sum[4] = {0, 0, 0, 0};
+      for (uint32_t sy = y0; sy < y1; ++sy)
+        for (uint32_t sx = x0; sx < x1; ++sx) {
+          const uint8_t* source = &picture.pixels[(size_t(sy) * w + sx) * 4];
+          for (int c = 0; c < 3; ++c) sum[c] += linear[source[c]];
+          sum[3] += source[3];
+        }
+      const double count = double(y1 - y0) * (x1 - x0);
+      for (int c = 0; c < 3; ++c) {
+        const double mean = sum[c] / count;
+        target[c] = uint8_t(std::lround(std::clamp(srgb ? linear_to_srgb(float(mean)) : mean, 0.0, 1.0) * 255.0));
+      }
+      target[3] = uint8_t(std::lround(sum[3] / count));
+    }
+  }
+  return out;
+}
+
+ThumbnailSet::Key ThumbnailSet::key_of(const ResourceRecord& record) {
+  return {record.hash, int(record.format), int(record.kind)};
+}
+
+void ThumbnailSet::add(const ResourceRecord& record) {
+  if (record.is_buffer || record.hash.empty()) return;
+  const Key key = key_of(record);
+  if (thumbnails_.count(key)) return;
+  // Numbered files: a hash read from a manifest never becomes part of a path.
+  thumbnails_[key].file = "images/" + std::to_string(thumbnails_.size()) + ".png";
+  pending_.push_back(&record);
+}
+
+void ThumbnailSet::write(const Capture& capture, const FrameRecord& frame, const std::filesystem::path& folder) {
+  std::filesystem::create_directories(folder / "images");
+  std::atomic<size_t> next = 0;
+  std::mutex failure_mutex;
+  std::exception_ptr failure;
+  auto work = [&] {
+    for (size_t i = next++; i < pending_.size(); i = next++) {
+      try {
+        const ResourceRecord& record = *pending_[i];
+        Thumbnail& thumbnail = thumbnails_.at(key_of(record));
+        const std::vector<uint8_t> raw = capture.load(record);
+        const Rgba8Image picture = visualise(record, raw, frame, {}, VisualAspect::depth_or_colour);
+        const bool light = record.kind == ResourceKind::colour || record.kind == ResourceKind::hdr_colour;
+        const Rgba8Image small = shrink(picture, max_side_, light);
+        write_png(folder / thumbnail.file, small.pixels, small.width, small.height);
+        thumbnail.width = small.width;
+        thumbnail.height = small.height;
+      } catch (...) {
+        const std::lock_guard lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+        next = pending_.size();
+      }
+    }
+  };
+  const size_t workers = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), pending_.size());
+  std::vector<std::thread> threads;
+  for (size_t i = 1; i < workers; ++i) threads.emplace_back(work);
+  work();
+  for (std::thread& t : threads) t.join();
+  pending_.clear();
+  if (failure) std::rethrow_exception(failure);
+}
+
+const Thumbnail* ThumbnailSet::find(const ResourceRecord& record) const {
+  const auto it = thumbnails_.find(key_of(record));
+  return it == thumbnails_.end() || it->second.width == 0 ? nullptr : &it->second;
+}
+
+}  // namespace nightcap
