@@ -9,7 +9,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev
   libglm-dev libtinygltf-dev nlohmann-json3-dev libcli11-dev
   libzstd-dev libxxhash-dev libgtest-dev renderdoccmd python3-renderdoc
-  graphviz spirv-tools libedit-dev
+  graphviz chromium spirv-tools libedit-dev
   clang-14 libfuzzer-14-dev libclang-rt-14-dev
 )
 missing=()
