@@ -402,6 +402,33 @@ void bench_diff(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   fs::remove_all(dir);
 }
 
+uint64_t folder_bytes(const fs::path& folder) {
+  uint64_t bytes = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(folder))
+    if (entry.is_regular_file()) bytes += entry.file_size();
+  return bytes;
+}
+
+// `nightcap report` of a city capture, the whole CLI run (median of 5 after one that warms the
+// file cache; --force replaces the report each time).
+//  - report_ms: the run;
+//  - report_bytes_ratio: the report folder's bytes over the capture folder's.
+void bench_report(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
+  const fs::path dir = fs::temp_directory_path() / ("nightcap-bench-report-" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  const fs::path capture = dir / "capture", report = dir / "report";
+  render_city(gpu, width, height, capture);
+  const double ms = cli_median_ms({"report", capture.string(), "-o", report.string(), "--force"});
+  const double ratio = double(folder_bytes(report)) / double(folder_bytes(capture));
+  table() << "\n## report of a city capture (" << width << "x" << height << "; median of 5 runs)\n"
+          << std::fixed << std::setprecision(1) << "  nightcap report CAP      " << std::setw(8) << ms << " ms, "
+          << folder_bytes(report) / 1024 << " KiB for a capture of " << folder_bytes(capture) / 1024 << " KiB (ratio "
+          << std::setprecision(3) << ratio << ")\n";
+  figure("report_ms", ms);
+  figure("report_bytes_ratio", ratio);
+  fs::remove_all(dir);
+}
+
 nc::IsolatedInput image(VkFormat format, nc::ResourceKind kind, uint32_t w, uint32_t h, std::vector<uint8_t> bytes) {
   nc::IsolatedInput in;
   in.desc.format = format;
@@ -815,6 +842,7 @@ int main(int argc, char** argv) {
     bench_exposure(gpu, cache, width, height);
     bench_startup(gpu, width, height);
     bench_diff(gpu, width, height);
+    bench_report(gpu, width, height);
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "tests/e2e/browser.h"
 #include "tests/e2e/cli.h"
 
 namespace nightcap::test {
@@ -32,14 +33,14 @@ uint64_t folder_bytes(const fs::path& folder) {
   return bytes;
 }
 
-struct PageImage {
+struct ImageTag {
   std::string src;
   int width = 0, height = 0;
 };
 
-std::vector<PageImage> images_of(const std::string& html) {
+std::vector<ImageTag> images_of(const std::string& html) {
   static const std::regex img(R"re(<img src="([^"]*)" width="(\d+)" height="(\d+)")re");
-  std::vector<PageImage> images;
+  std::vector<ImageTag> images;
   for (auto it = std::sregex_iterator(html.begin(), html.end(), img); it != std::sregex_iterator(); ++it)
     images.push_back({(*it)[1], std::stoi((*it)[2]), std::stoi((*it)[3])});
   return images;
@@ -67,7 +68,7 @@ TEST(Report, ShowsEveryPassOfTheFrameWithItsPicturesGraphAndTimings) {
   // Each image input and output is pictured; each picture is a PNG of the size the page states
   // (or that size enlarged a whole number of times), inside the report folder.
   std::set<std::string> sources;
-  for (const PageImage& image : images_of(html)) {
+  for (const ImageTag& image : images_of(html)) {
     sources.insert(image.src);
     if (image.src == "graph.svg") continue;
     ASSERT_EQ(image.src.rfind("images/", 0), 0u) << image.src;
@@ -95,6 +96,34 @@ TEST(Report, ShowsEveryPassOfTheFrameWithItsPicturesGraphAndTimings) {
   EXPECT_NE(html.find("<th>intensity_scale</th>"), std::string::npos);
   EXPECT_LT(folder_bytes(out) * 5, folder_bytes(capture)) << "thumbnails too large";
   EXPECT_FALSE(fs::exists(out / "index.html.partial"));
+}
+
+// The page as a browser shows it: no console error, every pass's section laid out in order,
+// every image loaded with a size.
+void expect_loads_in_chromium(const fs::path& index, const nlohmann::json& frame, const fs::path& scratch) {
+  const PageCheck page = check_page(index, scratch);
+  EXPECT_TRUE(page.console_errors.empty()) << page.console_errors.front();
+  ASSERT_EQ(page.sections.size(), frame.at("passes").size());
+  for (size_t i = 0; i < page.sections.size(); ++i) {
+    EXPECT_EQ(page.sections[i].pass, frame.at("passes")[i].at("name").get<std::string>());
+    EXPECT_GT(page.sections[i].width, 0);
+    EXPECT_GT(page.sections[i].height, 0);
+  }
+  EXPECT_GT(page.images.size(), 10u);
+  for (const PageImage& image : page.images) {
+    EXPECT_TRUE(image.complete) << image.src;
+    EXPECT_GT(image.natural_width, 0) << image.src;
+    EXPECT_GT(image.natural_height, 0) << image.src;
+  }
+}
+
+TEST(Report, LoadsInChromiumWithEveryPassAndEveryImage) {
+  NIGHTCAP_REQUIRE_CHROMIUM();
+  const fs::path capture = shared_capture("city", kCity);
+  const fs::path folder = scratch("report-browser");
+  ASSERT_EQ(run_cli("report " + quote(capture) + " -o " + quote(folder / "report")).code, 0);
+  expect_loads_in_chromium(folder / "report" / "index.html", read_json(capture / "manifest.json").at("frames")[0],
+                           folder);
 }
 
 TEST(Report, FrameOptionPicksTheFrameAndRefusesOneNotRecorded) {
@@ -174,6 +203,10 @@ TEST(Report, HostileNamesAreShownAsTextAndNothingIsWrittenOutsideTheFolder) {
     if (!inside(entry.path(), copy) && !inside(entry.path(), out))
       around.insert(fs::relative(entry.path(), root).string());
   EXPECT_EQ(around, (std::set<std::string>{"out"}));
+
+  // In a browser the pass names read as they were recorded.
+  NIGHTCAP_REQUIRE_CHROMIUM();
+  expect_loads_in_chromium(out / "index.html", manifest.at("frames")[0], root / "browser");
 }
 
 }  // namespace
