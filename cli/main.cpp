@@ -30,6 +30,8 @@
 #include "replay/isolate.h"
 #include "replay/replay.h"
 #include "reports/capture_report.h"
+#include "reports/diff_report.h"
+#include "reports/html.h"
 
 namespace nc = nightcap;
 
@@ -330,14 +332,8 @@ nc::Capture open_golden(const DiffFlags& flags, const std::string& capture) {
                    name + ")");
 }
 
-// Exit 0 when every result is within what it was held to, 1 when one is not; the last line
-// counts them (on stderr when --json owns stdout). With a golden, `a` is unused: the golden is
-// capture A, the reference.
-int run_diff(const std::string& a, const std::string& b, const DiffFlags& flags) {
-  const auto start = std::chrono::steady_clock::now();
-  const nc::Capture capture_a = flags.golden ? open_golden(flags, b) : nc::Capture::open(a);
-  const nc::Capture capture_b = nc::Capture::open(b);
-  nc::Thresholds thresholds;
+// What the diff flags ask of diff_captures; `thresholds` keeps the rules of --thresholds.
+nc::DiffOptions diff_options(const DiffFlags& flags, nc::Thresholds& thresholds) {
   nc::DiffOptions options;
   options.golden = flags.golden.has_value();
   if (!flags.thresholds.empty()) {
@@ -346,7 +342,18 @@ int run_diff(const std::string& a, const std::string& b, const DiffFlags& flags)
   }
   options.tolerance = flags.tolerance;
   options.frame = flags.frame;
-  nc::CaptureDiff diff = nc::diff_captures(capture_a, capture_b, options);
+  return options;
+}
+
+// Exit 0 when every result is within what it was held to, 1 when one is not; the last line
+// counts them (on stderr when --json owns stdout). With a golden, `a` is unused: the golden is
+// capture A, the reference.
+int run_diff(const std::string& a, const std::string& b, const DiffFlags& flags) {
+  const auto start = std::chrono::steady_clock::now();
+  const nc::Capture capture_a = flags.golden ? open_golden(flags, b) : nc::Capture::open(a);
+  const nc::Capture capture_b = nc::Capture::open(b);
+  nc::Thresholds thresholds;
+  nc::CaptureDiff diff = nc::diff_captures(capture_a, capture_b, diff_options(flags, thresholds));
   if (flags.isolate) {
     nc::GpuDevice gpu({flags.device, validation_requested()});
     nc::isolate_passes(gpu, capture_a, capture_b, diff);
@@ -421,29 +428,46 @@ bool replaceable_report(const std::filesystem::path& folder) {
   std::ifstream index(folder / "index.html");
   std::string head(512, '\0');
   index.read(head.data(), std::streamsize(head.size()));
-  return head.find("<meta name=\"generator\" content=\"nightcap report\">") != std::string::npos;
+  return head.find(nc::kReportGenerator) != std::string::npos;
 }
 
-int run_report(const std::string& path, std::optional<uint32_t> frame, const std::string& output, bool force) {
-  const nc::Capture capture = nc::Capture::open(path);
-  if (frame) {
+// Empties `output` for a report: it must not exist or be empty, or with --force hold a report.
+void prepare_report_folder(const std::string& output, bool force) {
+  const std::filesystem::path folder(output);
+  if (!std::filesystem::exists(folder) || std::filesystem::is_empty(folder)) return;
+  if (!force) throw UsageError(output + ": exists and is not empty (--force replaces an earlier report)");
+  if (!replaceable_report(folder))
+    throw UsageError(output + ": --force replaces only a folder holding a nightcap report, and this is not one");
+  std::filesystem::remove_all(folder);
+}
+
+// One capture: its report. Two (or a golden and one): the report of their diff, with the diff's
+// flags; it exits 0 once written, whatever the diff found (`diff` is the command that gates).
+int run_report(const std::string& a, const std::string& b, const DiffFlags& flags, const std::string& output,
+               bool force) {
+  const bool of_diff = flags.golden || !b.empty();
+  const nc::Capture capture = flags.golden ? open_golden(flags, a) : nc::Capture::open(a);
+  if (flags.frame) {
     try {
-      capture.frame(*frame);
+      capture.frame(*flags.frame);
     } catch (const nc::CaptureError& e) {
-      throw UsageError("--frame " + std::to_string(*frame) + ": " + e.what());
+      throw UsageError("--frame " + std::to_string(*flags.frame) + ": " + e.what());
     }
   }
-  const std::filesystem::path folder(output);
-  if (std::filesystem::exists(folder) && !std::filesystem::is_empty(folder)) {
-    if (!force) throw UsageError(output + ": exists and is not empty (--force replaces an earlier report)");
-    if (!replaceable_report(folder))
-      throw UsageError(output + ": --force replaces only a folder holding a nightcap report, and this is not one");
-    std::filesystem::remove_all(folder);
+  if (!of_diff && (!flags.thresholds.empty() || flags.tolerance))
+    throw UsageError("--thresholds and --tolerance apply to the report of a diff: give two captures");
+  prepare_report_folder(output, force);
+  if (of_diff) {
+    // With a golden, the golden is A and the one capture given is B.
+    const nc::Capture capture_b = nc::Capture::open(flags.golden ? a : b);
+    nc::Thresholds thresholds;
+    nc::write_diff_report(capture, capture_b, diff_options(flags, thresholds), output);
+  } else {
+    nc::CaptureReportOptions options;
+    options.frame = flags.frame;
+    nc::write_capture_report(capture, output, options);
   }
-  nc::CaptureReportOptions options;
-  options.frame = frame;
-  nc::write_capture_report(capture, folder, options);
-  std::cout << "report: " << (folder / "index.html").string() << "\n";
+  std::cout << "report: " << (std::filesystem::path(output) / "index.html").string() << "\n";
   return 0;
 }
 
@@ -597,16 +621,25 @@ int main(int argc, char** argv) {
   graph->add_flag("--dot", dot, "write Graphviz DOT (render it with e.g. `dot -Tsvg`)")->required();
   graph->add_option("-o,--output", graph_output, "file to write (default: standard output)");
 
-  std::string report_output;
+  std::string report_output, report_b;
   uint32_t report_frame = 0;
   bool report_force = false;
-  auto* report =
-      app.add_subcommand("report", "Write a capture as a static HTML report (opens from disk, no server needed)");
-  report->add_option("capture", capture_path, "capture folder")->required();
+  DiffFlags report_flags;
+  double report_tolerance = 0.0;
+  auto* report = app.add_subcommand(
+      "report", "Write a capture, or the diff of two, as a static HTML report (opens from disk, no server needed)");
+  report->add_option("capture", capture_path, "capture folder (of a diff: the reference, A)")->required();
+  report->add_option("capture_b", report_b, "the new capture (B): write the report of the diff of A and B");
   report->add_option("-o,--output", report_output, "folder to write (must not exist, or be empty)")->required();
-  auto* report_frame_option =
-      report->add_option("--frame", report_frame, "frame to show (default: the first the capture recorded)");
+  auto* report_frame_option = report->add_option(
+      "--frame", report_frame, "frame to show (default: the first the capture recorded; of a diff: every frame)");
   report->add_flag("--force", report_force, "replace an earlier report in the output folder");
+  auto* report_golden = report->add_option("--golden", report_flags.golden,
+                                           "the diff of CAPTURE against this golden of --store (the golden is A)");
+  report->add_option("--store", report_flags.store, "store of goldens (with --golden)");
+  report->add_option("--thresholds", report_flags.thresholds, "of a diff: threshold rules, as `diff --thresholds`");
+  auto* report_tolerance_option = report->add_option("--tolerance", report_tolerance,
+                                                     "of a diff: max abs for float outputs, as `diff --tolerance`");
 
   std::string inspect_commands, inspect_script;
   auto* inspect = app.add_subcommand(
@@ -658,10 +691,14 @@ int main(int argc, char** argv) {
     if (*golden_update) code = run_golden_update(capture_path, store_dir, golden_name);
     if (*golden_list) code = run_golden_list(store_dir, json);
     if (*graph) code = run_graph(capture_path, frame, graph_output);
-    if (*report)
-      code =
-          run_report(capture_path, report_frame_option->count() ? std::optional<uint32_t>(report_frame) : std::nullopt,
-                     report_output, report_force);
+    if (*report) {
+      if (report_frame_option->count()) report_flags.frame = report_frame;
+      if (report_tolerance_option->count()) report_flags.tolerance = report_tolerance;
+      if (report_golden->count() && !report_b.empty())
+        throw UsageError("--golden compares one capture with the golden: give one capture, not two");
+      if (report_golden->count() && report_flags.store.empty()) throw UsageError("--golden needs --store DIR");
+      code = run_report(capture_path, report_b, report_flags, report_output, report_force);
+    }
     if (*inspect) code = run_inspect(capture_path, inspect_commands, inspect_script, device);
   } catch (const std::exception& e) {
     std::cerr << "nightcap: " << e.what() << "\n";

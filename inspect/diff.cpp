@@ -67,6 +67,7 @@ PassDiff run_by_one(const std::string& name, PassStatus status) {
 struct PendingOutput {
   OutputDiff* diff;
   const FrameRecord* frame_a;
+  const std::string* pass;
   const ResourceRecord *a, *b;
   const ThresholdRule* rule;
   bool by_tolerance;
@@ -108,7 +109,7 @@ PassDiff diff_pass(const FrameRecord& frame_a, const PassRecord& a, const PassRe
       continue;
     }
     differs = true;
-    pending.push_back({&o, &frame_a, &ra, rb, rule, by_tolerance});
+    pending.push_back({&o, &frame_a, &a.name, &ra, rb, rule, by_tolerance});
   }
   const auto outputs_a = hashes(a.outputs);
   for (const ResourceRecord& rb : b.outputs)
@@ -142,6 +143,7 @@ void measure(const Capture& ca, const Capture& cb, const PendingOutput& p, const
     o.contract = check_contract(p.a->contract, pair, o.comparison);
     o.beyond = !o.contract.holds;
   }
+  if (options.on_measured) options.on_measured(*p.frame_a, *p.pass, o, pair);
 }
 
 // Loading, decoding and comparing are independent per output: a worker per core takes the next

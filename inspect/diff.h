@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -18,6 +19,8 @@
 
 namespace nightcap {
 
+struct OutputDiff;
+
 struct DiffOptions {
   // What each output is held to, first that applies: the first rule of `thresholds` matching
   // PASS/RESOURCE; for float outputs, max abs <= `tolerance`; the contract capture A recorded.
@@ -27,6 +30,12 @@ struct DiffOptions {
   // Capture A is a golden (`nightcap diff --golden`): what one side lacks is named for the side,
   // "output missing" (the golden has it) or "golden missing", instead of "only in A" or "only in B".
   bool golden = false;
+  // Called for each output whose versions differ in bytes, once it is measured, with both
+  // versions still in memory (so that a report draws them without loading them again). Outputs
+  // are measured on a worker per core: it is called from those threads, and must be safe so.
+  std::function<void(const FrameRecord& frame_a, const std::string& pass, const OutputDiff& result,
+                     const ResourcePair& versions)>
+      on_measured;
 };
 
 struct OutputDiff {

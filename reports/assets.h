@@ -7,5 +7,6 @@
 namespace nightcap {
 
 std::string_view report_stylesheet();  // reports/report.css
+std::string_view report_script();      // reports/report.js
 
 }  // namespace nightcap

@@ -19,12 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void write_text(const fs::path& file, std::string_view text) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  out << text;
-  if (!out.flush()) throw std::runtime_error(file.string() + ": cannot write");
-}
-
 // A JSON value as text for a table cell: strings without their quotes.
 std::string plain(const nlohmann::json& value) { return value.is_string() ? value.get<std::string>() : value.dump(); }
 
@@ -121,15 +115,11 @@ void write_capture_report(const Capture& capture, const fs::path& folder, const 
   }
   thumbnails.write(capture, frame, folder);
   layout_graph(frame_to_dot(frame), folder / "graph.dot", folder / "graph.svg");
-  write_text(folder / "report.css", report_stylesheet());
+  write_file(folder / "report.css", report_stylesheet());
 
   const std::string capture_name = capture.folder().filename().string();
   std::ostringstream html;
-  html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-       << "<meta name=\"generator\" content=\"nightcap report\">\n"
-       << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
-       << "<title>nightcap: " << escape_html(capture_name) << ", frame " << frame.index << "</title>\n"
-       << "<link rel=\"stylesheet\" href=\"report.css\">\n</head>\n<body>\n"
+  html << page_start("nightcap: " + capture_name + ", frame " + std::to_string(frame.index), false)
        << "<header>\n<h1>Capture <span class=\"name\">" << escape_html(capture_name) << "</span>, frame " << frame.index
        << "</h1>\n";
   size_t ran = 0;
@@ -174,7 +164,7 @@ void write_capture_report(const Capture& capture, const fs::path& folder, const 
   html << "</section>\n</main>\n</body>\n</html>\n";
 
   const fs::path partial = folder / "index.html.partial";
-  write_text(partial, html.str());
+  write_file(partial, html.str());
   fs::rename(partial, folder / "index.html");
 }
 

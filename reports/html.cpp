@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 namespace nightcap {
 namespace {
@@ -104,6 +106,21 @@ std::string format_number(double value, int digits) {
     if (fixed.back() == '.') fixed.pop_back();
   }
   return fixed;
+}
+
+std::string page_start(std::string_view title, bool with_script) {
+  std::string html = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
+  html += kReportGenerator;
+  html += "\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>" + escape_html(title) +
+          "</title>\n<link rel=\"stylesheet\" href=\"report.css\">\n";
+  if (with_script) html += "<script src=\"report.js\" defer></script>\n";
+  return html + "</head>\n<body>\n";
+}
+
+void write_file(const std::filesystem::path& file, std::string_view text) {
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  out << text;
+  if (!out.flush()) throw std::runtime_error(file.string() + ": cannot write");
 }
 
 }  // namespace nightcap

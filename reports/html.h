@@ -2,6 +2,7 @@
 // report's HTML and SVG only through these, so that none of it can become markup.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <string_view>
 
@@ -15,5 +16,14 @@ std::string escape_html(std::string_view text);
 // A number as the report prints it: up to `digits` significant digits, no exponent for ordinary
 // magnitudes, "∞"/"NaN" spelled out.
 std::string format_number(double value, int digits = 4);
+
+// The start of a report page up to and including <body>: UTF-8, the generator mark that
+// `report --force` looks for (kReportGenerator), the title (escaped here), report.css and, where
+// asked, report.js.
+inline constexpr std::string_view kReportGenerator = "<meta name=\"generator\" content=\"nightcap report\">";
+std::string page_start(std::string_view title, bool with_script);
+
+// Writes `text` to `file`; throws std::runtime_error naming the file when it cannot.
+void write_file(const std::filesystem::path& file, std::string_view text);
 
 }  // namespace nightcap

@@ -409,23 +409,33 @@ uint64_t folder_bytes(const fs::path& folder) {
   return bytes;
 }
 
-// `nightcap report` of a city capture, the whole CLI run (median of 5 after one that warms the
-// file cache; --force replaces the report each time).
-//  - report_ms: the run;
-//  - report_bytes_ratio: the report folder's bytes over the capture folder's.
+// `nightcap report` of a city capture, and of the diff of two that differ in
+// lighting.deferred's intensity (as bench_diff), each the whole CLI run (median of 5 after one
+// that warms the file cache; --force replaces the report each time).
+//  - report_ms, report_diff_ms: the runs;
+//  - report_bytes_ratio: the capture report folder's bytes over the capture folder's;
+//  - report_diff_bytes_ratio: the diff report folder's bytes over the two captures'.
 void bench_report(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   const fs::path dir = fs::temp_directory_path() / ("nightcap-bench-report-" + std::to_string(getpid()));
   fs::remove_all(dir);
-  const fs::path capture = dir / "capture", report = dir / "report";
-  render_city(gpu, width, height, capture);
-  const double ms = cli_median_ms({"report", capture.string(), "-o", report.string(), "--force"});
-  const double ratio = double(folder_bytes(report)) / double(folder_bytes(capture));
-  table() << "\n## report of a city capture (" << width << "x" << height << "; median of 5 runs)\n"
-          << std::fixed << std::setprecision(1) << "  nightcap report CAP      " << std::setw(8) << ms << " ms, "
-          << folder_bytes(report) / 1024 << " KiB for a capture of " << folder_bytes(capture) / 1024 << " KiB (ratio "
-          << std::setprecision(3) << ratio << ")\n";
+  const fs::path a = dir / "a", b = dir / "b", report = dir / "report", diff_report = dir / "diff-report";
+  render_city(gpu, width, height, a);
+  render_city(gpu, width, height, b, {{"lighting.deferred", {{"intensity_scale", 1.5}}}});
+  const double ms = cli_median_ms({"report", a.string(), "-o", report.string(), "--force"});
+  const double diff_ms = cli_median_ms({"report", a.string(), b.string(), "-o", diff_report.string(), "--force"});
+  const double ratio = double(folder_bytes(report)) / double(folder_bytes(a));
+  const double diff_ratio = double(folder_bytes(diff_report)) / double(folder_bytes(a) + folder_bytes(b));
+  table() << "\n## reports of city captures (" << width << "x" << height << "; median of 5 runs)\n"
+          << std::fixed << std::setprecision(1) << "  nightcap report CAP        " << std::setw(8) << ms << " ms, "
+          << folder_bytes(report) / 1024 << " KiB for a capture of " << folder_bytes(a) / 1024 << " KiB (ratio "
+          << std::setprecision(3) << ratio << ")\n"
+          << std::setprecision(1) << "  nightcap report CAP_A CAP_B" << std::setw(8) << diff_ms << " ms, "
+          << folder_bytes(diff_report) / 1024 << " KiB for captures of " << (folder_bytes(a) + folder_bytes(b)) / 1024
+          << " KiB (ratio " << std::setprecision(3) << diff_ratio << ")\n";
   figure("report_ms", ms);
   figure("report_bytes_ratio", ratio);
+  figure("report_diff_ms", diff_ms);
+  figure("report_diff_bytes_ratio", diff_ratio);
   fs::remove_all(dir);
 }
 

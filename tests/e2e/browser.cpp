@@ -283,11 +283,12 @@ void require_file(const fs::path& html) {
 
 }  // namespace
 
-PageCheck check_page(const fs::path& html, const fs::path& scratch) {
+PageCheck check_page(const fs::path& html, const fs::path& scratch, const std::string& script) {
   require_file(html);
   Browser browser(scratch);
   browser.open(file_url(html));
   browser.evaluate(kAfterLoad);
+  const json script_result = script.empty() ? json() : browser.evaluate(script);
   const json page = browser.evaluate(kCollect);
   // Guards against having read the blank tab, should the navigation not have committed yet.
   if (!page.is_object() || page.value("url", "").rfind("file:", 0) != 0)
@@ -295,6 +296,7 @@ PageCheck check_page(const fs::path& html, const fs::path& scratch) {
 
   PageCheck check;
   check.title = page.at("title").get<std::string>();
+  check.script_result = script_result;
   for (const json& s : page.at("sections"))
     check.sections.push_back(
         {s.at("pass").get<std::string>(), s.at("width").get<double>(), s.at("height").get<double>()});

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -30,13 +32,17 @@ struct PageCheck {
   std::vector<PageSection> sections;  // section.pass in document order
   std::vector<PageImage> images;      // every <img> in document order
   std::string title;
+  nlohmann::json script_result;  // what check_page's `script` gave
 };
 
 // Loads `html` (a file) in headless Chromium and returns what it saw once `load` has fired and
-// its handlers have run. Throws std::runtime_error (with chromium's stderr) when Chromium cannot
-// be run, the page cannot be loaded, or it never reported within 60 s. `scratch` holds the
-// browser's profile.
-PageCheck check_page(const std::filesystem::path& html, const std::filesystem::path& scratch);
+// its handlers have run, and, where `script` is given, once that JavaScript expression (a
+// promise is awaited) has run in the page as a user's actions would: its value is in
+// script_result, and what it made the page log is among the console errors. Throws
+// std::runtime_error (with chromium's stderr) when Chromium cannot be run, the page cannot be
+// loaded, or it never reported within 60 s. `scratch` holds the browser's profile.
+PageCheck check_page(const std::filesystem::path& html, const std::filesystem::path& scratch,
+                     const std::string& script = "");
 
 // Writes a screenshot of `html` at the given viewport size to `png`.
 void screenshot_page(const std::filesystem::path& html, const std::filesystem::path& png, int width, int height,

@@ -12,14 +12,14 @@
 namespace nightcap::test {
 namespace fs = std::filesystem;
 
-namespace {
-
 std::string slurp(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
 }
+
+namespace {
 
 fs::path test_root() {
   fs::path root = fs::temp_directory_path() / ("nightcap-e2e-" + std::to_string(getuid()));

@@ -25,6 +25,8 @@ std::filesystem::path scratch(const std::string& name);
 std::filesystem::path shared_capture(const std::string& key, const std::string& args);
 
 nlohmann::json read_json(const std::filesystem::path& file);
+// A file's bytes as a string (empty when it cannot be read).
+std::string slurp(const std::filesystem::path& file);
 void write_json(const std::filesystem::path& file, const nlohmann::json& json);
 std::string quote(const std::filesystem::path& path);
 

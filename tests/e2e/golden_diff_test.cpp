@@ -29,11 +29,6 @@ std::set<std::string> names_in(const fs::path& folder) {
   return names;
 }
 
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 CliResult update(const fs::path& capture, const fs::path& store, const std::string& name) {
   return run_cli("golden update " + quote(capture) + " --store " + quote(store) + " --name " + quote(name));
 }

@@ -19,13 +19,6 @@ namespace fs = std::filesystem;
 
 const char* kCity = "--size 320x180 --frames 2";  // as tests/e2e/graph_test.cpp
 
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 uint64_t folder_bytes(const fs::path& folder) {
   uint64_t bytes = 0;
   for (const auto& entry : fs::recursive_directory_iterator(folder))
@@ -52,7 +45,7 @@ TEST(Report, ShowsEveryPassOfTheFrameWithItsPicturesGraphAndTimings) {
   const CliResult r = run_cli("report " + quote(capture) + " -o " + quote(out));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find((out / "index.html").string()), std::string::npos) << r.out;
-  const std::string html = read_text(out / "index.html");
+  const std::string html = slurp(out / "index.html");
   const nlohmann::json manifest = read_json(capture / "manifest.json");
   const nlohmann::json& frame = manifest.at("frames")[0];
 
@@ -86,7 +79,7 @@ TEST(Report, ShowsEveryPassOfTheFrameWithItsPicturesGraphAndTimings) {
   EXPECT_GT(image_resources, 10u);
   EXPECT_GT(sources.size(), 10u);  // distinct contents share a picture
   EXPECT_NE(html.find("<img class=\"graph\" src=\"graph.svg\""), std::string::npos);
-  const std::string svg = read_text(out / "graph.svg");
+  const std::string svg = slurp(out / "graph.svg");
   EXPECT_NE(svg.find("<svg"), std::string::npos);
   for (const auto& p : frame.at("passes"))
     EXPECT_NE(svg.find(p.at("name").get<std::string>()), std::string::npos) << p.at("name");
@@ -131,7 +124,7 @@ TEST(Report, FrameOptionPicksTheFrameAndRefusesOneNotRecorded) {
   const fs::path folder = scratch("report-frame");
   const CliResult second = run_cli("report " + quote(capture) + " --frame 1 -o " + quote(folder / "one"));
   ASSERT_EQ(second.code, 0) << second.err;
-  EXPECT_NE(read_text(folder / "one" / "index.html").find(", frame 1</title>"), std::string::npos);
+  EXPECT_NE(slurp(folder / "one" / "index.html").find(", frame 1</title>"), std::string::npos);
   const CliResult missing = run_cli("report " + quote(capture) + " --frame 7 -o " + quote(folder / "seven"));
   EXPECT_EQ(missing.code, 2);
   EXPECT_NE(missing.err.find("--frame 7"), std::string::npos) << missing.err;
@@ -149,14 +142,14 @@ TEST(Report, OverwritesOnlyAnEarlierReportAndOnlyWithForce) {
   const CliResult forced = run_cli("report " + quote(capture) + " --force -o " + quote(folder / "notes"));
   EXPECT_EQ(forced.code, 2);
   EXPECT_NE(forced.err.find("not one"), std::string::npos) << forced.err;
-  EXPECT_EQ(read_text(folder / "notes" / "keep.txt"), "mine");
+  EXPECT_EQ(slurp(folder / "notes" / "keep.txt"), "mine");
   EXPECT_FALSE(fs::exists(folder / "notes" / "index.html"));
 
   ASSERT_EQ(run_cli("report " + quote(capture) + " -o " + quote(folder / "report")).code, 0);
   EXPECT_EQ(run_cli("report " + quote(capture) + " -o " + quote(folder / "report")).code, 2);
   const CliResult again = run_cli("report " + quote(capture) + " --frame 1 --force -o " + quote(folder / "report"));
   ASSERT_EQ(again.code, 0) << again.err;
-  EXPECT_NE(read_text(folder / "report" / "index.html").find(", frame 1</title>"), std::string::npos);
+  EXPECT_NE(slurp(folder / "report" / "index.html").find(", frame 1</title>"), std::string::npos);
 }
 
 TEST(Report, HostileNamesAreShownAsTextAndNothingIsWrittenOutsideTheFolder) {
@@ -181,7 +174,7 @@ TEST(Report, HostileNamesAreShownAsTextAndNothingIsWrittenOutsideTheFolder) {
   const fs::path out = root / "out" / "report";
   const CliResult r = run_cli("report " + quote(copy) + " -o " + quote(out));
   ASSERT_EQ(r.code, 0) << r.err;
-  const std::string html = read_text(out / "index.html");
+  const std::string html = slurp(out / "index.html");
   // Nothing from the capture became markup: the report has no scripts of its own, and the names
   // are there as escaped text.
   EXPECT_EQ(html.find("<script"), std::string::npos);
