@@ -1,6 +1,7 @@
 #include "inspect/visualise.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <vector>
 
@@ -42,6 +43,35 @@ std::array<double, 3> wheel(double hue, double amount) {
 }
 
 }  // namespace
+
+uint8_t srgb_code(float x) {
+  static const std::array<float, 256> first = [] {
+    std::array<float, 256> t{};
+    for (uint32_t code = 1; code < 256; ++code) {
+      uint32_t low = 0, high = std::bit_cast<uint32_t>(1.0f);
+      while (low < high) {
+        const uint32_t middle = low + (high - low) / 2;
+        if (to_code(linear_to_srgb(std::bit_cast<float>(middle))) >= code)
+          high = middle;
+        else
+          low = middle + 1;
+      }
+      t[code] = std::bit_cast<float>(low);
+    }
+    return t;
+  }();
+  // The code at the start of each 1/4096 of [0, 1]; sRGB's steepest slope, 12.92 · 255 codes
+  // per unit near 0, puts at most one more code's start inside such a step.
+  static const std::array<uint8_t, 4096> at_step = [] {
+    std::array<uint8_t, 4096> codes{};
+    for (uint32_t step = 0; step < 4096; ++step)
+      codes[step] =
+          uint8_t(std::upper_bound(first.begin() + 1, first.end(), float(step) / 4096.0f) - (first.begin() + 1));
+    return codes;
+  }();
+  const uint8_t code = at_step[std::min(4095u, uint32_t(x * 4096.0f))];
+  return code < 255 && x >= first[code + 1] ? code + 1 : code;
+}
 
 std::array<uint8_t, 3> stencil_colour(uint32_t stencil) {
   const std::string name = stencil_class_name(stencil);
@@ -124,17 +154,14 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
             longest = std::max(longest, std::hypot(motion[i][0], motion[i][1]));
           break;
         case ResourceKind::hdr_colour:
-        case ResourceKind::colour: {
-          double rgb[3];
+        case ResourceKind::colour:
           for (int c = 0; c < 3; ++c) {
             const double value = v[std::min<size_t>(c, v.size() - 1)];
             const double shown =
                 record.kind == ResourceKind::hdr_colour ? (value > 0 ? value / (1.0 + value) : 0.0) : value;
-            rgb[c] = linear_to_srgb(float(std::clamp(std::isnan(shown) ? 0.0 : shown, 0.0, 1.0)));
+            image.pixels[4 * i + c] = srgb_code(float(std::clamp(std::isnan(shown) ? 0.0 : shown, 0.0, 1.0)));
           }
-          put(i, rgb[0], rgb[1], rgb[2]);
           break;
-        }
         case ResourceKind::material:
         case ResourceKind::lookup_table:
         case ResourceKind::texture:

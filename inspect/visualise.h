@@ -31,6 +31,12 @@ enum class VisualAspect { depth_or_colour, stencil };
 Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw, const FrameRecord& frame,
                      const Subimage& subimage, VisualAspect aspect);
 
+// The 8-bit sRGB code of a linear value x in [0, 1]: round(255 · linear_to_srgb(x)), looked up
+// instead of computed with a pow per channel (a quarter of drawing a colour picture). Each
+// code's smallest input is found once by bisection over the floats of [0, 1], whose bits are in
+// the order of their values.
+uint8_t srgb_code(float x);
+
 // Palette entry of a stencil value (see above), RGB.
 std::array<uint8_t, 3> stencil_colour(uint32_t stencil);
 
