@@ -31,6 +31,7 @@ struct Pictured {
   } thumbnail, large;
   uint32_t step = 1;  // the large view takes every step-th texel of each row and column
   double difference_max = 0.0;
+  bool first_subresource_only = false;  // the image has more mips, layers or slices than pictured
 };
 
 // Every `step`-th texel of every `step`-th row: each pixel of the large view is one texel, so
@@ -140,6 +141,7 @@ void draw(const FrameRecord& frame_a, const OutputDiff& o, const ResourcePair& p
   const ResourceRecord &a = pair.a, &b = pair.b;
   const uint32_t width = a.extent.width, height = a.extent.height;
   p.step = std::max(1u, (std::max(width, height) + options.large_side - 1) / options.large_side);
+  p.first_subresource_only = a.extent.mips > 1 || a.extent.layers > 1 || a.extent.depth > 1;
   const bool light = a.kind == ResourceKind::colour || a.kind == ResourceKind::hdr_colour;
   const std::string id = std::to_string(p.id);
   write_views(folder, id + ".a", visualise(a, pair.a_raw, frame_a, {}, VisualAspect::depth_or_colour), light, p,
@@ -204,6 +206,8 @@ void output_card(std::ostream& html, const std::string& pass, const OutputDiff& 
   if (!o.comparison.first_difference.empty())
     html << "<p>first difference: " << escape_html(o.comparison.first_difference) << "</p>\n";
   if (p) {
+    if (p->first_subresource_only)
+      html << "<p class=\"metrics\">pictured: mip 0, layer 0, slice 0; the metrics cover every subresource</p>\n";
     html << "<div class=\"views\">\n"
          << "<figure class=\"view swap\"><div class=\"stack\"><img src=\"images/" << p->id << ".b.png\" width=\""
          << p->thumbnail.width << "\" height=\"" << p->thumbnail.height << "\" data-output=\"" << p->id
