@@ -10,6 +10,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "captures/hash.h"
 #include "inspect/decoded_image.h"
 #include "inspect/flip_map.h"
 #include "inspect/visualise.h"
@@ -25,7 +26,10 @@ namespace fs = std::filesystem;
 // The pictures of an output of the diff: an image whose two versions differ in bytes and have
 // the same shape.
 struct Pictured {
-  size_t id = 0;  // names its files: images/<id>.<view>.png, data/<id>.js
+  // Names its files, images/<id>.<view>.png and data/<id>.js: the first 16 hex digits of the
+  // content hash of its frame, pass and resource, so the names are the same from run to run
+  // (outputs are measured in parallel) and nothing of a name from the capture is in a path.
+  std::string id;
   struct Size {
     uint32_t width = 0, height = 0;
   } thumbnail, large;
@@ -143,7 +147,7 @@ void draw(const FrameRecord& frame_a, const OutputDiff& o, const ResourcePair& p
   p.step = std::max(1u, (std::max(width, height) + options.large_side - 1) / options.large_side);
   p.first_subresource_only = a.extent.mips > 1 || a.extent.layers > 1 || a.extent.depth > 1;
   const bool light = a.kind == ResourceKind::colour || a.kind == ResourceKind::hdr_colour;
-  const std::string id = std::to_string(p.id);
+  const std::string& id = p.id;
   write_views(folder, id + ".a", visualise(a, pair.a_raw, frame_a, {}, VisualAspect::depth_or_colour), light, p,
               options);
   write_views(folder, id + ".b", visualise(b, pair.b_raw, frame_a, {}, VisualAspect::depth_or_colour), light, p,
@@ -166,7 +170,7 @@ void draw(const FrameRecord& frame_a, const OutputDiff& o, const ResourcePair& p
                          {"half", half},
                          {"a", packed_values(va, width, height, channels, p.step, half)},
                          {"b", packed_values(vb, width, height, channels, p.step, half)}};
-  write_file(folder / ("data/" + id + ".js"), "nightcapReport.values(" + id + ", " + data.dump() + ");\n");
+  write_file(folder / ("data/" + id + ".js"), "nightcapReport.values(\"" + id + "\", " + data.dump() + ");\n");
 }
 
 std::string metrics_line(const ResourceComparison& c) {
@@ -182,7 +186,7 @@ std::string metrics_line(const ResourceComparison& c) {
 
 // One picture of an output: its thumbnail, opened large on a click.
 void view(std::ostream& html, const Pictured& p, const std::string& name, const std::string& caption) {
-  const std::string stem = "images/" + std::to_string(p.id) + "." + name;
+  const std::string stem = "images/" + p.id + "." + name;
   html << "<figure class=\"view\"><img src=\"" << stem << ".png\" width=\"" << p.thumbnail.width << "\" height=\""
        << p.thumbnail.height << "\" data-output=\"" << p.id << "\" data-view=\"" << name << "\" alt=\""
        << escape_html(caption) << "\"><figcaption>" << caption << "</figcaption></figure>\n";
@@ -240,11 +244,13 @@ CaptureDiff write_diff_report(const Capture& a, const Capture& b, DiffOptions di
   diff_options.on_measured = [&](const FrameRecord& frame_a, const std::string& pass, const OutputDiff& o,
                                  const ResourcePair& pair) {
     if (!o.comparison.comparable || pair.a.is_buffer || !pair.same_shape()) return;
+    std::string key = std::to_string(frame_a.index) + '\0' + pass + '\0' + o.resource;
+    const std::string id = content_hash({reinterpret_cast<const uint8_t*>(key.data()), key.size()}).substr(0, 16);
     Pictured* p;
     {
       const std::lock_guard lock(pictured_mutex);
       p = &pictured[{frame_a.index, pass, o.resource}];
-      p->id = pictured.size() - 1;
+      p->id = id;
     }
     draw(frame_a, o, pair, *p, folder, options);
   };

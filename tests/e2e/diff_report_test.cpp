@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <regex>
+#include <set>
 
 #include "captures/capture.h"
 #include "inspect/decoded_image.h"
@@ -96,11 +97,21 @@ TEST(DiffReport, ShowsTheFirstDivergenceAndEveryDifferingOutputWithWhatItWasHeld
         }
       }
   EXPECT_GT(differing, 5u);
-  for (const char* view : {"a", "b", "difference"}) {
-    EXPECT_TRUE(fs::exists(out / "images" / (std::string("0.") + view + ".png"))) << view;
-    EXPECT_TRUE(fs::exists(out / "images" / (std::string("0.") + view + ".large.png"))) << view;
+  // Each differing image's pictures, thumbnail and large, and the values of its large view.
+  const std::regex picture(R"re(src="images/([0-9a-f]{16})\.(a|b|difference|flip)\.png")re");
+  std::set<std::string> ids;
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), picture); it != std::sregex_iterator(); ++it) {
+    const std::string id = (*it)[1], view = (*it)[2];
+    ids.insert(id);
+    EXPECT_TRUE(fs::exists(out / "images" / (id + "." + view + ".png"))) << id << view;
+    EXPECT_TRUE(fs::exists(out / "images" / (id + "." + view + ".large.png"))) << id << view;
   }
-  EXPECT_TRUE(fs::exists(out / "data" / "0.js"));
+  EXPECT_GT(ids.size(), 5u);
+  for (const std::string& id : ids) EXPECT_TRUE(fs::exists(out / "data" / (id + ".js"))) << id;
+  // The same names on a second run, though outputs are measured in parallel.
+  const fs::path again = out.parent_path() / "again";
+  ASSERT_EQ(run_cli("report " + quote(a) + " " + quote(b) + " -o " + quote(again)).code, 0);
+  EXPECT_EQ(slurp(again / "index.html"), html);
 }
 
 TEST(DiffReport, LargeViewReadsOutTheRecordedValuesOfBothCaptures) {
