@@ -1,7 +1,6 @@
 #include "reports/capture_report.h"
 
 #include <algorithm>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <sstream>
