@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "reports/html.h"
 #include "tests/e2e/browser.h"
 #include "tests/e2e/cli.h"
 
@@ -83,7 +84,14 @@ TEST(Report, ShowsEveryPassOfTheFrameWithItsPicturesGraphAndTimings) {
   EXPECT_NE(svg.find("<svg"), std::string::npos);
   for (const auto& p : frame.at("passes"))
     EXPECT_NE(svg.find(p.at("name").get<std::string>()), std::string::npos) << p.at("name");
-  // GLSL and parameters of a pass, escaped into the page.
+  // GLSL, parameters, pipeline and sampler state of a pass, escaped into the page.
+  for (const auto& p : frame.at("passes"))
+    if (p.at("name") == "gbuffer.opaque") {
+      ASSERT_FALSE(p.at("pipelines").empty());
+      EXPECT_NE(html.find("<summary>Pipeline state</summary><pre>" + escape_html(p.at("pipelines").dump(1))),
+                std::string::npos);
+      EXPECT_NE(html.find("<h5>Samplers</h5><pre>" + escape_html(p.at("samplers").dump(1))), std::string::npos);
+    }
   EXPECT_NE(html.find("GLSL: gbuffer/opaque.frag"), std::string::npos);
   EXPECT_NE(html.find("#version 460"), std::string::npos);
   EXPECT_NE(html.find("<th>intensity_scale</th>"), std::string::npos);
