@@ -1,13 +1,11 @@
 #include "inspect/diff.h"
 
 #include <algorithm>
-#include <atomic>
-#include <exception>
 #include <iomanip>
 #include <map>
-#include <mutex>
 #include <sstream>
-#include <thread>
+
+#include "inspect/parallel.h"
 
 namespace nightcap {
 namespace {
@@ -147,7 +145,7 @@ void measure(const Capture& ca, const Capture& cb, const PendingOutput& p, const
 }
 
 // Loading, decoding and comparing are independent per output: a worker per core takes the next
-// one. The first error any of them met is thrown once all have stopped.
+// one (inspect/parallel.h).
 void measure_all(const Capture& ca, const Capture& cb, const std::vector<PendingOutput>& pending,
                  const DiffOptions& options) {
   // Longest first, so that no worker starts a long one while the others run out of work. The
@@ -158,26 +156,7 @@ void measure_all(const Capture& ca, const Capture& cb, const std::vector<Pending
   std::vector<const PendingOutput*> order;
   for (const PendingOutput& p : pending) order.push_back(&p);
   std::stable_sort(order.begin(), order.end(), [&](auto* x, auto* y) { return cost(*x) > cost(*y); });
-  std::atomic<size_t> next = 0;
-  std::mutex failure_mutex;
-  std::exception_ptr failure;
-  auto work = [&] {
-    for (size_t i = next++; i < pending.size(); i = next++) {
-      try {
-        measure(ca, cb, *order[i], options);
-      } catch (...) {
-        const std::lock_guard lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
-        next = pending.size();
-      }
-    }
-  };
-  const size_t workers = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), pending.size());
-  std::vector<std::thread> threads;
-  for (size_t i = 1; i < workers; ++i) threads.emplace_back(work);
-  work();
-  for (std::thread& t : threads) t.join();
-  if (failure) std::rethrow_exception(failure);
+  for_each_on_cores(order.size(), [&](size_t i) { measure(ca, cb, *order[i], options); });
 }
 
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }

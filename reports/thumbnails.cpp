@@ -1,12 +1,9 @@
 #include "reports/thumbnails.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
-#include <mutex>
-#include <thread>
 
+#include "inspect/parallel.h"
 #include "inspect/visualise.h"
 
 namespace nightcap {
@@ -61,35 +58,18 @@ void ThumbnailSet::add(const ResourceRecord& record) {
 
 void ThumbnailSet::write(const Capture& capture, const FrameRecord& frame, const std::filesystem::path& folder) {
   std::filesystem::create_directories(folder / "images");
-  std::atomic<size_t> next = 0;
-  std::mutex failure_mutex;
-  std::exception_ptr failure;
-  auto work = [&] {
-    for (size_t i = next++; i < pending_.size(); i = next++) {
-      try {
-        const ResourceRecord& record = *pending_[i];
-        Thumbnail& thumbnail = thumbnails_.at(key_of(record));
-        const std::vector<uint8_t> raw = capture.load(record);
-        const Rgba8Image picture = visualise(record, raw, frame, {}, VisualAspect::depth_or_colour);
-        const bool light = record.kind == ResourceKind::colour || record.kind == ResourceKind::hdr_colour;
-        const Rgba8Image small = shrink(picture, max_side_, light);
-        write_png(folder / thumbnail.file, small.pixels, small.width, small.height);
-        thumbnail.width = small.width;
-        thumbnail.height = small.height;
-      } catch (...) {
-        const std::lock_guard lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
-        next = pending_.size();
-      }
-    }
-  };
-  const size_t workers = std::min<size_t>(std::max(1u, std::thread::hardware_concurrency()), pending_.size());
-  std::vector<std::thread> threads;
-  for (size_t i = 1; i < workers; ++i) threads.emplace_back(work);
-  work();
-  for (std::thread& t : threads) t.join();
+  for_each_on_cores(pending_.size(), [&](size_t i) {
+    const ResourceRecord& record = *pending_[i];
+    Thumbnail& thumbnail = thumbnails_.at(key_of(record));
+    const std::vector<uint8_t> raw = capture.load(record);
+    const Rgba8Image picture = visualise(record, raw, frame, {}, VisualAspect::depth_or_colour);
+    const bool light = record.kind == ResourceKind::colour || record.kind == ResourceKind::hdr_colour;
+    const Rgba8Image small = shrink(picture, max_side_, light);
+    write_png(folder / thumbnail.file, small.pixels, small.width, small.height);
+    thumbnail.width = small.width;
+    thumbnail.height = small.height;
+  });
   pending_.clear();
-  if (failure) std::rethrow_exception(failure);
 }
 
 const Thumbnail* ThumbnailSet::find(const ResourceRecord& record) const {
