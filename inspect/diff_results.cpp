@@ -6,6 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "inspect/markup.h"
+
 namespace nightcap {
 
 namespace {
@@ -26,34 +28,6 @@ std::string measured(const OutputDiff& o) {
   }
   if (!o.contract.measure.empty()) return "worst " + number(o.contract.worst) + " " + o.contract.measure;
   return c.metric + " max abs " + number(c.max_abs);
-}
-
-// Text for XML attributes and content: the five markup characters escaped, and the control
-// characters XML 1.0 cannot carry (a hostile resource name) replaced by '?'.
-std::string xml(const std::string& text) {
-  std::string out;
-  for (const char ch : text) {
-    switch (ch) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += (static_cast<unsigned char>(ch) < 0x20 && ch != '\t' && ch != '\n' && ch != '\r') ? '?' : ch;
-    }
-  }
-  return out;
 }
 
 }  // namespace
@@ -118,15 +92,15 @@ void write_junit(const std::filesystem::path& file, const std::vector<DiffCase>&
       failures += c->outcome == DiffCase::Outcome::failed;
       skipped += c->outcome == DiffCase::Outcome::skipped;
     }
-    out << "  <testsuite name=\"" << xml(suite) << "\" tests=\"" << members.size() << "\" failures=\"" << failures
-        << "\" skipped=\"" << skipped << "\">\n";
+    out << "  <testsuite name=\"" << escape_markup(suite) << "\" tests=\"" << members.size() << "\" failures=\""
+        << failures << "\" skipped=\"" << skipped << "\">\n";
     for (const DiffCase* c : members) {
-      out << "    <testcase classname=\"" << xml(suite) << "\" name=\"" << xml(c->name) << "\"";
+      out << "    <testcase classname=\"" << escape_markup(suite) << "\" name=\"" << escape_markup(c->name) << "\"";
       if (c->outcome == DiffCase::Outcome::passed) {
-        out << ">\n      <system-out>" << xml(c->message) << "</system-out>\n    </testcase>\n";
+        out << ">\n      <system-out>" << escape_markup(c->message) << "</system-out>\n    </testcase>\n";
       } else {
         const char* element = c->outcome == DiffCase::Outcome::failed ? "failure" : "skipped";
-        out << ">\n      <" << element << " message=\"" << xml(c->message) << "\"/>\n    </testcase>\n";
+        out << ">\n      <" << element << " message=\"" << escape_markup(c->message) << "\"/>\n    </testcase>\n";
       }
     }
     out << "  </testsuite>\n";

@@ -23,10 +23,10 @@ std::string plain(const nlohmann::json& value) { return value.is_string() ? valu
 
 // The top-level members of a manifest object as a two-column table.
 void fact_table(std::ostream& html, const std::string& caption, const nlohmann::json& object) {
-  html << "<table class=\"facts\"><caption>" << escape_html(caption) << "</caption>\n";
+  html << "<table class=\"facts\"><caption>" << escape_markup(caption) << "</caption>\n";
   if (object.is_object())
     for (const auto& [key, value] : object.items())
-      html << "<tr><th>" << escape_html(key) << "</th><td>" << escape_html(plain(value)) << "</td></tr>\n";
+      html << "<tr><th>" << escape_markup(key) << "</th><td>" << escape_markup(plain(value)) << "</td></tr>\n";
   html << "</table>\n";
 }
 
@@ -47,11 +47,11 @@ void resource_figure(std::ostream& html, const ResourceRecord& r, const Thumbnai
     // Tiny images (1x1 tables, small mips) are shown enlarged, with their texels kept square.
     const uint32_t enlarge = std::max(1u, std::min(16u, 64u / std::max(t->width, t->height)));
     html << "<img src=\"" << t->file << "\" width=\"" << t->width * enlarge << "\" height=\"" << t->height * enlarge
-         << "\"" << (enlarge > 1 ? " class=\"enlarged\"" : "") << " alt=\"" << escape_html(r.resource) << "\">";
+         << "\"" << (enlarge > 1 ? " class=\"enlarged\"" : "") << " alt=\"" << escape_markup(r.resource) << "\">";
   } else
     html << "<div class=\"no-picture\">" << (r.is_buffer ? "buffer" : "image") << "</div>";
-  html << "<figcaption><b>" << escape_html(r.resource) << "</b><br>" << escape_html(std::string(kind_name(r.kind)))
-       << " · " << escape_html(describe(r));
+  html << "<figcaption><b>" << escape_markup(r.resource) << "</b><br>" << escape_markup(std::string(kind_name(r.kind)))
+       << " · " << escape_markup(describe(r));
   if (!r.is_buffer && (r.extent.mips > 1 || r.extent.layers > 1 || r.extent.depth > 1))
     html << "<br><i>shown: mip 0, layer 0" << (r.extent.depth > 1 ? ", slice 0" : "") << "</i>";
   html << "</figcaption></figure>\n";
@@ -60,14 +60,15 @@ void resource_figure(std::ostream& html, const ResourceRecord& r, const Thumbnai
 void pass_section(std::ostream& html, size_t index, const PassRecord& p, const Capture& capture,
                   const ThumbnailSet& thumbnails, std::map<std::string, std::string>& sources) {
   html << "<section class=\"pass" << (p.ran ? "" : " skipped") << "\" id=\"pass-" << index << "\" data-pass=\""
-       << escape_html(p.name) << "\">\n<h3>" << index << ". " << escape_html(p.name) << "</h3>\n<p class=\"status\">";
+       << escape_markup(p.name) << "\">\n<h3>" << index << ". " << escape_markup(p.name)
+       << "</h3>\n<p class=\"status\">";
   if (!p.ran)
-    html << "not run: " << escape_html(p.reason);
+    html << "not run: " << escape_markup(p.reason);
   else
     html << (p.gpu_ms ? "GPU " + format_number(*p.gpu_ms, 3) + " ms"
                       : "CPU pass, " + format_number(p.cpu_ms, 3) + " ms");
   if (p.injected_nan)
-    html << " · NaN injected into " << escape_html(p.injected_nan->resource) << " at (" << p.injected_nan->x << ", "
+    html << " · NaN injected into " << escape_markup(p.injected_nan->resource) << " at (" << p.injected_nan->x << ", "
          << p.injected_nan->y << ")";
   html << "</p>\n";
   for (const auto& [title, list] : {std::pair{"Inputs", &p.inputs}, std::pair{"Outputs", &p.outputs}}) {
@@ -79,20 +80,20 @@ void pass_section(std::ostream& html, size_t index, const PassRecord& p, const C
   if (!p.params.empty()) {
     html << "<details open><summary>Parameters</summary><table class=\"params\">\n";
     for (const auto& [name, value] : p.params)
-      html << "<tr><th>" << escape_html(name) << "</th><td>" << format_number(value, 6) << "</td></tr>\n";
+      html << "<tr><th>" << escape_markup(name) << "</th><td>" << format_number(value, 6) << "</td></tr>\n";
     html << "</table></details>\n";
   }
   if (!p.pipelines.empty() || !p.samplers.empty()) {
     html << "<details><summary>Pipeline state</summary>";
-    if (!p.pipelines.empty()) html << "<pre>" << escape_html(p.pipelines.dump(1)) << "</pre>";
-    if (!p.samplers.empty()) html << "<h5>Samplers</h5><pre>" << escape_html(p.samplers.dump(1)) << "</pre>";
+    if (!p.pipelines.empty()) html << "<pre>" << escape_markup(p.pipelines.dump(1)) << "</pre>";
+    if (!p.samplers.empty()) html << "<h5>Samplers</h5><pre>" << escape_markup(p.samplers.dump(1)) << "</pre>";
     html << "</details>\n";
   }
   for (const ShaderRecord& s : p.shaders) {
     auto [it, added] = sources.try_emplace(s.source_hash);
-    if (added) it->second = escape_html(capture.load_shader_source(s));
-    html << "<details class=\"shader\"><summary>GLSL: " << escape_html(s.path) << "</summary><pre><code>" << it->second
-         << "</code></pre></details>\n";
+    if (added) it->second = escape_markup(capture.load_shader_source(s));
+    html << "<details class=\"shader\"><summary>GLSL: " << escape_markup(s.path) << "</summary><pre><code>"
+         << it->second << "</code></pre></details>\n";
   }
   html << "</section>\n";
 }
@@ -103,9 +104,7 @@ void write_capture_report(const Capture& capture, const fs::path& folder, const 
   const CaptureManifest& m = capture.manifest();
   if (m.frames.empty()) throw CaptureError(capture.folder().string() + ": the capture has no frames");
   const FrameRecord& frame = options.frame ? capture.frame(*options.frame) : m.frames.front();
-  if (fs::exists(folder) && !fs::is_empty(folder))
-    throw std::runtime_error(folder.string() + ": exists and is not empty (the report writes a folder of its own)");
-  fs::create_directories(folder);
+  start_report_folder(folder);
 
   ThumbnailSet thumbnails(options.thumbnail_side);
   for (const PassRecord& p : frame.passes) {
@@ -119,8 +118,8 @@ void write_capture_report(const Capture& capture, const fs::path& folder, const 
   const std::string capture_name = capture.folder().filename().string();
   std::ostringstream html;
   html << page_start("nightcap: " + capture_name + ", frame " + std::to_string(frame.index), false)
-       << "<header>\n<h1>Capture <span class=\"name\">" << escape_html(capture_name) << "</span>, frame " << frame.index
-       << "</h1>\n";
+       << "<header>\n<h1>Capture <span class=\"name\">" << escape_markup(capture_name) << "</span>, frame "
+       << frame.index << "</h1>\n";
   size_t ran = 0;
   double gpu_total = 0.0;
   for (const PassRecord& p : frame.passes) {
@@ -137,7 +136,7 @@ void write_capture_report(const Capture& capture, const fs::path& folder, const 
   html << "</div>\n<nav><ol>\n";
   for (size_t i = 0; i < frame.passes.size(); ++i)
     html << "<li" << (frame.passes[i].ran ? "" : " class=\"skipped\"") << "><a href=\"#pass-" << i << "\">"
-         << escape_html(frame.passes[i].name) << "</a></li>\n";
+         << escape_markup(frame.passes[i].name) << "</a></li>\n";
   html << "</ol></nav>\n</header>\n<main>\n"
        << "<section id=\"graph\"><h2>Render graph</h2>\n<p>Passes in execution order and the versions of the "
           "resources they read and write (Graphviz; the same graph as <code>nightcap graph --dot</code>, in "
@@ -153,8 +152,8 @@ void write_capture_report(const Capture& capture, const fs::path& folder, const 
     html << "<table class=\"not-run\"><tr><th>pass</th><th>reason</th></tr>\n";
     for (size_t i = 0; i < frame.passes.size(); ++i)
       if (!frame.passes[i].ran)
-        html << "<tr><td><a href=\"#pass-" << i << "\">" << escape_html(frame.passes[i].name) << "</a></td><td>"
-             << escape_html(frame.passes[i].reason) << "</td></tr>\n";
+        html << "<tr><td><a href=\"#pass-" << i << "\">" << escape_markup(frame.passes[i].name) << "</a></td><td>"
+             << escape_markup(frame.passes[i].reason) << "</td></tr>\n";
     html << "</table>\n";
   }
   html << "</section>\n<section id=\"passes\"><h2>Passes</h2>\n";
@@ -162,9 +161,7 @@ void write_capture_report(const Capture& capture, const fs::path& folder, const 
   for (size_t i = 0; i < frame.passes.size(); ++i) pass_section(html, i, frame.passes[i], capture, thumbnails, sources);
   html << "</section>\n</main>\n</body>\n</html>\n";
 
-  const fs::path partial = folder / "index.html.partial";
-  write_file(partial, html.str());
-  fs::rename(partial, folder / "index.html");
+  publish_page(folder, html.str());
 }
 
 }  // namespace nightcap

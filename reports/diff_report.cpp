@@ -95,17 +95,13 @@ std::string packed_values(std::span<const float> values, uint32_t width, uint32_
   return base64(packed);
 }
 
-void write_png_picture(const fs::path& file, const Rgba8Image& picture) {
-  write_png(file, picture.pixels, picture.width, picture.height);
-}
-
 // The thumbnail and the large view of one picture.
 void write_views(const fs::path& folder, const std::string& stem, const Rgba8Image& picture, bool light, Pictured& p,
                  const DiffReportOptions& options) {
   const Rgba8Image small = shrink(picture, options.thumbnail_side, light);
-  write_png_picture(folder / ("images/" + stem + ".png"), small);
+  write_png(folder / ("images/" + stem + ".png"), small.pixels, small.width, small.height);
   const Rgba8Image large = take_texels(picture, p.step);
-  write_png_picture(folder / ("images/" + stem + ".large.png"), large);
+  write_png(folder / ("images/" + stem + ".large.png"), large.pixels, large.width, large.height);
   p.thumbnail = {small.width, small.height};
   p.large = {large.width, large.height};
 }
@@ -189,26 +185,27 @@ void view(std::ostream& html, const Pictured& p, const std::string& name, const 
   const std::string stem = "images/" + p.id + "." + name;
   html << "<figure class=\"view\"><img src=\"" << stem << ".png\" width=\"" << p.thumbnail.width << "\" height=\""
        << p.thumbnail.height << "\" data-output=\"" << p.id << "\" data-view=\"" << name << "\" alt=\""
-       << escape_html(caption) << "\"><figcaption>" << caption << "</figcaption></figure>\n";
+       << escape_markup(caption) << "\"><figcaption>" << caption << "</figcaption></figure>\n";
 }
 
 void output_card(std::ostream& html, const std::string& pass, const OutputDiff& o, const Pictured* p, bool golden) {
   html << "<section class=\"output" << (o.beyond ? " beyond" : " within") << "\" data-output-name=\""
-       << escape_html(pass + "/" + o.resource) << "\">\n<h4>" << escape_html(pass) << " / " << escape_html(o.resource)
-       << " <span class=\"verdict\">" << (o.beyond ? "beyond" : "within") << "</span></h4>\n";
+       << escape_markup(pass + "/" + o.resource) << "\">\n<h4>" << escape_markup(pass) << " / "
+       << escape_markup(o.resource) << " <span class=\"verdict\">" << (o.beyond ? "beyond" : "within")
+       << "</span></h4>\n";
   if (o.only_in_one)
     html << "<p>" << (golden ? (o.missing == "output" ? "output missing" : "golden missing") : "only in one capture")
          << "</p>\n";
   else if (!o.comparison.comparable)
-    html << "<p>not comparable: " << escape_html(o.comparison.note) << "</p>\n";
+    html << "<p>not comparable: " << escape_markup(o.comparison.note) << "</p>\n";
   else
-    html << "<p class=\"metrics\">" << escape_html(metrics_line(o.comparison)) << "</p>\n";
-  if (!o.held_to.empty()) html << "<p class=\"held-to\">held to " << escape_html(o.held_to) << "</p>\n";
+    html << "<p class=\"metrics\">" << escape_markup(metrics_line(o.comparison)) << "</p>\n";
+  if (!o.held_to.empty()) html << "<p class=\"held-to\">held to " << escape_markup(o.held_to) << "</p>\n";
   if (o.flip)
     html << "<p class=\"flip\">FLIP mean " << format_number(o.flip->mean) << ", max " << format_number(o.flip->max)
          << ", " << format_number(100.0 * o.flip->over_threshold_share, 3) << " % of pixels over 0.1</p>\n";
   if (!o.comparison.first_difference.empty())
-    html << "<p>first difference: " << escape_html(o.comparison.first_difference) << "</p>\n";
+    html << "<p>first difference: " << escape_markup(o.comparison.first_difference) << "</p>\n";
   if (p) {
     if (p->first_subresource_only)
       html << "<p class=\"metrics\">pictured: mip 0, layer 0, slice 0; the metrics cover every subresource</p>\n";
@@ -221,7 +218,7 @@ void output_card(std::ostream& html, const std::string& pass, const OutputDiff& 
             "over it</figcaption></figure>\n";
     view(html, *p, "a", "reference (A)");
     view(html, *p, "difference",
-         "|B − A|, square-root scale, white = " + escape_html(format_number(p->difference_max)));
+         "|B − A|, square-root scale, white = " + escape_markup(format_number(p->difference_max)));
     if (o.flip) view(html, *p, "flip", "FLIP error (magma: black none, yellow 1)");
     html << "</div>\n";
   }
@@ -232,8 +229,7 @@ void output_card(std::ostream& html, const std::string& pass, const OutputDiff& 
 
 CaptureDiff write_diff_report(const Capture& a, const Capture& b, DiffOptions diff_options, const fs::path& folder,
                               const DiffReportOptions& options) {
-  if (fs::exists(folder) && !fs::is_empty(folder))
-    throw std::runtime_error(folder.string() + ": exists and is not empty (the report writes a folder of its own)");
+  start_report_folder(folder);
   fs::create_directories(folder / "images");
   fs::create_directories(folder / "data");
 
@@ -244,7 +240,7 @@ CaptureDiff write_diff_report(const Capture& a, const Capture& b, DiffOptions di
   diff_options.on_measured = [&](const FrameRecord& frame_a, const std::string& pass, const OutputDiff& o,
                                  const ResourcePair& pair) {
     if (!o.comparison.comparable || pair.a.is_buffer || !pair.same_shape()) return;
-    std::string key = std::to_string(frame_a.index) + '\0' + pass + '\0' + o.resource;
+    const std::string key = std::to_string(frame_a.index) + '\0' + pass + '\0' + o.resource;
     const std::string id = content_hash({reinterpret_cast<const uint8_t*>(key.data()), key.size()}).substr(0, 16);
     Pictured* p;
     {
@@ -266,17 +262,17 @@ CaptureDiff write_diff_report(const Capture& a, const Capture& b, DiffOptions di
       for (const OutputDiff& o : p.outputs) (o.beyond ? beyond : within) += 1;
   std::ostringstream html;
   html << page_start("nightcap diff: " + name_a + " → " + name_b, true) << "<header>\n<h1>Diff of <span class=\"name\">"
-       << escape_html(name_a) << "</span> (reference, A) and <span class=\"name\">" << escape_html(name_b)
+       << escape_markup(name_a) << "</span> (reference, A) and <span class=\"name\">" << escape_markup(name_b)
        << "</span> (new, B)</h1>\n<p class=\"first-divergence\">";
   if (diff.first_divergence)
     html << "First divergence: <a href=\"#f" << diff.first_divergence->first << "-"
-         << escape_html(diff.first_divergence->second) << "\">" << escape_html(diff.first_divergence->second)
+         << escape_markup(diff.first_divergence->second) << "\">" << escape_markup(diff.first_divergence->second)
          << "</a>, frame " << diff.first_divergence->first;
   else
     html << (diff.identical ? "The captures are identical." : "No pass diverged on its own.");
   html << "</p>\n<p class=\"summary\">" << within << " outputs within what they were held to, " << beyond
        << " beyond</p>\n";
-  for (const std::string& note : diff.notes) html << "<p class=\"note\">" << escape_html(note) << "</p>\n";
+  for (const std::string& note : diff.notes) html << "<p class=\"note\">" << escape_markup(note) << "</p>\n";
   html << "</header>\n<main>\n";
   for (const FrameDiff& f : diff.frames) {
     html << "<section class=\"frame\"><h2>Frame " << f.index << "</h2>\n<table class=\"passes\"><tr><th>pass</th>"
@@ -284,17 +280,17 @@ CaptureDiff write_diff_report(const Capture& a, const Capture& b, DiffOptions di
     for (const PassDiff& p : f.passes) {
       size_t over = 0;
       for (const OutputDiff& o : p.outputs) over += o.beyond;
-      html << "<tr class=\"" << status_name(p.status, diff.golden) << "\"><td>" << escape_html(p.name) << "</td><td>"
+      html << "<tr class=\"" << status_name(p.status, diff.golden) << "\"><td>" << escape_markup(p.name) << "</td><td>"
            << status_name(p.status, diff.golden) << "</td><td>" << over << " of " << p.outputs.size() << "</td></tr>\n";
     }
     html << "</table>\n";
     for (const PassDiff& p : f.passes) {
       const bool differs =
           std::any_of(p.outputs.begin(), p.outputs.end(), [](const OutputDiff& o) { return !o.comparison.identical; });
-      html << "<section class=\"pass\" id=\"f" << f.index << "-" << escape_html(p.name) << "\" data-pass=\""
-           << escape_html(p.name) << "\"><h3>" << escape_html(p.name) << " <span class=\"status\">"
+      html << "<section class=\"pass\" id=\"f" << f.index << "-" << escape_markup(p.name) << "\" data-pass=\""
+           << escape_markup(p.name) << "\"><h3>" << escape_markup(p.name) << " <span class=\"status\">"
            << status_name(p.status, diff.golden) << "</span></h3>\n";
-      if (p.isolation) html << "<p>" << escape_html(isolation_summary(*p.isolation)) << "</p>\n";
+      if (p.isolation) html << "<p>" << escape_markup(isolation_summary(*p.isolation)) << "</p>\n";
       if (!differs) html << "<p class=\"status\">every output identical</p>\n";
       for (const OutputDiff& o : p.outputs) {
         if (o.comparison.identical) continue;
@@ -306,9 +302,7 @@ CaptureDiff write_diff_report(const Capture& a, const Capture& b, DiffOptions di
     html << "</section>\n";
   }
   html << "</main>\n<div id=\"viewer\" hidden></div>\n</body>\n</html>\n";
-  const fs::path partial = folder / "index.html.partial";
-  write_file(partial, html.str());
-  fs::rename(partial, folder / "index.html");
+  publish_page(folder, html.str());
   return diff;
 }
 

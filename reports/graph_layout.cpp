@@ -6,9 +6,10 @@
 #include <unistd.h>
 
 #include <array>
-#include <fstream>
 #include <stdexcept>
 #include <vector>
+
+#include "reports/html.h"
 
 extern char** environ;
 
@@ -49,11 +50,7 @@ int run(std::vector<std::string> args, std::string& error) {
 
 void layout_graph(const std::string& dot_text, const std::filesystem::path& dot_file,
                   const std::filesystem::path& svg_file) {
-  {
-    std::ofstream out(dot_file, std::ios::binary | std::ios::trunc);
-    out << dot_text;
-    if (!out.flush()) throw std::runtime_error(dot_file.string() + ": cannot write");
-  }
+  write_file(dot_file, dot_text);
   const std::filesystem::path partial = svg_file.string() + ".partial";
   std::string error;
   const int status = run({"dot", "-Tsvg", dot_file.string(), "-o", partial.string()}, error);

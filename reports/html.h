@@ -1,17 +1,14 @@
-// Text that comes from a scene or a capture (names, reasons, parameters, GLSL) goes into the
-// report's HTML and SVG only through these, so that none of it can become markup.
+// What the report pages share. Text that comes from a scene or a capture goes into them only
+// through escape_markup (inspect/markup.h), so that none of it can become markup.
 #pragma once
 
 #include <filesystem>
 #include <string>
 #include <string_view>
 
-namespace nightcap {
+#include "inspect/markup.h"
 
-// `text` with & < > " ' replaced by entities: safe as element content and as a quoted attribute
-// value, in HTML and in SVG. Bytes that are not printable ASCII or valid UTF-8 become U+FFFD, so
-// a hostile name cannot break the page's encoding either.
-std::string escape_html(std::string_view text);
+namespace nightcap {
 
 // A number as the report prints it: up to `digits` significant digits, no exponent for ordinary
 // magnitudes, "∞"/"NaN" spelled out.
@@ -25,5 +22,11 @@ std::string page_start(std::string_view title, bool with_script);
 
 // Writes `text` to `file`; throws std::runtime_error naming the file when it cannot.
 void write_file(const std::filesystem::path& file, std::string_view text);
+
+// Creates `folder` for a report: it must not exist or be empty (std::runtime_error otherwise).
+void start_report_folder(const std::filesystem::path& folder);
+// Writes the page as `folder`/index.html, beside its name and renamed into place, last of the
+// report's files: a report cut short has no index.html.
+void publish_page(const std::filesystem::path& folder, std::string_view html);
 
 }  // namespace nightcap

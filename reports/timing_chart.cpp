@@ -28,9 +28,9 @@ std::string timing_chart_svg(const FrameRecord& frame) {
     if (!p.ran) continue;
     const int y = kTop + row++ * kRow;
     const double gpu = p.gpu_ms.value_or(0.0);
-    svg << "<g><title>" << escape_html(p.name) << ": " << (p.gpu_ms ? "GPU " + format_number(gpu, 3) + " ms, " : "")
+    svg << "<g><title>" << escape_markup(p.name) << ": " << (p.gpu_ms ? "GPU " + format_number(gpu, 3) + " ms, " : "")
         << "CPU " << format_number(p.cpu_ms, 3) << " ms</title>"
-        << "<text x=\"" << kLabelWidth - 6 << "\" y=\"" << y + 12 << "\" text-anchor=\"end\">" << escape_html(p.name)
+        << "<text x=\"" << kLabelWidth - 6 << "\" y=\"" << y + 12 << "\" text-anchor=\"end\">" << escape_markup(p.name)
         << "</text>";
     if (p.gpu_ms)
       svg << "<rect class=\"gpu\" x=\"" << kLabelWidth << "\" y=\"" << y + 2 << "\" width=\""

@@ -89,7 +89,7 @@ TEST(DiffReport, ShowsTheFirstDivergenceAndEveryDifferingOutputWithWhatItWasHeld
         const size_t card = html.find("data-output-name=\"" + name + "\"");
         ASSERT_NE(card, std::string::npos) << name;
         const std::string section = html.substr(card, html.find("</section>", card) - card);
-        EXPECT_NE(section.find("held to " + escape_html(o.at("held_to").get<std::string>())), std::string::npos)
+        EXPECT_NE(section.find("held to " + escape_markup(o.at("held_to").get<std::string>())), std::string::npos)
             << section;
         EXPECT_NE(section.find(o.at("beyond").get<bool>() ? ">beyond<" : ">within<"), std::string::npos) << section;
         if (o.contains("flip")) {

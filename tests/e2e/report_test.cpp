@@ -88,9 +88,9 @@ TEST(Report, ShowsEveryPassOfTheFrameWithItsPicturesGraphAndTimings) {
   for (const auto& p : frame.at("passes"))
     if (p.at("name") == "gbuffer.opaque") {
       ASSERT_FALSE(p.at("pipelines").empty());
-      EXPECT_NE(html.find("<summary>Pipeline state</summary><pre>" + escape_html(p.at("pipelines").dump(1))),
+      EXPECT_NE(html.find("<summary>Pipeline state</summary><pre>" + escape_markup(p.at("pipelines").dump(1))),
                 std::string::npos);
-      EXPECT_NE(html.find("<h5>Samplers</h5><pre>" + escape_html(p.at("samplers").dump(1))), std::string::npos);
+      EXPECT_NE(html.find("<h5>Samplers</h5><pre>" + escape_markup(p.at("samplers").dump(1))), std::string::npos);
     }
   EXPECT_NE(html.find("GLSL: gbuffer/opaque.frag"), std::string::npos);
   EXPECT_NE(html.find("#version 460"), std::string::npos);

@@ -9,16 +9,16 @@ namespace nightcap {
 namespace {
 
 TEST(ReportHtml, EscapesMarkupQuotesAndBrokenText) {
-  EXPECT_EQ(escape_html("<script>alert(\"x\")</script>"), "&lt;script&gt;alert(&quot;x&quot;)&lt;/script&gt;");
-  EXPECT_EQ(escape_html("a & b's ../c"), "a &amp; b&#39;s ../c");
-  EXPECT_EQ(escape_html("&lt;"), "&amp;lt;");  // already escaped text stays what it said
-  EXPECT_EQ(escape_html("tab\tline\nnul\x01."), "tab\tline\nnul\xef\xbf\xbd.");
+  EXPECT_EQ(escape_markup("<script>alert(\"x\")</script>"), "&lt;script&gt;alert(&quot;x&quot;)&lt;/script&gt;");
+  EXPECT_EQ(escape_markup("a & b's ../c"), "a &amp; b&#39;s ../c");
+  EXPECT_EQ(escape_markup("&lt;"), "&amp;lt;");  // already escaped text stays what it said
+  EXPECT_EQ(escape_markup("tab\tline\nnul\x01."), "tab\tline\nnul\xef\xbf\xbd.");
   // Valid UTF-8 passes; a stray continuation byte, an overlong form and a truncated sequence
   // become U+FFFD each.
-  EXPECT_EQ(escape_html("×°→"), "×°→");
-  EXPECT_EQ(escape_html("a\x80z"), "a\xef\xbf\xbdz");
-  EXPECT_EQ(escape_html("\xc0\xaf"), "\xef\xbf\xbd\xef\xbf\xbd");
-  EXPECT_EQ(escape_html("\xe2\x86"), "\xef\xbf\xbd\xef\xbf\xbd");
+  EXPECT_EQ(escape_markup("×°→"), "×°→");
+  EXPECT_EQ(escape_markup("a\x80z"), "a\xef\xbf\xbdz");
+  EXPECT_EQ(escape_markup("\xc0\xaf"), "\xef\xbf\xbd\xef\xbf\xbd");
+  EXPECT_EQ(escape_markup("\xe2\x86"), "\xef\xbf\xbd\xef\xbf\xbd");
 }
 
 TEST(ReportHtml, NumbersAreFixedWithSignificantDigitsAndNoTrailingZeros) {
