@@ -456,16 +456,24 @@ int run_report(const std::string& a, const std::string& b, const DiffFlags& flag
   }
   if (!of_diff && (!flags.thresholds.empty() || flags.tolerance))
     throw UsageError("--thresholds and --tolerance apply to the report of a diff: give two captures");
+  // With a golden, the golden is A and the one capture given is B. Everything is opened before an
+  // earlier report is replaced.
+  const std::optional<nc::Capture> capture_b =
+      of_diff ? std::optional(nc::Capture::open(flags.golden ? a : b)) : std::nullopt;
+  nc::Thresholds thresholds;
+  const nc::DiffOptions options = diff_options(flags, thresholds);
   prepare_report_folder(output, force);
-  if (of_diff) {
-    // With a golden, the golden is A and the one capture given is B.
-    const nc::Capture capture_b = nc::Capture::open(flags.golden ? a : b);
-    nc::Thresholds thresholds;
-    nc::write_diff_report(capture, capture_b, diff_options(flags, thresholds), output);
-  } else {
-    nc::CaptureReportOptions options;
-    options.frame = flags.frame;
-    nc::write_capture_report(capture, output, options);
+  try {
+    if (capture_b)
+      nc::write_diff_report(capture, *capture_b, options, output);
+    else
+      nc::write_capture_report(capture, output, {.frame = flags.frame});
+  } catch (...) {
+    // The folder was empty: what is in it is this run's, and a report cut short leaves nothing.
+    std::error_code ignored;
+    for (const auto& entry : std::filesystem::directory_iterator(output, ignored))
+      std::filesystem::remove_all(entry.path(), ignored);
+    throw;
   }
   std::cout << "report: " << (std::filesystem::path(output) / "index.html").string() << "\n";
   return 0;

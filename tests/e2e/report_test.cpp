@@ -160,6 +160,27 @@ TEST(Report, OverwritesOnlyAnEarlierReportAndOnlyWithForce) {
   EXPECT_NE(slurp(folder / "report" / "index.html").find(", frame 1</title>"), std::string::npos);
 }
 
+TEST(Report, ACorruptBlobIsNamedAndLeavesNothingBehind) {
+  const fs::path folder = scratch("report-corrupt");
+  const fs::path copy = folder / "capture";
+  fs::copy(shared_capture("city", kCity), copy, fs::copy_options::recursive);
+  // An image frame 0 pictures: gbuffer.opaque's first output.
+  fs::path blob;
+  const nlohmann::json manifest = read_json(copy / "manifest.json");
+  for (const auto& p : manifest.at("frames")[0].at("passes"))
+    if (p.at("name") == "gbuffer.opaque") blob = copy / p.at("outputs")[0].at("blob").get<std::string>();
+  ASSERT_TRUE(fs::is_regular_file(blob)) << blob;
+  fs::resize_file(blob, 100);
+  const CliResult r = run_cli("report " + quote(copy) + " -o " + quote(folder / "report"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find(blob.string()), std::string::npos) << r.err;
+  EXPECT_TRUE(!fs::exists(folder / "report") || fs::is_empty(folder / "report"));
+  // So the same command runs again once the capture is mended, without --force.
+  fs::remove_all(copy);
+  fs::copy(shared_capture("city", kCity), copy, fs::copy_options::recursive);
+  EXPECT_EQ(run_cli("report " + quote(copy) + " -o " + quote(folder / "report")).code, 0);
+}
+
 TEST(Report, HostileNamesAreShownAsTextAndNothingIsWrittenOutsideTheFolder) {
   const std::string scene_source = "<script>alert(\"scene\")</script> '../../escape'";
   const std::string pass_name = "x\"y<script>alert(1)<b>";  // a pass name has no '/'
