@@ -108,8 +108,9 @@ std::string ms(const std::optional<double>& value) {
 }
 
 struct RenderFlags {
-  std::string scene_path, out, size = "1280x720", device, orbit, target, codec = "auto", motion = "walk", record;
+  std::string scene_path, out, size = "1280x720", device, orbit, target, codec = "auto", motion = "walk", record, shot;
   uint32_t frames = 1, seed = 1;
+  double map_size = 0.0;  // 0: not given
   double fov = 45.0;
   std::vector<std::string> sets, inject_nan;
   std::vector<uint32_t> cuts;
@@ -169,13 +170,26 @@ int run_render(const RenderFlags& flags) {
   } else if (!target.empty()) {
     throw UsageError("--target needs --orbit");
   }
-  nc::Scene scene = scene_path.empty() ? nc::build_city(seed) : nc::load_gltf(scene_path);
+  const bool map = !flags.shot.empty() || flags.map_size != 0.0;
+  if (map && !scene_path.empty()) throw UsageError("--shot and --map-size choose the built-in map, not a glTF scene");
+  nc::Scene scene;
+  if (map) {
+    nc::MapOptions options;
+    options.seed = seed;
+    if (flags.map_size != 0.0) options.size_km = flags.map_size;
+    if (!flags.shot.empty()) options.shot = nc::parse_shot(flags.shot);
+    scene = nc::build_map(options);
+  } else {
+    scene = scene_path.empty() ? nc::build_city(seed) : nc::load_gltf(scene_path);
+  }
   nc::add_default_lighting(scene);
   settings.description = {{"width", settings.width},
                           {"height", settings.height},
                           {"frames", frames},
                           {"scene", scene_path.empty() ? "built-in" : scene_path},
                           {"scene_seed", seed},
+                          {"shot", flags.shot},
+                          {"map_size_km", flags.map_size},
                           {"set", flags.sets},
                           {"motion", flags.motion},
                           {"cut_at", flags.cuts},
@@ -539,7 +553,12 @@ int main(int argc, char** argv) {
   render->add_option("--cut-at", r.cuts, "frame K cuts to another view; every history restarts (repeatable)");
   render->add_option("--record-frames", r.record,
                      "record only frames A..B (inclusive); the frames before still render so history carries");
-  render->add_option("--scene-seed", r.seed, "seed of the built-in city")->capture_default_str();
+  render->add_option("--scene-seed", r.seed, "seed of the built-in city or map")->capture_default_str();
+  render->add_option("--shot", r.shot,
+                     "render the built-in 16 km map from this shot: street (1.7 m up a street), rooftop (60 m up, "
+                     "toward the skyline) or aerial (800 m up at 45°), placed from the seed");
+  render->add_option("--map-size", r.map_size, "side of the built-in map in km (0.5 to 16; default 16), street shot "
+                                               "unless --shot says otherwise");
   render->add_option("--device", r.device, "Vulkan device name (substring); default: lavapipe (llvmpipe)");
   render->add_option("--set", r.sets, "PASS.PARAM=VALUE parameter override (repeatable)");
   render->add_option("--orbit", r.orbit, "orbit camera THETA,PHI,RADIUS (degrees, scene units)");

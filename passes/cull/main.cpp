@@ -1,11 +1,25 @@
-// cull.main (CPU): frustum culling of the scene's instances against the camera, and the draw
-// lists of the geometry passes, sorted by material so texture bindings change least.
-// Occlusion culling (a small CPU depth raster) comes with the geometry stage.
+// cull.main (CPU): what the geometry passes draw this frame. The static instances are visited
+// through scene.hierarchy and tested against the view frustum; moving instances (their
+// translation advanced to this frame's time) are tested one by one. Each survivor picks its
+// level of detail by distance. The largest nearby opaque survivors are the occluders: they are
+// rasterised into a small conservative CPU depth buffer (passes/cull/occlusion_buffer.h), and
+// every other instance whose box is behind it is dropped. The occluders are what depth.prepass
+// draws. Lists are sorted in the seeds' order (static meshes; ground and emissive; foliage),
+// then by material and mesh, so equal neighbours are drawn instanced (draw_scene batches them).
+//
+// `frustum=0` / `occlusion=0` keep what those tests would drop (the references use them); the
+// lists are otherwise the same, so a culled and an unculled frame draw in the same order.
 #include <algorithm>
+#include <array>
+#include <optional>
+#include <queue>
 #include <cmath>
 #include <cstring>
 
 #include "passes/core/context.h"
+#include "passes/cull/cull_stats.h"
+#include "passes/cull/hierarchy.h"
+#include "passes/cull/occlusion_buffer.h"
 #include "passes/frame/camera_math.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
@@ -14,71 +28,420 @@
 namespace nightcap {
 namespace {
 
-// Conservative: false only when all eight corners lie outside one clip plane.
-bool outside_frustum(const glm::dmat4& clip_from_object, const float* lo, const float* hi) {
-  int outside[5] = {0, 0, 0, 0, 0};
-  for (int corner = 0; corner < 8; ++corner) {
-    const glm::dvec4 p(corner & 1 ? hi[0] : lo[0], corner & 2 ? hi[1] : lo[1], corner & 4 ? hi[2] : lo[2], 1.0);
-    const glm::dvec4 c = clip_from_object * p;
-    outside[0] += c.x < -c.w;
-    outside[1] += c.x > c.w;
-    outside[2] += c.y < -c.w;
-    outside[3] += c.y > c.w;
-    outside[4] += c.z > c.w;  // in front of the near plane (reversed-Z: z = znear, w = -z_view)
-  }
-  return std::any_of(std::begin(outside), std::end(outside), [](int n) { return n == 8; });
+struct Plane {
+  glm::dvec3 normal;
+  double offset;  // inside where dot(normal, p) + offset ≥ 0
+};
+
+// Left, right, bottom, top and near planes of a camera-relative view-projection (the far plane
+// is at infinity), in camera-relative world space.
+std::array<Plane, 5> frustum_planes(const glm::dmat4& m) {
+  const glm::dvec4 row0(m[0][0], m[1][0], m[2][0], m[3][0]), row1(m[0][1], m[1][1], m[2][1], m[3][1]),
+      row2(m[0][2], m[1][2], m[2][2], m[3][2]), row3(m[0][3], m[1][3], m[2][3], m[3][3]);
+  const glm::dvec4 rows[5] = {row3 + row0, row3 - row0, row3 + row1, row3 - row1, row3 - row2};
+  std::array<Plane, 5> planes;
+  for (int k = 0; k < 5; ++k) planes[k] = {glm::dvec3(rows[k]), rows[k].w};
+  return planes;
 }
 
-void cull(PassContext& ctx) {
-  const CameraRecordGpu camera = host_records<CameraRecordGpu>(ctx.host("frame.camera")).at(0);
-  const auto instances = host_records<InstanceRecord>(ctx.host("scene.instances"));
-  const auto materials = host_records<GpuMaterial>(ctx.host("scene.materials"));
-  glm::dmat4 world;
-  std::memcpy(&world[0][0], camera.world, sizeof(camera.world));
-  const glm::dvec3 eye = glm::dvec3(world[3]);
-  const glm::dmat4 view_projection =
-      reversed_z_projection(camera.yfov, double(camera.width) / camera.height, camera.znear) * relative_view(world);
-  const bool frustum = ctx.param("frustum") != 0.0;
+enum class Containment { outside, crossing, inside };
 
-  std::vector<GpuDraw> prepass, gbuffer;
-  for (uint32_t i = 0; i < instances.size(); ++i) {
-    const InstanceRecord& r = instances[i];
-    if (r.moving || r.index_count == 0 || r.material >= materials.size()) continue;
-    glm::dmat4 model;
-    std::memcpy(&model[0][0], r.world, sizeof(r.world));
-    model[3] -= glm::dvec4(eye, 0.0);  // camera-relative, subtracted in double
+// Outside only when the box lies wholly outside one plane (so its every corner is outside it);
+// inside when it lies wholly inside every plane, with rounding slack on both sides.
+Containment box_in_frustum(const std::array<Plane, 5>& planes, const glm::dvec3& lo, const glm::dvec3& hi) {
+  Containment result = Containment::inside;
+  for (const Plane& p : planes) {
+    const glm::dvec3 far_corner(p.normal.x >= 0 ? hi.x : lo.x, p.normal.y >= 0 ? hi.y : lo.y,
+                                p.normal.z >= 0 ? hi.z : lo.z);
+    const glm::dvec3 near_corner(p.normal.x >= 0 ? lo.x : hi.x, p.normal.y >= 0 ? lo.y : hi.y,
+                                 p.normal.z >= 0 ? lo.z : hi.z);
+    const double slack = 1e-9 * (std::abs(p.offset) + glm::dot(glm::abs(p.normal), glm::abs(lo) + glm::abs(hi)));
+    if (glm::dot(p.normal, far_corner) + p.offset < -slack) return Containment::outside;
+    if (glm::dot(p.normal, near_corner) + p.offset < slack) result = Containment::crossing;
+  }
+  return result;
+}
+
+void box_corners(const glm::dmat4& clip_from_object, const MeshRecord& mesh, glm::dvec4 (&out)[8]) {
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec4 p(corner & 1 ? mesh.bounds_max[0] : mesh.bounds_min[0],
+                       corner & 2 ? mesh.bounds_max[1] : mesh.bounds_min[1],
+                       corner & 4 ? mesh.bounds_max[2] : mesh.bounds_min[2], 1.0);
+    out[corner] = clip_from_object * p;
+  }
+}
+
+// The seeds' order inside gbuffer.opaque [001]: static meshes, then ground and emissive, then
+// foliage (destructibles have no class of their own here).
+uint32_t draw_order_class(const GpuMaterial& m) {
+  const uint32_t stencil_class = uint32_t(m.textures2.z);
+  if (stencil_class == stencil::foliage) return 2;
+  if ((stencil_class & stencil::road) || m.emissive.x > 0 || m.emissive.y > 0 || m.emissive.z > 0) return 1;
+  return 0;
+}
+
+struct Candidate {
+  GpuDraw draw;
+  glm::dvec4 corners[8];  // clip space, of the drawn level's box
+  const MeshRecord* mesh;
+  double score;  // occluder quality: squared box size over squared distance
+  uint32_t lod;
+  bool in_frustum;
+  bool moving;             // drawn by gbuffer.dynamic
+  bool occluder_material;  // opaque (not alpha-tested or blended) and static
+};
+
+glm::dvec3 node_min(const HierarchyNode& n) { return {n.bounds_min[0], n.bounds_min[1], n.bounds_min[2]}; }
+glm::dvec3 node_max(const HierarchyNode& n) { return {n.bounds_max[0], n.bounds_max[1], n.bounds_max[2]}; }
+
+class Culler {
+ public:
+  explicit Culler(PassContext& ctx)
+      : ctx_(ctx),
+        camera_(host_records<CameraRecordGpu>(ctx.host("frame.camera")).at(0)),
+        instances_(host_records<InstanceRecord>(ctx.host("scene.instances"))),
+        meshes_(host_records<MeshRecord>(ctx.host("scene.meshes"))),
+        materials_(host_records<GpuMaterial>(ctx.host("scene.materials"))),
+        geometry_(ctx.host("scene.geometry")),
+        hierarchy_(Hierarchy::parse(ctx.host("scene.hierarchy"), instances_.size())),
+        keep_outside_(ctx.param("frustum") == 0.0),
+        keep_hidden_(ctx.param("occlusion") == 0.0) {
+    std::memcpy(&world_[0][0], camera_.world, sizeof(camera_.world));
+    eye_ = glm::dvec3(world_[3]);
+    if (!(camera_.width > 0 && camera_.height > 0)) throw GraphError("cull.main: frame.camera has no size");
+    view_projection_ = reversed_z_projection(camera_.yfov, double(camera_.width) / camera_.height, camera_.znear) *
+                       relative_view(world_);
+    planes_ = frustum_planes(view_projection_);
+    if (geometry_.size() < sizeof(GeometryHeader)) throw GraphError("cull.main: scene.geometry has no header");
+    std::memcpy(&geometry_header_, geometry_.data(), sizeof(geometry_header_));
+  }
+
+  void run() {
+    choose_occluders();
+    rasterise_occluders();
+    if (!hierarchy_.static_order.empty()) visit(0, false);
+    for (uint32_t i : hierarchy_.moving) {
+      const InstanceRecord& r = instances_[i];
+      const glm::dvec3 velocity(r.velocity[0], r.velocity[1], r.velocity[2]);
+      const glm::dvec3 translation = glm::dvec3(r.position[0], r.position[1], r.position[2]) + velocity * camera_.time;
+      consider(i, translation, translation - velocity * camera_.time_step);
+    }
+    finish();
+  }
+
+ private:
+  enum class Refusal { none, degenerate, distance };
+
+  // The instance as it would be drawn this frame, or nothing (and why) when it is not drawn.
+  std::optional<Candidate> evaluate(uint32_t index, const glm::dvec3& translation,
+                                    const glm::dvec3& previous_translation, Refusal* refusal = nullptr) const {
+    const InstanceRecord& r = instances_[index];
+    glm::dmat4 model(1.0);
+    for (int c = 0; c < 3; ++c)
+      for (int row = 0; row < 3; ++row) model[c][row] = r.basis[c * 3 + row];
+    model[3] = glm::dvec4(translation - eye_, 1.0);  // camera-relative, subtracted in double
     // A zero-scale transform covers no pixel and has no normal matrix.
     const double determinant = glm::determinant(glm::dmat3(model));
-    if (!std::isfinite(determinant) || determinant == 0.0) continue;
-    if (frustum && outside_frustum(view_projection * model, r.bounds_min, r.bounds_max)) continue;
-    const GpuMaterial& m = materials[r.material];
-    GpuDraw d{};
+    const MeshRecord* mesh = mesh_at(r.primitive, index);
+    if (!std::isfinite(determinant) || determinant == 0.0 || mesh->index_count == 0 ||
+        r.material >= materials_.size()) {
+      if (refusal) *refusal = Refusal::degenerate;
+      return std::nullopt;
+    }
+    // Level of detail by the distance to the centre of the finest level's box.
+    const glm::dvec3 centre(model * glm::dvec4(0.5 * (mesh->bounds_min[0] + mesh->bounds_max[0]),
+                                               0.5 * (mesh->bounds_min[1] + mesh->bounds_max[1]),
+                                               0.5 * (mesh->bounds_min[2] + mesh->bounds_max[2]), 1.0));
+    const double distance = glm::length(centre);
+    uint32_t lod = 0;
+    while (mesh->coarser >= 0 && distance > mesh->lod_distance) {
+      if (++lod > meshes_.size()) throw GraphError("cull.main: mesh levels of detail form a cycle");
+      mesh = mesh_at(uint32_t(mesh->coarser), index);
+    }
+    if (distance > mesh->draw_distance) {
+      if (refusal) *refusal = Refusal::distance;
+      return std::nullopt;
+    }
+    Candidate c{};
+    box_corners(view_projection_ * model, *mesh, c.corners);
+    c.in_frustum = !outside_frustum(c.corners);
+    const GpuMaterial& m = materials_[r.material];
+    c.moving = (r.flags & kInstanceMoving) != 0;
+    GpuDraw& d = c.draw;
     d.model = glm::mat4(model);
+    glm::dmat4 previous_model = model;
+    previous_model[3] = glm::dvec4(previous_translation - eye_, 1.0);
+    d.previous_model = glm::mat4(previous_model);
     d.normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::dmat3(model))));
-    d.first_index = r.first_index;
-    d.index_count = r.index_count;
-    d.vertex_offset = r.vertex_offset;
+    d.first_index = mesh->first_index;
+    d.index_count = mesh->index_count;
+    d.vertex_offset = mesh->vertex_offset;
     d.material = r.material;
-    d.stencil = uint32_t(m.textures2.z);
-    d.instance = i;
+    d.stencil = uint32_t(m.textures2.z) | (c.moving ? stencil::moving : 0u);
+    d.instance = index;
     d.mirrored = determinant < 0.0;
-    gbuffer.push_back(d);
-    // Alpha-tested and blended surfaces do not occlude reliably: the prepass leaves them out.
-    if (m.extra.z == float(AlphaMode::opaque)) prepass.push_back(d);
+    c.mesh = mesh;
+    c.lod = lod;
+    const glm::dvec3 size(mesh->bounds_max[0] - mesh->bounds_min[0], mesh->bounds_max[1] - mesh->bounds_min[1],
+                          mesh->bounds_max[2] - mesh->bounds_min[2]);
+    const glm::dvec3 diagonal = glm::dmat3(model) * size;
+    c.score = glm::dot(diagonal, diagonal) / std::max(distance * distance, 1e-6);
+    c.occluder_material = m.extra.z == float(AlphaMode::opaque) && !c.moving;
+    return c;
   }
-  auto by_material = [](const GpuDraw& a, const GpuDraw& b) {
-    return a.material != b.material ? a.material < b.material : a.instance < b.instance;
-  };
-  std::sort(prepass.begin(), prepass.end(), by_material);
-  std::sort(gbuffer.begin(), gbuffer.end(), by_material);
-  auto store = [&](const char* name, const std::vector<GpuDraw>& draws) {
-    auto& out = ctx.output(name);
+
+  // The `occluders` best static opaque instances in the frustum by squared size over squared
+  // distance, found best-first: a node's bound is its own squared diagonal over its squared
+  // distance, which no instance inside it can beat.
+  void choose_occluders() {
+    const size_t budget = size_t(ctx_.param("occluders"));
+    if (budget == 0 || hierarchy_.static_order.empty()) return;
+    auto bound = [&](uint32_t n) {
+      const HierarchyNode& node = hierarchy_.nodes[n];
+      const glm::dvec3 lo = node_min(node) - eye_, hi = node_max(node) - eye_;
+      const glm::dvec3 nearest = glm::clamp(glm::dvec3(0.0), lo, hi);
+      const glm::dvec3 diagonal = hi - lo;
+      return glm::dot(diagonal, diagonal) / std::max(glm::dot(nearest, nearest), 1e-6);
+    };
+    using Entry = std::pair<double, uint32_t>;
+    std::priority_queue<Entry> open;                                          // nodes, best bound first
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> best;  // the chosen, worst on top
+    open.push({bound(0), 0});
+    while (!open.empty()) {
+      const auto [node_bound, n] = open.top();
+      open.pop();
+      if (best.size() == budget && node_bound <= best.top().first) break;
+      const HierarchyNode& node = hierarchy_.nodes[n];
+      if (box_in_frustum(planes_, node_min(node) - eye_, node_max(node) - eye_) == Containment::outside) continue;
+      if (node.count == 0) {
+        open.push({bound(node.first), node.first});
+        open.push({bound(node.first + 1), node.first + 1});
+        continue;
+      }
+      for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+        const uint32_t i = hierarchy_.static_order[k];
+        const InstanceRecord& r = instances_[i];
+        const glm::dvec3 translation(r.position[0], r.position[1], r.position[2]);
+        const std::optional<Candidate> c = evaluate(i, translation, translation);
+        if (!c || !c->in_frustum || !c->occluder_material) continue;
+        if (best.size() < budget) {
+          best.push({c->score, i});
+        } else if (c->score > best.top().first) {
+          best.pop();
+          best.push({c->score, i});
+        }
+      }
+    }
+    while (!best.empty()) {
+      occluders_.push_back(best.top().second);
+      best.pop();
+    }
+    std::sort(occluders_.begin(), occluders_.end());
+  }
+
+  bool is_occluder(uint32_t instance) const {
+    return std::binary_search(occluders_.begin(), occluders_.end(), instance);
+  }
+
+  void rasterise_occluders() {
+    const uint32_t width = uint32_t(ctx_.param("occlusion_width"));
+    const uint32_t height = std::max(1u, uint32_t(std::lround(double(width) * camera_.height / camera_.width)));
+    buffer_.emplace(width, height);
+    for (uint32_t i : occluders_) {
+      const InstanceRecord& r = instances_[i];
+      const glm::dvec3 translation(r.position[0], r.position[1], r.position[2]);
+      const Candidate c = *evaluate(i, translation, translation);
+      rasterise(c);
+      stats_.occluders += 1;
+      stats_.occluder_triangles += c.mesh->index_count / 3;
+    }
+  }
+
+  void rasterise(const Candidate& c) {
+    const GpuMaterial& m = materials_[c.draw.material];
+    const bool two_sided = (int(m.extra.w) & 2) != 0;
+    // Front faces are counter-clockwise (the passes' declared face), clockwise when mirrored.
+    const bool front_ccw = !c.draw.mirrored;
+    // The draw's float model is what the GPU uses; the buffer follows it.
+    const glm::dmat4 clip_from_object = view_projection_ * glm::dmat4(c.draw.model);
+    const uint8_t* index_bytes = geometry_.data() + geometry_header_.index_offset;
+    for (uint32_t t = 0; t + 2 < c.mesh->index_count; t += 3) {
+      glm::dvec4 clip[3];
+      for (int v = 0; v < 3; ++v) {
+        uint32_t index;
+        std::memcpy(&index, index_bytes + (size_t(c.mesh->first_index) + t + v) * 4, 4);
+        const int64_t vertex = int64_t(index) + c.mesh->vertex_offset;
+        if (vertex < 0 || uint64_t(vertex) >= geometry_header_.vertex_count) return;  // no occlusion from garbage
+        clip[v] = clip_from_object * glm::dvec4(vertex_position(uint32_t(vertex)), 1.0);
+      }
+      buffer_->rasterise(clip[0], clip[1], clip[2], front_ccw, two_sided);
+    }
+  }
+
+  glm::dvec3 vertex_position(uint32_t vertex) const {
+    float p[3];
+    std::memcpy(p, geometry_.data() + geometry_header_.vertex_offset + size_t(vertex) * sizeof(Vertex), sizeof(p));
+    return glm::dvec3(p[0], p[1], p[2]);
+  }
+
+  // Walks the hierarchy: a node outside the frustum or behind the occluders drops every
+  // instance under it; below a node wholly inside the frustum no plane is tested again.
+  void visit(uint32_t index, bool inside) {
+    const HierarchyNode& node = hierarchy_.nodes[index];
+    const glm::dvec3 lo = node_min(node) - eye_, hi = node_max(node) - eye_;
+    if (!inside) {
+      const Containment containment = box_in_frustum(planes_, lo, hi);
+      if (containment == Containment::outside) {
+        const uint32_t count = leaf_count(index);
+        stats_.instances_tested += count;
+        stats_.culled_frustum += count;
+        if (!keep_outside_) return;
+        keep_everything_under(index);
+        return;
+      }
+      inside = containment == Containment::inside;
+    }
+    if (!keep_hidden_) {
+      glm::dvec4 corners[8];
+      for (int k = 0; k < 8; ++k)
+        corners[k] = view_projection_ * glm::dvec4(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z, 1.0);
+      if (buffer_->hidden(corners)) {
+        const uint32_t count = leaf_count(index);
+        stats_.instances_tested += count;
+        stats_.culled_occlusion += count;
+        return;
+      }
+    }
+    if (node.count > 0) {
+      for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+        const uint32_t i = hierarchy_.static_order[k];
+        const glm::dvec3 translation(instances_[i].position[0], instances_[i].position[1], instances_[i].position[2]);
+        consider(i, translation, translation);
+      }
+      return;
+    }
+    visit(node.first, inside);
+    visit(node.first + 1, inside);
+  }
+
+  // frustum=0: what a culled node held is drawn all the same (already counted as culled).
+  void keep_everything_under(uint32_t index) {
+    const HierarchyNode& node = hierarchy_.nodes[index];
+    if (node.count == 0) {
+      keep_everything_under(node.first);
+      keep_everything_under(node.first + 1);
+      return;
+    }
+    for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+      const uint32_t i = hierarchy_.static_order[k];
+      const glm::dvec3 translation(instances_[i].position[0], instances_[i].position[1], instances_[i].position[2]);
+      if (std::optional<Candidate> c = evaluate(i, translation, translation)) kept_.push_back(*c);
+    }
+  }
+
+  uint32_t leaf_count(uint32_t index) const {
+    const HierarchyNode& node = hierarchy_.nodes[index];
+    if (node.count > 0) return node.count;
+    return leaf_count(node.first) + leaf_count(node.first + 1);
+  }
+
+  const MeshRecord* mesh_at(uint32_t index, uint32_t instance) const {
+    if (index >= meshes_.size())
+      throw GraphError("cull.main: instance " + std::to_string(instance) + " names mesh " + std::to_string(index) +
+                       " of " + std::to_string(meshes_.size()));
+    const MeshRecord& m = meshes_[index];
+    if (uint64_t(m.first_index) + m.index_count > geometry_header_.index_count)
+      throw GraphError("cull.main: mesh " + std::to_string(index) + " reaches past scene.geometry's indices");
+    return &m;
+  }
+
+  void consider(uint32_t index, const glm::dvec3& translation, const glm::dvec3& previous_translation) {
+    ++stats_.instances_tested;
+    Refusal refusal = Refusal::none;
+    std::optional<Candidate> c = evaluate(index, translation, previous_translation, &refusal);
+    if (!c) {
+      ++(refusal == Refusal::distance ? stats_.culled_distance : stats_.culled_degenerate);
+      return;
+    }
+    if (!c->in_frustum) {
+      ++stats_.culled_frustum;
+      if (keep_outside_) kept_.push_back(*c);
+      return;
+    }
+    if (!is_occluder(index) && buffer_->hidden(c->corners)) {
+      ++stats_.culled_occlusion;
+      if (!keep_hidden_) return;
+    } else {
+      ++stats_.visible;
+      stats_.lod_histogram[std::min<uint32_t>(c->lod, kLodBins - 1)] += 1;
+    }
+    kept_.push_back(*c);
+  }
+
+  void finish() {
+    std::vector<GpuDraw> prepass, gbuffer, dynamic;
+    for (const Candidate& c : kept_) {
+      (c.moving ? dynamic : gbuffer).push_back(c.draw);
+      if (!c.moving && is_occluder(c.draw.instance)) prepass.push_back(c.draw);
+    }
+    auto order = [&](const GpuDraw& a, const GpuDraw& b) {
+      const uint32_t ca = draw_order_class(materials_[a.material]), cb = draw_order_class(materials_[b.material]);
+      if (ca != cb) return ca < cb;
+      if (a.material != b.material) return a.material < b.material;
+      if (a.first_index != b.first_index) return a.first_index < b.first_index;
+      return a.instance < b.instance;
+    };
+    std::sort(prepass.begin(), prepass.end(), order);
+    std::sort(gbuffer.begin(), gbuffer.end(), order);
+    std::sort(dynamic.begin(), dynamic.end(), order);
+    stats_.draws_prepass = batch_count(prepass);
+    stats_.draws_gbuffer = batch_count(gbuffer);
+    stats_.draws_dynamic = batch_count(dynamic);
+    for (const GpuDraw& d : prepass) stats_.triangles_prepass += d.index_count / 3;
+    for (const GpuDraw& d : gbuffer) stats_.triangles_gbuffer += d.index_count / 3;
+    for (const GpuDraw& d : dynamic) stats_.triangles_dynamic += d.index_count / 3;
+    store("draws.depth.prepass", prepass);
+    store("draws.gbuffer.opaque", gbuffer);
+    store("draws.gbuffer.dynamic", dynamic);
+    auto& stats = ctx_.output("cull.stats");
+    stats.resize(sizeof(stats_));
+    std::memcpy(stats.data(), &stats_, sizeof(stats_));
+    auto& depth = ctx_.output("cull.occlusion");
+    const OcclusionHeader header{buffer_->width(), buffer_->height()};
+    depth.resize(sizeof(header) + buffer_->depth().size_bytes());
+    std::memcpy(depth.data(), &header, sizeof(header));
+    std::memcpy(depth.data() + sizeof(header), buffer_->depth().data(), buffer_->depth().size_bytes());
+  }
+
+  static uint32_t batch_count(const std::vector<GpuDraw>& draws) {
+    uint32_t count = 0;
+    for (size_t i = 0; i < draws.size(); ++i) count += i == 0 || !same_batch(draws[i - 1], draws[i]);
+    return count;
+  }
+
+  void store(const char* name, const std::vector<GpuDraw>& draws) {
+    auto& out = ctx_.output(name);
     out.resize(draws.size() * sizeof(GpuDraw));
     if (!draws.empty()) std::memcpy(out.data(), draws.data(), out.size());
-  };
-  store("draws.depth.prepass", prepass);
-  store("draws.gbuffer.opaque", gbuffer);
-}
+  }
+
+  PassContext& ctx_;
+  CameraRecordGpu camera_;
+  std::vector<InstanceRecord> instances_;
+  std::vector<MeshRecord> meshes_;
+  std::vector<GpuMaterial> materials_;
+  std::span<const uint8_t> geometry_;
+  Hierarchy hierarchy_;
+  bool keep_outside_, keep_hidden_;
+  GeometryHeader geometry_header_{};
+  glm::dmat4 world_{1.0}, view_projection_{1.0};
+  glm::dvec3 eye_{0.0};
+  std::array<Plane, 5> planes_{};
+  std::vector<uint32_t> occluders_;  // sorted instance indices
+  std::vector<Candidate> kept_;      // what the lists draw
+  std::optional<OcclusionBuffer> buffer_;
+  CullStats stats_{};
+};
 
 }  // namespace
 
@@ -86,13 +449,24 @@ PassDecl cull_main_pass() {
   return PassDecl("cull.main", PassType::cpu)
       .read("frame.camera", Use::host)
       .read("scene.instances", Use::host)
+      .read("scene.meshes", Use::host)
+      .read("scene.hierarchy", Use::host)
       .read("scene.materials", Use::host)
+      .read("scene.geometry", Use::host)
       .write("draws.depth.prepass", Use::host, BufferDecl{ResourceKind::draw_list})
       .write("draws.gbuffer.opaque", Use::host, BufferDecl{ResourceKind::draw_list})
+      .write("draws.gbuffer.dynamic", Use::host, BufferDecl{ResourceKind::draw_list})
+      .write("cull.stats", Use::host, BufferDecl{ResourceKind::buffer})
+      .write("cull.occlusion", Use::host, BufferDecl{ResourceKind::buffer})
       .layout("draws.depth.prepass", draw_schema())
       .layout("draws.gbuffer.opaque", draw_schema())
+      .layout("draws.gbuffer.dynamic", draw_schema())
+      .layout("cull.stats", cull_stats_schema())
       .param("frustum", 1, 0, 1, "1: drop instances outside the view frustum")
-      .run(cull);
+      .param("occlusion", 1, 0, 1, "1: drop instances hidden behind the occluders")
+      .param("occluders", 64, 0, 4096, "how many of the largest nearby opaque instances occlude (and depth.prepass draws)")
+      .param("occlusion_width", 256, 8, 2048, "width of the CPU occlusion buffer in cells (height follows the aspect)")
+      .run([](PassContext& ctx) { Culler(ctx).run(); });
 }
 
 }  // namespace nightcap

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "passes/core/context.h"
+#include "passes/cull/occlusion_buffer.h"
 #include "passes/frame/camera_math.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
@@ -35,8 +36,28 @@ void build_constants(PassContext& ctx) {
   c.projection_params = {float(camera.znear), float(camera.yfov), float(aspect), 0.0f};
   c.timing = {float(camera.time), float(camera.time_step), 0.0f, 0.0f};
 
+  // A local light whose range box is outside the frustum or wholly behind cull.main's occluders
+  // lights no visible surface: its window ends at its range, so dropping it changes no pixel.
+  const OcclusionBuffer occlusion = OcclusionBuffer::from_record(ctx.host("cull.occlusion"));
+  const glm::dmat4 clip_from_relative = projection * view;
+  auto lights_nothing_visible = [&](const LightRecord& l) {
+    if (!(l.range > 0.0f)) return false;
+    const glm::dvec3 start = glm::dvec3(l.position[0], l.position[1], l.position[2]) - eye;
+    // Point and spot lights reach from their position; a tube from every point of its segment.
+    const glm::dvec3 end =
+        l.type == uint32_t(LightType::tube) ? glm::dvec3(l.end[0], l.end[1], l.end[2]) - eye : start;
+    glm::dvec3 lo = glm::min(start, end), hi = glm::max(start, end);
+    lo -= glm::dvec3(l.range);
+    hi += glm::dvec3(l.range);
+    glm::dvec4 corners[8];
+    for (int k = 0; k < 8; ++k)
+      corners[k] = clip_from_relative * glm::dvec4(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z, 1.0);
+    return outside_frustum(corners) || occlusion.hidden(corners);
+  };
+
   std::vector<GpuLight> list;
   bool has_sun = false;
+  uint32_t dropped = 0;
   for (const LightRecord& l : lights) {
     const glm::vec3 radiance = glm::vec3(l.color[0], l.color[1], l.color[2]) * l.intensity;
     const glm::vec3 direction = glm::normalize(glm::vec3(l.direction[0], l.direction[1], l.direction[2]));
@@ -45,6 +66,10 @@ void build_constants(PassContext& ctx) {
       has_sun = true;
       c.sun_direction = glm::vec4(direction, 1.0f);
       c.sun_radiance = glm::vec4(radiance, 0.0f);
+      continue;
+    }
+    if (l.type != uint32_t(LightType::directional) && lights_nothing_visible(l)) {
+      ++dropped;
       continue;
     }
     GpuLight g{};
@@ -57,7 +82,7 @@ void build_constants(PassContext& ctx) {
     g.cos_inner = glm::vec4(std::cos(l.inner_cone), 0, 0, 0);
     list.push_back(g);
   }
-  c.counts = {uint32_t(list.size()), camera.frame_index, camera.cut, 0};
+  c.counts = {uint32_t(list.size()), camera.frame_index, camera.cut, dropped};
 
   auto& constants = ctx.output("frame.constants");
   constants.resize(sizeof(c));
@@ -73,6 +98,7 @@ PassDecl frame_constants_pass() {
   return PassDecl("frame.constants", PassType::cpu)
       .read("frame.camera", Use::host)
       .read("scene.lights", Use::host)
+      .read("cull.occlusion", Use::host)
       .write("frame.constants", Use::host, BufferDecl{ResourceKind::buffer})
       .write("frame.lights", Use::host, BufferDecl{ResourceKind::buffer})
       .layout("frame.constants", frame_constants_schema())

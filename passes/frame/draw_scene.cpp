@@ -45,11 +45,19 @@ void draw_scene(PassContext& ctx, const std::string& draws,
       declared.front_face == VK_FRONT_FACE_CLOCKWISE ? VK_FRONT_FACE_COUNTER_CLOCKWISE : VK_FRONT_FACE_CLOCKWISE;
   uint32_t current = UINT32_MAX;
   VkFrontFace current_front = declared.front_face;
-  for (uint32_t i = 0; i < draw_count; ++i) {
+  auto draw_at = [&](size_t i) {
     GpuDraw draw;
     std::memcpy(&draw, draw_bytes.data() + i * sizeof(GpuDraw), sizeof(draw));
+    return draw;
+  };
+  for (size_t i = 0; i < draw_count;) {
+    const GpuDraw draw = draw_at(i);
     if (draw.material >= material_count || uint64_t(draw.first_index) + draw.index_count > header.index_count)
       throw GraphError(ctx.pass() + ": draw " + std::to_string(i) + " of " + draws + " is out of range");
+    // Equal neighbours (cull.main sorts them together) become one instanced draw; each instance
+    // still reads its own record through gl_InstanceIndex.
+    size_t end = i + 1;
+    while (end < draw_count && same_batch(draw, draw_at(end))) ++end;
     if (draw.material != current) {
       current = draw.material;
       GpuMaterial material;
@@ -65,7 +73,9 @@ void draw_scene(PassContext& ctx, const std::string& draws,
       current_front = front;
     }
     vkCmdSetStencilReference(ctx.cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, draw.stencil & 0xff);
-    vkCmdDrawIndexed(ctx.cmd(), draw.index_count, 1, draw.first_index, draw.vertex_offset, i);
+    vkCmdDrawIndexed(ctx.cmd(), draw.index_count, uint32_t(end - i), draw.first_index, draw.vertex_offset,
+                     uint32_t(i));
+    i = end;
   }
 }
 

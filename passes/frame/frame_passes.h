@@ -17,6 +17,7 @@ PassDecl frame_constants_pass();
 PassDecl cull_main_pass();
 PassDecl depth_prepass_pass();
 PassDecl gbuffer_opaque_pass();
+PassDecl gbuffer_dynamic_pass();
 PassDecl depth_convert_pass();
 PassDecl normals_bfn_lut_pass();
 PassDecl normals_pack_pass();

@@ -33,6 +33,7 @@ BufferSchema draw_schema() {
   return BufferSchema::of<D>()
       .field("model", &D::model)
       .field("normal_matrix", &D::normal_matrix)
+      .field("previous_model", &D::previous_model)
       .field("first_index", &D::first_index)
       .field("index_count", &D::index_count)
       .field("vertex_offset", &D::vertex_offset)

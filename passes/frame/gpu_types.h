@@ -22,7 +22,7 @@ struct GpuFrameConstants {
   glm::vec4 sun_radiance;              // rgb × illuminance
   glm::vec4 projection_params;         // znear, yfov, aspect
   glm::vec4 timing;                    // seconds since frame 0, seconds since the previous frame
-  glm::uvec4 counts;                   // light count, frame index, 1 on a camera cut
+  glm::uvec4 counts;                   // light count, frame index, 1 on a camera cut, lights dropped (lighting nothing visible)
 };
 static_assert(sizeof(GpuFrameConstants) == 5 * 64 + 7 * 16);
 
@@ -37,8 +37,9 @@ struct GpuLight {
 static_assert(sizeof(GpuLight) == 80);
 
 struct GpuDraw {
-  glm::mat4 model;          // object → camera-relative world
-  glm::mat4 normal_matrix;  // inverse transpose of model's 3×3 (in a mat4 for alignment)
+  glm::mat4 model;           // object → camera-relative world
+  glm::mat4 normal_matrix;   // inverse transpose of model's 3×3 (in a mat4 for alignment)
+  glm::mat4 previous_model;  // object → this frame's camera-relative world at the previous frame's time
   uint32_t first_index, index_count;
   int32_t vertex_offset;
   uint32_t material;
@@ -47,7 +48,14 @@ struct GpuDraw {
   uint32_t mirrored;  // 1: the transform has a negative determinant, so front faces wind clockwise
   uint32_t pad;
 };
-static_assert(sizeof(GpuDraw) == 160);
+static_assert(sizeof(GpuDraw) == 224);
+
+// Neighbours of a sorted draw list that draw_scene issues as one instanced draw: the same mesh
+// range, material, stencil reference and winding.
+inline bool same_batch(const GpuDraw& a, const GpuDraw& b) {
+  return a.first_index == b.first_index && a.index_count == b.index_count && a.vertex_offset == b.vertex_offset &&
+         a.material == b.material && a.stencil == b.stencil && a.mirrored == b.mirrored;
+}
 
 // Texture slots of GpuMaterial, in order.
 enum MaterialTexture : uint32_t { base_color = 0, metallic_roughness, normal, occlusion, emissive, count };

@@ -2,7 +2,7 @@
 
 namespace nightcap {
 
-std::vector<std::string> frame_sinks() { return {"final.ldr", "normals.packed", "depth.pyramid"}; }
+std::vector<std::string> frame_sinks() { return {"final.ldr", "normals.packed", "depth.pyramid", "cull.stats", "cull.occlusion"}; }
 
 std::vector<PassDecl> frame_passes() {
   std::vector<PassDecl> passes;
@@ -10,6 +10,7 @@ std::vector<PassDecl> frame_passes() {
   passes.push_back(cull_main_pass());
   passes.push_back(depth_prepass_pass());
   passes.push_back(gbuffer_opaque_pass());
+  passes.push_back(gbuffer_dynamic_pass());
   passes.push_back(depth_convert_pass());
   passes.push_back(normals_bfn_lut_pass());
   passes.push_back(normals_pack_pass());

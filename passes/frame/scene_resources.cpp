@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "passes/cull/hierarchy.h"
 #include "passes/frame/gpu_types.h"
 
 namespace nightcap {
@@ -101,11 +102,10 @@ Imports scene_imports(const Scene& scene) {
     std::memcpy(geometry->data() + header.index_offset, scene.indices.data(), scene.indices.size() * 4);
   imports["scene.geometry"] = buffer(ResourceKind::buffer, geometry);
 
-  std::vector<InstanceRecord> instances;
-  for (const Instance& instance : scene.instances) {
-    const Primitive& p = scene.primitives.at(instance.primitive);
-    InstanceRecord r{};
-    std::memcpy(r.world, &instance.world[0][0], sizeof(r.world));
+  std::vector<MeshRecord> meshes;
+  meshes.reserve(scene.primitives.size());
+  for (const Primitive& p : scene.primitives) {
+    MeshRecord r{};
     r.first_index = p.first_index;
     r.index_count = p.index_count;
     r.vertex_offset = p.vertex_offset;
@@ -114,9 +114,28 @@ Imports scene_imports(const Scene& scene) {
       r.bounds_min[k] = p.bounds_min[k];
       r.bounds_max[k] = p.bounds_max[k];
     }
-    r.moving = instance.moving;
+    r.coarser = p.coarser;
+    r.lod_distance = p.lod_distance;
+    r.draw_distance = p.draw_distance;
+    meshes.push_back(r);
+  }
+  std::vector<InstanceRecord> instances;
+  instances.reserve(scene.instances.size());
+  for (const Instance& instance : scene.instances) {
+    InstanceRecord r{};
+    for (int k = 0; k < 3; ++k) {
+      r.position[k] = instance.world[3][k];
+      r.velocity[k] = instance.velocity[k];
+      for (int row = 0; row < 3; ++row) r.basis[k * 3 + row] = instance.world[k][row];
+    }
+    r.primitive = instance.primitive;
+    r.material = scene.material_of(instance);
+    r.flags = instance.moving ? kInstanceMoving : 0;
     instances.push_back(r);
   }
+  imports["scene.meshes"] = buffer(ResourceKind::buffer, bytes_of(meshes));
+  imports["scene.hierarchy"] = buffer(ResourceKind::buffer, std::make_shared<std::vector<uint8_t>>(
+                                                                build_hierarchy(instances, meshes)));
   imports["scene.instances"] = buffer(ResourceKind::buffer, bytes_of(instances));
 
   const int32_t white = static_cast<int32_t>(scene.textures.size());

@@ -21,16 +21,30 @@ struct GeometryHeader {
 };
 constexpr uint32_t kGeometryAlignment = 256;
 
-// scene.instances: one record per drawable instance (host-side, read by cull.main).
-struct InstanceRecord {
-  double world[16];
+// scene.meshes: one record per primitive, the shared meshes instances point at.
+struct MeshRecord {
   uint32_t first_index, index_count;
   int32_t vertex_offset;
   uint32_t material;
   float bounds_min[3], bounds_max[3];  // object space
-  uint32_t moving;
+  int32_t coarser;                     // next level of detail, -1 for none
+  float lod_distance;                  // metres from the camera beyond which `coarser` is drawn
+  float draw_distance;                 // metres from the camera beyond which nothing is drawn
   uint32_t pad;
 };
+
+// scene.instances: one record per drawable instance (host-side, read by cull.main). The
+// transform is split so a map of 100 000 instances stays small: a double translation and a
+// 3×3 basis (column-major), both as authored.
+struct InstanceRecord {
+  double position[3];
+  double basis[9];
+  float velocity[3];   // metres per second: the translation at time t is position + velocity·t
+  uint32_t primitive;  // the finest level of detail
+  uint32_t material;   // the effective material (an instance may override its mesh's)
+  uint32_t flags;      // kInstanceMoving
+};
+constexpr uint32_t kInstanceMoving = 1;
 
 // scene.lights: world-space lights (host-side, read by frame.constants).
 struct LightRecord {
@@ -57,8 +71,9 @@ struct ImportedData {
 };
 using Imports = std::map<std::string, ImportedData>;
 
-// scene.geometry, scene.instances, scene.materials, scene.lights and scene.texture.<n>
-// (mip chains built here; the last texture is 1×1 white, bound where a material has none).
+// scene.geometry, scene.meshes, scene.instances, scene.hierarchy (passes/cull/hierarchy.h),
+// scene.materials, scene.lights and scene.texture.<n> (mip chains built here; the last texture
+// is 1×1 white, bound where a material has none).
 Imports scene_imports(const Scene& scene);
 // frame.camera of frame `frame_index` (at frame_index × kFrameSeconds); `cut`: the view jumped.
 Imports camera_import(const Camera& current, const Camera& previous, uint32_t width, uint32_t height,

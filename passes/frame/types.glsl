@@ -25,6 +25,7 @@ struct Light {
 struct Draw {
   mat4 model;
   mat4 normal_matrix;
+  mat4 previous_model;
   uint first_index;
   uint index_count;
   int vertex_offset;

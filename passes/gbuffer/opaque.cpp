@@ -6,9 +6,9 @@
 // glTF's emissive colour and texture apart from the base colour; RT2.a still holds the
 // emissive intensity (log-encoded) as the seeds describe.
 #include "passes/core/context.h"
-#include "passes/frame/draw_scene.h"
+#include "passes/frame/gpu_types.h"
+#include "passes/gbuffer/draw_surfaces.h"
 #include "passes/frame/frame_passes.h"
-#include "passes/frame/scene_resources.h"
 
 namespace nightcap {
 
@@ -39,28 +39,7 @@ PassDecl gbuffer_opaque_pass() {
       })
       .shader("gbuffer/opaque.vert")
       .shader("gbuffer/opaque.frag")
-      .run([](PassContext& ctx) {
-        ctx.begin_rendering();
-        ctx.bind_pipeline();
-        auto bindings = geometry_bindings(ctx, "draws.gbuffer.opaque");
-        bindings.push_back(Binding::storage(ctx.slot("scene.materials"), "scene.materials"));
-        ctx.push(bindings);
-        draw_scene(ctx, "draws.gbuffer.opaque", [&](uint32_t, const GpuMaterial& m) {
-          const int32_t indices[MaterialTexture::count] = {m.textures.x, m.textures.y, m.textures.z, m.textures.w,
-                                                           m.textures2.x};
-          const uint32_t samplers[MaterialTexture::count] = {m.samplers.x, m.samplers.y, m.samplers.z, m.samplers.w,
-                                                             m.samplers2.x};
-          std::vector<Binding> textures;
-          const uint32_t first = ctx.slot("scene.texture.");
-          for (uint32_t slot = 0; slot < MaterialTexture::count; ++slot) {
-            const bool used = indices[slot] >= 0;
-            const std::string name = texture_resource(uint32_t(used ? indices[slot] : m.textures2.w));
-            textures.push_back(Binding::texture(first + slot, name, ctx.sampler(unpack_sampler(samplers[slot]))));
-          }
-          ctx.push(textures);
-        });
-        ctx.end_rendering();
-      });
+      .run([](PassContext& ctx) { draw_surfaces(ctx, "draws.gbuffer.opaque"); });
 }
 
 }  // namespace nightcap

@@ -48,13 +48,14 @@ std::pair<glm::dvec3, glm::dvec3> world_bounds(const Scene& scene) {
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
   for (const Instance& instance : scene.instances) {
     const Primitive& p = scene.primitives.at(instance.primitive);
-    for (int corner = 0; corner < 8; ++corner) {
-      const glm::dvec4 c(corner & 1 ? p.bounds_max.x : p.bounds_min.x, corner & 2 ? p.bounds_max.y : p.bounds_min.y,
-                         corner & 4 ? p.bounds_max.z : p.bounds_min.z, 1.0);
-      const glm::dvec3 w(instance.world * c);
-      lo = glm::min(lo, w);
-      hi = glm::max(hi, w);
-    }
+    // The box's centre moves with the transform; its half extent along each world axis is the
+    // absolute basis times the object half extent.
+    const glm::dvec3 centre(instance.world * glm::dvec4(0.5 * (glm::dvec3(p.bounds_min) + glm::dvec3(p.bounds_max)), 1.0));
+    const glm::dvec3 half = glm::dvec3(p.bounds_max - p.bounds_min) * 0.5;
+    glm::dvec3 extent(0.0);
+    for (int c = 0; c < 3; ++c) extent += glm::abs(glm::dvec3(instance.world[c])) * half[c];
+    lo = glm::min(lo, centre - extent);
+    hi = glm::max(hi, centre + extent);
   }
   return {lo, hi};
 }
@@ -67,7 +68,7 @@ glm::dvec3 Scene::bounds_max() const { return world_bounds(*this).second; }
 std::set<std::string> Scene::features() const {
   std::set<std::string> f;
   for (const Instance& instance : instances) {
-    const Material& m = materials.at(primitives.at(instance.primitive).material);
+    const Material& m = materials.at(material_of(instance));
     if (instance.moving) f.insert("moving_geometry");
     f.insert(m.alpha_mode == AlphaMode::mask ? "mask_geometry" : "opaque_geometry");
     if (m.emissive != glm::vec3(0.0f)) f.insert("emissive");

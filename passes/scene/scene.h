@@ -85,18 +85,27 @@ struct Material {
   uint8_t stencil_class = stencil::plain;
 };
 
-// One drawable range of the shared vertex/index arrays; bounds are in object space.
+// One drawable range of the shared vertex/index arrays; bounds are in object space. A
+// primitive may name a coarser level of detail, drawn instead of it beyond `lod_distance`
+// metres from the camera (to the centre of the instance's box); levels form a chain. Beyond a
+// level's `draw_distance` nothing is drawn (small props vanish in the distance, the way an
+// engine's cull distances do; it is a level of detail, not visibility).
 struct Primitive {
   uint32_t first_index = 0, index_count = 0;
   int32_t vertex_offset = 0;  // added to each index
   uint32_t material = 0;
   glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};
+  int32_t coarser = -1;  // the next level of detail, -1 for none
+  float lod_distance = INFINITY;
+  float draw_distance = INFINITY;
 };
 
 struct Instance {
-  glm::dmat4 world{1.0};
-  uint32_t primitive = 0;
-  bool moving = false;  // drawn by gbuffer.dynamic once it exists
+  glm::dmat4 world{1.0};  // at time 0
+  uint32_t primitive = 0;  // the finest level of detail
+  bool moving = false;     // drawn by gbuffer.dynamic, not by the static passes
+  glm::vec3 velocity{0.0f};  // metres per second, world space: world(t) = translate(velocity·t)·world
+  int32_t material = -1;     // overrides the primitive's material when set, so meshes are shared
 };
 
 enum class LightType : uint32_t { directional = 0, point = 1, spot = 2, tube = 3 };
@@ -134,7 +143,10 @@ struct Scene {
   std::optional<Camera> camera;    // the first glTF camera, if any
   std::vector<std::string> notes;  // what was approximated, e.g. BLEND drawn as opaque
 
-  // World-space bounds of all instances.
+  uint32_t material_of(const Instance& instance) const {
+    return instance.material >= 0 ? uint32_t(instance.material) : primitives.at(instance.primitive).material;
+  }
+  // World-space bounds of all instances (at time 0).
   glm::dvec3 bounds_min() const;
   glm::dvec3 bounds_max() const;
   // Feature names passes may require: "opaque_geometry", "mask_geometry", "sun",
@@ -147,6 +159,21 @@ Scene load_gltf(const std::string& path);
 
 // The built-in Night City block, deterministic from the seed.
 Scene build_city(uint32_t seed);
+
+// The shots of the built-in map (`render --shot`), each placed from the seed anywhere on it.
+enum class Shot { street, rooftop, aerial };
+Shot parse_shot(const std::string& name);  // throws SceneError naming the flag
+std::string shot_name(Shot shot);
+
+struct MapOptions {
+  uint32_t seed = 1;
+  double size_km = 16.0;  // the map is size × size, centred on the origin
+  Shot shot = Shot::street;
+};
+// The built-in map: a Night City-sized grid of districts (streets, buildings with levels of
+// detail, signs and neon, street lamps, trees, traffic, pedestrians), deterministic from the
+// seed; its camera is the requested shot.
+Scene build_map(const MapOptions& options);
 
 // The camera convention of shared/data/README.md: the camera sits at
 // target + radius·(sin φ sin θ, cos φ, sin φ cos θ), looks at the target with +Y up.

@@ -72,7 +72,7 @@ TEST(InspectTerminal, CompletesPassNamesAndRecallsHistory) {
   const std::filesystem::path capture = shared_capture("city", "--size 320x180 --frames 2");
   Terminal terminal(capture);
   ASSERT_TRUE(terminal.started());
-  ASSERT_TRUE(terminal.read_until("frame 0 frame.constants> ")) << terminal.transcript();
+  ASSERT_TRUE(terminal.read_until("frame 0 cull.main> ")) << terminal.transcript();
 
   // "gbuffer.op" + Tab completes to the only pass starting so.
   terminal.type("goto gbuffer.op\t");

@@ -125,7 +125,7 @@ TEST_F(DrawListComparison, FloatsHoldToTheContractIntegersAndPaddingExactly) {
   set(0, offsetof(GpuDraw, instance), 0u);
   set(0, offsetof(GpuDraw, pad), 5u);  // padding: not a field, still compared
   EXPECT_FALSE(check_contract(contract, record, a, record, b).holds);
-  EXPECT_EQ(compare_resource(record, a, record, b).first_difference, "element 0 byte 156 outside the fields: 0 vs 5");
+  EXPECT_EQ(compare_resource(record, a, record, b).first_difference, "element 0 byte 220 outside the fields: 0 vs 5");
 }
 
 TEST_F(DrawListComparison, NanInBothIsAgreement) {

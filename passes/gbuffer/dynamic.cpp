@@ -1,0 +1,40 @@
+// gbuffer.dynamic: the moving instances into the same G-buffer after gbuffer.opaque [000]. Each
+// vertex carries its position at the previous frame's time (GpuDraw::previous_model), so the
+// motion target holds the object's own motion over the camera's, and cull.main ORs the moving
+// flag (0x02) onto the stencil class it writes.
+//
+// Skipped when the scene has no moving instance. When some exist but none is visible the pass
+// runs with an empty list and draws nothing: skip conditions are decided when the frame's graph
+// is compiled, before cull.main has run.
+#include "passes/core/context.h"
+#include "passes/frame/frame_passes.h"
+#include "passes/frame/gpu_types.h"
+#include "passes/gbuffer/draw_surfaces.h"
+
+namespace nightcap {
+
+PassDecl gbuffer_dynamic_pass() {
+  return PassDecl("gbuffer.dynamic", PassType::graphics)
+      .read("frame.constants", Use::uniform_buffer)
+      .read("scene.geometry", Use::storage_read)
+      .read("scene.geometry", Use::index_buffer)
+      .read("draws.gbuffer.dynamic", Use::storage_read)
+      .read("scene.materials", Use::storage_read)
+      .read_all("scene.texture.", Use::sampled)
+      .slots("scene.texture.", MaterialTexture::count)
+      .modify("scene.depth", Use::depth_attachment)
+      .modify("gbuffer.albedo", Use::color_attachment)
+      .modify("gbuffer.normal", Use::color_attachment)
+      .modify("gbuffer.material", Use::color_attachment)
+      .modify("gbuffer.motion", Use::color_attachment)
+      .modify("gbuffer.emissive", Use::color_attachment)
+      .raster(RasterState::per_draw(VK_CULL_MODE_BACK_BIT))
+      // No prepass covers moving instances: plain GREATER, and the stencil takes each draw's class.
+      .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_GREATER, true).writing_stencil())
+      .needs("moving_geometry")
+      .shader("gbuffer/dynamic.vert")
+      .shader("gbuffer/dynamic.frag")
+      .run([](PassContext& ctx) { draw_surfaces(ctx, "draws.gbuffer.dynamic"); });
+}
+
+}  // namespace nightcap
