@@ -93,8 +93,9 @@ Meshes make_meshes(Builder& build, uint32_t facade, uint32_t roof, uint32_t road
     const float w = float(kFootprints[f]);
     for (int hi = 0; hi < 8; ++hi) {
       const float h = float(kHeights[hi]);
-      const uint32_t l0 = shell_level(build, facade, w, h, w, 2 * kFloor);
-      const uint32_t l1 = shell_level(build, facade, w, h, w, 6 * kFloor);
+      // A ledge at every floor up close, a few far away, none at the last level.
+      const uint32_t l0 = shell_level(build, facade, w, h, w, kFloor);
+      const uint32_t l1 = shell_level(build, facade, w, h, w, std::min(6 * kFloor, h / 2));
       const uint32_t l2 = shell_level(build, facade, w, h, w, 0.0f);
       chain(scene, {l0, l1, l2}, {kLod0Distance, kLod1Distance});
       m.shell[{f, hi}] = l0;
