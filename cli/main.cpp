@@ -557,8 +557,9 @@ int main(int argc, char** argv) {
   render->add_option("--shot", r.shot,
                      "render the built-in 16 km map from this shot: street (1.7 m up a street), rooftop (60 m up, "
                      "toward the skyline) or aerial (800 m up at 45°), placed from the seed");
-  render->add_option("--map-size", r.map_size, "side of the built-in map in km (0.5 to 16; default 16), street shot "
-                                               "unless --shot says otherwise");
+  render->add_option("--map-size", r.map_size,
+                     "side of the built-in map in km (0.5 to 16; default 16), street shot "
+                     "unless --shot says otherwise");
   render->add_option("--device", r.device, "Vulkan device name (substring); default: lavapipe (llvmpipe)");
   render->add_option("--set", r.sets, "PASS.PARAM=VALUE parameter override (repeatable)");
   render->add_option("--orbit", r.orbit, "orbit camera THETA,PHI,RADIUS (degrees, scene units)");

@@ -158,7 +158,8 @@ Hierarchy Hierarchy::parse(std::span<const uint8_t> bytes, size_t instance_count
   for (uint32_t n = 0; n < h.nodes.size(); ++n) {
     const HierarchyNode& node = h.nodes[n];
     if (node.count == 0 && header.static_count > 0) {
-      if (node.first <= n || uint64_t(node.first) + 1 >= h.nodes.size()) fail("node " + std::to_string(n) + " has bad children");
+      if (node.first <= n || uint64_t(node.first) + 1 >= h.nodes.size())
+        fail("node " + std::to_string(n) + " has bad children");
     } else if (uint64_t(node.first) + node.count > header.static_count) {
       fail("leaf " + std::to_string(n) + " points past the instance order");
     }

@@ -11,10 +11,10 @@
 // lists are otherwise the same, so a culled and an unculled frame draw in the same order.
 #include <algorithm>
 #include <array>
-#include <optional>
-#include <queue>
 #include <cmath>
 #include <cstring>
+#include <optional>
+#include <queue>
 
 #include "passes/core/context.h"
 #include "passes/cull/cull_stats.h"
@@ -204,7 +204,7 @@ class Culler {
       return glm::dot(diagonal, diagonal) / std::max(glm::dot(nearest, nearest), 1e-6);
     };
     using Entry = std::pair<double, uint32_t>;
-    std::priority_queue<Entry> open;                                          // nodes, best bound first
+    std::priority_queue<Entry> open;                                           // nodes, best bound first
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> best;  // the chosen, worst on top
     open.push({bound(0), 0});
     while (!open.empty()) {
@@ -464,7 +464,8 @@ PassDecl cull_main_pass() {
       .layout("cull.stats", cull_stats_schema())
       .param("frustum", 1, 0, 1, "1: drop instances outside the view frustum")
       .param("occlusion", 1, 0, 1, "1: drop instances hidden behind the occluders")
-      .param("occluders", 64, 0, 4096, "how many of the largest nearby opaque instances occlude (and depth.prepass draws)")
+      .param("occluders", 64, 0, 4096,
+             "how many of the largest nearby opaque instances occlude (and depth.prepass draws)")
       .param("occlusion_width", 256, 8, 2048, "width of the CPU occlusion buffer in cells (height follows the aspect)")
       .run([](PassContext& ctx) { Culler(ctx).run(); });
 }

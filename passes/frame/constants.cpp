@@ -44,8 +44,7 @@ void build_constants(PassContext& ctx) {
     if (!(l.range > 0.0f)) return false;
     const glm::dvec3 start = glm::dvec3(l.position[0], l.position[1], l.position[2]) - eye;
     // Point and spot lights reach from their position; a tube from every point of its segment.
-    const glm::dvec3 end =
-        l.type == uint32_t(LightType::tube) ? glm::dvec3(l.end[0], l.end[1], l.end[2]) - eye : start;
+    const glm::dvec3 end = l.type == uint32_t(LightType::tube) ? glm::dvec3(l.end[0], l.end[1], l.end[2]) - eye : start;
     glm::dvec3 lo = glm::min(start, end), hi = glm::max(start, end);
     lo -= glm::dvec3(l.range);
     hi += glm::dvec3(l.range);

@@ -73,8 +73,7 @@ void draw_scene(PassContext& ctx, const std::string& draws,
       current_front = front;
     }
     vkCmdSetStencilReference(ctx.cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, draw.stencil & 0xff);
-    vkCmdDrawIndexed(ctx.cmd(), draw.index_count, uint32_t(end - i), draw.first_index, draw.vertex_offset,
-                     uint32_t(i));
+    vkCmdDrawIndexed(ctx.cmd(), draw.index_count, uint32_t(end - i), draw.first_index, draw.vertex_offset, uint32_t(i));
     i = end;
   }
 }

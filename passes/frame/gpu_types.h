@@ -22,7 +22,7 @@ struct GpuFrameConstants {
   glm::vec4 sun_radiance;              // rgb × illuminance
   glm::vec4 projection_params;         // znear, yfov, aspect
   glm::vec4 timing;                    // seconds since frame 0, seconds since the previous frame
-  glm::uvec4 counts;                   // light count, frame index, 1 on a camera cut, lights dropped (lighting nothing visible)
+  glm::uvec4 counts;  // light count, frame index, 1 on a camera cut, lights dropped (lighting nothing visible)
 };
 static_assert(sizeof(GpuFrameConstants) == 5 * 64 + 7 * 16);
 

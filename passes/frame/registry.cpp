@@ -2,7 +2,9 @@
 
 namespace nightcap {
 
-std::vector<std::string> frame_sinks() { return {"final.ldr", "normals.packed", "depth.pyramid", "cull.stats", "cull.occlusion"}; }
+std::vector<std::string> frame_sinks() {
+  return {"final.ldr", "normals.packed", "depth.pyramid", "cull.stats", "cull.occlusion"};
+}
 
 std::vector<PassDecl> frame_passes() {
   std::vector<PassDecl> passes;

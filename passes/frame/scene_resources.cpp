@@ -134,8 +134,8 @@ Imports scene_imports(const Scene& scene) {
     instances.push_back(r);
   }
   imports["scene.meshes"] = buffer(ResourceKind::buffer, bytes_of(meshes));
-  imports["scene.hierarchy"] = buffer(ResourceKind::buffer, std::make_shared<std::vector<uint8_t>>(
-                                                                build_hierarchy(instances, meshes)));
+  imports["scene.hierarchy"] =
+      buffer(ResourceKind::buffer, std::make_shared<std::vector<uint8_t>>(build_hierarchy(instances, meshes)));
   imports["scene.instances"] = buffer(ResourceKind::buffer, bytes_of(instances));
 
   const int32_t white = static_cast<int32_t>(scene.textures.size());

@@ -6,9 +6,9 @@
 // glTF's emissive colour and texture apart from the base colour; RT2.a still holds the
 // emissive intensity (log-encoded) as the seeds describe.
 #include "passes/core/context.h"
+#include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/gbuffer/draw_surfaces.h"
-#include "passes/frame/frame_passes.h"
 
 namespace nightcap {
 

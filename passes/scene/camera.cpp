@@ -50,7 +50,8 @@ std::pair<glm::dvec3, glm::dvec3> world_bounds(const Scene& scene) {
     const Primitive& p = scene.primitives.at(instance.primitive);
     // The box's centre moves with the transform; its half extent along each world axis is the
     // absolute basis times the object half extent.
-    const glm::dvec3 centre(instance.world * glm::dvec4(0.5 * (glm::dvec3(p.bounds_min) + glm::dvec3(p.bounds_max)), 1.0));
+    const glm::dvec3 centre(instance.world *
+                            glm::dvec4(0.5 * (glm::dvec3(p.bounds_min) + glm::dvec3(p.bounds_max)), 1.0));
     const glm::dvec3 half = glm::dvec3(p.bounds_max - p.bounds_min) * 0.5;
     glm::dvec3 extent(0.0);
     for (int c = 0; c < 3; ++c) extent += glm::abs(glm::dvec3(instance.world[c])) * half[c];

@@ -84,9 +84,9 @@ uint32_t roof_level(Builder& build, uint32_t material, float w, float d, int det
   return build.end();
 }
 
-Meshes make_meshes(Builder& build, uint32_t facade, uint32_t roof, uint32_t road, uint32_t sidewalk,
-                   uint32_t ground, uint32_t pole, uint32_t paint, uint32_t bark, uint32_t leaves, uint32_t skin,
-                   uint32_t face, uint32_t hair, uint32_t neon) {
+Meshes make_meshes(Builder& build, uint32_t facade, uint32_t roof, uint32_t road, uint32_t sidewalk, uint32_t ground,
+                   uint32_t pole, uint32_t paint, uint32_t bark, uint32_t leaves, uint32_t skin, uint32_t face,
+                   uint32_t hair, uint32_t neon) {
   Meshes m;
   Scene& scene = build.scene();
   for (int f = 0; f < 4; ++f) {
@@ -160,8 +160,8 @@ Scene build_map(const MapOptions& options) {
   Scene scene;
   char size[32];
   std::snprintf(size, sizeof(size), "%g", options.size_km);
-  scene.source = "built-in map (seed " + std::to_string(options.seed) + ", " + size + " km, " +
-                 shot_name(options.shot) + " shot)";
+  scene.source =
+      "built-in map (seed " + std::to_string(options.seed) + ", " + size + " km, " + shot_name(options.shot) + " shot)";
   Random random(options.seed);
   Builder build(scene);
 
@@ -197,9 +197,8 @@ Scene build_map(const MapOptions& options) {
     neon.emissive_strength = 40.0f;
     neons.push_back(build.material(neon));
   }
-  const Meshes mesh =
-      make_meshes(build, facades[0], roof, road, sidewalk, ground, pole, paints[0], bark, leaves, skin, face, hair,
-                  neons[0]);
+  const Meshes mesh = make_meshes(build, facades[0], roof, road, sidewalk, ground, pole, paints[0], bark, leaves, skin,
+                                  face, hair, neons[0]);
 
   // Districts: a dense core and a handful of others; the rest of the map is badlands.
   const double half_map = options.size_km * 500.0;
@@ -315,13 +314,13 @@ Scene build_map(const MapOptions& options) {
         car.moving = true;
         car.velocity = glm::vec3(float(dir * speed), 0.0f, 0.0f);
       }
-      // Pedestrians on the sidewalk along the +x side.
-      const int people = random.uniform() < rho * 0.6 ? 1 + int(random.below(2)) : 0;
+      // Pedestrians on the sidewalk along the same street, walking either way.
+      const int people = random.uniform() < rho * 0.8 ? 1 + int(random.below(3)) : 0;
       for (int k = 0; k < people; ++k) {
         const double dir = random.uniform() < 0.5 ? 1.0 : -1.0;
-        const glm::dvec3 at(c.x + kLot / 2 - 0.5, 0.15, c.y + random.range(-kLot / 2, kLot / 2));
-        const double yaw = dir > 0 ? glm::pi<double>() : 0.0;
-        const glm::vec3 walk(0.0f, 0.0f, float(dir * 1.3));
+        const glm::dvec3 at(c.x + random.range(-kLot / 2, kLot / 2), 0.15, c.y + kLot / 2 + 1.0);
+        const double yaw = dir > 0 ? -glm::half_pi<double>() : glm::half_pi<double>();
+        const glm::vec3 walk(float(dir * 1.3), 0.0f, 0.0f);
         for (const auto& [part, offset] : {std::pair{mesh.body, 0.0}, {mesh.face, 1.63}, {mesh.hair, 1.8}}) {
           Instance& i = build.place(part, at + glm::dvec3(0, offset, 0), yaw);
           i.moving = true;
@@ -352,12 +351,14 @@ Scene build_map(const MapOptions& options) {
       for (const BuiltBlock& b : built) pool.push_back(&b);
     Random pick(options.seed * 2654435761u + uint32_t(options.shot));
     const BuiltBlock& at = *pool[pick.below(uint32_t(pool.size()))];
-    const int heading = int(pick.below(4));
+    // Along the street on the block's +z side, where its traffic and pedestrians are, either way
+    // (the street shot); the other shots face any of the four directions.
+    const int heading = int(pick.below(options.shot == Shot::street ? 2 : 4));
     const glm::dvec3 forward = heading == 0   ? glm::dvec3(1, 0, 0)
                                : heading == 1 ? glm::dvec3(-1, 0, 0)
                                : heading == 2 ? glm::dvec3(0, 0, 1)
                                               : glm::dvec3(0, 0, -1);
-    const glm::dvec3 side(-forward.z, 0, forward.x);
+    const glm::dvec3 side = options.shot == Shot::street ? glm::dvec3(0, 0, 1) : glm::dvec3(-forward.z, 0, forward.x);
     const glm::dvec3 block(at.centre.x, 0.0, at.centre.y);
     glm::dvec3 eye, target;
     if (options.shot == Shot::street) {

@@ -101,9 +101,9 @@ struct Primitive {
 };
 
 struct Instance {
-  glm::dmat4 world{1.0};  // at time 0
-  uint32_t primitive = 0;  // the finest level of detail
-  bool moving = false;     // drawn by gbuffer.dynamic, not by the static passes
+  glm::dmat4 world{1.0};     // at time 0
+  uint32_t primitive = 0;    // the finest level of detail
+  bool moving = false;       // drawn by gbuffer.dynamic, not by the static passes
   glm::vec3 velocity{0.0f};  // metres per second, world space: world(t) = translate(velocity·t)·world
   int32_t material = -1;     // overrides the primitive's material when set, so meshes are shared
 };

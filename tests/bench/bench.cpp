@@ -32,6 +32,7 @@
 
 #include "captures/capture.h"
 #include "passes/core/isolated.h"
+#include "passes/cull/cull_stats.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/renderer.h"
@@ -632,6 +633,76 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   }
 }
 
+// The built-in 16 km map, one shot at a time: cull.main alone (median of 5 runs on this
+// thread, so one core: hierarchy walk, occlusion raster, tests and sort), then frames of the
+// shot at the output size (the first one warms the pipelines; the camera walks), per pass.
+void bench_map(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height, int repeats) {
+  for (nc::Shot shot : {nc::Shot::street, nc::Shot::rooftop, nc::Shot::aerial}) {
+    const std::string name = nc::shot_name(shot);
+    const nc::Scene scene = nc::build_map({1, 16.0, shot});
+    const nc::Imports imports = nc::scene_imports(scene);
+    std::map<std::string, nc::IsolatedInput> inputs;
+    for (const char* resource :
+         {"scene.instances", "scene.meshes", "scene.hierarchy", "scene.materials", "scene.geometry"})
+      inputs[resource] = {imports.at(resource).desc, imports.at(resource).bytes};
+    const nc::ImportedData camera =
+        nc::camera_import(*scene.camera, *scene.camera, width, height, 0, false).at("frame.camera");
+    inputs["frame.camera"] = {camera.desc, camera.bytes};
+    const nc::PassDecl cull = nc::cull_main_pass();
+    std::vector<double> cull_ms;
+    nc::CullStats stats{};
+    for (int r = 0; r < 5; ++r) {
+      nc::IsolatedRun run = nc::run_isolated(gpu, cache, cull, inputs, cull.default_params(), width, height, builtin());
+      cull_ms.push_back(run.execution.passes.at(0).cpu_ms);
+      std::memcpy(&stats, run.outputs.at("cull.stats")->data(), sizeof(stats));
+    }
+    nc::RenderSettings settings;
+    settings.width = width;
+    settings.height = height;
+    settings.frames = uint32_t(repeats) + 1;
+    nc::Renderer renderer(gpu, scene, settings);
+    renderer.render_frame(0, false);
+    std::map<std::string, std::vector<double>> pass_ms;
+    std::vector<std::string> order;
+    std::vector<double> frame_ms;
+    for (int r = 1; r <= repeats; ++r) {
+      const double start = now_ms();
+      nc::RenderedFrame frame = renderer.render_frame(uint32_t(r), false);
+      frame_ms.push_back(now_ms() - start);
+      for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
+        if (r == 1) order.push_back(frame.graph.passes[i].decl->name);
+        if (!frame.graph.passes[i].runs) continue;
+        const auto& exec = frame.execution.passes[i];
+        pass_ms[frame.graph.passes[i].decl->name].push_back(exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms);
+      }
+    }
+    const uint32_t triangles = stats.triangles_gbuffer + stats.triangles_dynamic;
+    table() << "\n## map " << name << " shot (16 km, " << scene.instances.size() << " instances, "
+            << scene.lights.size() << " lights; " << width << "x" << height << ", median of " << repeats << ")\n"
+            << "cull.main " << std::fixed << std::setprecision(3) << median(cull_ms)
+            << " ms (median of 5): " << stats.visible << " visible, " << stats.culled_frustum << " culled by frustum, "
+            << stats.culled_occlusion << " by occlusion, " << stats.culled_distance << " by distance; "
+            << stats.occluders << " occluders (" << stats.occluder_triangles << " triangles); "
+            << stats.draws_gbuffer + stats.draws_dynamic << " draws, " << triangles << " triangles; levels of detail "
+            << stats.lod_histogram[0] << "/" << stats.lod_histogram[1] << "/" << stats.lod_histogram[2] << "\n";
+    for (const std::string& pass : order) {
+      table() << std::left << std::setw(22) << pass << std::right << std::setw(12);
+      if (pass_ms[pass].empty())
+        table() << "skipped";
+      else
+        table() << std::fixed << std::setprecision(3) << median(pass_ms[pass]);
+      table() << "\n";
+      if (!pass_ms[pass].empty()) figure("pass_ms.map_" + name + "." + pass, median(pass_ms[pass]));
+    }
+    table() << std::left << std::setw(22) << "frame" << std::right << std::setw(12) << median(frame_ms) << "\n";
+    figure("cull_ms_" + name, median(cull_ms));
+    figure("frame_ms_" + name, median(frame_ms));
+    figure("instances_visible_" + name, stats.visible);
+    figure("triangles_" + name, triangles);
+    figure("draws_" + name, stats.draws_gbuffer + stats.draws_dynamic);
+  }
+}
+
 // depth.convert and depth.pyramid: time, and error against double-precision / exact references.
 void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height) {
   std::mt19937 rng(7);
@@ -818,12 +889,16 @@ int main(int argc, char** argv) {
   uint32_t repeats = 5, directions = 1 << 20;
   std::string size = "1280x720", device, data = NIGHTCAP_SHARED_DATA;
   bool skip_models = false;
+  std::vector<std::string> only;
+  const std::vector<std::string> sections = {"city",  "models", "map",      "frames",  "normals", "tubes",
+                                             "depth", "bloom",  "exposure", "startup", "diff",    "report"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
   app.add_option("--directions", directions, "directions for the normals.pack error sweep")->capture_default_str();
   app.add_option("--data", data, "shared/data folder with the glTF models")->capture_default_str();
-  app.add_flag("--skip-models", skip_models, "only the built-in city");
+  app.add_flag("--skip-models", skip_models, "leave out the glTF models (the models section)");
+  app.add_option("--only", only, "run only these sections (repeatable)")->check(CLI::IsMember(sections));
   app.add_flag("--json", g_json, "print {\"figures\": {NAME: NUMBER}} on stdout (the tables go to stderr)");
   CLI11_PARSE(app, argc, argv);
   uint32_t width = 1280, height = 720;
@@ -835,8 +910,13 @@ int main(int argc, char** argv) {
     nc::GpuDevice gpu({device, false});
     nc::PipelineCache cache(gpu);
     table() << "# nightcap benchmark on " << gpu.name() << " (" << gpu.driver() << ")\n";
-    bench_scene(gpu, "city", "built-in city (seed 1)", nc::build_city(1), width, height, int(repeats), true);
-    if (!skip_models) {
+    auto wanted = [&](const std::string& section) {
+      return only.empty() ? !(section == "models" && skip_models)
+                          : std::find(only.begin(), only.end(), section) != only.end();
+    };
+    if (wanted("city"))
+      bench_scene(gpu, "city", "built-in city (seed 1)", nc::build_city(1), width, height, int(repeats), true);
+    if (wanted("models")) {
       for (const auto& entry : fs::directory_iterator(fs::path(data) / "gltf")) {
         const fs::path file = entry.path() / "glTF" / (entry.path().filename().string() + ".gltf");
         const std::string model = entry.path().filename().string();
@@ -844,15 +924,16 @@ int main(int argc, char** argv) {
           bench_scene(gpu, model, model, nc::load_gltf(file.string()), width, height, int(repeats), false);
       }
     }
-    bench_extra_frames(gpu, width, height);
-    bench_normals(gpu, cache, directions);
-    bench_tube_samples(gpu, width / 2, height / 2);
-    bench_depth(gpu, cache, width, height);
-    bench_bloom(gpu, cache, width, height);
-    bench_exposure(gpu, cache, width, height);
-    bench_startup(gpu, width, height);
-    bench_diff(gpu, width, height);
-    bench_report(gpu, width, height);
+    if (wanted("map")) bench_map(gpu, cache, width, height, int(repeats));
+    if (wanted("frames")) bench_extra_frames(gpu, width, height);
+    if (wanted("normals")) bench_normals(gpu, cache, directions);
+    if (wanted("tubes")) bench_tube_samples(gpu, width / 2, height / 2);
+    if (wanted("depth")) bench_depth(gpu, cache, width, height);
+    if (wanted("bloom")) bench_bloom(gpu, cache, width, height);
+    if (wanted("exposure")) bench_exposure(gpu, cache, width, height);
+    if (wanted("startup")) bench_startup(gpu, width, height);
+    if (wanted("diff")) bench_diff(gpu, width, height);
+    if (wanted("report")) bench_report(gpu, width, height);
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

@@ -13,9 +13,9 @@ namespace fs = std::filesystem;
 const char* kCity = "--size 320x180 --frames 2";
 // Every pass of the frame, CPU passes included.
 const std::vector<std::string> kFramePasses = {
-    "cull.main",       "frame.constants", "depth.prepass",     "gbuffer.opaque",     "depth.convert", "normals.bfn_lut",
-    "normals.pack",    "depth.pyramid", "lighting.deferred", "lighting.composite", "bloom.level0",  "bloom.level1",
-    "bloom.level2",    "bloom.level3",  "bloom.level4",      "bloom.level5",       "exposure",      "tonemap"};
+    "cull.main",    "frame.constants", "depth.prepass",     "gbuffer.opaque",     "depth.convert", "normals.bfn_lut",
+    "normals.pack", "depth.pyramid",   "lighting.deferred", "lighting.composite", "bloom.level0",  "bloom.level1",
+    "bloom.level2", "bloom.level3",    "bloom.level4",      "bloom.level5",       "exposure",      "tonemap"};
 
 nlohmann::json passes_json(const fs::path& capture) {
   const CliResult r = run_cli("passes --json " + quote(capture));

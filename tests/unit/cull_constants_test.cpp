@@ -447,7 +447,8 @@ class FrameConstants : public GpuTest {
       for (int plane = 0; plane < 5; ++plane) {
         double best = -INFINITY;
         for (int k = 0; k < 8; ++k)
-          best = std::max(best, frustum.distances({k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z})[plane]);
+          best =
+              std::max(best, frustum.distances({k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z})[plane]);
         if (best < -1e-9 * glm::length(hi - lo + glm::abs(lo - eye))) return true;
       }
       return false;

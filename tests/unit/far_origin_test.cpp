@@ -83,5 +83,24 @@ TEST_F(FarFromOrigin, EightKilometresOutEveryGBufferTargetIsBitIdentical) {
   EXPECT_TRUE(classes.count(0x08)) << "no road pixels tagged";
 }
 
+// The map's far corner: a small map (traffic included, so gbuffer.dynamic draws too) moved to the
+// corner of a 16 km map renders the G-buffer it renders at the origin, bit for bit.
+TEST_F(FarFromOrigin, AtTheMapsFarCornerEveryGBufferTargetIsBitIdentical) {
+  const Scene near = build_map({1, 1.0, Shot::street});
+  const Scene far = moved(near, {7500.0, 0.0, 7500.0});
+  RenderSettings settings;
+  settings.width = 320;
+  settings.height = 180;
+  Renderer near_renderer(*gpu_, near, settings), far_renderer(*gpu_, far, settings);
+  near_renderer.render_frame(0, false);
+  far_renderer.render_frame(0, false);
+  const RenderedFrame a = near_renderer.render_frame(1, true), b = far_renderer.render_frame(1, true);
+  ASSERT_GT(a.execution.final_version("draws.gbuffer.dynamic")->bytes->size(), 0u) << "no traffic in view";
+  for (const char* name :
+       {"gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "gbuffer.emissive", "gbuffer.motion", "scene.depth"})
+    EXPECT_EQ(*a.execution.final_version(name)->bytes, *b.execution.final_version(name)->bytes)
+        << name << " differs at the far corner";
+}
+
 }  // namespace
 }  // namespace nightcap::test

@@ -9,9 +9,10 @@
 // pixels' positions are reconstructed from depth.linear and the camera in double precision; a
 // pixel counts as within reach when it is within range + 1 cm (float depth at 2 km is good to
 // about 0.2 mm).
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <cstring>
+#include <glm/gtc/matrix_transform.hpp>
 #include <set>
 
 #include "passes/cull/cull_stats.h"
@@ -24,8 +25,8 @@ namespace {
 
 std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> final_versions(const RenderedFrame& frame) {
   std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> out;
-  for (const char* name : {"gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "gbuffer.motion",
-                           "gbuffer.emissive", "scene.depth", "depth.linear", "cull.stats", "frame.lights"})
+  for (const char* name : {"gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "gbuffer.motion", "gbuffer.emissive",
+                           "scene.depth", "depth.linear", "cull.stats", "frame.lights"})
     if (const VersionData* v = frame.execution.final_version(name)) out[name] = v->bytes;
   return out;
 }
@@ -56,7 +57,9 @@ TEST_P(MapCulling, CulledGBufferEqualsTheUnculledOne) {
   // The comparison means something: culling removed a lot, and the unculled frame drew it.
   // (The aerial shot sees most of a 2 km map and looks down on it: it has little to cull.)
   EXPECT_GT(culled.culled_frustum + culled.culled_occlusion, 100u);
-  if (GetParam() != Shot::aerial) EXPECT_GT(culled.culled_occlusion, 100u);
+  if (GetParam() != Shot::aerial) {
+    EXPECT_GT(culled.culled_occlusion, 100u);
+  }
   EXPECT_GT(all.triangles_gbuffer, culled.triangles_gbuffer);
   std::printf("%s: %u visible, %u culled by frustum, %u by occlusion; %u triangles drawn of %u unculled\n",
               shot_name(GetParam()).c_str(), culled.visible, culled.culled_frustum, culled.culled_occlusion,
@@ -78,8 +81,8 @@ TEST_P(MapCulling, DroppedLightsLightNoVisiblePixel) {
   for (size_t k = 0; k < lights.size() / sizeof(GpuLight); ++k) {
     GpuLight g;
     std::memcpy(&g, lights.data() + k * sizeof(GpuLight), sizeof(g));
-    kept.insert({g.position_type.x, g.position_type.y, g.position_type.z, g.end_radius.x, g.end_radius.y,
-                 g.end_radius.z});
+    kept.insert(
+        {g.position_type.x, g.position_type.y, g.position_type.z, g.end_radius.x, g.end_radius.y, g.end_radius.z});
   }
   std::vector<const Light*> dropped;
   for (const Light& l : scene.lights) {
@@ -112,6 +115,39 @@ TEST_P(MapCulling, DroppedLightsLightNoVisiblePixel) {
           << "a dropped light reaches a visible point (" << p.x << ", " << p.y << ", " << p.z << ")";
     }
   }
+}
+
+// Inside a building the shell's walls face away and are not drawn: the view reaches the city
+// through them, so the occluders must not count them either.
+class MapCullingInside : public GpuTest {};
+
+TEST_F(MapCullingInside, CulledGBufferEqualsTheUnculledOne) {
+  Scene scene = build_map({3, 2.0, Shot::street});
+  uint32_t tallest = 0;
+  for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+    const Primitive& p = scene.primitives[scene.instances[i].primitive];
+    const Primitive& q = scene.primitives[scene.instances[tallest].primitive];
+    if (p.bounds_max.y - p.bounds_min.y > q.bounds_max.y - q.bounds_min.y) tallest = i;
+  }
+  const glm::dvec3 inside = glm::dvec3(scene.instances[tallest].world[3]) + glm::dvec3(0.0, 30.0, 0.0);
+  Camera camera;
+  camera.world = glm::inverse(glm::lookAt(inside, inside + glm::dvec3(1.0, -0.1, 0.3), glm::dvec3(0, 1, 0)));
+  camera.yfov = glm::radians(70.0f);
+  camera.znear = 0.1f;
+  RenderSettings settings;
+  settings.width = 320;
+  settings.height = 180;
+  settings.camera = camera;
+  RenderSettings unculled = settings;
+  unculled.params["cull.main"] = {{"frustum", 0.0}, {"occlusion", 0.0}};
+  Renderer culled_renderer(*gpu_, scene, settings), unculled_renderer(*gpu_, scene, unculled);
+  const auto a = final_versions(culled_renderer.render_frame(0, true));
+  const auto b = final_versions(unculled_renderer.render_frame(0, true));
+  for (const char* name : {"gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "scene.depth"})
+    EXPECT_EQ(*a.at(name), *b.at(name)) << name << " differs when culling is off";
+  CullStats culled{};
+  std::memcpy(&culled, a.at("cull.stats")->data(), sizeof(culled));
+  EXPECT_GT(culled.culled_frustum, 100u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Shots, MapCulling, ::testing::Values(Shot::street, Shot::rooftop, Shot::aerial),
