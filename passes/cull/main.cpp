@@ -62,6 +62,9 @@ void cull(PassContext& ctx) {
     d.stencil = uint32_t(m.textures2.z);
     d.instance = i;
     d.mirrored = determinant < 0.0;
+    const glm::vec3 lo = glm::make_vec3(r.bounds_min), hi = glm::make_vec3(r.bounds_max);
+    d.position_origin = glm::vec4(lo, 0.0f);
+    d.position_step = glm::vec4(position_step(lo, hi), 0.0f);
     gbuffer.push_back(d);
     // Alpha-tested and blended surfaces do not occlude reliably: the prepass leaves them out.
     if (m.extra.z == float(AlphaMode::opaque)) prepass.push_back(d);

@@ -10,16 +10,10 @@
 #include <vector>
 
 #include "passes/core/graph.h"
+#include "passes/frame/vertex_streams.h"
 #include "passes/scene/scene.h"
 
 namespace nightcap {
-
-// scene.geometry starts with this header; vertex and index streams follow at the offsets.
-struct GeometryHeader {
-  uint32_t vertex_count, index_count;
-  uint32_t vertex_offset, index_offset;  // bytes from the start of the buffer, 256-aligned
-};
-constexpr uint32_t kGeometryAlignment = 256;
 
 // scene.instances: one record per drawable instance (host-side, read by cull.main).
 struct InstanceRecord {
@@ -27,7 +21,7 @@ struct InstanceRecord {
   uint32_t first_index, index_count;
   int32_t vertex_offset;
   uint32_t material;
-  float bounds_min[3], bounds_max[3];  // object space
+  float bounds_min[3], bounds_max[3];  // object space; also the box of the quantised positions
   uint32_t moving;
   uint32_t pad;
 };
@@ -57,7 +51,7 @@ struct ImportedData {
 };
 using Imports = std::map<std::string, ImportedData>;
 
-// scene.geometry, scene.instances, scene.materials, scene.lights and scene.texture.<n>
+// scene.geometry (packed by pack_geometry), scene.instances, scene.materials, scene.lights and scene.texture.<n>
 // (mip chains built here; the last texture is 1×1 white, bound where a material has none).
 Imports scene_imports(const Scene& scene);
 // frame.camera of frame `frame_index` (at frame_index × kFrameSeconds); `cut`: the view jumped.
