@@ -1,6 +1,7 @@
 // Vertex pulling from scene.geometry and draws.<pass>, shared by every pass that rasterises
-// scene geometry. They all place vertices with clip_position(), whose `precise` result forbids
-// reassociation and contraction, so the prepass and the G-buffer pass agree bit for bit.
+// scene geometry. They all decode positions in the draw's box and place vertices with
+// clip_position(), both `precise` (no reassociation or contraction), so the prepass and the
+// G-buffer pass agree bit for bit.
 #include "types.glsl"
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
