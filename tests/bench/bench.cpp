@@ -680,20 +680,21 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
   figure("depth_pyramid.gpu_ms", median(times));
 }
 
-// scene.geometry's positions against the bits they keep: the built-in city's vertices quantised
-// on the CPU in their primitives' boxes with 8, 10, 12 and 16 bits per axis (16 ships), the
-// distance to the float position in millimetres (max, mean over vertices), the time to quantise
+// scene.geometry's positions against the bits they keep: a scene's vertices quantised on the CPU
+// in their primitives' boxes with 8, 10, 12 and 16 bits per axis (16 ships), the distance to the
+// float position in object-space millimetres (max, mean over vertices), the time to quantise
 // them, and the bytes a vertex would take (positions in 4 bytes up to 10 bits, else 8; the other
-// streams' 20 bytes as shipped). Then the shipped buffer against the 72-byte float layout.
-void bench_vertex_streams() {
-  const nc::Scene scene = nc::build_city(1);
+// streams' 20 bytes as shipped). Then the shipped buffer against the 72-byte float layout. The
+// built-in city is boxes whose corners are their bounds, exact at any bit count; DamagedHelmet
+// shows a curve.
+void bench_vertex_streams(const std::string& key, const std::string& label, const nc::Scene& scene) {
   const nc::PackedGeometry packed = nc::pack_geometry(scene);
   std::vector<const nc::PositionBox*> box_of(scene.vertices.size(), nullptr);
   for (size_t p = 0; p < scene.primitives.size(); ++p)
     for (uint32_t k = 0; k < scene.primitives[p].index_count; ++k)
       box_of[size_t(scene.primitives[p].vertex_offset) + scene.indices[scene.primitives[p].first_index + k]] =
           &packed.boxes[p];
-  table() << "\n## vertex streams: built-in city (seed 1), " << scene.vertices.size() << " vertices\n"
+  table() << "\n## vertex streams: " << label << ", " << scene.vertices.size() << " vertices\n"
           << "position bits  bytes/vertex  max mm     mean mm    quantise ms\n";
   const uint32_t other_streams = nc::kVertexStreamBytes[nc::uv0_stream] + nc::kVertexStreamBytes[nc::frame_stream] +
                                  nc::kVertexStreamBytes[nc::color_uv1_stream];
@@ -721,7 +722,7 @@ void bench_vertex_streams() {
       times.push_back(now_ms() - start);
     }
     const uint32_t bytes = (bits <= 10 ? 4 : 8) + other_streams;
-    const std::string row = "vertex_streams.position_bits_" + std::to_string(bits);
+    const std::string row = "vertex_streams." + key + ".position_bits_" + std::to_string(bits);
     table() << std::setw(13) << bits << std::setw(14) << bytes << "  " << std::scientific << std::setprecision(3)
             << worst * 1e3 << "  " << sum / std::max<size_t>(counted, 1) * 1e3 << "  " << std::fixed
             << std::setprecision(3) << median(times) << "\n";
@@ -746,10 +747,10 @@ void bench_vertex_streams() {
   table() << "vertex streams " << std::setprecision(0) << vertex_bytes << " bytes (72-byte floats: " << float_layout
           << "), ratio " << std::setprecision(3) << vertex_bytes / float_layout << "; scene.geometry "
           << packed.bytes.size() << " bytes, ratio " << packed.bytes.size() / float_buffer << "; pack_geometry "
-          << median(times) << " ms; G-buffer pass time: pass_ms.city.gbuffer.opaque\n";
-  figure("vertex_streams.vertex_bytes_ratio", vertex_bytes / float_layout);
-  figure("vertex_streams.geometry_bytes_ratio", packed.bytes.size() / float_buffer);
-  figure("vertex_streams.pack_ms", median(times));
+          << median(times) << " ms; G-buffer pass time: pass_ms." << key << ".gbuffer.opaque\n";
+  figure("vertex_streams." + key + ".vertex_bytes_ratio", vertex_bytes / float_layout);
+  figure("vertex_streams." + key + ".geometry_bytes_ratio", packed.bytes.size() / float_buffer);
+  figure("vertex_streams." + key + ".pack_ms", median(times));
 }
 
 // bloom: the six level passes as one graph on an HDR image of the output size (a night scene's
@@ -921,7 +922,10 @@ int main(int argc, char** argv) {
     bench_normals(gpu, cache, directions);
     bench_tube_samples(gpu, width / 2, height / 2);
     bench_depth(gpu, cache, width, height);
-    bench_vertex_streams();
+    bench_vertex_streams("city", "built-in city (seed 1)", nc::build_city(1));
+    const fs::path helmet = fs::path(data) / "gltf/DamagedHelmet/glTF/DamagedHelmet.gltf";
+    if (!skip_models && fs::exists(helmet))
+      bench_vertex_streams("DamagedHelmet", "DamagedHelmet", nc::load_gltf(helmet.string()));
     bench_bloom(gpu, cache, width, height);
     bench_exposure(gpu, cache, width, height);
     bench_startup(gpu, width, height);
