@@ -51,8 +51,9 @@ struct ImportedData {
 };
 using Imports = std::map<std::string, ImportedData>;
 
-// scene.geometry (packed by pack_geometry), scene.instances, scene.materials, scene.lights and scene.texture.<n>
-// (mip chains built here; the last texture is 1×1 white, bound where a material has none).
+// scene.geometry (pack_geometry), scene.instances, scene.materials, scene.lights and
+// scene.texture.<n> (mip chains built here; the last texture is 1×1 white, bound where a
+// material has none).
 Imports scene_imports(const Scene& scene);
 // frame.camera of frame `frame_index` (at frame_index × kFrameSeconds); `cut`: the view jumped.
 Imports camera_import(const Camera& current, const Camera& previous, uint32_t width, uint32_t height,

@@ -1,7 +1,8 @@
 // scene.geometry's vertex streams, packed as seed 001 describes them ("All vertex buffers
 // uploaded to GPU memory are packed as SOA"): each attribute group is its own array, 28 bytes a
 // vertex against the 72 of the float Vertex.
-//   VB0  nshort4        position: x, y, z unorm16 within the primitive's object-space box, w 0
+//   VB0  nshort4        position: x, y, z as 16-bit unsigned-normalised coordinates in the
+//                       primitive's object-space box (PackedGeometry::boxes), w 0
 //   VB1  half2          TEXCOORD_0
 //   VB2  xint, xint     normal: octahedral snorm 16:16; tangent: octahedral snorm 16:15 + sign
 //   VB3  unbyte4, half2 COLOR_0 as RGBA8 unorm, TEXCOORD_1

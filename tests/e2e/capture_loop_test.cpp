@@ -90,7 +90,7 @@ TEST(CaptureLoop, ManifestRecordsOutputSizeSinksShaderSourcesAndPipelineState) {
   // Buffer outputs carry the schema their pass declared.
   for (const auto& out : find_pass(manifest.at("frames")[0], "cull.main").at("outputs")) {
     ASSERT_TRUE(out.contains("schema")) << out.at("resource");
-    EXPECT_EQ(out.at("schema").at("stride"), 160) << out.at("resource");
+    EXPECT_EQ(out.at("schema").at("stride"), 192) << out.at("resource");
     EXPECT_EQ(out.at("schema").at("fields")[0], (nlohmann::json{{"name", "model"}, {"type", "mat4"}, {"offset", 0}}));
   }
   for (const auto& out : find_pass(manifest.at("frames")[0], "frame.constants").at("outputs"))
