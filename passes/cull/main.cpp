@@ -114,6 +114,12 @@ class Culler {
     planes_ = frustum_planes(view_projection_);
     if (geometry_.size() < sizeof(GeometryHeader)) throw GraphError("cull.main: scene.geometry has no header");
     std::memcpy(&geometry_header_, geometry_.data(), sizeof(geometry_header_));
+    // The occluders are read from these streams: a corrupt header must not send reads past them.
+    uint64_t end = uint64_t(geometry_header_.index_offset) + uint64_t(geometry_header_.index_count) * 4;
+    for (uint32_t s = 0; s < vertex_stream_count; ++s)
+      end = std::max(end, uint64_t(geometry_header_.stream_offset[s]) +
+                              uint64_t(geometry_header_.vertex_count) * kVertexStreamBytes[s]);
+    if (end > geometry_.size()) throw GraphError("cull.main: scene.geometry's header points past the buffer");
   }
 
   void run() {
@@ -180,6 +186,10 @@ class Culler {
     d.stencil = uint32_t(m.textures2.z) | (c.moving ? stencil::moving : 0u);
     d.instance = index;
     d.mirrored = determinant < 0.0;
+    // The box scene.geometry quantised the mesh's positions in (vertex_streams.h).
+    const glm::vec3 lo = glm::make_vec3(mesh->bounds_min), hi = glm::make_vec3(mesh->bounds_max);
+    d.position_origin = glm::vec4(lo, 0.0f);
+    d.position_step = glm::vec4(position_step(lo, hi), 0.0f);
     c.mesh = mesh;
     c.lod = lod;
     const glm::dvec3 size(mesh->bounds_max[0] - mesh->bounds_min[0], mesh->bounds_max[1] - mesh->bounds_min[1],
@@ -272,16 +282,19 @@ class Culler {
         std::memcpy(&index, index_bytes + (size_t(c.mesh->first_index) + t + v) * 4, 4);
         const int64_t vertex = int64_t(index) + c.mesh->vertex_offset;
         if (vertex < 0 || uint64_t(vertex) >= geometry_header_.vertex_count) return;  // no occlusion from garbage
-        clip[v] = clip_from_object * glm::dvec4(vertex_position(uint32_t(vertex)), 1.0);
+        clip[v] = clip_from_object * glm::dvec4(vertex_position(uint32_t(vertex), c.draw), 1.0);
       }
       buffer_->rasterise(clip[0], clip[1], clip[2], front_ccw, two_sided);
     }
   }
 
-  glm::dvec3 vertex_position(uint32_t vertex) const {
-    float p[3];
-    std::memcpy(p, geometry_.data() + geometry_header_.vertex_offset + size_t(vertex) * sizeof(Vertex), sizeof(p));
-    return glm::dvec3(p[0], p[1], p[2]);
+  // The position the GPU decodes from the position stream: origin + step · q in float.
+  glm::dvec3 vertex_position(uint32_t vertex, const GpuDraw& draw) const {
+    uint16_t q[4];
+    std::memcpy(q, geometry_.data() + geometry_header_.stream_offset[position_stream] + size_t(vertex) * 8, sizeof(q));
+    return {dequantise_position(q[0], draw.position_origin.x, draw.position_step.x),
+            dequantise_position(q[1], draw.position_origin.y, draw.position_step.y),
+            dequantise_position(q[2], draw.position_origin.z, draw.position_step.z)};
   }
 
   // Walks the hierarchy: a node outside the frustum or behind the occluders drops every

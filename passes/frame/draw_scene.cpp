@@ -1,5 +1,6 @@
 #include "passes/frame/draw_scene.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "passes/frame/scene_resources.h"
@@ -12,21 +13,20 @@ GeometryHeader geometry_header(PassContext& ctx) {
   GeometryHeader header{};
   if (bytes.size() < sizeof(header)) throw GraphError(ctx.pass() + ": scene.geometry has no header");
   std::memcpy(&header, bytes.data(), sizeof(header));
-  const uint64_t vertices_end = uint64_t(header.vertex_offset) + uint64_t(header.vertex_count) * sizeof(Vertex);
-  const uint64_t indices_end = uint64_t(header.index_offset) + uint64_t(header.index_count) * 4;
-  if (vertices_end > bytes.size() || indices_end > bytes.size())
-    throw GraphError(ctx.pass() + ": scene.geometry header points past the buffer");
+  uint64_t end = uint64_t(header.index_offset) + uint64_t(header.index_count) * 4;
+  for (uint32_t s = 0; s < vertex_stream_count; ++s)
+    end = std::max(end, uint64_t(header.stream_offset[s]) + uint64_t(header.vertex_count) * kVertexStreamBytes[s]);
+  if (end > bytes.size()) throw GraphError(ctx.pass() + ": scene.geometry header points past the buffer");
   return header;
 }
 
 }  // namespace
 
 std::vector<Binding> geometry_bindings(PassContext& ctx, const std::string& draws) {
-  const GeometryHeader header = geometry_header(ctx);
+  geometry_header(ctx);
+  // The header and the vertex streams: the shader finds the streams through the header.
   return {Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
-          Binding::storage(ctx.slot("scene.geometry"), "scene.geometry", header.vertex_offset,
-                           std::max<uint64_t>(header.vertex_count, 1) * sizeof(Vertex)),
-          Binding::storage(ctx.slot(draws), draws)};
+          Binding::storage(ctx.slot("scene.geometry"), "scene.geometry"), Binding::storage(ctx.slot(draws), draws)};
 }
 
 void draw_scene(PassContext& ctx, const std::string& draws,

@@ -40,7 +40,9 @@ BufferSchema draw_schema() {
       .field("material", &D::material)
       .field("stencil", &D::stencil)
       .field("instance", &D::instance)
-      .field("mirrored", &D::mirrored);
+      .field("mirrored", &D::mirrored)
+      .field("position_origin", &D::position_origin)
+      .field("position_step", &D::position_step);
 }
 
 }  // namespace nightcap

@@ -47,8 +47,12 @@ struct GpuDraw {
   uint32_t instance;  // index into scene.instances
   uint32_t mirrored;  // 1: the transform has a negative determinant, so front faces wind clockwise
   uint32_t pad;
+  // The box scene.geometry's positions are quantised in: origin + step · q, q in [0, 65535]³
+  // (xyz; see vertex_streams.h).
+  glm::vec4 position_origin;
+  glm::vec4 position_step;
 };
-static_assert(sizeof(GpuDraw) == 224);
+static_assert(sizeof(GpuDraw) == 256);
 
 // Neighbours of a sorted draw list that draw_scene issues as one instanced draw: the same mesh
 // range, material, stencil reference and winding.

@@ -23,8 +23,6 @@ ImportedData buffer(ResourceKind kind, std::shared_ptr<std::vector<uint8_t>> byt
   return {desc, std::move(bytes)};
 }
 
-uint32_t align(uint32_t value) { return (value + kGeometryAlignment - 1) / kGeometryAlignment * kGeometryAlignment; }
-
 // Box-filtered mip chain; sRGB textures are filtered in linear light.
 ImportedData texture_with_mips(const Texture& texture) {
   ResourceDesc desc;
@@ -89,30 +87,23 @@ SamplerDesc unpack_sampler(uint32_t bits) {
 
 Imports scene_imports(const Scene& scene) {
   Imports imports;
-  GeometryHeader header{};
-  header.vertex_count = static_cast<uint32_t>(scene.vertices.size());
-  header.index_count = static_cast<uint32_t>(scene.indices.size());
-  header.vertex_offset = kGeometryAlignment;
-  header.index_offset = align(header.vertex_offset + header.vertex_count * sizeof(Vertex));
-  auto geometry = std::make_shared<std::vector<uint8_t>>(header.index_offset + header.index_count * 4, 0);
-  std::memcpy(geometry->data(), &header, sizeof(header));
-  if (!scene.vertices.empty())
-    std::memcpy(geometry->data() + header.vertex_offset, scene.vertices.data(), scene.vertices.size() * sizeof(Vertex));
-  if (!scene.indices.empty())
-    std::memcpy(geometry->data() + header.index_offset, scene.indices.data(), scene.indices.size() * 4);
-  imports["scene.geometry"] = buffer(ResourceKind::buffer, geometry);
+  PackedGeometry geometry = pack_geometry(scene);
+  imports["scene.geometry"] =
+      buffer(ResourceKind::buffer, std::make_shared<std::vector<uint8_t>>(std::move(geometry.bytes)));
 
   std::vector<MeshRecord> meshes;
   meshes.reserve(scene.primitives.size());
-  for (const Primitive& p : scene.primitives) {
+  for (size_t i = 0; i < scene.primitives.size(); ++i) {
+    const Primitive& p = scene.primitives[i];
     MeshRecord r{};
     r.first_index = p.first_index;
     r.index_count = p.index_count;
     r.vertex_offset = p.vertex_offset;
     r.material = p.material;
+    const PositionBox& box = geometry.boxes.at(i);
     for (int k = 0; k < 3; ++k) {
-      r.bounds_min[k] = p.bounds_min[k];
-      r.bounds_max[k] = p.bounds_max[k];
+      r.bounds_min[k] = box.min[k];
+      r.bounds_max[k] = box.max[k];
     }
     r.coarser = p.coarser;
     r.lod_distance = p.lod_distance;

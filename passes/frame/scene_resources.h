@@ -10,23 +10,17 @@
 #include <vector>
 
 #include "passes/core/graph.h"
+#include "passes/frame/vertex_streams.h"
 #include "passes/scene/scene.h"
 
 namespace nightcap {
-
-// scene.geometry starts with this header; vertex and index streams follow at the offsets.
-struct GeometryHeader {
-  uint32_t vertex_count, index_count;
-  uint32_t vertex_offset, index_offset;  // bytes from the start of the buffer, 256-aligned
-};
-constexpr uint32_t kGeometryAlignment = 256;
 
 // scene.meshes: one record per primitive, the shared meshes instances point at.
 struct MeshRecord {
   uint32_t first_index, index_count;
   int32_t vertex_offset;
   uint32_t material;
-  float bounds_min[3], bounds_max[3];  // object space
+  float bounds_min[3], bounds_max[3];  // object space; also the box its positions are quantised in
   int32_t coarser;                     // next level of detail, -1 for none
   float lod_distance;                  // metres from the camera beyond which `coarser` is drawn
   float draw_distance;                 // metres from the camera beyond which nothing is drawn
@@ -71,9 +65,9 @@ struct ImportedData {
 };
 using Imports = std::map<std::string, ImportedData>;
 
-// scene.geometry, scene.meshes, scene.instances, scene.hierarchy (passes/cull/hierarchy.h),
-// scene.materials, scene.lights and scene.texture.<n> (mip chains built here; the last texture
-// is 1×1 white, bound where a material has none).
+// scene.geometry (pack_geometry), scene.meshes, scene.instances, scene.hierarchy
+// (passes/cull/hierarchy.h), scene.materials, scene.lights and scene.texture.<n> (mip chains
+// built here; the last texture is 1×1 white, bound where a material has none).
 Imports scene_imports(const Scene& scene);
 // frame.camera of frame `frame_index` (at frame_index × kFrameSeconds); `cut`: the view jumped.
 Imports camera_import(const Camera& current, const Camera& previous, uint32_t width, uint32_t height,

@@ -34,6 +34,8 @@ struct Draw {
   uint instance;
   uint mirrored;
   uint pad;
+  vec4 position_origin;
+  vec4 position_step;
 };
 
 struct Material {
@@ -46,9 +48,6 @@ struct Material {
   uvec4 samplers;
   uvec4 samplers2;
 };
-
-// 72-byte vertices read from scene.geometry as floats.
-const uint VERTEX_FLOATS = 18;
 
 const uint LIGHT_DIRECTIONAL = 0u;
 const uint LIGHT_POINT = 1u;

@@ -5,6 +5,7 @@
 //    still and of a walking camera;
 //  - the frame's GPU memory with transient resources aliased and without (peak_gpu_mib,
 //    peak_gpu_mib_no_aliasing: the built-in city);
+//  - scene.geometry's position bits against their error in mm, its size against float vertices;
 //  - time against error for each pass knob (normals.pack LUT size, lighting.deferred tube samples
 //    against the CPU segment integral, depth.convert, depth.pyramid and bloom against their
 //    references);
@@ -750,6 +751,79 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
   figure("depth_pyramid.gpu_ms", median(times));
 }
 
+// scene.geometry's positions against the bits they keep: a scene's vertices quantised on the CPU
+// in their primitives' boxes with 8, 10, 12 and 16 bits per axis (16 ships), the distance to the
+// float position in object-space millimetres (max, mean over vertices), the time to quantise
+// them, and the bytes a vertex would take (positions in 4 bytes up to 10 bits, else 8; the other
+// streams' 20 bytes as shipped). Then the shipped buffer against the 72-byte float layout. The
+// built-in city is boxes whose corners are their bounds, exact at any bit count; DamagedHelmet
+// shows a curve.
+void bench_vertex_streams(const std::string& key, const std::string& label, const nc::Scene& scene) {
+  const nc::PackedGeometry packed = nc::pack_geometry(scene);
+  std::vector<const nc::PositionBox*> box_of(scene.vertices.size(), nullptr);
+  for (size_t p = 0; p < scene.primitives.size(); ++p)
+    for (uint32_t k = 0; k < scene.primitives[p].index_count; ++k)
+      box_of[size_t(scene.primitives[p].vertex_offset) + scene.indices[scene.primitives[p].first_index + k]] =
+          &packed.boxes[p];
+  table() << "\n## vertex streams: " << label << ", " << scene.vertices.size() << " vertices\n"
+          << "position bits  bytes/vertex  max mm     mean mm    quantise ms\n";
+  const uint32_t other_streams = nc::kVertexStreamBytes[nc::uv0_stream] + nc::kVertexStreamBytes[nc::frame_stream] +
+                                 nc::kVertexStreamBytes[nc::color_uv1_stream];
+  for (uint32_t bits : {8u, 10u, 12u, 16u}) {
+    const uint32_t levels = (1u << bits) - 1;
+    std::vector<double> times;
+    double worst = 0, sum = 0;
+    size_t counted = 0;
+    for (int r = 0; r < 5; ++r) {
+      worst = sum = 0;
+      counted = 0;
+      const double start = now_ms();
+      for (size_t v = 0; v < scene.vertices.size(); ++v) {
+        if (!box_of[v]) continue;
+        const glm::vec3 step = nc::position_step(box_of[v]->min, box_of[v]->max, levels);
+        glm::dvec3 error;
+        for (int k = 0; k < 3; ++k) {
+          const float p = scene.vertices[v].position[k], origin = box_of[v]->min[k];
+          error[k] = nc::dequantise_position(nc::quantise_position(p, origin, step[k], levels), origin, step[k]) - p;
+        }
+        worst = std::max(worst, glm::length(error));
+        sum += glm::length(error);
+        ++counted;
+      }
+      times.push_back(now_ms() - start);
+    }
+    const uint32_t bytes = (bits <= 10 ? 4 : 8) + other_streams;
+    const std::string row = "vertex_streams." + key + ".position_bits_" + std::to_string(bits);
+    table() << std::setw(13) << bits << std::setw(14) << bytes << "  " << std::scientific << std::setprecision(3)
+            << worst * 1e3 << "  " << sum / std::max<size_t>(counted, 1) * 1e3 << "  " << std::fixed
+            << std::setprecision(3) << median(times) << "\n";
+    figure(row + ".bytes_per_vertex", bytes);
+    figure(row + ".max_mm", worst * 1e3);
+    figure(row + ".mean_mm", sum / std::max<size_t>(counted, 1) * 1e3);
+    figure(row + ".quantise_ms", median(times));
+  }
+  nc::GeometryHeader header;
+  std::memcpy(&header, packed.bytes.data(), sizeof(header));
+  const double vertex_bytes = double(header.index_offset - header.stream_offset[nc::position_stream]);
+  const double float_layout = 72.0 * scene.vertices.size();
+  const double float_buffer = nc::kGeometryAlignment +
+                              std::ceil(float_layout / nc::kGeometryAlignment) * nc::kGeometryAlignment +
+                              4.0 * scene.indices.size();
+  std::vector<double> times;
+  for (int r = 0; r < 5; ++r) {
+    const double start = now_ms();
+    const nc::PackedGeometry again = nc::pack_geometry(scene);
+    times.push_back(now_ms() - start);
+  }
+  table() << "vertex streams " << std::setprecision(0) << vertex_bytes << " bytes (72-byte floats: " << float_layout
+          << "), ratio " << std::setprecision(3) << vertex_bytes / float_layout << "; scene.geometry "
+          << packed.bytes.size() << " bytes, ratio " << packed.bytes.size() / float_buffer << "; pack_geometry "
+          << median(times) << " ms; G-buffer pass time: pass_ms." << key << ".gbuffer.opaque\n";
+  figure("vertex_streams." + key + ".vertex_bytes_ratio", vertex_bytes / float_layout);
+  figure("vertex_streams." + key + ".geometry_bytes_ratio", packed.bytes.size() / float_buffer);
+  figure("vertex_streams." + key + ".pack_ms", median(times));
+}
+
 // bloom: the six level passes as one graph on an HDR image of the output size (a night scene's
 // range: dim surroundings, neon a few hundred times brighter), time summed over the levels, and
 // the largest relative error of a level against the double-precision filter of the level above
@@ -929,6 +1003,12 @@ int main(int argc, char** argv) {
     if (wanted("normals")) bench_normals(gpu, cache, directions);
     if (wanted("tubes")) bench_tube_samples(gpu, width / 2, height / 2);
     if (wanted("depth")) bench_depth(gpu, cache, width, height);
+    if (wanted("streams")) {
+      bench_vertex_streams("city", "built-in city (seed 1)", nc::build_city(1));
+      const fs::path helmet = fs::path(data) / "gltf/DamagedHelmet/glTF/DamagedHelmet.gltf";
+      if (!skip_models && fs::exists(helmet))
+        bench_vertex_streams("DamagedHelmet", "DamagedHelmet", nc::load_gltf(helmet.string()));
+    }
     if (wanted("bloom")) bench_bloom(gpu, cache, width, height);
     if (wanted("exposure")) bench_exposure(gpu, cache, width, height);
     if (wanted("startup")) bench_startup(gpu, width, height);

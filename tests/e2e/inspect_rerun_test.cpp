@@ -38,11 +38,11 @@ uint8_t stencil_at(const std::vector<uint8_t>& raw, uint32_t width, uint32_t hei
 class InspectRerunTest : public CityCaptureTest {};
 
 // Whether pixel (x, y)'s centre lies in one of the draw's triangles, placed as geometry.glsl
-// places them: the draw's model matrix, then the recorded camera's projection · view. The test is
-// in homogeneous coordinates (Olano and Greer, 1997), so triangles that reach behind the camera
-// count by their visible part: the centre's ray meets the triangle where weights b solve
-// Σ b_i (x_i − u w_i) = 0 and Σ b_i (y_i − v w_i) = 0, i.e. b ∝ r_x × r_y; it is inside when every
-// weight has the sign that puts the point in front (Σ b_i w_i > 0).
+// places them: the position decoded in the draw's box, the draw's model matrix, then the recorded camera's projection ·
+// view. The test is in homogeneous coordinates (Olano and Greer, 1997), so triangles that reach behind the camera count
+// by their visible part: the centre's ray meets the triangle where weights b solve Σ b_i (x_i − u w_i) = 0 and Σ b_i
+// (y_i − v w_i) = 0, i.e. b ∝ r_x × r_y; it is inside when every weight has the sign that puts the point in front (Σ
+// b_i w_i > 0).
 bool draw_covers(const GpuDraw& draw, const std::vector<uint8_t>& geometry, const FrameRecord& frame, uint32_t x,
                  uint32_t y) {
   const auto header = at<GeometryHeader>(geometry, 0);
@@ -55,7 +55,8 @@ bool draw_covers(const GpuDraw& draw, const std::vector<uint8_t>& geometry, cons
     glm::dvec3 rx, ry, w;
     for (int k = 0; k < 3; ++k) {
       const uint32_t index = at<uint32_t>(geometry, header.index_offset + 4 * (draw.first_index + 3 * t + k));
-      const auto vertex = at<Vertex>(geometry, header.vertex_offset + sizeof(Vertex) * (index + draw.vertex_offset));
+      const Vertex vertex = geometry_vertex(geometry, index + draw.vertex_offset, glm::vec3(draw.position_origin),
+                                            glm::vec3(draw.position_step));
       const glm::dvec4 clip =
           clip_from_object * glm::dvec4(vertex.position[0], vertex.position[1], vertex.position[2], 1.0);
       rx[k] = clip.x - u * clip.w;

@@ -177,6 +177,9 @@ class CullMain : public GpuTest {
       EXPECT_EQ(d.vertex_offset, p.vertex_offset);
       EXPECT_EQ(d.material, p.material);
       EXPECT_EQ(d.stencil, m.stencil_class);
+      // The box its positions are quantised in: the primitive's bounds, which hold its vertices.
+      EXPECT_EQ(glm::vec3(d.position_origin), p.bounds_min);
+      EXPECT_EQ(glm::vec3(d.position_step), position_step(p.bounds_min, p.bounds_max));
       // Camera-relative model: the translation subtracted in double, then rounded.
       for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 3; ++r) {

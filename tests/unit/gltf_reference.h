@@ -3,6 +3,17 @@
 // TRS), one ray per pixel centre from the camera's basis vectors (image row 0 at the top, +Y up),
 // the "clean" pixel selection and the texture-window prediction described in
 // gltf_gbuffer_test.cpp. Nothing here calls the loader or camera_math.h.
+//
+// Vertex attributes are taken as scene.geometry stores them (vertex_streams.h): positions on the
+// 16-bit grid of their primitive's box, half UVs, octahedral normals and tangents, 8-bit colours
+// (Attributes::file takes the file's values). These tests bound what the passes make of the
+// stored vertices; vertex_streams_test.cpp bounds the storage against the file's floats.
+// Against the file's own attributes the stored ones cost, measured with Attributes::file: half
+// UVs move a 2048² normal map's samples by up to half a texel where uv < 1 (a whole texel up
+// to 2), which put gbuffer.normal up to 2.66° beyond the filter's reach in
+// NormalTangentMirrorTest where 0.097° is allowed; 16-bit positions in a primitive much larger
+// than its distance to the camera moved depth by up to 8·10⁻⁵ relative (EmissiveStrengthTest)
+// where 10⁻⁵ is allowed.
 #pragma once
 
 #include <OpenImageIO/imageio.h>
@@ -20,6 +31,7 @@
 
 #include "passes/core/format.h"
 #include "passes/frame/renderer.h"
+#include "passes/frame/vertex_streams.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {
@@ -123,9 +135,13 @@ inline RefImage read_image(const std::filesystem::path& file) {
   return image;
 }
 
+// What the reference takes a vertex attribute to be: as scene.geometry stores it, or the file's
+// value.
+enum class Attributes { stored, file };
+
 class Reference {
  public:
-  explicit Reference(const std::string& path) {
+  explicit Reference(const std::string& path, Attributes attributes = Attributes::stored) : attributes_(attributes) {
     folder_ = std::filesystem::path(path).parent_path();
     std::ifstream in(path);
     doc_ = json::parse(in);
@@ -308,6 +324,53 @@ class Reference {
     lights.push_back(r);
   }
 
+  // The attributes of one primitive rounded as scene.geometry stores them. The position box is
+  // the loader's culling box: the box of every vertex when the primitive has normals, else of
+  // the vertices its triangles use (it is flat-shaded from those alone).
+  static void store_as_scene_geometry(std::vector<double>& positions, const std::vector<size_t>& indices,
+                                      bool has_normals, std::vector<double> (&uvs)[2], const int (&uv_n)[2],
+                                      std::vector<double>& colors, int color_n, std::vector<double>& normals,
+                                      std::vector<double>& tangents) {
+    std::vector<size_t> used;
+    if (has_normals)
+      for (size_t v = 0; v < positions.size() / 3; ++v) used.push_back(v);
+    else
+      for (size_t k = 0; k < indices.size() / 3 * 3; ++k) used.push_back(indices[k]);
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (size_t v : used)
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], float(positions[v * 3 + k]));
+        hi[k] = std::max(hi[k], float(positions[v * 3 + k]));
+      }
+    const glm::vec3 step = position_step(lo, hi);
+    for (size_t v : used)
+      for (int k = 0; k < 3; ++k)
+        positions[v * 3 + k] =
+            dequantise_position(quantise_position(float(positions[v * 3 + k]), lo[k], step[k]), lo[k], step[k]);
+    for (int set = 0; set < 2; ++set)
+      for (size_t i = 0; i + 1 < uvs[set].size(); i += uv_n[set]) {
+        const float uv[2] = {float(uvs[set][i]), float(uvs[set][i + 1])};
+        const glm::vec2 stored = decode_uv(encode_uv(uv));
+        uvs[set][i] = stored.x;
+        uvs[set][i + 1] = stored.y;
+      }
+    for (size_t i = 0; i + color_n <= colors.size(); i += color_n) {
+      float rgba[4] = {1.0f, 1.0f, 1.0f, 1.0f};
+      for (int j = 0; j < color_n; ++j) rgba[j] = float(colors[i + j]);
+      const glm::vec4 stored = decode_color(encode_color(rgba));
+      for (int j = 0; j < color_n; ++j) colors[i + j] = stored[j];
+    }
+    for (size_t i = 0; i + 3 <= normals.size(); i += 3) {
+      const glm::vec3 stored = decode_normal(encode_normal(glm::vec3(normals[i], normals[i + 1], normals[i + 2])));
+      for (int j = 0; j < 3; ++j) normals[i + j] = stored[j];
+    }
+    for (size_t i = 0; i + 4 <= tangents.size(); i += 4) {
+      const glm::vec4 stored =
+          decode_tangent(encode_tangent(glm::vec4(tangents[i], tangents[i + 1], tangents[i + 2], tangents[i + 3])));
+      for (int j = 0; j < 4; ++j) tangents[i + j] = stored[j];
+    }
+  }
+
   void add_mesh(const json& mesh, const glm::dmat4& world) {
     for (const json& p : mesh["primitives"]) {
       if (p.value("mode", 4) != 4) continue;
@@ -316,7 +379,7 @@ class Reference {
       const RefMaterial& m = material < 0 ? default_ : materials_[material];
       const json& attributes = p["attributes"];
       int n = 0;
-      const std::vector<double> positions = accessor(attributes["POSITION"].get<int>(), n);
+      std::vector<double> positions = accessor(attributes["POSITION"].get<int>(), n);
       const size_t count = positions.size() / 3;
       std::vector<double> uvs[2], colors, normals, tangents;
       int uv_n[2] = {2, 2}, color_n = 4, normal_n = 3, tangent_n = 4;
@@ -335,6 +398,8 @@ class Reference {
       } else {
         for (size_t i = 0; i < count; ++i) indices.push_back(i);
       }
+      if (attributes_ == Attributes::stored)
+        store_as_scene_geometry(positions, indices, !normals.empty(), uvs, uv_n, colors, color_n, normals, tangents);
       for (size_t k = 0; k + 2 < indices.size(); k += 3) {
         RefTriangle t;
         t.material = material;
@@ -366,6 +431,7 @@ class Reference {
     }
   }
 
+  Attributes attributes_;
   std::filesystem::path folder_;
   json doc_;
   std::vector<std::vector<uint8_t>> buffers_;
