@@ -203,7 +203,7 @@ Scene build_map(const MapOptions& options) {
   // Districts: a dense core and a handful of others; the rest of the map is badlands.
   const double half_map = options.size_km * 500.0;
   std::vector<District> districts;
-  const int district_count = std::max(2, int(std::lround(options.size_km * options.size_km / 13.0)));
+  const int district_count = std::max(2, int(std::lround(options.size_km * options.size_km / 16.0)));
   for (int k = 0; k < district_count; ++k)
     districts.push_back({{random.range(-half_map, half_map), random.range(-half_map, half_map)},
                          random.range(500.0, 1500.0) * std::min(1.0, options.size_km / 4.0),
@@ -254,7 +254,7 @@ Scene build_map(const MapOptions& options) {
         build.place(mesh.roof.at({f, 0}), base + glm::dvec3(0, kHeights[hi], 0), yaw);
         tallest = std::max(tallest, double(kHeights[hi]));
         // Neon on the facades, more of it downtown: a bar and its tube light.
-        const int signs = int(random.uniform() * (1 + 5 * rho));
+        const int signs = int(random.uniform() * (1 + 7 * rho));
         const double w = kFootprints[f] / 2.0;
         for (int s = 0; s < signs; ++s) {
           const uint32_t colour = random.below(uint32_t(kNeon.size()));
@@ -337,8 +337,8 @@ Scene build_map(const MapOptions& options) {
   moon.intensity = 0.4f;
   scene.lights.push_back(moon);
 
-  // The shot: its place drawn from the seed among every built block of the map (the densest
-  // third for the street), so any corner can hold it.
+  // The shot: its place drawn from the seed among every built block of the map (the dense
+  // downtown blocks for the street), so any corner can hold it.
   Camera camera;
   camera.yfov = glm::radians(60.0f);
   if (built.empty()) {
@@ -346,7 +346,7 @@ Scene build_map(const MapOptions& options) {
   } else {
     std::vector<const BuiltBlock*> pool;
     for (const BuiltBlock& b : built)
-      if (options.shot != Shot::street || b.density >= 0.6) pool.push_back(&b);
+      if (options.shot != Shot::street || b.density >= 0.75) pool.push_back(&b);
     if (pool.empty())
       for (const BuiltBlock& b : built) pool.push_back(&b);
     Random pick(options.seed * 2654435761u + uint32_t(options.shot));

@@ -95,10 +95,11 @@ TEST(CaptureLoop, ManifestRecordsOutputSizeSinksShaderSourcesAndPipelineState) {
     EXPECT_EQ(out.at("schema").at("stride"), 256) << name;
     EXPECT_EQ(out.at("schema").at("fields")[0], (nlohmann::json{{"name", "model"}, {"type", "mat4"}, {"offset", 0}}));
   }
-  for (const auto& out : find_pass(manifest.at("frames")[0], "cull.main").at("outputs"))
-    if (out.at("resource") == "cull.stats")
-      EXPECT_EQ(out.at("schema").at("fields")[0],
-                (nlohmann::json{{"name", "instances_tested"}, {"type", "u32"}, {"offset", 0}}));
+  for (const auto& out : find_pass(manifest.at("frames")[0], "cull.main").at("outputs")) {
+    if (out.at("resource") != "cull.stats") continue;
+    EXPECT_EQ(out.at("schema").at("fields")[0],
+              (nlohmann::json{{"name", "instances_tested"}, {"type", "u32"}, {"offset", 0}}));
+  }
   for (const auto& out : find_pass(manifest.at("frames")[0], "frame.constants").at("outputs"))
     EXPECT_TRUE(out.contains("schema")) << out.at("resource");
 }

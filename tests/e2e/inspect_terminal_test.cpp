@@ -83,7 +83,7 @@ TEST(InspectTerminal, CompletesPassNamesAndRecallsHistory) {
 
   // A command name completes too.
   terminal.type("nex\t\r");
-  ASSERT_TRUE(terminal.read_until("frame 0 depth.convert> ")) << terminal.transcript();
+  ASSERT_TRUE(terminal.read_until("frame 0 gbuffer.dynamic> ")) << terminal.transcript();
 
   // Up twice: back past `next` to the completed `goto`, which runs again.
   terminal.type("\x1b[A\x1b[A\r");
