@@ -2,7 +2,9 @@
 
 namespace nightcap {
 
-std::vector<std::string> frame_sinks() { return {"final.ldr", "normals.packed", "depth.pyramid"}; }
+std::vector<std::string> frame_sinks() {
+  return {"final.ldr", "normals.packed", "depth.pyramid", "depth.half", "stencil.half", "motion.mask"};
+}
 
 std::vector<PassDecl> frame_passes() {
   std::vector<PassDecl> passes;
@@ -11,6 +13,7 @@ std::vector<PassDecl> frame_passes() {
   passes.push_back(depth_prepass_pass());
   passes.push_back(gbuffer_opaque_pass());
   passes.push_back(depth_convert_pass());
+  passes.push_back(motion_stencil_pass());
   passes.push_back(normals_bfn_lut_pass());
   passes.push_back(normals_pack_pass());
   passes.push_back(depth_pyramid_pass());

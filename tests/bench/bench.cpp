@@ -6,8 +6,8 @@
 //  - the frame's GPU memory with transient resources aliased and without (peak_gpu_mib,
 //    peak_gpu_mib_no_aliasing: the built-in city);
 //  - time against error for each pass knob (normals.pack LUT size, lighting.deferred tube samples
-//    against the CPU segment integral, depth.convert, depth.pyramid and bloom against their
-//    references);
+//    against the CPU segment integral, depth.convert (full and half resolution), depth.pyramid,
+//    motion.stencil (time against its dilation radius) and bloom against their references);
 //  - the CLI's start-up: `nightcap --help` and `nightcap passes` of a city capture, wall clock;
 //    the debugger's first answer and its export of gbuffer.opaque's colour targets;
 //  - `nightcap diff` of a 1280x720 pair against idiff over the same images.
@@ -38,7 +38,9 @@
 #include "passes/normals/bfn_lut.h"
 #include "passes/scene/scene.h"
 #include "tests/reference/bloom_reference.h"
+#include "tests/reference/depth_half_reference.h"
 #include "tests/reference/lighting_reference.h"
+#include "tests/reference/motion_mask_reference.h"
 
 namespace nc = nightcap;
 namespace fs = std::filesystem;
@@ -632,13 +634,29 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   }
 }
 
-// depth.convert and depth.pyramid: time, and error against double-precision / exact references.
+// A stencil tag per pixel: every class and flag of passes/scene/scene.h, one pixel in 200 moving,
+// hair or foliage (the rest plain, road, body, face or vehicle).
+std::vector<uint8_t> bench_tags(size_t pixels, std::mt19937& rng) {
+  namespace st = nc::stencil;
+  const uint8_t untagged[] = {st::plain, st::road, st::body, st::face, st::vehicle};
+  const uint8_t tagged[] = {st::hair, st::foliage, st::body | st::moving, st::vehicle | st::moving};
+  std::vector<uint8_t> tags(pixels);
+  for (uint8_t& t : tags)
+    t = rng() % 200 == 0 ? tagged[rng() % std::size(tagged)] : untagged[rng() % std::size(untagged)];
+  return tags;
+}
+
+// depth.convert and depth.pyramid: time, and error against double-precision / exact references;
+// depth.convert's time covers its three outputs (depth.linear, depth.half, stencil.half), which
+// one dispatch writes.
 void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height) {
   std::mt19937 rng(7);
   std::vector<float> device_depth(size_t(width) * height);
   for (float& d : device_depth) d = float(rng() % 1000000 + 1) * 1e-6f;
+  const std::vector<uint8_t> tags = bench_tags(device_depth.size(), rng);
   std::vector<uint8_t> depth_bytes(device_depth.size() * 5, 0);
   std::memcpy(depth_bytes.data(), device_depth.data(), device_depth.size() * 4);
+  std::memcpy(depth_bytes.data() + device_depth.size() * 4, tags.data(), tags.size());
   nc::GpuFrameConstants constants{};
   constants.projection_params.x = 0.05f;
   const nc::IsolatedInput constants_in = constants_input(constants);
@@ -660,11 +678,31 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
     const double exact = double(0.05f) / double(device_depth[i]);
     worst = std::max(worst, std::abs(v - exact) / exact);
   }
+  // The half outputs against tests/reference/depth_half_reference.h: depth error in half ULPs of
+  // the exact value (the unit test bounds it by 0.5 plus a float ULP), stencil texels that differ.
+  const ref::HalfDepthStencil half = ref::half_depth_stencil(device_depth, tags, width, height, double(0.05f),
+                                                             nc::depth_convert_pass().default_params().at("sky_depth"));
+  const auto& half_depth = *convert.outputs.at("depth.half");
+  const auto& half_stencil = *convert.outputs.at("stencil.half");
+  double worst_half_ulps = 0;
+  size_t stencil_wrong = 0;
+  for (size_t i = 0; i < half.metres.size(); ++i) {
+    uint16_t bits;
+    std::memcpy(&bits, half_depth.data() + 2 * i, 2);
+    const double exact = half.metres[i];
+    const double ulp = std::ldexp(1.0, std::max(std::ilogb(exact), -14) - 10);
+    worst_half_ulps = std::max(worst_half_ulps, std::abs(nc::half_to_float(bits) - exact) / ulp);
+    stencil_wrong += half_stencil[i] != half.stencil[i];
+  }
   table() << "\n## depth (" << width << "x" << height << ")\n"
           << "depth.convert   gpu " << std::fixed << std::setprecision(3) << median(times)
-          << " ms, max rel error vs double " << std::scientific << std::setprecision(2) << worst << "\n";
+          << " ms, max rel error vs double " << std::scientific << std::setprecision(2) << worst << "; depth.half max "
+          << std::fixed << std::setprecision(4) << worst_half_ulps << " half ULP, stencil.half " << stencil_wrong
+          << " texels differ\n";
   figure("depth_convert.gpu_ms", median(times));
   figure("depth_convert.max_rel_err", worst);
+  figure("depth_convert.half_max_half_ulps", worst_half_ulps);
+  figure("depth_convert.stencil_half_mismatches", double(stencil_wrong));
   times.clear();
   nc::IsolatedRun pyramid;
   for (int r = 0; r < 3; ++r) {
@@ -677,6 +715,40 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
   table() << "depth.pyramid   gpu " << std::fixed << std::setprecision(3) << median(times)
           << " ms, exact by construction (tests/unit/depth_pyramid_test.cpp)\n";
   figure("depth_pyramid.gpu_ms", median(times));
+}
+
+// motion.stencil: time against the dilation radius, and texels that differ from the brute-force
+// CPU dilation of tests/reference/motion_mask_reference.h (the unit test requires none).
+void bench_motion_stencil(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height) {
+  std::mt19937 rng(11);
+  const std::vector<uint8_t> tags = bench_tags(size_t(width) * height, rng);
+  std::vector<uint8_t> depth_bytes(tags.size() * 5, 0);
+  std::memcpy(depth_bytes.data() + tags.size() * 4, tags.data(), tags.size());
+  const nc::IsolatedInput depth =
+      image(VK_FORMAT_D32_SFLOAT_S8_UINT, nc::ResourceKind::depth_stencil, width, height, depth_bytes);
+  table() << "\n## motion.stencil (" << width << "x" << height << ", 1 pixel in 200 tagged)\n";
+  for (int radius : {0, 2, 4, 8}) {
+    std::vector<double> times;
+    nc::IsolatedRun run;
+    for (int r = 0; r < 3; ++r) {
+      run = nc::run_isolated(gpu, cache, nc::motion_stencil_pass(), {{"scene.depth", depth}},
+                             {{"radius", double(radius)}}, width, height, builtin());
+      times.push_back(gpu_ms(run));
+    }
+    const std::vector<uint8_t> expected = ref::motion_mask(tags, width, height, radius);
+    const auto& mask = *run.outputs.at("motion.mask");
+    size_t wrong = 0, masked = 0;
+    for (size_t i = 0; i < expected.size(); ++i) {
+      wrong += mask[i] != expected[i];
+      masked += expected[i];
+    }
+    table() << "radius " << radius << "   gpu " << std::fixed << std::setprecision(3) << median(times) << " ms, "
+            << std::setprecision(1) << 100.0 * double(masked) / double(expected.size()) << "% masked, " << wrong
+            << " texels differ from the CPU dilation\n";
+    const std::string row = "motion_stencil.radius" + std::to_string(radius);
+    figure(row + ".gpu_ms", median(times));
+    figure(row + ".mismatches", double(wrong));
+  }
 }
 
 // bloom: the six level passes as one graph on an HDR image of the output size (a night scene's
@@ -848,6 +920,7 @@ int main(int argc, char** argv) {
     bench_normals(gpu, cache, directions);
     bench_tube_samples(gpu, width / 2, height / 2);
     bench_depth(gpu, cache, width, height);
+    bench_motion_stencil(gpu, cache, width, height);
     bench_bloom(gpu, cache, width, height);
     bench_exposure(gpu, cache, width, height);
     bench_startup(gpu, width, height);
