@@ -13,12 +13,19 @@
 #include "passes/frame/frame_passes.h"
 
 namespace nightcap {
+namespace {
+
+// The widest apron around a tile that the shader's shared memory holds (MAX_RADIUS in
+// stencil.comp).
+constexpr int kMaxRadius = 16;
+
+}  // namespace
 
 PassDecl motion_stencil_pass() {
   return PassDecl("motion.stencil", PassType::compute)
       .read("scene.depth", Use::sampled)
       .write("motion.mask", Use::storage_write, ImageDecl{VK_FORMAT_R8_UINT, ResourceKind::mask})
-      .param("radius", 2, 0, 16, "pixels of dilation around tagged pixels (a square window)")
+      .param("radius", 2, 0, kMaxRadius, "pixels of dilation around tagged pixels (a square window)")
       .skip_when([](const SkipContext& frame) -> std::string {
         if (frame.features.count("moving_geometry") || frame.camera_moved) return "";
         return "nothing moves and the camera is still";
@@ -29,9 +36,13 @@ PassDecl motion_stencil_pass() {
         ctx.bind_pipeline();
         ctx.push({Binding::texture(ctx.slot("scene.depth"), "scene.depth", ctx.nearest_clamp(), ViewAspect::stencil),
                   Binding::image(ctx.slot("motion.mask"), "motion.mask")});
-        ctx.push_constants(int32_t(ctx.param("radius")));
+        const double radius = ctx.param("radius");
+        if (!(radius >= 0 && radius <= kMaxRadius))
+          throw GraphError("motion.stencil: radius " + std::to_string(radius) + " is outside 0 … " +
+                           std::to_string(kMaxRadius) + ", the apron the shader's tile holds");
+        ctx.push_constants(int32_t(radius));
         const ImageExtent full = ctx.desc("motion.mask").extent;
-        vkCmdDispatch(ctx.cmd(), (full.width + 7) / 8, (full.height + 7) / 8, 1);
+        vkCmdDispatch(ctx.cmd(), (full.width + 15) / 16, (full.height + 15) / 16, 1);
       });
 }
 

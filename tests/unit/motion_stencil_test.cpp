@@ -5,7 +5,8 @@
 // flag of passes/scene/scene.h, including road and vehicle marks on tagged and untagged classes,
 // with tagged pixels sparse enough that the dilated mask is neither empty nor full. Stress:
 // 1×1 (tagged and not), 1279×719, a frame of sky only (nothing tagged: all 0), radius 0 (the
-// mask is the tag itself) and a radius wider than the image.
+// mask is the tag itself) and a radius wider than the image; a radius above the largest the
+// shader's tile holds is refused.
 #include <cstring>
 #include <random>
 
@@ -86,6 +87,17 @@ INSTANTIATE_TEST_SUITE_P(, MotionStencil,
                                            Case{1, 1, 2, Fill::one_tagged}, Case{1, 1, 2, Fill::sky},
                                            Case{13, 7, 16, Fill::one_tagged}, Case{1279, 719, 2, Fill::sparse},
                                            Case{1279, 719, 2, Fill::sky}));
+
+class MotionStencilRadius : public GpuTest {};
+
+TEST_F(MotionStencilRadius, AboveTheTilesApronIsRefused) {
+  const std::vector<uint8_t> depth_bytes(4 * 4 * 5, 0);
+  EXPECT_THROW(
+      run(motion_stencil_pass(),
+          {{"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, 4, 4, depth_bytes)}}, 4, 4,
+          {{"radius", 17.0}}),
+      GraphError);
+}
 
 TEST(MotionStencilSkip, SkippedOnlyWhenNothingMovesAndTheCameraIsStill) {
   const PassDecl pass = motion_stencil_pass();
