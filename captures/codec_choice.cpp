@@ -15,6 +15,8 @@ namespace nightcap {
 //   normal A2B10G10R10   ZIP 0.019, PIZ 0.040
 //   material RGBA8       ZIP 0.042, PIZ 0.034
 //   lookup_table R8      PIZ 0.84, ZIP 0.87
+// stencil and mask (R8_UINT) were not measured: they take lookup_table's choice, the other
+// 8-bit integer image.
 // Noisy, dithered or 8-bit-per-channel content compresses best with PIZ's wavelet; smooth
 // content and float depth with ZIP, whose higher levels cost more time than they save bytes.
 ImageEncoding image_encoding_for(ResourceKind kind) {
@@ -25,6 +27,8 @@ ImageEncoding image_encoding_for(ResourceKind kind) {
     case ResourceKind::packed_normal:
     case ResourceKind::motion:
     case ResourceKind::lookup_table:
+    case ResourceKind::stencil:
+    case ResourceKind::mask:
       return piz;
     case ResourceKind::hdr_colour:
     case ResourceKind::normal:

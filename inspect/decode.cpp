@@ -115,6 +115,16 @@ void decode_kind(const ResourceRecord& record, const FrameRecord& frame, const T
       out["min_m"] = v[0];
       out["max_m"] = v[1];
       return;
+    case ResourceKind::stencil: {  // stencil.half: the tag of one full-resolution texel
+      const uint32_t stencil = uint32_t(texel.codes.at(0));
+      out["stencil"] = stencil;
+      out["class"] = stencil_class_name(stencil);
+      out["flags"] = stencil_flags(stencil);
+      return;
+    }
+    case ResourceKind::mask:
+      out["masked"] = texel.codes.at(0) != 0;
+      return;
     case ResourceKind::hdr_colour:
       out["rgb"] = vector_json(v.data(), std::min<size_t>(3, v.size()));
       if (v.size() >= 3) out["luminance"] = rec709_luminance(v[0], v[1], v[2]);

@@ -148,6 +148,16 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
           }
           break;
         }
+        case ResourceKind::stencil: {
+          const auto colour = stencil_colour(uint32_t(values.codes.at(0)));
+          std::copy(colour.begin(), colour.end(), image.pixels.begin() + 4 * i);
+          break;
+        }
+        case ResourceKind::mask: {
+          const double shown = values.codes.at(0) != 0 ? 1.0 : 0.0;
+          put(i, shown, shown, shown);
+          break;
+        }
         case ResourceKind::motion:
           motion[i] = motion_pixels(v[0], v[1], frame);
           if (std::isfinite(motion[i][0]) && std::isfinite(motion[i][1]))

@@ -21,8 +21,10 @@ enum class VisualAspect { depth_or_colour, stencil };
 // - normal, packed_normal: 0.5·n + 0.5 of the unit vector; a zero vector is black.
 // - depth_stencil, linear_depth, depth_minmax (its min): linear metres on a log scale from the
 //   nearest (white) to the farthest (black) finite depth in the image; nothing drawn is black.
-// - stencil: the class's palette colour (plain black, road grey, body and face skin tones, vehicle
-//   blue, hair brown, foliage green, unknown magenta); the moving flag brightens it.
+// - stencil (a depth-stencil's stencil aspect, or a stencil-kind image): the class's palette
+//   colour (plain black, road grey, body and face skin tones, vehicle blue, hair brown, foliage
+//   green, unknown magenta); the moving flag brightens it.
+// - mask: white where set, black elsewhere.
 // - motion: hue from the direction, saturation and brightness from the length relative to the
 //   longest motion in the image (no motion: black).
 // - hdr_colour: Reinhard x / (1 + x) per channel, then sRGB.

@@ -60,6 +60,8 @@ enum class ResourceKind {
   depth_stencil,  // device depth (reversed-Z) + stencil tags
   linear_depth,   // view-space metres
   depth_minmax,   // min/max linear depth pyramid
+  stencil,        // stencil tags (class and flags, passes/scene/scene.h) outside a depth-stencil image
+  mask,           // per-pixel 0/1 selection
   lookup_table,
   texture,    // scene-supplied texture
   buffer,     // structured data

@@ -1,26 +1,54 @@
-// depth.convert: device depth → depth.linear (R32_SFLOAT, metres along the view axis), the
-// form every later stage samples. The half-resolution depth and stencil of frame.md arrive
-// with the geometry stage. Never skipped (frame.md): every later stage reads it.
+// depth.convert: device depth → depth.linear (R32_SFLOAT, metres along the view axis), the form
+// every later stage samples, and at half resolution depth.half (R16_SFLOAT metres) and
+// stencil.half (R8_UINT tags) for the half-resolution passes. Never skipped (frame.md): every
+// later stage reads it.
+//
+// A half texel takes both its depth and its stencil from one texel of its 2×2 footprint, the one
+// nearest to the camera: the pair then describes one surface, and thin foreground (hair,
+// foliage, poles) survives the downsample instead of the sky behind it. Averaging depths would
+// invent surfaces between silhouettes, and a min or max of stencil bits would invent classes.
+// A compute pass writes all three: the full and half outputs have different sizes, which one
+// render pass cannot draw into.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 
 namespace nightcap {
 
 PassDecl depth_convert_pass() {
-  return PassDecl("depth.convert", PassType::graphics)
+  ImageDecl half_depth{VK_FORMAT_R16_SFLOAT, ResourceKind::linear_depth};
+  half_depth.size.mode = SizeRule::Mode::output_half;
+  ImageDecl half_stencil{VK_FORMAT_R8_UINT, ResourceKind::stencil};
+  half_stencil.size.mode = SizeRule::Mode::output_half;
+  return PassDecl("depth.convert", PassType::compute)
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.depth", Use::sampled)
-      .write("depth.linear", Use::color_attachment, ImageDecl{VK_FORMAT_R32_SFLOAT, ResourceKind::linear_depth})
+      .slots("scene.depth", 2)  // its depth aspect, then its stencil aspect
+      .write("depth.linear", Use::storage_write, ImageDecl{VK_FORMAT_R32_SFLOAT, ResourceKind::linear_depth})
+      .write("depth.half", Use::storage_write, half_depth)
+      .write("stencil.half", Use::storage_write, half_stencil)
       .param("sky_depth", 1e6, 1.0, 3e38, "linear depth written where nothing was drawn (finite, so no Inf)")
       .compare("depth.linear", ComparisonContract::depth(0x1p-23,
                                                          "znear / depth is correctly rounded (0.5 ULP, "
                                                          "tests/unit/depth_convert_test.cpp): two devices "
                                                          "agree to 1 ULP"))
-      .fullscreen("depth/convert.frag", [](const PassContext& ctx) {
-        struct {
-          float sky_depth;
-        } constants{float(ctx.param("sky_depth"))};
-        return constants;
+      .compare("depth.half", ComparisonContract::depth(0x1p-10,
+                                                       "the nearest half to depth.linear, which two devices "
+                                                       "give 1 float ULP apart: the halves may then round "
+                                                       "to neighbours, 1 half ULP (at most 2⁻¹⁰ relative)"))
+      .shader("depth/convert.comp")
+      .push_constants<float>()
+      .run([](PassContext& ctx) {
+        ctx.bind_pipeline();
+        const uint32_t depth = ctx.slot("scene.depth");
+        ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
+                  Binding::texture(depth, "scene.depth", ctx.nearest_clamp(), ViewAspect::depth),
+                  Binding::texture(depth + 1, "scene.depth", ctx.nearest_clamp(), ViewAspect::stencil),
+                  Binding::image(ctx.slot("depth.linear"), "depth.linear"),
+                  Binding::image(ctx.slot("depth.half"), "depth.half"),
+                  Binding::image(ctx.slot("stencil.half"), "stencil.half")});
+        ctx.push_constants(float(ctx.param("sky_depth")));
+        const ImageExtent half = ctx.desc("depth.half").extent;
+        vkCmdDispatch(ctx.cmd(), (half.width + 7) / 8, (half.height + 7) / 8, 1);
       });
 }
 

@@ -10,7 +10,7 @@ namespace nightcap {
 std::vector<PassDecl> frame_passes();
 
 // What the frame must produce: the displayed image, and the depth-summary resources whose
-// consumers (clustering, SSR, AO) have not landed yet, so they are rendered and recorded.
+// consumers (clustering, SSR, AO, TAA) have not landed yet, so they are rendered and recorded.
 std::vector<std::string> frame_sinks();
 
 PassDecl frame_constants_pass();
@@ -19,6 +19,7 @@ PassDecl depth_prepass_pass();
 PassDecl gbuffer_opaque_pass();
 PassDecl gbuffer_dynamic_pass();
 PassDecl depth_convert_pass();
+PassDecl motion_stencil_pass();
 PassDecl normals_bfn_lut_pass();
 PassDecl normals_pack_pass();
 PassDecl depth_pyramid_pass();

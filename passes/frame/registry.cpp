@@ -3,7 +3,8 @@
 namespace nightcap {
 
 std::vector<std::string> frame_sinks() {
-  return {"final.ldr", "normals.packed", "depth.pyramid", "cull.stats", "cull.occlusion"};
+  return {"final.ldr",    "normals.packed", "depth.pyramid", "depth.half",
+          "stencil.half", "motion.mask",    "cull.stats",    "cull.occlusion"};
 }
 
 std::vector<PassDecl> frame_passes() {
@@ -14,6 +15,7 @@ std::vector<PassDecl> frame_passes() {
   passes.push_back(gbuffer_opaque_pass());
   passes.push_back(gbuffer_dynamic_pass());
   passes.push_back(depth_convert_pass());
+  passes.push_back(motion_stencil_pass());
   passes.push_back(normals_bfn_lut_pass());
   passes.push_back(normals_pack_pass());
   passes.push_back(depth_pyramid_pass());

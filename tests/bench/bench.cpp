@@ -7,8 +7,8 @@
 //    peak_gpu_mib_no_aliasing: the built-in city);
 //  - scene.geometry's position bits against their error in mm, its size against float vertices;
 //  - time against error for each pass knob (normals.pack LUT size, lighting.deferred tube samples
-//    against the CPU segment integral, depth.convert, depth.pyramid and bloom against their
-//    references);
+//    against the CPU segment integral, depth.convert (full and half resolution), depth.pyramid,
+//    motion.stencil (time against its dilation radius) and bloom against their references);
 //  - the CLI's start-up: `nightcap --help` and `nightcap passes` of a city capture, wall clock;
 //    the debugger's first answer and its export of gbuffer.opaque's colour targets;
 //  - `nightcap diff` of a 1280x720 pair against idiff over the same images.
@@ -40,7 +40,9 @@
 #include "passes/normals/bfn_lut.h"
 #include "passes/scene/scene.h"
 #include "tests/reference/bloom_reference.h"
+#include "tests/reference/depth_half_reference.h"
 #include "tests/reference/lighting_reference.h"
+#include "tests/reference/motion_mask_reference.h"
 
 namespace nc = nightcap;
 namespace fs = std::filesystem;
@@ -705,24 +707,44 @@ void bench_map(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uin
 }
 
 // depth.convert and depth.pyramid: time, and error against double-precision / exact references.
+
+// A stencil tag per pixel: every class and flag of passes/scene/scene.h, one pixel in 200 moving,
+// hair or foliage (the rest plain, road, body, face or vehicle).
+std::vector<uint8_t> bench_tags(size_t pixels, std::mt19937& rng) {
+  namespace st = nc::stencil;
+  const uint8_t untagged[] = {st::plain, st::road, st::body, st::face, st::vehicle};
+  const uint8_t tagged[] = {st::hair, st::foliage, st::body | st::moving, st::vehicle | st::moving};
+  std::vector<uint8_t> tags(pixels);
+  for (uint8_t& t : tags)
+    t = rng() % 200 == 0 ? tagged[rng() % std::size(tagged)] : untagged[rng() % std::size(untagged)];
+  return tags;
+}
+
+// depth.convert and depth.pyramid: time, and error against double-precision / exact references;
+// depth.convert's time covers its three outputs (depth.linear, depth.half, stencil.half), which
+// one dispatch writes.
 void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height) {
   std::mt19937 rng(7);
   std::vector<float> device_depth(size_t(width) * height);
   for (float& d : device_depth) d = float(rng() % 1000000 + 1) * 1e-6f;
+  const std::vector<uint8_t> tags = bench_tags(device_depth.size(), rng);
   std::vector<uint8_t> depth_bytes(device_depth.size() * 5, 0);
   std::memcpy(depth_bytes.data(), device_depth.data(), device_depth.size() * 4);
+  std::memcpy(depth_bytes.data() + device_depth.size() * 4, tags.data(), tags.size());
   nc::GpuFrameConstants constants{};
   constants.projection_params.x = 0.05f;
   const nc::IsolatedInput constants_in = constants_input(constants);
-  std::vector<double> times;
+  std::vector<double> times, wall;
   nc::IsolatedRun convert;
-  for (int r = 0; r < 3; ++r) {
+  for (int r = 0; r < 4; ++r) {  // the first run compiles the pipeline
+    const double start = now_ms();
     convert = nc::run_isolated(gpu, cache, nc::depth_convert_pass(),
                                {{"frame.constants", constants_in},
                                 {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, nc::ResourceKind::depth_stencil,
                                                       width, height, depth_bytes)}},
                                nc::depth_convert_pass().default_params(), width, height, builtin());
-    times.push_back(gpu_ms(convert));
+    if (r > 0) wall.push_back(now_ms() - start);
+    if (r > 0) times.push_back(gpu_ms(convert));
   }
   const auto& linear = *convert.outputs.at("depth.linear");
   double worst = 0;
@@ -732,11 +754,35 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
     const double exact = double(0.05f) / double(device_depth[i]);
     worst = std::max(worst, std::abs(v - exact) / exact);
   }
+  // The half outputs against tests/reference/depth_half_reference.h: depth error in half ULPs of
+  // the exact value (the unit test bounds it by 0.5 plus a float ULP), stencil texels that differ.
+  const ref::HalfDepthStencil half = ref::half_depth_stencil(device_depth, tags, width, height, double(0.05f),
+                                                             nc::depth_convert_pass().default_params().at("sky_depth"));
+  const auto& half_depth = *convert.outputs.at("depth.half");
+  const auto& half_stencil = *convert.outputs.at("stencil.half");
+  double worst_half_ulps = 0;
+  size_t stencil_wrong = 0;
+  for (size_t i = 0; i < half.metres.size(); ++i) {
+    uint16_t bits;
+    std::memcpy(&bits, half_depth.data() + 2 * i, 2);
+    const double exact = half.metres[i];
+    const double ulp = std::ldexp(1.0, std::max(std::ilogb(exact), -14) - 10);
+    worst_half_ulps = std::max(worst_half_ulps, std::abs(nc::half_to_float(bits) - exact) / ulp);
+    stencil_wrong += half_stencil[i] != half.stencil[i];
+  }
+  // lavapipe's timestamps around this one compute dispatch come out far below its work (hundredths
+  // of a millisecond, against about 16 in the city frame), so the isolated run's wall clock is
+  // printed too: an upper bound, with the upload of the inputs and the readback of the outputs.
   table() << "\n## depth (" << width << "x" << height << ")\n"
-          << "depth.convert   gpu " << std::fixed << std::setprecision(3) << median(times)
-          << " ms, max rel error vs double " << std::scientific << std::setprecision(2) << worst << "\n";
+          << "depth.convert   gpu " << std::fixed << std::setprecision(3) << median(times) << " ms (timestamps), "
+          << median(wall) << " ms isolated wall clock, max rel error vs double " << std::scientific
+          << std::setprecision(2) << worst << "; depth.half max " << std::fixed << std::setprecision(4)
+          << worst_half_ulps << " half ULP, stencil.half " << stencil_wrong << " texels differ\n";
   figure("depth_convert.gpu_ms", median(times));
+  figure("depth_convert.isolated_wall_ms", median(wall));
   figure("depth_convert.max_rel_err", worst);
+  figure("depth_convert.half_max_half_ulps", worst_half_ulps);
+  figure("depth_convert.stencil_half_mismatches", double(stencil_wrong));
   times.clear();
   nc::IsolatedRun pyramid;
   for (int r = 0; r < 3; ++r) {
@@ -822,139 +868,177 @@ void bench_vertex_streams(const std::string& key, const std::string& label, cons
   figure("vertex_streams." + key + ".vertex_bytes_ratio", vertex_bytes / float_layout);
   figure("vertex_streams." + key + ".geometry_bytes_ratio", packed.bytes.size() / float_buffer);
   figure("vertex_streams." + key + ".pack_ms", median(times));
-}
 
-// bloom: the six level passes as one graph on an HDR image of the output size (a night scene's
-// range: dim surroundings, neon a few hundred times brighter), time summed over the levels, and
-// the largest relative error of a level against the double-precision filter of the level above
-// as stored (half a half-ULP is 4.9e-4) and of the chain against the filter applied all the way
-// down without rounding (tests/unit/bloom_test.cpp bounds both).
-void bench_bloom(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height) {
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> exponent(-10.0f, 9.0f), unit(0.0f, 1.0f);
-  auto lit = std::make_shared<std::vector<uint8_t>>(size_t(width) * height * 8);
-  ref::RgbImage exact_above{width, height, std::vector<std::array<double, 3>>(size_t(width) * height)};
-  for (size_t i = 0; i < size_t(width) * height; ++i) {
-    const bool neon = unit(rng) < 0.01f;
-    uint16_t h[4] = {0, 0, 0, nc::float_to_half(1.0f)};
-    for (int c = 0; c < 3; ++c) {
-      h[c] = nc::float_to_half(neon ? 400.0f * unit(rng) : std::exp2(exponent(rng)));
-      exact_above.texels[i][c] = nc::half_to_float(h[c]);
-    }
-    std::memcpy(lit->data() + 8 * i, h, 8);
-  }
-  std::vector<nc::PassDecl> passes;
-  for (uint32_t level = 0; level < nc::kBloomLevels; ++level) passes.push_back(nc::bloom_level_pass(level));
-  nc::ResourceDesc desc;
-  desc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
-  desc.kind = nc::ResourceKind::hdr_colour;
-  desc.extent.width = width;
-  desc.extent.height = height;
-  nc::GraphSettings settings;
-  settings.width = width;
-  settings.height = height;
-  settings.sinks = {"bloom.chain"};
-  settings.readback = {"bloom.chain"};
-  nc::ExecutionOptions options;
-  options.shaders = builtin();
-  // lavapipe's timestamps around these compute passes come out far below the work they do (the
-  // frame's figures show it too), so the wall-clock cost is measured as well: the same graph
-  // with every level skipped (the chain only cleared) is the baseline.
-  nc::GraphSettings skipped = settings;
-  for (uint32_t level = 0; level < nc::kBloomLevels; ++level)
-    skipped.params["bloom.level" + std::to_string(level)]["enabled"] = 0;
-  std::vector<double> times, with_ms, without_ms;
-  nc::Execution execution;
-  for (int r = 0; r < 4; ++r) {  // the first run compiles the pipeline
-    nc::CompiledGraph graph = nc::compile_graph(passes, {{"lighting.lit", desc}}, settings);
-    double start = now_ms();
-    execution = nc::execute_graph(gpu, cache, graph, {{"lighting.lit", lit}}, options);
-    if (r > 0) with_ms.push_back(now_ms() - start);
-    double ms = 0;
-    for (const auto& pass : execution.passes) ms += pass.gpu_ms.value_or(0.0);
-    if (r > 0) times.push_back(ms);
-    nc::CompiledGraph baseline = nc::compile_graph(passes, {{"lighting.lit", desc}}, skipped);
-    start = now_ms();
-    nc::execute_graph(gpu, cache, baseline, {{"lighting.lit", lit}}, options);
-    if (r > 0) without_ms.push_back(now_ms() - start);
-  }
-  const double wall_ms = median(with_ms) - median(without_ms);
-  const nc::VersionData& chain = *execution.final_version("bloom.chain");
-  double level_err = 0, chain_err = 0;
-  for (uint32_t level = 0; level < chain.desc.extent.mips; ++level) {
-    const ref::RgbImage gpu_level = ref::decode_rgba16f(*chain.bytes, chain.desc.extent, level);
-    const ref::RgbImage above =
-        level == 0 ? exact_above : ref::decode_rgba16f(*chain.bytes, chain.desc.extent, level - 1);
-    const ref::RgbImage exact = ref::bloom_level(above, gpu_level.width, gpu_level.height, 1.5);
-    if (level == 0)
-      exact_above = exact;
-    else
-      exact_above = ref::bloom_level(exact_above, gpu_level.width, gpu_level.height, 1.5);
-    for (size_t i = 0; i < exact.texels.size(); ++i)
-      for (int c = 0; c < 3; ++c) {
-        const double g = gpu_level.texels[i][c];
-        if (exact.texels[i][c] >= 0x1p-14)
-          level_err = std::max(level_err, std::abs(g - exact.texels[i][c]) / exact.texels[i][c]);
-        if (exact_above.texels[i][c] >= 0x1p-14)
-          chain_err = std::max(chain_err, std::abs(g - exact_above.texels[i][c]) / exact_above.texels[i][c]);
+  // motion.stencil: time against the dilation radius (timestamps and the isolated run's wall clock,
+  // as for depth.convert), and texels that differ from the brute-force CPU dilation of
+  // tests/reference/motion_mask_reference.h (the unit test requires none).
+  void bench_motion_stencil(nc::GpuDevice & gpu, nc::PipelineCache & cache, uint32_t width, uint32_t height) {
+    std::mt19937 rng(11);
+    const std::vector<uint8_t> tags = bench_tags(size_t(width) * height, rng);
+    std::vector<uint8_t> depth_bytes(tags.size() * 5, 0);
+    std::memcpy(depth_bytes.data() + tags.size() * 4, tags.data(), tags.size());
+    const nc::IsolatedInput depth =
+        image(VK_FORMAT_D32_SFLOAT_S8_UINT, nc::ResourceKind::depth_stencil, width, height, depth_bytes);
+    table() << "\n## motion.stencil (" << width << "x" << height << ", 1 pixel in 200 tagged)\n";
+    for (int radius : {0, 2, 4, 8}) {
+      std::vector<double> times, wall;
+      nc::IsolatedRun run;
+      for (int r = 0; r < 4; ++r) {  // the first run compiles the pipeline
+        const double start = now_ms();
+        run = nc::run_isolated(gpu, cache, nc::motion_stencil_pass(), {{"scene.depth", depth}},
+                               {{"radius", double(radius)}}, width, height, builtin());
+        if (r > 0) wall.push_back(now_ms() - start);
+        if (r > 0) times.push_back(gpu_ms(run));
       }
-  }
-  table() << "\n## bloom (" << width << "x" << height << " lit, " << chain.desc.extent.width << "x"
-          << chain.desc.extent.height << " chain, " << chain.desc.extent.mips << " levels, sigma 1.5)\n"
-          << "bloom.level0-5  gpu " << std::fixed << std::setprecision(3) << median(times) << " ms (timestamps), "
-          << wall_ms << " ms wall-clock over the skipped chain, max rel error per level " << std::scientific
-          << std::setprecision(2) << level_err << ", down the chain " << chain_err << "\n";
-  figure("bloom.gpu_ms", median(times));
-  figure("bloom.wall_ms", wall_ms);
-  figure("bloom.max_rel_err", level_err);
-  figure("bloom.chain_max_rel_err", chain_err);
-}
-
-// exposure: time, and the error of the histogram's mean log2 luminance (bin centres) against the
-// exact mean over every pixel, for the default 24-EV range and a twice as wide, coarser one.
-void bench_exposure(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height) {
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> level(-10.0, 10.0);
-  std::vector<uint16_t> texels;
-  double exact = 0;
-  for (size_t i = 0; i < size_t(width) * height; ++i) {
-    const uint16_t h = nc::float_to_half(float(std::exp2(level(rng))));
-    texels.insert(texels.end(), {h, h, h, 0x3c00});
-    exact += std::log2(double(nc::half_to_float(h)) * (0.2126 + 0.7152 + 0.0722));
-  }
-  exact /= double(width) * height;
-  std::vector<uint8_t> lit(texels.size() * 2);
-  std::memcpy(lit.data(), texels.data(), lit.size());
-  nc::GpuFrameConstants constants{};
-  constants.timing.y = float(nc::kFrameSeconds);
-  const nc::IsolatedInput constants_in = constants_input(constants);
-  table() << "\n## exposure (" << width << "x" << height << ", log2 luminance uniform in [-10, 10])\n";
-  for (const double range : {24.0, 48.0}) {
-    nc::ParamValues params = nc::exposure_pass().default_params();
-    params["log2_min"] = -range / 2;
-    params["log2_max"] = range / 2;
-    std::vector<double> times;
-    nc::IsolatedRun run;
-    for (int r = 0; r < 3; ++r) {
-      run = nc::run_isolated(
-          gpu, cache, nc::exposure_pass(),
-          {{"frame.constants", constants_in},
-           {"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, nc::ResourceKind::hdr_colour, width, height, lit)},
-           {nc::previous("exposure.value"),
-            image(VK_FORMAT_R32G32B32A32_SFLOAT, nc::ResourceKind::hdr_colour, 1, 1, std::vector<uint8_t>(16, 0))}},
-          params, width, height, builtin());
-      times.push_back(gpu_ms(run));
+      const std::vector<uint8_t> expected = ref::motion_mask(tags, width, height, radius);
+      const auto& mask = *run.outputs.at("motion.mask");
+      size_t wrong = 0, masked = 0;
+      for (size_t i = 0; i < expected.size(); ++i) {
+        wrong += mask[i] != expected[i];
+        masked += expected[i];
+      }
+      table() << "radius " << radius << "   gpu " << std::fixed << std::setprecision(3) << median(times)
+              << " ms (timestamps), " << median(wall) << " ms isolated wall clock, " << std::setprecision(1)
+              << 100.0 * double(masked) / double(expected.size()) << "% masked, " << wrong
+              << " texels differ from the CPU dilation\n";
+      const std::string row = "motion_stencil.radius" + std::to_string(radius);
+      figure(row + ".gpu_ms", median(times));
+      figure(row + ".isolated_wall_ms", median(wall));
+      figure(row + ".mismatches", double(wrong));
     }
-    float value[4];
-    std::memcpy(value, run.outputs.at("exposure.value")->data(), sizeof value);
-    const double error = std::abs(value[2] - exact);
-    const std::string row = "exposure.range" + std::to_string(int(range));
-    table() << row << "   gpu " << std::fixed << std::setprecision(3) << median(times) << " ms, |mean - exact| "
-            << std::setprecision(5) << error << " EV (bin width " << range / nc::kExposureBins << " EV)\n";
-    figure(row + ".gpu_ms", median(times));
-    figure(row + ".err_ev", error);
   }
-}
+
+  // bloom: the six level passes as one graph on an HDR image of the output size (a night scene's
+  // range: dim surroundings, neon a few hundred times brighter), time summed over the levels, and
+  // the largest relative error of a level against the double-precision filter of the level above
+  // as stored (half a half-ULP is 4.9e-4) and of the chain against the filter applied all the way
+  // down without rounding (tests/unit/bloom_test.cpp bounds both).
+  void bench_bloom(nc::GpuDevice & gpu, nc::PipelineCache & cache, uint32_t width, uint32_t height) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> exponent(-10.0f, 9.0f), unit(0.0f, 1.0f);
+    auto lit = std::make_shared<std::vector<uint8_t>>(size_t(width) * height * 8);
+    ref::RgbImage exact_above{width, height, std::vector<std::array<double, 3>>(size_t(width) * height)};
+    for (size_t i = 0; i < size_t(width) * height; ++i) {
+      const bool neon = unit(rng) < 0.01f;
+      uint16_t h[4] = {0, 0, 0, nc::float_to_half(1.0f)};
+      for (int c = 0; c < 3; ++c) {
+        h[c] = nc::float_to_half(neon ? 400.0f * unit(rng) : std::exp2(exponent(rng)));
+        exact_above.texels[i][c] = nc::half_to_float(h[c]);
+      }
+      std::memcpy(lit->data() + 8 * i, h, 8);
+    }
+    std::vector<nc::PassDecl> passes;
+    for (uint32_t level = 0; level < nc::kBloomLevels; ++level) passes.push_back(nc::bloom_level_pass(level));
+    nc::ResourceDesc desc;
+    desc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
+    desc.kind = nc::ResourceKind::hdr_colour;
+    desc.extent.width = width;
+    desc.extent.height = height;
+    nc::GraphSettings settings;
+    settings.width = width;
+    settings.height = height;
+    settings.sinks = {"bloom.chain"};
+    settings.readback = {"bloom.chain"};
+    nc::ExecutionOptions options;
+    options.shaders = builtin();
+    // lavapipe's timestamps around these compute passes come out far below the work they do (the
+    // frame's figures show it too), so the wall-clock cost is measured as well: the same graph
+    // with every level skipped (the chain only cleared) is the baseline.
+    nc::GraphSettings skipped = settings;
+    for (uint32_t level = 0; level < nc::kBloomLevels; ++level)
+      skipped.params["bloom.level" + std::to_string(level)]["enabled"] = 0;
+    std::vector<double> times, with_ms, without_ms;
+    nc::Execution execution;
+    for (int r = 0; r < 4; ++r) {  // the first run compiles the pipeline
+      nc::CompiledGraph graph = nc::compile_graph(passes, {{"lighting.lit", desc}}, settings);
+      double start = now_ms();
+      execution = nc::execute_graph(gpu, cache, graph, {{"lighting.lit", lit}}, options);
+      if (r > 0) with_ms.push_back(now_ms() - start);
+      double ms = 0;
+      for (const auto& pass : execution.passes) ms += pass.gpu_ms.value_or(0.0);
+      if (r > 0) times.push_back(ms);
+      nc::CompiledGraph baseline = nc::compile_graph(passes, {{"lighting.lit", desc}}, skipped);
+      start = now_ms();
+      nc::execute_graph(gpu, cache, baseline, {{"lighting.lit", lit}}, options);
+      if (r > 0) without_ms.push_back(now_ms() - start);
+    }
+    const double wall_ms = median(with_ms) - median(without_ms);
+    const nc::VersionData& chain = *execution.final_version("bloom.chain");
+    double level_err = 0, chain_err = 0;
+    for (uint32_t level = 0; level < chain.desc.extent.mips; ++level) {
+      const ref::RgbImage gpu_level = ref::decode_rgba16f(*chain.bytes, chain.desc.extent, level);
+      const ref::RgbImage above =
+          level == 0 ? exact_above : ref::decode_rgba16f(*chain.bytes, chain.desc.extent, level - 1);
+      const ref::RgbImage exact = ref::bloom_level(above, gpu_level.width, gpu_level.height, 1.5);
+      if (level == 0)
+        exact_above = exact;
+      else
+        exact_above = ref::bloom_level(exact_above, gpu_level.width, gpu_level.height, 1.5);
+      for (size_t i = 0; i < exact.texels.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+          const double g = gpu_level.texels[i][c];
+          if (exact.texels[i][c] >= 0x1p-14)
+            level_err = std::max(level_err, std::abs(g - exact.texels[i][c]) / exact.texels[i][c]);
+          if (exact_above.texels[i][c] >= 0x1p-14)
+            chain_err = std::max(chain_err, std::abs(g - exact_above.texels[i][c]) / exact_above.texels[i][c]);
+        }
+    }
+    table() << "\n## bloom (" << width << "x" << height << " lit, " << chain.desc.extent.width << "x"
+            << chain.desc.extent.height << " chain, " << chain.desc.extent.mips << " levels, sigma 1.5)\n"
+            << "bloom.level0-5  gpu " << std::fixed << std::setprecision(3) << median(times) << " ms (timestamps), "
+            << wall_ms << " ms wall-clock over the skipped chain, max rel error per level " << std::scientific
+            << std::setprecision(2) << level_err << ", down the chain " << chain_err << "\n";
+    figure("bloom.gpu_ms", median(times));
+    figure("bloom.wall_ms", wall_ms);
+    figure("bloom.max_rel_err", level_err);
+    figure("bloom.chain_max_rel_err", chain_err);
+  }
+
+  // exposure: time, and the error of the histogram's mean log2 luminance (bin centres) against the
+  // exact mean over every pixel, for the default 24-EV range and a twice as wide, coarser one.
+  void bench_exposure(nc::GpuDevice & gpu, nc::PipelineCache & cache, uint32_t width, uint32_t height) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> level(-10.0, 10.0);
+    std::vector<uint16_t> texels;
+    double exact = 0;
+    for (size_t i = 0; i < size_t(width) * height; ++i) {
+      const uint16_t h = nc::float_to_half(float(std::exp2(level(rng))));
+      texels.insert(texels.end(), {h, h, h, 0x3c00});
+      exact += std::log2(double(nc::half_to_float(h)) * (0.2126 + 0.7152 + 0.0722));
+    }
+    exact /= double(width) * height;
+    std::vector<uint8_t> lit(texels.size() * 2);
+    std::memcpy(lit.data(), texels.data(), lit.size());
+    nc::GpuFrameConstants constants{};
+    constants.timing.y = float(nc::kFrameSeconds);
+    const nc::IsolatedInput constants_in = constants_input(constants);
+    table() << "\n## exposure (" << width << "x" << height << ", log2 luminance uniform in [-10, 10])\n";
+    for (const double range : {24.0, 48.0}) {
+      nc::ParamValues params = nc::exposure_pass().default_params();
+      params["log2_min"] = -range / 2;
+      params["log2_max"] = range / 2;
+      std::vector<double> times;
+      nc::IsolatedRun run;
+      for (int r = 0; r < 3; ++r) {
+        run = nc::run_isolated(
+            gpu, cache, nc::exposure_pass(),
+            {{"frame.constants", constants_in},
+             {"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, nc::ResourceKind::hdr_colour, width, height, lit)},
+             {nc::previous("exposure.value"),
+              image(VK_FORMAT_R32G32B32A32_SFLOAT, nc::ResourceKind::hdr_colour, 1, 1, std::vector<uint8_t>(16, 0))}},
+            params, width, height, builtin());
+        times.push_back(gpu_ms(run));
+      }
+      float value[4];
+      std::memcpy(value, run.outputs.at("exposure.value")->data(), sizeof value);
+      const double error = std::abs(value[2] - exact);
+      const std::string row = "exposure.range" + std::to_string(int(range));
+      table() << row << "   gpu " << std::fixed << std::setprecision(3) << median(times) << " ms, |mean - exact| "
+              << std::setprecision(5) << error << " EV (bin width " << range / nc::kExposureBins << " EV)\n";
+      figure(row + ".gpu_ms", median(times));
+      figure(row + ".err_ev", error);
+    }
+  }
 
 }  // namespace
 
@@ -964,8 +1048,8 @@ int main(int argc, char** argv) {
   std::string size = "1280x720", device, data = NIGHTCAP_SHARED_DATA;
   bool skip_models = false;
   std::vector<std::string> only;
-  const std::vector<std::string> sections = {"city",  "models", "map",      "frames",  "normals", "tubes",
-                                             "depth", "bloom",  "exposure", "startup", "diff",    "report"};
+  const std::vector<std::string> sections = {"city",   "models",  "map",   "frames",   "normals", "tubes", "depth",
+                                             "motion", "streams", "bloom", "exposure", "startup", "diff",  "report"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -1003,6 +1087,7 @@ int main(int argc, char** argv) {
     if (wanted("normals")) bench_normals(gpu, cache, directions);
     if (wanted("tubes")) bench_tube_samples(gpu, width / 2, height / 2);
     if (wanted("depth")) bench_depth(gpu, cache, width, height);
+    if (wanted("motion")) bench_motion_stencil(gpu, cache, width, height);
     if (wanted("streams")) {
       bench_vertex_streams("city", "built-in city (seed 1)", nc::build_city(1));
       const fs::path helmet = fs::path(data) / "gltf/DamagedHelmet/glTF/DamagedHelmet.gltf";

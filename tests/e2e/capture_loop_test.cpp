@@ -1,10 +1,13 @@
 // The capture loop end to end on lavapipe with validation: render → passes → replay → diff.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
 #include <set>
 
+#include "captures/capture.h"
 #include "tests/e2e/cli.h"
+#include "tests/reference/depth_half_reference.h"
 
 namespace nightcap::test {
 namespace {
@@ -13,9 +16,18 @@ namespace fs = std::filesystem;
 const char* kCity = "--size 320x180 --frames 2";
 // Every pass of the frame, CPU passes included.
 const std::vector<std::string> kFramePasses = {
-    "cull.main",    "frame.constants", "depth.prepass",     "gbuffer.opaque",     "depth.convert", "normals.bfn_lut",
-    "normals.pack", "depth.pyramid",   "lighting.deferred", "lighting.composite", "bloom.level0",  "bloom.level1",
-    "bloom.level2", "bloom.level3",    "bloom.level4",      "bloom.level5",       "exposure",      "tonemap"};
+    "cull.main",          "frame.constants", "depth.prepass", "gbuffer.opaque", "depth.convert",
+    "motion.stencil",     "normals.bfn_lut", "normals.pack",  "depth.pyramid",  "lighting.deferred",
+    "lighting.composite", "bloom.level0",    "bloom.level1",  "bloom.level2",   "bloom.level3",
+    "bloom.level4",       "bloom.level5",    "exposure",      "tonemap"};
+
+// The passes that run in frame `frame` of kCity: the city has no moving geometry and the camera
+// walks from frame 1 on, so motion.stencil is skipped in frame 0 only.
+std::vector<std::string> passes_that_run(int frame) {
+  std::vector<std::string> passes = kFramePasses;
+  if (frame == 0) std::erase(passes, "motion.stencil");
+  return passes;
+}
 
 nlohmann::json passes_json(const fs::path& capture) {
   const CliResult r = run_cli("passes --json " + quote(capture));
@@ -156,7 +168,8 @@ TEST(CaptureLoop, PassesJsonDescribesEveryPassAndResource) {
         EXPECT_TRUE(fs::exists(shared_capture("city", kCity) / r.at("blob").get<std::string>()));
       }
   }
-  EXPECT_EQ(ran, kFramePasses);
+  EXPECT_EQ(ran, passes_that_run(0));
+  EXPECT_EQ(find_pass(frame, "motion.stencil").at("reason"), "nothing moves and the camera is still");
   // GPU passes carry a timestamp duration, CPU passes null.
   EXPECT_TRUE(find_pass(frame, "gbuffer.opaque").at("gpu_ms").is_number());
   EXPECT_TRUE(find_pass(frame, "cull.main").at("gpu_ms").is_null());
@@ -178,6 +191,65 @@ TEST(CaptureLoop, PassesJsonDescribesEveryPassAndResource) {
   EXPECT_EQ(blobs.size(), 1u);
 }
 
+const ResourceRecord& record_named(const std::vector<ResourceRecord>& records, const std::string& name) {
+  for (const ResourceRecord& r : records)
+    if (r.resource == name) return r;
+  throw std::runtime_error("no resource " + name);
+}
+
+const PassRecord& pass_record(const FrameRecord& frame, const std::string& name) {
+  for (const PassRecord& p : frame.passes)
+    if (p.name == name) return p;
+  throw std::runtime_error("no pass " + name);
+}
+
+// The city's recorded depth-stencil through the CPU reference of the half outputs: the stencil
+// must match exactly, the depth be the nearest half of the recorded depth.linear at the chosen
+// texel. motion.mask is recorded in both frames: frame 0 skips its pass and records the clear
+// value, 0 everywhere.
+TEST(CaptureLoop, HalfResolutionDepthAndStencilAndTheMotionMaskAreRecorded) {
+  const Capture capture = Capture::open(shared_capture("city", kCity));
+  const FrameRecord& frame = capture.frame(0);
+  const PassRecord& convert = pass_record(frame, "depth.convert");
+  const ResourceRecord& depth = record_named(convert.inputs, "scene.depth");
+  const ResourceRecord& half_depth = record_named(convert.outputs, "depth.half");
+  const ResourceRecord& half_stencil = record_named(convert.outputs, "stencil.half");
+  EXPECT_EQ(half_depth.format, VK_FORMAT_R16_SFLOAT);
+  EXPECT_EQ(half_stencil.format, VK_FORMAT_R8_UINT);
+  EXPECT_EQ(half_stencil.kind, ResourceKind::stencil);
+  EXPECT_EQ(half_depth.extent.width, 160u);
+  EXPECT_EQ(half_depth.extent.height, 90u);
+
+  const uint32_t width = depth.extent.width, height = depth.extent.height;
+  const size_t pixels = size_t(width) * height;
+  const std::vector<uint8_t> depth_raw = capture.load(depth);
+  std::vector<float> device(pixels);
+  std::memcpy(device.data(), depth_raw.data(), pixels * 4);
+  const std::vector<uint8_t> tags(depth_raw.begin() + pixels * 4, depth_raw.end());
+  const reference::HalfDepthStencil expected =
+      reference::half_depth_stencil(device, tags, width, height, frame.camera.znear, convert.params.at("sky_depth"));
+  const std::vector<uint8_t> half_depth_raw = capture.load(half_depth), half_stencil_raw = capture.load(half_stencil);
+  const std::vector<uint8_t> linear_raw = capture.load(record_named(convert.outputs, "depth.linear"));
+  ASSERT_EQ(half_stencil_raw, expected.stencil);
+  size_t sky = 0;
+  for (size_t i = 0; i < expected.source.size(); ++i) {
+    float linear;
+    std::memcpy(&linear, linear_raw.data() + 4 * expected.source[i], 4);
+    uint16_t bits;
+    std::memcpy(&bits, half_depth_raw.data() + 2 * i, 2);
+    ASSERT_EQ(bits, float_to_half(std::min(linear, 65504.0f))) << "half texel " << i;
+    sky += half_to_float(bits) == 65504.0f;
+  }
+  EXPECT_GT(sky, 0u) << "the city frame shows sky";
+  EXPECT_LT(sky, expected.source.size());
+
+  const PassRecord& skipped = pass_record(frame, "motion.stencil");
+  EXPECT_FALSE(skipped.ran);
+  const std::vector<uint8_t> mask = capture.load(record_named(skipped.outputs, "motion.mask"));
+  EXPECT_EQ(mask, std::vector<uint8_t>(pixels, 0));
+  EXPECT_TRUE(pass_record(capture.frame(1), "motion.stencil").ran);
+}
+
 TEST(CaptureLoop, EveryPassThatRanReplaysBitIdentically) {
   const fs::path capture = shared_capture("city", kCity);
   const nlohmann::json listing = passes_json(capture);
@@ -185,7 +257,7 @@ TEST(CaptureLoop, EveryPassThatRanReplaysBitIdentically) {
     std::vector<std::string> ran;
     for (const auto& p : listing.at("frames")[frame].at("passes"))
       if (p.at("status") == "ran") ran.push_back(p.at("name"));
-    EXPECT_EQ(ran, kFramePasses) << "frame " << frame;
+    EXPECT_EQ(ran, passes_that_run(frame)) << "frame " << frame;
 
     const CliResult r = run_cli("replay --verify --json --frame " + std::to_string(frame) + " " + quote(capture));
     ASSERT_EQ(r.code, 0) << r.out << r.err;

@@ -1,6 +1,7 @@
 // The debugger's decoding and statistics on images built here, whose answers are known by
-// construction: NaN, Inf and half denormals counted, stencil tags named, output pixels mapped
-// to half-resolution mips.
+// construction: NaN, Inf and half denormals counted, stencil tags named (in a depth-stencil and
+// in a stencil-kind image such as stencil.half), motion.mask's bits, output pixels mapped to
+// half-resolution mips.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +9,7 @@
 
 #include "inspect/decode.h"
 #include "inspect/stats.h"
+#include "inspect/visualise.h"
 #include "tests/unit/image_record.h"
 
 namespace nightcap {
@@ -69,6 +71,35 @@ TEST(InspectDecode, DepthStencilTexelInMetresAndClass) {
   EXPECT_EQ(hit.decoded["stencil"], 0x97);
   EXPECT_EQ(hit.decoded["class"], "hair");
   EXPECT_EQ(hit.decoded["flags"], nlohmann::ordered_json::array({"moving"}));
+}
+
+TEST(InspectDecode, HalfResolutionStencilByClassAndTheMotionMask) {
+  FrameRecord frame;
+  frame.width = 5;
+  frame.height = 1;
+  // stencil.half of a 5-wide output: 3 texels, foliage, vehicle moving, an unknown tag.
+  const ResourceRecord half = image_record(VK_FORMAT_R8_UINT, ResourceKind::stencil, 3, 1, 1, "stencil.half");
+  const std::vector<uint8_t> tags = {0xA0, 0x42, 0x11};
+  const PixelReading foliage = read_pixel(half, tags, frame, {0, 0, 0, 0});
+  EXPECT_EQ(foliage.decoded["stencil"], 0xA0);
+  EXPECT_EQ(foliage.decoded["class"], "foliage");
+  EXPECT_TRUE(foliage.decoded["flags"].empty());
+  const PixelReading vehicle = read_pixel(half, tags, frame, {1, 0, 0, 0});
+  EXPECT_EQ(vehicle.decoded["class"], "vehicle");
+  EXPECT_EQ(vehicle.decoded["flags"], nlohmann::ordered_json::array({"moving"}));
+  EXPECT_EQ(read_pixel(half, tags, frame, {2, 0, 0, 0}).decoded["class"], "unknown");
+  const Rgba8Image palette = visualise(half, tags, frame, {}, VisualAspect::depth_or_colour);
+  for (size_t i = 0; i < tags.size(); ++i) {
+    const auto expected = stencil_colour(tags[i]);
+    EXPECT_TRUE(std::equal(expected.begin(), expected.end(), palette.pixels.begin() + 4 * i)) << i;
+  }
+
+  const ResourceRecord mask = image_record(VK_FORMAT_R8_UINT, ResourceKind::mask, 5, 1, 1, "motion.mask");
+  const std::vector<uint8_t> bits = {0, 1, 1, 0, 0};
+  EXPECT_EQ(read_pixel(mask, bits, frame, {0, 0, 0, 0}).decoded["masked"], false);
+  EXPECT_EQ(read_pixel(mask, bits, frame, {1, 0, 0, 0}).decoded["masked"], true);
+  const Rgba8Image shown = visualise(mask, bits, frame, {}, VisualAspect::depth_or_colour);
+  for (size_t i = 0; i < bits.size(); ++i) EXPECT_EQ(shown.pixels[4 * i], bits[i] ? 255 : 0) << i;
 }
 
 TEST(InspectDecode, OutputPixelsMapToHalfResolutionMips) {

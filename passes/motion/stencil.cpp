@@ -1,0 +1,49 @@
+// motion.stencil: motion.mask (R8_UINT, full resolution), 1 on and around the pixels whose
+// history TAA must distrust: those tagged moving (their history lies elsewhere on screen), and
+// hair and foliage (thin, sub-pixel detail whose history flickers even when it stays still).
+// The mask is dilated by `radius` pixels in a square window, the shape of TAA's neighbourhood,
+// so silhouettes, which move across pixels the tag does not cover yet, are masked too.
+//
+// It reads only the stencil: gbuffer.dynamic, the writer of every per-object motion vector, sets
+// the moving flag wherever it writes (frame.md), so a test of gbuffer.motion against camera-only
+// motion would find the same pixels through a float threshold. Skipped when nothing in the scene
+// moves and the camera is still: TAA's history then lines up everywhere, and the mask keeps its
+// clear value, 0.
+#include "passes/core/context.h"
+#include "passes/frame/frame_passes.h"
+
+namespace nightcap {
+namespace {
+
+// The widest apron around a tile that the shader's shared memory holds (MAX_RADIUS in
+// stencil.comp).
+constexpr int kMaxRadius = 16;
+
+}  // namespace
+
+PassDecl motion_stencil_pass() {
+  return PassDecl("motion.stencil", PassType::compute)
+      .read("scene.depth", Use::sampled)
+      .write("motion.mask", Use::storage_write, ImageDecl{VK_FORMAT_R8_UINT, ResourceKind::mask})
+      .param("radius", 2, 0, kMaxRadius, "pixels of dilation around tagged pixels (a square window)")
+      .skip_when([](const SkipContext& frame) -> std::string {
+        if (frame.features.count("moving_geometry") || frame.camera_moved) return "";
+        return "nothing moves and the camera is still";
+      })
+      .shader("motion/stencil.comp")
+      .push_constants<int32_t>()
+      .run([](PassContext& ctx) {
+        ctx.bind_pipeline();
+        ctx.push({Binding::texture(ctx.slot("scene.depth"), "scene.depth", ctx.nearest_clamp(), ViewAspect::stencil),
+                  Binding::image(ctx.slot("motion.mask"), "motion.mask")});
+        const double radius = ctx.param("radius");
+        if (!(radius >= 0 && radius <= kMaxRadius))
+          throw GraphError("motion.stencil: radius " + std::to_string(radius) + " is outside 0 … " +
+                           std::to_string(kMaxRadius) + ", the apron the shader's tile holds");
+        ctx.push_constants(int32_t(radius));
+        const ImageExtent full = ctx.desc("motion.mask").extent;
+        vkCmdDispatch(ctx.cmd(), (full.width + 15) / 16, (full.height + 15) / 16, 1);
+      });
+}
+
+}  // namespace nightcap
