@@ -34,7 +34,10 @@ namespace nightcap {
 // 3: frames record their time, camera cut and history resets; frame.camera carries the cut and
 // time step. Earlier captures lack what replay and the tools need from these.
 // 4: 8-bit codes are HALF samples in image blobs (UINT before).
-constexpr int kCaptureVersion = 4;
+// 5: scene.geometry holds compact vertex streams, scene.instances the split transform with
+// scene.meshes and scene.hierarchy beside it, draw records carry the previous model and the
+// quantisation box: a pass replayed from an older record would read garbage.
+constexpr int kCaptureVersion = 5;
 constexpr uint32_t kMaxImageSide = 16384;
 
 // The file that marks a folder as a store of golden captures (captures/golden_store.h). A golden
