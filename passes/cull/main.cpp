@@ -82,6 +82,8 @@ uint32_t draw_order_class(const GpuMaterial& m) {
 
 struct Candidate {
   GpuDraw draw;
+  glm::dmat4 model;  // object → camera-relative world, in double
+  glm::dvec3 previous_translation;
   glm::dvec4 corners[8];  // clip space, of the drawn level's box
   const MeshRecord* mesh;
   double score;  // occluder quality: squared box size over squared distance
@@ -99,8 +101,8 @@ class Culler {
   explicit Culler(PassContext& ctx)
       : ctx_(ctx),
         camera_(host_records<CameraRecordGpu>(ctx.host("frame.camera")).at(0)),
-        instances_(host_records<InstanceRecord>(ctx.host("scene.instances"))),
-        meshes_(host_records<MeshRecord>(ctx.host("scene.meshes"))),
+        instances_(host_view<InstanceRecord>(ctx.host("scene.instances"))),
+        meshes_(host_view<MeshRecord>(ctx.host("scene.meshes"))),
         materials_(host_records<GpuMaterial>(ctx.host("scene.materials"))),
         geometry_(ctx.host("scene.geometry")),
         hierarchy_(Hierarchy::parse(ctx.host("scene.hierarchy"), instances_.size())),
@@ -173,12 +175,10 @@ class Culler {
     c.in_frustum = !outside_frustum(c.corners);
     const GpuMaterial& m = materials_[r.material];
     c.moving = (r.flags & kInstanceMoving) != 0;
+    c.model = model;
+    c.previous_translation = previous_translation;
+    // The rest of the record (matrices, box) is filled by complete() for what is kept.
     GpuDraw& d = c.draw;
-    d.model = glm::mat4(model);
-    glm::dmat4 previous_model = model;
-    previous_model[3] = glm::dvec4(previous_translation - eye_, 1.0);
-    d.previous_model = glm::mat4(previous_model);
-    d.normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::dmat3(model))));
     d.first_index = mesh->first_index;
     d.index_count = mesh->index_count;
     d.vertex_offset = mesh->vertex_offset;
@@ -186,10 +186,6 @@ class Culler {
     d.stencil = uint32_t(m.textures2.z) | (c.moving ? stencil::moving : 0u);
     d.instance = index;
     d.mirrored = determinant < 0.0;
-    // The box scene.geometry quantised the mesh's positions in (vertex_streams.h).
-    const glm::vec3 lo = glm::make_vec3(mesh->bounds_min), hi = glm::make_vec3(mesh->bounds_max);
-    d.position_origin = glm::vec4(lo, 0.0f);
-    d.position_step = glm::vec4(position_step(lo, hi), 0.0f);
     c.mesh = mesh;
     c.lod = lod;
     const glm::dvec3 size(mesh->bounds_max[0] - mesh->bounds_min[0], mesh->bounds_max[1] - mesh->bounds_min[1],
@@ -198,6 +194,20 @@ class Culler {
     c.score = glm::dot(diagonal, diagonal) / std::max(distance * distance, 1e-6);
     c.occluder_material = m.extra.z == float(AlphaMode::opaque) && !c.moving;
     return c;
+  }
+
+  // The draw record's matrices and quantisation box, for a candidate that is drawn or occludes.
+  void complete(Candidate& c) const {
+    GpuDraw& d = c.draw;
+    d.model = glm::mat4(c.model);
+    glm::dmat4 previous_model = c.model;
+    previous_model[3] = glm::dvec4(c.previous_translation - eye_, 1.0);
+    d.previous_model = glm::mat4(previous_model);
+    d.normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::dmat3(c.model))));
+    // The box scene.geometry quantised the mesh's positions in (vertex_streams.h).
+    const glm::vec3 lo = glm::make_vec3(c.mesh->bounds_min), hi = glm::make_vec3(c.mesh->bounds_max);
+    d.position_origin = glm::vec4(lo, 0.0f);
+    d.position_step = glm::vec4(position_step(lo, hi), 0.0f);
   }
 
   // The `occluders` best static opaque instances in the frustum by squared size over squared
@@ -260,10 +270,11 @@ class Culler {
     for (uint32_t i : occluders_) {
       const InstanceRecord& r = instances_[i];
       const glm::dvec3 translation(r.position[0], r.position[1], r.position[2]);
-      const Candidate c = *evaluate(i, translation, translation);
+      Candidate c = *evaluate(i, translation, translation);
+      complete(c);
       rasterise(c);
       stats_.occluders += 1;
-      stats_.occluder_triangles += c.mesh->index_count / 3;
+      stats_.occluder_triangles += std::min(c.mesh->occluder_index_count, c.mesh->index_count) / 3;
     }
   }
 
@@ -275,7 +286,8 @@ class Culler {
     // The draw's float model is what the GPU uses; the buffer follows it.
     const glm::dmat4 clip_from_object = view_projection_ * glm::dmat4(c.draw.model);
     const uint8_t* index_bytes = geometry_.data() + geometry_header_.index_offset;
-    for (uint32_t t = 0; t + 2 < c.mesh->index_count; t += 3) {
+    const uint32_t indices = std::min(c.mesh->occluder_index_count, c.mesh->index_count);
+    for (uint32_t t = 0; t + 2 < indices; t += 3) {
       glm::dvec4 clip[3];
       for (int v = 0; v < 3; ++v) {
         uint32_t index;
@@ -348,7 +360,7 @@ class Culler {
     for (uint32_t k = node.first; k < node.first + node.count; ++k) {
       const uint32_t i = hierarchy_.static_order[k];
       const glm::dvec3 translation(instances_[i].position[0], instances_[i].position[1], instances_[i].position[2]);
-      if (std::optional<Candidate> c = evaluate(i, translation, translation)) kept_.push_back(*c);
+      if (std::optional<Candidate> c = evaluate(i, translation, translation)) keep(*c);
     }
   }
 
@@ -378,7 +390,7 @@ class Culler {
     }
     if (!c->in_frustum) {
       ++stats_.culled_frustum;
-      if (keep_outside_) kept_.push_back(*c);
+      if (keep_outside_) keep(*c);
       return;
     }
     if (!is_occluder(index) && buffer_->hidden(c->corners)) {
@@ -388,7 +400,12 @@ class Culler {
       ++stats_.visible;
       stats_.lod_histogram[std::min<uint32_t>(c->lod, kLodBins - 1)] += 1;
     }
-    kept_.push_back(*c);
+    keep(*c);
+  }
+
+  void keep(Candidate& c) {
+    complete(c);
+    kept_.push_back(c);
   }
 
   void finish() {
@@ -440,8 +457,8 @@ class Culler {
 
   PassContext& ctx_;
   CameraRecordGpu camera_;
-  std::vector<InstanceRecord> instances_;
-  std::vector<MeshRecord> meshes_;
+  std::span<const InstanceRecord> instances_;
+  std::span<const MeshRecord> meshes_;
   std::vector<GpuMaterial> materials_;
   std::span<const uint8_t> geometry_;
   Hierarchy hierarchy_;

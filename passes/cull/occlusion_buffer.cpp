@@ -92,21 +92,29 @@ void OcclusionBuffer::rasterise(const glm::dvec4& a, const glm::dvec4& b, const 
             x1 = std::min(int(width_), int(std::floor(std::min(hi_x, double(width_) + 1))));
   const int y0 = std::max(0, int(std::ceil(std::max(lo_y, -1.0)))),
             y1 = std::min(int(height_), int(std::floor(std::min(hi_y, double(height_) + 1))));
-  auto inside = [&](double x, double y) {
-    for (const Edge& e : edges)
-      if (e.a * x + e.b * y + e.c < kEdgeMargin * e.scale) return false;
-    return true;
-  };
-  // Cell (x, y) is whole inside when its four corners are: corners (x..x+1, y..y+1).
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) {
-      if (!inside(x, y) || !inside(x + 1, y) || !inside(x, y + 1) || !inside(x + 1, y + 1)) continue;
+  // Row by row: a cell [x, x+1] × [y, y+1] is whole inside when its four corners are, and each
+  // edge function is linear, so on the row's two boundary lines every edge bounds x to one side.
+  for (int y = y0; y < y1; ++y) {
+    double from = x0, to = x1 - 1;  // the cells' left corners x may take
+    for (const Edge& e : edges) {
+      // e.a·x + e.b·y' + e.c ≥ margin for y' = y and y + 1, at x and at x + 1.
+      const double need = kEdgeMargin * e.scale - e.c - e.b * (e.b > 0 ? y : y + 1);
+      if (e.a > 0) {
+        from = std::max(from, std::ceil(need / e.a));
+      } else if (e.a < 0) {
+        to = std::min(to, std::floor(need / e.a) - 1);
+      } else if (need > 0) {
+        to = from - 1;
+      }
+    }
+    for (int x = int(from); x <= int(to); ++x) {
       // The farthest (smallest) device depth of the plane over the cell.
       const double z = p[0].depth + dzdx * (x - p[0].x) + dzdy * (y - p[0].y);
       const double farthest = z + std::min(0.0, dzdx) + std::min(0.0, dzdy);
       float& cell = depth_[size_t(y) * width_ + x];
       if (farthest > cell) cell = float(farthest * (1.0 - kMargin));
     }
+  }
 }
 
 bool OcclusionBuffer::hidden(const glm::dvec4 (&corners)[8]) const {

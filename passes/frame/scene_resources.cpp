@@ -108,6 +108,7 @@ Imports scene_imports(const Scene& scene) {
     r.coarser = p.coarser;
     r.lod_distance = p.lod_distance;
     r.draw_distance = p.draw_distance;
+    r.occluder_index_count = std::min(p.occluder_index_count, p.index_count);
     meshes.push_back(r);
   }
   std::vector<InstanceRecord> instances;

@@ -24,7 +24,7 @@ struct MeshRecord {
   int32_t coarser;                     // next level of detail, -1 for none
   float lod_distance;                  // metres from the camera beyond which `coarser` is drawn
   float draw_distance;                 // metres from the camera beyond which nothing is drawn
-  uint32_t pad;
+  uint32_t occluder_index_count;       // the leading indices the occlusion buffer rasterises
 };
 
 // scene.instances: one record per drawable instance (host-side, read by cull.main). The
@@ -78,6 +78,15 @@ uint32_t pack_sampler(const SamplerDesc& desc);
 SamplerDesc unpack_sampler(uint32_t bits);
 
 std::vector<ImportedResource> as_graph_imports(const Imports& imports);
+
+// The records of a host buffer in place, without a copy (scene.instances of a 16 km map is
+// 11 MB); the buffer must be aligned for T, as the graph's host buffers are.
+template <typename T>
+std::span<const T> host_view(std::span<const uint8_t> bytes) {
+  if (reinterpret_cast<uintptr_t>(bytes.data()) % alignof(T) != 0)
+    throw std::logic_error("host buffer not aligned for its records");
+  return {reinterpret_cast<const T*>(bytes.data()), bytes.size() / sizeof(T)};
+}
 
 // The records of a host buffer (scene.*, frame.camera, draws.*) as structs.
 template <typename T>

@@ -55,7 +55,9 @@ constexpr float kPropDistance = 400.0f, kSignDistance = 1500.0f, kCarDistance = 
 // A shell: the body's four sides, and (finer levels) a ledge ring every `ledge_every` metres.
 uint32_t shell_level(Builder& build, uint32_t material, float w, float h, float d, float ledge_every) {
   build.begin(material);
+  // The body first: its four walls are what the occlusion buffer takes.
   build.add_box({0, h / 2, 0}, {w / 2, h / 2, d / 2}, 1.0f / 16.0f, false);
+  const uint32_t body_indices = uint32_t(build.scene().indices.size());
   if (ledge_every > 0)
     for (float y = ledge_every; y < h - 1.0f; y += ledge_every) {
       const float out = 0.25f, t = 0.15f;
@@ -64,12 +66,16 @@ uint32_t shell_level(Builder& build, uint32_t material, float w, float h, float 
       build.add_box({w / 2 + out / 2, y, 0}, {out / 2, t, d / 2}, 1.0f / 16.0f, true, true);
       build.add_box({-w / 2 - out / 2, y, 0}, {out / 2, t, d / 2}, 1.0f / 16.0f, true, true);
     }
-  return build.end();
+  const uint32_t shell = build.end();
+  Primitive& p = build.scene().primitives[shell];
+  p.occluder_index_count = body_indices - p.first_index;
+  return shell;
 }
 
 uint32_t roof_level(Builder& build, uint32_t material, float w, float d, int detail) {
   build.begin(material);
   build.add_box({0, 0.1f, 0}, {w / 2, 0.1f, d / 2}, 0.25f);
+  const uint32_t cap_indices = uint32_t(build.scene().indices.size());
   if (detail >= 1) {
     const float p = 0.2f, ph = 0.6f;
     build.add_box({0, 0.2f + ph / 2, d / 2 - p / 2}, {w / 2, ph / 2, p / 2}, 0.25f);
@@ -81,7 +87,10 @@ uint32_t roof_level(Builder& build, uint32_t material, float w, float d, int det
     build.add_box({w / 4, 0.2f + 0.9f, d / 5}, {1.2f, 0.9f, 1.5f}, 0.25f);
     build.add_box({-w / 5, 0.2f + 0.7f, -d / 4}, {1.5f, 0.7f, 1.0f}, 0.25f);
   }
-  return build.end();
+  const uint32_t roof = build.end();
+  Primitive& p = build.scene().primitives[roof];
+  p.occluder_index_count = cap_indices - p.first_index;  // the cap alone
+  return roof;
 }
 
 Meshes make_meshes(Builder& build, uint32_t facade, uint32_t roof, uint32_t road, uint32_t sidewalk, uint32_t ground,

@@ -98,6 +98,11 @@ struct Primitive {
   int32_t coarser = -1;  // the next level of detail, -1 for none
   float lod_distance = INFINITY;
   float draw_distance = INFINITY;
+  // The triangles cull.main's occlusion buffer takes from this primitive: the first
+  // `occluder_index_count` indices (all by default). A prefix of what the GPU draws is a subset of
+  // it, so the buffer stays conservative; a mesh that leads with its big faces (a building's
+  // body before its ledges) lets the buffer skip thousands of small triangles.
+  uint32_t occluder_index_count = UINT32_MAX;
 };
 
 struct Instance {

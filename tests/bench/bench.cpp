@@ -639,7 +639,8 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
 // The built-in 16 km map, one shot at a time: cull.main alone (median of 5 runs on this
 // thread, so one core: hierarchy walk, occlusion raster, tests and sort), then frames of the
 // shot at the output size (the first one warms the pipelines; the camera walks), per pass.
-void bench_map(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height, int repeats) {
+void bench_map(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height, int repeats,
+               bool frames) {
   for (nc::Shot shot : {nc::Shot::street, nc::Shot::rooftop, nc::Shot::aerial}) {
     const std::string name = nc::shot_name(shot);
     const nc::Scene scene = nc::build_map({1, 16.0, shot});
@@ -659,6 +660,19 @@ void bench_map(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uin
       cull_ms.push_back(run.execution.passes.at(0).cpu_ms);
       std::memcpy(&stats, run.outputs.at("cull.stats")->data(), sizeof(stats));
     }
+    table() << "\n## map " << name << " shot (16 km, " << scene.instances.size() << " instances)\n"
+            << "cull.main " << std::fixed << std::setprecision(3) << median(cull_ms)
+            << " ms (median of 5): " << stats.visible << " visible, " << stats.culled_frustum << " culled by frustum, "
+            << stats.culled_occlusion << " by occlusion, " << stats.culled_distance << " by distance; "
+            << stats.occluders << " occluders (" << stats.occluder_triangles << " triangles); "
+            << stats.draws_gbuffer + stats.draws_dynamic << " draws, "
+            << stats.triangles_gbuffer + stats.triangles_dynamic << " triangles; levels of detail "
+            << stats.lod_histogram[0] << "/" << stats.lod_histogram[1] << "/" << stats.lod_histogram[2] << "\n";
+    figure("cull_ms_" + name, median(cull_ms));
+    figure("instances_visible_" + name, stats.visible);
+    figure("triangles_" + name, stats.triangles_gbuffer + stats.triangles_dynamic);
+    figure("draws_" + name, stats.draws_gbuffer + stats.draws_dynamic);
+    if (!frames) continue;
     nc::RenderSettings settings;
     settings.width = width;
     settings.height = height;
@@ -679,15 +693,8 @@ void bench_map(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uin
         pass_ms[frame.graph.passes[i].decl->name].push_back(exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms);
       }
     }
-    const uint32_t triangles = stats.triangles_gbuffer + stats.triangles_dynamic;
-    table() << "\n## map " << name << " shot (16 km, " << scene.instances.size() << " instances, "
-            << scene.lights.size() << " lights; " << width << "x" << height << ", median of " << repeats << ")\n"
-            << "cull.main " << std::fixed << std::setprecision(3) << median(cull_ms)
-            << " ms (median of 5): " << stats.visible << " visible, " << stats.culled_frustum << " culled by frustum, "
-            << stats.culled_occlusion << " by occlusion, " << stats.culled_distance << " by distance; "
-            << stats.occluders << " occluders (" << stats.occluder_triangles << " triangles); "
-            << stats.draws_gbuffer + stats.draws_dynamic << " draws, " << triangles << " triangles; levels of detail "
-            << stats.lod_histogram[0] << "/" << stats.lod_histogram[1] << "/" << stats.lod_histogram[2] << "\n";
+    table() << "frames at " << width << "x" << height << " (" << scene.lights.size() << " lights; median of " << repeats
+            << ")\n";
     for (const std::string& pass : order) {
       table() << std::left << std::setw(22) << pass << std::right << std::setw(12);
       if (pass_ms[pass].empty())
@@ -698,11 +705,7 @@ void bench_map(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uin
       if (!pass_ms[pass].empty()) figure("pass_ms.map_" + name + "." + pass, median(pass_ms[pass]));
     }
     table() << std::left << std::setw(22) << "frame" << std::right << std::setw(12) << median(frame_ms) << "\n";
-    figure("cull_ms_" + name, median(cull_ms));
     figure("frame_ms_" + name, median(frame_ms));
-    figure("instances_visible_" + name, stats.visible);
-    figure("triangles_" + name, triangles);
-    figure("draws_" + name, stats.draws_gbuffer + stats.draws_dynamic);
   }
 }
 
@@ -1045,7 +1048,7 @@ int main(int argc, char** argv) {
   CLI::App app{"nightcap benchmark: per-pass GPU time, capture cost and size, time against error"};
   uint32_t repeats = 5, directions = 1 << 20;
   std::string size = "1280x720", device, data = NIGHTCAP_SHARED_DATA;
-  bool skip_models = false;
+  bool skip_models = false, map_frames = true;
   std::vector<std::string> only;
   const std::vector<std::string> sections = {"city",   "models",  "map",   "frames",   "normals", "tubes", "depth",
                                              "motion", "streams", "bloom", "exposure", "startup", "diff",  "report"};
@@ -1054,6 +1057,9 @@ int main(int argc, char** argv) {
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
   app.add_option("--directions", directions, "directions for the normals.pack error sweep")->capture_default_str();
   app.add_option("--data", data, "shared/data folder with the glTF models")->capture_default_str();
+  app.add_flag("!--no-map-frames", map_frames,
+               "the map section measures cull.main only (its frames take minutes: every light in view is shaded "
+               "at every pixel until clustered lighting)");
   app.add_flag("--skip-models", skip_models, "leave out the glTF models (the models section)");
   app.add_option("--only", only, "run only these sections (repeatable)")->check(CLI::IsMember(sections));
   app.add_flag("--json", g_json, "print {\"figures\": {NAME: NUMBER}} on stdout (the tables go to stderr)");
@@ -1081,7 +1087,7 @@ int main(int argc, char** argv) {
           bench_scene(gpu, model, model, nc::load_gltf(file.string()), width, height, int(repeats), false);
       }
     }
-    if (wanted("map")) bench_map(gpu, cache, width, height, int(repeats));
+    if (wanted("map")) bench_map(gpu, cache, width, height, int(repeats), map_frames);
     if (wanted("frames")) bench_extra_frames(gpu, width, height);
     if (wanted("normals")) bench_normals(gpu, cache, directions);
     if (wanted("tubes")) bench_tube_samples(gpu, width / 2, height / 2);
