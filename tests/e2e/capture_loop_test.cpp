@@ -62,7 +62,7 @@ TEST(CaptureLoop, RenderWritesACompleteCapture) {
 TEST(CaptureLoop, ManifestRecordsOutputSizeSinksShaderSourcesAndPipelineState) {
   const fs::path capture = shared_capture("city", kCity);
   const nlohmann::json manifest = read_json(capture / "manifest.json");
-  EXPECT_EQ(manifest.at("version"), 4);
+  EXPECT_EQ(manifest.at("version"), 5);
   for (const auto& frame : manifest.at("frames")) {
     EXPECT_EQ(frame.at("output"), (nlohmann::json{{"width", 320}, {"height", 180}}));
     const auto sinks = frame.at("sinks").get<std::vector<std::string>>();
