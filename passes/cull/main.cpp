@@ -15,6 +15,7 @@
 #include <cstring>
 #include <optional>
 #include <queue>
+#include <tuple>
 
 #include "passes/core/context.h"
 #include "passes/cull/cull_stats.h"
@@ -93,6 +94,8 @@ struct Candidate {
   bool occluder_material;  // opaque (not alpha-tested or blended) and static
 };
 
+glm::dvec3 position_of(const InstanceRecord& r) { return {r.position[0], r.position[1], r.position[2]}; }
+
 glm::dvec3 node_min(const HierarchyNode& n) { return {n.bounds_min[0], n.bounds_min[1], n.bounds_min[2]}; }
 glm::dvec3 node_max(const HierarchyNode& n) { return {n.bounds_max[0], n.bounds_max[1], n.bounds_max[2]}; }
 
@@ -131,7 +134,7 @@ class Culler {
     for (uint32_t i : hierarchy_.moving) {
       const InstanceRecord& r = instances_[i];
       const glm::dvec3 velocity(r.velocity[0], r.velocity[1], r.velocity[2]);
-      const glm::dvec3 translation = glm::dvec3(r.position[0], r.position[1], r.position[2]) + velocity * camera_.time;
+      const glm::dvec3 translation = position_of(r) + velocity * camera_.time;
       consider(i, translation, translation - velocity * camera_.time_step);
     }
     finish();
@@ -196,6 +199,11 @@ class Culler {
     return c;
   }
 
+  // A static instance where it stands.
+  std::optional<Candidate> evaluate_at_rest(uint32_t index) const {
+    return evaluate(index, position_of(instances_[index]), position_of(instances_[index]));
+  }
+
   // The draw record's matrices and quantisation box, for a candidate that is drawn or occludes.
   void complete(Candidate& c) const {
     GpuDraw& d = c.draw;
@@ -224,13 +232,15 @@ class Culler {
       return glm::dot(diagonal, diagonal) / std::max(glm::dot(nearest, nearest), 1e-6);
     };
     using Entry = std::pair<double, uint32_t>;
-    std::priority_queue<Entry> open;                                           // nodes, best bound first
-    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> best;  // the chosen, worst on top
+    std::priority_queue<Entry> open;  // nodes, best bound first
+    // The chosen so far, worst (score, instance) on top, each with its slot in `chosen_`.
+    using Chosen = std::tuple<double, uint32_t, size_t>;
+    std::priority_queue<Chosen, std::vector<Chosen>, std::greater<Chosen>> best;
     open.push({bound(0), 0});
     while (!open.empty()) {
       const auto [node_bound, n] = open.top();
       open.pop();
-      if (best.size() == budget && node_bound <= best.top().first) break;
+      if (best.size() == budget && node_bound <= std::get<0>(best.top())) break;
       const HierarchyNode& node = hierarchy_.nodes[n];
       if (box_in_frustum(planes_, node_min(node) - eye_, node_max(node) - eye_) == Containment::outside) continue;
       if (node.count == 0) {
@@ -240,23 +250,22 @@ class Culler {
       }
       for (uint32_t k = node.first; k < node.first + node.count; ++k) {
         const uint32_t i = hierarchy_.static_order[k];
-        const InstanceRecord& r = instances_[i];
-        const glm::dvec3 translation(r.position[0], r.position[1], r.position[2]);
-        const std::optional<Candidate> c = evaluate(i, translation, translation);
+        const std::optional<Candidate> c = evaluate_at_rest(i);
         if (!c || !c->in_frustum || !c->occluder_material) continue;
         if (best.size() < budget) {
-          best.push({c->score, i});
-        } else if (c->score > best.top().first) {
+          best.push({c->score, i, chosen_.size()});
+          chosen_.push_back(*c);
+        } else if (c->score > std::get<0>(best.top())) {
+          const size_t slot = std::get<2>(best.top());
           best.pop();
-          best.push({c->score, i});
+          chosen_[slot] = *c;
+          best.push({c->score, i, slot});
         }
       }
     }
-    while (!best.empty()) {
-      occluders_.push_back(best.top().second);
-      best.pop();
-    }
-    std::sort(occluders_.begin(), occluders_.end());
+    std::sort(chosen_.begin(), chosen_.end(),
+              [](const Candidate& a, const Candidate& b) { return a.draw.instance < b.draw.instance; });
+    for (const Candidate& c : chosen_) occluders_.push_back(c.draw.instance);
   }
 
   bool is_occluder(uint32_t instance) const {
@@ -267,10 +276,7 @@ class Culler {
     const uint32_t width = uint32_t(ctx_.param("occlusion_width"));
     const uint32_t height = std::max(1u, uint32_t(std::lround(double(width) * camera_.height / camera_.width)));
     buffer_.emplace(width, height);
-    for (uint32_t i : occluders_) {
-      const InstanceRecord& r = instances_[i];
-      const glm::dvec3 translation(r.position[0], r.position[1], r.position[2]);
-      Candidate c = *evaluate(i, translation, translation);
+    for (Candidate& c : chosen_) {
       complete(c);
       rasterise(c);
       stats_.occluders += 1;
@@ -340,8 +346,7 @@ class Culler {
     if (node.count > 0) {
       for (uint32_t k = node.first; k < node.first + node.count; ++k) {
         const uint32_t i = hierarchy_.static_order[k];
-        const glm::dvec3 translation(instances_[i].position[0], instances_[i].position[1], instances_[i].position[2]);
-        consider(i, translation, translation);
+        consider(i, position_of(instances_[i]), position_of(instances_[i]));
       }
       return;
     }
@@ -358,9 +363,7 @@ class Culler {
       return;
     }
     for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-      const uint32_t i = hierarchy_.static_order[k];
-      const glm::dvec3 translation(instances_[i].position[0], instances_[i].position[1], instances_[i].position[2]);
-      if (std::optional<Candidate> c = evaluate(i, translation, translation)) keep(*c);
+      if (std::optional<Candidate> c = evaluate_at_rest(hierarchy_.static_order[k])) keep(*c);
     }
   }
 
@@ -467,7 +470,8 @@ class Culler {
   glm::dmat4 world_{1.0}, view_projection_{1.0};
   glm::dvec3 eye_{0.0};
   std::array<Plane, 5> planes_{};
-  std::vector<uint32_t> occluders_;  // sorted instance indices
+  std::vector<Candidate> chosen_;    // the occluders, as evaluated when they were chosen
+  std::vector<uint32_t> occluders_;  // their instance indices, sorted
   std::vector<Candidate> kept_;      // what the lists draw
   std::optional<OcclusionBuffer> buffer_;
   CullStats stats_{};

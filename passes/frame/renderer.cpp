@@ -181,13 +181,16 @@ double CameraPath::speed() const { return info(motion).speed; }
 Camera frame_camera(const Camera& base, const Scene& scene, const CameraPath& path, uint32_t frame) {
   const auto cuts_so_far = std::distance(path.cuts.begin(), path.cuts.upper_bound(frame));
   const uint32_t since = cuts_so_far ? *std::prev(path.cuts.upper_bound(frame)) : 0;
-  const glm::dvec3 centre = 0.5 * (glm::dvec3(scene.bounds_min()) + glm::dvec3(scene.bounds_max()));
-  const glm::dmat4 turn =
-      glm::translate(glm::dmat4(1.0), centre) *
-      glm::rotate(glm::dmat4(1.0), glm::half_pi<double>() * double(cuts_so_far), glm::dvec3(0.0, 1.0, 0.0)) *
-      glm::translate(glm::dmat4(1.0), -centre);
   Camera camera = base;
-  camera.world = turn * base.world;
+  // The scene's bounds (a pass over every instance) only matter once a cut has turned the view.
+  if (cuts_so_far > 0) {
+    const glm::dvec3 centre = 0.5 * (glm::dvec3(scene.bounds_min()) + glm::dvec3(scene.bounds_max()));
+    const glm::dmat4 turn =
+        glm::translate(glm::dmat4(1.0), centre) *
+        glm::rotate(glm::dmat4(1.0), glm::half_pi<double>() * double(cuts_so_far), glm::dvec3(0.0, 1.0, 0.0)) *
+        glm::translate(glm::dmat4(1.0), -centre);
+    camera.world = turn * base.world;
+  }
   const glm::dvec3 forward = -glm::dvec3(camera.world[2]);
   camera.world[3] += glm::dvec4(forward * (path.speed() * (frame - since) * kFrameSeconds), 0.0);
   return camera;
@@ -226,6 +229,7 @@ Renderer::Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings)
       cache_(gpu),
       history_(gpu),
       scene_imports_(scene_imports(scene)),
+      features_(scene.features()),
       base_(base_camera(scene, settings_)) {
   validate_params(passes_, settings_.params);
   validate_nan_requests(passes_, settings_.inject_nan, settings_.width, settings_.height);
@@ -246,7 +250,7 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture, CaptureWriter
   GraphSettings graph_settings;
   graph_settings.width = settings_.width;
   graph_settings.height = settings_.height;
-  graph_settings.frame.features = scene_.features();
+  graph_settings.frame.features = features_;
   graph_settings.frame.frame_index = index;
   graph_settings.frame.camera_moved = previous.world != frame.camera.world;
   graph_settings.frame.camera_cut = cut;

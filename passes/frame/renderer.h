@@ -95,6 +95,7 @@ class Renderer {
   PipelineCache cache_;
   HistoryPool history_;
   Imports scene_imports_;
+  std::set<std::string> features_;  // the scene's, for every frame's skip conditions
   Camera base_;
   std::map<std::string, std::vector<uint32_t>> spirv_;
 };

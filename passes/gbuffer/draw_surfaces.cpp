@@ -1,6 +1,7 @@
 #include "passes/gbuffer/draw_surfaces.h"
 
 #include "passes/frame/draw_scene.h"
+#include "passes/frame/gpu_types.h"
 #include "passes/frame/scene_resources.h"
 
 namespace nightcap {
@@ -26,6 +27,20 @@ void draw_surfaces(PassContext& ctx, const std::string& draws) {
     ctx.push(textures);
   });
   ctx.end_rendering();
+}
+
+PassDecl surface_pass(std::string name, const std::string& draws) {
+  return PassDecl(std::move(name), PassType::graphics)
+      .read("frame.constants", Use::uniform_buffer)
+      .read("scene.geometry", Use::storage_read)
+      .read("scene.geometry", Use::index_buffer)
+      .read(draws, Use::storage_read)
+      .read("scene.materials", Use::storage_read)
+      .read_all("scene.texture.", Use::sampled)
+      .slots("scene.texture.", MaterialTexture::count)
+      .modify("scene.depth", Use::depth_attachment)
+      .raster(RasterState::per_draw(VK_CULL_MODE_BACK_BIT))
+      .run([draws](PassContext& ctx) { draw_surfaces(ctx, draws); });
 }
 
 }  // namespace nightcap

@@ -1,5 +1,6 @@
-// What gbuffer.opaque and gbuffer.dynamic both record: the draws of one list into the G-buffer,
-// with each material's textures bound at the slots surface.glsl reads.
+// What gbuffer.opaque and gbuffer.dynamic share: the inputs of a pass that draws one list into
+// the G-buffer, and what it records: the draws, with each material's textures bound at the slots
+// surface.glsl reads.
 #pragma once
 
 #include <string>
@@ -9,5 +10,10 @@
 namespace nightcap {
 
 void draw_surfaces(PassContext& ctx, const std::string& draws);
+
+// A graphics pass that reads the frame, the scene's geometry, materials and textures and the
+// draw list `draws`, depth-tests against scene.depth, culls back faces per draw and runs
+// draw_surfaces; the caller adds its targets, depth state, skip condition and shaders.
+PassDecl surface_pass(std::string name, const std::string& draws);
 
 }  // namespace nightcap

@@ -8,33 +8,22 @@
 // is compiled, before cull.main has run.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
-#include "passes/frame/gpu_types.h"
 #include "passes/gbuffer/draw_surfaces.h"
 
 namespace nightcap {
 
 PassDecl gbuffer_dynamic_pass() {
-  return PassDecl("gbuffer.dynamic", PassType::graphics)
-      .read("frame.constants", Use::uniform_buffer)
-      .read("scene.geometry", Use::storage_read)
-      .read("scene.geometry", Use::index_buffer)
-      .read("draws.gbuffer.dynamic", Use::storage_read)
-      .read("scene.materials", Use::storage_read)
-      .read_all("scene.texture.", Use::sampled)
-      .slots("scene.texture.", MaterialTexture::count)
-      .modify("scene.depth", Use::depth_attachment)
+  return surface_pass("gbuffer.dynamic", "draws.gbuffer.dynamic")
       .modify("gbuffer.albedo", Use::color_attachment)
       .modify("gbuffer.normal", Use::color_attachment)
       .modify("gbuffer.material", Use::color_attachment)
       .modify("gbuffer.motion", Use::color_attachment)
       .modify("gbuffer.emissive", Use::color_attachment)
-      .raster(RasterState::per_draw(VK_CULL_MODE_BACK_BIT))
       // No prepass covers moving instances: plain GREATER, and the stencil takes each draw's class.
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_GREATER, true).writing_stencil())
       .needs("moving_geometry")
       .shader("gbuffer/dynamic.vert")
-      .shader("gbuffer/dynamic.frag")
-      .run([](PassContext& ctx) { draw_surfaces(ctx, "draws.gbuffer.dynamic"); });
+      .shader("gbuffer/dynamic.frag");
 }
 
 }  // namespace nightcap

@@ -7,29 +7,19 @@
 // emissive intensity (log-encoded) as the seeds describe.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
-#include "passes/frame/gpu_types.h"
 #include "passes/gbuffer/draw_surfaces.h"
 
 namespace nightcap {
 
 PassDecl gbuffer_opaque_pass() {
   auto target = [](VkFormat format, ResourceKind kind) { return ImageDecl{format, kind}; };
-  return PassDecl("gbuffer.opaque", PassType::graphics)
-      .read("frame.constants", Use::uniform_buffer)
-      .read("scene.geometry", Use::storage_read)
-      .read("scene.geometry", Use::index_buffer)
-      .read("draws.gbuffer.opaque", Use::storage_read)
-      .read("scene.materials", Use::storage_read)
-      .read_all("scene.texture.", Use::sampled)
-      .slots("scene.texture.", MaterialTexture::count)
-      .modify("scene.depth", Use::depth_attachment)
+  return surface_pass("gbuffer.opaque", "draws.gbuffer.opaque")
       .write("gbuffer.albedo", Use::color_attachment, target(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::colour))
       .write("gbuffer.normal", Use::color_attachment, target(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::normal))
       .write("gbuffer.material", Use::color_attachment, target(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::material))
       .write("gbuffer.motion", Use::color_attachment, target(VK_FORMAT_R16G16_SFLOAT, ResourceKind::motion))
       .write("gbuffer.emissive", Use::color_attachment,
              target(VK_FORMAT_B10G11R11_UFLOAT_PACK32, ResourceKind::hdr_colour))
-      .raster(RasterState::per_draw(VK_CULL_MODE_BACK_BIT))
       // GREATER_OR_EQUAL: what the prepass drew passes at its own depth. The stencil takes each
       // draw's material class.
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_GREATER_OR_EQUAL, true).writing_stencil())
@@ -38,8 +28,7 @@ PassDecl gbuffer_opaque_pass() {
         return any ? std::string() : std::string("scene has no opaque geometry");
       })
       .shader("gbuffer/opaque.vert")
-      .shader("gbuffer/opaque.frag")
-      .run([](PassContext& ctx) { draw_surfaces(ctx, "draws.gbuffer.opaque"); });
+      .shader("gbuffer/opaque.frag");
 }
 
 }  // namespace nightcap

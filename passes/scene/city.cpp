@@ -20,20 +20,7 @@ Scene build_city(uint32_t seed) {
   Random random(seed);
   Builder build(scene);
 
-  // Facade variations: each its own pair of window textures.
-  std::vector<uint32_t> facades;
-  for (int variant = 0; variant < 3; ++variant) {
-    Texture base, emissive;
-    facade_textures(random, base, emissive, 0.25 + 0.2 * variant);
-    scene.textures.push_back(base);
-    scene.textures.push_back(emissive);
-    Material m = plain("facade." + std::to_string(variant), glm::vec3(1.0f), 0.0f, 0.55f, stencil::plain);
-    m.base_color_texture.texture = int32_t(scene.textures.size() - 2);
-    m.emissive_texture.texture = int32_t(scene.textures.size() - 1);
-    m.emissive = glm::vec3(1.0f);
-    m.emissive_strength = float(random.range(3.0, 8.0));
-    facades.push_back(build.material(m));
-  }
+  const std::vector<uint32_t> facades = facade_materials(random, build);
   const uint32_t roof = build.material(plain("roof", {0.12f, 0.12f, 0.13f}, 0.0f, 0.8f, stencil::plain));
   const uint32_t road = build.material(plain("road.wet_asphalt", {0.05f, 0.05f, 0.055f}, 0.0f, 0.25f, stencil::road));
   const uint32_t sidewalk = build.material(plain("sidewalk", {0.22f, 0.21f, 0.2f}, 0.0f, 0.7f, stencil::plain));
@@ -88,15 +75,7 @@ Scene build_city(uint32_t seed) {
               glm::vec3(glm::abs(along) * (length / 2) + glm::abs(normal) * 0.06 +
                         (vertical ? glm::abs(glm::dvec3(normal.z, 0, normal.x)) : glm::dvec3(0, 1, 0)) * 0.06);
           build.place(build.box(half, material, 1.0f, true, true), mid);
-          Light tube;
-          tube.type = LightType::tube;
-          tube.position = mid - along * (length / 2);
-          tube.end = mid + along * (length / 2);
-          tube.color = colour;
-          tube.intensity = 60.0f;
-          tube.range = 40.0f;
-          tube.radius = 0.05f;
-          scene.lights.push_back(tube);
+          scene.lights.push_back(neon_tube(mid - along * (length / 2), mid + along * (length / 2), colour, 40.0f));
         }
       }
     }
@@ -110,13 +89,7 @@ Scene build_city(uint32_t seed) {
       const glm::dvec3 base = x_street ? glm::dvec3(along, 0.0, street + kStreet / 2 - 1.0)
                                        : glm::dvec3(street + kStreet / 2 - 1.0, 0.0, along);
       build.place(build.box({0.08f, 3.0f, 0.08f}, pole, 1.0f), base + glm::dvec3(0, 3.0, 0));
-      Light lamp;
-      lamp.type = LightType::point;
-      lamp.position = base + glm::dvec3(0, 6.2, 0);
-      lamp.color = {1.0f, 0.72f, 0.42f};
-      lamp.intensity = 500.0f;
-      lamp.range = 35.0f;
-      scene.lights.push_back(lamp);
+      scene.lights.push_back(street_lamp(base + glm::dvec3(0, 6.2, 0), 35.0f));
     }
   }
   for (int c = 0; c < 8; ++c) {
@@ -145,12 +118,7 @@ Scene build_city(uint32_t seed) {
     spot.outer_cone = 0.5f;
     scene.lights.push_back(spot);
   }
-  Light moon;
-  moon.type = LightType::directional;
-  moon.direction = glm::normalize(glm::vec3(0.35f, -0.8f, 0.45f));
-  moon.color = {0.55f, 0.65f, 1.0f};
-  moon.intensity = 0.4f;
-  scene.lights.push_back(moon);
+  scene.lights.push_back(moon());
 
   // Street level, looking down a street toward the tall middle of the block.
   Camera camera;

@@ -174,19 +174,7 @@ Scene build_map(const MapOptions& options) {
   Random random(options.seed);
   Builder build(scene);
 
-  std::vector<uint32_t> facades;
-  for (int variant = 0; variant < 3; ++variant) {
-    Texture base, emissive;
-    facade_textures(random, base, emissive, 0.25 + 0.2 * variant);
-    scene.textures.push_back(base);
-    scene.textures.push_back(emissive);
-    Material m = plain("facade." + std::to_string(variant), glm::vec3(1.0f), 0.0f, 0.55f, stencil::plain);
-    m.base_color_texture.texture = int32_t(scene.textures.size() - 2);
-    m.emissive_texture.texture = int32_t(scene.textures.size() - 1);
-    m.emissive = glm::vec3(1.0f);
-    m.emissive_strength = float(random.range(3.0, 8.0));
-    facades.push_back(build.material(m));
-  }
+  const std::vector<uint32_t> facades = facade_materials(random, build);
   const uint32_t roof = build.material(plain("roof", {0.12f, 0.12f, 0.13f}, 0.0f, 0.8f, stencil::plain));
   const uint32_t road = build.material(plain("road.wet_asphalt", {0.05f, 0.05f, 0.055f}, 0.0f, 0.25f, stencil::road));
   const uint32_t sidewalk = build.material(plain("sidewalk", {0.22f, 0.21f, 0.2f}, 0.0f, 0.7f, stencil::plain));
@@ -279,15 +267,8 @@ Scene build_map(const MapOptions& options) {
           build.place(vertical ? mesh.sign_v : mesh.sign_h, mid, sign_yaw).material = int32_t(neons[colour]);
           const glm::dvec3 along = vertical ? glm::dvec3(0, 1, 0) : glm::dvec3(normal.z, 0, normal.x);
           const double length = vertical ? 4.0 : 5.0;
-          Light tube;
-          tube.type = LightType::tube;
-          tube.position = mid - along * (length / 2);
-          tube.end = mid + along * (length / 2);
-          tube.color = kNeon[colour];
-          tube.intensity = 60.0f;
-          tube.range = 30.0f;
-          tube.radius = 0.05f;
-          scene.lights.push_back(tube);
+          scene.lights.push_back(
+              neon_tube(mid - along * (length / 2), mid + along * (length / 2), kNeon[colour], 30.0f));
         }
       }
       // Street lamps on the four kerbs, each a pole and a point light with a hand-set range.
@@ -298,13 +279,7 @@ Scene build_map(const MapOptions& options) {
                                             : glm::dvec2(0, -kLot / 2 - 1.0);
         const glm::dvec3 foot(c.x + kerb.x, 0.0, c.y + kerb.y);
         build.place(mesh.pole, foot + glm::dvec3(0, 3.0, 0));
-        Light lamp;
-        lamp.type = LightType::point;
-        lamp.position = foot + glm::dvec3(0, 6.2, 0);
-        lamp.color = {1.0f, 0.72f, 0.42f};
-        lamp.intensity = 500.0f;
-        lamp.range = 30.0f;
-        scene.lights.push_back(lamp);
+        scene.lights.push_back(street_lamp(foot + glm::dvec3(0, 6.2, 0), 30.0f));
       }
       // Trees where the city thins out.
       const int trees = int(random.uniform() * 4 * (1.0 - rho));
@@ -339,12 +314,7 @@ Scene build_map(const MapOptions& options) {
       built.push_back({c, rho, tallest});
     }
 
-  Light moon;
-  moon.type = LightType::directional;
-  moon.direction = glm::normalize(glm::vec3(0.35f, -0.8f, 0.45f));
-  moon.color = {0.55f, 0.65f, 1.0f};
-  moon.intensity = 0.4f;
-  scene.lights.push_back(moon);
+  scene.lights.push_back(moon());
 
   // The shot: its place drawn from the seed among every built block of the map (the dense
   // downtown blocks for the street), so any corner can hold it.

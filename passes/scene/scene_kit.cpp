@@ -1,6 +1,7 @@
 #include "passes/scene/scene_kit.h"
 
 namespace nightcap::scene_kit {
+namespace {
 
 void facade_textures(Random& random, Texture& base, Texture& emissive, double lit_share) {
   const uint32_t size = 256, cell = 64;
@@ -30,6 +31,26 @@ void facade_textures(Random& random, Texture& base, Texture& emissive, double li
     }
 }
 
+}  // namespace
+
+std::vector<uint32_t> facade_materials(Random& random, Builder& build) {
+  Scene& scene = build.scene();
+  std::vector<uint32_t> facades;
+  for (int variant = 0; variant < 3; ++variant) {
+    Texture base, emissive;
+    facade_textures(random, base, emissive, 0.25 + 0.2 * variant);
+    scene.textures.push_back(base);
+    scene.textures.push_back(emissive);
+    Material m = plain("facade." + std::to_string(variant), glm::vec3(1.0f), 0.0f, 0.55f, stencil::plain);
+    m.base_color_texture.texture = int32_t(scene.textures.size() - 2);
+    m.emissive_texture.texture = int32_t(scene.textures.size() - 1);
+    m.emissive = glm::vec3(1.0f);
+    m.emissive_strength = float(random.range(3.0, 8.0));
+    facades.push_back(build.material(m));
+  }
+  return facades;
+}
+
 Material plain(const std::string& name, glm::vec3 colour, float metallic, float roughness, uint8_t stencil_class) {
   Material m;
   m.name = name;
@@ -43,5 +64,36 @@ Material plain(const std::string& name, glm::vec3 colour, float metallic, float 
 const std::array<glm::vec3, 5> kNeon = {glm::vec3(1.0f, 0.08f, 0.55f), glm::vec3(0.05f, 0.9f, 1.0f),
                                         glm::vec3(1.0f, 0.75f, 0.08f), glm::vec3(0.6f, 0.15f, 1.0f),
                                         glm::vec3(0.2f, 1.0f, 0.35f)};
+
+Light neon_tube(const glm::dvec3& start, const glm::dvec3& end, const glm::vec3& colour, float range) {
+  Light tube;
+  tube.type = LightType::tube;
+  tube.position = start;
+  tube.end = end;
+  tube.color = colour;
+  tube.intensity = 60.0f;
+  tube.range = range;
+  tube.radius = 0.05f;
+  return tube;
+}
+
+Light street_lamp(const glm::dvec3& position, float range) {
+  Light lamp;
+  lamp.type = LightType::point;
+  lamp.position = position;
+  lamp.color = {1.0f, 0.72f, 0.42f};
+  lamp.intensity = 500.0f;
+  lamp.range = range;
+  return lamp;
+}
+
+Light moon() {
+  Light moon;
+  moon.type = LightType::directional;
+  moon.direction = glm::normalize(glm::vec3(0.35f, -0.8f, 0.45f));
+  moon.color = {0.55f, 0.65f, 1.0f};
+  moon.intensity = 0.4f;
+  return moon;
+}
 
 }  // namespace nightcap::scene_kit

@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "passes/scene/scene.h"
 
@@ -118,12 +119,18 @@ class Builder {
   Primitive open_;
 };
 
-// A 256² facade tile: 4×4 windows. Base colour is concrete and dark glass; the emissive
-// texture lights a random share of the windows in warm or cool tones.
-void facade_textures(Random& random, Texture& base, Texture& emissive, double lit_share);
+// Three facade materials, each with its own pair of 256² window textures (4×4 windows: concrete
+// and dark glass, a random share of the windows lit in warm or cool tones), more windows lit in
+// each; drawn from `random` in a fixed order.
+std::vector<uint32_t> facade_materials(Random& random, Builder& build);
 
 Material plain(const std::string& name, glm::vec3 colour, float metallic, float roughness, uint8_t stencil_class);
 
 extern const std::array<glm::vec3, 5> kNeon;
+
+// The lights both built-in scenes use: a neon tube along a sign, a sodium street lamp, the moon.
+Light neon_tube(const glm::dvec3& start, const glm::dvec3& end, const glm::vec3& colour, float range);
+Light street_lamp(const glm::dvec3& position, float range);
+Light moon();
 
 }  // namespace nightcap::scene_kit
