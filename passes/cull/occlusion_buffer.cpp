@@ -111,8 +111,10 @@ void OcclusionBuffer::rasterise(const glm::dvec4& a, const glm::dvec4& b, const 
       // The farthest (smallest) device depth of the plane over the cell.
       const double z = p[0].depth + dzdx * (x - p[0].x) + dzdy * (y - p[0].y);
       const double farthest = z + std::min(0.0, dzdx) + std::min(0.0, dzdy);
+      // The nearest of the triangles covering the cell wins, whatever order they come in.
+      const float value = float(farthest * (1.0 - kMargin));
       float& cell = depth_[size_t(y) * width_ + x];
-      if (farthest > cell) cell = float(farthest * (1.0 - kMargin));
+      cell = std::max(cell, value);
     }
   }
 }
