@@ -9,9 +9,14 @@
 
 #include <chrono>
 #include <csignal>
+#include <cstddef>
+#include <cstring>
 #include <fstream>
 #include <thread>
 
+#include "captures/blob_codec.h"
+#include "captures/hash.h"
+#include "passes/cull/hierarchy.h"
 #include "tests/e2e/cli.h"
 
 namespace nightcap::test {
@@ -162,6 +167,47 @@ TEST(BadInput, HostileSizesInTheManifest) {
   expect_bad_input(edit([](nlohmann::json& o) { o["mips"] = 40; }), "mips 40 outside");
   expect_bad_input(edit([](nlohmann::json& o) { o["bytes"] = o["bytes"].get<uint64_t>() + 1; }),
                    "does not match the size");
+}
+
+// A capture whose scene.hierarchy is consistent with its hash but not with itself (a hostile
+// or buggy writer): replaying cull.main refuses it by name instead of walking out of bounds.
+TEST(BadInput, AHierarchyThatPointsOutsideItselfIsRefused) {
+  const fs::path capture = scratch("hierarchy") / "capture";
+  const CliResult render = run_cli("render --map-size 1 --shot street --size 64x36 -o " + quote(capture));
+  ASSERT_EQ(render.code, 0) << render.err;
+  const nlohmann::json manifest = read_json(capture / "manifest.json");
+  nlohmann::json* recorded = nullptr;
+  nlohmann::json edited = manifest;
+  for (auto& pass : edited["frames"][0]["passes"])
+    if (pass["name"] == "cull.main")
+      for (auto& input : pass["inputs"])
+        if (input["resource"] == "scene.hierarchy") recorded = &input;
+  ASSERT_NE(recorded, nullptr);
+  const std::vector<uint8_t> original =
+      read_buffer_blob(capture / (*recorded)["blob"].get<std::string>(), (*recorded)["bytes"].get<uint64_t>());
+  struct Edit {
+    size_t offset;  // of a 32-bit word
+    uint32_t value;
+    std::string problem;
+  };
+  HierarchyHeader header;
+  ASSERT_GE(original.size(), sizeof(header));
+  std::memcpy(&header, original.data(), sizeof(header));
+  const size_t root = sizeof(header), static_order = sizeof(header) + header.node_count * sizeof(HierarchyNode);
+  for (const Edit& edit : {Edit{offsetof(HierarchyHeader, node_count), 1u << 30, "its header does not match its size"},
+                           Edit{root + offsetof(HierarchyNode, first), 0, "node 0 has bad children"},
+                           Edit{static_order, 0xFFFFFFF0u, "instance 4294967280 is out of range"}}) {
+    std::vector<uint8_t> bytes = original;
+    std::memcpy(bytes.data() + edit.offset, &edit.value, 4);
+    const std::string hash = content_hash(bytes);
+    const std::string blob = "blobs/" + hash + "." + buffer_blob_extension();
+    write_buffer_blob(capture / blob, bytes, 1);
+    (*recorded)["blob"] = blob;
+    (*recorded)["hash"] = hash;
+    write_json(capture / "manifest.json", edited);
+    const CliResult r = run_cli("replay --pass cull.main " + quote(capture));
+    expect_bad_input(r, "scene.hierarchy: " + edit.problem);
+  }
 }
 
 TEST(BadInput, AnOlderCaptureVersionIsRefusedByName) {
