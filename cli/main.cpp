@@ -229,7 +229,7 @@ int run_passes(const std::string& path, bool json) {
     for (const nc::PassRecord& p : frame.passes) {
       std::cout << "  " << std::left << std::setw(20) << p.name << std::setw(9) << (p.ran ? "ran" : "skipped")
                 << std::right << std::setw(10) << ms(p.gpu_ms) << std::setw(10) << ms(p.cpu_ms) << "  ";
-      if (!p.ran) std::cout << "(" << p.reason << ")";
+      if (!p.ran) std::cout << "(" << p.reason << ") ";
       for (const nc::ResourceRecord& o : p.outputs) {
         std::cout << o.resource << " ";
         if (o.is_buffer)
