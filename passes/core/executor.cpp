@@ -486,11 +486,13 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       issue_step(pass.sync.before_clears);
       for (const PlannedClear& clear : pass.sync.clears)
         clear_to_declared(shared.cmd, shared.resources.at(clear.resource), clear.range);
-      if (pass.runs) {
-        // A resource used in two ways (two mips, storage and index buffer) is one input version.
+      // A resource used in two ways (two mips, storage and index buffer) is one input version.
+      // A pass skipped for cleared inputs records them too: a replay runs it on them.
+      if (pass.runs || pass.inputs_cleared)
         for (const BoundUse& in : pass.inputs)
           if (std::find(exec.inputs.begin(), exec.inputs.end(), latest.at(in.resource)) == exec.inputs.end())
             exec.inputs.push_back(latest.at(in.resource));
+      if (pass.runs) {
         issue_step(pass.sync.before_pass);
         gpu.begin_label(shared.cmd, pass.decl->name);
         vkCmdWriteTimestamp2(shared.cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, cleanup.queries,

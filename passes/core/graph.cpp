@@ -107,6 +107,18 @@ void check_nan_injection(const CompiledGraph& graph, const NanInjection& nan) {
                      std::to_string(out->desc.extent.width) + "x" + std::to_string(out->desc.extent.height) + " mip 0");
 }
 
+bool all_cleared(const PassDecl& decl, const std::set<std::string>& cleared,
+                 const std::map<std::string, ParamValues>& overrides) {
+  if (decl.cleared_inputs.empty()) return false;
+  for (const std::string& r : decl.cleared_inputs)
+    if (!cleared.count(r)) return false;
+  if (!decl.cleared_result_exact) return true;
+  ParamValues params = decl.default_params();
+  if (auto it = overrides.find(decl.name); it != overrides.end())
+    for (const auto& [k, v] : it->second) params[k] = v;
+  return decl.cleared_result_exact(params);
+}
+
 }  // namespace
 
 uint32_t full_mip_count(uint32_t width, uint32_t height) {
@@ -152,6 +164,10 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   // nothing this frame; they keep the resource's writer running.
   std::vector<std::vector<std::string>> history_reads(n);
   for (int i = 0; i < n; ++i) {
+    for (const std::string& r : passes[i].cleared_inputs)
+      if (std::none_of(passes[i].inputs.begin(), passes[i].inputs.end(),
+                       [&](const ResourceUse& in) { return !in.history && !in.prefix && in.resource == r; }))
+        throw GraphError(passes[i].name + ": skips when '" + r + "' is cleared, but does not read it");
     for (const ResourceUse& in : passes[i].inputs) {
       // A resource read in two ways (storage and index buffer, two mips) is one read.
       auto add = [&](const std::string& name) {
@@ -274,6 +290,9 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   frame.width = settings.width;
   frame.height = settings.height;
   std::map<int, int> position;  // declaration index -> execution index
+  // Resources whose current version holds its declared clear value: a skipped pass's fresh
+  // outputs, until a pass that runs writes them.
+  std::set<std::string> cleared;
   for (int i : order) {
     const PassDecl& decl = passes[i];
     CompiledPass compiled;
@@ -304,6 +323,20 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
         compiled.reason = decl.skip_if(frame);
         compiled.runs = compiled.reason.empty();
       }
+      if (compiled.runs && all_cleared(decl, cleared, settings.params)) {
+        compiled.runs = false;
+        compiled.inputs_cleared = true;
+        std::string names;
+        for (const std::string& r : decl.cleared_inputs) names += (names.empty() ? "" : ", ") + r;
+        compiled.reason = "inputs all cleared (" + names + ")";
+      }
+    }
+    for (const ResourceUse& out : decl.outputs) {
+      if (compiled.culled || (out.modifies && !compiled.runs)) continue;
+      if (compiled.runs)
+        cleared.erase(out.resource);
+      else
+        cleared.insert(out.resource);
     }
     if (!compiled.culled) {
       for (size_t k = 0; k < decl.inputs.size(); ++k) {

@@ -121,6 +121,7 @@ struct CompiledPass {
   const PassDecl* decl = nullptr;
   bool runs = false;
   std::string reason;   // why it does not run
+  bool inputs_cleared = false;  // skipped by PassDecl::skip_when_cleared: its inputs are recorded
   bool culled = false;  // not needed at all: nothing of it is allocated or executed
   std::vector<BoundUse> inputs, outputs;
   PassSync sync;  // GPU passes that are not culled

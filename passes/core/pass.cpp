@@ -139,6 +139,12 @@ PassDecl& PassDecl::skip_when(std::function<std::string(const SkipContext&)> con
   return *this;
 }
 
+PassDecl& PassDecl::skip_when_cleared(std::vector<std::string> inputs, std::function<bool(const ParamValues&)> exact) {
+  cleared_inputs = std::move(inputs);
+  cleared_result_exact = std::move(exact);
+  return *this;
+}
+
 PassDecl& PassDecl::compare(const std::string& output, ComparisonContract contract) {
   for (ResourceUse& out : outputs)
     if (out.resource == output) {

@@ -1,7 +1,8 @@
 // depth.convert: device depth → depth.linear (R32_SFLOAT, metres along the view axis), the form
 // every later stage samples, and at half resolution depth.half (R16_SFLOAT metres) and
-// stencil.half (R8_UINT tags) for the half-resolution passes. Never skipped (frame.md): every
-// later stage reads it.
+// stencil.half (R8_UINT tags) for the half-resolution passes. frame.md says never skipped; the
+// geometry stage's rule wins: when nothing was drawn (scene.depth cleared) the outputs are the
+// sky everywhere, which their clear values hold.
 //
 // A half texel takes both its depth and its stencil from one texel of its 2×2 footprint, the one
 // nearest to the camera: the pair then describes one surface, and thin foreground (hair,
@@ -15,18 +16,22 @@
 namespace nightcap {
 
 PassDecl depth_convert_pass() {
+  ImageDecl linear{VK_FORMAT_R32_SFLOAT, ResourceKind::linear_depth};
+  linear.clear.color = {{float(kSkyDepth), 0, 0, 0}};
   ImageDecl half_depth{VK_FORMAT_R16_SFLOAT, ResourceKind::linear_depth};
   half_depth.size.mode = SizeRule::Mode::output_half;
+  half_depth.clear.color = {{65504.0f, 0, 0, 0}};  // the sky clamped to the largest finite half
   ImageDecl half_stencil{VK_FORMAT_R8_UINT, ResourceKind::stencil};
   half_stencil.size.mode = SizeRule::Mode::output_half;
   return PassDecl("depth.convert", PassType::compute)
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.depth", Use::sampled)
       .slots("scene.depth", 2)  // its depth aspect, then its stencil aspect
-      .write("depth.linear", Use::storage_write, ImageDecl{VK_FORMAT_R32_SFLOAT, ResourceKind::linear_depth})
+      .write("depth.linear", Use::storage_write, linear)
       .write("depth.half", Use::storage_write, half_depth)
       .write("stencil.half", Use::storage_write, half_stencil)
-      .param("sky_depth", 1e6, 1.0, 3e38, "linear depth written where nothing was drawn (finite, so no Inf)")
+      .param("sky_depth", kSkyDepth, 1.0, 3e38, "linear depth written where nothing was drawn (finite, so no Inf)")
+      .skip_when_cleared({"scene.depth"}, [](const ParamValues& p) { return p.at("sky_depth") == kSkyDepth; })
       .compare("depth.linear", ComparisonContract::depth(0x1p-23,
                                                          "znear / depth is correctly rounded (0.5 ULP, "
                                                          "tests/unit/depth_convert_test.cpp): two devices "

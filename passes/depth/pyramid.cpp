@@ -1,7 +1,8 @@
 // depth.pyramid: min and max linear depth over every footprint, from half resolution down to
 // 1×1 (R32G32_SFLOAT, a full mip chain). Culling and clustering read it, so it must be
-// conservative: odd sizes fold their last row and column into the neighbouring texel. Never
-// skipped (frame.md).
+// conservative: odd sizes fold their last row and column into the neighbouring texel. frame.md
+// says never skipped; when depth.linear is cleared (the sky everywhere) the pyramid is too, and
+// its clear value is that sky.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 
@@ -19,9 +20,11 @@ PassDecl depth_pyramid_pass() {
   ImageDecl pyramid{VK_FORMAT_R32G32_SFLOAT, ResourceKind::depth_minmax};
   pyramid.size.mode = SizeRule::Mode::output_half;
   pyramid.mips = 0;
+  pyramid.clear.color = {{float(kSkyDepth), float(kSkyDepth), 0, 0}};
   return PassDecl("depth.pyramid", PassType::compute)
       .read("depth.linear", Use::sampled)
       .write("depth.pyramid", Use::storage_write, pyramid)
+      .skip_when_cleared({"depth.linear"})
       .slots("depth.pyramid", 2)  // the level read and the level written
       .push_constants<PyramidConstants>()
       .shader("depth/pyramid.comp")

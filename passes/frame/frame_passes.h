@@ -31,6 +31,10 @@ PassDecl bloom_level_pass(uint32_t level);
 PassDecl exposure_pass();
 PassDecl tonemap_pass();
 
+// depth.linear where nothing was drawn, by default (depth.convert's sky_depth): far beyond any
+// surface of a 16 km map, and finite.
+constexpr double kSkyDepth = 1e6;
+
 // exposure.histogram's bin count (passes/post/exposure.comp).
 constexpr uint32_t kExposureBins = 256;
 

@@ -132,7 +132,9 @@ NanInjection resolve_nan_request(const CompiledGraph& graph, const NanRequest& r
 }  // namespace
 
 void add_default_lighting(Scene& scene) {
-  if (!scene.lights.empty()) return;
+  // An empty scene stays empty: a key light would light nothing, and its frame shows what the
+  // renderer costs when there is nothing to draw.
+  if (!scene.lights.empty() || scene.instances.empty()) return;
   Light key;
   key.type = LightType::directional;
   key.direction = glm::normalize(glm::vec3(-0.4f, -1.0f, -0.6f));

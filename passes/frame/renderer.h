@@ -61,7 +61,8 @@ NanRequest parse_inject_nan(const std::string& text);
 void validate_nan_requests(const std::vector<PassDecl>& passes, const std::vector<NanRequest>& requests, uint32_t width,
                            uint32_t height);
 
-// Adds a key light when the scene has none, as glTF viewers do (recorded in scene.notes).
+// Adds a key light when a scene with meshes has none, as glTF viewers do (recorded in
+// scene.notes).
 void add_default_lighting(Scene& scene);
 
 // The camera of frame k: after the n-th cut the base view turned n quarter turns about the

@@ -37,6 +37,7 @@ PassDecl lighting_deferred_pass() {
         const bool lit = frame.features.count("sun") || frame.features.count("local_lights");
         return lit ? std::string() : std::string("scene has no lights");
       })
+      .skip_when_cleared({"scene.depth"})
       .fullscreen("lighting/deferred.frag", [](const PassContext& ctx) {
         struct {
           float intensity_scale, min_roughness;

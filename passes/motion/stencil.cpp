@@ -8,7 +8,7 @@
 // the moving flag wherever it writes (frame.md), so a test of gbuffer.motion against camera-only
 // motion would find the same pixels through a float threshold. Skipped when nothing in the scene
 // moves and the camera is still: TAA's history then lines up everywhere, and the mask keeps its
-// clear value, 0.
+// clear value, 0; so it does when nothing was drawn (scene.depth cleared: no tag anywhere).
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 
@@ -30,6 +30,7 @@ PassDecl motion_stencil_pass() {
         if (frame.features.count("moving_geometry") || frame.camera_moved) return "";
         return "nothing moves and the camera is still";
       })
+      .skip_when_cleared({"scene.depth"})
       .shader("motion/stencil.comp")
       .push_constants<int32_t>()
       .run([](PassContext& ctx) {

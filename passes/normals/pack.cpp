@@ -1,6 +1,9 @@
 // normals.pack: world normals from the 10-bit G-buffer repacked as 8-bit best-fit normals
 // with roughness (R8G8B8A8_UNORM), the form SSR and the later screen-space passes read, using
-// the table of normals.bfn_lut. Never skipped (frame.md).
+// the table of normals.bfn_lut. Where nothing was drawn (RT1 holds 0, which 0.5n + 0.5 of a
+// unit normal never is) it writes the codes of the zero vector, 128, and the roughness: so a
+// cleared G-buffer packs to the clear value, and frame.md's "never skipped" gives way to the
+// geometry stage's rule.
 
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
@@ -8,11 +11,14 @@
 namespace nightcap {
 
 PassDecl normals_pack_pass() {
+  ImageDecl packed{VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::packed_normal};
+  packed.clear.color = {{128.0f / 255.0f, 128.0f / 255.0f, 128.0f / 255.0f, 0.0f}};
   return PassDecl("normals.pack", PassType::graphics)
       .read("gbuffer.normal", Use::sampled)
       .read("gbuffer.material", Use::sampled)
       .read("normals.bfn_lut", Use::sampled)
-      .write("normals.packed", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::packed_normal})
+      .write("normals.packed", Use::color_attachment, packed)
+      .skip_when_cleared({"gbuffer.normal", "gbuffer.material"})
       .fullscreen("normals/pack.frag");
 }
 

@@ -12,7 +12,13 @@ float code_of(float value) { return floor(clamp(value * 0.5 + 0.5, 0.0, 1.0) * 2
 
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
-  vec3 n = normalize(texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0);
+  float roughness = texelFetch(material_map, pixel, 0).g;
+  vec3 stored = texelFetch(normal_map, pixel, 0).xyz;
+  if (stored == vec3(0.0)) {  // nothing drawn: the zero vector
+    out_packed = vec4(vec3(128.0 / 255.0), roughness);
+    return;
+  }
+  vec3 n = normalize(stored * 2.0 - 1.0);
   vec3 a = abs(n);
   float major = max(a.x, max(a.y, a.z));
   vec3 w = n / major;
@@ -39,6 +45,5 @@ void main() {
       packed_codes = codes;
     }
   }
-  float roughness = texelFetch(material_map, pixel, 0).g;
   out_packed = vec4(packed_codes / 255.0, roughness);
 }

@@ -87,7 +87,6 @@ class Loader {
         if (!child[i]) roots.push_back(int(i));
     }
     for (int root : roots) visit(root, glm::dmat4(1.0), 0);
-    if (scene_.instances.empty()) fail("no mesh in the default scene");
     return std::move(scene_);
   }
 

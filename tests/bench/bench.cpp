@@ -709,6 +709,45 @@ void bench_map(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uin
   }
 }
 
+// An empty scene (no mesh, no light): what a frame costs when there is nothing to draw. The
+// second frame is measured (frame 0 compiles the pipelines); each repeat renders the next frame,
+// the camera walking, with the history of the one before.
+void bench_empty(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) {
+  const nc::Scene scene;
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  nc::Renderer renderer(gpu, scene, settings);
+  std::vector<double> frame_ms;
+  std::map<std::string, std::vector<double>> pass_ms;
+  std::vector<std::string> order;
+  for (int r = 0; r <= repeats; ++r) {
+    const double start = now_ms();
+    const nc::RenderedFrame frame = renderer.render_frame(uint32_t(r), false);
+    if (r == 0) continue;
+    frame_ms.push_back(now_ms() - start);
+    for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
+      const nc::CompiledPass& pass = frame.graph.passes[i];
+      if (r == 1) order.push_back(pass.decl->name + (pass.runs ? "" : " (skipped: " + pass.reason + ")"));
+      if (!pass.runs) continue;
+      const auto& exec = frame.execution.passes[i];
+      pass_ms[pass.decl->name].push_back(exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms);
+    }
+  }
+  table() << "\n## empty scene at " << width << "x" << height << " (frames 1.." << repeats << ", median)\n";
+  for (const std::string& line : order) {
+    const std::string pass = line.substr(0, line.find(' '));
+    table() << std::left << std::setw(22) << pass << std::right << std::setw(12);
+    if (pass_ms[pass].empty())
+      table() << line.substr(pass.size() + 1);
+    else
+      table() << std::fixed << std::setprecision(3) << median(pass_ms[pass]);
+    table() << "\n";
+  }
+  table() << std::left << std::setw(22) << "frame" << std::right << std::setw(12) << median(frame_ms) << "\n";
+  figure("frame_ms_empty", median(frame_ms));
+}
+
 // A stencil tag per pixel: every class and flag of passes/scene/scene.h, one pixel in 200 moving,
 // hair or foliage (the rest plain, road, body, face or vehicle).
 std::vector<uint8_t> bench_tags(size_t pixels, std::mt19937& rng) {
@@ -1050,8 +1089,9 @@ int main(int argc, char** argv) {
   std::string size = "1280x720", device, data = NIGHTCAP_SHARED_DATA;
   bool skip_models = false, map_frames = true;
   std::vector<std::string> only;
-  const std::vector<std::string> sections = {"city",   "models",  "map",   "frames",   "normals", "tubes", "depth",
-                                             "motion", "streams", "bloom", "exposure", "startup", "diff",  "report"};
+  const std::vector<std::string> sections = {"city",    "models",   "map",     "empty",  "frames",
+                                             "normals", "tubes",    "depth",   "motion", "streams",
+                                             "bloom",   "exposure", "startup", "diff",   "report"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -1088,6 +1128,7 @@ int main(int argc, char** argv) {
       }
     }
     if (wanted("map")) bench_map(gpu, cache, width, height, int(repeats), map_frames);
+    if (wanted("empty")) bench_empty(gpu, width, height, int(repeats));
     if (wanted("frames")) bench_extra_frames(gpu, width, height);
     if (wanted("normals")) bench_normals(gpu, cache, directions);
     if (wanted("tubes")) bench_tube_samples(gpu, width / 2, height / 2);

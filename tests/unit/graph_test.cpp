@@ -83,6 +83,74 @@ TEST(Graph, SkipConditionSeesTheFrame) {
   EXPECT_TRUE(compile_graph(passes, {}, settings).passes[0].runs);
 }
 
+// geometry (skipped: no mesh) → convert (its input cleared: skipped) → pyramid (likewise) →
+// final, which also reads a constant nobody clears and so runs. A modifier that runs makes its
+// resource no longer cleared; one that is skipped leaves it as it was.
+TEST(Graph, PassesWhoseInputsAreAllClearedAreSkippedDownTheFrame) {
+  std::vector<PassDecl> passes;
+  passes.push_back(
+      PassDecl("geometry", PassType::graphics).needs("mesh").write("depth", Use::color_attachment, image()));
+  passes.push_back(PassDecl("decals", PassType::graphics).needs("decal").modify("depth", Use::color_attachment));
+  passes.push_back(PassDecl("convert", PassType::compute)
+                       .read("constants", Use::uniform_buffer)
+                       .read("depth", Use::sampled)
+                       .write("linear", Use::storage_write, image())
+                       .param("sky", 1e6, 1, 1e9, "")
+                       .skip_when_cleared({"depth"}, [](const ParamValues& p) { return p.at("sky") == 1e6; }));
+  passes.push_back(PassDecl("pyramid", PassType::compute)
+                       .read("linear", Use::sampled)
+                       .write("pyramid", Use::storage_write, image())
+                       .skip_when_cleared({"linear"}));
+  passes.push_back(PassDecl("final", PassType::graphics)
+                       .read("pyramid", Use::sampled)
+                       .read("constants", Use::uniform_buffer)
+                       .write("final.ldr", Use::color_attachment, image())
+                       .skip_when_cleared({"pyramid", "constants"}));
+  ResourceDesc constants;
+  constants.is_buffer = true;
+  constants.kind = ResourceKind::buffer;
+  constants.buffer_size = 64;
+  const std::vector<ImportedResource> imports = {{"constants", constants}};
+  GraphSettings settings;
+  CompiledGraph graph = compile_graph(passes, imports, settings);
+  EXPECT_EQ(pass(graph, "geometry").reason, "scene has no mesh");
+  EXPECT_FALSE(pass(graph, "convert").runs);
+  EXPECT_TRUE(pass(graph, "convert").inputs_cleared);
+  EXPECT_EQ(pass(graph, "convert").reason, "inputs all cleared (depth)");
+  EXPECT_EQ(pass(graph, "pyramid").reason, "inputs all cleared (linear)");
+  EXPECT_TRUE(pass(graph, "final").runs);  // an import is never cleared
+  // The skipped passes' fresh outputs are cleared for the passes that read them.
+  ASSERT_EQ(pass(graph, "final").sync.clears.size(), 0u);
+  EXPECT_EQ(pass(graph, "pyramid").sync.clears.at(0).resource, "pyramid");
+
+  // A parameter for which the cleared result would not hold: the pass runs, and so do its readers.
+  settings.params["convert"]["sky"] = 5;
+  graph = compile_graph(passes, imports, settings);
+  EXPECT_TRUE(pass(graph, "convert").runs);
+  EXPECT_TRUE(pass(graph, "pyramid").runs);
+  settings.params.clear();
+
+  // A modifier that runs writes into the cleared depth: nothing after it is skipped.
+  settings.frame.features = {"decal"};
+  graph = compile_graph(passes, imports, settings);
+  EXPECT_TRUE(pass(graph, "decals").runs);
+  EXPECT_TRUE(pass(graph, "convert").runs);
+  EXPECT_FALSE(pass(graph, "convert").inputs_cleared);
+
+  // Kept passes (a replay) run whatever their inputs.
+  settings.frame.features = {};
+  settings.keep = {"convert"};
+  EXPECT_TRUE(pass(compile_graph(passes, imports, settings), "convert").runs);
+}
+
+TEST(Graph, SkippingOnAClearedInputThePassDoesNotReadIsAMistake) {
+  std::vector<PassDecl> passes;
+  passes.push_back(PassDecl("p", PassType::graphics)
+                       .write("final.ldr", Use::color_attachment, image())
+                       .skip_when_cleared({"depth"}));
+  EXPECT_THROW(compile_graph(passes, {}, GraphSettings()), GraphError);
+}
+
 TEST(Graph, ResolvesRelativeSizesAndMipChains) {
   std::vector<PassDecl> passes;
   ImageDecl pyramid = image(VK_FORMAT_R32G32_SFLOAT);

@@ -1,0 +1,74 @@
+// An empty scene renders instead of being refused, and every pass whose inputs are all cleared is
+// skipped with that reason. The capture records those passes' inputs, so `replay --verify` runs
+// each of them and checks that the outputs the graph cleared are bit for bit what it computes.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "tests/e2e/cli.h"
+#include "tests/e2e/inspect_script.h"
+
+namespace nightcap::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Case {
+  const char* name;
+  const char* gltf;
+  std::vector<std::string> skipped_for_cleared_inputs;
+};
+
+class EmptyScene : public ::testing::TestWithParam<Case> {};
+
+TEST_P(EmptyScene, RendersSkipsWhatItsClearedInputsDecideAndReplaysThoseSkips) {
+  const fs::path dir = scratch(std::string("empty-") + GetParam().name);
+  const fs::path scene = dir / "scene.gltf", capture = dir / "capture";
+  std::ofstream(scene) << GetParam().gltf;
+  const CliResult render = run_cli("render " + quote(scene) + " --frames 2 --size 161x91 -o " + quote(capture));
+  ASSERT_EQ(render.code, 0) << render.err;
+
+  const CliResult passes = run_cli("passes --json " + quote(capture));
+  ASSERT_EQ(passes.code, 0) << passes.err;
+  const nlohmann::json listed = nlohmann::json::parse(passes.out);
+  const Inspected nan = inspect(capture, "nan --json");
+  ASSERT_EQ(nan.result.code, 0) << nan.result.err;
+  EXPECT_EQ(nan.objects.at(0).at("origin"), nullptr) << nan.objects.at(0).dump();
+  for (int frame : {0, 1}) {
+    std::set<std::string> skipped_for_cleared_inputs;
+    for (const auto& pass : listed["frames"][frame]["passes"])
+      if (pass["status"] == "skipped" && pass["reason"].get<std::string>().rfind("inputs all cleared (", 0) == 0)
+        skipped_for_cleared_inputs.insert(pass["name"].get<std::string>());
+    // Frame 1: the camera walks, so motion.stencil's own condition (nothing moves) no longer skips it.
+    if (frame == 1) {
+      EXPECT_EQ(skipped_for_cleared_inputs, std::set<std::string>(GetParam().skipped_for_cleared_inputs.begin(),
+                                                                  GetParam().skipped_for_cleared_inputs.end()));
+    }
+    const CliResult replay = run_cli("replay --verify --json --frame " + std::to_string(frame) + " " + quote(capture));
+    ASSERT_EQ(replay.code, 0) << "frame " << frame << ": " << replay.out << replay.err;
+    std::set<std::string> replayed;
+    const nlohmann::json report = nlohmann::json::parse(replay.out);
+    for (const auto& pass : report["passes"])
+      if (pass["replayed"].get<bool>()) replayed.insert(pass["name"].get<std::string>());
+    for (const std::string& pass : skipped_for_cleared_inputs)
+      EXPECT_TRUE(replayed.count(pass)) << pass << " was not replayed in frame " << frame;
+  }
+}
+
+const char* kEmpty = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": []}], "nodes": []})";
+// A point light and nothing for it to light.
+const char* kLightOnly = R"({"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_lights_punctual"],
+  "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 10, "range": 5}]}},
+  "scene": 0, "scenes": [{"nodes": [0]}],
+  "nodes": [{"translation": [0, 1, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}}]})";
+
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, EmptyScene,
+    ::testing::Values(Case{"nothing", kEmpty, {"depth.convert", "motion.stencil", "normals.pack", "depth.pyramid"}},
+                      Case{"light_only",
+                           kLightOnly,
+                           {"depth.convert", "motion.stencil", "normals.pack", "depth.pyramid", "lighting.deferred"}}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+}  // namespace
+}  // namespace nightcap::test
