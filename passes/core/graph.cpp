@@ -164,9 +164,12 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   // nothing this frame; they keep the resource's writer running.
   std::vector<std::vector<std::string>> history_reads(n);
   for (int i = 0; i < n; ++i) {
+    // A modified output is read too: the pass starts from its previous version.
     for (const std::string& r : passes[i].cleared_inputs)
       if (std::none_of(passes[i].inputs.begin(), passes[i].inputs.end(),
-                       [&](const ResourceUse& in) { return !in.history && !in.prefix && in.resource == r; }))
+                       [&](const ResourceUse& in) { return !in.history && !in.prefix && in.resource == r; }) &&
+          std::none_of(passes[i].outputs.begin(), passes[i].outputs.end(),
+                       [&](const ResourceUse& out) { return out.modifies && out.resource == r; }))
         throw GraphError(passes[i].name + ": skips when '" + r + "' is cleared, but does not read it");
     for (const ResourceUse& in : passes[i].inputs) {
       // A resource read in two ways (storage and index buffer, two mips) is one read.

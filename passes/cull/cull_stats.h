@@ -22,7 +22,8 @@ struct CullStats {
   uint32_t draws_prepass, draws_gbuffer, draws_dynamic;  // instanced draw calls issued
   uint32_t triangles_prepass, triangles_gbuffer, triangles_dynamic;
   uint32_t lod_histogram[kLodBins];  // visible instances per level of detail
-  uint32_t pad[2];
+  uint32_t decals_mesh;              // mesh decal instances drawn (draws.decals.mesh)
+  uint32_t decals_projected;         // projected decals drawn (draws.decals.projected)
 };
 static_assert(sizeof(CullStats) == 80);
 
@@ -47,7 +48,9 @@ inline BufferSchema cull_stats_schema() {
       .field("triangles_prepass", &S::triangles_prepass)
       .field("triangles_gbuffer", &S::triangles_gbuffer)
       .field("triangles_dynamic", &S::triangles_dynamic)
-      .field("lod_histogram", &S::lod_histogram);
+      .field("lod_histogram", &S::lod_histogram)
+      .field("decals_mesh", &S::decals_mesh)
+      .field("decals_projected", &S::decals_projected);
 }
 
 }  // namespace nightcap

@@ -7,6 +7,11 @@
 // draws. Lists are sorted in the seeds' order (static meshes; ground and emissive; foliage),
 // then by material and mesh, so equal neighbours are drawn instanced (draw_scene batches them).
 //
+// Decals [000]: instances of a decal material are culled like the others but go to
+// draws.decals.mesh (never occluders, never in the G-buffer lists); the projected decals of
+// scene.decals are boxes tested against the frustum and the occlusion buffer alike and go, with
+// camera-relative transforms computed in double, to draws.decals.projected.
+//
 // `frustum=0` / `occlusion=0` keep what those tests would drop (the references use them); the
 // lists are otherwise the same, so a culled and an unculled frame draw in the same order.
 #include <algorithm>
@@ -91,7 +96,8 @@ struct Candidate {
   uint32_t lod;
   bool in_frustum;
   bool moving;             // drawn by gbuffer.dynamic
-  bool occluder_material;  // opaque (not alpha-tested or blended) and static
+  bool decal;              // drawn by decals.mesh
+  bool occluder_material;  // opaque (not alpha-tested or blended), static and not a decal
 };
 
 glm::dvec3 position_of(const InstanceRecord& r) { return {r.position[0], r.position[1], r.position[2]}; }
@@ -107,6 +113,7 @@ class Culler {
         instances_(host_view<InstanceRecord>(ctx.host("scene.instances"))),
         meshes_(host_view<MeshRecord>(ctx.host("scene.meshes"))),
         materials_(host_records<GpuMaterial>(ctx.host("scene.materials"))),
+        decals_(host_view<DecalRecord>(ctx.host("scene.decals"))),
         geometry_(ctx.host("scene.geometry")),
         hierarchy_(Hierarchy::parse(ctx.host("scene.hierarchy"), instances_.size())),
         keep_outside_(ctx.param("frustum") == 0.0),
@@ -137,6 +144,7 @@ class Culler {
       const glm::dvec3 translation = position_of(r) + velocity * camera_.time;
       consider(i, translation, translation - velocity * camera_.time_step);
     }
+    cull_decals();
     finish();
   }
 
@@ -178,6 +186,7 @@ class Culler {
     c.in_frustum = !outside_frustum(c.corners);
     const GpuMaterial& m = materials_[r.material];
     c.moving = (r.flags & kInstanceMoving) != 0;
+    c.decal = (int(m.extra.w) & 4) != 0;
     c.model = model;
     c.previous_translation = previous_translation;
     // The rest of the record (matrices, box) is filled by complete() for what is kept.
@@ -195,7 +204,7 @@ class Culler {
                           mesh->bounds_max[2] - mesh->bounds_min[2]);
     const glm::dvec3 diagonal = glm::dmat3(model) * size;
     c.score = glm::dot(diagonal, diagonal) / std::max(distance * distance, 1e-6);
-    c.occluder_material = m.extra.z == float(AlphaMode::opaque) && !c.moving;
+    c.occluder_material = m.extra.z == float(AlphaMode::opaque) && !c.moving && !c.decal;
     return c;
   }
 
@@ -411,10 +420,40 @@ class Culler {
     kept_.push_back(c);
   }
 
+  // A box is drawn unless it is beyond its draw distance or lies wholly outside the frustum or
+  // behind the occluders: a surface point inside a hidden box would be hidden too, so no visible
+  // pixel loses its decal. A box of zero or non-finite volume holds no surface point and has no
+  // inverse: it is dropped.
+  void cull_decals() {
+    for (uint32_t i = 0; i < decals_.size(); ++i) {
+      const DecalRecord& r = decals_[i];
+      glm::dmat4 model;
+      std::memcpy(&model[0][0], r.world, sizeof(r.world));
+      model[3] -= glm::dvec4(eye_, 0.0);  // camera-relative, subtracted in double
+      const double determinant = glm::determinant(glm::dmat3(model));
+      if (!std::isfinite(determinant) || determinant == 0.0 || !std::isfinite(glm::dot(model[3], model[3]))) continue;
+      if (glm::length(glm::dvec3(model[3])) > r.draw_distance) continue;
+      glm::dvec4 corners[8];
+      for (int k = 0; k < 8; ++k)
+        corners[k] =
+            view_projection_ * model * glm::dvec4(k & 1 ? 0.5 : -0.5, k & 2 ? 0.5 : -0.5, k & 4 ? 0.5 : -0.5, 1.0);
+      if (outside_frustum(corners) && !keep_outside_) continue;
+      if (!keep_hidden_ && buffer_->hidden(corners)) continue;
+      GpuDecal d{};
+      d.model = glm::mat4(model);
+      d.local_from_world = glm::mat4(glm::inverse(model));
+      d.albedo = glm::vec4(r.albedo[0], r.albedo[1], r.albedo[2], r.opacity);
+      d.surface = glm::vec4(r.metallic, r.roughness, r.normal_weight, r.scale);
+      d.facing = glm::vec4(glm::vec3(glm::normalize(glm::dvec3(model[2]))), 0.0f);
+      d.info = glm::uvec4(r.pattern, i, determinant < 0.0 ? 1u : 0u, 0u);
+      projected_.push_back(d);
+    }
+  }
+
   void finish() {
-    std::vector<GpuDraw> prepass, gbuffer, dynamic;
+    std::vector<GpuDraw> prepass, gbuffer, dynamic, decals;
     for (const Candidate& c : kept_) {
-      (c.moving ? dynamic : gbuffer).push_back(c.draw);
+      (c.decal ? decals : c.moving ? dynamic : gbuffer).push_back(c.draw);
       if (!c.moving && is_occluder(c.draw.instance)) prepass.push_back(c.draw);
     }
     auto order = [&](const GpuDraw& a, const GpuDraw& b) {
@@ -427,6 +466,8 @@ class Culler {
     std::sort(prepass.begin(), prepass.end(), order);
     std::sort(gbuffer.begin(), gbuffer.end(), order);
     std::sort(dynamic.begin(), dynamic.end(), order);
+    // Decals blend: the later one covers the earlier, so their order is the instances' order.
+    std::sort(decals.begin(), decals.end(), [](const GpuDraw& a, const GpuDraw& b) { return a.instance < b.instance; });
     stats_.draws_prepass = batch_count(prepass);
     stats_.draws_gbuffer = batch_count(gbuffer);
     stats_.draws_dynamic = batch_count(dynamic);
@@ -436,6 +477,10 @@ class Culler {
     store("draws.depth.prepass", prepass);
     store("draws.gbuffer.opaque", gbuffer);
     store("draws.gbuffer.dynamic", dynamic);
+    store("draws.decals.mesh", decals);
+    store("draws.decals.projected", projected_);
+    stats_.decals_mesh = uint32_t(decals.size());
+    stats_.decals_projected = uint32_t(projected_.size());
     auto& stats = ctx_.output("cull.stats");
     stats.resize(sizeof(stats_));
     std::memcpy(stats.data(), &stats_, sizeof(stats_));
@@ -452,10 +497,11 @@ class Culler {
     return count;
   }
 
-  void store(const char* name, const std::vector<GpuDraw>& draws) {
+  template <typename Record>
+  void store(const char* name, const std::vector<Record>& records) {
     auto& out = ctx_.output(name);
-    out.resize(draws.size() * sizeof(GpuDraw));
-    if (!draws.empty()) std::memcpy(out.data(), draws.data(), out.size());
+    out.resize(records.size() * sizeof(Record));
+    if (!records.empty()) std::memcpy(out.data(), records.data(), out.size());
   }
 
   PassContext& ctx_;
@@ -463,6 +509,7 @@ class Culler {
   std::span<const InstanceRecord> instances_;
   std::span<const MeshRecord> meshes_;
   std::vector<GpuMaterial> materials_;
+  std::span<const DecalRecord> decals_;
   std::span<const uint8_t> geometry_;
   Hierarchy hierarchy_;
   bool keep_outside_, keep_hidden_;
@@ -473,6 +520,7 @@ class Culler {
   std::vector<Candidate> chosen_;    // the occluders, as evaluated when they were chosen
   std::vector<uint32_t> occluders_;  // their instance indices, sorted
   std::vector<Candidate> kept_;      // what the lists draw
+  std::vector<GpuDecal> projected_;  // draws.decals.projected, in scene.decals' order
   std::optional<OcclusionBuffer> buffer_;
   CullStats stats_{};
 };
@@ -487,14 +535,19 @@ PassDecl cull_main_pass() {
       .read("scene.hierarchy", Use::host)
       .read("scene.materials", Use::host)
       .read("scene.geometry", Use::host)
+      .read("scene.decals", Use::host)
       .write("draws.depth.prepass", Use::host, BufferDecl{ResourceKind::draw_list})
       .write("draws.gbuffer.opaque", Use::host, BufferDecl{ResourceKind::draw_list})
       .write("draws.gbuffer.dynamic", Use::host, BufferDecl{ResourceKind::draw_list})
+      .write("draws.decals.mesh", Use::host, BufferDecl{ResourceKind::draw_list})
+      .write("draws.decals.projected", Use::host, BufferDecl{ResourceKind::draw_list})
       .write("cull.stats", Use::host, BufferDecl{ResourceKind::buffer})
       .write("cull.occlusion", Use::host, BufferDecl{ResourceKind::buffer})
       .layout("draws.depth.prepass", draw_schema())
       .layout("draws.gbuffer.opaque", draw_schema())
       .layout("draws.gbuffer.dynamic", draw_schema())
+      .layout("draws.decals.mesh", draw_schema())
+      .layout("draws.decals.projected", decal_schema())
       .layout("cull.stats", cull_stats_schema())
       .param("frustum", 1, 0, 1, "1: drop instances outside the view frustum")
       .param("occlusion", 1, 0, 1, "1: drop instances hidden behind the occluders")

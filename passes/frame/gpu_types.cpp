@@ -45,4 +45,15 @@ BufferSchema draw_schema() {
       .field("position_step", &D::position_step);
 }
 
+BufferSchema decal_schema() {
+  using D = GpuDecal;
+  return BufferSchema::of<D>()
+      .field("model", &D::model)
+      .field("local_from_world", &D::local_from_world)
+      .field("albedo", &D::albedo)
+      .field("surface", &D::surface)
+      .field("facing", &D::facing)
+      .field("info", &D::info);
+}
+
 }  // namespace nightcap

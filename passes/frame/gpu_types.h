@@ -61,6 +61,17 @@ inline bool same_batch(const GpuDraw& a, const GpuDraw& b) {
          a.material == b.material && a.stencil == b.stencil && a.mirrored == b.mirrored;
 }
 
+// draws.decals.projected: one visible projected decal (Scene::decals), camera-relative.
+struct GpuDecal {
+  glm::mat4 model;             // unit cube [-0.5, 0.5]³ → camera-relative world
+  glm::mat4 local_from_world;  // its inverse, computed in double before rounding to float
+  glm::vec4 albedo;            // rgb, a: opacity
+  glm::vec4 surface;           // metalness, roughness, normal weight, pattern scale
+  glm::vec4 facing;            // xyz: the box's local +z in world space, unit length
+  glm::uvec4 info;             // DecalPattern, index into Scene::decals, 1 when `model` mirrors, unused
+};
+static_assert(sizeof(GpuDecal) == 192);
+
 // Texture slots of GpuMaterial, in order.
 enum MaterialTexture : uint32_t { base_color = 0, metallic_roughness, normal, occlusion, emissive, count };
 
@@ -68,7 +79,7 @@ struct GpuMaterial {
   glm::vec4 base_color;
   glm::vec4 emissive;    // rgb × emissive strength
   glm::vec4 pbr;         // metallic, roughness, alpha cutoff, normal scale
-  glm::vec4 extra;       // occlusion strength, translucency, alpha mode, flags (1 unlit, 2 double-sided)
+  glm::vec4 extra;       // occlusion strength, translucency, alpha mode, flags (1 unlit, 2 double-sided, 4 decal)
   glm::ivec4 textures;   // base colour, metallic-roughness, normal, occlusion (-1: none)
   glm::ivec4 textures2;  // emissive, uv-set bits (bit k: slot k uses TEXCOORD_1), stencil class
   glm::uvec4 samplers;   // packed SamplerDesc per slot (see pack_sampler)
@@ -80,5 +91,6 @@ static_assert(sizeof(GpuMaterial) == 128);
 BufferSchema frame_constants_schema();
 BufferSchema light_schema();
 BufferSchema draw_schema();
+BufferSchema decal_schema();
 
 }  // namespace nightcap

@@ -14,6 +14,9 @@ std::vector<PassDecl> frame_passes() {
   passes.push_back(depth_prepass_pass());
   passes.push_back(gbuffer_opaque_pass());
   passes.push_back(gbuffer_dynamic_pass());
+  passes.push_back(decals_normal_copy_pass());
+  passes.push_back(decals_mesh_pass());
+  passes.push_back(decals_projected_pass());
   passes.push_back(depth_convert_pass());
   passes.push_back(motion_stencil_pass());
   passes.push_back(normals_bfn_lut_pass());

@@ -138,7 +138,7 @@ Imports scene_imports(const Scene& scene) {
     g.emissive = glm::vec4(m.emissive * m.emissive_strength, 0.0f);
     g.pbr = {m.metallic, m.roughness, m.alpha_mode == AlphaMode::mask ? m.alpha_cutoff : -1.0f, m.normal_texture.scale};
     g.extra = {m.occlusion_texture.scale, m.translucency, float(m.alpha_mode),
-               float((m.unlit ? 1 : 0) | (m.double_sided ? 2 : 0))};
+               float((m.unlit ? 1 : 0) | (m.double_sided ? 2 : 0) | (m.decal ? 4 : 0))};
     const TextureRef* slots[] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
                                  &m.occlusion_texture, &m.emissive_texture};
     int32_t uv_bits = 0;
@@ -179,6 +179,22 @@ Imports scene_imports(const Scene& scene) {
     lights.push_back(r);
   }
   imports["scene.lights"] = buffer(ResourceKind::buffer, bytes_of(lights));
+
+  std::vector<DecalRecord> decals;
+  for (const Decal& d : scene.decals) {
+    DecalRecord r{};
+    std::memcpy(r.world, &d.world[0][0], sizeof(r.world));
+    for (int k = 0; k < 3; ++k) r.albedo[k] = d.albedo[k];
+    r.opacity = d.opacity;
+    r.metallic = d.metallic;
+    r.roughness = d.roughness;
+    r.normal_weight = d.normal_weight;
+    r.scale = d.scale;
+    r.pattern = uint32_t(d.pattern);
+    r.draw_distance = d.draw_distance;
+    decals.push_back(r);
+  }
+  imports["scene.decals"] = buffer(ResourceKind::buffer, bytes_of(decals));
 
   for (uint32_t i = 0; i < scene.textures.size(); ++i)
     imports[texture_resource(i)] = texture_with_mips(scene.textures[i]);

@@ -48,6 +48,16 @@ struct LightRecord {
   uint32_t type;
 };
 
+// scene.decals: the projected decals (host-side, read by cull.main), as Scene::decals holds them.
+struct DecalRecord {
+  double world[16];  // column-major: the unit cube → world
+  float albedo[3], opacity;
+  float metallic, roughness, normal_weight, scale;
+  uint32_t pattern;
+  float draw_distance;
+};
+static_assert(sizeof(DecalRecord) == 168);
+
 // frame.camera: this frame's and the previous frame's camera (the same on a cut), and the clock.
 struct CameraRecordGpu {
   double world[16], previous_world[16];
@@ -66,7 +76,7 @@ struct ImportedData {
 using Imports = std::map<std::string, ImportedData>;
 
 // scene.geometry (pack_geometry), scene.meshes, scene.instances, scene.hierarchy
-// (passes/cull/hierarchy.h), scene.materials, scene.lights and scene.texture.<n> (mip chains
+// (passes/cull/hierarchy.h), scene.materials, scene.lights, scene.decals and scene.texture.<n> (mip chains
 // built here; the last texture is 1×1 white, bound where a material has none).
 Imports scene_imports(const Scene& scene);
 // frame.camera of frame `frame_index` (at frame_index × kFrameSeconds); `cut`: the view jumped.

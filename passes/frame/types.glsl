@@ -38,6 +38,15 @@ struct Draw {
   vec4 position_step;
 };
 
+struct Decal {
+  mat4 model;
+  mat4 local_from_world;
+  vec4 albedo;
+  vec4 surface;
+  vec4 facing;
+  uvec4 info;
+};
+
 struct Material {
   vec4 base_color;
   vec4 emissive;

@@ -6,11 +6,12 @@
 
 namespace nightcap {
 
-void draw_surfaces(PassContext& ctx, const std::string& draws) {
+void draw_surfaces(PassContext& ctx, const std::string& draws, const std::vector<Binding>& extra) {
   ctx.begin_rendering();
   ctx.bind_pipeline();
   auto bindings = geometry_bindings(ctx, draws);
   bindings.push_back(Binding::storage(ctx.slot("scene.materials"), "scene.materials"));
+  bindings.insert(bindings.end(), extra.begin(), extra.end());
   ctx.push(bindings);
   draw_scene(ctx, draws, [&](uint32_t, const GpuMaterial& m) {
     const int32_t indices[MaterialTexture::count] = {m.textures.x, m.textures.y, m.textures.z, m.textures.w,

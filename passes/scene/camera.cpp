@@ -71,9 +71,14 @@ std::set<std::string> Scene::features() const {
   for (const Instance& instance : instances) {
     const Material& m = materials.at(material_of(instance));
     if (instance.moving) f.insert("moving_geometry");
+    if (m.decal) {
+      f.insert("mesh_decals");
+      continue;  // drawn by decals.mesh alone: no geometry of the G-buffer passes
+    }
     f.insert(m.alpha_mode == AlphaMode::mask ? "mask_geometry" : "opaque_geometry");
     if (m.emissive != glm::vec3(0.0f)) f.insert("emissive");
   }
+  if (!decals.empty()) f.insert("projected_decals");
   for (const Light& l : lights) f.insert(l.type == LightType::directional ? "sun" : "local_lights");
   return f;
 }

@@ -4,7 +4,9 @@
 // sidewalk, buildings whose shells and roofs have three levels of detail, neon signs (emissive
 // bars that are also tube lights), street lamps (point lights with hand-set ranges), trees
 // (foliage stencil class), traffic driving along the streets and a few pedestrians made of
-// rigid body, face and hair parts. Meshes are shared: instances differ by transform and
+// rigid body, face and hair parts, and decals: projected ones (dashed lane markings, grime on
+// the pavements, graffiti on the walls) and mesh ones (posters on the walls, puddles on the
+// sidewalks). Meshes are shared: instances differ by transform and
 // material. Everything derives from the seed through std::mt19937's raw output, so a seed gives
 // the same map on every platform.
 #include <algorithm>
@@ -46,6 +48,20 @@ void chain(Scene& scene, const std::vector<uint32_t>& levels, const std::vector<
     scene.primitives[levels[k]].lod_distance = distances[k];
   }
   scene.primitives[levels.back()].draw_distance = draw_distance;
+}
+
+// A building's footprint as placed: walls at `half` metres from `base` along ±x and ±z.
+struct Building {
+  glm::dvec3 base;
+  double half, height;
+};
+
+// A projected decal's box: `size` metres along its local x, y, z, centred on `centre`, its local
+// z along `facing` and its local y along `up` (a unit vector perpendicular to `facing`).
+glm::dmat4 decal_box(glm::dvec3 centre, glm::dvec3 facing, glm::dvec3 up, glm::dvec3 size) {
+  const glm::dvec3 x = glm::cross(up, facing);
+  return glm::dmat4(glm::dvec4(x * size.x, 0.0), glm::dvec4(up * size.y, 0.0), glm::dvec4(facing * size.z, 0.0),
+                    glm::dvec4(centre, 1.0));
 }
 
 // How far small props stay drawn, in metres: beyond, they cover about a pixel or less at 720p.
@@ -150,6 +166,91 @@ Meshes make_meshes(Builder& build, uint32_t facade, uint32_t roof, uint32_t road
   return m;
 }
 
+// Decals along each built block, from their own random sequence so the rest of the map does not
+// change with them: a dashed marking down the middle of the street on the block's +z side, grime
+// on the pavement there, graffiti and a poster on building walls, puddles on the sidewalk.
+void add_decals(Builder& build, uint32_t seed, const std::vector<glm::dvec2>& blocks,
+                const std::vector<std::vector<Building>>& buildings) {
+  Scene& scene = build.scene();
+  Random random(seed * 2246822519u + 3266489917u);
+  const uint32_t poster_paper = build.material([] {
+    Material m = plain("decal.poster", {0.8f, 0.75f, 0.65f}, 0.0f, 0.7f, stencil::plain);
+    m.base_color.a = 0.9f;
+    m.decal = true;
+    return m;
+  }());
+  const uint32_t puddle_water = build.material([] {
+    Material m = plain("decal.puddle", {0.02f, 0.02f, 0.025f}, 0.0f, 0.05f, stencil::plain);
+    m.base_color.a = 0.7f;
+    m.decal = true;
+    return m;
+  }());
+  // Thin slabs: a poster 1 cm thick, a puddle 8 mm (drawn with a depth bias over what it lies on).
+  const uint32_t poster = build.box({0.6f, 0.85f, 0.005f}, poster_paper, 1.0f);
+  const uint32_t puddle = build.box({1.0f, 0.004f, 0.6f}, puddle_water, 1.0f);
+  for (uint32_t mesh : {poster, puddle}) scene.primitives[mesh].draw_distance = kPropDistance;
+  const glm::dvec3 up(0, 1, 0), north(0, 0, -1);
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    const glm::dvec2 c = blocks[b];
+    Decal lane;
+    lane.world = decal_box({c.x, 0.0, c.y + kBlock / 2}, up, north, {kBlock, 0.15, 0.4});
+    lane.pattern = DecalPattern::stripes;
+    lane.albedo = {0.8f, 0.78f, 0.7f};
+    lane.opacity = 0.9f;
+    lane.roughness = 0.6f;
+    lane.scale = 25.0f;
+    lane.draw_distance = 600.0f;
+    scene.decals.push_back(lane);
+    const int grime_patches = 1 + int(random.below(2));
+    for (int k = 0; k < grime_patches; ++k) {
+      const double turn = random.range(0.0, glm::two_pi<double>());
+      const glm::dvec3 at{c.x + random.range(-45.0, 45.0), 0.0,
+                          c.y + random.range(40.0, 48.0)};  // braced: drawn in order
+      Decal grime;
+      grime.world = decal_box(at, up, {std::sin(turn), 0.0, std::cos(turn)},
+                              {random.range(3.0, 6.0), random.range(3.0, 6.0), 1.0});
+      grime.pattern = DecalPattern::grime;
+      grime.albedo = {0.05f, 0.04f, 0.03f};
+      grime.opacity = 0.85f;
+      grime.roughness = 0.9f;
+      grime.scale = 4.0f;
+      grime.draw_distance = 300.0f;
+      scene.decals.push_back(grime);
+    }
+    const glm::dvec2 puddle_draw{random.range(-40.0, 40.0), random.uniform()};
+    if (puddle_draw.y < 0.6) {
+      // Lying on the sidewalk slab (its top at 0.15 m): coplanar with it underneath.
+      build.place(puddle, {c.x + puddle_draw.x, 0.154, c.y + 42.5}, random.range(-0.3, 0.3));
+    }
+    if (buildings[b].empty()) continue;
+    for (int k = 0; k < 2; ++k) {
+      const Building& at = buildings[b][random.below(uint32_t(buildings[b].size()))];
+      const int side = int(random.below(4));
+      const glm::dvec3 facing = side == 0   ? glm::dvec3(1, 0, 0)
+                                : side == 1 ? glm::dvec3(-1, 0, 0)
+                                : side == 2 ? glm::dvec3(0, 0, 1)
+                                            : glm::dvec3(0, 0, -1);
+      const glm::dvec3 along(facing.z, 0.0, -facing.x);
+      const double offset = random.range(-at.half + 3.0, at.half - 3.0), height = random.range(1.5, 3.5);
+      const glm::dvec3 wall = at.base + facing * at.half + along * offset + glm::dvec3(0, height, 0);
+      if (k == 0) {
+        Decal graffiti;
+        graffiti.world = decal_box(wall, facing, up, {random.range(3.0, 6.0), random.range(1.5, 2.5), 1.0});
+        graffiti.pattern = DecalPattern::grime;
+        graffiti.albedo = kNeon[random.below(uint32_t(kNeon.size()))];
+        graffiti.opacity = 1.0f;
+        graffiti.roughness = 0.4f;
+        graffiti.scale = 3.0f;
+        graffiti.normal_weight = 0.3f;
+        graffiti.draw_distance = 300.0f;
+        scene.decals.push_back(graffiti);
+      } else {
+        build.place(poster, wall + facing * 0.006, std::atan2(facing.x, facing.z));
+      }
+    }
+  }
+}
+
 }  // namespace
 
 Shot parse_shot(const std::string& name) {
@@ -228,6 +329,7 @@ Scene build_map(const MapOptions& options) {
     double tallest;
   };
   std::vector<BuiltBlock> built;
+  std::vector<std::vector<Building>> buildings;  // per built block, for its decals
   for (int bx = 0; bx < blocks; ++bx)
     for (int bz = 0; bz < blocks; ++bz) {
       const glm::dvec2 c(origin + (bx + 0.5) * kBlock, origin + (bz + 0.5) * kBlock);
@@ -237,6 +339,7 @@ Scene build_map(const MapOptions& options) {
       build.place(mesh.road, {c.x, -0.05, c.y});
       build.place(mesh.sidewalk, {c.x, 0.075, c.y});
       double tallest = 0.0;
+      buildings.emplace_back();
       // Buildings on a 2×2 grid of the lot, the densest blocks full, taller toward a core.
       for (int q = 0; q < 4; ++q) {
         const double draw = random.uniform(), height_draw = random.uniform(), footprint_draw = random.uniform(),
@@ -250,6 +353,7 @@ Scene build_map(const MapOptions& options) {
         build.place(mesh.shell.at({f, hi}), base, yaw).material = int32_t(facades[std::min(2, int(facade_draw * 3))]);
         build.place(mesh.roof.at({f, 0}), base + glm::dvec3(0, kHeights[hi], 0), yaw);
         tallest = std::max(tallest, double(kHeights[hi]));
+        buildings.back().push_back({base, kFootprints[f] / 2.0, double(kHeights[hi])});
         // Neon on the facades, more of it downtown: a bar and its tube light.
         const int signs = int(random.uniform() * (1 + 7 * rho));
         const double w = kFootprints[f] / 2.0;
@@ -314,6 +418,9 @@ Scene build_map(const MapOptions& options) {
       built.push_back({c, rho, tallest});
     }
 
+  std::vector<glm::dvec2> centres;
+  for (const BuiltBlock& b : built) centres.push_back(b.centre);
+  add_decals(build, options.seed, centres, buildings);
   scene.lights.push_back(moon());
 
   // The shot: its place drawn from the seed among every built block of the map (the dense

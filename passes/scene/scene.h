@@ -83,6 +83,9 @@ struct Material {
   bool unlit = false;  // KHR_materials_unlit
   float translucency = 0.0f;
   uint8_t stencil_class = stencil::plain;
+  // A mesh decal [000]: instances with this material are drawn by decals.mesh over the G-buffer
+  // (base colour alpha is their opacity), never by the geometry passes, and never occlude.
+  bool decal = false;
 };
 
 // One drawable range of the shared vertex/index arrays; bounds are in object space. A
@@ -129,6 +132,32 @@ struct Light {
   float radius = 0.0f;  // tube thickness, for the representative point
 };
 
+// What a projected decal lays onto the surfaces inside its box (decals/projected.frag), as a
+// function of the box's local (u, v) = (x, y) in [-0.5, 0.5]².
+enum class DecalPattern : uint32_t {
+  solid = 0,        // the albedo everywhere
+  stripes = 1,      // dashes along u (`scale` of them), a road marking
+  grime = 2,        // value noise (`scale` cells across) fading toward the box's sides
+  coordinates = 3,  // albedo = local position + 0.5: a debugging ramp the reference test reads
+};
+
+// A projected decal [000]: the unit cube [-0.5, 0.5]³ under `world` (double precision, like
+// instances) is its volume; decals.projected blends its pattern into the G-buffer wherever the
+// depth buffer's surface lies inside it, except on pixels tagged moving. Local +z is the way the
+// decal faces: the surface normal is pulled toward it by `normal_weight`.
+struct Decal {
+  glm::dmat4 world{1.0};
+  DecalPattern pattern = DecalPattern::solid;
+  glm::vec3 albedo{1.0f};
+  float opacity = 1.0f;
+  float metallic = 0.0f, roughness = 0.5f;
+  float normal_weight = 0.0f;  // 0: the surface keeps its normal; 1: faces +z where fully opaque
+  float scale = 1.0f;          // the pattern's repeat (stripes, grime)
+  // Beyond this many metres from the camera (to the box's centre) it is not drawn: a level of
+  // detail, as for Primitive::draw_distance.
+  float draw_distance = INFINITY;
+};
+
 // A pinhole camera: camera-to-world transform (looks down -Z, +Y up), vertical FOV.
 struct Camera {
   glm::dmat4 world{1.0};
@@ -145,6 +174,7 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<Instance> instances;
   std::vector<Light> lights;
+  std::vector<Decal> decals;       // projected decals
   std::optional<Camera> camera;    // the first glTF camera, if any
   std::vector<std::string> notes;  // what was approximated, e.g. BLEND drawn as opaque
 
@@ -155,7 +185,8 @@ struct Scene {
   glm::dvec3 bounds_min() const;
   glm::dvec3 bounds_max() const;
   // Feature names passes may require: "opaque_geometry", "mask_geometry", "sun",
-  // "local_lights", "emissive", "moving_geometry".
+  // "local_lights", "emissive", "moving_geometry", "mesh_decals" (an instance of a decal
+  // material), "projected_decals".
   std::set<std::string> features() const;
 };
 

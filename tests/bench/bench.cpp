@@ -40,6 +40,7 @@
 #include "passes/normals/bfn_lut.h"
 #include "passes/scene/scene.h"
 #include "tests/reference/bloom_reference.h"
+#include "tests/reference/decal_reference.h"
 #include "tests/reference/depth_half_reference.h"
 #include "tests/reference/lighting_reference.h"
 #include "tests/reference/motion_mask_reference.h"
@@ -647,7 +648,7 @@ void bench_map(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uin
     const nc::Imports imports = nc::scene_imports(scene);
     std::map<std::string, nc::IsolatedInput> inputs;
     for (const char* resource :
-         {"scene.instances", "scene.meshes", "scene.hierarchy", "scene.materials", "scene.geometry"})
+         {"scene.instances", "scene.meshes", "scene.hierarchy", "scene.materials", "scene.geometry", "scene.decals"})
       inputs[resource] = {imports.at(resource).desc, imports.at(resource).bytes};
     const nc::ImportedData camera =
         nc::camera_import(*scene.camera, *scene.camera, width, height, 0, false).at("frame.camera");
@@ -746,6 +747,91 @@ void bench_empty(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
   }
   table() << std::left << std::setw(22) << "frame" << std::right << std::setw(12) << median(frame_ms) << "\n";
   figure("frame_ms_empty", median(frame_ms));
+}
+
+// decals.mesh and decals.projected against decal count on the reference scene of
+// tests/reference/decal_reference.h: N projected boxes (the reference box, shifted and turned,
+// grime) and N mesh decals (slabs on the ground), GPU ms as the median of `repeats` frames. The
+// error figure is test 2's (tests/unit/decals_test.cpp): the largest distance between the box
+// coordinate a coordinates decal writes into gbuffer.albedo and the ray-cast one, in metres along
+// the box's axes, 10-bit quantisation included.
+void bench_decals(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) {
+  table() << "\n## decals (reference scene, " << width << "x" << height << ", median of " << repeats << ")\n"
+          << std::left << std::setw(10) << "decals" << std::right << std::setw(18) << "decals.mesh ms" << std::setw(22)
+          << "decals.projected ms\n";
+  for (uint32_t count : {1u, 16u, 256u}) {
+    nc::reference::DecalTestScene s = nc::reference::decal_test_scene();
+    nc::scene_kit::Builder build(s.scene);
+    nc::Material paint = nc::scene_kit::plain("decal.paint", {0.9f, 0.2f, 0.1f}, 0.0f, 0.5f, nc::stencil::plain);
+    paint.base_color.a = 0.7f;
+    paint.decal = true;
+    const uint32_t slab = build.box({0.4f, 0.005f, 0.4f}, build.material(paint), 1.0f);
+    std::mt19937 rng(count);
+    std::uniform_real_distribution<double> spread(-4.0, 4.0), turn(0.0, 6.28);
+    for (uint32_t k = 0; k < count; ++k) {
+      nc::Decal decal;
+      decal.world = glm::rotate(glm::translate(glm::dmat4(1.0), {spread(rng), 0.0, spread(rng)}), turn(rng),
+                                glm::dvec3(0, 1, 0)) *
+                    nc::reference::decal_test_box();
+      decal.pattern = nc::DecalPattern::grime;
+      decal.scale = 4.0f;
+      s.scene.decals.push_back(decal);
+      build.place(slab, {spread(rng), 0.005, spread(rng)}, turn(rng));
+    }
+    nc::RenderSettings settings;
+    settings.width = width;
+    settings.height = height;
+    settings.path.motion = nc::CameraPath::Motion::still;
+    nc::Renderer renderer(gpu, s.scene, settings);
+    std::map<std::string, std::vector<double>> ms;
+    for (int r = 0; r <= repeats; ++r) {
+      const nc::RenderedFrame frame = renderer.render_frame(uint32_t(r), false);
+      for (size_t i = 0; r > 0 && i < frame.graph.passes.size(); ++i)
+        if (frame.graph.passes[i].runs && frame.execution.passes[i].gpu_ms)
+          ms[frame.graph.passes[i].decl->name].push_back(*frame.execution.passes[i].gpu_ms);
+    }
+    const double mesh = median(ms["decals.mesh"]), projected = median(ms["decals.projected"]);
+    table() << std::left << std::setw(10) << count << std::right << std::fixed << std::setprecision(3) << std::setw(18)
+            << mesh << std::setw(21) << projected << "\n";
+    figure("decals_mesh_ms." + std::to_string(count), mesh);
+    figure("decals_projected_ms." + std::to_string(count), projected);
+    if (count == 256) {
+      figure("decals_mesh_ms", mesh);
+      figure("decals_projected_ms", projected);
+    }
+  }
+  nc::reference::DecalTestScene s = nc::reference::decal_test_scene();
+  nc::Decal decal;
+  decal.world = nc::reference::decal_test_box();
+  decal.pattern = nc::DecalPattern::coordinates;
+  s.scene.decals.push_back(decal);
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.path.motion = nc::CameraPath::Motion::still;
+  nc::Renderer renderer(gpu, s.scene, settings);
+  const nc::RenderedFrame frame = renderer.render_frame(0, true);
+  const auto& albedo = *frame.execution.final_version("gbuffer.albedo")->bytes;
+  const glm::dvec3 size(glm::length(decal.world[0]), glm::length(decal.world[1]), glm::length(decal.world[2]));
+  double worst = 0.0;
+  for (uint32_t y = 0; y < height; ++y)
+    for (uint32_t x = 0; x < width; ++x) {
+      const auto hit = nc::reference::cast_pixel(s, frame.camera, width, height, x, y);
+      if (!hit || hit->moving) continue;
+      const glm::dvec3 local = nc::reference::decal_local(decal.world, hit->position);
+      // Away from the faces (test 2's bound) and from silhouettes: one pixel's footprint.
+      const double footprint = 2.0 * std::tan(double(frame.camera.yfov) / 2) / height * hit->distance;
+      if (nc::reference::distance_to_faces(decal.world, hit->position) <= footprint ||
+          !glm::all(glm::lessThanEqual(glm::abs(local), glm::dvec3(0.5))))
+        continue;
+      uint32_t word;
+      std::memcpy(&word, albedo.data() + 4 * (size_t(y) * width + x), 4);
+      for (int c = 0; c < 3; ++c)
+        worst = std::max(worst, std::abs(((word >> (10 * c)) & 1023) / 1023.0 - (local[c] + 0.5)) * size[c]);
+    }
+  table() << "position error of a coordinates decal: " << std::setprecision(5) << worst * 1e3
+          << " mm (10-bit quantisation of a " << size.x << " m box: " << 0.5 / 1023 * size.x * 1e3 << " mm)\n";
+  figure("decals_position_error_m", worst);
 }
 
 // A stencil tag per pixel: every class and flag of passes/scene/scene.h, one pixel in 200 moving,
@@ -1089,9 +1175,9 @@ int main(int argc, char** argv) {
   std::string size = "1280x720", device, data = NIGHTCAP_SHARED_DATA;
   bool skip_models = false, map_frames = true;
   std::vector<std::string> only;
-  const std::vector<std::string> sections = {"city",    "models",   "map",     "empty",  "frames",
-                                             "normals", "tubes",    "depth",   "motion", "streams",
-                                             "bloom",   "exposure", "startup", "diff",   "report"};
+  const std::vector<std::string> sections = {"city",    "models", "map",    "empty",   "frames", "normals",
+                                             "tubes",   "depth",  "motion", "streams", "bloom",  "exposure",
+                                             "startup", "diff",   "report", "decals"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -1145,6 +1231,7 @@ int main(int argc, char** argv) {
     if (wanted("startup")) bench_startup(gpu, width, height);
     if (wanted("diff")) bench_diff(gpu, width, height);
     if (wanted("report")) bench_report(gpu, width, height);
+    if (wanted("decals")) bench_decals(gpu, width, height, int(repeats));
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

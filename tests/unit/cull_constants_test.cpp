@@ -149,7 +149,8 @@ class CullMain : public GpuTest {
 
   static Result cull(const Imports& scene, const View& view) {
     std::map<std::string, IsolatedInput> inputs;
-    for (const char* name : {"scene.instances", "scene.meshes", "scene.hierarchy", "scene.materials", "scene.geometry"})
+    for (const char* name :
+         {"scene.instances", "scene.meshes", "scene.hierarchy", "scene.materials", "scene.geometry", "scene.decals"})
       inputs[name] = input(scene.at(name));
     inputs["frame.camera"] =
         input(camera_import(view.camera, view.camera, view.width, view.height, 0, false).at("frame.camera"));

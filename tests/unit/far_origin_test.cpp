@@ -25,6 +25,7 @@ std::map<std::string, const VersionData*> outputs(const RenderedFrame& frame, co
 
 Scene moved(Scene scene, const glm::dvec3& offset) {
   for (Instance& instance : scene.instances) instance.world[3] += glm::dvec4(offset, 0.0);
+  for (Decal& decal : scene.decals) decal.world[3] += glm::dvec4(offset, 0.0);
   for (Light& light : scene.lights) {
     light.position += offset;
     light.end += offset;

@@ -128,7 +128,8 @@ TEST_F(MapCull, NoShotOfTheFullMapDrawsMoreThanTwoMillionTriangles) {
     const Scene& scene = full_map(shot);
     const Imports imports = scene_imports(scene);
     std::map<std::string, IsolatedInput> inputs;
-    for (const char* name : {"scene.instances", "scene.meshes", "scene.hierarchy", "scene.materials", "scene.geometry"})
+    for (const char* name :
+         {"scene.instances", "scene.meshes", "scene.hierarchy", "scene.materials", "scene.geometry", "scene.decals"})
       inputs[name] = IsolatedInput{imports.at(name).desc, imports.at(name).bytes};
     const ImportedData camera = camera_import(*scene.camera, *scene.camera, 1280, 720, 0, false).at("frame.camera");
     inputs["frame.camera"] = IsolatedInput{camera.desc, camera.bytes};
@@ -151,8 +152,9 @@ TEST_F(MapCull, NoShotOfTheFullMapDrawsMoreThanTwoMillionTriangles) {
     std::printf(
         "%s: cull.main %.2f ms, %u visible of %zu, %llu triangles, %u draws, %u culled by frustum, %u by occlusion, "
         "%u by distance\n",
-        shot_name(shot).c_str(), result.execution.passes.at(0).cpu_ms, stats.visible, scene.instances.size(), (unsigned long long)triangles,
-        stats.draws_gbuffer + stats.draws_dynamic, stats.culled_frustum, stats.culled_occlusion, stats.culled_distance);
+        shot_name(shot).c_str(), result.execution.passes.at(0).cpu_ms, stats.visible, scene.instances.size(),
+        (unsigned long long)triangles, stats.draws_gbuffer + stats.draws_dynamic, stats.culled_frustum,
+        stats.culled_occlusion, stats.culled_distance);
   }
 }
 

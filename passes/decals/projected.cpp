@@ -1,0 +1,72 @@
+// decals.projected: box volumes projected onto the G-buffer [000]. Each visible box of
+// draws.decals.projected (cull.main) is drawn as its 36 back-face vertices, with no depth test,
+// so it covers every pixel whose surface could lie inside it, the camera inside the box
+// included. The fragment shader reads scene.depth's depth and stencil aspects at its pixel,
+// reconstructs the surface's camera-relative position with frame.constants'
+// inverse_view_projection, moves it into the box's unit cube and discards it outside the cube,
+// on sky (depth 0: nothing to project onto, and no division by it) and on pixels tagged moving
+// (stencil flag 0x02, frame.md): decals stay on the static world. Inside, the decal's pattern
+// is blended fixed-function, a·decal + (1 − a)·surface, into gbuffer.albedo rgb,
+// gbuffer.material rgb (metalness, roughness, translucency toward 0) and gbuffer.normal rgb
+// (toward the box's +z, with weight a × normal_weight; later passes normalise what they read),
+// the write masks keeping RT0's object flags, RT1's hair flag and RT2's emissive. Boxes blend in
+// scene order.
+//
+// Skipped when the scene has no projected decal, or when nothing was drawn (scene.depth cleared:
+// every pixel is sky, which it never touches); with some in the scene and none visible it runs
+// with an empty list and leaves the targets bit for bit.
+#include <cstring>
+
+#include "passes/core/context.h"
+#include "passes/frame/frame_passes.h"
+#include "passes/frame/gpu_types.h"
+
+namespace nightcap {
+namespace {
+
+// a·src + (1 − a)·dst on rgb, alpha kept. The device does not enable independentBlend, so every
+// target of a pipeline must blend alike: each output's own alpha sets its weight.
+BlendState over() {
+  BlendState b;
+  b.enabled = true;
+  b.src_color = VK_BLEND_FACTOR_SRC_ALPHA;
+  b.dst_color = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+  b.write_mask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT;
+  return b;
+}
+
+}  // namespace
+
+PassDecl decals_projected_pass() {
+  return PassDecl("decals.projected", PassType::graphics)
+      .read("frame.constants", Use::uniform_buffer)
+      .read("draws.decals.projected", Use::storage_read)
+      .read("scene.depth", Use::sampled)
+      .slots("scene.depth", 2)  // its depth aspect, then its stencil aspect
+      .modify("gbuffer.albedo", Use::color_attachment)
+      .modify("gbuffer.normal", Use::color_attachment)
+      .modify("gbuffer.material", Use::color_attachment)
+      .blend("gbuffer.albedo", over())
+      .blend("gbuffer.normal", over())
+      .blend("gbuffer.material", over())
+      // Back faces only: one fragment per pixel and box, wherever the camera is.
+      .raster(RasterState{VK_CULL_MODE_FRONT_BIT, VK_FRONT_FACE_COUNTER_CLOCKWISE, false, {}})
+      .needs("projected_decals")
+      .skip_when_cleared({"scene.depth"})
+      .shader("decals/projected.vert")
+      .shader("decals/projected.frag")
+      .run([](PassContext& ctx) {
+        const uint32_t count = uint32_t(ctx.host("draws.decals.projected").size() / sizeof(GpuDecal));
+        ctx.begin_rendering();
+        ctx.bind_pipeline();
+        const uint32_t depth = ctx.slot("scene.depth");
+        ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
+                  Binding::storage(ctx.slot("draws.decals.projected"), "draws.decals.projected"),
+                  Binding::texture(depth, "scene.depth", ctx.nearest_clamp(), ViewAspect::depth),
+                  Binding::texture(depth + 1, "scene.depth", ctx.nearest_clamp(), ViewAspect::stencil)});
+        if (count > 0) vkCmdDraw(ctx.cmd(), 36, count, 0, 0);
+        ctx.end_rendering();
+      });
+}
+
+}  // namespace nightcap
