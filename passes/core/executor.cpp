@@ -194,6 +194,8 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
   result.passes.resize(graph.passes.size());
   PassContext::Shared shared{gpu, cache, options.shaders, VK_NULL_HANDLE, {}, {}, {}, nullptr};
   std::map<std::string, int> latest;  // resource -> current version index
+  // Resources holding their clear value: a skipped pass's fresh outputs, a CPU pass's empty lists.
+  std::set<std::string> cleared;
   auto add_version = [&](const std::string& name, const ResourceDesc& desc,
                          std::shared_ptr<const std::vector<uint8_t>> bytes) {
     result.versions.push_back({name, desc, std::move(bytes)});
@@ -472,6 +474,11 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
           }
         }
         run_cpu_pass(i);
+        for (const BoundUse& out : pass.outputs)
+          if (!pass.runs || (out.desc.is_buffer && shared.host.at(out.resource)->empty()))
+            cleared.insert(out.resource);
+          else
+            cleared.erase(out.resource);
         for (const std::string& name : pass.sync.uploads) {
           PhysicalResource& r = shared.resources[name];
           r.desc = graph.resources.at(name);
@@ -481,6 +488,19 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
         for (const std::string& name : pass.sync.uploads) upload(name);
         continue;
       }
+      // A list a CPU pass left empty is known only now: a pass it skips modifies its outputs
+      // alone (compile_graph checks), so leaving them as they are is all that is left to do; its
+      // planned barriers are still issued, and the plan after it holds. A kept pass (a replay)
+      // runs whatever its inputs.
+      const bool planned_to_run = pass.runs;
+      const auto& keep = graph.settings.keep;
+      if (pass.runs && !pass.decl->cleared_skips.empty() &&
+          std::find(keep.begin(), keep.end(), pass.decl->name) == keep.end())
+        if (const auto* skip = pass.decl->cleared_skip(cleared, params_of(*pass.decl))) {
+          pass.runs = false;
+          pass.inputs_cleared = true;
+          pass.reason = skip->reason();
+        }
       // A skipped pass still leaves defined outputs for the passes after it, and a pass that
       // writes part of a fresh output leaves the rest defined.
       issue_step(pass.sync.before_clears);
@@ -492,8 +512,8 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
         for (const BoundUse& in : pass.inputs)
           if (std::find(exec.inputs.begin(), exec.inputs.end(), latest.at(in.resource)) == exec.inputs.end())
             exec.inputs.push_back(latest.at(in.resource));
+      if (planned_to_run) issue_step(pass.sync.before_pass);
       if (pass.runs) {
-        issue_step(pass.sync.before_pass);
         gpu.begin_label(shared.cmd, pass.decl->name);
         vkCmdWriteTimestamp2(shared.cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, cleanup.queries,
                              static_cast<uint32_t>(2 * i));
@@ -504,18 +524,28 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
                              static_cast<uint32_t>(2 * i + 1));
         gpu.end_label(shared.cmd);
         exec.gpu_ms = 0.0;  // filled from the queries after the submit
-        issue_step(pass.sync.before_injections);
-        for (const NanInjection& nan : pass.sync.injections) inject_nan(nan);
       }
+      if (planned_to_run) issue_step(pass.sync.before_injections);
+      if (pass.runs)
+        for (const NanInjection& nan : pass.sync.injections) inject_nan(nan);
       std::map<std::string, int> written;
       for (const BoundUse& out : pass.outputs) {
-        if (!pass.runs && out.modifies) continue;
+        if (!pass.runs && out.modifies) {
+          // Skipped for cleared inputs, it left them as they were: the replay checks that.
+          if (pass.inputs_cleared) exec.outputs.push_back(latest.at(out.resource));
+          continue;
+        }
         written[out.resource] = add_version(out.resource, shared.resources.at(out.resource).desc, nullptr);
         exec.outputs.push_back(written[out.resource]);
+        if (pass.runs)
+          cleared.erase(out.resource);
+        else
+          cleared.insert(out.resource);
       }
       issue_step(pass.sync.before_readback);
       for (const std::string& resource : pass.sync.readback)
-        read_back(shared.resources.at(resource), written.at(resource), resource + " from " + pass.decl->name);
+        if (written.count(resource))
+          read_back(shared.resources.at(resource), written.at(resource), resource + " from " + pass.decl->name);
       if (options.on_read_back && !pass.sync.readback.empty() && i + 1 < graph.passes.size()) {
         submit(false);
         shared.cmd = gpu.begin_commands(frame_name + " after " + pass.decl->name);

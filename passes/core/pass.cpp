@@ -1,5 +1,6 @@
 #include "passes/core/pass.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace nightcap {
@@ -140,9 +141,23 @@ PassDecl& PassDecl::skip_when(std::function<std::string(const SkipContext&)> con
 }
 
 PassDecl& PassDecl::skip_when_cleared(std::vector<std::string> inputs, std::function<bool(const ParamValues&)> exact) {
-  cleared_inputs = std::move(inputs);
-  cleared_result_exact = std::move(exact);
+  cleared_skips.push_back({std::move(inputs), std::move(exact)});
   return *this;
+}
+
+std::string PassDecl::ClearedSkip::reason() const {
+  std::string names;
+  for (const std::string& r : inputs) names += (names.empty() ? "" : ", ") + r;
+  return "inputs all cleared (" + names + ")";
+}
+
+const PassDecl::ClearedSkip* PassDecl::cleared_skip(const std::set<std::string>& cleared,
+                                                    const ParamValues& params) const {
+  for (const ClearedSkip& skip : cleared_skips)
+    if (std::all_of(skip.inputs.begin(), skip.inputs.end(), [&](const std::string& r) { return cleared.count(r); }) &&
+        (!skip.exact || skip.exact(params)))
+      return &skip;
+  return nullptr;
 }
 
 PassDecl& PassDecl::compare(const std::string& output, ComparisonContract contract) {

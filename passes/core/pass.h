@@ -145,9 +145,13 @@ struct PassDecl {
   std::function<void(PassContext&)> execute;
   // Extra frame-dependent skip condition: returns the reason, or "" to run.
   std::function<std::string(const SkipContext&)> skip_if;
-  // Set by skip_when_cleared: the inputs whose being cleared makes the pass's work known.
-  std::vector<std::string> cleared_inputs;
-  std::function<bool(const ParamValues&)> cleared_result_exact;
+  // Set by skip_when_cleared: sets of inputs whose being cleared makes the pass's work known.
+  struct ClearedSkip {
+    std::vector<std::string> inputs;
+    std::function<bool(const ParamValues&)> exact;  // absent: for every parameter
+    std::string reason() const;                     // "inputs all cleared (a, b)"
+  };
+  std::vector<ClearedSkip> cleared_skips;
   std::string disabled_reason;  // set by can_disable: the skip reason when `enabled` is 0
   std::string disable_switch;   // set by can_disable: whose `enabled` (this pass, or its group)
 
@@ -189,11 +193,17 @@ struct PassDecl {
   PassDecl& skip_when(std::function<std::string(const SkipContext&)> condition);
   // Skipped when every one of `inputs` holds its declared clear value because the pass that
   // writes it was skipped (a scene with nothing to draw clears the G-buffer, and so on down the
-  // frame): the pass would then compute its outputs' declared clear values, whatever its other
-  // inputs (constants, tables) hold, and the graph clears them instead of running it. `exact`
-  // says for which parameters that is true (absent: all). The capture records the inputs, so a
-  // replay checks the claim by running the pass.
+  // frame), or is a list a CPU pass left empty this frame (no moving instance in view): the
+  // pass would then compute its outputs' declared clear values, or leave the outputs it
+  // modifies as they were, whatever its other inputs (constants, tables) hold, and the graph
+  // clears them instead of running it. `exact` says for which parameters that is true (absent:
+  // all). Each call adds one such set; any of them skips the pass. An empty list is known only
+  // once its CPU pass has run, so a pass it skips must only modify its outputs (the executor
+  // still issues the barriers planned around it). The capture records the inputs, so a replay
+  // checks the claim by running the pass.
   PassDecl& skip_when_cleared(std::vector<std::string> inputs, std::function<bool(const ParamValues&)> exact = {});
+  // The first of cleared_skips whose inputs are all in `cleared` and that is exact for `params`.
+  const ClearedSkip* cleared_skip(const std::set<std::string>& cleared, const ParamValues& params) const;
   // How `output` compares across replays, builds and devices (passes/core/contract.h).
   PassDecl& compare(const std::string& output, ComparisonContract contract);
   // How the bytes of buffer `output` decode (passes/core/buffer_schema.h).

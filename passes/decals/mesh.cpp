@@ -17,8 +17,9 @@
 // Fragments with a = 0 are discarded, so transparent parts of a decal leave every target as it
 // was (a normal read and written back would be renormalised).
 //
-// Skipped when the scene has no mesh decal (decided when the graph is compiled); with some in the
-// scene and none visible it runs with an empty list and leaves the targets bit for bit.
+// Skipped when the scene has no mesh decal, and when none is visible (cull.main left
+// draws.decals.mesh empty; decals.normal_copy still runs then: its skip is decided before
+// cull.main has run).
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/gbuffer/draw_surfaces.h"
@@ -55,6 +56,7 @@ PassDecl decals_mesh_pass() {
       .raster(raster)
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_GREATER_OR_EQUAL, false))
       .needs("mesh_decals")
+      .skip_when_cleared({"draws.decals.mesh"})
       .shader("gbuffer/opaque.vert")
       .shader("decals/mesh.frag")
       .run([](PassContext& ctx) {

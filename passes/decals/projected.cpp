@@ -12,9 +12,9 @@
 // the write masks keeping RT0's object flags, RT1's hair flag and RT2's emissive. Boxes blend in
 // scene order.
 //
-// Skipped when the scene has no projected decal, or when nothing was drawn (scene.depth cleared:
-// every pixel is sky, which it never touches); with some in the scene and none visible it runs
-// with an empty list and leaves the targets bit for bit.
+// Skipped when the scene has no projected decal, when none is visible (cull.main left
+// draws.decals.projected empty), or when nothing was drawn (scene.depth cleared: every pixel is
+// sky, which it never touches).
 #include <cstring>
 
 #include "passes/core/context.h"
@@ -53,6 +53,7 @@ PassDecl decals_projected_pass() {
       .raster(RasterState{VK_CULL_MODE_FRONT_BIT, VK_FRONT_FACE_COUNTER_CLOCKWISE, false, {}})
       .needs("projected_decals")
       .skip_when_cleared({"scene.depth"})
+      .skip_when_cleared({"draws.decals.projected"})
       .shader("decals/projected.vert")
       .shader("decals/projected.frag")
       .run([](PassContext& ctx) {

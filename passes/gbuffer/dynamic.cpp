@@ -3,9 +3,8 @@
 // motion target holds the object's own motion over the camera's, and cull.main ORs the moving
 // flag (0x02) onto the stencil class it writes.
 //
-// Skipped when the scene has no moving instance. When some exist but none is visible the pass
-// runs with an empty list and draws nothing: skip conditions are decided when the frame's graph
-// is compiled, before cull.main has run.
+// Skipped when the scene has no moving instance, and when none is visible (cull.main left
+// draws.gbuffer.dynamic empty: the executor skips it then, the targets staying as they were).
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/gbuffer/draw_surfaces.h"
@@ -22,6 +21,7 @@ PassDecl gbuffer_dynamic_pass() {
       // No prepass covers moving instances: plain GREATER, and the stencil takes each draw's class.
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_GREATER, true).writing_stencil())
       .needs("moving_geometry")
+      .skip_when_cleared({"draws.gbuffer.dynamic"})
       .shader("gbuffer/dynamic.vert")
       .shader("gbuffer/dynamic.frag");
 }

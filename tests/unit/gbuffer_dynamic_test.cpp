@@ -109,5 +109,37 @@ TEST_F(GBufferDynamic, MotionVectorsMatchAnalyticReprojection) {
               static_pixels, worst);
 }
 
+// Moving instances in the scene but none in view: cull.main leaves draws.gbuffer.dynamic empty
+// and the executor skips the pass with that reason; the G-buffer is the static one.
+TEST_F(GBufferDynamic, SkippedWhenNoMovingInstanceIsVisible) {
+  Scene scene = build_city(4);
+  RenderSettings settings;
+  settings.width = 160;
+  settings.height = 90;
+  settings.path.motion = CameraPath::Motion::still;
+  Renderer still(*gpu_, scene, settings);
+  const RenderedFrame reference = still.render_frame(0, true);
+  // A car far behind the camera, driving away from it.
+  Instance car = scene.instances.front();
+  const Camera camera = base_camera(scene, settings);
+  car.world = glm::translate(glm::dmat4(1.0), glm::dvec3(camera.world[3]) + 500.0 * glm::dvec3(camera.world[2]));
+  car.moving = true;
+  car.velocity = glm::vec3(glm::dvec3(camera.world[2]) * 10.0);
+  scene.instances.push_back(car);
+  Renderer renderer(*gpu_, scene, settings);
+  const RenderedFrame frame = renderer.render_frame(0, true);
+  bool found = false;
+  for (const CompiledPass& pass : frame.graph.passes)
+    if (pass.decl->name == "gbuffer.dynamic") {
+      found = true;
+      EXPECT_FALSE(pass.runs);
+      EXPECT_EQ(pass.reason, "inputs all cleared (draws.gbuffer.dynamic)");
+    }
+  EXPECT_TRUE(found);
+  for (const char* target : {"gbuffer.albedo", "gbuffer.normal", "gbuffer.motion", "scene.depth"})
+    EXPECT_EQ(*frame.execution.final_version(target)->bytes, *reference.execution.final_version(target)->bytes)
+        << target;
+}
+
 }  // namespace
 }  // namespace nightcap::test

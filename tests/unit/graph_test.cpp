@@ -149,6 +149,14 @@ TEST(Graph, SkippingOnAClearedInputThePassDoesNotReadIsAMistake) {
                        .write("final.ldr", Use::color_attachment, image())
                        .skip_when_cleared({"depth"}));
   EXPECT_THROW(compile_graph(passes, {}, GraphSettings()), GraphError);
+  // An empty CPU list is known only after the barriers are planned: the pass may only modify.
+  passes.clear();
+  passes.push_back(PassDecl("cull", PassType::cpu).write("draws", Use::host, BufferDecl{}));
+  passes.push_back(PassDecl("draw", PassType::graphics)
+                       .read("draws", Use::storage_read)
+                       .write("final.ldr", Use::color_attachment, image())
+                       .skip_when_cleared({"draws"}));
+  EXPECT_THROW(compile_graph(passes, {}, GraphSettings()), GraphError);
 }
 
 TEST(Graph, ResolvesRelativeSizesAndMipChains) {
