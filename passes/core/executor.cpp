@@ -211,13 +211,7 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
     shared.host[name] = bytes;
     add_version(name, it->second, bytes);
   }
-  auto params_of = [&](const PassDecl& decl) {
-    ParamValues values = decl.default_params();
-    auto it = options.params.find(decl.name);
-    if (it != options.params.end())
-      for (const auto& [k, v] : it->second) values[k] = v;
-    return values;
-  };
+  auto params_of = [&](const PassDecl& decl) { return decl.params_with(options.params); };
   // Runs a CPU pass whose inputs are on the host; its outputs become host data.
   auto run_cpu_pass = [&](size_t i) {
     CompiledPass& pass = graph.passes[i];

@@ -107,13 +107,6 @@ void check_nan_injection(const CompiledGraph& graph, const NanInjection& nan) {
                      std::to_string(out->desc.extent.width) + "x" + std::to_string(out->desc.extent.height) + " mip 0");
 }
 
-ParamValues params_with_overrides(const PassDecl& decl, const std::map<std::string, ParamValues>& overrides) {
-  ParamValues params = decl.default_params();
-  if (auto it = overrides.find(decl.name); it != overrides.end())
-    for (const auto& [k, v] : it->second) params[k] = v;
-  return params;
-}
-
 }  // namespace
 
 uint32_t full_mip_count(uint32_t width, uint32_t height) {
@@ -159,22 +152,21 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   // nothing this frame; they keep the resource's writer running.
   std::vector<std::vector<std::string>> history_reads(n);
   for (int i = 0; i < n; ++i) {
-    // A modified output is read too: the pass starts from its previous version.
     for (const PassDecl::ClearedSkip& skip : passes[i].cleared_skips)
-      for (const std::string& r : skip.inputs)
+      for (const std::string& r : skip.inputs) {
+        // A modified output is read too: the pass starts from its previous version.
         if (std::none_of(passes[i].inputs.begin(), passes[i].inputs.end(),
                          [&](const ResourceUse& in) { return !in.history && !in.prefix && in.resource == r; }) &&
             std::none_of(passes[i].outputs.begin(), passes[i].outputs.end(),
                          [&](const ResourceUse& out) { return out.modifies && out.resource == r; }))
           throw GraphError(passes[i].name + ": skips when '" + r + "' is cleared, but does not read it");
-    // A CPU pass's empty list is known only once it has run, after the barriers are planned.
-    for (const PassDecl::ClearedSkip& skip : passes[i].cleared_skips)
-      for (const std::string& r : skip.inputs)
+        // A CPU pass's empty list is known only once it has run, after the barriers are planned.
         if (fresh_writer.count(r) && passes[fresh_writer.at(r)].type == PassType::cpu)
           for (const ResourceUse& out : passes[i].outputs)
             if (!out.modifies)
               throw GraphError(passes[i].name + ": skips when the CPU pass's '" + r +
                                "' is empty, so it may only modify its outputs, but it writes '" + out.resource + "'");
+      }
     for (const ResourceUse& in : passes[i].inputs) {
       // A resource read in two ways (storage and index buffer, two mips) is one read.
       auto add = [&](const std::string& name) {
@@ -331,7 +323,7 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
         compiled.runs = compiled.reason.empty();
       }
       if (compiled.runs && !decl.cleared_skips.empty())
-        if (const auto* skip = decl.cleared_skip(cleared, params_with_overrides(decl, settings.params))) {
+        if (const auto* skip = decl.cleared_skip(cleared, decl.params_with(settings.params))) {
           compiled.runs = false;
           compiled.inputs_cleared = true;
           compiled.reason = skip->reason();

@@ -203,6 +203,13 @@ ParamValues PassDecl::default_params() const {
   return values;
 }
 
+ParamValues PassDecl::params_with(const std::map<std::string, ParamValues>& overrides) const {
+  ParamValues values = default_params();
+  if (auto it = overrides.find(name); it != overrides.end())
+    for (const auto& [k, v] : it->second) values[k] = v;
+  return values;
+}
+
 const ParamDecl* PassDecl::find_param(const std::string& param_name) const {
   for (const ParamDecl& p : params)
     if (p.name == param_name) return &p;

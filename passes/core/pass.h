@@ -218,6 +218,8 @@ struct PassDecl {
   PassDecl& fullscreen(std::string fragment, MakeConstants make_constants);
 
   ParamValues default_params() const;
+  // Its defaults, with this pass's entry of `overrides` (per pass name) applied over them.
+  ParamValues params_with(const std::map<std::string, ParamValues>& overrides) const;
   const ParamDecl* find_param(const std::string& param_name) const;
   const ComparisonContract& contract_of(const std::string& output) const;
   const BufferSchema* schema_of(const std::string& output) const;

@@ -317,9 +317,7 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
     p.reason = pass.reason;
     p.gpu_ms = exec.gpu_ms;
     p.cpu_ms = exec.cpu_ms;
-    p.params = pass.decl->default_params();
-    if (auto it = params.find(p.name); it != params.end())
-      for (const auto& [k, v] : it->second) p.params[k] = v;
+    p.params = pass.decl->params_with(params);
     for (const auto& [path, code] : exec.spirv) p.shaders.push_back(writer.add_shader(path, code, shader_source(path)));
     p.pipelines = exec.pipelines;
     p.samplers = exec.samplers;
