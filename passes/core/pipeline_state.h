@@ -67,6 +67,16 @@ struct BlendState {
     b.dst_color = b.dst_alpha = VK_BLEND_FACTOR_ONE;
     return b;
   }
+  // a·src + (1 − a)·dst on rgb, a the source's alpha; the target's alpha is not written (a
+  // G-buffer keeps its flags there).
+  static BlendState over_rgb() {
+    BlendState b;
+    b.enabled = true;
+    b.src_color = VK_BLEND_FACTOR_SRC_ALPHA;
+    b.dst_color = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+    b.write_mask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT;
+    return b;
+  }
 };
 
 }  // namespace nightcap

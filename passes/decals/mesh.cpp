@@ -25,21 +25,6 @@
 #include "passes/gbuffer/draw_surfaces.h"
 
 namespace nightcap {
-namespace {
-
-// a·src + (1 − a)·dst on rgb, alpha kept. The device does not enable independentBlend, so every
-// target of a pipeline must blend alike: each output's own alpha sets its weight.
-BlendState over() {
-  BlendState b;
-  b.enabled = true;
-  b.src_color = VK_BLEND_FACTOR_SRC_ALPHA;
-  b.dst_color = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
-  b.write_mask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT;
-  return b;
-}
-
-}  // namespace
-
 PassDecl decals_mesh_pass() {
   RasterState raster = RasterState::per_draw(VK_CULL_MODE_BACK_BIT);
   // Reversed-Z: a positive bias moves the decal toward the camera, so it passes GREATER_OR_EQUAL
@@ -50,9 +35,9 @@ PassDecl decals_mesh_pass() {
       .modify("gbuffer.albedo", Use::color_attachment)
       .modify("gbuffer.normal", Use::color_attachment)
       .modify("gbuffer.material", Use::color_attachment)
-      .blend("gbuffer.albedo", over())
-      .blend("gbuffer.normal", over())
-      .blend("gbuffer.material", over())
+      .blend("gbuffer.albedo", BlendState::over_rgb())
+      .blend("gbuffer.normal", BlendState::over_rgb())
+      .blend("gbuffer.material", BlendState::over_rgb())
       .raster(raster)
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_GREATER_OR_EQUAL, false))
       .needs("mesh_decals")

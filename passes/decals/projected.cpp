@@ -22,21 +22,6 @@
 #include "passes/frame/gpu_types.h"
 
 namespace nightcap {
-namespace {
-
-// a·src + (1 − a)·dst on rgb, alpha kept. The device does not enable independentBlend, so every
-// target of a pipeline must blend alike: each output's own alpha sets its weight.
-BlendState over() {
-  BlendState b;
-  b.enabled = true;
-  b.src_color = VK_BLEND_FACTOR_SRC_ALPHA;
-  b.dst_color = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
-  b.write_mask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT;
-  return b;
-}
-
-}  // namespace
-
 PassDecl decals_projected_pass() {
   return PassDecl("decals.projected", PassType::graphics)
       .read("frame.constants", Use::uniform_buffer)
@@ -46,9 +31,10 @@ PassDecl decals_projected_pass() {
       .modify("gbuffer.albedo", Use::color_attachment)
       .modify("gbuffer.normal", Use::color_attachment)
       .modify("gbuffer.material", Use::color_attachment)
-      .blend("gbuffer.albedo", over())
-      .blend("gbuffer.normal", over())
-      .blend("gbuffer.material", over())
+      // One blend state for the three: the device does not enable independentBlend.
+      .blend("gbuffer.albedo", BlendState::over_rgb())
+      .blend("gbuffer.normal", BlendState::over_rgb())
+      .blend("gbuffer.material", BlendState::over_rgb())
       // Back faces only: one fragment per pixel and box, wherever the camera is.
       .raster(RasterState{VK_CULL_MODE_FRONT_BIT, VK_FRONT_FACE_COUNTER_CLOCKWISE, false, {}})
       .needs("projected_decals")
