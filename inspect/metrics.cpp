@@ -17,12 +17,6 @@ bool is_integer(const FormatInfo& f, uint32_t aspect) {
   return aspect == 1 || f.encoding == E::uint8 || f.encoding == E::uint16 || f.encoding == E::uint32;
 }
 
-bool is_float(const FormatInfo& f) {
-  using E = ChannelEncoding;
-  return f.encoding == E::sfloat16 || f.encoding == E::sfloat32 || f.encoding == E::packed_b10g11r11 ||
-         f.encoding == E::depth32_stencil8;
-}
-
 // What a texel's channel must differ by to count in over_threshold_share, where it is fixed: any
 // difference of an integer, one code of a UNORM format. Floats are held to 1e-3 relative (of
 // values over 1; 1e-3 absolute below), where compare_resource reads them.

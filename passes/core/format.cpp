@@ -123,6 +123,11 @@ bool is_float_colour(const FormatInfo& format) {
          (format.encoding == E::sfloat16 || format.encoding == E::sfloat32 || format.encoding == E::packed_b10g11r11);
 }
 
+bool is_float(const FormatInfo& format) {
+  return format.encoding == E::sfloat16 || format.encoding == E::sfloat32 || format.encoding == E::packed_b10g11r11 ||
+         format.encoding == E::depth32_stencil8;
+}
+
 std::vector<uint8_t> quiet_nan_texel(const FormatInfo& format) {
   if (!is_float_colour(format)) throw std::invalid_argument(std::string(format.name) + " holds no NaN");
   std::vector<uint8_t> texel(format.texel_bytes);

@@ -42,11 +42,6 @@ Scene stressed_map() {
   return scene;
 }
 
-bool is_float(const FormatInfo& f) {
-  return f.encoding == ChannelEncoding::sfloat16 || f.encoding == ChannelEncoding::sfloat32 ||
-         f.encoding == ChannelEncoding::packed_b10g11r11 || f.encoding == ChannelEncoding::depth32_stencil8;
-}
-
 class DecalsStress : public GpuTest, public ::testing::WithParamInterface<std::pair<uint32_t, uint32_t>> {};
 
 TEST_P(DecalsStress, FiniteEverywhereAndReplaysBitIdentically) {
@@ -58,18 +53,7 @@ TEST_P(DecalsStress, FiniteEverywhereAndReplaysBitIdentically) {
   Renderer renderer(*gpu_, scene, settings);
   renderer.render_frame(0, false);
   const RenderedFrame frame = renderer.render_frame(1, true);
-  for (const VersionData& v : frame.execution.versions) {
-    if (v.desc.is_buffer || !v.bytes) continue;
-    const FormatInfo f = *format_info(v.desc.format);
-    if (!is_float(f)) continue;
-    const uint64_t texels = raw_subresource_offset(f, v.desc.extent, 1, 0, 0) / f.texel_bytes;
-    float texel[4];
-    for (uint64_t t = 0; t < texels; ++t) {
-      decode_texel(f, 0, *v.bytes, t, texel);
-      for (uint32_t c = 0; c < f.channels && c < 4; ++c)
-        ASSERT_TRUE(std::isfinite(texel[c])) << v.resource << " texel " << t;
-    }
-  }
+  ASSERT_EQ(first_non_finite(frame.execution), "");
   const auto& list = *frame.execution.final_version("draws.decals.projected")->bytes;
   bool camera_box = false;
   for (size_t k = 0; k < list.size() / sizeof(GpuDecal); ++k) {

@@ -5,9 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <memory>
 
+#include "passes/core/format.h"
 #include "passes/core/isolated.h"
 #include "passes/frame/renderer.h"
 
@@ -50,6 +52,23 @@ class GpuTest : public ::testing::Test {
     input.desc.extent.height = height;
     input.bytes = std::make_shared<const std::vector<uint8_t>>(std::move(bytes));
     return input;
+  }
+
+  // The first texel of a float image version that is NaN or ±Inf ("resource texel N"), or "".
+  static std::string first_non_finite(const Execution& execution) {
+    for (const VersionData& v : execution.versions) {
+      if (v.desc.is_buffer || !v.bytes) continue;
+      const FormatInfo f = *format_info(v.desc.format);
+      if (!is_float(f)) continue;
+      const uint64_t texels = raw_subresource_offset(f, v.desc.extent, 1, 0, 0) / f.texel_bytes;
+      float texel[4];
+      for (uint64_t t = 0; t < texels; ++t) {
+        decode_texel(f, 0, *v.bytes, t, texel);
+        for (uint32_t c = 0; c < f.channels && c < 4; ++c)
+          if (!std::isfinite(texel[c])) return v.resource + " texel " + std::to_string(t);
+      }
+    }
+    return "";
   }
 
   static inline std::unique_ptr<GpuDevice> gpu_;
