@@ -150,8 +150,47 @@ class Planner {
 
 bool on_gpu(const CompiledPass& pass) { return !pass.culled && pass.decl->type != PassType::cpu; }
 
-// Whether the pass leaves a new version of the output (a skipped modifier leaves none).
-bool versions(const CompiledPass& pass, const BoundUse& out) { return pass.runs || !out.modifies; }
+// Whether the pass leaves a new version of the output (a skipped modifier leaves none, unless
+// its fold gives the part it modifies a new value).
+bool versions(const CompiledPass& pass, const BoundUse& out) {
+  return pass.runs || !out.modifies || pass.folded.count(out.resource);
+}
+
+// The versions skipped GPU passes leave (their outputs, by pass index) that something reads: a
+// pass that runs, a readback, the history copy. The others need no clear. A fold that changes
+// part of a modified output builds on the version before it, which is then read too.
+std::set<std::pair<size_t, std::string>> read_skipped_versions(const CompiledGraph& graph) {
+  std::set<std::pair<size_t, std::string>> read;
+  // resource -> the skipped passes whose clears make up its current version
+  std::map<std::string, std::vector<size_t>> current;
+  auto reads = [&](const std::string& resource) {
+    if (auto it = current.find(resource); it != current.end())
+      for (size_t writer : it->second) read.insert({writer, resource});
+  };
+  for (size_t i = 0; i < graph.passes.size(); ++i) {
+    const CompiledPass& pass = graph.passes[i];
+    if (pass.culled) continue;
+    if (pass.runs) {
+      for (const BoundUse& in : pass.inputs)
+        if (!in.history) reads(in.resource);
+      for (const BoundUse& out : pass.outputs)
+        if (out.modifies) reads(out.resource);
+    }
+    for (const BoundUse& out : pass.outputs) {
+      if (!versions(pass, out)) continue;
+      if (pass.runs || pass.decl->type == PassType::cpu) {
+        current.erase(out.resource);
+        continue;
+      }
+      if (!out.modifies) current[out.resource].clear();
+      current[out.resource].push_back(i);
+      if (graph.settings.capture) reads(out.resource);
+    }
+  }
+  for (const std::string& resource : graph.settings.readback) reads(resource);
+  for (const std::string& slot : graph.history) reads(history_source(slot));
+  return read;
+}
 
 }  // namespace
 
@@ -188,6 +227,7 @@ void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& imp
     if (on_gpu(graph.passes[i]))
       for (const BoundUse& out : graph.passes[i].outputs)
         if (versions(graph.passes[i], out)) final_writer[out.resource] = i;
+  const std::set<std::pair<size_t, std::string>> read_skipped = read_skipped_versions(graph);
   // A version's bytes are on the host when it is imported or a CPU pass wrote it.
   auto on_host = [&](const BoundUse& in) {
     if (in.history) return imports.count(in.resource) > 0;
@@ -217,15 +257,22 @@ void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& imp
       continue;
     }
     // Fresh outputs start defined: a skipped pass's wholly, a running pass's outside the part it
-    // writes.
+    // writes. A folded pass's write sets the part it names to the fold's value.
     for (const BoundUse& out : pass.outputs) {
-      if (out.modifies) continue;
+      auto folded = pass.folded.find(out.resource);
+      const bool fold_writes = !pass.runs && folded != pass.folded.end();
+      if ((out.modifies && !fold_writes) || (!pass.runs && !read_skipped.count({i, out.resource}))) continue;
+      // Per subresource: true for the fold's value, false for the declared clear value.
       Grid<std::optional<bool>> cleared(out.desc);
       for (uint32_t m = 0; m < cleared.mips; ++m)
         for (uint32_t l = 0; l < cleared.layers; ++l)
-          if (!pass.runs || !out.range.contains(m, l)) cleared.at(m, l) = true;
-      for (auto& [range, unused] : rectangles(cleared)) {
-        sync.clears.push_back({out.resource, range});
+          if (out.range.contains(m, l)) {
+            if (!pass.runs) cleared.at(m, l) = fold_writes;
+          } else if (!out.modifies) {
+            cleared.at(m, l) = false;
+          }
+      for (auto& [range, fold_value] : rectangles(cleared)) {
+        sync.clears.push_back({out.resource, range, fold_value ? folded->second : out.desc.clear});
         planner.use(out.resource, range, transfer_state(true), true, pass.decl->name);
       }
     }

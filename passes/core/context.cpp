@@ -141,12 +141,17 @@ void PassContext::check_declared(const std::string& resource, int mip, int layer
                          resource + "' in a way it did not declare (the graph's barriers would not cover it)");
 }
 
-void PassContext::bind_pipeline() {
+void PassContext::bind_pipeline(const std::vector<int32_t>& specialization) {
   const DescOf desc_of = [this](const std::string& resource) -> const ResourceDesc& { return desc(resource); };
-  if (declaration().type == PassType::compute)
-    bind(declared_compute_pipeline(declaration(), desc_of));
-  else
-    bind(declared_graphics_pipeline(declaration(), desc_of));
+  if (declaration().type == PassType::compute) {
+    ComputePipelineDesc desc = declared_compute_pipeline(declaration(), desc_of);
+    desc.specialization = specialization;
+    bind(desc);
+  } else {
+    GraphicsPipelineDesc desc = declared_graphics_pipeline(declaration(), desc_of);
+    desc.specialization = specialization;
+    bind(desc);
+  }
 }
 
 uint32_t PassContext::slot(const std::string& resource) const {

@@ -63,6 +63,10 @@ class PassContext {
   const std::string& pass() const { return pass_.decl->name; }
   const PassDecl& declaration() const { return *pass_.decl; }
   double param(const std::string& name) const;
+  // Whether input `resource` holds one value at every texel, as the graph knows before the frame
+  // runs (a skipped or folded writer): a pass may then take a cheaper path to the same bits. A
+  // replay does not know it, so replay --verify checks that path against the general one.
+  bool uniform(const std::string& resource) const { return pass_.uniform_inputs.count(resource) > 0; }
   const ResourceDesc& desc(const std::string& resource) const;
   // Bytes of a resource known on the host (scene data, CPU pass outputs). Throws otherwise.
   std::span<const uint8_t> host(const std::string& resource) const;
@@ -79,7 +83,8 @@ class PassContext {
   // image's own type: array, cube or 3D).
   VkImageView view(const std::string& resource, ViewAspect aspect = ViewAspect::natural, int mip = -1, int layer = -1);
   // The pipeline the declaration describes (passes/core/declared_pipeline.h).
-  void bind_pipeline();
+  // `specialization`: constant_id i of the pass's shaders takes value i (a variant of the pass).
+  void bind_pipeline(const std::vector<int32_t>& specialization = {});
   void bind(const GraphicsPipelineDesc& desc);
   void bind(const ComputePipelineDesc& desc);
   // The first binding the declaration gives `resource` (a resource or a read prefix).

@@ -132,7 +132,8 @@ Subresources whole(const ResourceDesc& d) { return {0, d.extent.mips, 0, d.exten
 
 // The contents a resource has when nothing computed it: its declared clear value (zero for a
 // buffer), here for `range`. It must be in the transfer-destination state.
-void clear_to_declared(VkCommandBuffer cmd, const PhysicalResource& r, const Subresources& range) {
+// A buffer is filled with zeros whatever `value` says: its only clear.
+void clear_to(VkCommandBuffer cmd, const PhysicalResource& r, const Subresources& range, const VkClearValue& value) {
   if (r.desc.is_buffer) {
     vkCmdFillBuffer(cmd, r.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
     return;
@@ -140,10 +141,10 @@ void clear_to_declared(VkCommandBuffer cmd, const PhysicalResource& r, const Sub
   const VkImageSubresourceRange vk_range{natural_aspects(r.desc.format), range.base_mip, range.mip_count,
                                          range.base_layer, range.layer_count};
   if (is_depth(r.desc))
-    vkCmdClearDepthStencilImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &r.desc.clear.depthStencil, 1,
+    vkCmdClearDepthStencilImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value.depthStencil, 1,
                                 &vk_range);
   else
-    vkCmdClearColorImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &r.desc.clear.color, 1, &vk_range);
+    vkCmdClearColorImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value.color, 1, &vk_range);
 }
 
 // Every mip, layer and aspect of `from` into `to` (same description), both in transfer states.
@@ -432,7 +433,7 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
     std::map<std::string, int> history_versions;
     for (const auto& [name, resource] : pooled) {
       PhysicalResource& r = shared.resources.at(name);
-      if (result.history_reset.count(resource)) clear_to_declared(shared.cmd, r, whole(r.desc));
+      if (result.history_reset.count(resource)) clear_to(shared.cmd, r, whole(r.desc), r.desc.clear);
       history_versions[name] = add_version(name, r.desc, nullptr);
     }
     issue_step(graph.before_history_readback);
@@ -492,17 +493,17 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
           std::find(keep.begin(), keep.end(), pass.decl->name) == keep.end())
         if (const auto* skip = pass.decl->cleared_skip(cleared, params_of(*pass.decl))) {
           pass.runs = false;
-          pass.inputs_cleared = true;
+          pass.inputs_known = true;
           pass.reason = skip->reason();
         }
       // A skipped pass still leaves defined outputs for the passes after it, and a pass that
       // writes part of a fresh output leaves the rest defined.
       issue_step(pass.sync.before_clears);
       for (const PlannedClear& clear : pass.sync.clears)
-        clear_to_declared(shared.cmd, shared.resources.at(clear.resource), clear.range);
+        clear_to(shared.cmd, shared.resources.at(clear.resource), clear.range, clear.value);
       // A resource used in two ways (two mips, storage and index buffer) is one input version.
       // A pass skipped for cleared inputs records them too: a replay runs it on them.
-      if (pass.runs || pass.inputs_cleared)
+      if (pass.runs || pass.inputs_known)
         for (const BoundUse& in : pass.inputs)
           if (std::find(exec.inputs.begin(), exec.inputs.end(), latest.at(in.resource)) == exec.inputs.end())
             exec.inputs.push_back(latest.at(in.resource));
@@ -524,17 +525,20 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
         for (const NanInjection& nan : pass.sync.injections) inject_nan(nan);
       std::map<std::string, int> written;
       for (const BoundUse& out : pass.outputs) {
-        if (!pass.runs && out.modifies) {
-          // Skipped for cleared inputs, it left them as they were: the replay checks that.
-          if (pass.inputs_cleared) exec.outputs.push_back(latest.at(out.resource));
+        auto folded = pass.folded.find(out.resource);
+        if (!pass.runs && out.modifies && folded == pass.folded.end()) {
+          // Skipped or folded for what its inputs hold, it left them as they were: the replay
+          // checks that.
+          if (pass.inputs_known) exec.outputs.push_back(latest.at(out.resource));
           continue;
         }
-        written[out.resource] = add_version(out.resource, shared.resources.at(out.resource).desc, nullptr);
+        // A skipped pass's output that nothing reads has no memory (plan_synchronisation).
+        written[out.resource] = add_version(out.resource, graph.resources.at(out.resource), nullptr);
         exec.outputs.push_back(written[out.resource]);
-        if (pass.runs)
-          cleared.erase(out.resource);
-        else
+        if (!pass.runs && folded == pass.folded.end())
           cleared.insert(out.resource);
+        else
+          cleared.erase(out.resource);
       }
       issue_step(pass.sync.before_readback);
       for (const std::string& resource : pass.sync.readback)

@@ -170,6 +170,8 @@ float half_to_float(uint16_t h) {
   return sign ? -value : value;
 }
 
+float half_rounded(float f) { return half_to_float(float_to_half(std::min(f, 65504.0f))); }
+
 uint16_t float_to_half(float f) {
   uint32_t bits;
   std::memcpy(&bits, &f, 4);

@@ -101,6 +101,9 @@ double code_scale(const FormatInfo& format);
 
 float half_to_float(uint16_t h);
 uint16_t float_to_half(float f);
+// What passes/frame/half.glsl's nearest_half stores, as a float: the half nearest to `f` (ties
+// to even), at most 65504.
+float half_rounded(float f);
 float srgb_to_linear(float c);
 float linear_to_srgb(float c);
 

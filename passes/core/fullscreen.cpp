@@ -9,7 +9,8 @@ int single(uint32_t base, uint32_t count) { return count == 1 ? int(base) : -1; 
 
 }  // namespace
 
-void record_fullscreen(PassContext& ctx, std::span<const uint8_t> constants) {
+void record_fullscreen(PassContext& ctx, std::span<const uint8_t> constants,
+                       const std::vector<int32_t>& specialization) {
   std::vector<Binding> bindings;
   for (const ResourceUse& input : ctx.declaration().inputs) {
     switch (input.use) {
@@ -41,7 +42,7 @@ void record_fullscreen(PassContext& ctx, std::span<const uint8_t> constants) {
     targets.push_back(output.resource);
   }
   ctx.begin_rendering(targets, "", at.base_mip, at.base_layer);
-  ctx.bind_pipeline();
+  ctx.bind_pipeline(specialization);
   ctx.push(bindings);
   if (!constants.empty()) ctx.push_constants(constants.data(), uint32_t(constants.size()));
   vkCmdDraw(ctx.cmd(), 3, 1, 0, 0);

@@ -107,6 +107,112 @@ void check_nan_injection(const CompiledGraph& graph, const NanInjection& nan) {
                      std::to_string(out->desc.extent.width) + "x" + std::to_string(out->desc.extent.height) + " mip 0");
 }
 
+// What compile_graph knows, before the frame runs, of each resource's current version: per mip
+// and layer, the one value every texel of it holds (a skipped pass's clear value, a fold's
+// result). A buffer is one cell.
+class KnownValues {
+ public:
+  void set(const std::string& resource, const Subresources& range, const VkClearValue& value) {
+    for_each(range, [&](Cell cell) { cells_[resource][cell] = value; });
+  }
+  void forget(const std::string& resource, const Subresources& range) {
+    for_each(range, [&](Cell cell) { cells_[resource].erase(cell); });
+  }
+  // The value every cell of `range` holds, if the same one everywhere and known.
+  std::optional<VkClearValue> over(const std::string& resource, VkFormat format, const Subresources& range) const {
+    auto known = cells_.find(resource);
+    if (known == cells_.end()) return std::nullopt;
+    std::optional<VkClearValue> value;
+    bool uniform = true;
+    for_each(range, [&](Cell cell) {
+      auto it = known->second.find(cell);
+      if (it == known->second.end() || (value && !same_value(format, *value, it->second)))
+        uniform = false;
+      else
+        value = it->second;
+    });
+    return uniform ? value : std::nullopt;
+  }
+
+ private:
+  using Cell = std::pair<uint32_t, uint32_t>;  // mip, layer
+  static void for_each(const Subresources& range, const std::function<void(Cell)>& visit) {
+    for (uint32_t m = range.base_mip; m < range.base_mip + range.mip_count; ++m)
+      for (uint32_t l = range.base_layer; l < range.base_layer + range.layer_count; ++l) visit({m, l});
+  }
+  std::map<std::string, std::map<Cell, VkClearValue>> cells_;
+};
+
+Subresources whole_range(const ResourceDesc& desc) {
+  return desc.is_buffer ? Subresources{0, 1, 0, 1} : Subresources{0, desc.extent.mips, 0, desc.extent.layers};
+}
+
+// The value `resource` holds over the part `declared` names, if known; nothing for a range the
+// resource does not have.
+std::optional<VkClearValue> known_over(const KnownValues& known, const std::string& resource,
+                                       const Subresources& declared,
+                                       const std::map<std::string, ResourceDesc>& resources) {
+  auto desc = resources.find(resource);
+  if (desc == resources.end()) return std::nullopt;
+  try {
+    return known.over(resource, desc->second.format, resolve_range(declared, desc->second, "", resource));
+  } catch (const GraphError&) {
+    return std::nullopt;
+  }
+}
+
+// The part of `resource` the pass reads (or modifies, which reads it too).
+Subresources read_range(const PassDecl& decl, const std::string& resource) {
+  for (const ResourceUse& in : decl.inputs)
+    if (!in.history && !in.prefix && in.resource == resource) return in.range;
+  for (const ResourceUse& out : decl.outputs)
+    if (out.modifies && out.resource == resource) return out.range;
+  return {};
+}
+
+// The resources wholly at their declared clear value (PassDecl::skip_when_cleared).
+std::set<std::string> cleared_resources(const PassDecl& decl, const KnownValues& known,
+                                        const std::map<std::string, ResourceDesc>& resources) {
+  std::set<std::string> cleared;
+  for (const PassDecl::ClearedSkip& skip : decl.cleared_skips)
+    for (const std::string& r : skip.inputs) {
+      auto desc = resources.find(r);
+      if (desc == resources.end()) continue;
+      auto value = known.over(r, desc->second.format, whole_range(desc->second));
+      if (value && same_value(desc->second.format, *value, desc->second.clear)) cleared.insert(r);
+    }
+  return cleared;
+}
+
+// What `fold` gives the pass's outputs when the parts of its inputs it reads are uniform and
+// known: the value of each fresh output, and of each modified output whose value it changes
+// (one it leaves at the value held needs nothing). Nothing when the fold cannot tell or leaves
+// an output out.
+std::optional<UniformValues> folded_outputs(const PassDecl& decl, const PassDecl::UniformFold& fold,
+                                            const KnownValues& known,
+                                            const std::map<std::string, ResourceDesc>& resources,
+                                            const ParamValues& params) {
+  UniformValues inputs;
+  for (const std::string& r : fold.inputs) {
+    auto value = known_over(known, r, read_range(decl, r), resources);
+    if (!value) return std::nullopt;
+    inputs[r] = *value;
+  }
+  std::optional<UniformValues> values = fold.outputs(inputs, params);
+  if (!values) return std::nullopt;
+  UniformValues changed;
+  for (const ResourceUse& out : decl.outputs) {
+    auto value = values->find(out.resource);
+    if (value == values->end()) return std::nullopt;
+    if (out.modifies) {
+      auto held = known_over(known, out.resource, out.range, resources);
+      if (held && same_value(resources.at(out.resource).format, *held, value->second)) continue;
+    }
+    changed.insert(*value);
+  }
+  return changed;
+}
+
 }  // namespace
 
 uint32_t full_mip_count(uint32_t width, uint32_t height) {
@@ -152,13 +258,20 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   // nothing this frame; they keep the resource's writer running.
   std::vector<std::vector<std::string>> history_reads(n);
   for (int i = 0; i < n; ++i) {
+    // A modified output is read too: the pass starts from its previous version.
+    auto reads_resource = [&](const std::string& r) {
+      return std::any_of(passes[i].inputs.begin(), passes[i].inputs.end(),
+                         [&](const ResourceUse& in) { return !in.history && !in.prefix && in.resource == r; }) ||
+             std::any_of(passes[i].outputs.begin(), passes[i].outputs.end(),
+                         [&](const ResourceUse& out) { return out.modifies && out.resource == r; });
+    };
+    for (const PassDecl::UniformFold& fold : passes[i].uniform_folds)
+      for (const std::string& r : fold.inputs)
+        if (!reads_resource(r))
+          throw GraphError(passes[i].name + ": folds when '" + r + "' is uniform, but does not read it");
     for (const PassDecl::ClearedSkip& skip : passes[i].cleared_skips)
       for (const std::string& r : skip.inputs) {
-        // A modified output is read too: the pass starts from its previous version.
-        if (std::none_of(passes[i].inputs.begin(), passes[i].inputs.end(),
-                         [&](const ResourceUse& in) { return !in.history && !in.prefix && in.resource == r; }) &&
-            std::none_of(passes[i].outputs.begin(), passes[i].outputs.end(),
-                         [&](const ResourceUse& out) { return out.modifies && out.resource == r; }))
+        if (!reads_resource(r))
           throw GraphError(passes[i].name + ": skips when '" + r + "' is cleared, but does not read it");
         // A CPU pass's empty list is known only once it has run, after the barriers are planned.
         if (fresh_writer.count(r) && passes[fresh_writer.at(r)].type == PassType::cpu)
@@ -289,9 +402,10 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   frame.width = settings.width;
   frame.height = settings.height;
   std::map<int, int> position;  // declaration index -> execution index
-  // Resources whose current version holds its declared clear value: a skipped pass's fresh
-  // outputs, until a pass that runs writes them.
-  std::set<std::string> cleared;
+  // Resources whose current version holds one value everywhere, known before the frame runs: a
+  // skipped pass's fresh outputs (their declared clear value) and a folded pass's (the values
+  // its fold gave), until a pass that runs writes them.
+  KnownValues known;
   for (int i : order) {
     const PassDecl& decl = passes[i];
     CompiledPass compiled;
@@ -322,19 +436,29 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
         compiled.reason = decl.skip_if(frame);
         compiled.runs = compiled.reason.empty();
       }
+      const ParamValues params = decl.params_with(settings.params);
       if (compiled.runs && !decl.cleared_skips.empty())
-        if (const auto* skip = decl.cleared_skip(cleared, decl.params_with(settings.params))) {
+        if (const auto* skip = decl.cleared_skip(cleared_resources(decl, known, graph.resources), params)) {
           compiled.runs = false;
-          compiled.inputs_cleared = true;
+          compiled.inputs_known = true;
           compiled.reason = skip->reason();
         }
-    }
-    for (const ResourceUse& out : decl.outputs) {
-      if (compiled.culled || (out.modifies && !compiled.runs)) continue;
+      // A NaN injected into its output would leave it uniform no longer.
+      const bool injected = std::any_of(settings.nan_injections.begin(), settings.nan_injections.end(),
+                                        [&](const NanInjection& nan) { return nan.pass == decl.name; });
+      if (compiled.runs && !injected)
+        for (const PassDecl::UniformFold& fold : decl.uniform_folds)
+          if (auto values = folded_outputs(decl, fold, known, graph.resources, params)) {
+            compiled.runs = false;
+            compiled.inputs_known = true;
+            compiled.reason = fold.reason();
+            compiled.folded = std::move(*values);
+            break;
+          }
       if (compiled.runs)
-        cleared.erase(out.resource);
-      else
-        cleared.insert(out.resource);
+        for (const ResourceUse& in : decl.inputs)
+          if (!in.history && !in.prefix && known_over(known, in.resource, in.range, graph.resources))
+            compiled.uniform_inputs.insert(in.resource);
     }
     if (!compiled.culled) {
       for (size_t k = 0; k < decl.inputs.size(); ++k) {
@@ -372,6 +496,18 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
         compiled.outputs.push_back(bound);
       }
     }
+    // A fresh output starts at its declared clear value; what the pass writes is then unknown if
+    // it runs, or the fold's value.
+    for (const ResourceUse& out : decl.outputs) {
+      if (compiled.culled) continue;
+      const ResourceDesc& desc = graph.resources.at(out.resource);
+      if (!out.modifies) known.set(out.resource, whole_range(desc), desc.clear);
+      auto folded = compiled.folded.find(out.resource);
+      if (compiled.runs)
+        known.forget(out.resource, resolve_range(out.range, desc, decl.name, out.resource));
+      else if (folded != compiled.folded.end())
+        known.set(out.resource, resolve_range(out.range, desc, decl.name, out.resource), folded->second);
+    }
     graph.passes.push_back(std::move(compiled));
   }
   // History inputs take the description of the resource they remember, known now that every
@@ -382,13 +518,15 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
       // A GPU writer declares every size, so the description is complete.
       in.desc = graph.resources[in.resource] = graph.resources.at(history_source(in.resource));
     }
-  // Only a pass that runs touches its ranges (a skipped one clears whole fresh outputs): a
-  // level that does not exist at this output size may be skipped rather than be an error.
+  // Only a pass that runs, or a fold's write, touches its ranges (a skipped pass clears whole
+  // fresh outputs): a level that does not exist at this output size may be skipped rather than
+  // be an error.
   for (CompiledPass& pass : graph.passes)
     for (auto* uses : {&pass.inputs, &pass.outputs})
       for (BoundUse& u : *uses)
-        u.range = pass.runs ? resolve_range(u.range, u.desc, pass.decl->name, u.resource)
-                            : resolve_range({}, u.desc, pass.decl->name, u.resource);
+        u.range = pass.runs || pass.folded.count(u.resource)
+                      ? resolve_range(u.range, u.desc, pass.decl->name, u.resource)
+                      : resolve_range({}, u.desc, pass.decl->name, u.resource);
   for (const NanInjection& nan : settings.nan_injections) check_nan_injection(graph, nan);
   plan_synchronisation(graph, imported);
   return graph;

@@ -80,10 +80,12 @@ struct PlannedBarrier {
   bool first_use = false;
 };
 
-// Subresources set to the resource's declared clear value by a transfer clear.
+// Subresources set by a transfer clear: to the resource's declared clear value, or to the value
+// a fold gave it (PassDecl::fold_when_uniform).
 struct PlannedClear {
   std::string resource;
   Subresources range;  // concrete
+  VkClearValue value{};
 };
 
 // What the executor does around one pass, in this order; every barrier is planned here.
@@ -95,7 +97,9 @@ struct PassSync {
   std::vector<std::string> host_reads;
   // A GPU pass:
   std::vector<PlannedBarrier> before_clears;
-  // A skipped pass's fresh outputs, and the part of a fresh output its pass does not write.
+  // A skipped pass's fresh outputs, and the part of a fresh output its pass does not write. A
+  // skipped pass's output that nothing reads (no pass that runs, no readback, no history) is
+  // not cleared: it costs no memory and no time.
   std::vector<PlannedClear> clears;
   std::vector<PlannedBarrier> before_pass;  // a running pass's inputs and outputs
   // A running pass's NaN injections (GraphSettings::nan_injections), after its commands and
@@ -120,8 +124,15 @@ struct Lifetime {
 struct CompiledPass {
   const PassDecl* decl = nullptr;
   bool runs = false;
-  std::string reason;   // why it does not run
-  bool inputs_cleared = false;  // skipped by PassDecl::skip_when_cleared: its inputs are recorded
+  std::string reason;  // why it does not run
+  // Skipped because its inputs' values make its results known (PassDecl::skip_when_cleared,
+  // fold_when_uniform): its inputs are recorded, and a replay runs it to check.
+  bool inputs_known = false;
+  // By fold_when_uniform: the value the part of each output it writes is cleared to (a modified
+  // output only where that changes it).
+  UniformValues folded;
+  // Its inputs that are uniform, with a value known before the frame (PassContext::uniform).
+  std::set<std::string> uniform_inputs;
   bool culled = false;  // not needed at all: nothing of it is allocated or executed
   std::vector<BoundUse> inputs, outputs;
   PassSync sync;  // GPU passes that are not culled

@@ -1,6 +1,7 @@
 #include "passes/core/pass.h"
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 
 namespace nightcap {
@@ -143,6 +144,25 @@ PassDecl& PassDecl::skip_when(std::function<std::string(const SkipContext&)> con
 PassDecl& PassDecl::skip_when_cleared(std::vector<std::string> inputs, std::function<bool(const ParamValues&)> exact) {
   cleared_skips.push_back({std::move(inputs), std::move(exact)});
   return *this;
+}
+
+bool same_value(VkFormat format, const VkClearValue& a, const VkClearValue& b) {
+  const std::optional<FormatInfo> info = format_info(format);
+  if (info && info->is_depth)
+    return std::memcmp(&a.depthStencil.depth, &b.depthStencil.depth, sizeof(float)) == 0 &&
+           a.depthStencil.stencil == b.depthStencil.stencil;
+  return std::memcmp(&a.color, &b.color, sizeof a.color) == 0;
+}
+
+PassDecl& PassDecl::fold_when_uniform(std::vector<std::string> inputs, decltype(UniformFold::outputs) outputs) {
+  uniform_folds.push_back({std::move(inputs), std::move(outputs)});
+  return *this;
+}
+
+std::string PassDecl::UniformFold::reason() const {
+  std::string names;
+  for (const std::string& r : inputs) names += (names.empty() ? "" : ", ") + r;
+  return "inputs uniform (" + names + "): folded";
 }
 
 std::string PassDecl::ClearedSkip::reason() const {

@@ -41,6 +41,10 @@ enum class Use {
 };
 
 using ParamValues = std::map<std::string, double>;
+// Resources each holding one value at every texel (or, for a buffer, a zero fill), by name.
+using UniformValues = std::map<std::string, VkClearValue>;
+// Whether two values of an image of `format` are the same bits (a depth format compares depth and stencil).
+bool same_value(VkFormat format, const VkClearValue& a, const VkClearValue& b);
 
 struct SizeRule {
   enum class Mode { output, output_half, absolute, like } mode = Mode::output;
@@ -152,6 +156,13 @@ struct PassDecl {
     std::string reason() const;                     // "inputs all cleared (a, b)"
   };
   std::vector<ClearedSkip> cleared_skips;
+  // Set by fold_when_uniform.
+  struct UniformFold {
+    std::vector<std::string> inputs;
+    std::function<std::optional<UniformValues>(const UniformValues& inputs, const ParamValues&)> outputs;
+    std::string reason() const;  // "inputs uniform (a, b): folded"
+  };
+  std::vector<UniformFold> uniform_folds;
   std::string disabled_reason;  // set by can_disable: the skip reason when `enabled` is 0
   std::string disable_switch;   // set by can_disable: whose `enabled` (this pass, or its group)
 
@@ -204,6 +215,15 @@ struct PassDecl {
   PassDecl& skip_when_cleared(std::vector<std::string> inputs, std::function<bool(const ParamValues&)> exact = {});
   // The first of cleared_skips whose inputs are all in `cleared` and that is exact for `params`.
   const ClearedSkip* cleared_skip(const std::set<std::string>& cleared, const ParamValues& params) const;
+  // Folded when every one of `inputs` is uniform (one value at every texel of every mip and
+  // layer) and the graph knows that value before the frame runs: it was a skipped pass's clear
+  // value or another fold's result. `outputs` then returns the value the pass would write at
+  // every texel of each output, bit for bit as the output stores it, or nothing where it cannot
+  // tell; instead of running the pass, the graph clears the part of each output it writes to
+  // that value (the rest of a fresh output to its declared clear value), and leaves a modified
+  // output as it is where it already holds the value. Decided by compile_graph alone. The
+  // capture records the inputs, so a replay checks the fold by running the pass.
+  PassDecl& fold_when_uniform(std::vector<std::string> inputs, decltype(UniformFold::outputs) outputs);
   // How `output` compares across replays, builds and devices (passes/core/contract.h).
   PassDecl& compare(const std::string& output, ComparisonContract contract);
   // How the bytes of buffer `output` decode (passes/core/buffer_schema.h).
@@ -227,8 +247,10 @@ struct PassDecl {
 
 const PassDecl* find_pass(const std::vector<PassDecl>& passes, const std::string& name);
 
-// Records a full-screen pass from its declaration; `constants` are the push constants' bytes.
-void record_fullscreen(PassContext& ctx, std::span<const uint8_t> constants);
+// Records a full-screen pass from its declaration; `constants` are the push constants' bytes,
+// `specialization` the shaders' specialization constants (PassContext::bind_pipeline).
+void record_fullscreen(PassContext& ctx, std::span<const uint8_t> constants,
+                       const std::vector<int32_t>& specialization = {});
 
 template <typename Constants>
 PassDecl& PassDecl::push_constants() {

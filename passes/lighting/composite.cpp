@@ -1,10 +1,25 @@
 // lighting.composite: direct diffuse + specular + emission + a uniform ambient term into the
 // lit HDR colour. The indirect terms of frame.md (AO, SSR, probes, GI volume, fog) join here
 // as their passes arrive.
+#include <array>
+
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 
 namespace nightcap {
+namespace {
+
+// A cool night ambient and a deep blue sky.
+std::array<float, 4> ambient_radiance(const ParamValues& params) {
+  const float ambient = float(params.at("ambient"));
+  return {ambient * 0.8f, ambient * 0.9f, ambient * 1.2f, 0.0f};
+}
+std::array<float, 4> sky_radiance(const ParamValues& params) {
+  const float sky = float(params.at("sky"));
+  return {sky * 0.5f, sky * 0.7f, sky * 1.6f, 0.0f};
+}
+
+}  // namespace
 
 PassDecl lighting_composite_pass() {
   return PassDecl("lighting.composite", PassType::graphics)
@@ -21,12 +36,21 @@ PassDecl lighting_composite_pass() {
                                                           "the nearest half to the sum "
                                                           "(tests/unit/lighting_composite_test.cpp): "
                                                           "two devices within one half ULP"))
+      // Nothing drawn (depth 0 everywhere): the sky at every pixel, as the shader stores it.
+      .fold_when_uniform({"scene.depth"},
+                         [](const UniformValues& inputs, const ParamValues& params) -> std::optional<UniformValues> {
+                           if (!(inputs.at("scene.depth").depthStencil.depth <= 0.0f)) return std::nullopt;
+                           const std::array<float, 4> sky = sky_radiance(params);
+                           VkClearValue lit{};
+                           for (int c = 0; c < 3; ++c) lit.color.float32[c] = half_rounded(sky[c]);
+                           lit.color.float32[3] = 1.0f;
+                           return UniformValues{{"lighting.lit", lit}};
+                         })
       .fullscreen("lighting/composite.frag", [](const PassContext& ctx) {
-        // A cool night ambient and a deep blue sky.
-        const float ambient = float(ctx.param("ambient")), sky = float(ctx.param("sky"));
+        const ParamValues params{{"ambient", ctx.param("ambient")}, {"sky", ctx.param("sky")}};
         struct {
-          float ambient[4], sky[4];
-        } constants{{ambient * 0.8f, ambient * 0.9f, ambient * 1.2f, 0.0f}, {sky * 0.5f, sky * 0.7f, sky * 1.6f, 0.0f}};
+          std::array<float, 4> ambient, sky;
+        } constants{ambient_radiance(params), sky_radiance(params)};
         return constants;
       });
 }

@@ -6,6 +6,7 @@
 // adds the levels. A NaN in lighting.lit contributes nothing and +Inf counts as 65504, so the
 // chain is always finite. At small outputs the chain is shorter (a 1×1 image has one mip): the
 // levels beyond it are skipped.
+#include <algorithm>
 #include <cmath>
 
 #include "passes/core/context.h"
@@ -39,6 +40,19 @@ BloomConstants constants(double sigma, const ImageExtent& source, uint32_t sourc
   return c;
 }
 
+// What a level stores where its source is uniform with value `source`: radiance()'s NaN and
+// range rule, then the same half. The 2×2 box of equal halves is exact in float, and the blur's
+// weights sum to 1 within a few float ULPs, far less than the half ULP nearest_half would need
+// to move off that half; alpha is 1.
+VkClearValue uniform_level(const VkClearValue& source) {
+  VkClearValue level{};
+  const float* c = source.color.float32;
+  const bool nan = std::isnan(c[0]) || std::isnan(c[1]) || std::isnan(c[2]);
+  for (int k = 0; k < 3; ++k) level.color.float32[k] = nan ? 0.0f : half_rounded(std::clamp(c[k], 0.0f, 65504.0f));
+  level.color.float32[3] = 1.0f;
+  return level;
+}
+
 }  // namespace
 
 PassDecl bloom_level_pass(uint32_t level) {
@@ -63,6 +77,10 @@ PassDecl bloom_level_pass(uint32_t level) {
         return "bloom.chain has " + std::to_string(levels) + (levels == 1 ? " level" : " levels") + " at " +
                std::to_string(frame.width) + "x" + std::to_string(frame.height);
       })
+      .fold_when_uniform({source},
+                         [source](const UniformValues& inputs, const ParamValues&) -> std::optional<UniformValues> {
+                           return UniformValues{{"bloom.chain", uniform_level(inputs.at(source))}};
+                         })
       .shader("post/bloom.comp")
       .push_constants<BloomConstants>()
       .compare("bloom.chain",

@@ -20,6 +20,9 @@ layout(push_constant) uniform Params {
   float log2_min, log2_max;  // the histogram's range; pixels outside count in the end bins
   float key;                 // the luminance the adapted mean is mapped to; 0: chosen from it
   float adapt_seconds;       // time constant of the adaptation; 0: instant
+  // Non-zero when every pixel of the lit image holds the same value: texel (0, 0) alone is
+  // counted, this many times (the pixel count), and phase 1 is one workgroup.
+  uint uniform_pixels;
 };
 
 const uint kBins = 256u;
@@ -49,9 +52,10 @@ void main() {
     local_bins[lane] = 0u;
     barrier();
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (all(lessThan(p, textureSize(lit_map, 0)))) {
+    bool counted_here = uniform_pixels > 0u ? p == ivec2(0) : all(lessThan(p, textureSize(lit_map, 0)));
+    if (counted_here) {
       int b = bin_of(texelFetch(lit_map, p, 0).rgb);
-      if (b >= 0) atomicAdd(local_bins[b], 1u);
+      if (b >= 0) atomicAdd(local_bins[b], max(uniform_pixels, 1u));
     }
     barrier();
     if (local_bins[lane] != 0u) atomicAdd(bins[lane], local_bins[lane]);

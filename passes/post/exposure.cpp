@@ -18,6 +18,7 @@ namespace {
 struct ExposureConstants {
   uint32_t phase;
   float log2_min, log2_max, key, adapt_seconds;
+  uint32_t uniform_pixels;
 };
 
 }  // namespace
@@ -42,8 +43,16 @@ PassDecl exposure_pass() {
       .push_constants<ExposureConstants>()
       .shader("post/exposure.comp")
       .run([](PassContext& ctx) {
-        ExposureConstants constants{0, float(ctx.param("log2_min")), float(ctx.param("log2_max")),
-                                    float(ctx.param("key")), float(ctx.param("adapt_seconds"))};
+        const ImageExtent lit = ctx.desc("lighting.lit").extent;
+        // A uniform lit image (the sky of an empty scene) is counted from one texel: the same
+        // integer counts, so the same bits after them.
+        const bool uniform = ctx.uniform("lighting.lit");
+        ExposureConstants constants{0,
+                                    float(ctx.param("log2_min")),
+                                    float(ctx.param("log2_max")),
+                                    float(ctx.param("key")),
+                                    float(ctx.param("adapt_seconds")),
+                                    uniform ? lit.width * lit.height : 0u};
         if (!(constants.log2_max > constants.log2_min)) throw GraphError("exposure: log2_max must be above log2_min");
         ctx.bind_pipeline();
         const std::string history = previous("exposure.value");
@@ -52,11 +61,10 @@ PassDecl exposure_pass() {
                   Binding::texture(ctx.slot(history), history, ctx.nearest_clamp()),
                   Binding::storage(ctx.slot("exposure.histogram"), "exposure.histogram"),
                   Binding::image(ctx.slot("exposure.value"), "exposure.value")});
-        const ImageExtent lit = ctx.desc("lighting.lit").extent;
         for (uint32_t phase = 0; phase < 3; ++phase) {
           constants.phase = phase;
           ctx.push_constants(constants);
-          if (phase == 1)
+          if (phase == 1 && !uniform)
             vkCmdDispatch(ctx.cmd(), (lit.width + 15) / 16, (lit.height + 15) / 16, 1);
           else
             vkCmdDispatch(ctx.cmd(), 1, 1, 1);

@@ -1,12 +1,22 @@
 // tonemap: HDR lit colour plus bloom → display (R8G8B8A8_SRGB): scaled by the manual exposure
 // and, when the exposure pass ran, by its automatic one (exposure.value.x; 0 when it was
 // skipped), then a filmic curve. The bloom is the mean of bloom.chain's levels, each upsampled
-// bilinearly (in the shader, with exact weights) to the pixel centre. The grading LUT of
-// frame.md feeds it once it exists.
+// bilinearly (in the shader, with exact weights) to the pixel centre. Where the graph knows the
+// lit colour and the chain to be uniform (an empty scene's sky), a pipeline variant computes
+// the one colour in the vertex shader and the fragments copy it: the same bits, since the
+// interpolation gives equal texels back exactly. The grading LUT of frame.md feeds it once it
+// exists.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 
 namespace nightcap {
+namespace {
+
+struct TonemapConstants {
+  float exposure, bloom;
+};
+
+}  // namespace
 
 PassDecl tonemap_pass() {
   return PassDecl("tonemap", PassType::graphics)
@@ -21,11 +31,14 @@ PassDecl tonemap_pass() {
                                                       "within 0.67 of a code of the exact sRGB encoding "
                                                       "(tests/unit/tonemap_test.cpp); encoders may round the "
                                                       "other way"))
-      .fullscreen("post/tonemap.frag", [](const PassContext& ctx) {
-        struct {
-          float exposure, bloom;
-        } constants{float(ctx.param("exposure")), float(ctx.param("bloom"))};
-        return constants;
+      .push_constants<TonemapConstants>()
+      .shader("post/tonemap.vert")
+      .shader("post/tonemap.frag")
+      .run([](PassContext& ctx) {
+        const TonemapConstants constants{float(ctx.param("exposure")), float(ctx.param("bloom"))};
+        // Uniform inputs (an empty scene's sky): the variant that computes the colour once.
+        const bool uniform = ctx.uniform("lighting.lit") && ctx.uniform("bloom.chain");
+        record_fullscreen(ctx, {reinterpret_cast<const uint8_t*>(&constants), sizeof constants}, {uniform});
       });
 }
 

@@ -1,6 +1,9 @@
 // An empty scene renders instead of being refused, and every pass whose inputs are all cleared is
-// skipped with that reason. The capture records those passes' inputs, so `replay --verify` runs
-// each of them and checks that the outputs the graph cleared are bit for bit what it computes.
+// skipped with that reason; the passes after them, whose inputs are uniform (the sky), are
+// folded: lighting.composite and the bloom levels, and exposure and tonemap take their paths for
+// uniform inputs. The capture records the skipped and folded passes' inputs, so `replay --verify`
+// runs each of them, and every pass that ran, on the general path, and checks that the outputs
+// are bit for bit what the frame recorded.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -19,9 +22,12 @@ struct Case {
   std::vector<std::string> skipped_for_cleared_inputs;
 };
 
+const std::set<std::string> kFolded = {"lighting.composite", "bloom.level0", "bloom.level1", "bloom.level2",
+                                       "bloom.level3",       "bloom.level4", "bloom.level5"};
+
 class EmptyScene : public ::testing::TestWithParam<Case> {};
 
-TEST_P(EmptyScene, RendersSkipsWhatItsClearedInputsDecideAndReplaysThoseSkips) {
+TEST_P(EmptyScene, RendersSkipsOrFoldsWhatItsKnownInputsDecideAndReplaysEveryPass) {
   const fs::path dir = scratch(std::string("empty-") + GetParam().name);
   const fs::path scene = dir / "scene.gltf", capture = dir / "capture";
   std::ofstream(scene) << GetParam().gltf;
@@ -35,10 +41,16 @@ TEST_P(EmptyScene, RendersSkipsWhatItsClearedInputsDecideAndReplaysThoseSkips) {
   ASSERT_EQ(nan.result.code, 0) << nan.result.err;
   EXPECT_EQ(nan.objects.at(0).at("origin"), nullptr) << nan.objects.at(0).dump();
   for (int frame : {0, 1}) {
-    std::set<std::string> skipped_for_cleared_inputs;
-    for (const auto& pass : listed["frames"][frame]["passes"])
-      if (pass["status"] == "skipped" && pass["reason"].get<std::string>().rfind("inputs all cleared (", 0) == 0)
-        skipped_for_cleared_inputs.insert(pass["name"].get<std::string>());
+    std::set<std::string> skipped_for_cleared_inputs, folded, ran;
+    for (const auto& pass : listed["frames"][frame]["passes"]) {
+      const std::string name = pass["name"], reason = pass.value("reason", "");
+      if (pass["status"] == "ran") ran.insert(name);
+      if (pass["status"] != "skipped") continue;
+      if (reason.rfind("inputs all cleared (", 0) == 0) skipped_for_cleared_inputs.insert(name);
+      if (reason.rfind("inputs uniform (", 0) == 0 && reason.ends_with("): folded")) folded.insert(name);
+    }
+    EXPECT_EQ(folded, kFolded) << "frame " << frame;
+    EXPECT_TRUE(ran.count("exposure") && ran.count("tonemap")) << "frame " << frame;
     // Frame 1: the camera walks, so motion.stencil's own condition (nothing moves) no longer skips it.
     if (frame == 1) {
       EXPECT_EQ(skipped_for_cleared_inputs, std::set<std::string>(GetParam().skipped_for_cleared_inputs.begin(),
@@ -50,8 +62,9 @@ TEST_P(EmptyScene, RendersSkipsWhatItsClearedInputsDecideAndReplaysThoseSkips) {
     const nlohmann::json report = nlohmann::json::parse(replay.out);
     for (const auto& pass : report["passes"])
       if (pass["replayed"].get<bool>()) replayed.insert(pass["name"].get<std::string>());
-    for (const std::string& pass : skipped_for_cleared_inputs)
-      EXPECT_TRUE(replayed.count(pass)) << pass << " was not replayed in frame " << frame;
+    for (const auto& passes : {skipped_for_cleared_inputs, folded, ran})
+      for (const std::string& pass : passes)
+        EXPECT_TRUE(replayed.count(pass)) << pass << " was not replayed in frame " << frame;
   }
 }
 

@@ -247,6 +247,9 @@ TEST(BarrierPlan, SkippedPassClearsItsFreshOutputsWhole) {
   GraphSettings settings = sinks({"chain"});
   settings.params["level0"]["enabled"] = 0;
   settings.params["level1"]["enabled"] = 0;
+  // Unread, the chain would not be cleared at all.
+  EXPECT_TRUE(pass(compile_graph(passes, {}, settings), "level0").sync.clears.empty());
+  settings.readback = {"chain"};
   const CompiledGraph graph = compile_graph(passes, {}, settings);
   EXPECT_EQ(pass(graph, "level0").reason, "off for the test (level0.enabled=0)");
   ASSERT_EQ(pass(graph, "level0").sync.clears.size(), 1u);

@@ -115,7 +115,7 @@ TEST(Graph, PassesWhoseInputsAreAllClearedAreSkippedDownTheFrame) {
   CompiledGraph graph = compile_graph(passes, imports, settings);
   EXPECT_EQ(pass(graph, "geometry").reason, "scene has no mesh");
   EXPECT_FALSE(pass(graph, "convert").runs);
-  EXPECT_TRUE(pass(graph, "convert").inputs_cleared);
+  EXPECT_TRUE(pass(graph, "convert").inputs_known);
   EXPECT_EQ(pass(graph, "convert").reason, "inputs all cleared (depth)");
   EXPECT_EQ(pass(graph, "pyramid").reason, "inputs all cleared (linear)");
   EXPECT_TRUE(pass(graph, "final").runs);  // an import is never cleared
@@ -135,12 +135,123 @@ TEST(Graph, PassesWhoseInputsAreAllClearedAreSkippedDownTheFrame) {
   graph = compile_graph(passes, imports, settings);
   EXPECT_TRUE(pass(graph, "decals").runs);
   EXPECT_TRUE(pass(graph, "convert").runs);
-  EXPECT_FALSE(pass(graph, "convert").inputs_cleared);
+  EXPECT_FALSE(pass(graph, "convert").inputs_known);
 
   // Kept passes (a replay) run whatever their inputs.
   settings.frame.features = {};
   settings.keep = {"convert"};
   EXPECT_TRUE(pass(compile_graph(passes, imports, settings), "convert").runs);
+}
+
+// geometry (skipped) clears depth to 0 → shade folds (depth uniform 0: lit = 0.25) → blur
+// folds (the value stays) → sharpen, a modifier, folds too: left as it is where its value stays,
+// cleared to its new value where not → final runs, its input known uniform. Outputs nothing that
+// runs reads are not cleared: no memory, no time.
+TEST(Graph, PassesOnUniformInputsAreFoldedAndOnlyWhatIsReadIsCleared) {
+  auto colour = [](float v) {
+    VkClearValue value{};
+    for (float& c : value.color.float32) c = v;
+    return value;
+  };
+  auto same = [](const VkClearValue& a, const VkClearValue& b) {
+    return same_value(VK_FORMAT_R16G16B16A16_SFLOAT, a, b);
+  };
+  ImageDecl chain = image();
+  chain.mips = 2;
+  std::vector<PassDecl> passes;
+  passes.push_back(
+      PassDecl("geometry", PassType::graphics).needs("mesh").write("depth", Use::color_attachment, image()));
+  passes.push_back(PassDecl("shade", PassType::graphics)
+                       .read("depth", Use::sampled)
+                       .write("lit", Use::color_attachment, image())
+                       .fold_when_uniform({"depth"}, [&](const UniformValues& in, const ParamValues&) {
+                         return in.at("depth").color.float32[0] == 0
+                                    ? std::optional(UniformValues{{"lit", colour(0.25f)}})
+                                    : std::nullopt;
+                       }));
+  // Writes mip 0 of a two-mip chain: its fold sets mip 0, mip 1 keeps the declared clear.
+  passes.push_back(PassDecl("blur", PassType::compute)
+                       .read("lit", Use::sampled)
+                       .write("blurred", Use::storage_write, chain, Subresources::mip(0))
+                       .fold_when_uniform({"lit"}, [](const UniformValues& in, const ParamValues&) {
+                         return std::optional(UniformValues{{"blurred", in.at("lit")}});
+                       }));
+  passes.push_back(
+      PassDecl("sharpen", PassType::compute)
+          .read("blurred", Use::sampled, Subresources::mip(0))
+          .modify("blurred", Use::storage_write, Subresources::mip(1))
+          .fold_when_uniform({"blurred"},
+                             [&](const UniformValues& in, const ParamValues& p) {
+                               return std::optional(UniformValues{
+                                   {"blurred", p.at("to") < 0 ? in.at("blurred") : colour(float(p.at("to")))}});
+                             })
+          .param("to", -1, -1, 1, "-1: the value of mip 0"));
+  passes.push_back(PassDecl("final", PassType::graphics)
+                       .read("blurred", Use::sampled)
+                       .write("final.ldr", Use::color_attachment, image()));
+  GraphSettings settings;
+  CompiledGraph graph = compile_graph(passes, {}, settings);
+  EXPECT_EQ(pass(graph, "shade").reason, "inputs uniform (depth): folded");
+  EXPECT_TRUE(pass(graph, "shade").inputs_known);
+  EXPECT_TRUE(same(pass(graph, "shade").folded.at("lit"), colour(0.25f)));
+  EXPECT_EQ(pass(graph, "blur").reason, "inputs uniform (lit): folded");
+  EXPECT_EQ(pass(graph, "sharpen").reason, "inputs uniform (blurred): folded");
+  EXPECT_EQ(pass(graph, "final").uniform_inputs, std::set<std::string>{"blurred"});  // both mips 0.25
+  // depth and lit feed only folded passes: never cleared, never allocated. blurred is cleared,
+  // mip 0 by blur's fold and mip 1 by sharpen's.
+  EXPECT_TRUE(pass(graph, "geometry").sync.clears.empty());
+  EXPECT_TRUE(pass(graph, "shade").sync.clears.empty());
+  EXPECT_FALSE(graph.lifetimes.count("depth") || graph.lifetimes.count("lit"));
+  ASSERT_EQ(pass(graph, "blur").sync.clears.size(), 2u);
+  for (const PlannedClear& clear : pass(graph, "blur").sync.clears)
+    EXPECT_TRUE(same(clear.value, colour(clear.range.base_mip == 0 ? 0.25f : 0.0f))) << clear.range.base_mip;
+  ASSERT_EQ(pass(graph, "sharpen").sync.clears.size(), 1u);
+  EXPECT_EQ(pass(graph, "sharpen").sync.clears[0].range, (Subresources{1, 1, 0, 1}));
+  EXPECT_TRUE(same(pass(graph, "sharpen").sync.clears[0].value, colour(0.25f)));
+
+  // sharpen's fold gives mip 1 what it holds: it is left as it is, and final sees two mips apart.
+  settings.params["sharpen"]["to"] = 0;
+  graph = compile_graph(passes, {}, settings);
+  EXPECT_EQ(pass(graph, "sharpen").reason, "inputs uniform (blurred): folded");
+  EXPECT_TRUE(pass(graph, "sharpen").folded.empty());
+  EXPECT_TRUE(pass(graph, "sharpen").sync.clears.empty());
+  EXPECT_TRUE(pass(graph, "final").uniform_inputs.empty());
+  settings.params.clear();
+
+  // A capture reads every version back, so every skipped output is cleared.
+  settings.capture = true;
+  graph = compile_graph(passes, {}, settings);
+  ASSERT_EQ(pass(graph, "shade").sync.clears.size(), 1u);
+  EXPECT_TRUE(same(pass(graph, "shade").sync.clears[0].value, colour(0.25f)));
+  EXPECT_EQ(pass(graph, "geometry").sync.clears.size(), 1u);
+  settings.capture = false;
+
+  // A fold that cannot tell (depth not 0) lets the pass run, and its readers.
+  ImageDecl far = image();
+  far.clear.color.float32[0] = 1.0f;
+  passes[0] = PassDecl("geometry", PassType::graphics).needs("mesh").write("depth", Use::color_attachment, far);
+  graph = compile_graph(passes, {}, settings);
+  EXPECT_TRUE(pass(graph, "shade").runs);
+  EXPECT_EQ(pass(graph, "shade").uniform_inputs, std::set<std::string>{"depth"});
+  EXPECT_TRUE(pass(graph, "blur").runs);
+  EXPECT_TRUE(pass(graph, "sharpen").runs);
+
+  // Kept passes (a replay) run whatever their inputs.
+  passes[0] = PassDecl("geometry", PassType::graphics).needs("mesh").write("depth", Use::color_attachment, image());
+  settings.keep = {"blur"};
+  graph = compile_graph(passes, {}, settings);
+  EXPECT_EQ(pass(graph, "shade").reason, "inputs uniform (depth): folded");
+  EXPECT_TRUE(pass(graph, "blur").runs);
+}
+
+TEST(Graph, FoldingOnAnInputThePassDoesNotReadIsAMistake) {
+  std::vector<PassDecl> passes;
+  passes.push_back(PassDecl("p", PassType::graphics)
+                       .write("final.ldr", Use::color_attachment, image())
+                       .fold_when_uniform({"depth"}, [](const UniformValues&, const ParamValues&) {
+                         return std::optional<UniformValues>();
+                       }));
+  EXPECT_THROW(compile_graph(passes, {}, GraphSettings()), GraphError);
 }
 
 TEST(Graph, SkippingOnAClearedInputThePassDoesNotReadIsAMistake) {
