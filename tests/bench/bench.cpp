@@ -11,7 +11,9 @@
 //    motion.stencil (time against its dilation radius) and bloom against their references);
 //  - the CLI's start-up: `nightcap --help` and `nightcap passes` of a city capture, wall clock;
 //    the debugger's first answer and its export of gbuffer.opaque's colour targets;
-//  - `nightcap diff` of a 1280x720 pair against idiff over the same images.
+//  - `nightcap diff` of a 1280x720 pair against idiff over the same images;
+//  - LTC tube and sphere lights (ltc): error against the integral of GGX by table size,
+//    roughness and view angle, fit time, and the CPU time of one light.
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -37,12 +39,14 @@
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/renderer.h"
+#include "passes/lighting/ltc/fit.h"
 #include "passes/normals/bfn_lut.h"
 #include "passes/scene/scene.h"
 #include "tests/reference/bloom_reference.h"
 #include "tests/reference/decal_reference.h"
 #include "tests/reference/depth_half_reference.h"
 #include "tests/reference/lighting_reference.h"
+#include "tests/reference/ltc_reference.h"
 #include "tests/reference/motion_mask_reference.h"
 
 namespace nc = nightcap;
@@ -1167,6 +1171,183 @@ void bench_exposure(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width
   }
 }
 
+// ltc: tube and sphere lights through LTC tables (passes/lighting/ltc) against the integral of
+// GGX along the segment and over the cap (tests/reference/ltc_reference.h: accuracy.md's cases,
+// 85° views added): tables of 16 and 32 entries per axis fitted here, timed, and the committed
+// one; for the committed table, the error by roughness and view, what weighing Fresnel as the
+// lobe's average (the table's fresnel) instead of per direction would cost, and the CPU time of
+// one light; the error of the line integral's 8-node quadrature against 64 nodes.
+void bench_ltc() {
+  const std::vector<double> roughnesses{0.05, 0.1, 0.25, 0.5, 0.75, 1.0};
+  const std::vector<double> views{0, 10, 20, 30, 40, 50, 60, 70, 75, 80, 85};
+  const std::vector<ref::TubeCase> tubes = ref::tube_cases(roughnesses, views);
+  const std::vector<ref::SphereCase> spheres = ref::sphere_cases(roughnesses, views);
+  std::vector<double> tube_exact, sphere_exact;
+  for (const ref::TubeCase& c : tubes) tube_exact.push_back(ref::reference_specular(c));
+  for (const ref::SphereCase& c : spheres) sphere_exact.push_back(ref::reference_sphere_specular(c, 300));
+
+  struct Sized {
+    nc::ltc::Table table;
+    double fit_s;
+  };
+  std::vector<Sized> tables;
+  for (int size : {16, 32}) {
+    nc::ltc::FitSettings settings;
+    settings.size = size;
+    const double start = now_ms();
+    nc::ltc::Table table = nc::ltc::fit_table(settings);
+    tables.push_back({std::move(table), (now_ms() - start) / 1e3});
+  }
+  tables.push_back({nc::ltc::ggx_table(), 0});
+
+  // Mean and max relative error over views ≤ 80° and max at 85°, of `error(i)` over `count` cases.
+  struct Errors {
+    double mean = 0, max = 0, max_85 = 0;
+  };
+  auto summarise = [](size_t count, const auto& view_of, const auto& error) {
+    Errors e;
+    size_t counted = 0;
+    for (size_t i = 0; i < count; ++i) {
+      const double x = error(i);
+      if (view_of(i) <= 80) {
+        e.mean += x;
+        e.max = std::max(e.max, x);
+        ++counted;
+      } else {
+        e.max_85 = std::max(e.max_85, x);
+      }
+    }
+    e.mean /= double(std::max<size_t>(counted, 1));
+    return e;
+  };
+  auto tube_errors = [&](const nc::ltc::Table& t) {
+    return summarise(
+        tubes.size(), [&](size_t i) { return tubes[i].view_degrees; },
+        [&](size_t i) { return std::abs(ref::ltc_specular(t, tubes[i]) / tube_exact[i] - 1); });
+  };
+  auto sphere_errors = [&](const nc::ltc::Table& t) {
+    return summarise(
+        spheres.size(), [&](size_t i) { return spheres[i].view_degrees; },
+        [&](size_t i) { return std::abs(ref::ltc_sphere_specular(t, spheres[i]) / sphere_exact[i] - 1); });
+  };
+
+  table() << "\n## ltc: specular vs the integral of GGX (" << tubes.size() << " tubes and " << spheres.size()
+          << " spheres: 6 roughnesses, views 0-85°, 3 sizes, f0 0.04 and 1)\n"
+          << std::left << std::setw(8) << "size" << std::right << std::setw(8) << "fit s" << std::setw(14)
+          << "tube mean" << std::setw(12) << "tube max" << std::setw(12) << "max 85°" << std::setw(14) << "sphere mean"
+          << std::setw(12) << "sphere max" << std::setw(12) << "max 85°"
+          << "  (mean and max over views ≤ 80°)\n";
+  for (const Sized& sized : tables) {
+    const bool committed = &sized == &tables.back();
+    const Errors tube = tube_errors(sized.table), sphere = sphere_errors(sized.table);
+    const std::string size = std::to_string(sized.table.size);
+    table() << std::left << std::setw(8) << (size + (committed ? "*" : "")) << std::right << std::fixed
+            << std::setprecision(1) << std::setw(8) << sized.fit_s << std::setprecision(2) << std::setw(13)
+            << 100 * tube.mean << "%" << std::setw(11) << 100 * tube.max << "%" << std::setw(11) << 100 * tube.max_85
+            << "%" << std::setw(13) << 100 * sphere.mean << "%" << std::setw(11) << 100 * sphere.max << "%"
+            << std::setw(11) << 100 * sphere.max_85 << "%" << std::defaultfloat << "\n";
+    figure("ltc_tube_error_mean." + size, tube.mean);
+    figure("ltc_tube_error_max." + size, tube.max);
+    figure("ltc_tube_error_max_85deg." + size, tube.max_85);
+    figure("ltc_sphere_error_mean." + size, sphere.mean);
+    figure("ltc_sphere_error_max." + size, sphere.max);
+    if (!committed) figure("ltc_fit_s." + size, sized.fit_s);
+    if (committed) {
+      figure("ltc_tube_error_mean", tube.mean);
+      figure("ltc_tube_error_max", tube.max);
+      figure("ltc_sphere_error_mean", sphere.mean);
+      figure("ltc_sphere_error_max", sphere.max);
+    }
+  }
+  table() << "* committed (passes/lighting/ltc/ggx_table.h)\n";
+
+  // The committed table, cell by cell: max (and mean) over the cell's sizes, orientations and f0.
+  const nc::ltc::Table& committed = nc::ltc::ggx_table();
+  std::map<std::pair<double, double>, std::pair<double, int>> tube_mean, sphere_mean;
+  std::map<std::pair<double, double>, double> tube_max, sphere_max;
+  for (size_t i = 0; i < tubes.size(); ++i) {
+    const double e = std::abs(ref::ltc_specular(committed, tubes[i]) / tube_exact[i] - 1);
+    const std::pair<double, double> cell{tubes[i].roughness, tubes[i].view_degrees};
+    tube_max[cell] = std::max(tube_max[cell], e);
+    tube_mean[cell].first += e;
+    ++tube_mean[cell].second;
+  }
+  for (size_t i = 0; i < spheres.size(); ++i) {
+    const double e = std::abs(ref::ltc_sphere_specular(committed, spheres[i]) / sphere_exact[i] - 1);
+    const std::pair<double, double> cell{spheres[i].roughness, spheres[i].view_degrees};
+    sphere_max[cell] = std::max(sphere_max[cell], e);
+    sphere_mean[cell].first += e;
+    ++sphere_mean[cell].second;
+  }
+  auto print_cells = [&](const std::string& title, const auto& value) {
+    table() << "\n"
+            << title << ", committed table, roughness × view (°)\n"
+            << std::left << std::setw(6) << "r" << std::right;
+    for (double view : views) table() << std::setw(7) << int(view);
+    table() << "\n";
+    for (double r : roughnesses) {
+      table() << std::left << std::fixed << std::setprecision(2) << std::setw(6) << r << std::right
+              << std::setprecision(1);
+      for (double view : views) table() << std::setw(6) << 100 * value(std::make_pair(r, view)) << "%";
+      table() << std::defaultfloat << "\n";
+    }
+  };
+  print_cells("tube: max relative error", [&](const auto& cell) { return tube_max[cell]; });
+  print_cells("tube: mean relative error",
+              [&](const auto& cell) { return tube_mean[cell].first / tube_mean[cell].second; });
+  print_cells("sphere: max relative error", [&](const auto& cell) { return sphere_max[cell]; });
+
+  // Fresnel as the lobe's average, f0·norm + (1 − f0)·fresnel, on the same integrals of D.
+  const Errors tube_average = summarise(
+      tubes.size(), [&](size_t i) { return tubes[i].view_degrees; },
+      [&](size_t i) {
+        const ref::TubeCase& c = tubes[i];
+        const nc::ltc::Lobe lobe = nc::ltc::lookup(committed, c.roughness, c.v.z);
+        const double d = nc::ltc::line_integral(lobe.minv, c.v, c.end1, c.end2).x;
+        return std::abs(lobe.magnitude(c.f0) * d / tube_exact[i] - 1);
+      });
+  const Errors sphere_average = summarise(
+      spheres.size(), [&](size_t i) { return spheres[i].view_degrees; },
+      [&](size_t i) {
+        const ref::SphereCase& c = spheres[i];
+        const nc::ltc::Lobe lobe = nc::ltc::lookup(committed, c.roughness, c.v.z);
+        const double d = nc::ltc::sphere_integral(lobe, c.v, c.centre, c.radius).x / lobe.norm;
+        return std::abs(lobe.magnitude(c.f0) * d / sphere_exact[i] - 1);
+      });
+  table() << "\nFresnel as the lobe's average instead of per direction: tube mean " << std::fixed
+          << std::setprecision(2) << 100 * tube_average.mean << "%, max " << 100 * tube_average.max << "%; sphere mean "
+          << 100 * sphere_average.mean << "%, max " << 100 * sphere_average.max << "%\n"
+          << std::defaultfloat;
+  figure("ltc_tube_error_max_lobe_fresnel", tube_average.max);
+  figure("ltc_sphere_error_max_lobe_fresnel", sphere_average.max);
+
+  // The CPU cost of one light: frame, lookup, the lines (specular and Lambert) or the polygon.
+  const int repeats = 200;
+  double checksum = 0;
+  double start = now_ms();
+  for (int r = 0; r < repeats; ++r)
+    for (const ref::TubeCase& c : tubes) checksum += ref::ltc_specular(committed, c);
+  const double tube_us = (now_ms() - start) * 1e3 / (double(repeats) * tubes.size());
+  start = now_ms();
+  for (int r = 0; r < repeats; ++r)
+    for (const ref::SphereCase& c : spheres) checksum += ref::ltc_sphere_specular(committed, c);
+  const double sphere_us = (now_ms() - start) * 1e3 / (double(repeats) * spheres.size());
+  double quadrature = 0;
+  for (const ref::TubeCase& c : tubes) {
+    const nc::ltc::Lobe lobe = nc::ltc::lookup(committed, c.roughness, c.v.z);
+    const glm::dvec2 coarse = nc::ltc::line_integral(lobe.minv, c.v, c.end1, c.end2);
+    const glm::dvec2 fine = nc::ltc::line_integral(lobe.minv, c.v, c.end1, c.end2, 64);
+    // The Fresnel part vanishes where h meets v: measured against the plain integral.
+    quadrature = std::max({quadrature, std::abs(coarse.x - fine.x) / fine.x, std::abs(coarse.y - fine.y) / fine.x});
+  }
+  table() << "one light on the CPU: tube " << std::setprecision(3) << tube_us << " µs, sphere " << sphere_us
+          << " µs; the tube's 8-node quadrature against 64 nodes: max " << std::scientific << std::setprecision(2)
+          << quadrature << std::defaultfloat << " relative (checksum " << checksum << ")\n";
+  figure("ltc_tube_eval_us", tube_us);
+  figure("ltc_sphere_eval_us", sphere_us);
+  figure("ltc_line_quadrature_max_rel", quadrature);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -1177,7 +1358,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> only;
   const std::vector<std::string> sections = {"city",    "models", "map",    "empty",   "frames", "normals",
                                              "tubes",   "depth",  "motion", "streams", "bloom",  "exposure",
-                                             "startup", "diff",   "report", "decals"};
+                                             "startup", "diff",   "report", "decals",  "ltc"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -1232,6 +1413,7 @@ int main(int argc, char** argv) {
     if (wanted("diff")) bench_diff(gpu, width, height);
     if (wanted("report")) bench_report(gpu, width, height);
     if (wanted("decals")) bench_decals(gpu, width, height, int(repeats));
+    if (wanted("ltc")) bench_ltc();
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

@@ -1,0 +1,175 @@
+// Linearly transformed cosines (Heitz et al. 2016) for tube and sphere lights: the float twin of
+// passes/lighting/ltc/ltc.h, which derives each integral. A pass gets the table of
+// passes/lighting/ltc/ggx_table.h as two textures sampled linearly at ltc_uv(): M⁻¹ (RGBA:
+// m00, m02, m20, m22) and the magnitudes (RG: norm, fresnel). Positions are offsets from the
+// shading point in the frame ltc_frame(n, v) gives; a lobe's M⁻¹ travels as those four values.
+// Both weigh Schlick's Fresnel at the light's own directions rather than as the lobe's average
+// (the table's fresnel, which only a sphere around the shading point uses).
+
+const float LTC_PI = 3.14159265358979;
+const float LTC_MIN_ROUGHNESS = 0.02;  // ltc.h's kMinRoughness: the table's first column
+const int LTC_SPHERE_SIDES = 8;        // ltc.h's kSphereSides
+
+// Gauss–Legendre's 8 nodes on [-1, 1], by pairs ±x, for the line integral (ltc.h's kLineNodes).
+const vec4 LTC_LINE_X = vec4(0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363);
+const vec4 LTC_LINE_W = vec4(0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763);
+
+// Where (roughness, n·v) falls in a size×size table sampled with linear filtering.
+vec2 ltc_uv(float roughness, float n_v, float size) {
+  vec2 x = vec2(clamp((roughness - LTC_MIN_ROUGHNESS) / (1.0 - LTC_MIN_ROUGHNESS), 0.0, 1.0),
+                sqrt(clamp(1.0 - n_v, 0.0, 1.0)));
+  return (x * (size - 1.0) + 0.5) / size;
+}
+
+// World offsets → the frame n = +z, v in the xz-plane: ltc_frame(n, v) * offset.
+mat3 ltc_frame(vec3 n, vec3 v) {
+  vec3 t = v - n * dot(n, v);
+  // At normal incidence any tangent will do: the lobe is symmetric about n.
+  t = dot(t, t) > 1e-12 ? normalize(t) : normalize(cross(n, abs(n.x) < 0.9 ? vec3(1, 0, 0) : vec3(0, 1, 0)));
+  return transpose(mat3(t, cross(n, t), n));
+}
+
+vec3 ltc_to_cosine(vec4 minv, vec3 w) {
+  return vec3(minv.x * w.x + minv.y * w.z, w.y, minv.z * w.x + minv.w * w.z);
+}
+
+vec3 ltc_from_cosine(vec4 minv, vec3 w) {
+  float det = minv.x * minv.w - minv.y * minv.z;
+  return vec3((minv.w * w.x - minv.y * w.z) / det, w.y, (minv.x * w.z - minv.z * w.x) / det);
+}
+
+// The part of segment [a, b] with z ≥ 0; false when there is none.
+bool ltc_clip_to_upper(inout vec3 a, inout vec3 b) {
+  if (a.z < 0.0 && b.z < 0.0) return false;
+  if (a.z < 0.0) a = b + (a - b) * (b.z / (b.z - a.z));
+  if (b.z < 0.0) b = a + (b - a) * (a.z / (a.z - b.z));
+  return true;
+}
+
+// The plane of the origin and the line through a and b: unit `toward` its nearest point at
+// `distance`, unit `along` it, and the angles (phi.x, phi.y) of a and b seen from the origin.
+bool ltc_line_plane(vec3 a, vec3 b, out vec3 toward, out vec3 along, out float distance, out vec2 phi) {
+  float len = length(b - a);
+  along = (b - a) / max(len, 1e-30);
+  float ta = dot(a, along);
+  vec3 foot = a - along * ta;
+  distance = length(foot);
+  toward = foot / max(distance, 1e-30);
+  phi = vec2(atan(ta, distance), atan(ta + len, distance));
+  // A line through the shading point lights it from no direction.
+  return len > 0.0 && distance > 0.0;
+}
+
+// ∫ D(l)/d² ds of the LTC M⁻¹ along the line p1 → p2, and the same weighted by Schlick's
+// (1 − v·h)⁵ (v the view in the frame): 8-point Gauss–Legendre over the angle in the cosine
+// space of |MT|·det M⁻¹/h · D_o(q̂)·|Mq̂|, Fresnel taken at each node's direction (ltc.h,
+// line_integral).
+vec2 ltc_line(vec4 minv, vec3 v, vec3 p1, vec3 p2) {
+  // Below the surface's horizon first: the LTC's mass there belongs to no light.
+  vec3 a = p1, b = p2;
+  if (!ltc_clip_to_upper(a, b)) return vec2(0.0);
+  a = ltc_to_cosine(minv, a);
+  b = ltc_to_cosine(minv, b);
+  vec3 toward, along;
+  float distance;
+  vec2 phi;
+  if (!ltc_clip_to_upper(a, b) || !ltc_line_plane(a, b, toward, along, distance, phi)) return vec2(0.0);
+  vec3 mn = ltc_from_cosine(minv, toward), mt = ltc_from_cosine(minv, along);
+  float nn = dot(mn, mn), nt = dot(mn, mt), tt = dot(mt, mt);
+  float middle = 0.5 * (phi.x + phi.y), half_width = 0.5 * (phi.y - phi.x);
+  vec2 sum = vec2(0.0);
+  for (int k = 0; k < 8; ++k) {
+    float x = (k < 4 ? -1.0 : 1.0) * LTC_LINE_X[k & 3];
+    float angle = middle + half_width * x, c = cos(angle), s = sin(angle);
+    float cosine = max(toward.z * c + along.z * s, 0.0);
+    // |Mq̂| for q̂ = N cos φ + T sin φ, and the direction Mq̂ it stands for.
+    float len = sqrt(max(nn * c * c + 2.0 * nt * c * s + tt * s * s, 1e-30));
+    float v_h = clamp(dot(v, normalize(v + (mn * c + mt * s) / len)), 0.0, 1.0);
+    sum += LTC_LINE_W[k & 3] * cosine * len * vec2(1.0, pow(1.0 - v_h, 5.0));
+  }
+  float det = minv.x * minv.w - minv.y * minv.z;
+  return sum * (sqrt(tt) * det / distance * half_width / LTC_PI);
+}
+
+// Lambert's ∫ max(n·l, 0)/π/d² ds along p1 → p2, in closed form.
+float ltc_lambert_line(vec3 p1, vec3 p2) {
+  vec3 a = p1, b = p2, toward, along;
+  float distance;
+  vec2 phi;
+  if (!ltc_clip_to_upper(a, b) || !ltc_line_plane(a, b, toward, along, distance, phi)) return 0.0;
+  float integral = toward.z * (sin(phi.y) - sin(phi.x)) - along.z * (cos(phi.y) - cos(phi.x));
+  return max(integral, 0.0) / (LTC_PI * distance);
+}
+
+// A tube light per candela per metre: (x, y, diffuse) with specular = f0·x + (1 − f0)·y and the
+// diffuse part without albedo·(1 − metallic). `norm` is the table's; v is the view in the
+// frame; `radius` spreads the line over the tube's apparent width by two lines ±radius/√3 off
+// its axis.
+vec3 ltc_tube(vec4 minv, float norm, vec3 v, vec3 p1, vec3 p2, float radius) {
+  vec3 across = cross(p2 - p1, 0.5 * (p1 + p2));
+  float spread = dot(across, across) > 0.0 ? radius / sqrt(3.0) : 0.0;
+  vec3 offset = spread > 0.0 ? normalize(across) * spread : vec3(0.0);
+  int lines = spread > 0.0 ? 2 : 1;
+  vec2 specular = vec2(0.0);
+  float diffuse = 0.0;
+  for (int i = 0; i < lines; ++i) {
+    vec3 o = i == 0 ? offset : -offset;
+    specular += ltc_line(minv, v, p1 + o, p2 + o);
+    diffuse += ltc_lambert_line(p1 + o, p2 + o);
+  }
+  return vec3(norm * specular, diffuse) / float(lines);
+}
+
+// ∫ D above the horizon: ltc.h's visible_mass.
+float ltc_visible_mass(vec4 minv) {
+  return 0.5 * (1.0 + minv.x / length(minv.xz));
+}
+
+// A sphere light per unit radiance: (x, y) with specular = f0·x + (1 − f0)·y. `magnitude` is
+// (norm, fresnel), v the view in the frame. The silhouette disk as a regular polygon of the
+// disk's area, clipped to the horizon, mapped, clipped to q.z ≥ 0 and integrated edge by edge,
+// Fresnel weighed at the polygon's mean direction (ltc.h, sphere_integral).
+vec2 ltc_sphere(vec4 minv, vec2 magnitude, vec3 v, vec3 centre, float radius) {
+  float distance = length(centre);
+  // From inside the sphere, light comes from everywhere: all of D above the horizon, and the
+  // lobe's own average Fresnel.
+  if (distance <= radius) return ltc_visible_mass(minv) * magnitude;
+  vec3 axis = centre / distance;
+  vec3 e1 = normalize(cross(axis, abs(axis.x) < 0.9 ? vec3(1, 0, 0) : vec3(0, 1, 0)));
+  vec3 e2 = cross(axis, e1);
+  float disk = radius * distance / sqrt(distance * distance - radius * radius);
+  float sides = float(LTC_SPHERE_SIDES);
+  float polygon = disk * sqrt(2.0 * LTC_PI / (sides * sin(2.0 * LTC_PI / sides)));
+  // Sutherland–Hodgman against z ≥ 0, in the surface's frame and then in the cosine space: each
+  // clip adds at most one vertex to the convex polygon.
+  vec3 above[LTC_SPHERE_SIDES + 1];
+  int count = 0;
+  for (int k = 0; k < LTC_SPHERE_SIDES; ++k) {
+    float angle_a = 2.0 * LTC_PI * float(k) / sides, angle_b = 2.0 * LTC_PI * float(k + 1) / sides;
+    vec3 a = centre + polygon * (cos(angle_a) * e1 + sin(angle_a) * e2);
+    vec3 b = centre + polygon * (cos(angle_b) * e1 + sin(angle_b) * e2);
+    if (a.z >= 0.0) above[count++] = ltc_to_cosine(minv, a);
+    if ((a.z < 0.0) != (b.z < 0.0)) above[count++] = ltc_to_cosine(minv, a + (b - a) * (a.z / (a.z - b.z)));
+  }
+  vec3 clipped[LTC_SPHERE_SIDES + 2];
+  int clipped_count = 0;
+  for (int k = 0; k < count; ++k) {
+    vec3 a = above[k], b = above[(k + 1) % count];
+    if (a.z >= 0.0) clipped[clipped_count++] = a;
+    if ((a.z < 0.0) != (b.z < 0.0)) clipped[clipped_count++] = a + (b - a) * (a.z / (a.z - b.z));
+  }
+  // The vector form factor: its z is ∫ D_o, its direction the polygon's mean.
+  vec3 sum = vec3(0.0);
+  for (int k = 0; k < clipped_count; ++k) {
+    vec3 a = normalize(clipped[k]), b = normalize(clipped[(k + 1) % clipped_count]);
+    vec3 c = cross(a, b);
+    float sine = length(c);
+    // atan keeps the angle of nearly parallel edges, which acos of their dot product loses.
+    if (sine > 0.0) sum += atan(sine, dot(a, b)) / sine * c;
+  }
+  sum = (sum.z < 0.0 ? -sum : sum) / (2.0 * LTC_PI);
+  if (sum.z <= 0.0) return vec2(0.0);
+  vec3 l = normalize(ltc_from_cosine(minv, sum));
+  float v_h = clamp(dot(v, normalize(v + l)), 0.0, 1.0);
+  return magnitude.x * sum.z * vec2(1.0, pow(1.0 - v_h, 5.0));
+}
