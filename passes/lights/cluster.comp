@@ -46,10 +46,13 @@ layout(push_constant) uniform Params {
 const uint kTile = 32u, kSlices = 64u;
 const uint kNone = 0u, kBounded = 1u, kEverywhere = 2u;
 
-// The chunk of 64 lights the workgroup tests together: view-space ends, padded range, reach.
+// The chunk of 64 lights the workgroup tests together: view-space ends, padded range, reach; and
+// those that reach the tile at all, in ascending order.
 shared vec4 chunk_a[64];  // xyz: first end, w: r'
 shared vec3 chunk_b[64];  // second end (= first for point and spot lights)
 shared uint chunk_reach[64];
+shared uint chunk_tile[64];
+shared uint chunk_tile_count;
 
 uint add_saturated(uint a, uint b) { return a > 0xffffffffu - b ? 0xffffffffu : a + b; }
 
@@ -101,7 +104,6 @@ void cell_box(vec4 extent, float near, float far, out vec3 lo, out vec3 hi) {
 
 bool reaches(uint j, vec3 lo, vec3 hi) {
   if (chunk_reach[j] == kEverywhere) return true;
-  if (chunk_reach[j] == kNone) return false;
   vec4 a = chunk_a[j];
   return segment_box_distance2(a.xyz, chunk_b[j] - a.xyz, lo, hi) <= a.w * a.w;
 }
@@ -170,9 +172,17 @@ void build_lists() {
     chunk_b[gl_LocalInvocationID.x] = b;
     chunk_reach[gl_LocalInvocationID.x] = reach;
     barrier();
+    // Most lights miss most tiles: each slice then tests only those that reach the tile.
+    if (gl_LocalInvocationID.x == 0u) {
+      uint n = 0u;
+      for (uint j = 0u; j < 64u; ++j)
+        if (chunk_reach[j] != kNone) chunk_tile[n++] = j;
+      chunk_tile_count = n;
+    }
+    barrier();
     if (occupied) {
-      uint chunk = min(64u, light_count - base);
-      for (uint j = 0u; j < chunk; ++j) {
+      for (uint c = 0u; c < chunk_tile_count; ++c) {
+        uint j = chunk_tile[c];
         if (!reaches(j, lo, hi)) continue;
         if (phase == 2u && count < stored) indices[offset + count] = base + j;
         ++count;
