@@ -367,7 +367,8 @@ TEST_F(LightsCluster, LightAtTheCamera) {
       EXPECT_EQ(c.indices[offset], 0u);
       EXPECT_EQ(c.indices[offset + 1], 1u);
       for (uint32_t k = 0; k < kClusterSlices; ++k) {
-        if (k != slice) EXPECT_EQ(c.list(tx, ty, k).second, 0u) << froxel_name(tx, ty, k) << " has no surface";
+        if (k == slice) continue;
+        EXPECT_EQ(c.list(tx, ty, k).second, 0u) << froxel_name(tx, ty, k) << " has no surface";
       }
     }
 }
@@ -463,7 +464,8 @@ TEST_F(LightsCluster, TenThousandLightsOverflowIsCountedNotSilent) {
         // Every sure light below the last kept index is kept; a froxel not cut keeps min(cap, all).
         const uint32_t last = count ? list.back() : 0;
         for (uint32_t i : sure) {
-          if (count && i < last) ASSERT_TRUE(std::binary_search(list.begin(), list.end(), i)) << name << " lost " << i;
+          if (!count || i >= last) continue;
+          ASSERT_TRUE(std::binary_search(list.begin(), list.end(), i)) << name << " lost " << i;
         }
         // Not cut, a froxel keeps at least min(cap, sure); the first that keeps less was cut,
         // and every froxel after it in froxel order keeps nothing.
