@@ -137,7 +137,6 @@ void build_lists() {
   cell_box(extent, depth_range.x, depth_range.y, tile_lo, tile_hi);
   cell_box(extent, near, deep, lo, hi);
 
-  uint froxel = (slice * tiles_y + tile.y) * tiles_x + tile.x;
   uint offset = 0u, stored = 0u;
   if (phase == 2u) {
     uvec2 list = imageLoad(clusters, ivec3(tile, slice)).xy;
