@@ -17,6 +17,8 @@ namespace nightcap {
 //   lookup_table R8      PIZ 0.84, ZIP 0.87
 // stencil and mask (R8_UINT) were not measured: they take lookup_table's choice, the other
 // 8-bit integer image.
+// light_clusters (R32G32_UINT offsets and counts, 3D) was not measured: mostly zero counts and
+// offsets rising by small steps, smooth content, so ZIP.
 // Noisy, dithered or 8-bit-per-channel content compresses best with PIZ's wavelet; smooth
 // content and float depth with ZIP, whose higher levels cost more time than they save bytes.
 ImageEncoding image_encoding_for(ResourceKind kind) {
@@ -39,6 +41,7 @@ ImageEncoding image_encoding_for(ResourceKind kind) {
     case ResourceKind::texture:
     case ResourceKind::buffer:
     case ResourceKind::draw_list:
+    case ResourceKind::light_clusters:
       return zip;
   }
   return zip;

@@ -301,7 +301,7 @@ int run_replay(const std::string& path, uint32_t frame, const std::vector<std::s
       for (const std::string& note : p.notes) std::cout << "      note: " << note << "\n";
       if (!verify) continue;
       for (const nc::OutputCheck& o : p.outputs) {
-        std::cout << "      " << std::left << std::setw(22) << o.resource << nc::verdict_name(o.verdict);
+        std::cout << "      " << std::left << std::setw(24) << o.resource << nc::verdict_name(o.verdict);
         if (o.verdict != nc::Verdict::identical)
           std::cout << " (" << o.metric << ", max abs " << o.amount
                     << (o.first_difference.empty() ? "" : ", first at " + o.first_difference) << ")";

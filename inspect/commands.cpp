@@ -15,6 +15,7 @@
 #include "inspect/stats.h"
 #include "inspect/visualise.h"
 #include "passes/frame/renderer.h"
+#include "passes/lights/cluster_layout.h"
 #include "replay/replay.h"
 
 namespace nightcap {
@@ -55,7 +56,8 @@ const std::vector<CommandSpec>& specs() {
       {{"pixel", "pixel X Y [RESOURCE] [--mip M] [--layer L] [--slice Z] [--frames]",
         "the texel under output pixel (X, Y) decoded by what RESOURCE holds (default: the current pass's first "
         "output), with its raw values; --slice: the depth slice of a 3D image; --frames: the same pixel in every "
-        "recorded frame"},
+        "recorded frame. lights.clusters: the froxel the pixel falls in at its depth.linear (or --slice) and that "
+        "froxel's list of frame.lights indices"},
        {{"--mip", 1}, {"--layer", 1}, {"--slice", 1}, {"--frames", 0}}},
       {{"history", "history X Y [RESOURCE]",
         "output pixel (X, Y) through the frame: each pass that wrote a screen-space resource (depth and stencil "
@@ -434,6 +436,41 @@ class Runner {
     for (const auto& [name, value] : j["decoded"].items()) out_ << "  " << name << ": " << brief(value) << "\n";
   }
 
+  // lights.clusters under a pixel: the froxel of its tile where depth.linear puts the pixel (the
+  // slice lights.cluster's own slicing gives its depth), or at --slice, and that froxel's list of
+  // frame.lights indices from lights.cluster_indices.
+  void froxel(const ResourceRecord& record, uint32_t x, uint32_t y, Subimage subimage, bool slice_given) {
+    const FrameRecord& frame = session_.frame();
+    const PassRecord* writer = nullptr;
+    for (const PassRecord& p : frame.passes)
+      for (const ResourceRecord& out : p.outputs)
+        if (out.resource == record.resource && out.hash == record.hash) writer = &p;
+    if (!writer || !writer->params.count("max_distance"))
+      throw InspectError(record.resource + ": no pass of frame " + std::to_string(frame.index) + " wrote this version");
+    std::optional<double> depth;
+    if (!slice_given) {
+      const ResourceRecord& linear = session_.resource("depth.linear");
+      const PixelReading reading =
+          read_pixel(linear, session_.load(linear), frame, texel_for_output_pixel(linear, frame, x, y, {}));
+      depth = reading.values.raw.at(0);
+      subimage.slice = cluster_slice(*depth, frame.camera.znear, writer->params.at("max_distance"));
+    }
+    ojson j = reading_json(record, frame, x, y, subimage);
+    const uint64_t offset = j["codes"][0], count = j["codes"][1];
+    const ResourceRecord& indices = session_.resource("lights.cluster_indices");
+    const std::vector<uint8_t>& bytes = session_.load(indices);
+    if ((offset + count) * 4 > bytes.size())
+      throw InspectError(record.resource + ": the list at " + std::to_string(offset) + " runs past " +
+                         indices.resource);
+    std::vector<uint32_t> lights(count);
+    if (count) std::memcpy(lights.data(), bytes.data() + offset * 4, count * 4);
+    ojson& decoded = j["decoded"];
+    decoded["froxel"] = {j["texel"][0], j["texel"][1], subimage.slice};
+    if (depth) decoded["depth_m"] = *depth;
+    decoded["lights"] = lights;
+    return json_ ? emit(j) : print_reading(j);
+  }
+
   void pixel(const CommandSpec& spec, const Arguments& args) {
     expect_positionals(spec, args, 2, 3);
     const uint32_t x = parse_index("X", args.positional[0]), y = parse_index("Y", args.positional[1]);
@@ -448,6 +485,7 @@ class Runner {
     }
     const ResourceRecord& record = session_.resource(name);
     if (!args.has("--frames")) {
+      if (record.kind == ResourceKind::light_clusters) return froxel(record, x, y, subimage, args.has("--slice"));
       const ojson j = reading_json(record, session_.frame(), x, y, subimage);
       return json_ ? emit(j) : print_reading(j);
     }

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "passes/core/output_pixel.h"
+#include "passes/lights/cluster_layout.h"
 #include "passes/scene/scene.h"
 
 namespace nightcap {
@@ -133,6 +134,10 @@ void decode_kind(const ResourceRecord& record, const FrameRecord& frame, const T
       out["rgb_linear"] = vector_json(v.data(), std::min<size_t>(3, v.size()));
       if (v.size() > 3) out["alpha"] = v[3];
       return;
+    case ResourceKind::light_clusters:  // the list itself is in lights.cluster_indices (inspect's pixel reads it)
+      out["offset"] = texel.codes.at(0);
+      out["count"] = texel.codes.at(1);
+      return;
     case ResourceKind::lookup_table:
     case ResourceKind::texture:
     case ResourceKind::buffer:
@@ -180,6 +185,10 @@ TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRec
                        std::to_string(frame.width) + "x" + std::to_string(frame.height) + " output");
   const uint32_t width = mip_size(record.extent.width, subimage.mip);
   const uint32_t height = mip_size(record.extent.height, subimage.mip);
+  // Froxels are whole 32-pixel tiles from the top left, the last row and column cut short.
+  if (record.kind == ResourceKind::light_clusters)
+    return {std::min(x / kClusterTile, width - 1), std::min(y / kClusterTile, height - 1), subimage.mip, subimage.layer,
+            subimage.slice};
   return {texel_under_pixel(x, frame.width, width), texel_under_pixel(y, frame.height, height), subimage.mip,
           subimage.layer, subimage.slice};
 }

@@ -172,6 +172,11 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
             image.pixels[4 * i + c] = srgb_code(float(std::clamp(std::isnan(shown) ? 0.0 : shown, 0.0, 1.0)));
           }
           break;
+        case ResourceKind::light_clusters: {  // the count, so a 1-light froxel shows
+          const double count = double(values.codes.at(1));
+          put(i, count / (count + 8), count / (count + 8), count / (count + 8));
+          break;
+        }
         case ResourceKind::material:
         case ResourceKind::lookup_table:
         case ResourceKind::texture:

@@ -27,6 +27,7 @@ enum class VisualAspect { depth_or_colour, stencil };
 // - mask: white where set, black elsewhere.
 // - motion: hue from the direction, saturation and brightness from the length relative to the
 //   longest motion in the image (no motion: black).
+// - light_clusters: one depth slice, each froxel's count c as grey c / (c + 8) (none: black).
 // - hdr_colour: Reinhard x / (1 + x) per channel, then sRGB.
 // - colour: its linear values sRGB-encoded; material and the rest: channels as they are,
 //   clamped to [0, 1] (one channel: grey).

@@ -36,9 +36,9 @@ const std::vector<FormatInfo> kFormats = {
     {VK_FORMAT_D32_SFLOAT_S8_UINT, "D32_SFLOAT_S8_UINT", E::depth32_stencil8, 2, 4, true, true},
 };
 
-constexpr std::array<std::string_view, 15> kKindNames = {
+constexpr std::array<std::string_view, 16> kKindNames = {
     "colour",       "hdr_colour", "normal", "packed_normal", "material", "motion", "depth_stencil", "linear_depth",
-    "depth_minmax", "stencil",    "mask",   "lookup_table",  "texture",  "buffer", "draw_list"};
+    "depth_minmax", "stencil",    "mask",   "lookup_table",  "texture",  "buffer", "draw_list",     "light_clusters"};
 
 // 10- and 11-bit floats have half's 5-bit exponent and bias: their bits are a half's, with the
 // mantissa cut short.

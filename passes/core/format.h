@@ -66,9 +66,10 @@ enum class ResourceKind {
   stencil,        // stencil tags (class and flags, passes/scene/scene.h) outside a depth-stencil image
   mask,           // per-pixel 0/1 selection
   lookup_table,
-  texture,    // scene-supplied texture
-  buffer,     // structured data
-  draw_list,  // per-draw records consumed by a pass
+  texture,         // scene-supplied texture
+  buffer,          // structured data
+  draw_list,       // per-draw records consumed by a pass
+  light_clusters,  // per froxel: offset and count of its list of light indices (lights.cluster)
 };
 
 std::string_view kind_name(ResourceKind kind);

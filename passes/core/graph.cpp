@@ -38,6 +38,11 @@ ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
       desc.extent.width = (settings.width + 1) / 2;
       desc.extent.height = (settings.height + 1) / 2;
       break;
+    case SizeRule::Mode::output_tiles:
+      if (d.size.tile == 0) throw GraphError(pass + ": output '" + out.resource + "' has tiles of 0 pixels");
+      desc.extent.width = (settings.width + d.size.tile - 1) / d.size.tile;
+      desc.extent.height = (settings.height + d.size.tile - 1) / d.size.tile;
+      break;
     case SizeRule::Mode::absolute:
       desc.extent.width = d.size.width;
       desc.extent.height = d.size.height;

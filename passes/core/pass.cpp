@@ -198,6 +198,15 @@ PassDecl& PassDecl::layout(const std::string& output, BufferSchema schema) {
   throw std::logic_error(name + ": layout() names '" + output + "', which is not a buffer it writes");
 }
 
+PassDecl& PassDecl::warn_from(const std::string& output, std::function<std::string(std::span<const uint8_t>)> check) {
+  for (const ResourceUse& out : outputs)
+    if (out.resource == output) {
+      warnings.push_back({output, std::move(check)});
+      return *this;
+    }
+  throw std::logic_error(name + ": warn_from() names '" + output + "', which it does not write");
+}
+
 const BufferSchema* PassDecl::schema_of(const std::string& output) const {
   for (const ResourceUse& out : outputs)
     if (out.resource == output && out.buffer.schema) return &*out.buffer.schema;

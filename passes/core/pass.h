@@ -47,9 +47,10 @@ using UniformValues = std::map<std::string, VkClearValue>;
 bool same_value(VkFormat format, const VkClearValue& a, const VkClearValue& b);
 
 struct SizeRule {
-  enum class Mode { output, output_half, absolute, like } mode = Mode::output;
+  enum class Mode { output, output_half, output_tiles, absolute, like } mode = Mode::output;
   uint32_t width = 0, height = 0;  // absolute
   std::string like;                // like: same size as this resource
+  uint32_t tile = 1;               // output_tiles: a texel per tile of tile×tile output pixels, rounded up
 };
 
 struct ImageDecl {
@@ -163,6 +164,12 @@ struct PassDecl {
     std::string reason() const;  // "inputs uniform (a, b): folded"
   };
   std::vector<UniformFold> uniform_folds;
+  // Set by warn_from: outputs the renderer reads back after the frame, and what each says.
+  struct OutputWarning {
+    std::string output;
+    std::function<std::string(std::span<const uint8_t>)> check;  // the warning, or "" when all is well
+  };
+  std::vector<OutputWarning> warnings;
   std::string disabled_reason;  // set by can_disable: the skip reason when `enabled` is 0
   std::string disable_switch;   // set by can_disable: whose `enabled` (this pass, or its group)
 
@@ -228,6 +235,9 @@ struct PassDecl {
   PassDecl& compare(const std::string& output, ComparisonContract contract);
   // How the bytes of buffer `output` decode (passes/core/buffer_schema.h).
   PassDecl& layout(const std::string& output, BufferSchema schema);
+  // A condition only the GPU's result shows (a list that overflowed): after each frame the
+  // renderer reads `output` back and prints what `check` returns on stderr unless it is empty.
+  PassDecl& warn_from(const std::string& output, std::function<std::string(std::span<const uint8_t>)> check);
   // A fragment shader drawn over the whole output, recorded from the declaration alone
   // (passes/core/fullscreen.cpp): set 0 binds the GPU inputs in declaration order (images
   // through a nearest clamp-to-edge sampler, depth by its depth aspect), the colour outputs are

@@ -9,8 +9,9 @@ namespace nightcap {
 // Every pass of the frame, in frame order (the graph sorts them by their dependencies).
 std::vector<PassDecl> frame_passes();
 
-// What the frame must produce: the displayed image, and the depth-summary resources whose
-// consumers (clustering, SSR, AO, TAA) have not landed yet, so they are rendered and recorded.
+// What the frame must produce: the displayed image, and the depth-summary and light-list
+// resources whose consumers (tiled lighting, SSR, AO, TAA) have not landed yet, so they are
+// rendered and recorded.
 std::vector<std::string> frame_sinks();
 
 PassDecl frame_constants_pass();
@@ -26,6 +27,7 @@ PassDecl motion_stencil_pass();
 PassDecl normals_bfn_lut_pass();
 PassDecl normals_pack_pass();
 PassDecl depth_pyramid_pass();
+PassDecl lights_cluster_pass();
 PassDecl lighting_deferred_pass();
 PassDecl lighting_composite_pass();
 // bloom.chain's levels, one pass each (passes/post/bloom.cpp).

@@ -3,8 +3,9 @@
 namespace nightcap {
 
 std::vector<std::string> frame_sinks() {
-  return {"final.ldr",    "normals.packed", "depth.pyramid", "depth.half",
-          "stencil.half", "motion.mask",    "cull.stats",    "cull.occlusion"};
+  return {"final.ldr",           "normals.packed", "depth.pyramid",  "depth.half",      "stencil.half",
+          "motion.mask",         "cull.stats",     "cull.occlusion", "lights.clusters", "lights.cluster_indices",
+          "lights.cluster_stats"};
 }
 
 std::vector<PassDecl> frame_passes() {
@@ -22,6 +23,7 @@ std::vector<PassDecl> frame_passes() {
   passes.push_back(normals_bfn_lut_pass());
   passes.push_back(normals_pack_pass());
   passes.push_back(depth_pyramid_pass());
+  passes.push_back(lights_cluster_pass());
   passes.push_back(lighting_deferred_pass());
   passes.push_back(lighting_composite_pass());
   for (uint32_t level = 0; level < kBloomLevels; ++level) passes.push_back(bloom_level_pass(level));

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <iostream>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -256,10 +257,12 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture, CaptureWriter
   graph_settings.frame.frame_index = index;
   graph_settings.frame.camera_moved = previous.world != frame.camera.world;
   graph_settings.frame.camera_cut = cut;
-  graph_settings.sinks = frame_sinks();
+  graph_settings.sinks = settings_.sinks.empty() ? frame_sinks() : settings_.sinks;
   graph_settings.params = settings_.params;
   graph_settings.capture = capture;
   graph_settings.readback = {"final.ldr"};
+  for (const PassDecl& pass : passes_)
+    for (const PassDecl::OutputWarning& warning : pass.warnings) graph_settings.readback.insert(warning.output);
   frame.graph = compile_graph(passes_, as_graph_imports(imports), graph_settings);
   if (!settings_.inject_nan.empty()) {
     for (const NanRequest& request : settings_.inject_nan)
@@ -280,6 +283,17 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture, CaptureWriter
   std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> bytes;
   for (const auto& [name, data] : imports) bytes[name] = data.bytes;
   frame.execution = execute_graph(gpu_, cache_, frame.graph, bytes, options);
+  for (const CompiledPass& pass : frame.graph.passes) {
+    if (!pass.runs) continue;
+    for (const PassDecl::OutputWarning& warning : pass.decl->warnings) {
+      const VersionData* version = frame.execution.final_version(warning.output);
+      if (!version || !version->bytes) continue;
+      const std::string message = warning.check(*version->bytes);
+      if (message.empty()) continue;
+      frame.warnings.push_back(pass.decl->name + ": " + message);
+      std::cerr << "warning: frame " << index << ": " << frame.warnings.back() << "\n";
+    }
+  }
   return frame;
 }
 

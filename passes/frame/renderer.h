@@ -47,6 +47,9 @@ struct RenderSettings {
   CaptureWriter::Options capture;             // blob codecs
   bool alias_memory = true;                   // ExecutionOptions::alias_memory
   std::vector<NanRequest> inject_nan;
+  // What the frame must produce; empty: frame_sinks(). Fewer sinks run part of the frame (a
+  // benchmark or test of the passes before lighting).
+  std::vector<std::string> sinks;
 };
 
 // Throws SceneError naming the flag for a parameter that no pass declares or out of range.
@@ -76,6 +79,8 @@ struct RenderedFrame {
   Execution execution;
   Camera camera;
   double time = 0;  // seconds since frame 0
+  // What passes' warn_from checks said of this frame ("lights.cluster: …"), also printed on stderr.
+  std::vector<std::string> warnings;
 };
 
 class Renderer {

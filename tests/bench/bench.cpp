@@ -40,6 +40,7 @@
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/renderer.h"
 #include "passes/lighting/ltc/fit.h"
+#include "passes/lights/cluster_layout.h"
 #include "passes/normals/bfn_lut.h"
 #include "passes/scene/scene.h"
 #include "tests/reference/bloom_reference.h"
@@ -753,6 +754,59 @@ void bench_empty(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
   figure("frame_ms_empty", median(frame_ms));
 }
 
+// lights.cluster on the street shot of a 2 km map and on the built-in city, each frame rendered
+// only as far as the clusters (the map's lighting.deferred shades every light at every pixel and
+// takes minutes at 1280x720 on lavapipe): GPU time in the frame (timestamps, median of `repeats`
+// walking frames after a warm-up one), the isolated run's wall clock on the last frame's recorded
+// inputs (upload and readback included: an upper bound, lavapipe's timestamps undercount
+// compute), and the mean list length over the froxels that have one.
+void bench_cluster(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height, int repeats) {
+  table() << "\n## lights.cluster (" << width << "x" << height << ", median of " << repeats << ")\n";
+  nc::Scene city = nc::build_city(1);
+  nc::add_default_lighting(city);
+  const std::vector<std::pair<std::string, nc::Scene>> scenes = {
+      {"map_street", nc::build_map({1, 2.0, nc::Shot::street})}, {"city", std::move(city)}};
+  for (const auto& [key, scene] : scenes) {
+    nc::RenderSettings settings;
+    settings.width = width;
+    settings.height = height;
+    settings.sinks = {"lights.clusters", "lights.cluster_indices", "lights.cluster_stats"};
+    nc::Renderer renderer(gpu, scene, settings);
+    renderer.render_frame(0, false);
+    std::vector<double> ms;
+    for (int r = 1; r <= repeats; ++r) {
+      const nc::RenderedFrame frame = renderer.render_frame(uint32_t(r), false);
+      for (size_t i = 0; i < frame.graph.passes.size(); ++i)
+        if (frame.graph.passes[i].decl->name == "lights.cluster" && frame.graph.passes[i].runs)
+          ms.push_back(frame.execution.passes[i].gpu_ms.value_or(0.0));
+    }
+    const nc::RenderedFrame captured = renderer.render_frame(uint32_t(repeats) + 1, true);
+    std::map<std::string, nc::IsolatedInput> inputs;
+    for (const char* name : {"frame.constants", "frame.lights", "depth.pyramid"}) {
+      const nc::VersionData* v = captured.execution.final_version(name);
+      inputs[name] = {v->desc, v->bytes};
+    }
+    const nc::PassDecl pass = nc::lights_cluster_pass();
+    std::vector<double> wall;
+    for (int r = 0; r < 4; ++r) {  // the first run compiles the pipeline
+      const double start = now_ms();
+      nc::run_isolated(gpu, cache, pass, inputs, pass.default_params(), width, height, builtin());
+      if (r > 0) wall.push_back(now_ms() - start);
+    }
+    nc::GpuClusterStats stats{};
+    std::memcpy(&stats, captured.execution.final_version("lights.cluster_stats")->bytes->data(), sizeof(stats));
+    const double mean = stats.froxels_lit ? double(stats.entries) / stats.froxels_lit : 0.0;
+    table() << std::left << std::setw(12) << key << std::right << std::fixed << std::setprecision(3) << median(ms)
+            << " ms (timestamps), " << median(wall) << " ms isolated wall clock; " << stats.lights << " local lights, "
+            << stats.froxels_lit << " of " << stats.froxels << " froxels lit, mean list " << std::setprecision(2)
+            << mean << ", longest " << stats.max_count << ", " << stats.entries << " entries\n";
+    const std::string suffix = key == "map_street" ? "" : "." + key;
+    figure("cluster_ms" + suffix, median(ms));
+    figure("cluster_isolated_wall_ms" + suffix, median(wall));
+    figure("lights_per_froxel_mean" + suffix, mean);
+  }
+}
+
 // decals.mesh and decals.projected against decal count on the reference scene of
 // tests/reference/decal_reference.h: N projected boxes (the reference box, shifted and turned,
 // grime) and N mesh decals (slabs on the ground), GPU ms as the median of `repeats` frames. The
@@ -1358,7 +1412,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> only;
   const std::vector<std::string> sections = {"city",    "models", "map",    "empty",   "frames", "normals",
                                              "tubes",   "depth",  "motion", "streams", "bloom",  "exposure",
-                                             "startup", "diff",   "report", "decals",  "ltc"};
+                                             "startup", "diff",   "report", "decals",  "ltc",    "cluster"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -1414,6 +1468,7 @@ int main(int argc, char** argv) {
     if (wanted("report")) bench_report(gpu, width, height);
     if (wanted("decals")) bench_decals(gpu, width, height, int(repeats));
     if (wanted("ltc")) bench_ltc();
+    if (wanted("cluster")) bench_cluster(gpu, cache, width, height, int(repeats));
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

@@ -62,6 +62,7 @@ std::string resource_label(const nlohmann::json& r) {
   if (r.at("format") == "BUFFER") return text + std::to_string(r.at("bytes").get<uint64_t>()) + " bytes";
   text += r.at("format").get<std::string>() + " " + std::to_string(r.at("width").get<int>()) + "x" +
           std::to_string(r.at("height").get<int>());
+  if (r.value("depth", 1) > 1) text += "x" + std::to_string(r.at("depth").get<int>());  // lights.clusters' slices
   if (r.at("mips") > 1) text += ", " + std::to_string(r.at("mips").get<int>()) + " mips";
   if (r.at("layers") > 1) text += ", " + std::to_string(r.at("layers").get<int>()) + " layers";
   return text;

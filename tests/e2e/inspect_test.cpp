@@ -3,6 +3,7 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -327,6 +328,49 @@ TEST_F(InspectTest, StatsOfLinearDepth) {
     for (const json& bin : c["histogram"]) binned += bin.get<uint64_t>();
     EXPECT_EQ(binned, count);
   }
+}
+
+// lights.clusters under a pixel: the froxel of the pixel's 32×32 tile at the slice its depth.linear
+// falls in (64 slices, exponential from znear to 2000 m, the last one to infinity), or at --slice,
+// and the light indices its (offset, count) select in lights.cluster_indices.
+TEST_F(InspectTest, FroxelUnderAPixelAndItsLightList) {
+  const PassRecord& pass = pass_named(frame0(), "lights.cluster");
+  const std::vector<uint8_t> clusters = capture_->load(output_named(pass, "lights.clusters"));
+  const std::vector<uint8_t> indices = capture_->load(output_named(pass, "lights.cluster_indices"));
+  const std::vector<uint8_t> linear =
+      capture_->load(output_named(pass_named(frame0(), "depth.convert"), "depth.linear"));
+  const double znear = frame0().camera.znear, far = std::max(2000.0, 2 * znear);
+  const uint32_t tiles_x = (320 + 31) / 32, tiles_y = (180 + 31) / 32;
+  const Inspected run = inspect(path_, "goto lights.cluster --json" + pixel_commands("lights.clusters") +
+                                           "; pixel 100 100 lights.clusters --slice 63 --json");
+  ASSERT_EQ(run.result.code, 0) << run.result.err;
+  ASSERT_EQ(run.objects.size(), kPixels.size() + 2);
+  auto list_at = [&](uint32_t tx, uint32_t ty, uint32_t slice) {
+    const uint64_t texel = (uint64_t(slice) * tiles_y + ty) * tiles_x + tx;
+    const uint32_t offset = word_at(clusters, 8 * texel), count = word_at(clusters, 8 * texel + 4);
+    std::vector<uint32_t> lights;
+    for (uint32_t k = 0; k < count; ++k) lights.push_back(word_at(indices, 4 * (uint64_t(offset) + k)));
+    return lights;
+  };
+  bool some_light = false;
+  for (size_t i = 0; i < kPixels.size(); ++i) {
+    const auto [x, y] = kPixels[i];
+    const json& d = run.objects[1 + i]["decoded"];
+    const double depth = float_at(linear, 4 * (uint64_t(y) * 320 + x));
+    const double k = std::floor(std::log2(depth / znear) / std::log2(far / znear) * 64);
+    const uint32_t slice = uint32_t(std::clamp(k, 0.0, 63.0));
+    EXPECT_EQ(d["depth_m"].get<double>(), depth);
+    EXPECT_EQ(d["froxel"], json::array({x / 32, y / 32, slice})) << x << "," << y;
+    const std::vector<uint32_t> expected = list_at(x / 32, y / 32, slice);
+    EXPECT_EQ(d["lights"].get<std::vector<uint32_t>>(), expected) << x << "," << y;
+    EXPECT_EQ(d["count"], expected.size());
+    some_light = some_light || !expected.empty();
+  }
+  EXPECT_TRUE(some_light) << "the pixels should fall in a lit froxel";
+  const json& sliced = run.objects.back()["decoded"];
+  EXPECT_EQ(sliced["froxel"], json::array({3, 3, 63}));
+  EXPECT_FALSE(sliced.contains("depth_m"));
+  EXPECT_EQ(sliced["lights"].get<std::vector<uint32_t>>(), list_at(3, 3, 63));
 }
 
 // Half-float denormals counted from the stored bits: the first frame's motion is tiny noise, much

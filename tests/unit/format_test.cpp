@@ -265,7 +265,7 @@ TEST(Format, QuietNanTexelIsNanInEveryChannelOfEachFloatColourFormat) {
 }
 
 TEST(Format, KindNamesRoundTrip) {
-  for (int k = 0; k <= int(ResourceKind::draw_list); ++k)
+  for (int k = 0; k <= int(ResourceKind::light_clusters); ++k)
     EXPECT_EQ(kind_by_name(kind_name(ResourceKind(k))), ResourceKind(k));
   EXPECT_FALSE(kind_by_name("colour "));
 }

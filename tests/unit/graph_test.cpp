@@ -278,18 +278,30 @@ TEST(Graph, ResolvesRelativeSizesAndMipChains) {
   ImageDecl like = image();
   like.size.mode = SizeRule::Mode::like;
   like.size.like = "pyramid";
+  ImageDecl tiles = image(VK_FORMAT_R32G32_UINT);
+  tiles.size.mode = SizeRule::Mode::output_tiles;
+  tiles.size.tile = 32;
+  tiles.depth = 64;
   passes.push_back(PassDecl("p", PassType::compute).write("pyramid", Use::storage_write, pyramid));
   passes.push_back(
       PassDecl("q", PassType::graphics).read("pyramid", Use::sampled).write("final.ldr", Use::color_attachment, like));
+  passes.push_back(PassDecl("t", PassType::compute).write("tiles", Use::storage_write, tiles));
   GraphSettings settings;
   settings.width = 1279;
   settings.height = 719;
+  settings.sinks = {"final.ldr", "tiles"};
   const CompiledGraph graph = compile_graph(passes, {}, settings);
   const ResourceDesc& p = graph.resources.at("pyramid");
   EXPECT_EQ(p.extent.width, 640u);
   EXPECT_EQ(p.extent.height, 360u);
   EXPECT_EQ(p.extent.mips, 10u);  // 640 → 1
   EXPECT_EQ(graph.resources.at("final.ldr").extent.width, 640u);
+  // One texel per 32×32 tile, the partial last column and row included.
+  const ResourceDesc& t = graph.resources.at("tiles");
+  EXPECT_EQ(t.extent.width, 40u);
+  EXPECT_EQ(t.extent.height, 23u);
+  EXPECT_EQ(t.extent.depth, 64u);
+  EXPECT_EQ(t.extent.mips, 1u);
 }
 
 TEST(Graph, DeclarationMistakesAreCaughtBeforeRunning) {

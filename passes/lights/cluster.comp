@@ -1,0 +1,296 @@
+#version 460
+// lights.cluster, in three phases of one pass (each a dispatch, ordered by the pass's storage
+// barrier); passes/lights/cluster_layout.h says how froxels divide the view.
+//   0: a workgroup per 32×32 tile, an invocation per depth slice: count the local lights whose
+//      bound reaches each froxel (stored in lights.clusters' second channel for phase 1);
+//   1: one workgroup turns the counts into offsets in froxel order (x, then y, then slice), each
+//      count capped at max_lights_per_froxel and the running total at max_indices, and writes
+//      lights.cluster_stats;
+//   2: per tile again, the same tests write each froxel's list (ascending light indices) at its
+//      offset, and the workgroups together zero the index buffer past the last entry.
+// Nothing depends on execution order (integer sums, no atomics on the lists): every run writes
+// the same bytes.
+//
+// The test (conservative; tests/reference/cluster_reference.h repeats it in double precision):
+// a light with a range reaches a froxel when its core — the point of a point or spot light (a
+// spot is bounded by its sphere, not its cone), the segment of a tube — lies within r' of the
+// froxel's view-space bounding box, and outside none of the tile's four side planes by more than
+// r', where r' = range + 2^-12 · (range + the farthest end's distance from the camera) pads the
+// float arithmetic. The froxel's depth range is its slice's clipped to the tile's [min, max]
+// linear depth from depth.pyramid (the level whose texel covers the tile), so a froxel between
+// or beyond the tile's surfaces is empty. A light of range 0 reaches every non-empty froxel;
+// directional lights are not clustered.
+#include "../frame/types.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
+layout(std430, set = 0, binding = 1) readonly buffer LightBlock { Light lights[]; };
+layout(set = 0, binding = 2) uniform sampler2D pyramid;
+layout(set = 0, binding = 3, rg32ui) uniform uimage3D clusters;
+layout(std430, set = 0, binding = 4) buffer IndexBlock { uint indices[]; };
+layout(std430, set = 0, binding = 5) buffer StatsBlock {
+  uint lights_local, froxels, froxels_lit, entries, entries_wanted, max_count, froxels_over_cap, dropped_over_cap,
+      froxels_cut, dropped_cut, per_froxel_cap, index_capacity;
+};
+
+layout(push_constant) uniform Params {
+  uint phase;
+  uint max_per_froxel;
+  uint max_indices;
+  int pyramid_level;  // the level of depth.pyramid whose texel covers a tile (or its last)
+  float max_distance;
+  uint tiles_x, tiles_y;
+};
+
+const uint kTile = 32u, kSlices = 64u;
+const uint kNone = 0u, kBounded = 1u, kEverywhere = 2u;
+
+// The chunk of 64 lights the workgroup tests together: view-space ends, padded range, reach; and
+// those that reach the tile at all, in ascending order.
+shared vec4 chunk_a[64];  // xyz: first end, w: r'
+shared vec3 chunk_b[64];  // second end (= first for point and spot lights)
+shared uint chunk_reach[64];
+shared uint chunk_tile[64];
+shared uint chunk_tile_count;
+
+uint add_saturated(uint a, uint b) { return a > 0xffffffffu - b ? 0xffffffffu : a + b; }
+
+// Per-axis offset of p from the box [lo, hi] (0 inside its slab).
+vec3 outside(vec3 p, vec3 lo, vec3 hi) { return p - clamp(p, lo, hi); }
+
+// Squared distance from the segment a + t·d, t in [0, 1], to the box [lo, hi]. The squared
+// offset is convex and piecewise quadratic in t; its derivative (up to 2) dot(outside, d) is
+// piecewise linear and non-decreasing, with kinks where the segment crosses a face plane. The
+// minimum lies where the derivative changes sign: between the last kink (or 0) where it is
+// ≤ 0 and the first (or 1) where it is ≥ 0 it is linear, so the root is interpolated there.
+float segment_box_distance2(vec3 a, vec3 d, vec3 lo, vec3 hi) {
+  float t_low = 0.0, t_high = 1.0;
+  float s_low = dot(outside(a, lo, hi), d), s_high = dot(outside(a + d, lo, hi), d);
+  float t = 0.0;
+  if (s_low >= 0.0) {
+    t = 0.0;
+  } else if (s_high <= 0.0) {
+    t = 1.0;
+  } else {
+    for (int axis = 0; axis < 3; ++axis) {
+      if (d[axis] == 0.0) continue;
+      for (int side = 0; side < 2; ++side) {
+        float c = ((side == 0 ? lo[axis] : hi[axis]) - a[axis]) / d[axis];
+        if (!(c > 0.0 && c < 1.0)) continue;
+        float s = dot(outside(a + c * d, lo, hi), d);
+        if (s <= 0.0 && c > t_low) {
+          t_low = c;
+          s_low = s;
+        }
+        if (s >= 0.0 && c < t_high) {
+          t_high = c;
+          s_high = s;
+        }
+      }
+    }
+    t = s_high > s_low ? t_low + (t_high - t_low) * (-s_low / (s_high - s_low)) : t_low;
+  }
+  vec3 e = outside(a + t * d, lo, hi);
+  return dot(e, e);
+}
+
+// The view-space box of the tile's cell between linear depths near and far (view looks down −z).
+void cell_box(vec4 extent, float near, float far, out vec3 lo, out vec3 hi) {
+  vec4 at_near = extent * near, at_far = extent * far;
+  lo = vec3(min(at_near.x, at_far.x), min(at_near.y, at_far.y), -far);
+  hi = vec3(max(at_near.z, at_far.z), max(at_near.w, at_far.w), -near);
+}
+
+bool reaches(uint j, vec3 lo, vec3 hi) {
+  if (chunk_reach[j] == kEverywhere) return true;
+  vec4 a = chunk_a[j];
+  return segment_box_distance2(a.xyz, chunk_b[j] - a.xyz, lo, hi) <= a.w * a.w;
+}
+
+// Phases 0 and 2: the lights reaching each froxel of this invocation's tile and slice, counted
+// (phase 0) or written (phase 2) in ascending order.
+void build_lists() {
+  uvec2 tile = gl_WorkGroupID.xy;
+  uint slice = gl_LocalInvocationID.x;
+  ivec2 level_size = textureSize(pyramid, pyramid_level);
+  vec2 depth_range = texelFetch(pyramid, min(ivec2(tile), level_size - 1), pyramid_level).rg;
+
+  float znear = frame.projection_params.x;
+  float far = max(max_distance, 2.0 * znear);
+  float step = log2(far / znear) / float(kSlices);
+  float near = slice == 0u ? 0.0 : znear * exp2(float(slice) * step);
+  float deep = slice == kSlices - 1u ? 3.0e38 : znear * exp2(float(slice + 1u) * step);
+  near = max(near, depth_range.x);
+  deep = min(deep, depth_range.y);
+  bool occupied = near <= deep;
+
+  // Lateral extent per metre of depth: x in [extent.x, extent.z]·d, y in [extent.y, extent.w]·d.
+  vec2 first = vec2(tile * kTile), last = min(vec2((tile + 1u) * kTile), frame.viewport.xy);
+  vec2 ndc0 = first / frame.viewport.xy * 2.0 - 1.0, ndc1 = last / frame.viewport.xy * 2.0 - 1.0;
+  float sx = 1.0 / frame.projection[0][0], sy = -1.0 / frame.projection[1][1];
+  vec4 extent = vec4(ndc0.x * sx, -ndc1.y * sy, ndc1.x * sx, -ndc0.y * sy);
+  // The tile's side planes through the camera, normals inward.
+  vec3 planes[4] = vec3[4](normalize(vec3(1.0, 0.0, extent.x)), normalize(vec3(0.0, 1.0, extent.y)),
+                           normalize(vec3(-1.0, 0.0, -extent.z)), normalize(vec3(0.0, -1.0, -extent.w)));
+  vec3 tile_lo, tile_hi, lo, hi;
+  cell_box(extent, depth_range.x, depth_range.y, tile_lo, tile_hi);
+  cell_box(extent, near, deep, lo, hi);
+
+  uint offset = 0u, stored = 0u;
+  if (phase == 2u) {
+    uvec2 list = imageLoad(clusters, ivec3(tile, slice)).xy;
+    offset = list.x;
+    stored = list.y;
+  }
+  uint count = 0u;
+  uint light_count = frame.counts.x;
+  mat3 view = mat3(frame.view);
+  for (uint base = 0u; base < light_count; base += 64u) {
+    // Each invocation classifies one light of the chunk against the whole tile.
+    uint i = base + gl_LocalInvocationID.x;
+    uint reach = kNone;
+    vec3 a = vec3(0.0), b = vec3(0.0);
+    float r = 0.0;
+    if (i < light_count && uint(lights[i].position_type.w) != LIGHT_DIRECTIONAL) {
+      Light light = lights[i];
+      float range = light.color_range.w;
+      if (range <= 0.0) {
+        reach = kEverywhere;
+      } else {
+        a = view * light.position_type.xyz;
+        b = uint(light.position_type.w) == LIGHT_TUBE ? view * light.end_radius.xyz : a;
+        r = range + exp2(-12.0) * (range + max(length(a), length(b)));
+        reach = kBounded;
+        for (int p = 0; p < 4; ++p)
+          if (max(dot(planes[p], a), dot(planes[p], b)) < -r) reach = kNone;
+        if (reach == kBounded && segment_box_distance2(a, b - a, tile_lo, tile_hi) > r * r) reach = kNone;
+      }
+    }
+    chunk_a[gl_LocalInvocationID.x] = vec4(a, r);
+    chunk_b[gl_LocalInvocationID.x] = b;
+    chunk_reach[gl_LocalInvocationID.x] = reach;
+    barrier();
+    // Most lights miss most tiles: each slice then tests only those that reach the tile.
+    if (gl_LocalInvocationID.x == 0u) {
+      uint n = 0u;
+      for (uint j = 0u; j < 64u; ++j)
+        if (chunk_reach[j] != kNone) chunk_tile[n++] = j;
+      chunk_tile_count = n;
+    }
+    barrier();
+    if (occupied) {
+      for (uint c = 0u; c < chunk_tile_count; ++c) {
+        uint j = chunk_tile[c];
+        if (!reaches(j, lo, hi)) continue;
+        if (phase == 2u && count < stored) indices[offset + count] = base + j;
+        ++count;
+      }
+    }
+    barrier();
+  }
+  if (phase == 0u) imageStore(clusters, ivec3(tile, slice), uvec4(0u, count, 0u, 0u));
+}
+
+// Phase 1: offsets from the counts, in one workgroup (each invocation a run of froxels), and the
+// statistics.
+shared uint run_entries[64], run_wanted[64], run_lit[64], run_max[64], run_over[64], run_dropped[64];
+shared uint run_cut[64], run_cut_entries[64], run_lights[64];
+
+uvec3 froxel_texel(uint f) {
+  return uvec3(f % tiles_x, (f / tiles_x) % tiles_y, f / (tiles_x * tiles_y));
+}
+
+void place_lists() {
+  uint lane = gl_LocalInvocationID.x;
+  uint total = tiles_x * tiles_y * kSlices;
+  uint per_run = (total + 63u) / 64u;
+  uint begin = min(lane * per_run, total), end = min(begin + per_run, total);
+  uint capped = 0u, wanted = 0u, lit = 0u, longest = 0u, over = 0u, dropped = 0u;
+  for (uint f = begin; f < end; ++f) {
+    uint count = imageLoad(clusters, ivec3(froxel_texel(f))).y;
+    capped = add_saturated(capped, min(count, max_per_froxel));
+    wanted = add_saturated(wanted, count);
+    longest = max(longest, count);
+    if (count > 0u) ++lit;
+    if (count > max_per_froxel) {
+      ++over;
+      dropped = add_saturated(dropped, count - max_per_froxel);
+    }
+  }
+  run_entries[lane] = capped;
+  barrier();
+  uint start = 0u;
+  for (uint k = 0u; k < lane; ++k) start = add_saturated(start, run_entries[k]);
+  uint stored = 0u, cut = 0u, cut_entries = 0u;
+  for (uint f = begin; f < end; ++f) {
+    ivec3 texel = ivec3(froxel_texel(f));
+    uint count = min(imageLoad(clusters, texel).y, max_per_froxel);
+    uint at = min(start, max_indices);
+    uint kept = min(count, max_indices - at);
+    stored += kept;
+    if (kept < count) {
+      ++cut;
+      cut_entries = add_saturated(cut_entries, count - kept);
+    }
+    imageStore(clusters, texel, uvec4(at, kept, 0u, 0u));
+    start = add_saturated(start, count);
+  }
+  // Local lights, counted by the same invocations.
+  uint local_lights = 0u;
+  for (uint i = lane; i < frame.counts.x; i += 64u)
+    if (uint(lights[i].position_type.w) != LIGHT_DIRECTIONAL) ++local_lights;
+  barrier();
+  run_entries[lane] = stored;
+  run_wanted[lane] = wanted;
+  run_lit[lane] = lit;
+  run_max[lane] = longest;
+  run_over[lane] = over;
+  run_dropped[lane] = dropped;
+  run_cut[lane] = cut;
+  run_cut_entries[lane] = cut_entries;
+  run_lights[lane] = local_lights;
+  barrier();
+  if (lane != 0u) return;
+  uint sums[9] = uint[9](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+  for (uint k = 0u; k < 64u; ++k) {
+    sums[0] += run_entries[k];
+    sums[1] = add_saturated(sums[1], run_wanted[k]);
+    sums[2] += run_lit[k];
+    sums[3] = max(sums[3], run_max[k]);
+    sums[4] += run_over[k];
+    sums[5] = add_saturated(sums[5], run_dropped[k]);
+    sums[6] += run_cut[k];
+    sums[7] = add_saturated(sums[7], run_cut_entries[k]);
+    sums[8] += run_lights[k];
+  }
+  lights_local = sums[8];
+  froxels = total;
+  froxels_lit = sums[2];
+  entries = sums[0];
+  entries_wanted = sums[1];
+  max_count = sums[3];
+  froxels_over_cap = sums[4];
+  dropped_over_cap = sums[5];
+  froxels_cut = sums[6];
+  dropped_cut = sums[7];
+  per_froxel_cap = max_per_froxel;
+  index_capacity = max_indices;
+}
+
+// Phase 2, besides the lists: the entries past the last one are zero, so the buffer is defined.
+void zero_tail() {
+  uint groups = tiles_x * tiles_y;
+  uint group = gl_WorkGroupID.y * tiles_x + gl_WorkGroupID.x;
+  for (uint i = entries + group * 64u + gl_LocalInvocationID.x; i < indices.length(); i += groups * 64u)
+    indices[i] = 0u;
+}
+
+void main() {
+  if (phase == 1u) {
+    place_lists();
+    return;
+  }
+  if (phase == 2u) zero_tail();
+  build_lists();
+}

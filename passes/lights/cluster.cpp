@@ -1,0 +1,126 @@
+// lights.cluster (frame.md section 4): per froxel — a 32×32-pixel tile × one of 64 exponential
+// depth slices (passes/lights/cluster_layout.h) — the list of frame.lights' local lights whose
+// bound reaches it, built on the GPU from the light list and depth.pyramid's min/max depth per
+// tile (cluster.comp states the test). Outputs: lights.clusters (offset and count per froxel),
+// lights.cluster_indices (the lists, one after another) and lights.cluster_stats. A froxel keeps
+// at most max_lights_per_froxel lights (those of lowest index) and all lists together at most
+// max_indices; what the caps drop is counted in lights.cluster_stats and reported on stderr
+// after the frame (warn_from). The lists are the same on every run (no order-dependent
+// atomics), so every output compares exactly. Skipped when the scene has no local light.
+#include <algorithm>
+#include <bit>
+#include <cstring>
+#include <sstream>
+
+#include "passes/core/context.h"
+#include "passes/frame/frame_passes.h"
+#include "passes/frame/gpu_types.h"
+#include "passes/lights/cluster_layout.h"
+
+namespace nightcap {
+namespace {
+
+struct ClusterConstants {
+  uint32_t phase, max_per_froxel, max_indices;
+  int32_t pyramid_level;
+  float max_distance;
+  uint32_t tiles_x, tiles_y;
+};
+
+// What the caps cut, in one line; "" when nothing was.
+std::string overflow_warning(std::span<const uint8_t> bytes) {
+  GpuClusterStats s{};
+  if (bytes.size() < sizeof(s)) return "";
+  std::memcpy(&s, bytes.data(), sizeof(s));
+  std::ostringstream out;
+  if (s.froxels_over_cap > 0)
+    out << s.froxels_over_cap << " froxels over the cap of " << s.per_froxel_cap << " lights (the longest list "
+        << s.max_count << "), " << s.dropped_over_cap << " entries dropped";
+  if (s.froxels_cut > 0)
+    out << (s.froxels_over_cap > 0 ? "; " : "") << s.froxels_cut << " froxels cut at the capacity of "
+        << s.index_capacity << " entries, " << s.dropped_cut << " entries dropped";
+  return out.str();
+}
+
+}  // namespace
+
+BufferSchema cluster_stats_schema() {
+  using S = GpuClusterStats;
+  return BufferSchema::of<S>()
+      .field("lights", &S::lights)
+      .field("froxels", &S::froxels)
+      .field("froxels_lit", &S::froxels_lit)
+      .field("entries", &S::entries)
+      .field("entries_wanted", &S::entries_wanted)
+      .field("max_count", &S::max_count)
+      .field("froxels_over_cap", &S::froxels_over_cap)
+      .field("dropped_over_cap", &S::dropped_over_cap)
+      .field("froxels_cut", &S::froxels_cut)
+      .field("dropped_cut", &S::dropped_cut)
+      .field("per_froxel_cap", &S::per_froxel_cap)
+      .field("index_capacity", &S::index_capacity);
+}
+
+BufferSchema cluster_index_schema() {
+  struct Entry {
+    uint32_t light;
+  };
+  return BufferSchema::of<Entry>().field("light", &Entry::light);
+}
+
+PassDecl lights_cluster_pass() {
+  ImageDecl clusters{VK_FORMAT_R32G32_UINT, ResourceKind::light_clusters};
+  clusters.size.mode = SizeRule::Mode::output_tiles;
+  clusters.size.tile = kClusterTile;
+  clusters.depth = kClusterSlices;
+  return PassDecl("lights.cluster", PassType::compute)
+      .read("frame.constants", Use::uniform_buffer)
+      .read("frame.lights", Use::storage_read)
+      .read("depth.pyramid", Use::sampled)
+      .write("lights.clusters", Use::storage_write, clusters)
+      .write("lights.cluster_indices", Use::storage_write,
+             BufferDecl{ResourceKind::buffer, uint64_t(kClusterIndexCapacity) * 4})
+      .write("lights.cluster_stats", Use::storage_write, BufferDecl{ResourceKind::buffer, sizeof(GpuClusterStats)})
+      .layout("lights.cluster_indices", cluster_index_schema())
+      .layout("lights.cluster_stats", cluster_stats_schema())
+      .needs("local_lights")
+      .param("max_distance", 2000.0, 1.0, 1e6,
+             "metres where the last of the 64 exponential depth slices starts; it reaches to infinity")
+      .param("max_lights_per_froxel", 256, 1, 4096, "longest list a froxel keeps (the lights of lowest index)")
+      .param("max_indices", kClusterIndexCapacity, 0, kClusterIndexCapacity,
+             "entries all lists together keep; froxels past it in froxel order (farthest slice last) are cut")
+      .warn_from("lights.cluster_stats", overflow_warning)
+      .push_constants<ClusterConstants>()
+      .shader("lights/cluster.comp")
+      .run([](PassContext& ctx) {
+        const ImageExtent tiles = ctx.desc("lights.clusters").extent;
+        const uint32_t levels = ctx.desc("depth.pyramid").extent.mips;
+        // Level 0 is half resolution: level L's texel covers 2^(L+1) pixels, a tile at L = 4.
+        const uint32_t tile_level = std::bit_width(kClusterTile) - 2;
+        ClusterConstants constants{0,
+                                   uint32_t(ctx.param("max_lights_per_froxel")),
+                                   uint32_t(ctx.param("max_indices")),
+                                   int32_t(std::min(tile_level, levels - 1)),
+                                   float(ctx.param("max_distance")),
+                                   tiles.width,
+                                   tiles.height};
+        ctx.bind_pipeline();
+        ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
+                  Binding::storage(ctx.slot("frame.lights"), "frame.lights"),
+                  Binding::texture(ctx.slot("depth.pyramid"), "depth.pyramid", ctx.nearest_clamp()),
+                  Binding::image(ctx.slot("lights.clusters"), "lights.clusters", 0),
+                  Binding::storage(ctx.slot("lights.cluster_indices"), "lights.cluster_indices"),
+                  Binding::storage(ctx.slot("lights.cluster_stats"), "lights.cluster_stats")});
+        for (uint32_t phase = 0; phase < 3; ++phase) {
+          constants.phase = phase;
+          ctx.push_constants(constants);
+          if (phase == 1)
+            vkCmdDispatch(ctx.cmd(), 1, 1, 1);
+          else
+            vkCmdDispatch(ctx.cmd(), tiles.width, tiles.height, 1);
+          if (phase < 2) ctx.storage_barrier();
+        }
+      });
+}
+
+}  // namespace nightcap

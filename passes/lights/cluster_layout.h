@@ -1,0 +1,51 @@
+// How lights.cluster divides the view and lays out its lists, for the pass, its shader
+// (passes/lights/cluster.comp), the debugger and the tests. A froxel is a 32×32-pixel screen tile
+// times one of 64 depth slices spaced exponentially from the near plane to `max_distance`
+// (lights.cluster's parameter), the last slice reaching to infinity:
+//   slice k covers linear depth [z_k, z_(k+1)), z_k = znear · (far / znear)^(k / 64),
+//   far = max(max_distance, 2 · znear), z_0 = 0 and z_64 = ∞ (nothing lies nearer than znear).
+// lights.clusters (R32G32_UINT, tiles_x × tiles_y × 64) holds each froxel's (offset, count) into
+// lights.cluster_indices, whose entries are indices into frame.lights, ascending in each froxel.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "passes/core/buffer_schema.h"
+
+namespace nightcap {
+
+constexpr uint32_t kClusterTile = 32;    // pixels on a side of a tile
+constexpr uint32_t kClusterSlices = 64;  // depth slices
+// Entries lights.cluster_indices holds (4 MiB): about 18 per froxel at 1280×720, 2 at 3840×2160.
+constexpr uint32_t kClusterIndexCapacity = 1u << 20;
+
+// lights.cluster_stats: what the lists hold and what the caps cut. Sums saturate at 2^32 − 1.
+struct GpuClusterStats {
+  uint32_t lights;            // local lights of frame.lights (point, spot, tube)
+  uint32_t froxels;           // tiles_x · tiles_y · 64
+  uint32_t froxels_lit;       // froxels that at least one light reaches
+  uint32_t entries;           // indices stored
+  uint32_t entries_wanted;    // indices the lists would hold without caps
+  uint32_t max_count;         // the longest list, before the caps
+  uint32_t froxels_over_cap;  // froxels with more lights than max_lights_per_froxel
+  uint32_t dropped_over_cap;  // entries those lost (the lights of highest index)
+  uint32_t froxels_cut;       // froxels that lost entries to the index capacity (the last in
+  uint32_t dropped_cut;       // froxel order: farthest slice first), and the entries they lost
+  uint32_t per_froxel_cap;    // the limits applied
+  uint32_t index_capacity;
+};
+static_assert(sizeof(GpuClusterStats) == 48);
+
+BufferSchema cluster_stats_schema();
+BufferSchema cluster_index_schema();
+
+// The slice of a linear depth (metres), as lighting finds a pixel's froxel.
+inline uint32_t cluster_slice(double depth, double znear, double max_distance) {
+  const double far = std::max(max_distance, 2.0 * znear);
+  const double k = std::floor(std::log2(depth / znear) / std::log2(far / znear) * kClusterSlices);
+  return uint32_t(std::clamp(k, 0.0, double(kClusterSlices - 1)));
+}
+
+}  // namespace nightcap
