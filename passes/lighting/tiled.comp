@@ -171,67 +171,70 @@ float sphere_illuminance(float cos_theta, float sin2_sigma) {
 }
 
 struct Surface {
-  vec3 position, n, v, albedo;
+  vec3 position, n, v, albedo, f0;
   float metallic, roughness, alpha;
 };
 
-// The LTC lobe of a surface, looked up once per pixel when its first tube or sphere needs it.
+// The surface's LTC lobe: its frame, the view in it, M⁻¹ and the magnitudes (norm, fresnel).
 struct Lobe {
-  bool ready;
   mat3 frame;
   vec3 v;
   vec4 minv;
   vec2 magnitude;
 };
 
-void prepare(inout Lobe lobe, Surface s) {
-  if (lobe.ready) return;
-  lobe.ready = true;
+Lobe lobe_of(Surface s) {
+  Lobe lobe;
   lobe.frame = ltc_frame(s.n, s.v);
   lobe.v = lobe.frame * s.v;
   ltc_lookup(ltc_inverse, ltc_magnitude, s.roughness, clamp(dot(s.n, s.v), 0.0, 1.0), lobe.minv, lobe.magnitude);
+  return lobe;
 }
 
-void shade_local(Light light, Surface s, inout Lobe lobe, inout vec3 diffuse, inout vec3 specular) {
-  uint type = uint(light.position_type.w);
+// Each kind of light has its own function and its own loop in shade_tiles(): lavapipe runs both
+// sides of a branch, so shading kinds apart keeps a point light from paying for a tube's LTC.
+void shade_punctual(Light light, Surface s, inout vec3 diffuse, inout vec3 specular) {
   vec3 radiance = light.color_range.rgb * intensity_scale;
   float range = light.color_range.w;
-  vec3 f0 = mix(vec3(0.04), s.albedo, s.metallic);
-  if (type == LIGHT_TUBE) {
-    // A line light of `radiance` candela per metre.
-    vec3 a = light.position_type.xyz - s.position, b = light.end_radius.xyz - s.position;
-    vec3 ab = b - a;
-    vec3 nearest = a + ab * clamp(-dot(a, ab) / max(dot(ab, ab), 1e-8), 0.0, 1.0);
-    if (range > 0.0 && dot(nearest, nearest) >= range * range) return;
-    prepare(lobe, s);
-    vec3 t = ltc_tube(lobe.minv, lobe.magnitude.x, lobe.v, lobe.frame * a, lobe.frame * b, light.end_radius.w, range);
-    diffuse += s.albedo * (1.0 - s.metallic) * radiance * t.z;
-    specular += (f0 * t.x + (1.0 - f0) * t.y) * radiance;
-    return;
-  }
   vec3 to_light = light.position_type.xyz - s.position;
   float d2 = max(dot(to_light, to_light), 1e-8);
   if (range > 0.0 && d2 >= range * range) return;
   float d = sqrt(d2);
   vec3 l = to_light / d;
-  float radius = light.end_radius.w;
-  if (type == LIGHT_POINT && radius > 0.0) {
-    // A sphere of `radiance` candela seen from any side: radiance / (π r²) per unit area.
-    float window = ltc_range_window(d, range);
-    if (window <= 0.0) return;
-    vec3 unit = radiance * (window / (PI * radius * radius));
-    float e = sphere_illuminance(dot(s.n, l), min(radius * radius / d2, 1.0));
-    diffuse += s.albedo * (1.0 - s.metallic) * (1.0 / PI) * e * unit;
-    prepare(lobe, s);
-    vec2 lit = ltc_sphere(lobe.minv, lobe.magnitude, lobe.v, lobe.frame * to_light, radius);
-    specular += (f0 * lit.x + (1.0 - f0) * lit.y) * unit;
-    return;
-  }
   float attenuation = ltc_range_window(d, range) / d2;
-  if (type == LIGHT_SPOT) attenuation *= spot_factor(light, l);
+  if (uint(light.position_type.w) == LIGHT_SPOT) attenuation *= spot_factor(light, l);
   if (attenuation <= 0.0) return;
   diffuse += diffuse_term(s.n, l, radiance * attenuation, s.albedo, s.metallic);
   specular += specular_term(s.n, s.v, l, radiance * attenuation, s.albedo, s.metallic, s.alpha);
+}
+
+// A sphere of `radiance` candela seen from any side: radiance / (π r²) per unit area.
+void shade_sphere(Light light, Surface s, Lobe lobe, inout vec3 diffuse, inout vec3 specular) {
+  float range = light.color_range.w, radius = light.end_radius.w;
+  vec3 to_light = light.position_type.xyz - s.position;
+  float d2 = max(dot(to_light, to_light), 1e-8);
+  if (range > 0.0 && d2 >= range * range) return;
+  float d = sqrt(d2);
+  float window = ltc_range_window(d, range);
+  if (window <= 0.0) return;
+  vec3 unit = light.color_range.rgb * intensity_scale * (window / (PI * radius * radius));
+  float e = sphere_illuminance(dot(s.n, to_light / d), min(radius * radius / d2, 1.0));
+  diffuse += s.albedo * (1.0 - s.metallic) * (1.0 / PI) * e * unit;
+  vec2 lit = ltc_sphere(lobe.minv, lobe.magnitude, lobe.v, lobe.frame * to_light, radius);
+  specular += (s.f0 * lit.x + (1.0 - s.f0) * lit.y) * unit;
+}
+
+// A line light of `radiance` candela per metre.
+void shade_tube(Light light, Surface s, Lobe lobe, inout vec3 diffuse, inout vec3 specular) {
+  vec3 radiance = light.color_range.rgb * intensity_scale;
+  float range = light.color_range.w;
+  vec3 a = light.position_type.xyz - s.position, b = light.end_radius.xyz - s.position;
+  vec3 ab = b - a;
+  vec3 nearest = a + ab * clamp(-dot(a, ab) / max(dot(ab, ab), 1e-8), 0.0, 1.0);
+  if (range > 0.0 && dot(nearest, nearest) >= range * range) return;
+  vec3 t = ltc_tube(lobe.minv, lobe.magnitude.x, lobe.v, lobe.frame * a, lobe.frame * b, light.end_radius.w, range);
+  diffuse += s.albedo * (1.0 - s.metallic) * radiance * t.z;
+  specular += (s.f0 * t.x + (1.0 - s.f0) * t.y) * radiance;
 }
 
 void shade_tiles(uint tile_class) {
@@ -259,8 +262,7 @@ void shade_tiles(uint tile_class) {
   s.metallic = material.r;
   s.roughness = max(material.g, min_roughness);
   s.alpha = s.roughness * s.roughness;
-  Lobe lobe;
-  lobe.ready = false;
+  s.f0 = mix(vec3(0.04), s.albedo, s.metallic);
 
   vec3 diffuse = vec3(0.0), specular = vec3(0.0);
   if (frame.sun_direction.w > 0.0) {
@@ -282,7 +284,22 @@ void shade_tiles(uint tile_class) {
   if (tile_class == 2u) {
     uint slice = pixel_slice(texelFetch(linear_depth_map, pixel, 0).r);
     uvec2 list = texelFetch(clusters, ivec3(uvec2(pixel) / kClusterTile, slice), 0).xy;
-    for (uint k = 0u; k < list.y; ++k) shade_local(lights[cluster_indices[list.x + k]], s, lobe, diffuse, specular);
+    // A list ascends, so it holds its point and spot lights, then its spheres, then its tubes.
+    uint k = 0u;
+    for (; k < list.y; ++k) {
+      uint i = cluster_indices[list.x + k];
+      if (i >= frame.light_groups.y) break;
+      shade_punctual(lights[i], s, diffuse, specular);
+    }
+    if (k < list.y) {
+      Lobe lobe = lobe_of(s);
+      for (; k < list.y; ++k) {
+        uint i = cluster_indices[list.x + k];
+        if (i >= frame.light_groups.z) break;
+        shade_sphere(lights[i], s, lobe, diffuse, specular);
+      }
+      for (; k < list.y; ++k) shade_tube(lights[cluster_indices[list.x + k]], s, lobe, diffuse, specular);
+    }
   }
   imageStore(diffuse_out, pixel, vec4(nearest_half(diffuse), 1.0));
   imageStore(specular_out, pixel, vec4(nearest_half(specular), 1.0));

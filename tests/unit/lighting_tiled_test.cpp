@@ -495,13 +495,17 @@ std::optional<CapIntegral> cap_integral(const ref::Surface& s, const dvec3& cent
 // over each sphere's cap. Diffuse: the closed form of the horizon-cut sphere (Snyder) to 2⁻⁸
 // relative; specular (LTC): measured as the tubes' are.
 TEST_F(LightingTiled, CitySpheresAgainstTheCapIntegrals) {
-  const Recorded r = render(city());
+  // In the scene, not in the recorded list: frame.constants groups frame.lights by kind.
+  Scene scene = city();
+  for (Light& l : scene.lights)
+    if (l.type == LightType::point) l.radius = 0.25f;
+  const Recorded r = render(scene);
   Frame f = decode(r.inputs);
   std::vector<GpuLight> lights = f.lights;
   size_t spheres = 0;
   for (GpuLight& l : lights) {
     if (uint32_t(l.position_type.w) == uint32_t(LightType::point)) {
-      l.end_radius.w = 0.25f;
+      EXPECT_EQ(l.end_radius.w, 0.25f);
       ++spheres;
     } else {
       l.color_range = glm::vec4(0, 0, 0, l.color_range.w);
