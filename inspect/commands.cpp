@@ -799,8 +799,10 @@ class Runner {
       for (const NonFiniteTexel& t : births.first) {
         ojson values = ojson::array(), inputs = ojson::array();
         for (double v : t.values) values.push_back(number_or_name(v));
+        // A lookup table is indexed by what the pass computes, not laid over the screen.
         for (const ResourceRecord& in : pass.inputs)
-          if (!in.is_buffer) inputs.push_back(reading_json(in, frame, t.pixel_x, t.pixel_y, {}));
+          if (!in.is_buffer && in.kind != ResourceKind::lookup_table)
+            inputs.push_back(reading_json(in, frame, t.pixel_x, t.pixel_y, {}));
         ojson texel = {{"pixel", {t.pixel_x, t.pixel_y}}, {"texel", {t.x, t.y}}, {"mip", t.mip}, {"layer", t.layer}};
         if (births.resource->extent.depth > 1) texel["slice"] = t.slice;
         texel["values"] = values;

@@ -151,7 +151,7 @@ bool ReplayReport::any_different() const {
 
 ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const ReplayOptions& options) {
   const FrameRecord& frame = capture.frame(options.frame);
-  const std::vector<PassDecl> passes = frame_passes();
+  const std::vector<PassDecl> passes = all_passes();
   validate_params(passes, options.params);
   for (const std::string& name : options.passes) {
     bool found = false;
@@ -229,7 +229,7 @@ PassReplay replay_across(GpuDevice& gpu, const Capture& a, const Capture& b, uin
     if (p.name == pass) record_b = &p;
   PassReplay result;
   result.name = pass;
-  const std::vector<PassDecl> passes = frame_passes();
+  const std::vector<PassDecl> passes = all_passes();
   const PassDecl* decl = find_pass(passes, pass);
   if (!record_a || !record_b || !record_a->ran || !record_b->ran)
     result.reason = "not run by both captures";

@@ -37,9 +37,13 @@ VkBuffer PassContext::indirect_args(const std::string& resource, uint64_t offset
   const bool declared = std::any_of(pass_.inputs.begin(), pass_.inputs.end(), [&](const BoundUse& u) {
     return u.resource == resource && u.use == Use::indirect_args;
   });
-  if (!declared)
+  // Arguments the pass computed itself reach the indirect read through its storage_barrier().
+  const bool own = std::any_of(pass_.outputs.begin(), pass_.outputs.end(), [&](const BoundUse& u) {
+    return u.resource == resource && u.use == Use::storage_write && u.desc.is_buffer;
+  });
+  if (!declared && !own)
     throw GraphError(pass() + ": takes indirect arguments from '" + resource +
-                     "' without declaring it as Use::indirect_args");
+                     "' without declaring it as Use::indirect_args or writing it as a storage buffer");
   const uint64_t size = desc(resource).buffer_size;
   if (offset > size || bytes > size - offset)
     throw GraphError(pass() + ": indirect arguments at bytes " + std::to_string(offset) + "+" + std::to_string(bytes) +
@@ -293,9 +297,13 @@ void PassContext::end_rendering() { vkCmdEndRendering(cmd()); }
 
 void PassContext::storage_barrier() {
   auto barrier = vk_struct<VkMemoryBarrier2>(VK_STRUCTURE_TYPE_MEMORY_BARRIER_2);
-  barrier.srcStageMask = barrier.dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+  // The indirect stage on both sides: a dispatch after an indirect one may write the buffer its
+  // arguments came from (a storage binding that is not readonly counts as written).
+  barrier.srcStageMask = barrier.dstStageMask =
+      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT;
   barrier.srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-  barrier.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT;
+  barrier.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT |
+                          VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT;
   auto dep = vk_struct<VkDependencyInfo>(VK_STRUCTURE_TYPE_DEPENDENCY_INFO);
   dep.memoryBarrierCount = 1;
   dep.pMemoryBarriers = &barrier;

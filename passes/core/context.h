@@ -109,10 +109,12 @@ class PassContext {
   // The declared colour attachments in declaration order and the declared depth attachment.
   void begin_rendering();
   void end_rendering();
-  // Orders this pass's own storage writes before its next reads (e.g. between mip levels).
+  // Orders this pass's own storage writes before its next reads (e.g. between mip levels),
+  // indirect arguments it wrote included.
   void storage_barrier();
   // Draws and dispatches whose arguments a GPU pass computed: `resource` must be declared as
-  // Use::indirect_args, so the graph's barrier makes the arguments visible to the indirect read.
+  // Use::indirect_args, so the graph's barrier makes the arguments visible to the indirect read,
+  // or be a buffer this pass writes as storage, made visible by its own storage_barrier().
   void dispatch_indirect(const std::string& resource, uint64_t offset = 0);
   void draw_indexed_indirect(const std::string& resource, uint64_t offset, uint32_t count, uint32_t stride);
 

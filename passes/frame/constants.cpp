@@ -1,6 +1,7 @@
 // frame.constants (CPU): the camera and lights turned into the per-frame constants and the
 // camera-relative light list every shading pass reads. Doubles in, floats out, so world
 // coordinates of thousands of metres lose nothing before the subtraction.
+#include <algorithm>
 #include <cstring>
 
 #include "passes/core/context.h"
@@ -81,7 +82,21 @@ void build_constants(PassContext& ctx) {
     g.cos_inner = glm::vec4(std::cos(l.inner_cone), 0, 0, 0);
     list.push_back(g);
   }
+  // Grouped so that a shader loops over each kind of light apart: lavapipe runs both sides of a
+  // branch, so one loop over mixed kinds pays for the costliest kind at every light.
+  auto group = [](const GpuLight& g) {
+    const uint32_t type = uint32_t(g.position_type.w);
+    if (type == uint32_t(LightType::directional)) return 0;
+    if (type == uint32_t(LightType::tube)) return 3;
+    return type == uint32_t(LightType::point) && g.end_radius.w > 0 ? 2 : 1;
+  };
+  std::stable_sort(list.begin(), list.end(), [&](const GpuLight& a, const GpuLight& b) { return group(a) < group(b); });
+  uint32_t first[4] = {};
+  for (int k = 1; k < 4; ++k)
+    first[k] = uint32_t(std::find_if(list.begin(), list.end(), [&](const GpuLight& g) { return group(g) >= k; }) -
+                        list.begin());
   c.counts = {uint32_t(list.size()), camera.frame_index, camera.cut, dropped};
+  c.light_groups = {first[1], first[2], first[3], 0};
 
   auto& constants = ctx.output("frame.constants");
   constants.resize(sizeof(c));

@@ -6,12 +6,19 @@
 
 namespace nightcap {
 
+// Which pass lights the frame. Both write lighting.diffuse and lighting.specular, so a frame has
+// one: lighting.tiled shades each pixel's froxel list of lights.cluster; lighting.deferred every
+// light at every pixel, kept as the benchmark's and the tests' baseline.
+enum class FrameLighting { tiled, deferred };
+
 // Every pass of the frame, in frame order (the graph sorts them by their dependencies).
-std::vector<PassDecl> frame_passes();
+std::vector<PassDecl> frame_passes(FrameLighting lighting = FrameLighting::tiled);
+// Every pass a frame of either lighting runs: where replay finds a recorded pass's declaration.
+std::vector<PassDecl> all_passes();
 
 // What the frame must produce: the displayed image, and the depth-summary and light-list
-// resources whose consumers (tiled lighting, SSR, AO, TAA) have not landed yet, so they are
-// rendered and recorded.
+// resources whose consumers (SSR, AO, TAA) have not landed yet, so they are rendered and
+// recorded.
 std::vector<std::string> frame_sinks();
 
 PassDecl frame_constants_pass();
@@ -28,6 +35,8 @@ PassDecl normals_bfn_lut_pass();
 PassDecl normals_pack_pass();
 PassDecl depth_pyramid_pass();
 PassDecl lights_cluster_pass();
+PassDecl lighting_ltc_table_pass();
+PassDecl lighting_tiled_pass();
 PassDecl lighting_deferred_pass();
 PassDecl lighting_composite_pass();
 // bloom.chain's levels, one pass each (passes/post/bloom.cpp).

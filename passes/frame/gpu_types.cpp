@@ -15,7 +15,8 @@ BufferSchema frame_constants_schema() {
       .field("sun_direction", &C::sun_direction)
       .field("sun_radiance", &C::sun_radiance)
       .field("projection_params", &C::projection_params)
-      .field("counts", &C::counts);
+      .field("counts", &C::counts)
+      .field("light_groups", &C::light_groups);
 }
 
 BufferSchema light_schema() {

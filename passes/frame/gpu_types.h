@@ -23,8 +23,12 @@ struct GpuFrameConstants {
   glm::vec4 projection_params;         // znear, yfov, aspect
   glm::vec4 timing;                    // seconds since frame 0, seconds since the previous frame
   glm::uvec4 counts;  // light count, frame index, 1 on a camera cut, lights dropped (lighting nothing visible)
+  // frame.lights is grouped by how lighting shades a light: directional, then point and spot,
+  // then spheres (point lights with a radius), then tubes, each group in scene order. x, y, z:
+  // the first index of the point-and-spot, sphere and tube groups.
+  glm::uvec4 light_groups;
 };
-static_assert(sizeof(GpuFrameConstants) == 5 * 64 + 7 * 16);
+static_assert(sizeof(GpuFrameConstants) == 5 * 64 + 8 * 16);
 
 // Camera-relative light. Types as LightType.
 struct GpuLight {

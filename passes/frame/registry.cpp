@@ -8,7 +8,7 @@ std::vector<std::string> frame_sinks() {
           "lights.cluster_stats"};
 }
 
-std::vector<PassDecl> frame_passes() {
+std::vector<PassDecl> frame_passes(FrameLighting lighting) {
   std::vector<PassDecl> passes;
   passes.push_back(frame_constants_pass());
   passes.push_back(cull_main_pass());
@@ -24,11 +24,22 @@ std::vector<PassDecl> frame_passes() {
   passes.push_back(normals_pack_pass());
   passes.push_back(depth_pyramid_pass());
   passes.push_back(lights_cluster_pass());
-  passes.push_back(lighting_deferred_pass());
+  if (lighting == FrameLighting::tiled) {
+    passes.push_back(lighting_ltc_table_pass());
+    passes.push_back(lighting_tiled_pass());
+  } else {
+    passes.push_back(lighting_deferred_pass());
+  }
   passes.push_back(lighting_composite_pass());
   for (uint32_t level = 0; level < kBloomLevels; ++level) passes.push_back(bloom_level_pass(level));
   passes.push_back(exposure_pass());
   passes.push_back(tonemap_pass());
+  return passes;
+}
+
+std::vector<PassDecl> all_passes() {
+  std::vector<PassDecl> passes = frame_passes(FrameLighting::tiled);
+  passes.push_back(lighting_deferred_pass());
   return passes;
 }
 

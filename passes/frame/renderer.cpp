@@ -228,7 +228,7 @@ Renderer::Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings)
     : gpu_(gpu),
       scene_(scene),
       settings_(std::move(settings)),
-      passes_(frame_passes()),
+      passes_(frame_passes(settings_.lighting)),
       cache_(gpu),
       history_(gpu),
       scene_imports_(scene_imports(scene)),

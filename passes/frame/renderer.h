@@ -11,6 +11,7 @@
 #include "captures/capture.h"
 #include "passes/core/executor.h"
 #include "passes/core/history.h"
+#include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/scene/scene.h"
 
@@ -50,6 +51,7 @@ struct RenderSettings {
   // What the frame must produce; empty: frame_sinks(). Fewer sinks run part of the frame (a
   // benchmark or test of the passes before lighting).
   std::vector<std::string> sinks;
+  FrameLighting lighting = FrameLighting::tiled;  // deferred: the baseline a benchmark compares with
 };
 
 // Throws SceneError naming the flag for a parameter that no pass declares or out of range.

@@ -12,6 +12,7 @@ struct FrameConstants {
   vec4 projection_params;
   vec4 timing;
   uvec4 counts;
+  uvec4 light_groups;  // gpu_types.h says what
 };
 
 struct Light {

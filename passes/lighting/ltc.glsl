@@ -1,10 +1,12 @@
 // Linearly transformed cosines (Heitz et al. 2016) for tube and sphere lights: the float twin of
 // passes/lighting/ltc/ltc.h, which derives each integral. A pass gets the table of
-// passes/lighting/ltc/ggx_table.h as two textures sampled linearly at ltc_uv(): M⁻¹ (RGBA:
-// m00, m02, m20, m22) and the magnitudes (RG: norm, fresnel). Positions are offsets from the
-// shading point in the frame ltc_frame(n, v) gives; a lobe's M⁻¹ travels as those four values.
-// Both weigh Schlick's Fresnel at the light's own directions rather than as the lobe's average
-// (the table's fresnel, which only a sphere around the shading point uses).
+// passes/lighting/ltc/ggx_table.h as two images (lighting.ltc_table): M⁻¹ (RGBA: m00, m02, m20,
+// m22) and the magnitudes (RG: norm, fresnel), which ltc_lookup() interpolates as ltc::lookup
+// does. Positions are offsets from the shading point in the frame ltc_frame(n, v) gives; a lobe's
+// M⁻¹ travels as those four values. Both weigh Schlick's Fresnel at the light's own directions
+// rather than as the lobe's average (the table's fresnel, which only a sphere around the shading
+// point uses). Lines take a range: glTF's window (1 − (d/range)⁴)² along them, which ltc.h
+// leaves out (tests/unit/lighting_tiled_test.cpp holds it to the double-precision reference).
 
 const float LTC_PI = 3.14159265358979;
 const float LTC_MIN_ROUGHNESS = 0.02;  // ltc.h's kMinRoughness: the table's first column
@@ -14,11 +16,26 @@ const int LTC_SPHERE_SIDES = 8;        // ltc.h's kSphereSides
 const vec4 LTC_LINE_X = vec4(0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363);
 const vec4 LTC_LINE_W = vec4(0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763);
 
-// Where (roughness, n·v) falls in a size×size table sampled with linear filtering.
-vec2 ltc_uv(float roughness, float n_v, float size) {
-  vec2 x = vec2(clamp((roughness - LTC_MIN_ROUGHNESS) / (1.0 - LTC_MIN_ROUGHNESS), 0.0, 1.0),
-                sqrt(clamp(1.0 - n_v, 0.0, 1.0)));
-  return (x * (size - 1.0) + 0.5) / size;
+// The lobe at (roughness, n·v): the four nearest entries interpolated bilinearly in float, as
+// ltc::lookup does (fetched rather than filtered: a sampler's weights may be coarser).
+void ltc_lookup(sampler2D inverse, sampler2D magnitude, float roughness, float n_v, out vec4 minv, out vec2 lobe) {
+  int n = textureSize(inverse, 0).x;
+  float u = clamp((roughness - LTC_MIN_ROUGHNESS) / (1.0 - LTC_MIN_ROUGHNESS), 0.0, 1.0) * float(n - 1);
+  float v = sqrt(clamp(1.0 - n_v, 0.0, 1.0)) * float(n - 1);
+  ivec2 c = min(ivec2(u, v), ivec2(n - 2));
+  vec2 f = vec2(u, v) - vec2(c);
+  minv = mix(mix(texelFetch(inverse, c, 0), texelFetch(inverse, c + ivec2(1, 0), 0), f.x),
+             mix(texelFetch(inverse, c + ivec2(0, 1), 0), texelFetch(inverse, c + ivec2(1, 1), 0), f.x), f.y);
+  lobe = mix(mix(texelFetch(magnitude, c, 0).rg, texelFetch(magnitude, c + ivec2(1, 0), 0).rg, f.x),
+             mix(texelFetch(magnitude, c + ivec2(0, 1), 0).rg, texelFetch(magnitude, c + ivec2(1, 1), 0).rg, f.x), f.y);
+}
+
+// glTF's range window: 1 without a range.
+float ltc_range_window(float distance, float range) {
+  if (range <= 0.0) return 1.0;
+  float r = distance / range;
+  float w = clamp(1.0 - r * r * r * r, 0.0, 1.0);
+  return w * w;
 }
 
 // World offsets → the frame n = +z, v in the xz-plane: ltc_frame(n, v) * offset.
@@ -46,6 +63,25 @@ bool ltc_clip_to_upper(inout vec3 a, inout vec3 b) {
   return true;
 }
 
+// The part of segment [a, b] within `range` of the origin (all of it without a range); false
+// when there is none.
+bool ltc_clip_to_range(inout vec3 a, inout vec3 b, float range) {
+  if (range <= 0.0) return true;
+  vec3 d = b - a;
+  float dd = dot(d, d), ad = dot(a, d), c = dot(a, a) - range * range;
+  // A point: what ltc_line_plane makes of it (no light) does not depend on where it is.
+  if (dd == 0.0) return c < 0.0;
+  float disc = ad * ad - dd * c;
+  if (disc <= 0.0) return false;
+  float root = sqrt(disc);
+  float t0 = max((-ad - root) / dd, 0.0), t1 = min((-ad + root) / dd, 1.0);
+  if (!(t0 < t1)) return false;
+  vec3 start = a + d * t0;
+  b = a + d * t1;
+  a = start;
+  return true;
+}
+
 // The plane of the origin and the line through a and b: unit `toward` its nearest point at
 // `distance`, unit `along` it, and the angles (phi.x, phi.y) of a and b seen from the origin.
 bool ltc_line_plane(vec3 a, vec3 b, out vec3 toward, out vec3 along, out float distance, out vec2 phi) {
@@ -63,11 +99,15 @@ bool ltc_line_plane(vec3 a, vec3 b, out vec3 toward, out vec3 along, out float d
 // ∫ D(l)/d² ds of the LTC M⁻¹ along the line p1 → p2, and the same weighted by Schlick's
 // (1 − v·h)⁵ (v the view in the frame): 8-point Gauss–Legendre over the angle in the cosine
 // space of |MT|·det M⁻¹/h · D_o(q̂)·|Mq̂|, Fresnel taken at each node's direction (ltc.h,
-// line_integral).
-vec2 ltc_line(vec4 minv, vec3 v, vec3 p1, vec3 p2) {
+// line_integral). With a range, the line is cut where it leaves the range, so the integrand
+// stays smooth, and each node is weighed by the window at its point of the line: along the
+// node's direction l that lies |a × e|/|l × e| away (e the line's direction).
+vec2 ltc_line(vec4 minv, vec3 v, vec3 p1, vec3 p2, float range) {
   // Below the surface's horizon first: the LTC's mass there belongs to no light.
   vec3 a = p1, b = p2;
-  if (!ltc_clip_to_upper(a, b)) return vec2(0.0);
+  if (!ltc_clip_to_upper(a, b) || !ltc_clip_to_range(a, b, range)) return vec2(0.0);
+  vec3 e = b - a;
+  float moment = length(cross(a, e));
   a = ltc_to_cosine(minv, a);
   b = ltc_to_cosine(minv, b);
   vec3 toward, along;
@@ -84,28 +124,46 @@ vec2 ltc_line(vec4 minv, vec3 v, vec3 p1, vec3 p2) {
     float cosine = max(toward.z * c + along.z * s, 0.0);
     // |Mq̂| for q̂ = N cos φ + T sin φ, and the direction Mq̂ it stands for.
     float len = sqrt(max(nn * c * c + 2.0 * nt * c * s + tt * s * s, 1e-30));
-    float v_h = clamp(dot(v, normalize(v + (mn * c + mt * s) / len)), 0.0, 1.0);
-    sum += LTC_LINE_W[k & 3] * cosine * len * vec2(1.0, pow(1.0 - v_h, 5.0));
+    vec3 l = (mn * c + mt * s) / len;
+    float v_h = clamp(dot(v, normalize(v + l)), 0.0, 1.0);
+    float window = range > 0.0 ? ltc_range_window(moment / max(length(cross(l, e)), 1e-30), range) : 1.0;
+    sum += LTC_LINE_W[k & 3] * cosine * len * window * vec2(1.0, pow(1.0 - v_h, 5.0));
   }
   float det = minv.x * minv.w - minv.y * minv.z;
   return sum * (sqrt(tt) * det / distance * half_width / LTC_PI);
 }
 
-// Lambert's ∫ max(n·l, 0)/π/d² ds along p1 → p2, in closed form.
-float ltc_lambert_line(vec3 p1, vec3 p2) {
+// Lambert's ∫ max(n·l, 0)/π/d² ds along p1 → p2: in closed form without a range; with one, the
+// line cut to the range and 8-point Gauss–Legendre over the angle φ from its nearest point, at
+// which n·l = toward.z cos φ + along.z sin φ and the point lies distance/cos φ away.
+float ltc_lambert_line(vec3 p1, vec3 p2, float range) {
   vec3 a = p1, b = p2, toward, along;
   float distance;
   vec2 phi;
-  if (!ltc_clip_to_upper(a, b) || !ltc_line_plane(a, b, toward, along, distance, phi)) return 0.0;
-  float integral = toward.z * (sin(phi.y) - sin(phi.x)) - along.z * (cos(phi.y) - cos(phi.x));
+  if (!ltc_clip_to_upper(a, b) || !ltc_clip_to_range(a, b, range) ||
+      !ltc_line_plane(a, b, toward, along, distance, phi))
+    return 0.0;
+  float integral = 0.0;
+  if (range <= 0.0) {
+    integral = toward.z * (sin(phi.y) - sin(phi.x)) - along.z * (cos(phi.y) - cos(phi.x));
+  } else {
+    float middle = 0.5 * (phi.x + phi.y), half_width = 0.5 * (phi.y - phi.x);
+    for (int k = 0; k < 8; ++k) {
+      float angle = middle + half_width * (k < 4 ? -1.0 : 1.0) * LTC_LINE_X[k & 3];
+      float c = cos(angle);
+      float cosine = max(toward.z * c + along.z * sin(angle), 0.0);
+      integral += LTC_LINE_W[k & 3] * cosine * ltc_range_window(distance / max(c, 1e-30), range);
+    }
+    integral *= half_width;
+  }
   return max(integral, 0.0) / (LTC_PI * distance);
 }
 
 // A tube light per candela per metre: (x, y, diffuse) with specular = f0·x + (1 − f0)·y and the
 // diffuse part without albedo·(1 − metallic). `norm` is the table's; v is the view in the
 // frame; `radius` spreads the line over the tube's apparent width by two lines ±radius/√3 off
-// its axis.
-vec3 ltc_tube(vec4 minv, float norm, vec3 v, vec3 p1, vec3 p2, float radius) {
+// its axis; `range` (0: none) windows it.
+vec3 ltc_tube(vec4 minv, float norm, vec3 v, vec3 p1, vec3 p2, float radius, float range) {
   vec3 across = cross(p2 - p1, 0.5 * (p1 + p2));
   float spread = dot(across, across) > 0.0 ? radius / sqrt(3.0) : 0.0;
   vec3 offset = spread > 0.0 ? normalize(across) * spread : vec3(0.0);
@@ -114,8 +172,8 @@ vec3 ltc_tube(vec4 minv, float norm, vec3 v, vec3 p1, vec3 p2, float radius) {
   float diffuse = 0.0;
   for (int i = 0; i < lines; ++i) {
     vec3 o = i == 0 ? offset : -offset;
-    specular += ltc_line(minv, v, p1 + o, p2 + o);
-    diffuse += ltc_lambert_line(p1 + o, p2 + o);
+    specular += ltc_line(minv, v, p1 + o, p2 + o, range);
+    diffuse += ltc_lambert_line(p1 + o, p2 + o, range);
   }
   return vec3(norm * specular, diffuse) / float(lines);
 }

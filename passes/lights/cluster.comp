@@ -32,6 +32,7 @@ layout(std430, set = 0, binding = 4) buffer IndexBlock { uint indices[]; };
 layout(std430, set = 0, binding = 5) buffer StatsBlock {
   uint lights_local, froxels, froxels_lit, entries, entries_wanted, max_count, froxels_over_cap, dropped_over_cap,
       froxels_cut, dropped_cut, per_froxel_cap, index_capacity;
+  float slicing_max_distance;
 };
 
 layout(push_constant) uniform Params {
@@ -276,6 +277,7 @@ void place_lists() {
   dropped_cut = sums[7];
   per_froxel_cap = max_per_froxel;
   index_capacity = max_indices;
+  slicing_max_distance = max_distance;
 }
 
 // Phase 2, besides the lists: the entries past the last one are zero, so the buffer is defined.

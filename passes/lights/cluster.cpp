@@ -58,7 +58,8 @@ BufferSchema cluster_stats_schema() {
       .field("froxels_cut", &S::froxels_cut)
       .field("dropped_cut", &S::dropped_cut)
       .field("per_froxel_cap", &S::per_froxel_cap)
-      .field("index_capacity", &S::index_capacity);
+      .field("index_capacity", &S::index_capacity)
+      .field("max_distance", &S::max_distance);
 }
 
 BufferSchema cluster_index_schema() {

@@ -21,7 +21,8 @@ constexpr uint32_t kClusterSlices = 64;  // depth slices
 // Entries lights.cluster_indices holds (4 MiB): about 18 per froxel at 1280×720, 2 at 3840×2160.
 constexpr uint32_t kClusterIndexCapacity = 1u << 20;
 
-// lights.cluster_stats: what the lists hold and what the caps cut. Sums saturate at 2^32 − 1.
+// lights.cluster_stats: what the lists hold, what the caps cut and how the depth was sliced. Sums
+// saturate at 2^32 − 1.
 struct GpuClusterStats {
   uint32_t lights;            // local lights of frame.lights (point, spot, tube)
   uint32_t froxels;           // tiles_x · tiles_y · 64
@@ -35,8 +36,9 @@ struct GpuClusterStats {
   uint32_t dropped_cut;       // froxel order: farthest slice first), and the entries they lost
   uint32_t per_froxel_cap;    // the limits applied
   uint32_t index_capacity;
+  float max_distance;  // the slicing (lights.cluster's parameter), by which lighting finds a pixel's slice
 };
-static_assert(sizeof(GpuClusterStats) == 48);
+static_assert(sizeof(GpuClusterStats) == 52);
 
 BufferSchema cluster_stats_schema();
 BufferSchema cluster_index_schema();

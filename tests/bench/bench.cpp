@@ -12,6 +12,7 @@
 //  - the CLI's start-up: `nightcap --help` and `nightcap passes` of a city capture, wall clock;
 //    the debugger's first answer and its export of gbuffer.opaque's colour targets;
 //  - `nightcap diff` of a 1280x720 pair against idiff over the same images;
+//  - lights.cluster + lighting.tiled against lighting.deferred (tiled), with extra lights;
 //  - LTC tube and sphere lights (ltc): error against the integral of GGX by table size,
 //    roughness and view angle, fit time, and the CPU time of one light.
 #include <fcntl.h>
@@ -356,7 +357,7 @@ void bench_startup(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   fs::remove_all(dir);
 }
 
-// `nightcap diff` of two city captures that differ in lighting.deferred's intensity, so every
+// `nightcap diff` of two city captures that differ in lighting.tiled's intensity, so every
 // output from lighting down differs, against OpenImageIO's idiff over the same image pairs (the
 // blobs are EXR files idiff reads). Medians of 5 runs after one that warms the file cache.
 //  - diff_capture_ms: the whole CLI run, FLIP of the displayed image included;
@@ -368,7 +369,7 @@ void bench_diff(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   fs::remove_all(dir);
   const fs::path a = dir / "a", b = dir / "b";
   render_city(gpu, width, height, a);
-  render_city(gpu, width, height, b, {{"lighting.deferred", {{"intensity_scale", 1.5}}}});
+  render_city(gpu, width, height, b, {{"lighting.tiled", {{"intensity_scale", 1.5}}}});
   const double diff = cli_median_ms({"diff", a.string(), b.string()}, 1);
   const double diff_itself = cli_median_ms({"diff", a.string(), a.string()});
 
@@ -398,7 +399,7 @@ void bench_diff(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   const double idiff_per_image = (idiff_total - n * idiff_start) / n;
   const double nightcap_per_image = (diff - diff_itself) / n;
   table() << "\n## diff of two city captures (" << width << "x" << height
-          << ", lighting.deferred.intensity_scale 1 vs 1.5; median of 5 runs)\n"
+          << ", lighting.tiled.intensity_scale 1 vs 1.5; median of 5 runs)\n"
           << std::fixed << std::setprecision(1) << "  nightcap diff A B        " << std::setw(8) << diff
           << " ms (A A: " << diff_itself << " ms), " << pairs.size() << " differing images\n"
           << "  idiff, the same pairs   " << std::setw(8) << idiff_total << " ms (1x1 pair: " << idiff_start << " ms)\n"
@@ -420,7 +421,7 @@ uint64_t folder_bytes(const fs::path& folder) {
 }
 
 // `nightcap report` of a city capture, and of the diff of two that differ in
-// lighting.deferred's intensity (as bench_diff), each the whole CLI run (median of 5 after one
+// lighting.tiled's intensity (as bench_diff), each the whole CLI run (median of 5 after one
 // that warms the file cache; --force replaces the report each time).
 //  - report_ms, report_diff_ms: the runs;
 //  - report_bytes_ratio: the capture report folder's bytes over the capture folder's;
@@ -430,7 +431,7 @@ void bench_report(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   fs::remove_all(dir);
   const fs::path a = dir / "a", b = dir / "b", report = dir / "report", diff_report = dir / "diff-report";
   render_city(gpu, width, height, a);
-  render_city(gpu, width, height, b, {{"lighting.deferred", {{"intensity_scale", 1.5}}}});
+  render_city(gpu, width, height, b, {{"lighting.tiled", {{"intensity_scale", 1.5}}}});
   const double ms = cli_median_ms({"report", a.string(), "-o", report.string(), "--force"});
   const double diff_ms = cli_median_ms({"report", a.string(), b.string(), "-o", diff_report.string(), "--force"});
   const double ratio = double(folder_bytes(report)) / double(folder_bytes(a));
@@ -538,6 +539,7 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   nc::RenderSettings settings;
   settings.width = width;
   settings.height = height;
+  settings.lighting = nc::FrameLighting::deferred;
   nc::Renderer renderer(gpu, scene, settings);
   const nc::RenderedFrame frame = renderer.render_frame(0, true);
   std::map<std::string, nc::IsolatedInput> inputs;
@@ -804,6 +806,89 @@ void bench_cluster(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width,
     figure("cluster_ms" + suffix, median(ms));
     figure("cluster_isolated_wall_ms" + suffix, median(wall));
     figure("lights_per_froxel_mean" + suffix, mean);
+  }
+}
+
+// `count` point lights of 10 m range spread uniformly over the part of the view within 200 m of
+// the camera of frame 0 (by volume: distance ∝ the cube root of a uniform draw), seeded.
+void add_lights_in_view(nc::Scene& scene, uint32_t width, uint32_t height, int count) {
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  const nc::Camera camera = nc::base_camera(scene, settings);
+  const glm::dvec3 eye = glm::dvec3(camera.world[3]);
+  const double tan_y = std::tan(camera.yfov / 2), tan_x = tan_y * width / height;
+  std::mt19937 rng{uint32_t(count)};
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int i = 0; i < count; ++i) {
+    // A point of the pyramid of the view up to 200 m ahead: depth by volume, then across it.
+    const double depth = 200.0 * std::cbrt(unit(rng));
+    const glm::dvec3 local((unit(rng) * 2 - 1) * tan_x * depth, (unit(rng) * 2 - 1) * tan_y * depth, -depth);
+    nc::Light light;
+    light.position = eye + glm::dvec3(camera.world * glm::dvec4(local, 0.0));
+    light.color = {float(unit(rng)), float(unit(rng)), float(unit(rng))};
+    light.intensity = 100.0f;
+    light.range = 10.0f;
+    scene.lights.push_back(light);
+  }
+}
+
+// lights.cluster + lighting.tiled against lighting.deferred on the same frame (frame 0, the same
+// lights), GPU time by timestamps, frames rendered only as far as lighting: the 2 km map's street
+// shot and the built-in city, each as it is and with 100 and 1 000 more lights of 10 m range in
+// the first 200 m of the view. Tiled: median of `repeats` frames; deferred: one frame (on the map
+// it takes seconds a frame on lavapipe).
+void bench_tiled(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) {
+  table() << "\n## lighting.tiled against lighting.deferred (" << width << "x" << height << ", GPU ms)\n"
+          << std::left << std::setw(18) << "scene" << std::right << std::setw(8) << "lights" << std::setw(12)
+          << "cluster" << std::setw(12) << "tiled" << std::setw(12) << "deferred" << std::setw(10) << "ratio"
+          << "\n";
+  auto pass_ms = [](const nc::RenderedFrame& frame, const std::string& pass) {
+    for (size_t i = 0; i < frame.graph.passes.size(); ++i)
+      if (frame.graph.passes[i].decl->name == pass && frame.graph.passes[i].runs)
+        return frame.execution.passes[i].gpu_ms.value_or(0.0);
+    return 0.0;
+  };
+  for (const std::string key : {"map_street", "city"}) {
+    for (int extra : {0, 100, 1000}) {
+      nc::Scene scene = key == "city" ? nc::build_city(1) : nc::build_map({1, 2.0, nc::Shot::street});
+      nc::add_default_lighting(scene);
+      add_lights_in_view(scene, width, height, extra);
+      nc::RenderSettings settings;
+      settings.width = width;
+      settings.height = height;
+      settings.sinks = {"lighting.diffuse", "lighting.specular"};
+      std::vector<double> cluster, tiled;
+      uint32_t lights = 0;
+      {
+        nc::Renderer renderer(gpu, scene, settings);
+        for (int r = 0; r < repeats; ++r) {
+          const nc::RenderedFrame frame = renderer.render_frame(0, false);
+          cluster.push_back(pass_ms(frame, "lights.cluster"));
+          tiled.push_back(pass_ms(frame, "lighting.tiled"));
+          if (r == 0) {
+            const nc::RenderedFrame captured = renderer.render_frame(0, true);
+            nc::GpuFrameConstants constants;
+            std::memcpy(&constants, captured.execution.final_version("frame.constants")->bytes->data(),
+                        sizeof constants);
+            lights = constants.counts.x;
+          }
+        }
+      }
+      settings.lighting = nc::FrameLighting::deferred;
+      nc::Renderer renderer(gpu, scene, settings);
+      const double deferred = pass_ms(renderer.render_frame(0, false), "lighting.deferred");
+      const double ratio = (median(cluster) + median(tiled)) / deferred;
+      table() << std::left << std::setw(18) << key + (extra ? " +" + std::to_string(extra) : "") << std::right
+              << std::setw(8) << lights << std::fixed << std::setprecision(1) << std::setw(12) << median(cluster)
+              << std::setw(12) << median(tiled) << std::setw(12) << deferred << std::setprecision(4) << std::setw(10)
+              << ratio << std::defaultfloat << "\n";
+      const std::string suffix = (extra ? "_" + std::to_string(extra) : "") + (key == "city" ? ".city" : "");
+      figure("tiled_vs_deferred_ratio" + suffix, ratio);
+      figure("tiled_ms" + suffix, median(tiled));
+      figure("tiled_cluster_ms" + suffix, median(cluster));
+      figure("deferred_ms" + suffix, deferred);
+    }
   }
 }
 
@@ -1410,9 +1495,9 @@ int main(int argc, char** argv) {
   std::string size = "1280x720", device, data = NIGHTCAP_SHARED_DATA;
   bool skip_models = false, map_frames = true;
   std::vector<std::string> only;
-  const std::vector<std::string> sections = {"city",    "models", "map",    "empty",   "frames", "normals",
-                                             "tubes",   "depth",  "motion", "streams", "bloom",  "exposure",
-                                             "startup", "diff",   "report", "decals",  "ltc",    "cluster"};
+  const std::vector<std::string> sections = {"city",   "models", "map",     "empty",   "frames",   "normals", "tubes",
+                                             "depth",  "motion", "streams", "bloom",   "exposure", "startup", "diff",
+                                             "report", "decals", "ltc",     "cluster", "tiled"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -1469,6 +1554,7 @@ int main(int argc, char** argv) {
     if (wanted("decals")) bench_decals(gpu, width, height, int(repeats));
     if (wanted("ltc")) bench_ltc();
     if (wanted("cluster")) bench_cluster(gpu, cache, width, height, int(repeats));
+    if (wanted("tiled")) bench_tiled(gpu, width, height, int(repeats));
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

@@ -117,7 +117,7 @@ TEST(BadInput, BlobWhoseContentDoesNotMatchItsHash) {
   const fs::path capture = copy_of_city("hash");
   nlohmann::json manifest = read_json(capture / "manifest.json");
   const std::string lit = first_output(manifest, "lighting.composite")["blob"];
-  const std::string diffuse = first_output(manifest, "lighting.deferred")["blob"];
+  const std::string diffuse = first_output(manifest, "lighting.tiled")["blob"];
   // tonemap reads lighting.lit: give its file another valid blob of the same format and size,
   // which decodes fine but hashes differently.
   fs::copy_file(capture / diffuse, capture / lit, fs::copy_options::overwrite_existing);

@@ -15,7 +15,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const std::string kLight = std::string(kCity) + " --set lighting.deferred.intensity_scale=1.5";
+const std::string kLight = std::string(kCity) + " --set lighting.tiled.intensity_scale=1.5";
 
 std::string last_line(const std::string& text) {
   std::string trimmed = text;
@@ -40,7 +40,7 @@ TEST(DiffCi, ThresholdsFileHoldsWhatItMatchesAndSaysWhereFrom) {
   const CliResult r = run_cli("diff --json --thresholds " + quote(file) + " " + quote(a) + " " + quote(b));
   EXPECT_EQ(r.code, 1) << "exposure's histogram, a buffer no 'abs' rule can measure, keeps its contract: " << r.err;
   const json diff = json::parse(r.out);
-  EXPECT_EQ(diff.at("first_divergence"), (json{{"frame", 0}, {"pass", "lighting.deferred"}}));
+  EXPECT_EQ(diff.at("first_divergence"), (json{{"frame", 0}, {"pass", "lighting.tiled"}}));
   std::set<std::string> buffers;
   const Capture capture_a = Capture::open(a);
   for (const PassRecord& p : capture_a.frame(0).passes)
@@ -103,7 +103,7 @@ TEST(DiffCi, JunitHasOneCasePerPassAndOutput) {
   EXPECT_EQ(count(xml, "<failure "), failed);
   EXPECT_EQ(count(xml, "<testcase "), passed + failed + count(xml, "<skipped "));
   EXPECT_EQ(count(xml, "<testsuite "), 2u) << "one suite per frame";
-  EXPECT_NE(xml.find("name=\"lighting.deferred/lighting.diffuse\""), std::string::npos);
+  EXPECT_NE(xml.find("name=\"lighting.tiled/lighting.diffuse\""), std::string::npos);
   EXPECT_NE(xml.find("name=\"gbuffer.opaque/gbuffer.normal\""), std::string::npos);
   EXPECT_FALSE(fs::exists(dir / "diff.xml.partial"));
 }
@@ -115,7 +115,7 @@ TEST(DiffCi, OneFrameOfAMultiFramePair) {
   const json diff = json::parse(r.out);
   ASSERT_EQ(diff.at("frames").size(), 1u);
   EXPECT_EQ(diff.at("frames")[0].at("index"), 1);
-  EXPECT_EQ(diff.at("first_divergence"), (json{{"frame", 1}, {"pass", "lighting.deferred"}}));
+  EXPECT_EQ(diff.at("first_divergence"), (json{{"frame", 1}, {"pass", "lighting.tiled"}}));
   const CliResult missing = run_cli("diff --frame 7 " + quote(a) + " " + quote(b));
   EXPECT_EQ(missing.code, 2);
   EXPECT_NE(missing.err.find("no frame 7"), std::string::npos) << missing.err;
@@ -204,7 +204,7 @@ TEST(DiffCi, FlipMapsAreWrittenAndNamed) {
   EXPECT_EQ(written, named) << "nothing else, no partial files";
 }
 
-// B changes two passes: lighting.deferred's intensity (where the difference starts) and
+// B changes two passes: lighting.tiled's intensity (where the difference starts) and
 // tonemap's bloom weight, behind it, whose inputs differ anyway. Only --isolate sees the second.
 TEST(DiffCi, IsolateTellsAPassThatChangedFromOneWhoseInputsChanged) {
   const fs::path a = shared_capture("city", kCity),
@@ -212,9 +212,9 @@ TEST(DiffCi, IsolateTellsAPassThatChangedFromOneWhoseInputsChanged) {
   const CliResult r = run_cli("diff --json --isolate --frame 1 " + quote(a) + " " + quote(b));
   ASSERT_EQ(r.code, 1) << r.err;
   const json diff = json::parse(r.out);
-  EXPECT_EQ(diff.at("first_divergence"), (json{{"frame", 1}, {"pass", "lighting.deferred"}}));
+  EXPECT_EQ(diff.at("first_divergence"), (json{{"frame", 1}, {"pass", "lighting.tiled"}}));
   EXPECT_EQ(diff.at("changed_passes"),
-            (json{{{"frame", 1}, {"pass", "lighting.deferred"}}, {{"frame", 1}, {"pass", "tonemap"}}}));
+            (json{{{"frame", 1}, {"pass", "lighting.tiled"}}, {{"frame", 1}, {"pass", "tonemap"}}}));
   std::set<std::string> isolated;
   for (const json& p : diff.at("frames").at(0).at("passes")) {
     const std::string status = p.at("status");
@@ -225,7 +225,7 @@ TEST(DiffCi, IsolateTellsAPassThatChangedFromOneWhoseInputsChanged) {
     const json& isolation = p.at("isolation");
     isolated.insert(p.at("name"));
     EXPECT_TRUE(isolation.at("ran").get<bool>()) << isolation.dump();
-    const bool changed = p.at("name") == "lighting.deferred" || p.at("name") == "tonemap";
+    const bool changed = p.at("name") == "lighting.tiled" || p.at("name") == "tonemap";
     EXPECT_EQ(isolation.at("pass_changed").get<bool>(), changed) << p.dump();
     if (p.at("name") == "tonemap") {
       EXPECT_EQ(status, "inherited") << "its inputs differ, so the plain diff cannot tell";

@@ -18,13 +18,13 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const std::string kLight = std::string(kCity) + " --set lighting.deferred.intensity_scale=1.5";  // as diff_ci_test
+const std::string kLight = std::string(kCity) + " --set lighting.tiled.intensity_scale=1.5";  // as diff_ci_test
 
 // Opens lighting.diffuse large, points at texel (X, Y), zooms in, closes with Escape.
 std::string use_the_viewer(uint32_t x, uint32_t y) {
   return R"((async () => {
   const until = async (ready) => { while (!ready()) await new Promise(r => setTimeout(r, 20)); };
-  const card = document.querySelector('section.output[data-output-name="lighting.deferred/lighting.diffuse"]');
+  const card = document.querySelector('section.output[data-output-name="lighting.tiled/lighting.diffuse"]');
   card.querySelector('img[data-view="b"]').click();
   const viewer = document.getElementById('viewer');
   const img = viewer.querySelector('.stage img');
@@ -44,12 +44,12 @@ std::string use_the_viewer(uint32_t x, uint32_t y) {
 })())";
 }
 
-// lighting.deferred's lighting.diffuse in frame 0 of `folder`, decoded.
+// lighting.tiled's lighting.diffuse in frame 0 of `folder`, decoded.
 std::vector<float> diffuse_of(const fs::path& folder) {
   const Capture capture = Capture::open(folder);
   for (const PassRecord& p : capture.frame(0).passes)
     for (const ResourceRecord& o : p.outputs)
-      if (p.name == "lighting.deferred" && o.resource == "lighting.diffuse") {
+      if (p.name == "lighting.tiled" && o.resource == "lighting.diffuse") {
         const std::vector<uint8_t> raw = capture.load(o);
         const DecodedImage decoded(o, raw);
         const std::span<const float> values = decoded.subresource(0, 0, 0);
@@ -74,7 +74,7 @@ TEST(DiffReport, ShowsTheFirstDivergenceAndEveryDifferingOutputWithWhatItWasHeld
   const CliResult r = run_cli("report " + quote(a) + " " + quote(b) + " -o " + quote(out));
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string html = slurp(out / "index.html");
-  EXPECT_NE(html.find("First divergence: <a href=\"#f0-lighting.deferred\">lighting.deferred</a>, frame 0"),
+  EXPECT_NE(html.find("First divergence: <a href=\"#f0-lighting.tiled\">lighting.tiled</a>, frame 0"),
             std::string::npos);
   const CliResult diff = run_cli("diff --json " + quote(a) + " " + quote(b));
   ASSERT_EQ(diff.code, 1) << diff.err;
@@ -176,7 +176,7 @@ TEST(DiffReport, AgainstAGoldenOfAStore) {
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string html = slurp(folder / "report" / "index.html");
   EXPECT_NE(html.find("Diff of <span class=\"name\">golden</span>"), std::string::npos);
-  EXPECT_NE(html.find("First divergence: <a href=\"#f0-lighting.deferred\">"), std::string::npos);
+  EXPECT_NE(html.find("First divergence: <a href=\"#f0-lighting.tiled\">"), std::string::npos);
 }
 
 }  // namespace

@@ -80,7 +80,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(Case{"nothing", kEmpty, {"depth.convert", "motion.stencil", "normals.pack", "depth.pyramid"}},
                       Case{"light_only",
                            kLightOnly,
-                           {"depth.convert", "motion.stencil", "normals.pack", "depth.pyramid", "lighting.deferred"}}),
+                           {"depth.convert", "motion.stencil", "normals.pack", "depth.pyramid", "lighting.tiled"}}),
     [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace

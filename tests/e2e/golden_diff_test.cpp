@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 const std::string kSmall = "--size 64x36 --frames 1";
-const std::string kSmallLight = kSmall + " --set lighting.deferred.intensity_scale=1.5";
+const std::string kSmallLight = kSmall + " --set lighting.tiled.intensity_scale=1.5";
 
 std::string last_line(const std::string& text) {
   std::string trimmed = text;
@@ -60,7 +60,7 @@ TEST(GoldenDiff, AChangedCaptureFailsAndEveryFlagWorksAsForTwoCaptures) {
 
   const CliResult r = run_cli("diff --json --golden city --store " + quote(store) + " " + quote(light));
   EXPECT_EQ(r.code, 1) << r.err;
-  EXPECT_EQ(json::parse(r.out).at("first_divergence"), (json{{"frame", 0}, {"pass", "lighting.deferred"}}));
+  EXPECT_EQ(json::parse(r.out).at("first_divergence"), (json{{"frame", 0}, {"pass", "lighting.tiled"}}));
 
   // The golden is capture A: the same flags give what the two captures give, JUnit (but for
   // its timings) included.
@@ -172,7 +172,7 @@ TEST(GoldenDiff, ListNamesTheGoldens) {
   const fs::path store = scratch("list") / "store";
   ASSERT_EQ(update(capture, store, "city").code, 0);
   ASSERT_EQ(update(light, store, "bright").code, 0);
-  // The two renders share every blob up to lighting.deferred: the store keeps one of each.
+  // The two renders share every blob up to lighting.tiled: the store keeps one of each.
   std::set<std::string> both = names_in(capture / "blobs");
   for (const std::string& name : names_in(light / "blobs")) both.insert(name);
   EXPECT_EQ(names_in(store / "blobs"), both);

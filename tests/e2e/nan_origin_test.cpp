@@ -18,7 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const char* kInjected = "--size 320x180 --inject-nan lighting.deferred:100,50";
+const char* kInjected = "--size 320x180 --inject-nan lighting.tiled:100,50";
 // bloom.chain is half the output (160x90, with mips) and exposure.value 1x1.
 const char* kScaled = "--size 320x180 --inject-nan bloom.level0:101,51 --inject-nan exposure:300,170";
 
@@ -41,10 +41,10 @@ bool half_is_nan(const std::vector<uint8_t>& raw, uint64_t offset) {
 
 TEST(NanOrigin, ManifestRecordsTheInjectionInTexelsOfTheFirstFloatOutput) {
   const json manifest = read_json(shared_capture("nan-deferred", kInjected) / "manifest.json");
-  EXPECT_EQ(pass_json(manifest, "lighting.deferred").at("injected_nan"),
+  EXPECT_EQ(pass_json(manifest, "lighting.tiled").at("injected_nan"),
             (json{{"resource", "lighting.diffuse"}, {"x", 100}, {"y", 50}}));
   EXPECT_FALSE(pass_json(manifest, "lighting.composite").contains("injected_nan"));
-  EXPECT_EQ(manifest.at("settings").at("inject_nan"), json::array({"lighting.deferred:100,50"}));
+  EXPECT_EQ(manifest.at("settings").at("inject_nan"), json::array({"lighting.tiled:100,50"}));
 
   const json scaled = read_json(shared_capture("nan-scaled", kScaled) / "manifest.json");
   // Output pixel (101, 51) of 320x180 lands on texel (101·160/320, 51·90/180) of the half-size chain.
@@ -60,7 +60,7 @@ TEST(NanOrigin, NamesTheInjectedPassPixelAndItsInputsThere) {
   const json j = inspect_json(path, "nan");
   ASSERT_TRUE(j.at("origin").is_object()) << j;
   const json& origin = j.at("origin");
-  EXPECT_EQ(origin.at("pass"), "lighting.deferred");
+  EXPECT_EQ(origin.at("pass"), "lighting.tiled");
   ASSERT_EQ(origin.at("outputs").size(), 1u) << "lighting.specular holds no NaN: " << origin;
   const json& output = origin.at("outputs")[0];
   EXPECT_EQ(output.at("resource"), "lighting.diffuse");
@@ -72,14 +72,15 @@ TEST(NanOrigin, NamesTheInjectedPassPixelAndItsInputsThere) {
   EXPECT_EQ(texel.at("mip"), 0);
   EXPECT_EQ(texel.at("values"), json::array({"NaN", "NaN", "NaN", "NaN"}));
 
-  // Every image input of the pass at that pixel; scene.depth's device depth read here from the
-  // D32_SFLOAT_S8 blob's depth plane.
+  // Every image input of the pass at that pixel but its LTC tables, which are not laid over the
+  // screen; scene.depth's device depth read here from the D32_SFLOAT_S8 blob's depth plane.
   std::set<std::string> inputs;
   for (const json& in : texel.at("inputs")) inputs.insert(in.at("resource").get<std::string>());
-  EXPECT_EQ(inputs, (std::set<std::string>{"gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "scene.depth"}));
+  EXPECT_EQ(inputs, (std::set<std::string>{"gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "scene.depth",
+                                           "depth.linear", "lights.clusters"}));
   const Capture capture = Capture::open(path);
   const std::vector<uint8_t> depth =
-      capture.load(input_named(pass_named(capture.frame(0), "lighting.deferred"), "scene.depth"));
+      capture.load(input_named(pass_named(capture.frame(0), "lighting.tiled"), "scene.depth"));
   float expected = 0;
   std::memcpy(&expected, depth.data() + (50 * 320 + 100) * 4, 4);
   for (const json& in : texel.at("inputs"))
@@ -90,7 +91,7 @@ TEST(NanOrigin, NamesTheInjectedPassPixelAndItsInputsThere) {
 
   const CliResult text = run_cli("inspect " + quote(path) + " -c 'nan'");
   EXPECT_EQ(text.code, 0) << text.err;
-  EXPECT_NE(text.out.find("written by lighting.deferred"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("written by lighting.tiled"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("pixel (100, 50)"), std::string::npos) << text.out;
 }
 
@@ -161,13 +162,13 @@ TEST(NanOrigin, ReplayWritesTheRecordedNanAgain) {
 TEST(NanOrigin, BadInjectionsAreOneLineUsageErrors) {
   const fs::path dir = scratch("bad-inject");
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"lighting.deferred100,50", "expected PASS:X,Y"},
-      {"lighting.deferred:100", "expected PASS:X,Y"},
-      {"lighting.deferred:-1,5", "expected PASS:X,Y"},
+      {"lighting.tiled100,50", "expected PASS:X,Y"},
+      {"lighting.tiled:100", "expected PASS:X,Y"},
+      {"lighting.tiled:-1,5", "expected PASS:X,Y"},
       {"no.such.pass:1,1", "no pass named 'no.such.pass'"},
       {"tonemap:1,1", "tonemap has no float colour output"},
       {"frame.constants:1,1", "frame.constants runs on the CPU"},
-      {"lighting.deferred:320,0", "pixel (320, 0) is outside the 320x180 output"},
+      {"lighting.tiled:320,0", "pixel (320, 0) is outside the 320x180 output"},
   };
   for (const auto& [flag, message] : cases) {
     const CliResult r = run_cli("render --size 320x180 --inject-nan '" + flag + "' -o " + quote(dir / "cap"));
@@ -186,7 +187,7 @@ TEST(NanOrigin, AMalformedInjectionRecordIsRefusedNamingTheManifest) {
   auto refused = [&](const std::string& field, const json& value, const std::string& message) {
     json edited = manifest;
     for (json& p : edited.at("frames").at(0).at("passes"))
-      if (p.at("name") == "lighting.deferred") p.at("injected_nan")[field] = value;
+      if (p.at("name") == "lighting.tiled") p.at("injected_nan")[field] = value;
     write_json(capture / "manifest.json", edited);
     const CliResult r = run_cli("passes " + quote(capture));
     EXPECT_EQ(r.code, 2) << field;

@@ -200,7 +200,7 @@ TEST(Report, HostileNamesAreShownAsTextAndNothingIsWrittenOutsideTheFolder) {
   manifest.at("scene")["source"] = scene_source;
   for (auto& p : manifest.at("frames")[0].at("passes")) {
     if (p.at("name") == "depth.convert") p["name"] = pass_name;
-    if (p.at("name") == "lighting.deferred") p.at("params")[param_name] = 1.5;
+    if (p.at("name") == "lighting.tiled") p.at("params")[param_name] = 1.5;
     if (p.at("name") == "tonemap") {
       p["status"] = "skipped";
       p["reason"] = reason;

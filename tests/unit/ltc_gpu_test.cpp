@@ -49,11 +49,11 @@ void main() {
   mat3 frame = ltc_frame(n.xyz, v.xyz);
   vec3 view = frame * v.xyz;
   // norm 1: the tube's specular is its line integrals.
-  vec3 tube = ltc_tube(lobe, 1.0, view, frame * end1.xyz, frame * end2.xyz, v.w);
+  vec3 tube = ltc_tube(lobe, 1.0, view, frame * end1.xyz, frame * end2.xyz, v.w, 0.0);
   // Magnitudes (1, 1): the sphere's integrals themselves.
   vec2 sphere = ltc_sphere(lobe, vec2(1.0), view, frame * centre.xyz, end1.w);
   results[2 * i] = vec4(tube, sphere.x);
-  results[2 * i + 1] = vec4(ltc_line(lobe, view, frame * end1.xyz, frame * end2.xyz), sphere.y, 0.0);
+  results[2 * i + 1] = vec4(ltc_line(lobe, view, frame * end1.xyz, frame * end2.xyz, 0.0), sphere.y, 0.0);
 }
 )";
 

@@ -1,0 +1,315 @@
+#version 460
+// lighting.tiled: direct light per 16×16-pixel tile from the froxel lists of lights.cluster, in
+// four dispatches of one pass (passes/lighting/tiled_layout.h names the classes):
+//   0: a workgroup per tile classifies it (unlit, directional only, local lights) into
+//      lighting.tile_lists, writes an unlit tile's outputs (0) at once, and zeroes the entries
+//      past the last tile;
+//   1: one workgroup lists the tiles of classes 1 and 2 in row-major order (each invocation a run
+//      of tiles, offsets from the runs' counts) and writes each class's indirect dispatch;
+//   2, 3: a workgroup per listed tile of class 1, then of class 2, shades its pixels.
+// Nothing depends on execution order (the classification ORs flags, the lists come from integer
+// sums), and each pixel is shaded the same way whatever the order: every run writes the same
+// bytes.
+//
+// Shading follows lighting.deferred (brdf.glsl, the same roughness floor and range window, point
+// and spot lights bit for bit its arithmetic) for the sun, directional lights and the local
+// lights of the pixel's froxel, in ascending index. A point light with a radius is a sphere:
+// Lambert's illuminance of a sphere cut by the horizon, LTC for its specular. A tube is a line
+// of candela per metre: its diffuse integrated along the segment (ltc_lambert_line), its
+// specular by LTC (ltc_tube). The sun's shadow is a parameter until a shadow pass provides it.
+#include "../frame/half.glsl"
+#include "../frame/types.glsl"
+#include "brdf.glsl"
+#include "ltc.glsl"
+
+layout(local_size_x = 16, local_size_y = 16) in;
+
+layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
+layout(std430, set = 0, binding = 1) readonly buffer LightBlock { Light lights[]; };
+layout(set = 0, binding = 2) uniform sampler2D albedo_map;
+layout(set = 0, binding = 3) uniform sampler2D normal_map;
+layout(set = 0, binding = 4) uniform sampler2D material_map;
+layout(set = 0, binding = 5) uniform sampler2D depth_map;
+layout(set = 0, binding = 6) uniform sampler2D linear_depth_map;
+layout(set = 0, binding = 7) uniform usampler3D clusters;
+layout(std430, set = 0, binding = 8) readonly buffer IndexBlock { uint cluster_indices[]; };
+layout(std430, set = 0, binding = 9) readonly buffer ClusterStatsBlock {
+  uint cluster_counts[12];  // lights.cluster_stats' counts (cluster_layout.h)
+  float slicing_max_distance;
+};
+layout(set = 0, binding = 10) uniform sampler2D ltc_inverse;
+layout(set = 0, binding = 11) uniform sampler2D ltc_magnitude;
+layout(set = 0, binding = 12, rgba16f) uniform writeonly image2D diffuse_out;
+layout(set = 0, binding = 13, rgba16f) uniform writeonly image2D specular_out;
+layout(std430, set = 0, binding = 14) buffer ClassBlock {
+  uvec4 class_dispatch[2];  // classes 1 and 2: workgroups x, y, z; w: first list entry
+  uvec4 class_info;         // x: directional lights in frame.lights
+};
+layout(std430, set = 0, binding = 15) buffer ListBlock { uvec2 entries[]; };  // (class of tile i, i-th listed tile)
+
+layout(push_constant) uniform Params {
+  uint phase;
+  uint tiles_x, tiles_y;
+  float intensity_scale;
+  float min_roughness;
+  float sun_visibility;
+};
+
+const uint kTile = 16u, kClusterTile = 32u, kSlices = 64u;
+
+bool inside(ivec2 pixel) { return all(lessThan(pixel, ivec2(frame.viewport.xy))); }
+
+// Sky, or unlit (lighting.composite adds emission): nothing to shade.
+bool shaded(ivec2 pixel) {
+  return texelFetch(depth_map, pixel, 0).r > 0.0 && texelFetch(albedo_map, pixel, 0).a == 0.0;
+}
+
+// The slice of lights.clusters a linear depth falls in: passes/lights/cluster_layout.h's formula,
+// then moved so that it lies between the slice's bounds as cluster.comp computes them (the same
+// float expressions), which float rounding of the logarithm could otherwise miss by one.
+uint pixel_slice(float depth) {
+  float znear = frame.projection_params.x;
+  float far = max(slicing_max_distance, 2.0 * znear);
+  float step = log2(far / znear) / float(kSlices);
+  int k = clamp(int(floor(log2(depth / znear) / step)), 0, int(kSlices) - 1);
+  if (k < int(kSlices) - 1 && depth >= znear * exp2(float(k + 1) * step)) ++k;
+  if (k > 0 && depth < znear * exp2(float(k) * step)) --k;
+  return uint(k);
+}
+
+// Phase 0.
+shared uint tile_flags;  // 1: a lit pixel; 2: a lit pixel whose froxel lists a local light
+
+void classify() {
+  uvec2 tile = gl_WorkGroupID.xy;
+  ivec2 pixel = ivec2(tile * kTile + gl_LocalInvocationID.xy);
+  if (gl_LocalInvocationIndex == 0u) tile_flags = 0u;
+  barrier();
+  if (inside(pixel) && shaded(pixel)) {
+    uint slice = pixel_slice(texelFetch(linear_depth_map, pixel, 0).r);
+    bool local = texelFetch(clusters, ivec3(uvec2(pixel) / kClusterTile, slice), 0).y > 0u;
+    atomicOr(tile_flags, local ? 2u : 1u);
+  }
+  barrier();
+  uint tile_class = (tile_flags & 2u) != 0u ? 2u : tile_flags;
+  if (tile_class == 0u && inside(pixel)) {
+    imageStore(diffuse_out, pixel, vec4(0.0));
+    imageStore(specular_out, pixel, vec4(0.0));
+  }
+  uint groups = tiles_x * tiles_y;
+  uint group = tile.y * tiles_x + tile.x;
+  if (gl_LocalInvocationIndex == 0u) entries[group] = uvec2(tile_class, 0u);
+  for (uint i = groups + group * 256u + gl_LocalInvocationIndex; i < entries.length(); i += groups * 256u)
+    entries[i] = uvec2(0u);
+}
+
+// Phase 1.
+shared uint run_directional[256], run_local[256], run_lights[256];
+
+void place() {
+  uint lane = gl_LocalInvocationIndex;
+  uint total = tiles_x * tiles_y;
+  uint per_run = (total + 255u) / 256u;
+  uint begin = min(lane * per_run, total), end = min(begin + per_run, total);
+  uint directional = 0u, local = 0u, directional_lights = 0u;
+  for (uint t = begin; t < end; ++t) {
+    uint tile_class = entries[t].x;
+    if (tile_class == 1u) ++directional;
+    if (tile_class == 2u) ++local;
+  }
+  for (uint i = lane; i < frame.counts.x; i += 256u)
+    if (uint(lights[i].position_type.w) == LIGHT_DIRECTIONAL) ++directional_lights;
+  run_directional[lane] = directional;
+  run_local[lane] = local;
+  run_lights[lane] = directional_lights;
+  barrier();
+  uint at_directional = 0u, at_local = 0u, all_directional = 0u, all_local = 0u, all_lights = 0u;
+  for (uint k = 0u; k < 256u; ++k) {
+    if (k < lane) {
+      at_directional += run_directional[k];
+      at_local += run_local[k];
+    }
+    all_directional += run_directional[k];
+    all_local += run_local[k];
+    all_lights += run_lights[k];
+  }
+  at_local += all_directional;
+  for (uint t = begin; t < end; ++t) {
+    uint tile_class = entries[t].x;
+    if (tile_class == 1u) entries[at_directional++].y = t;
+    if (tile_class == 2u) entries[at_local++].y = t;
+  }
+  if (lane != 0u) return;
+  // A class with no tile dispatches nothing; (0, 0, 0) is also the buffer's cleared value, which
+  // a frame with nothing to shade then computes (the pass's skip for cleared inputs).
+  uint any_directional = min(all_directional, 1u), any_local = min(all_local, 1u);
+  class_dispatch[0] = uvec4(all_directional, any_directional, any_directional, 0u);
+  class_dispatch[1] = uvec4(all_local, any_local, any_local, all_directional);
+  class_info = uvec4(all_directional + all_local > 0u ? all_lights : 0u, 0u, 0u, 0u);
+}
+
+// Phases 2 and 3.
+float spot_factor(Light light, vec3 to_light) {
+  float cos_outer = light.direction_cos_outer.w, cos_inner = light.cos_inner.x;
+  float cd = dot(light.direction_cos_outer.xyz, -to_light);
+  float t = clamp((cd - cos_outer) / max(cos_inner - cos_outer, 1e-4), 0.0, 1.0);
+  return t * t;
+}
+
+// Lambert's illuminance from a sphere of unit radiance whose centre is at cosine `cos_theta` to
+// the normal and whose angular radius σ has sin²σ = `sin2_sigma`, the part below the horizon
+// cut away (Snyder 1996, in the form of Lagarde and de Rousiers 2014).
+float sphere_illuminance(float cos_theta, float sin2_sigma) {
+  if (sin2_sigma >= 1.0) return PI;  // inside it: light from the whole hemisphere
+  if (cos_theta * cos_theta > sin2_sigma) return PI * sin2_sigma * max(cos_theta, 0.0);
+  float sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
+  float x = sqrt(1.0 / sin2_sigma - 1.0);
+  float y = -x * cos_theta / sin_theta;
+  float sin_theta_y = sin_theta * sqrt(max(1.0 - y * y, 0.0));
+  float e = (cos_theta * acos(clamp(y, -1.0, 1.0)) - x * sin_theta_y) * sin2_sigma + atan(sin_theta_y, x);
+  return max(e, 0.0);
+}
+
+struct Surface {
+  vec3 position, n, v, albedo, f0;
+  float metallic, roughness, alpha;
+};
+
+// The surface's LTC lobe: its frame, the view in it, M⁻¹ and the magnitudes (norm, fresnel).
+struct Lobe {
+  mat3 frame;
+  vec3 v;
+  vec4 minv;
+  vec2 magnitude;
+};
+
+Lobe lobe_of(Surface s) {
+  Lobe lobe;
+  lobe.frame = ltc_frame(s.n, s.v);
+  lobe.v = lobe.frame * s.v;
+  ltc_lookup(ltc_inverse, ltc_magnitude, s.roughness, clamp(dot(s.n, s.v), 0.0, 1.0), lobe.minv, lobe.magnitude);
+  return lobe;
+}
+
+// Each kind of light has its own function and its own loop in shade_tiles(): lavapipe runs both
+// sides of a branch, so shading kinds apart keeps a point light from paying for a tube's LTC.
+void shade_punctual(Light light, Surface s, inout vec3 diffuse, inout vec3 specular) {
+  vec3 radiance = light.color_range.rgb * intensity_scale;
+  float range = light.color_range.w;
+  vec3 to_light = light.position_type.xyz - s.position;
+  float d2 = max(dot(to_light, to_light), 1e-8);
+  if (range > 0.0 && d2 >= range * range) return;
+  float d = sqrt(d2);
+  vec3 l = to_light / d;
+  float attenuation = ltc_range_window(d, range) / d2;
+  if (uint(light.position_type.w) == LIGHT_SPOT) attenuation *= spot_factor(light, l);
+  if (attenuation <= 0.0) return;
+  diffuse += diffuse_term(s.n, l, radiance * attenuation, s.albedo, s.metallic);
+  specular += specular_term(s.n, s.v, l, radiance * attenuation, s.albedo, s.metallic, s.alpha);
+}
+
+// A sphere of `radiance` candela seen from any side: radiance / (π r²) per unit area.
+void shade_sphere(Light light, Surface s, Lobe lobe, inout vec3 diffuse, inout vec3 specular) {
+  float range = light.color_range.w, radius = light.end_radius.w;
+  vec3 to_light = light.position_type.xyz - s.position;
+  float d2 = max(dot(to_light, to_light), 1e-8);
+  if (range > 0.0 && d2 >= range * range) return;
+  float d = sqrt(d2);
+  float window = ltc_range_window(d, range);
+  if (window <= 0.0) return;
+  vec3 unit = light.color_range.rgb * intensity_scale * (window / (PI * radius * radius));
+  float e = sphere_illuminance(dot(s.n, to_light / d), min(radius * radius / d2, 1.0));
+  diffuse += s.albedo * (1.0 - s.metallic) * (1.0 / PI) * e * unit;
+  vec2 lit = ltc_sphere(lobe.minv, lobe.magnitude, lobe.v, lobe.frame * to_light, radius);
+  specular += (s.f0 * lit.x + (1.0 - s.f0) * lit.y) * unit;
+}
+
+// A line light of `radiance` candela per metre.
+void shade_tube(Light light, Surface s, Lobe lobe, inout vec3 diffuse, inout vec3 specular) {
+  vec3 radiance = light.color_range.rgb * intensity_scale;
+  float range = light.color_range.w;
+  vec3 a = light.position_type.xyz - s.position, b = light.end_radius.xyz - s.position;
+  vec3 ab = b - a;
+  vec3 nearest = a + ab * clamp(-dot(a, ab) / max(dot(ab, ab), 1e-8), 0.0, 1.0);
+  if (range > 0.0 && dot(nearest, nearest) >= range * range) return;
+  vec3 t = ltc_tube(lobe.minv, lobe.magnitude.x, lobe.v, lobe.frame * a, lobe.frame * b, light.end_radius.w, range);
+  diffuse += s.albedo * (1.0 - s.metallic) * radiance * t.z;
+  specular += (s.f0 * t.x + (1.0 - s.f0) * t.y) * radiance;
+}
+
+void shade_tiles(uint tile_class) {
+  uvec4 dispatch = class_dispatch[tile_class - 1u];
+  uint tile_index = entries[dispatch.w + gl_WorkGroupID.x].y;
+  uvec2 tile = uvec2(tile_index % tiles_x, tile_index / tiles_x);
+  ivec2 pixel = ivec2(tile * kTile + gl_LocalInvocationID.xy);
+  if (!inside(pixel)) return;
+  float depth = texelFetch(depth_map, pixel, 0).r;
+  vec4 albedo_flags = texelFetch(albedo_map, pixel, 0);
+  if (depth <= 0.0 || albedo_flags.a > 0.0) {
+    imageStore(diffuse_out, pixel, vec4(0.0));
+    imageStore(specular_out, pixel, vec4(0.0));
+    return;
+  }
+
+  vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
+  vec4 p = frame.inverse_view_projection * vec4(ndc, depth, 1.0);
+  Surface s;
+  s.position = p.xyz / p.w;  // camera-relative world
+  s.v = normalize(-s.position);
+  s.n = normalize(texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0);
+  vec4 material = texelFetch(material_map, pixel, 0);
+  s.albedo = albedo_flags.rgb;
+  s.metallic = material.r;
+  s.roughness = max(material.g, min_roughness);
+  s.alpha = s.roughness * s.roughness;
+  s.f0 = mix(vec3(0.04), s.albedo, s.metallic);
+
+  vec3 diffuse = vec3(0.0), specular = vec3(0.0);
+  if (frame.sun_direction.w > 0.0) {
+    vec3 e = frame.sun_radiance.rgb * intensity_scale * sun_visibility;
+    diffuse += diffuse_term(s.n, -frame.sun_direction.xyz, e, s.albedo, s.metallic);
+    specular += specular_term(s.n, s.v, -frame.sun_direction.xyz, e, s.albedo, s.metallic, s.alpha);
+  }
+  // Directional lights besides the sun are not clustered: found in frame.lights, which stops at
+  // the last of them.
+  uint directional_left = class_info.x;
+  for (uint i = 0u; directional_left > 0u && i < frame.counts.x; ++i) {
+    Light light = lights[i];
+    if (uint(light.position_type.w) != LIGHT_DIRECTIONAL) continue;
+    --directional_left;
+    vec3 radiance = light.color_range.rgb * intensity_scale;
+    diffuse += diffuse_term(s.n, -light.direction_cos_outer.xyz, radiance, s.albedo, s.metallic);
+    specular += specular_term(s.n, s.v, -light.direction_cos_outer.xyz, radiance, s.albedo, s.metallic, s.alpha);
+  }
+  if (tile_class == 2u) {
+    uint slice = pixel_slice(texelFetch(linear_depth_map, pixel, 0).r);
+    uvec2 list = texelFetch(clusters, ivec3(uvec2(pixel) / kClusterTile, slice), 0).xy;
+    // A list ascends, so it holds its point and spot lights, then its spheres, then its tubes.
+    uint k = 0u;
+    for (; k < list.y; ++k) {
+      uint i = cluster_indices[list.x + k];
+      if (i >= frame.light_groups.y) break;
+      shade_punctual(lights[i], s, diffuse, specular);
+    }
+    if (k < list.y) {
+      Lobe lobe = lobe_of(s);
+      for (; k < list.y; ++k) {
+        uint i = cluster_indices[list.x + k];
+        if (i >= frame.light_groups.z) break;
+        shade_sphere(lights[i], s, lobe, diffuse, specular);
+      }
+      for (; k < list.y; ++k) shade_tube(lights[cluster_indices[list.x + k]], s, lobe, diffuse, specular);
+    }
+  }
+  imageStore(diffuse_out, pixel, vec4(nearest_half(diffuse), 1.0));
+  imageStore(specular_out, pixel, vec4(nearest_half(specular), 1.0));
+}
+
+void main() {
+  if (phase == 0u)
+    classify();
+  else if (phase == 1u)
+    place();
+  else
+    shade_tiles(phase - 1u);
+}

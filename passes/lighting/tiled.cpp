@@ -1,0 +1,123 @@
+// lighting.tiled (frame.md section 5): direct light from the sun, directional lights and each
+// pixel's froxel list of lights.cluster, per 16×16-pixel tile, split into diffuse and specular
+// (RGBA16F). Tiles are classified (passes/lighting/tiled_layout.h) and each class shaded by one
+// indirect dispatch whose arguments the pass computes itself; tiled.comp states the phases and
+// the lighting model. Outputs also lighting.tile_classes (the dispatches) and lighting.tile_lists
+// (each tile's class and the lists), the same on every run. The sun's shadow is the parameter
+// sun_visibility until a shadow pass provides it; frame.md's contact shadows are not done yet.
+#include "passes/core/context.h"
+#include "passes/frame/frame_passes.h"
+#include "passes/lighting/tiled_layout.h"
+
+namespace nightcap {
+
+namespace {
+
+ComparisonContract lighting_contract() {
+  return ComparisonContract::floats(0x1p-23, 0x1p-9,
+                                    "each device within 2^-10 relative (2^-24 absolute) of the double-precision "
+                                    "BRDF for sun, point and spot lights where its float inputs allow "
+                                    "(tests/unit/lighting_tiled_test.cpp): two within twice that");
+}
+
+struct TiledConstants {
+  uint32_t phase, tiles_x, tiles_y;
+  float intensity_scale, min_roughness, sun_visibility;
+};
+
+}  // namespace
+
+BufferSchema tile_classes_schema() {
+  using C = GpuTileClasses;
+  return BufferSchema::of<C>()
+      .field("directional", &C::directional)
+      .field("local", &C::local)
+      .field("directional_lights", &C::directional_lights);
+}
+
+BufferSchema tile_entry_schema() {
+  using E = GpuTileEntry;
+  return BufferSchema::of<E>().field("tile_class", &E::tile_class).field("listed_tile", &E::listed_tile);
+}
+
+PassDecl lighting_tiled_pass() {
+  ImageDecl hdr{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour};
+  return PassDecl("lighting.tiled", PassType::compute)
+      .read("frame.constants", Use::uniform_buffer)
+      .read("frame.lights", Use::storage_read)
+      .read("gbuffer.albedo", Use::sampled)
+      .read("gbuffer.normal", Use::sampled)
+      .read("gbuffer.material", Use::sampled)
+      .read("scene.depth", Use::sampled)
+      .read("depth.linear", Use::sampled)
+      .read("lights.clusters", Use::sampled)
+      .read("lights.cluster_indices", Use::storage_read)
+      .read("lights.cluster_stats", Use::storage_read)
+      .read("lighting.ltc_inverse", Use::sampled)
+      .read("lighting.ltc_magnitude", Use::sampled)
+      .write("lighting.diffuse", Use::storage_write, hdr)
+      .write("lighting.specular", Use::storage_write, hdr)
+      .write("lighting.tile_classes", Use::storage_write, BufferDecl{ResourceKind::buffer, sizeof(GpuTileClasses)})
+      .write("lighting.tile_lists", Use::storage_write,
+             BufferDecl{ResourceKind::buffer, uint64_t(kLightingTileCapacity) * sizeof(GpuTileEntry)})
+      .layout("lighting.tile_classes", tile_classes_schema())
+      .layout("lighting.tile_lists", tile_entry_schema())
+      .param("intensity_scale", 1.0, 0.0, 1e6, "multiplies every light's intensity")
+      .param("min_roughness", 0.03, 0.0, 1.0, "roughness floor: keeps point highlights finite in half floats")
+      .param("sun_visibility", 1.0, 0.0, 1.0,
+             "the sun's shadow term at every pixel, until a sun shadow pass provides it per pixel")
+      .compare("lighting.diffuse", lighting_contract())
+      .compare("lighting.specular", lighting_contract())
+      .skip_when([](const SkipContext& frame) {
+        const bool lit = frame.features.count("sun") || frame.features.count("local_lights");
+        return lit ? std::string() : std::string("scene has no lights");
+      })
+      .skip_when_cleared({"scene.depth"})
+      .push_constants<TiledConstants>()
+      .shader("lighting/tiled.comp")
+      .run([](PassContext& ctx) {
+        const ImageExtent size = ctx.desc("lighting.diffuse").extent;
+        TiledConstants constants{0,
+                                 (size.width + kLightingTile - 1) / kLightingTile,
+                                 (size.height + kLightingTile - 1) / kLightingTile,
+                                 float(ctx.param("intensity_scale")),
+                                 float(ctx.param("min_roughness")),
+                                 float(ctx.param("sun_visibility"))};
+        ctx.bind_pipeline();
+        const VkSampler nearest = ctx.nearest_clamp();
+        ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
+                  Binding::storage(ctx.slot("frame.lights"), "frame.lights"),
+                  Binding::texture(ctx.slot("gbuffer.albedo"), "gbuffer.albedo", nearest),
+                  Binding::texture(ctx.slot("gbuffer.normal"), "gbuffer.normal", nearest),
+                  Binding::texture(ctx.slot("gbuffer.material"), "gbuffer.material", nearest),
+                  Binding::texture(ctx.slot("scene.depth"), "scene.depth", nearest, ViewAspect::depth),
+                  Binding::texture(ctx.slot("depth.linear"), "depth.linear", nearest),
+                  Binding::texture(ctx.slot("lights.clusters"), "lights.clusters", nearest),
+                  Binding::storage(ctx.slot("lights.cluster_indices"), "lights.cluster_indices"),
+                  Binding::storage(ctx.slot("lights.cluster_stats"), "lights.cluster_stats"),
+                  Binding::texture(ctx.slot("lighting.ltc_inverse"), "lighting.ltc_inverse", nearest),
+                  Binding::texture(ctx.slot("lighting.ltc_magnitude"), "lighting.ltc_magnitude", nearest),
+                  Binding::image(ctx.slot("lighting.diffuse"), "lighting.diffuse", 0),
+                  Binding::image(ctx.slot("lighting.specular"), "lighting.specular", 0),
+                  Binding::storage(ctx.slot("lighting.tile_classes"), "lighting.tile_classes"),
+                  Binding::storage(ctx.slot("lighting.tile_lists"), "lighting.tile_lists")});
+        ctx.push_constants(constants);
+        vkCmdDispatch(ctx.cmd(), constants.tiles_x, constants.tiles_y, 1);
+        ctx.storage_barrier();
+        constants.phase = 1;
+        ctx.push_constants(constants);
+        vkCmdDispatch(ctx.cmd(), 1, 1, 1);
+        ctx.storage_barrier();
+        // The two classes write disjoint tiles and read only what phases 0 and 1 wrote; the
+        // barrier between them is for the synchronization validation, which counts the
+        // arguments' binding (written in phase 1) as written by every dispatch.
+        for (uint32_t tile_class = 1; tile_class <= 2; ++tile_class) {
+          if (tile_class == 2) ctx.storage_barrier();
+          constants.phase = tile_class + 1;
+          ctx.push_constants(constants);
+          ctx.dispatch_indirect("lighting.tile_classes", (tile_class - 1) * sizeof(glm::uvec4));
+        }
+      });
+}
+
+}  // namespace nightcap
