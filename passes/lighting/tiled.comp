@@ -47,8 +47,9 @@ layout(std430, set = 0, binding = 14) buffer ClassBlock {
 };
 layout(std430, set = 0, binding = 15) buffer ListBlock { uvec2 entries[]; };  // (class of tile i, i-th listed tile)
 
+layout(constant_id = 0) const uint phase = 0u;  // one pipeline per phase (tiled.cpp says why)
+
 layout(push_constant) uniform Params {
-  uint phase;
   uint tiles_x, tiles_y;
   float intensity_scale;
   float min_roughness;

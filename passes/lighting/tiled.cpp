@@ -21,7 +21,7 @@ ComparisonContract lighting_contract() {
 }
 
 struct TiledConstants {
-  uint32_t phase, tiles_x, tiles_y;
+  uint32_t tiles_x, tiles_y;
   float intensity_scale, min_roughness, sun_visibility;
 };
 
@@ -77,15 +77,13 @@ PassDecl lighting_tiled_pass() {
       .shader("lighting/tiled.comp")
       .run([](PassContext& ctx) {
         const ImageExtent size = ctx.desc("lighting.diffuse").extent;
-        TiledConstants constants{0,
-                                 (size.width + kLightingTile - 1) / kLightingTile,
+        const TiledConstants constants{(size.width + kLightingTile - 1) / kLightingTile,
                                  (size.height + kLightingTile - 1) / kLightingTile,
                                  float(ctx.param("intensity_scale")),
                                  float(ctx.param("min_roughness")),
                                  float(ctx.param("sun_visibility"))};
-        ctx.bind_pipeline();
         const VkSampler nearest = ctx.nearest_clamp();
-        ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
+        const std::vector<Binding> bindings{Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
                   Binding::storage(ctx.slot("frame.lights"), "frame.lights"),
                   Binding::texture(ctx.slot("gbuffer.albedo"), "gbuffer.albedo", nearest),
                   Binding::texture(ctx.slot("gbuffer.normal"), "gbuffer.normal", nearest),
@@ -100,12 +98,19 @@ PassDecl lighting_tiled_pass() {
                   Binding::image(ctx.slot("lighting.diffuse"), "lighting.diffuse", 0),
                   Binding::image(ctx.slot("lighting.specular"), "lighting.specular", 0),
                   Binding::storage(ctx.slot("lighting.tile_classes"), "lighting.tile_classes"),
-                  Binding::storage(ctx.slot("lighting.tile_lists"), "lighting.tile_lists")});
-        ctx.push_constants(constants);
+                  Binding::storage(ctx.slot("lighting.tile_lists"), "lighting.tile_lists")};
+        // Each phase is its own pipeline (tiled.comp's constant `phase`): lavapipe runs every
+        // side of a branch, so one pipeline switching on a push constant paid for all four
+        // phases in each dispatch (phase 1's loops in every workgroup of the shading).
+        auto begin_phase = [&](int32_t phase) {
+          ctx.bind_pipeline({phase});
+          ctx.push(bindings);
+          ctx.push_constants(constants);
+        };
+        begin_phase(0);
         vkCmdDispatch(ctx.cmd(), constants.tiles_x, constants.tiles_y, 1);
         ctx.storage_barrier();
-        constants.phase = 1;
-        ctx.push_constants(constants);
+        begin_phase(1);
         vkCmdDispatch(ctx.cmd(), 1, 1, 1);
         ctx.storage_barrier();
         // The two classes write disjoint tiles and read only what phases 0 and 1 wrote; the
@@ -113,8 +118,7 @@ PassDecl lighting_tiled_pass() {
         // arguments' binding (written in phase 1) as written by every dispatch.
         for (uint32_t tile_class = 1; tile_class <= 2; ++tile_class) {
           if (tile_class == 2) ctx.storage_barrier();
-          constants.phase = tile_class + 1;
-          ctx.push_constants(constants);
+          begin_phase(int32_t(tile_class + 1));
           ctx.dispatch_indirect("lighting.tile_classes", (tile_class - 1) * sizeof(glm::uvec4));
         }
       });
