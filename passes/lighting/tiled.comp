@@ -54,6 +54,8 @@ layout(push_constant) uniform Params {
   float intensity_scale;
   float min_roughness;
   float sun_visibility;
+  float contact_length, contact_thickness;
+  uint contact_steps;
 };
 
 const uint kTile = 16u, kClusterTile = 32u, kSlices = 64u;
@@ -238,6 +240,25 @@ void shade_tube(Light light, Surface s, Lobe lobe, inout vec3 diffuse, inout vec
   specular += (s.f0 * t.x + (1.0 - s.f0) * t.y) * radiance;
 }
 
+// Contact shadow toward a directional light `l` (unit, toward the light): a march of
+// contact_steps steps over contact_length metres from the surface in screen space; the point is
+// occluded where depth.linear there lies in front of the ray by more than a bias (a step's
+// share of the ray plus 0.1% of the depth, against self-shadowing) and less than
+// contact_thickness (what is farther in front is taken to be a separate object the ray passes
+// behind). 0: occluded; 1: not, or the ray leaves the view first.
+float contact_shadow(vec3 position, vec3 l) {
+  float step_length = contact_length / float(max(contact_steps, 1u));
+  for (uint i = 1u; i <= contact_steps; ++i) {
+    vec4 clip = frame.view_projection * vec4(position + l * (step_length * float(i)), 1.0);
+    if (clip.w <= 0.0) break;  // behind the camera
+    vec2 screen = (clip.xy / clip.w * 0.5 + 0.5) * frame.viewport.xy;
+    if (any(lessThan(screen, vec2(0.0))) || any(greaterThanEqual(screen, frame.viewport.xy))) break;
+    float in_front = clip.w - texelFetch(linear_depth_map, ivec2(screen), 0).r;
+    if (in_front > 0.5 * step_length + 1e-3 * clip.w && in_front < contact_thickness) return 0.0;
+  }
+  return 1.0;
+}
+
 void shade_tiles(uint tile_class) {
   uvec4 dispatch = class_dispatch[tile_class - 1u];
   uint tile_index = entries[dispatch.w + gl_WorkGroupID.x].y;
@@ -267,7 +288,7 @@ void shade_tiles(uint tile_class) {
 
   vec3 diffuse = vec3(0.0), specular = vec3(0.0);
   if (frame.sun_direction.w > 0.0) {
-    vec3 e = frame.sun_radiance.rgb * intensity_scale * sun_visibility;
+    vec3 e = frame.sun_radiance.rgb * intensity_scale * sun_visibility * contact_shadow(s.position, -frame.sun_direction.xyz);
     diffuse += diffuse_term(s.n, -frame.sun_direction.xyz, e, s.albedo, s.metallic);
     specular += specular_term(s.n, s.v, -frame.sun_direction.xyz, e, s.albedo, s.metallic, s.alpha);
   }

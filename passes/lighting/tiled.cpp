@@ -23,6 +23,8 @@ ComparisonContract lighting_contract() {
 struct TiledConstants {
   uint32_t tiles_x, tiles_y;
   float intensity_scale, min_roughness, sun_visibility;
+  float contact_length, contact_thickness;
+  uint32_t contact_steps;
 };
 
 }  // namespace
@@ -66,6 +68,10 @@ PassDecl lighting_tiled_pass() {
       .param("min_roughness", 0.03, 0.0, 1.0, "roughness floor: keeps point highlights finite in half floats")
       .param("sun_visibility", 1.0, 0.0, 1.0,
              "the sun's shadow term at every pixel, until a sun shadow pass provides it per pixel")
+      .param("contact_length", 0.5, 0.0, 10.0, "metres the sun's contact shadow marches toward the sun")
+      .param("contact_steps", 8, 0, 64, "steps of the contact shadow's march (0: no contact shadow)")
+      .param("contact_thickness", 0.5, 0.001, 100.0,
+             "metres in front of the march beyond which a surface does not occlude it")
       .compare("lighting.diffuse", lighting_contract())
       .compare("lighting.specular", lighting_contract())
       .skip_when([](const SkipContext& frame) {
@@ -78,27 +84,31 @@ PassDecl lighting_tiled_pass() {
       .run([](PassContext& ctx) {
         const ImageExtent size = ctx.desc("lighting.diffuse").extent;
         const TiledConstants constants{(size.width + kLightingTile - 1) / kLightingTile,
-                                 (size.height + kLightingTile - 1) / kLightingTile,
-                                 float(ctx.param("intensity_scale")),
-                                 float(ctx.param("min_roughness")),
-                                 float(ctx.param("sun_visibility"))};
+                                       (size.height + kLightingTile - 1) / kLightingTile,
+                                       float(ctx.param("intensity_scale")),
+                                       float(ctx.param("min_roughness")),
+                                       float(ctx.param("sun_visibility")),
+                                       float(ctx.param("contact_length")),
+                                       float(ctx.param("contact_thickness")),
+                                       uint32_t(ctx.param("contact_steps"))};
         const VkSampler nearest = ctx.nearest_clamp();
-        const std::vector<Binding> bindings{Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
-                  Binding::storage(ctx.slot("frame.lights"), "frame.lights"),
-                  Binding::texture(ctx.slot("gbuffer.albedo"), "gbuffer.albedo", nearest),
-                  Binding::texture(ctx.slot("gbuffer.normal"), "gbuffer.normal", nearest),
-                  Binding::texture(ctx.slot("gbuffer.material"), "gbuffer.material", nearest),
-                  Binding::texture(ctx.slot("scene.depth"), "scene.depth", nearest, ViewAspect::depth),
-                  Binding::texture(ctx.slot("depth.linear"), "depth.linear", nearest),
-                  Binding::texture(ctx.slot("lights.clusters"), "lights.clusters", nearest),
-                  Binding::storage(ctx.slot("lights.cluster_indices"), "lights.cluster_indices"),
-                  Binding::storage(ctx.slot("lights.cluster_stats"), "lights.cluster_stats"),
-                  Binding::texture(ctx.slot("lighting.ltc_inverse"), "lighting.ltc_inverse", nearest),
-                  Binding::texture(ctx.slot("lighting.ltc_magnitude"), "lighting.ltc_magnitude", nearest),
-                  Binding::image(ctx.slot("lighting.diffuse"), "lighting.diffuse", 0),
-                  Binding::image(ctx.slot("lighting.specular"), "lighting.specular", 0),
-                  Binding::storage(ctx.slot("lighting.tile_classes"), "lighting.tile_classes"),
-                  Binding::storage(ctx.slot("lighting.tile_lists"), "lighting.tile_lists")};
+        const std::vector<Binding> bindings{
+            Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
+            Binding::storage(ctx.slot("frame.lights"), "frame.lights"),
+            Binding::texture(ctx.slot("gbuffer.albedo"), "gbuffer.albedo", nearest),
+            Binding::texture(ctx.slot("gbuffer.normal"), "gbuffer.normal", nearest),
+            Binding::texture(ctx.slot("gbuffer.material"), "gbuffer.material", nearest),
+            Binding::texture(ctx.slot("scene.depth"), "scene.depth", nearest, ViewAspect::depth),
+            Binding::texture(ctx.slot("depth.linear"), "depth.linear", nearest),
+            Binding::texture(ctx.slot("lights.clusters"), "lights.clusters", nearest),
+            Binding::storage(ctx.slot("lights.cluster_indices"), "lights.cluster_indices"),
+            Binding::storage(ctx.slot("lights.cluster_stats"), "lights.cluster_stats"),
+            Binding::texture(ctx.slot("lighting.ltc_inverse"), "lighting.ltc_inverse", nearest),
+            Binding::texture(ctx.slot("lighting.ltc_magnitude"), "lighting.ltc_magnitude", nearest),
+            Binding::image(ctx.slot("lighting.diffuse"), "lighting.diffuse", 0),
+            Binding::image(ctx.slot("lighting.specular"), "lighting.specular", 0),
+            Binding::storage(ctx.slot("lighting.tile_classes"), "lighting.tile_classes"),
+            Binding::storage(ctx.slot("lighting.tile_lists"), "lighting.tile_lists")};
         // Each phase is its own pipeline (tiled.comp's constant `phase`): lavapipe runs every
         // side of a branch, so one pipeline switching on a push constant paid for all four
         // phases in each dispatch (phase 1's loops in every workgroup of the shading).
