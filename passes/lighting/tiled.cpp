@@ -4,7 +4,8 @@
 // indirect dispatch whose arguments the pass computes itself; tiled.comp states the phases and
 // the lighting model. Outputs also lighting.tile_classes (the dispatches) and lighting.tile_lists
 // (each tile's class and the lists), the same on every run. The sun's shadow is the parameter
-// sun_visibility until a shadow pass provides it; frame.md's contact shadows are not done yet.
+// sun_visibility until a shadow pass provides it; its contact shadow is a short screen-space
+// march (contact_*); local lights have none.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/lighting/tiled_layout.h"
@@ -31,10 +32,7 @@ struct TiledConstants {
 
 BufferSchema tile_classes_schema() {
   using C = GpuTileClasses;
-  return BufferSchema::of<C>()
-      .field("directional", &C::directional)
-      .field("local", &C::local)
-      .field("directional_lights", &C::directional_lights);
+  return BufferSchema::of<C>().field("directional", &C::directional).field("local", &C::local).field("area", &C::area);
 }
 
 BufferSchema tile_entry_schema() {
@@ -123,11 +121,11 @@ PassDecl lighting_tiled_pass() {
         begin_phase(1);
         vkCmdDispatch(ctx.cmd(), 1, 1, 1);
         ctx.storage_barrier();
-        // The two classes write disjoint tiles and read only what phases 0 and 1 wrote; the
-        // barrier between them is for the synchronization validation, which counts the
+        // The classes write disjoint tiles and read only what phases 0 and 1 wrote; the
+        // barriers between them are for the synchronization validation, which counts the
         // arguments' binding (written in phase 1) as written by every dispatch.
-        for (uint32_t tile_class = 1; tile_class <= 2; ++tile_class) {
-          if (tile_class == 2) ctx.storage_barrier();
+        for (uint32_t tile_class = 1; tile_class <= 3; ++tile_class) {
+          if (tile_class > 1) ctx.storage_barrier();
           begin_phase(int32_t(tile_class + 1));
           ctx.dispatch_indirect("lighting.tile_classes", (tile_class - 1) * sizeof(glm::uvec4));
         }
