@@ -6,10 +6,12 @@
 #include <fstream>
 #include <iomanip>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "inspect/disassemble.h"
 #include "inspect/export.h"
+#include "inspect/heatmap.h"
 #include "inspect/nan_origin.h"
 #include "inspect/pixel_history.h"
 #include "inspect/stats.h"
@@ -78,11 +80,16 @@ const std::vector<CommandSpec>& specs() {
        {{"--mip", 1}, {"--layer", 1}, {"--slice", 1}, {"--rect", 4}}},
       {{"export",
         "export RESOURCE [--mip M] [--layer L] [--slice Z] [--stencil] [--half] [--uncompressed] -o FILE.exr|FILE.png; "
+        "export CLUSTERS --heatmap [--slice Z] -o FILE.png; "
         "export PASS --all [--no-pictures] [--half] [--uncompressed] -o DIR",
         "FILE.exr: the values as float channels; FILE.png: a picture for its kind (normals as colour, depth "
         "linearised, motion on a colour wheel, HDR tonemapped; --stencil: stencil classes as a palette). --all: "
         "every output of PASS into DIR, images as RESOURCE.exr and RESOURCE.png (and RESOURCE.stencil.png), "
-        "buffers as their raw bytes, RESOURCE.bin. EXR channels are FLOAT and ZIP-compressed unless --half (HALF, as "
+        "buffers as their raw bytes, RESOURCE.bin. --heatmap: a light-cluster image (lights.clusters) as the "
+        "length of each tile's longest list over its slices (or of slice Z), one block of the cluster tile's size "
+        "per tile so it lies over the frame, from dark blue (1 light) to white (the longest); --json adds the "
+        "longest and the mean over tiles with a list. EXR channels are FLOAT and ZIP-compressed unless --half (HALF, "
+        "as "
         "RenderDoc writes them) or --uncompressed; --no-pictures: --all writes no PNG"},
        {{"--mip", 1},
         {"--layer", 1},
@@ -92,6 +99,7 @@ const std::vector<CommandSpec>& specs() {
         {"--no-pictures", 0},
         {"--half", 0},
         {"--uncompressed", 0},
+        {"--heatmap", 0},
         {"-o", 1}}},
       {{"replay", "replay [--set PARAM=VALUE]... [--shader FILE]",
         "run the current pass again from its recorded inputs on the session's device (inspect --device), with its "
@@ -733,6 +741,20 @@ class Runner {
     const std::filesystem::path target = args.options.at("-o")[0];
     const ValuesExr values{args.has("--half"), !args.has("--uncompressed")};
     ojson files = ojson::array();
+    if (args.has("--heatmap")) {
+      if (target.extension() != ".png")
+        throw InspectError("export --heatmap -o " + target.string() + ": expected a .png");
+      const ResourceRecord& record = session_.resource(args.positional[0]);
+      std::optional<uint32_t> slice;
+      if (args.has("--slice")) slice = uint32_t(option_index(args, "--slice", 0));
+      const ClusterHeatmap map = cluster_heatmap(record, session_.load(record), slice);
+      const Rgba8Image image = heatmap_picture(map, kClusterTile);
+      write_png(target, image.pixels, image.width, image.height);
+      if (json_) return emit({{"files", {target.string()}}, {"longest", map.longest}, {"mean", map.mean_nonempty}});
+      out_ << "wrote " << target.string() << " (longest list " << map.longest << ", mean over tiles with a list "
+           << map.mean_nonempty << ")\n";
+      return;
+    }
     if (args.has("--all")) {
       const PassRecord* pass = nullptr;
       for (const PassRecord& p : session_.frame().passes)

@@ -1,12 +1,12 @@
 #version 460
 // lighting.tiled: direct light per 16×16-pixel tile from the froxel lists of lights.cluster, in
-// four dispatches of one pass (passes/lighting/tiled_layout.h names the classes):
-//   0: a workgroup per tile classifies it (unlit, directional only, local lights) into
-//      lighting.tile_lists, writes an unlit tile's outputs (0) at once, and zeroes the entries
-//      past the last tile;
-//   1: one workgroup lists the tiles of classes 1 and 2 in row-major order (each invocation a run
-//      of tiles, offsets from the runs' counts) and writes each class's indirect dispatch;
-//   2, 3: a workgroup per listed tile of class 1, then of class 2, shades its pixels.
+// five dispatches of one pass (passes/lighting/tiled_layout.h names the classes):
+//   0: a workgroup per tile classifies it (unlit, directional only, local point and spot lights,
+//      local lights with spheres or tubes) into lighting.tile_lists, writes an unlit tile's
+//      outputs (0) at once, and zeroes the entries past the last tile;
+//   1: one workgroup lists the tiles of classes 1, 2 and 3 in row-major order (each invocation a
+//      run of tiles, offsets from the runs' counts) and writes each class's indirect dispatch;
+//   2, 3, 4: a workgroup per listed tile of class 1, 2, then 3, shades its pixels.
 // Nothing depends on execution order (the classification ORs flags, the lists come from integer
 // sums), and each pixel is shaded the same way whatever the order: every run writes the same
 // bytes.
@@ -16,7 +16,8 @@
 // lights of the pixel's froxel, in ascending index. A point light with a radius is a sphere:
 // Lambert's illuminance of a sphere cut by the horizon, LTC for its specular. A tube is a line
 // of candela per metre: its diffuse integrated along the segment (ltc_lambert_line), its
-// specular by LTC (ltc_tube). The sun's shadow is a parameter until a shadow pass provides it.
+// specular by LTC (ltc_tube). The sun's shadow is a parameter until a shadow pass provides it;
+// its contact shadow is a short march here (contact_shadow).
 #include "../frame/half.glsl"
 #include "../frame/types.glsl"
 #include "brdf.glsl"
@@ -42,17 +43,19 @@ layout(set = 0, binding = 11) uniform sampler2D ltc_magnitude;
 layout(set = 0, binding = 12, rgba16f) uniform writeonly image2D diffuse_out;
 layout(set = 0, binding = 13, rgba16f) uniform writeonly image2D specular_out;
 layout(std430, set = 0, binding = 14) buffer ClassBlock {
-  uvec4 class_dispatch[2];  // classes 1 and 2: workgroups x, y, z; w: first list entry
-  uvec4 class_info;         // x: directional lights in frame.lights
+  uvec4 class_dispatch[3];  // classes 1, 2, 3: workgroups x, y, z; w: first list entry
 };
 layout(std430, set = 0, binding = 15) buffer ListBlock { uvec2 entries[]; };  // (class of tile i, i-th listed tile)
 
+layout(constant_id = 0) const uint phase = 0u;  // one pipeline per phase (tiled.cpp says why)
+
 layout(push_constant) uniform Params {
-  uint phase;
   uint tiles_x, tiles_y;
   float intensity_scale;
   float min_roughness;
   float sun_visibility;
+  float contact_length, contact_thickness;
+  uint contact_steps;
 };
 
 const uint kTile = 16u, kClusterTile = 32u, kSlices = 64u;
@@ -78,7 +81,7 @@ uint pixel_slice(float depth) {
 }
 
 // Phase 0.
-shared uint tile_flags;  // 1: a lit pixel; 2: a lit pixel whose froxel lists a local light
+shared uint tile_flags;  // 1: a lit pixel; 2: its froxel lists a local light; 4: a sphere or tube
 
 void classify() {
   uvec2 tile = gl_WorkGroupID.xy;
@@ -87,11 +90,13 @@ void classify() {
   barrier();
   if (inside(pixel) && shaded(pixel)) {
     uint slice = pixel_slice(texelFetch(linear_depth_map, pixel, 0).r);
-    bool local = texelFetch(clusters, ivec3(uvec2(pixel) / kClusterTile, slice), 0).y > 0u;
-    atomicOr(tile_flags, local ? 2u : 1u);
+    uvec2 list = texelFetch(clusters, ivec3(uvec2(pixel) / kClusterTile, slice), 0).xy;
+    // The list ascends, so its last light is an area light when it holds any.
+    bool area = list.y > 0u && cluster_indices[list.x + list.y - 1u] >= frame.light_groups.y;
+    atomicOr(tile_flags, area ? 4u : list.y > 0u ? 2u : 1u);
   }
   barrier();
-  uint tile_class = (tile_flags & 2u) != 0u ? 2u : tile_flags;
+  uint tile_class = (tile_flags & 4u) != 0u ? 3u : (tile_flags & 2u) != 0u ? 2u : tile_flags;
   if (tile_class == 0u && inside(pixel)) {
     imageStore(diffuse_out, pixel, vec4(0.0));
     imageStore(specular_out, pixel, vec4(0.0));
@@ -104,51 +109,42 @@ void classify() {
 }
 
 // Phase 1.
-shared uint run_directional[256], run_local[256], run_lights[256];
+shared uvec3 run_counts[256];  // tiles of classes 1, 2, 3 in each invocation's run
 
 void place() {
   uint lane = gl_LocalInvocationIndex;
   uint total = tiles_x * tiles_y;
   uint per_run = (total + 255u) / 256u;
   uint begin = min(lane * per_run, total), end = min(begin + per_run, total);
-  uint directional = 0u, local = 0u, directional_lights = 0u;
+  uvec3 counts = uvec3(0u);
   for (uint t = begin; t < end; ++t) {
     uint tile_class = entries[t].x;
-    if (tile_class == 1u) ++directional;
-    if (tile_class == 2u) ++local;
+    if (tile_class > 0u) ++counts[tile_class - 1u];
   }
-  for (uint i = lane; i < frame.counts.x; i += 256u)
-    if (uint(lights[i].position_type.w) == LIGHT_DIRECTIONAL) ++directional_lights;
-  run_directional[lane] = directional;
-  run_local[lane] = local;
-  run_lights[lane] = directional_lights;
+  run_counts[lane] = counts;
   barrier();
-  uint at_directional = 0u, at_local = 0u, all_directional = 0u, all_local = 0u, all_lights = 0u;
+  uvec3 before = uvec3(0u), all = uvec3(0u);
   for (uint k = 0u; k < 256u; ++k) {
-    if (k < lane) {
-      at_directional += run_directional[k];
-      at_local += run_local[k];
-    }
-    all_directional += run_directional[k];
-    all_local += run_local[k];
-    all_lights += run_lights[k];
+    if (k < lane) before += run_counts[k];
+    all += run_counts[k];
   }
-  at_local += all_directional;
+  // Each class's list follows the previous classes' lists.
+  uvec3 first = uvec3(0u, all.x, all.x + all.y);
+  uvec3 at = first + before;
   for (uint t = begin; t < end; ++t) {
     uint tile_class = entries[t].x;
-    if (tile_class == 1u) entries[at_directional++].y = t;
-    if (tile_class == 2u) entries[at_local++].y = t;
+    if (tile_class > 0u) entries[at[tile_class - 1u]++].y = t;
   }
   if (lane != 0u) return;
   // A class with no tile dispatches nothing; (0, 0, 0) is also the buffer's cleared value, which
   // a frame with nothing to shade then computes (the pass's skip for cleared inputs).
-  uint any_directional = min(all_directional, 1u), any_local = min(all_local, 1u);
-  class_dispatch[0] = uvec4(all_directional, any_directional, any_directional, 0u);
-  class_dispatch[1] = uvec4(all_local, any_local, any_local, all_directional);
-  class_info = uvec4(all_directional + all_local > 0u ? all_lights : 0u, 0u, 0u, 0u);
+  for (uint c = 0u; c < 3u; ++c) {
+    uint any = min(all[c], 1u);
+    class_dispatch[c] = uvec4(all[c], any, any, first[c]);
+  }
 }
 
-// Phases 2 and 3.
+// Phases 2, 3 and 4.
 float spot_factor(Light light, vec3 to_light) {
   float cos_outer = light.direction_cos_outer.w, cos_inner = light.cos_inner.x;
   float cd = dot(light.direction_cos_outer.xyz, -to_light);
@@ -237,6 +233,25 @@ void shade_tube(Light light, Surface s, Lobe lobe, inout vec3 diffuse, inout vec
   specular += (s.f0 * t.x + (1.0 - s.f0) * t.y) * radiance;
 }
 
+// Contact shadow toward a directional light `l` (unit, toward the light): a march of
+// contact_steps steps over contact_length metres from the surface in screen space; the point is
+// occluded where depth.linear there lies in front of the ray by more than a bias (a step's
+// share of the ray plus 0.1% of the depth, against self-shadowing) and less than
+// contact_thickness (what is farther in front is taken to be a separate object the ray passes
+// behind). 0: occluded; 1: not, or the ray leaves the view first.
+float contact_shadow(vec3 position, vec3 l) {
+  float step_length = contact_length / float(max(contact_steps, 1u));
+  for (uint i = 1u; i <= contact_steps; ++i) {
+    vec4 clip = frame.view_projection * vec4(position + l * (step_length * float(i)), 1.0);
+    if (clip.w <= 0.0) break;  // behind the camera
+    vec2 screen = (clip.xy / clip.w * 0.5 + 0.5) * frame.viewport.xy;
+    if (any(lessThan(screen, vec2(0.0))) || any(greaterThanEqual(screen, frame.viewport.xy))) break;
+    float in_front = clip.w - texelFetch(linear_depth_map, ivec2(screen), 0).r;
+    if (in_front > 0.5 * step_length + 1e-3 * clip.w && in_front < contact_thickness) return 0.0;
+  }
+  return 1.0;
+}
+
 void shade_tiles(uint tile_class) {
   uvec4 dispatch = class_dispatch[tile_class - 1u];
   uint tile_index = entries[dispatch.w + gl_WorkGroupID.x].y;
@@ -266,22 +281,18 @@ void shade_tiles(uint tile_class) {
 
   vec3 diffuse = vec3(0.0), specular = vec3(0.0);
   if (frame.sun_direction.w > 0.0) {
-    vec3 e = frame.sun_radiance.rgb * intensity_scale * sun_visibility;
+    vec3 e = frame.sun_radiance.rgb * intensity_scale * sun_visibility * contact_shadow(s.position, -frame.sun_direction.xyz);
     diffuse += diffuse_term(s.n, -frame.sun_direction.xyz, e, s.albedo, s.metallic);
     specular += specular_term(s.n, s.v, -frame.sun_direction.xyz, e, s.albedo, s.metallic, s.alpha);
   }
-  // Directional lights besides the sun are not clustered: found in frame.lights, which stops at
-  // the last of them.
-  uint directional_left = class_info.x;
-  for (uint i = 0u; directional_left > 0u && i < frame.counts.x; ++i) {
-    Light light = lights[i];
-    if (uint(light.position_type.w) != LIGHT_DIRECTIONAL) continue;
-    --directional_left;
-    vec3 radiance = light.color_range.rgb * intensity_scale;
-    diffuse += diffuse_term(s.n, -light.direction_cos_outer.xyz, radiance, s.albedo, s.metallic);
-    specular += specular_term(s.n, s.v, -light.direction_cos_outer.xyz, radiance, s.albedo, s.metallic, s.alpha);
+  // Directional lights besides the sun are not clustered: they open frame.lights.
+  for (uint i = 0u; i < frame.light_groups.x; ++i) {
+    vec3 radiance = lights[i].color_range.rgb * intensity_scale;
+    vec3 l = -lights[i].direction_cos_outer.xyz;
+    diffuse += diffuse_term(s.n, l, radiance, s.albedo, s.metallic);
+    specular += specular_term(s.n, s.v, l, radiance, s.albedo, s.metallic, s.alpha);
   }
-  if (tile_class == 2u) {
+  if (tile_class >= 2u) {
     uint slice = pixel_slice(texelFetch(linear_depth_map, pixel, 0).r);
     uvec2 list = texelFetch(clusters, ivec3(uvec2(pixel) / kClusterTile, slice), 0).xy;
     // A list ascends, so it holds its point and spot lights, then its spheres, then its tubes.
@@ -291,7 +302,9 @@ void shade_tiles(uint tile_class) {
       if (i >= frame.light_groups.y) break;
       shade_punctual(lights[i], s, diffuse, specular);
     }
-    if (k < list.y) {
+    // Only class 3 has spheres and tubes: lavapipe would run a pass of their loops even where
+    // no list holds one.
+    if (tile_class == 3u) {
       Lobe lobe = lobe_of(s);
       for (; k < list.y; ++k) {
         uint i = cluster_indices[list.x + k];

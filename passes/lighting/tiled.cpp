@@ -4,7 +4,8 @@
 // indirect dispatch whose arguments the pass computes itself; tiled.comp states the phases and
 // the lighting model. Outputs also lighting.tile_classes (the dispatches) and lighting.tile_lists
 // (each tile's class and the lists), the same on every run. The sun's shadow is the parameter
-// sun_visibility until a shadow pass provides it; frame.md's contact shadows are not done yet.
+// sun_visibility until a shadow pass provides it; its contact shadow is a short screen-space
+// march (contact_*); local lights have none.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/lighting/tiled_layout.h"
@@ -21,18 +22,17 @@ ComparisonContract lighting_contract() {
 }
 
 struct TiledConstants {
-  uint32_t phase, tiles_x, tiles_y;
+  uint32_t tiles_x, tiles_y;
   float intensity_scale, min_roughness, sun_visibility;
+  float contact_length, contact_thickness;
+  uint32_t contact_steps;
 };
 
 }  // namespace
 
 BufferSchema tile_classes_schema() {
   using C = GpuTileClasses;
-  return BufferSchema::of<C>()
-      .field("directional", &C::directional)
-      .field("local", &C::local)
-      .field("directional_lights", &C::directional_lights);
+  return BufferSchema::of<C>().field("directional", &C::directional).field("local", &C::local).field("area", &C::area);
 }
 
 BufferSchema tile_entry_schema() {
@@ -66,6 +66,10 @@ PassDecl lighting_tiled_pass() {
       .param("min_roughness", 0.03, 0.0, 1.0, "roughness floor: keeps point highlights finite in half floats")
       .param("sun_visibility", 1.0, 0.0, 1.0,
              "the sun's shadow term at every pixel, until a sun shadow pass provides it per pixel")
+      .param("contact_length", 0.5, 0.0, 10.0, "metres the sun's contact shadow marches toward the sun")
+      .param("contact_steps", 8, 0, 64, "steps of the contact shadow's march (0: no contact shadow)")
+      .param("contact_thickness", 0.5, 0.001, 100.0,
+             "metres in front of the march beyond which a surface does not occlude it")
       .compare("lighting.diffuse", lighting_contract())
       .compare("lighting.specular", lighting_contract())
       .skip_when([](const SkipContext& frame) {
@@ -77,44 +81,52 @@ PassDecl lighting_tiled_pass() {
       .shader("lighting/tiled.comp")
       .run([](PassContext& ctx) {
         const ImageExtent size = ctx.desc("lighting.diffuse").extent;
-        TiledConstants constants{0,
-                                 (size.width + kLightingTile - 1) / kLightingTile,
-                                 (size.height + kLightingTile - 1) / kLightingTile,
-                                 float(ctx.param("intensity_scale")),
-                                 float(ctx.param("min_roughness")),
-                                 float(ctx.param("sun_visibility"))};
-        ctx.bind_pipeline();
+        const TiledConstants constants{(size.width + kLightingTile - 1) / kLightingTile,
+                                       (size.height + kLightingTile - 1) / kLightingTile,
+                                       float(ctx.param("intensity_scale")),
+                                       float(ctx.param("min_roughness")),
+                                       float(ctx.param("sun_visibility")),
+                                       float(ctx.param("contact_length")),
+                                       float(ctx.param("contact_thickness")),
+                                       uint32_t(ctx.param("contact_steps"))};
         const VkSampler nearest = ctx.nearest_clamp();
-        ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
-                  Binding::storage(ctx.slot("frame.lights"), "frame.lights"),
-                  Binding::texture(ctx.slot("gbuffer.albedo"), "gbuffer.albedo", nearest),
-                  Binding::texture(ctx.slot("gbuffer.normal"), "gbuffer.normal", nearest),
-                  Binding::texture(ctx.slot("gbuffer.material"), "gbuffer.material", nearest),
-                  Binding::texture(ctx.slot("scene.depth"), "scene.depth", nearest, ViewAspect::depth),
-                  Binding::texture(ctx.slot("depth.linear"), "depth.linear", nearest),
-                  Binding::texture(ctx.slot("lights.clusters"), "lights.clusters", nearest),
-                  Binding::storage(ctx.slot("lights.cluster_indices"), "lights.cluster_indices"),
-                  Binding::storage(ctx.slot("lights.cluster_stats"), "lights.cluster_stats"),
-                  Binding::texture(ctx.slot("lighting.ltc_inverse"), "lighting.ltc_inverse", nearest),
-                  Binding::texture(ctx.slot("lighting.ltc_magnitude"), "lighting.ltc_magnitude", nearest),
-                  Binding::image(ctx.slot("lighting.diffuse"), "lighting.diffuse", 0),
-                  Binding::image(ctx.slot("lighting.specular"), "lighting.specular", 0),
-                  Binding::storage(ctx.slot("lighting.tile_classes"), "lighting.tile_classes"),
-                  Binding::storage(ctx.slot("lighting.tile_lists"), "lighting.tile_lists")});
-        ctx.push_constants(constants);
+        const std::vector<Binding> bindings{
+            Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
+            Binding::storage(ctx.slot("frame.lights"), "frame.lights"),
+            Binding::texture(ctx.slot("gbuffer.albedo"), "gbuffer.albedo", nearest),
+            Binding::texture(ctx.slot("gbuffer.normal"), "gbuffer.normal", nearest),
+            Binding::texture(ctx.slot("gbuffer.material"), "gbuffer.material", nearest),
+            Binding::texture(ctx.slot("scene.depth"), "scene.depth", nearest, ViewAspect::depth),
+            Binding::texture(ctx.slot("depth.linear"), "depth.linear", nearest),
+            Binding::texture(ctx.slot("lights.clusters"), "lights.clusters", nearest),
+            Binding::storage(ctx.slot("lights.cluster_indices"), "lights.cluster_indices"),
+            Binding::storage(ctx.slot("lights.cluster_stats"), "lights.cluster_stats"),
+            Binding::texture(ctx.slot("lighting.ltc_inverse"), "lighting.ltc_inverse", nearest),
+            Binding::texture(ctx.slot("lighting.ltc_magnitude"), "lighting.ltc_magnitude", nearest),
+            Binding::image(ctx.slot("lighting.diffuse"), "lighting.diffuse", 0),
+            Binding::image(ctx.slot("lighting.specular"), "lighting.specular", 0),
+            Binding::storage(ctx.slot("lighting.tile_classes"), "lighting.tile_classes"),
+            Binding::storage(ctx.slot("lighting.tile_lists"), "lighting.tile_lists")};
+        // Each phase is its own pipeline (tiled.comp's constant `phase`): lavapipe runs every
+        // side of a branch, so one pipeline switching on a push constant paid for all four
+        // phases in each dispatch (phase 1's loops in every workgroup of the shading).
+        auto begin_phase = [&](int32_t phase) {
+          ctx.bind_pipeline({phase});
+          ctx.push(bindings);
+          ctx.push_constants(constants);
+        };
+        begin_phase(0);
         vkCmdDispatch(ctx.cmd(), constants.tiles_x, constants.tiles_y, 1);
         ctx.storage_barrier();
-        constants.phase = 1;
-        ctx.push_constants(constants);
+        begin_phase(1);
         vkCmdDispatch(ctx.cmd(), 1, 1, 1);
         ctx.storage_barrier();
-        // The two classes write disjoint tiles and read only what phases 0 and 1 wrote; the
-        // barrier between them is for the synchronization validation, which counts the
+        // The classes write disjoint tiles and read only what phases 0 and 1 wrote; the
+        // barriers between them are for the synchronization validation, which counts the
         // arguments' binding (written in phase 1) as written by every dispatch.
-        for (uint32_t tile_class = 1; tile_class <= 2; ++tile_class) {
-          if (tile_class == 2) ctx.storage_barrier();
-          constants.phase = tile_class + 1;
-          ctx.push_constants(constants);
+        for (uint32_t tile_class = 1; tile_class <= 3; ++tile_class) {
+          if (tile_class > 1) ctx.storage_barrier();
+          begin_phase(int32_t(tile_class + 1));
           ctx.dispatch_indirect("lighting.tile_classes", (tile_class - 1) * sizeof(glm::uvec4));
         }
       });

@@ -5,8 +5,10 @@
 //   0 (unlit): no pixel to shade (sky, or emissive-only surfaces): written as 0 when classified;
 //   1 (directional): lit pixels, and no froxel they fall in lists a local light: the sun and
 //     directional lights only;
-//   2 (local): some pixel's froxel lists local lights.
-// Classes 1 and 2 are shaded by one indirect dispatch each, a workgroup per listed tile.
+//   2 (local): some pixel's froxel lists local lights, point and spot lights only;
+//   3 (area): some pixel's froxel lists a sphere or a tube light.
+// Classes 1, 2 and 3 are shaded by one indirect dispatch each, a workgroup per listed tile; each
+// is its own pipeline, which leaves out the code its tiles do not need.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -21,22 +23,21 @@ constexpr uint32_t kLightingTile = 16;  // pixels on a side of a tile
 // Tiles lighting.tile_lists holds: those of the largest output (16384² pixels).
 constexpr uint32_t kLightingTileCapacity = 1u << 20;
 
-enum class TileClass : uint32_t { unlit = 0, directional = 1, local = 2 };
+enum class TileClass : uint32_t { unlit = 0, directional = 1, local = 2, area = 3 };
 
 // lighting.tile_classes: per shaded class, its VkDispatchIndirectCommand (x: the class's tiles;
 // y = z = 1, or all 0 when it has none) and in w the first entry of its list in
-// lighting.tile_lists; then the directional lights of frame.lights (the sun is not one of them;
-// 0 when no tile is lit).
+// lighting.tile_lists.
 struct GpuTileClasses {
   glm::uvec4 directional;  // class 1
   glm::uvec4 local;        // class 2
-  uint32_t directional_lights;
-  uint32_t pad[3];
+  glm::uvec4 area;         // class 3
 };
 static_assert(sizeof(GpuTileClasses) == 48);
 
 // lighting.tile_lists, entry i: the class of tile i (row-major: y · tiles across + x), and the
-// i-th tile of the lists (class 1's, then class 2's, each in row-major order); 0 past the tiles.
+// i-th tile of the lists (class 1's, then 2's, then 3's, each in row-major order); 0 past the
+// tiles.
 struct GpuTileEntry {
   uint32_t tile_class;
   uint32_t listed_tile;

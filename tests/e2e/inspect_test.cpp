@@ -472,6 +472,55 @@ std::vector<float> read_image(const fs::path& file, int& width, int& height, int
   return pixels;
 }
 
+// The cluster heat map: each tile's longest list over its slices, read back from the PNG by
+// OpenImageIO and matched to the lengths decoded here from the lights.clusters blob, through the
+// colour scale the help describes (dark blue for one light, white for the longest, black empty).
+TEST_F(InspectTest, ClusterHeatMapShowsEachTilesLongestList) {
+  const PassRecord& pass = pass_named(frame0(), "lights.cluster");
+  const std::vector<uint8_t> clusters = capture_->load(output_named(pass, "lights.clusters"));
+  const uint32_t tiles_x = (320 + 31) / 32, tiles_y = (180 + 31) / 32;
+  std::vector<uint32_t> longest(tiles_x * tiles_y, 0), at_slice(tiles_x * tiles_y, 0);
+  for (uint32_t slice = 0; slice < 64; ++slice)
+    for (uint32_t t = 0; t < tiles_x * tiles_y; ++t) {
+      const uint32_t count = word_at(clusters, 8 * (uint64_t(slice) * tiles_x * tiles_y + t) + 4);
+      longest[t] = std::max(longest[t], count);
+      if (slice == 20) at_slice[t] = count;
+    }
+  const uint32_t top = *std::max_element(longest.begin(), longest.end());
+  ASSERT_GT(top, 1u) << "the test needs lists of different lengths";
+  const fs::path dir = scratch("heatmap");
+  const Inspected run =
+      inspect(path_, "export lights.clusters --heatmap -o " + (dir / "all.png").string() +
+                         " --json; export lights.clusters --heatmap --slice 20 -o " + (dir / "slice.png").string() +
+                         " --json; export gbuffer.normal --heatmap -o " + (dir / "no.png").string());
+  EXPECT_EQ(run.result.code, 2) << "a G-buffer target has no lists";
+  EXPECT_NE(run.result.err.find("gbuffer.normal holds no light lists"), std::string::npos) << run.result.err;
+  ASSERT_EQ(run.objects.size(), 2u) << run.result.err;
+  EXPECT_EQ(run.objects[0]["longest"], top);
+  for (const auto& [file, lengths] : {std::pair{dir / "all.png", longest}, {dir / "slice.png", at_slice}}) {
+    int width = 0, height = 0, channels = 0;
+    const std::vector<float> pixels = read_image(file, width, height, channels);
+    ASSERT_EQ(width, int(tiles_x * 32)) << file;
+    ASSERT_EQ(height, int(tiles_y * 32)) << file;
+    const uint32_t file_top = *std::max_element(lengths.begin(), lengths.end());
+    for (uint32_t t = 0; t < tiles_x * tiles_y; ++t) {
+      // The centre of the tile's block, and the scale's stops at its ends.
+      const size_t i = (size_t((t / tiles_x) * 32 + 16) * width + (t % tiles_x) * 32 + 16) * channels;
+      const int r = int(std::lround(pixels[i] * 255)), g = int(std::lround(pixels[i + 1] * 255)),
+                b = int(std::lround(pixels[i + 2] * 255));
+      if (lengths[t] == 0) {
+        EXPECT_EQ(r + g + b, 0) << file << " tile " << t;
+      } else if (lengths[t] == file_top) {
+        EXPECT_EQ(r + g + b, 3 * 255) << file << " tile " << t;
+      } else if (lengths[t] == 1) {
+        EXPECT_EQ(std::vector<int>({r, g, b}), std::vector<int>({26, 26, 140})) << file << " tile " << t;
+      } else {
+        EXPECT_GT(r + g + b, 0) << file << " tile " << t;
+      }
+    }
+  }
+}
+
 TEST_F(InspectTest, ExportValuesAndPictures) {
   const fs::path dir = scratch("export");
   const Inspected run =

@@ -468,6 +468,17 @@ class FrameConstants : public GpuTest {
       else
         local.push_back(&l);
     }
+    // Grouped by kind, each group in scene order: directional, point and spot, sphere, tube.
+    auto group = [](const Light* l) {
+      if (l->type == LightType::directional) return 0;
+      if (l->type == LightType::tube) return 3;
+      return l->type == LightType::point && l->radius > 0 ? 2 : 1;
+    };
+    std::stable_sort(local.begin(), local.end(), [&](const Light* a, const Light* b) { return group(a) < group(b); });
+    for (int k = 1; k < 4; ++k)
+      EXPECT_EQ(c.light_groups[k - 1],
+                std::find_if(local.begin(), local.end(), [&](const Light* l) { return group(l) >= k; }) - local.begin())
+          << "group " << k;
     EXPECT_EQ(c.counts.x, local.size());
     EXPECT_EQ(c.counts.w, dropped);
     lights_dropped += dropped;
@@ -550,8 +561,11 @@ TEST_F(FrameConstants, EightKilometresOutLightsStayExactAndTheFirstDirectionalIs
 
   const Result r = build(scene, camera, camera, 320, 180, 7, false);
   double worst = 0, naive = 0;
+  // frame.lights, grouped by kind: the second directional light, the spot, the point (a sphere:
+  // its radius is 0.05 m), the tube.
+  const size_t scene_index[4] = {4, 3, 0, 2};
   for (size_t i = 0; i < r.lights.size(); ++i) {
-    const Light& l = scene.lights[i == 0 ? 0 : i + 1];
+    const Light& l = scene.lights[scene_index[i]];
     for (int k = 0; k < 3; ++k) {
       worst = std::max(worst, std::abs(r.lights[i].position_type[k] - (l.position[k] - eye[k])));
       naive = std::max(naive, std::abs(double(float(l.position[k]) - float(eye[k])) - (l.position[k] - eye[k])));
@@ -559,7 +573,8 @@ TEST_F(FrameConstants, EightKilometresOutLightsStayExactAndTheFirstDirectionalIs
   }
   EXPECT_EQ(r.constants.sun_direction, glm::vec4(0.0f, -1.0f, 0.0f, 1.0f));
   EXPECT_EQ(r.lights.size(), 4u);
-  EXPECT_EQ(r.lights.back().position_type.w, float(uint32_t(LightType::directional)));
+  EXPECT_EQ(r.lights.front().position_type.w, float(uint32_t(LightType::directional)));
+  EXPECT_EQ(r.lights.back().position_type.w, float(uint32_t(LightType::tube)));
   std::printf("8 km: worst light position error %.3g m (float-first subtraction: %.3g m)\n", worst, naive);
   EXPECT_LT(worst, 1e-6);
 }
