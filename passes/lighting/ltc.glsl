@@ -13,8 +13,28 @@ const float LTC_MIN_ROUGHNESS = 0.02;  // ltc.h's kMinRoughness: the table's fir
 const int LTC_SPHERE_SIDES = 8;        // ltc.h's kSphereSides
 
 // Gauss–Legendre's 8 nodes on [-1, 1], by pairs ±x, for the line integral (ltc.h's kLineNodes).
-const vec4 LTC_LINE_X = vec4(0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363);
-const vec4 LTC_LINE_W = vec4(0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763);
+// Gauss–Legendre along a line: the includer declares `const int LTC_LINE_NODES` (2, 4, 8 or 16;
+// lighting.tiled makes it a specialization constant, its tube_nodes parameter). Node k of
+// [-1, 1] (k < LTC_LINE_NODES) and its weight, from the positive half of each rule.
+const float LTC_GL2_X[1] = float[](0.5773502691896257);
+const float LTC_GL2_W[1] = float[](1.0);
+const float LTC_GL4_X[2] = float[](0.3399810435848563, 0.8611363115940526);
+const float LTC_GL4_W[2] = float[](0.6521451548625461, 0.3478548451374538);
+const float LTC_GL8_X[4] = float[](0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363);
+const float LTC_GL8_W[4] = float[](0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763);
+const float LTC_GL16_X[8] = float[](0.0950125098376374, 0.2816035507792589, 0.4580167776572274, 0.6178762444026438,
+                                    0.7554044083550030, 0.8656312023878318, 0.9445750230732326, 0.9894009349916499);
+const float LTC_GL16_W[8] = float[](0.1894506104550685, 0.1826034150449236, 0.1691565193950025, 0.1495959888165767,
+                                    0.1246289712555339, 0.0951585116824928, 0.0622535239386479, 0.0271524594117541);
+
+vec2 ltc_line_node(int k) {
+  int half_count = LTC_LINE_NODES / 2, i = k % half_count;
+  float sign = k < half_count ? -1.0 : 1.0;
+  if (LTC_LINE_NODES == 2) return vec2(sign * LTC_GL2_X[i], LTC_GL2_W[i]);
+  if (LTC_LINE_NODES == 4) return vec2(sign * LTC_GL4_X[i], LTC_GL4_W[i]);
+  if (LTC_LINE_NODES == 16) return vec2(sign * LTC_GL16_X[i], LTC_GL16_W[i]);
+  return vec2(sign * LTC_GL8_X[i], LTC_GL8_W[i]);
+}
 
 // The lobe at (roughness, n·v): the four nearest entries interpolated bilinearly in float, as
 // ltc::lookup does (fetched rather than filtered: a sampler's weights may be coarser).
@@ -118,8 +138,9 @@ vec2 ltc_line(vec4 minv, vec3 v, vec3 p1, vec3 p2, float range) {
   float nn = dot(mn, mn), nt = dot(mn, mt), tt = dot(mt, mt);
   float middle = 0.5 * (phi.x + phi.y), half_width = 0.5 * (phi.y - phi.x);
   vec2 sum = vec2(0.0);
-  for (int k = 0; k < 8; ++k) {
-    float x = (k < 4 ? -1.0 : 1.0) * LTC_LINE_X[k & 3];
+  for (int k = 0; k < LTC_LINE_NODES; ++k) {
+    vec2 node = ltc_line_node(k);
+    float x = node.x;
     float angle = middle + half_width * x, c = cos(angle), s = sin(angle);
     float cosine = max(toward.z * c + along.z * s, 0.0);
     // |Mq̂| for q̂ = N cos φ + T sin φ, and the direction Mq̂ it stands for.
@@ -127,7 +148,7 @@ vec2 ltc_line(vec4 minv, vec3 v, vec3 p1, vec3 p2, float range) {
     vec3 l = (mn * c + mt * s) / len;
     float v_h = clamp(dot(v, normalize(v + l)), 0.0, 1.0);
     float window = range > 0.0 ? ltc_range_window(moment / max(length(cross(l, e)), 1e-30), range) : 1.0;
-    sum += LTC_LINE_W[k & 3] * cosine * len * window * vec2(1.0, pow(1.0 - v_h, 5.0));
+    sum += node.y * cosine * len * window * vec2(1.0, pow(1.0 - v_h, 5.0));
   }
   float det = minv.x * minv.w - minv.y * minv.z;
   return sum * (sqrt(tt) * det / distance * half_width / LTC_PI);
@@ -148,11 +169,12 @@ float ltc_lambert_line(vec3 p1, vec3 p2, float range) {
     integral = toward.z * (sin(phi.y) - sin(phi.x)) - along.z * (cos(phi.y) - cos(phi.x));
   } else {
     float middle = 0.5 * (phi.x + phi.y), half_width = 0.5 * (phi.y - phi.x);
-    for (int k = 0; k < 8; ++k) {
-      float angle = middle + half_width * (k < 4 ? -1.0 : 1.0) * LTC_LINE_X[k & 3];
+    for (int k = 0; k < LTC_LINE_NODES; ++k) {
+      vec2 node = ltc_line_node(k);
+      float angle = middle + half_width * node.x;
       float c = cos(angle);
       float cosine = max(toward.z * c + along.z * sin(angle), 0.0);
-      integral += LTC_LINE_W[k & 3] * cosine * ltc_range_window(distance / max(c, 1e-30), range);
+      integral += node.y * cosine * ltc_range_window(distance / max(c, 1e-30), range);
     }
     integral *= half_width;
   }

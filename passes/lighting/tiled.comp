@@ -21,6 +21,7 @@
 #include "../frame/half.glsl"
 #include "../frame/types.glsl"
 #include "brdf.glsl"
+layout(constant_id = 1) const int LTC_LINE_NODES = 8;  // the tube_nodes parameter
 #include "ltc.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;

@@ -66,6 +66,8 @@ PassDecl lighting_tiled_pass() {
       .param("min_roughness", 0.03, 0.0, 1.0, "roughness floor: keeps point highlights finite in half floats")
       .param("sun_visibility", 1.0, 0.0, 1.0,
              "the sun's shadow term at every pixel, until a sun shadow pass provides it per pixel")
+      .param("tube_nodes", 8, 2, 16,
+             "Gauss-Legendre nodes along each tube line for its specular and ranged diffuse: 2, 4, 8 or 16")
       .param("contact_length", 0.5, 0.0, 10.0, "metres the sun's contact shadow marches toward the sun")
       .param("contact_steps", 8, 0, 64, "steps of the contact shadow's march (0: no contact shadow)")
       .param("contact_thickness", 0.5, 0.001, 100.0,
@@ -110,8 +112,11 @@ PassDecl lighting_tiled_pass() {
         // Each phase is its own pipeline (tiled.comp's constant `phase`): lavapipe runs every
         // side of a branch, so one pipeline switching on a push constant paid for all four
         // phases in each dispatch (phase 1's loops in every workgroup of the shading).
+        const int32_t tube_nodes = int32_t(ctx.param("tube_nodes"));
+        if (tube_nodes != 2 && tube_nodes != 4 && tube_nodes != 8 && tube_nodes != 16)
+          throw GraphError("lighting.tiled: tube_nodes is 2, 4, 8 or 16, not " + std::to_string(tube_nodes));
         auto begin_phase = [&](int32_t phase) {
-          ctx.bind_pipeline({phase});
+          ctx.bind_pipeline({phase, tube_nodes});
           ctx.push(bindings);
           ctx.push_constants(constants);
         };

@@ -13,6 +13,7 @@
 //    the debugger's first answer and its export of gbuffer.opaque's colour targets;
 //  - `nightcap diff` of a 1280x720 pair against idiff over the same images;
 //  - lights.cluster + lighting.tiled against lighting.deferred (tiled), with extra lights;
+//  - lighting.tiled's tube quality: LTC table size and nodes per line, time against error;
 //  - LTC tube and sphere lights (ltc): error against the integral of GGX by table size,
 //    roughness and view angle, fit time, and the CPU time of one light.
 #include <fcntl.h>
@@ -892,6 +893,158 @@ void bench_tiled(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
   }
 }
 
+// Tube-light quality in lighting.tiled, time against error: the built-in city's tubes alone (as
+// lighting_tiled_test.cpp's tube test: lines, everything else dark) through the LTC table of 16,
+// 32 (fitted here) and 64 entries a side (committed) and 2, 4, 8 or 16 Gauss-Legendre nodes per
+// line (tube_nodes), against the CPU integral of GGX and of Lambert along each segment at every
+// 12th pixel of every 12th row. GPU ms of the pass alone on the recorded inputs, median of 3.
+//  - tube_quality.<size>_<nodes>.gpu_ms, .specular_err (error weighted by the reference over
+//    views ≤ 80°), .diffuse_err (the same for the diffuse part).
+void bench_tube_quality(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
+  nc::Scene scene = nc::build_city(1);
+  nc::add_default_lighting(scene);
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.sinks = {"lighting.diffuse", "lighting.specular"};
+  nc::Renderer renderer(gpu, scene, settings);
+  const nc::RenderedFrame frame = renderer.render_frame(0, true);
+  std::map<std::string, nc::IsolatedInput> inputs;
+  for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
+    if (frame.graph.passes[i].decl->name != "lighting.tiled") continue;
+    for (int v : frame.execution.passes[i].inputs) {
+      const nc::VersionData& version = frame.execution.versions[v];
+      inputs[version.resource] = {version.desc, version.bytes};
+    }
+  }
+  nc::GpuFrameConstants constants;
+  std::memcpy(&constants, inputs.at("frame.constants").bytes->data(), sizeof(constants));
+  std::vector<nc::GpuLight> lights(constants.counts.x);
+  std::memcpy(lights.data(), inputs.at("frame.lights").bytes->data(), lights.size() * sizeof(nc::GpuLight));
+  size_t tubes = 0;
+  for (nc::GpuLight& light : lights) {
+    if (uint32_t(light.position_type.w) == uint32_t(nc::LightType::tube)) {
+      light.end_radius.w = 0;  // a line, as the reference integrates
+      ++tubes;
+    } else {
+      light.color_range = glm::vec4(0, 0, 0, light.color_range.w);
+    }
+  }
+  constants.sun_direction.w = 0;
+  auto replace = [&](const std::string& name, const void* data, size_t size) {
+    auto bytes = std::make_shared<std::vector<uint8_t>>(size);
+    std::memcpy(bytes->data(), data, size);
+    inputs[name].bytes = bytes;
+  };
+  replace("frame.constants", &constants, sizeof(constants));
+  replace("frame.lights", lights.data(), lights.size() * sizeof(nc::GpuLight));
+
+  const nc::ParamValues defaults = nc::lighting_tiled_pass().default_params();
+  const double min_roughness = float(defaults.at("min_roughness"));
+  const auto& albedo = *inputs.at("gbuffer.albedo").bytes;
+  const auto& normal = *inputs.at("gbuffer.normal").bytes;
+  const auto& material = *inputs.at("gbuffer.material").bytes;
+  const auto& depth = *inputs.at("scene.depth").bytes;
+  struct Sample {
+    size_t texel;
+    glm::dvec3 diffuse, specular;
+    bool in_bound;  // view ≤ 80°
+  };
+  std::vector<Sample> samples;
+  for (uint32_t y = 6; y < height; y += 12)
+    for (uint32_t x = 6; x < width; x += 12) {
+      const size_t t = size_t(y) * width + x;
+      uint32_t albedo_word, normal_word;
+      float device_depth;
+      std::memcpy(&albedo_word, albedo.data() + 4 * t, 4);
+      std::memcpy(&normal_word, normal.data() + 4 * t, 4);
+      std::memcpy(&device_depth, depth.data() + 4 * t, 4);
+      if (device_depth <= 0 || (albedo_word >> 30) != 0) continue;
+      const ref::Surface s = ref::make_surface(ref::reconstruct_position(constants, x, y, device_depth), normal_word,
+                                               albedo_word, material.data() + 4 * t, min_roughness);
+      Sample sample{t, glm::dvec3(0.0), glm::dvec3(0.0), glm::dot(s.n, s.v) >= std::cos(glm::radians(80.0))};
+      for (const nc::GpuLight& light : lights) {
+        if (uint32_t(light.position_type.w) != uint32_t(nc::LightType::tube)) continue;
+        const ref::Tube tube(s, light, 1.0);
+        sample.diffuse += tube.diffuse();
+        sample.specular += tube.specular();
+      }
+      samples.push_back(sample);
+    }
+
+  struct Sized {
+    int size;
+    std::shared_ptr<std::vector<uint8_t>> inverse, magnitude;
+  };
+  std::vector<Sized> tables;
+  for (int size : {16, 32, 64}) {
+    nc::ltc::Table table;
+    if (size == 64) {
+      table = nc::ltc::ggx_table();
+    } else {
+      nc::ltc::FitSettings fit;
+      fit.size = size;
+      table = nc::ltc::fit_table(fit);
+    }
+    Sized sized{size, std::make_shared<std::vector<uint8_t>>(size_t(size) * size * 16),
+                std::make_shared<std::vector<uint8_t>>(size_t(size) * size * 8)};
+    for (size_t i = 0; i < table.entries.size(); ++i) {
+      const float magnitudes[2] = {table.entries[i].norm, table.entries[i].fresnel};
+      std::memcpy(sized.inverse->data() + 16 * i, table.entries[i].inverse.data(), 16);
+      std::memcpy(sized.magnitude->data() + 8 * i, magnitudes, 8);
+    }
+    tables.push_back(std::move(sized));
+  }
+
+  nc::PipelineCache cache(gpu);
+  const nc::FormatInfo half = *nc::format_info(VK_FORMAT_R16G16B16A16_SFLOAT);
+  table() << "\n## lighting.tiled: tube quality, time against error (built-in city, " << width << "x" << height << ", "
+          << tubes << " tube lines alone, " << samples.size()
+          << " pixels; error weighted by the reference, specular over views <= 80 deg)\n"
+          << std::left << std::setw(10) << "table" << std::setw(8) << "nodes" << std::right << std::setw(10) << "gpu ms"
+          << std::setw(14) << "specular err" << std::setw(14) << "diffuse err"
+          << "\n";
+  for (const Sized& sized : tables) {
+    inputs["lighting.ltc_inverse"].bytes = sized.inverse;
+    inputs["lighting.ltc_inverse"].desc.extent = {uint32_t(sized.size), uint32_t(sized.size), 1, 1, 1};
+    inputs["lighting.ltc_magnitude"].bytes = sized.magnitude;
+    inputs["lighting.ltc_magnitude"].desc.extent = {uint32_t(sized.size), uint32_t(sized.size), 1, 1, 1};
+    for (int nodes : {2, 4, 8, 16}) {
+      nc::ParamValues params = defaults;
+      params["tube_nodes"] = nodes;
+      std::vector<double> times;
+      nc::IsolatedRun result;
+      for (int r = 0; r < 3; ++r) {
+        result = nc::run_isolated(gpu, cache, nc::lighting_tiled_pass(), inputs, params, width, height, builtin());
+        times.push_back(gpu_ms(result));
+      }
+      const auto& diffuse_out = *result.outputs.at("lighting.diffuse");
+      const auto& specular_out = *result.outputs.at("lighting.specular");
+      double specular_error = 0, specular_sum = 0, diffuse_error = 0, diffuse_sum = 0;
+      for (const Sample& sample : samples) {
+        float d[4], sp[4];
+        nc::decode_texel(half, 0, diffuse_out, sample.texel, d);
+        nc::decode_texel(half, 0, specular_out, sample.texel, sp);
+        for (int c = 0; c < 3; ++c) {
+          diffuse_error += std::abs(d[c] - std::min(sample.diffuse[c], 65504.0));
+          diffuse_sum += sample.diffuse[c];
+          if (!sample.in_bound) continue;
+          specular_error += std::abs(sp[c] - std::min(sample.specular[c], 65504.0));
+          specular_sum += sample.specular[c];
+        }
+      }
+      const double specular = specular_error / specular_sum, diffuse = diffuse_error / diffuse_sum;
+      table() << std::left << std::setw(10) << sized.size << std::setw(8) << nodes << std::right << std::fixed
+              << std::setprecision(1) << std::setw(10) << median(times) << std::setprecision(4) << std::setw(14)
+              << specular << std::setw(14) << diffuse << std::defaultfloat << "\n";
+      const std::string row = "tube_quality." + std::to_string(sized.size) + "_" + std::to_string(nodes);
+      figure(row + ".gpu_ms", median(times));
+      figure(row + ".specular_err", specular);
+      figure(row + ".diffuse_err", diffuse);
+    }
+  }
+}
+
 // decals.mesh and decals.projected against decal count on the reference scene of
 // tests/reference/decal_reference.h: N projected boxes (the reference box, shifted and turned,
 // grime) and N mesh decals (slabs on the ground), GPU ms as the median of `repeats` frames. The
@@ -1495,9 +1648,9 @@ int main(int argc, char** argv) {
   std::string size = "1280x720", device, data = NIGHTCAP_SHARED_DATA;
   bool skip_models = false, map_frames = true;
   std::vector<std::string> only;
-  const std::vector<std::string> sections = {"city",   "models", "map",     "empty",   "frames",   "normals", "tubes",
-                                             "depth",  "motion", "streams", "bloom",   "exposure", "startup", "diff",
-                                             "report", "decals", "ltc",     "cluster", "tiled"};
+  const std::vector<std::string> sections = {
+      "city",  "models",   "map",     "empty", "frames", "normals", "tubes", "depth",   "motion", "streams",
+      "bloom", "exposure", "startup", "diff",  "report", "decals",  "ltc",   "cluster", "tiled",  "tube_quality"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -1555,6 +1708,7 @@ int main(int argc, char** argv) {
     if (wanted("ltc")) bench_ltc();
     if (wanted("cluster")) bench_cluster(gpu, cache, width, height, int(repeats));
     if (wanted("tiled")) bench_tiled(gpu, width, height, int(repeats));
+    if (wanted("tube_quality")) bench_tube_quality(gpu, width, height);
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

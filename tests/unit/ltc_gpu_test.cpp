@@ -37,6 +37,7 @@ constexpr int kCaseVec4s = 6;
 constexpr double kRelative = 1e-3, kSphereAbsolute = 4e-6, kTubeAbsolute = 1e-7;
 
 const char* kShader = R"(#version 460
+const int LTC_LINE_NODES = 8;  // ltc.h's default
 #include "lighting/ltc.glsl"
 layout(local_size_x = 64) in;
 layout(set = 0, binding = 0) readonly buffer Cases { vec4 cases[]; };

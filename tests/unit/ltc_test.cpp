@@ -261,6 +261,7 @@ TEST(LtcSphere, SpecularNearTheCapIntegral) {
 
 TEST(LtcShader, Compiles) {
   const std::string source = R"(#version 460
+const int LTC_LINE_NODES = 8;
 #include "lighting/ltc.glsl"
 layout(local_size_x = 1) in;
 layout(set = 0, binding = 0) buffer Out { vec4 result; };
