@@ -635,6 +635,19 @@ TEST_F(LightingTiled, SunContactShadowAgreesWithADoublePrecisionMarch) {
   }
 }
 
+// tube_nodes takes the rules ltc.glsl has: another count is refused by name, not rounded.
+TEST_F(LightingTiled, TubeNodesOtherThanItsRulesAreRefused) {
+  const Recorded r = render(city(), 64, 36);
+  for (int nodes : {2, 4, 8, 16})
+    EXPECT_EQ(shade(lighting_tiled_pass(), r.inputs, {{"tube_nodes", nodes}}).non_finite, "");
+  try {
+    shade(lighting_tiled_pass(), r.inputs, {{"tube_nodes", 5}});
+    ADD_FAILURE() << "tube_nodes 5 was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("tube_nodes is 2, 4, 8 or 16, not 5"), std::string::npos) << e.what();
+  }
+}
+
 // The city with 10 000 more lights in view, a light on the ground and one 0.1 mm above it, a
 // zero-length tube, a sphere light, a point light and a tube at the camera: finite everywhere,
 // and the pass run again from its recorded inputs writes the same bytes.
