@@ -473,6 +473,19 @@ nc::IsolatedInput constants_input(const nc::GpuFrameConstants& constants) {
   return input;
 }
 
+// What `pass` read in a frame rendered with capture, by resource, as run_isolated takes it.
+std::map<std::string, nc::IsolatedInput> pass_inputs(const nc::RenderedFrame& frame, const std::string& pass) {
+  std::map<std::string, nc::IsolatedInput> inputs;
+  for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
+    if (frame.graph.passes[i].decl->name != pass) continue;
+    for (int v : frame.execution.passes[i].inputs) {
+      const nc::VersionData& version = frame.execution.versions[v];
+      inputs[version.resource] = {version.desc, version.bytes};
+    }
+  }
+  return inputs;
+}
+
 double gpu_ms(const nc::IsolatedRun& run) { return run.execution.passes.at(0).gpu_ms.value_or(0.0); }
 
 // normals.pack: LUT size against mean/max angular error over a Fibonacci sphere.
@@ -543,14 +556,7 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   settings.lighting = nc::FrameLighting::deferred;
   nc::Renderer renderer(gpu, scene, settings);
   const nc::RenderedFrame frame = renderer.render_frame(0, true);
-  std::map<std::string, nc::IsolatedInput> inputs;
-  for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
-    if (frame.graph.passes[i].decl->name != "lighting.deferred") continue;
-    for (int v : frame.execution.passes[i].inputs) {
-      const nc::VersionData& version = frame.execution.versions[v];
-      inputs[version.resource] = {version.desc, version.bytes};
-    }
-  }
+  std::map<std::string, nc::IsolatedInput> inputs = pass_inputs(frame, "lighting.deferred");
   nc::GpuFrameConstants constants;
   std::memcpy(&constants, inputs.at("frame.constants").bytes->data(), sizeof(constants));
   const auto& light_bytes = *inputs.at("frame.lights").bytes;
@@ -909,14 +915,7 @@ void bench_tube_quality(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   settings.sinks = {"lighting.diffuse", "lighting.specular"};
   nc::Renderer renderer(gpu, scene, settings);
   const nc::RenderedFrame frame = renderer.render_frame(0, true);
-  std::map<std::string, nc::IsolatedInput> inputs;
-  for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
-    if (frame.graph.passes[i].decl->name != "lighting.tiled") continue;
-    for (int v : frame.execution.passes[i].inputs) {
-      const nc::VersionData& version = frame.execution.versions[v];
-      inputs[version.resource] = {version.desc, version.bytes};
-    }
-  }
+  std::map<std::string, nc::IsolatedInput> inputs = pass_inputs(frame, "lighting.tiled");
   nc::GpuFrameConstants constants;
   std::memcpy(&constants, inputs.at("frame.constants").bytes->data(), sizeof(constants));
   std::vector<nc::GpuLight> lights(constants.counts.x);

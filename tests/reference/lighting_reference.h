@@ -123,6 +123,36 @@ inline Shade shade_punctual(const Surface& s, const GpuLight& light, double inte
   return {lambert_cos(s, l) * e, ggx_cos(s, l) * e};
 }
 
+// How far `shade` (a reference over the surface) moves when the position moves by 4 float ulps
+// (2⁻²¹·|p|) or a normal component by 2⁻²¹, summed over the six directions: a pass reconstructs
+// the position and decodes the normal in float, so no float implementation pins its result
+// closer. It matters at the terminator and at grazing angles, for lights much nearer the
+// surface than the camera, and at the peak of the narrowest highlights (D changes by up to 2/α
+// per radian of the half vector).
+template <typename ShadeOf>
+Shade input_spread(const Surface& s, ShadeOf&& shade) {
+  Shade total;
+  for (int axis = 0; axis < 6; ++axis) {
+    Surface plus = s, minus = s;
+    if (axis < 3) {
+      const double step = std::ldexp(glm::length(s.position), -21);
+      plus.position[axis] += step;
+      minus.position[axis] -= step;
+      plus.v = -glm::normalize(plus.position);
+      minus.v = -glm::normalize(minus.position);
+    } else {
+      plus.n[axis - 3] += std::ldexp(1.0, -21);
+      minus.n[axis - 3] -= std::ldexp(1.0, -21);
+      plus.n = glm::normalize(plus.n);
+      minus.n = glm::normalize(minus.n);
+    }
+    const Shade a = shade(plus), b = shade(minus);
+    total.diffuse += glm::abs(a.diffuse - b.diffuse) * 0.5;
+    total.specular += glm::abs(a.specular - b.specular) * 0.5;
+  }
+  return total;
+}
+
 // ∫ f over [a, b] by adaptive Simpson, each panel refined until its two halves agree to
 // `tolerance` (absolute, halved with each split).
 template <class F>

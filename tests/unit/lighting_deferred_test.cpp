@@ -240,7 +240,7 @@ ref::Surface surface_at(const Inputs& in, uint32_t x, uint32_t y, double min_rou
 }
 
 // The largest error in units of its bound, with where it was measured. `allowance`: what the
-// reference itself moves by when its float inputs move by a few ulps (see spread()).
+// reference itself moves by when its float inputs move by a few ulps (see ref::input_spread()).
 struct Worst {
   double relative = 0, absolute = 0, ratio = 0;
   size_t count = 0;
@@ -296,35 +296,6 @@ std::string describe(const Inputs& in, const ref::Surface& s, uint32_t x, uint32
   return out.str();
 }
 
-// How far the reference moves when the surface position moves by 4 float ulps (2⁻²¹·|p|) or a
-// normal component by 2⁻²¹, summed over the six directions: the pass reconstructs the
-// position and decodes the normal in float, so no float implementation pins its result closer.
-// It matters at the terminator and at grazing angles, for lights much nearer the surface than
-// the camera, and at the peak of the narrowest highlights (D changes by up to 2/α per radian
-// of the half vector).
-ref::Shade spread(const Inputs& in, const ref::Surface& s) {
-  ref::Shade total;
-  for (int axis = 0; axis < 6; ++axis) {
-    ref::Surface plus = s, minus = s;
-    if (axis < 3) {
-      const double step = std::ldexp(glm::length(s.position), -21);
-      plus.position[axis] += step;
-      minus.position[axis] -= step;
-      plus.v = -glm::normalize(plus.position);
-      minus.v = -glm::normalize(minus.position);
-    } else {
-      plus.n[axis - 3] += std::ldexp(1.0, -21);
-      minus.n[axis - 3] -= std::ldexp(1.0, -21);
-      plus.n = glm::normalize(plus.n);
-      minus.n = glm::normalize(minus.n);
-    }
-    const ref::Shade a = reference_shade(in, plus), b = reference_shade(in, minus);
-    total.diffuse += glm::abs(a.diffuse - b.diffuse) * 0.5;
-    total.specular += glm::abs(a.specular - b.specular) * 0.5;
-  }
-  return total;
-}
-
 // Errors of one output, apart where the float inputs alone move the reference by more than a
 // quarter of the bound (`conditioned`, asserted against bound + spread) and elsewhere (`strict`,
 // against the bound alone).
@@ -347,7 +318,8 @@ void compare(const Inputs& in, const Output& out, Errors& diffuse, Errors& specu
       const ref::Surface s = surface_at(in, x, y, kMinRoughness);
       const bool lit = shaded(in, i);
       const ref::Shade shade = lit ? reference_shade(in, s) : ref::Shade{};
-      const ref::Shade moved = lit ? spread(in, s) : ref::Shade{};
+      const ref::Shade moved =
+          lit ? ref::input_spread(s, [&](const ref::Surface& x) { return reference_shade(in, x); }) : ref::Shade{};
       for (int c = 0; c < 3; ++c) {
         auto context = [&] { return describe(in, s, x, y, c); };
         diffuse.add(out.diffuse[4 * i + c], shade.diffuse[c], moved.diffuse[c], context);

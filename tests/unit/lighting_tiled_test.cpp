@@ -170,31 +170,6 @@ ref::Shade punctual_reference(const Frame& f, const ref::Surface& s) {
   return total;
 }
 
-// How far the reference moves when the position moves by 4 float ulps (2⁻²¹·|p|) or a normal
-// component by 2⁻²¹, summed over the six directions (lighting_deferred_test.cpp says why).
-ref::Shade spread(const Frame& f, const ref::Surface& s) {
-  ref::Shade total;
-  for (int axis = 0; axis < 6; ++axis) {
-    ref::Surface plus = s, minus = s;
-    if (axis < 3) {
-      const double step = std::ldexp(glm::length(s.position), -21);
-      plus.position[axis] += step;
-      minus.position[axis] -= step;
-      plus.v = -glm::normalize(plus.position);
-      minus.v = -glm::normalize(minus.position);
-    } else {
-      plus.n[axis - 3] += std::ldexp(1.0, -21);
-      minus.n[axis - 3] -= std::ldexp(1.0, -21);
-      plus.n = glm::normalize(plus.n);
-      minus.n = glm::normalize(minus.n);
-    }
-    const ref::Shade a = punctual_reference(f, plus), b = punctual_reference(f, minus);
-    total.diffuse += glm::abs(a.diffuse - b.diffuse) * 0.5;
-    total.specular += glm::abs(a.specular - b.specular) * 0.5;
-  }
-  return total;
-}
-
 // Errors of one output in units of their bound: `strict` where the float inputs move the
 // reference by at most a quarter of the bound, `conditioned` (against bound + spread) elsewhere.
 struct Errors {
@@ -237,7 +212,9 @@ void compare_punctual(const Frame& f, const Output& out, uint32_t stride, Errors
               e.absolute = std::max(e.absolute, error);
             continue;
           }
-          if (!moved) moved = lit ? spread(f, s) : ref::Shade{};
+          if (!moved)
+            moved = lit ? ref::input_spread(s, [&](const ref::Surface& x) { return punctual_reference(f, x); })
+                        : ref::Shade{};
           const double allowance = part ? moved->specular[c] : moved->diffuse[c];
           const std::string where = describe(f, s, x, y, c) + " gpu " + std::to_string(gpu) + " ref " +
                                     std::to_string(reference) + " spread " + std::to_string(allowance);
