@@ -275,6 +275,17 @@ void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& imp
         sync.clears.push_back({out.resource, range, fold_value ? folded->second : out.desc.clear});
         planner.use(out.resource, range, transfer_state(true), true, pass.decl->name);
       }
+      // What it writes, in case an empty list skips it; the pass keeps the clear if it runs.
+      if (pass.runs && pass.clears_if_skipped && !out.modifies) {
+        Grid<std::optional<bool>> written(out.desc);
+        for (uint32_t m = 0; m < written.mips; ++m)
+          for (uint32_t l = 0; l < written.layers; ++l)
+            if (out.range.contains(m, l)) written.at(m, l) = false;
+        for (auto& [range, unused] : rectangles(written)) {
+          sync.clears.push_back({out.resource, range, out.desc.clear, true});
+          planner.use(out.resource, range, transfer_state(true), true, pass.decl->name);
+        }
+      }
     }
     sync.before_clears = planner.flush();
     if (pass.runs) {
@@ -284,7 +295,8 @@ void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& imp
         if (!in.modifies && in.use != Use::host)
           planner.use(in.resource, in.range, required_state(in.use, type, depth(in)), false, pass.decl->name);
       for (const BoundUse& out : pass.outputs)
-        planner.use(out.resource, out.range, required_state(out.use, type, depth(out)), !out.modifies, pass.decl->name);
+        planner.use(out.resource, out.range, required_state(out.use, type, depth(out)),
+                    !out.modifies && !pass.clears_if_skipped, pass.decl->name);
       sync.before_pass = planner.flush();
       for (const NanInjection& nan : graph.settings.nan_injections)
         if (nan.pass == pass.decl->name) {

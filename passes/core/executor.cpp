@@ -483,24 +483,28 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
         for (const std::string& name : pass.sync.uploads) upload(name);
         continue;
       }
-      // A list a CPU pass left empty is known only now: a pass it skips modifies its outputs
-      // alone (compile_graph checks), so leaving them as they are is all that is left to do; its
-      // planned barriers are still issued, and the plan after it holds. A kept pass (a replay)
-      // runs whatever its inputs.
+      // A list a CPU pass left empty is known only now: a pass it skips either modifies its
+      // outputs alone, so leaving them as they are is all that is left to do, or leaves its fresh
+      // outputs cleared for passes that skip too (compile_graph checks); its planned barriers
+      // are still issued, and the plan after it holds. A kept pass (a replay) runs whatever its
+      // inputs.
       const bool planned_to_run = pass.runs;
       const auto& keep = graph.settings.keep;
       if (pass.runs && !pass.decl->cleared_skips.empty() &&
           std::find(keep.begin(), keep.end(), pass.decl->name) == keep.end())
         if (const auto* skip = pass.decl->cleared_skip(cleared, params_of(*pass.decl))) {
           pass.runs = false;
-          pass.inputs_known = true;
+          // Cleared outputs are not what it computes: nothing for a replay to check.
+          pass.inputs_known = !pass.clears_if_skipped;
           pass.reason = skip->reason();
+          if (pass.clears_if_skipped) pass.reason += "; its outputs left cleared: every pass that reads them skips too";
         }
       // A skipped pass still leaves defined outputs for the passes after it, and a pass that
       // writes part of a fresh output leaves the rest defined.
       issue_step(pass.sync.before_clears);
       for (const PlannedClear& clear : pass.sync.clears)
-        clear_to(shared.cmd, shared.resources.at(clear.resource), clear.range, clear.value);
+        if (!clear.only_if_skipped || !pass.runs)
+          clear_to(shared.cmd, shared.resources.at(clear.resource), clear.range, clear.value);
       // A resource used in two ways (two mips, storage and index buffer) is one input version.
       // A pass skipped for cleared inputs records them too: a replay runs it on them.
       if (pass.runs || pass.inputs_known)

@@ -218,6 +218,36 @@ std::optional<UniformValues> folded_outputs(const PassDecl& decl, const PassDecl
   return changed;
 }
 
+// A pass other than passes[writer] that reads `resource` (its next frame's history included)
+// and would still run when every list of `skip` is empty, or the frame's caller for a sink;
+// empty when there is none.
+std::string reader_not_skipped_with(const std::vector<PassDecl>& passes, int writer, const PassDecl::ClearedSkip& skip,
+                                    const std::string& resource, const std::set<std::string>& sinks) {
+  if (sinks.count(resource)) return "the frame's caller (a sink)";
+  auto skips_too = [&](const PassDecl& reader) {
+    return std::any_of(reader.cleared_skips.begin(), reader.cleared_skips.end(), [&](const auto& own) {
+      return !own.exact && std::all_of(own.inputs.begin(), own.inputs.end(), [&](const std::string& r) {
+        return std::find(skip.inputs.begin(), skip.inputs.end(), r) != skip.inputs.end();
+      });
+    });
+  };
+  for (int k = 0; k < static_cast<int>(passes.size()); ++k) {
+    if (k == writer) continue;
+    const PassDecl& reader = passes[k];
+    const bool reads = std::any_of(reader.inputs.begin(), reader.inputs.end(),
+                                   [&](const ResourceUse& in) {
+                                     return in.prefix ? resource.rfind(in.resource, 0) == 0 : in.resource == resource;
+                                   }) ||
+                       std::any_of(reader.outputs.begin(), reader.outputs.end(),
+                                   [&](const ResourceUse& out) { return out.modifies && out.resource == resource; });
+    const bool history = std::any_of(reader.inputs.begin(), reader.inputs.end(),
+                                     [&](const ResourceUse& in) { return in.history && in.resource == resource; });
+    if (history) return reader.name + " (its next frame)";
+    if (reads && !skips_too(reader)) return reader.name;
+  }
+  return {};
+}
+
 }  // namespace
 
 uint32_t full_mip_count(uint32_t width, uint32_t height) {
@@ -262,6 +292,8 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   // History reads: the resource whose previous value each pass reads from the pool. They order
   // nothing this frame; they keep the resource's writer running.
   std::vector<std::vector<std::string>> history_reads(n);
+  std::vector<bool> clears_if_skipped(n, false);
+  const std::set<std::string> sinks(settings.sinks.begin(), settings.sinks.end());
   for (int i = 0; i < n; ++i) {
     // A modified output is read too: the pass starts from its previous version.
     auto reads_resource = [&](const std::string& r) {
@@ -278,12 +310,18 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
       for (const std::string& r : skip.inputs) {
         if (!reads_resource(r))
           throw GraphError(passes[i].name + ": skips when '" + r + "' is cleared, but does not read it");
-        // A CPU pass's empty list is known only once it has run, after the barriers are planned.
+        // A CPU pass's empty list is known only once it has run, after the barriers are planned:
+        // a fresh output the pass would leave unwritten must be read by no pass that runs then.
         if (fresh_writer.count(r) && passes[fresh_writer.at(r)].type == PassType::cpu)
           for (const ResourceUse& out : passes[i].outputs)
-            if (!out.modifies)
-              throw GraphError(passes[i].name + ": skips when the CPU pass's '" + r +
-                               "' is empty, so it may only modify its outputs, but it writes '" + out.resource + "'");
+            if (!out.modifies) {
+              if (const std::string reader = reader_not_skipped_with(passes, i, skip, out.resource, sinks);
+                  !reader.empty())
+                throw GraphError(passes[i].name + ": skips when the CPU pass's '" + r + "' is empty, leaving '" +
+                                 out.resource + "' unwritten, but " + reader +
+                                 " reads it and does not skip on the same lists");
+              clears_if_skipped[i] = true;
+            }
       }
     for (const ResourceUse& in : passes[i].inputs) {
       // A resource read in two ways (storage and index buffer, two mips) is one read.
@@ -415,6 +453,7 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
     const PassDecl& decl = passes[i];
     CompiledPass compiled;
     compiled.decl = &decl;
+    compiled.clears_if_skipped = clears_if_skipped[i];
     position[i] = static_cast<int>(graph.passes.size());
     if (!needed[i]) {
       compiled.culled = true;

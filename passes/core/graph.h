@@ -86,6 +86,9 @@ struct PlannedClear {
   std::string resource;
   Subresources range;  // concrete
   VkClearValue value{};
+  // A running pass's fresh output, cleared only if an empty list skips the pass at run time
+  // (CompiledPass::clears_if_skipped).
+  bool only_if_skipped = false;
 };
 
 // What the executor does around one pass, in this order; every barrier is planned here.
@@ -128,6 +131,10 @@ struct CompiledPass {
   // Skipped because its inputs' values make its results known (PassDecl::skip_when_cleared,
   // fold_when_uniform): its inputs are recorded, and a replay runs it to check.
   bool inputs_known = false;
+  // It writes fresh outputs and may be skipped at run time by a CPU pass's empty list: the plan
+  // clears those outputs before it, and the executor issues the clears only if it is skipped
+  // (every pass reading them then skips too; compile_graph checks).
+  bool clears_if_skipped = false;
   // By fold_when_uniform: the value the part of each output it writes is cleared to (a modified
   // output only where that changes it).
   UniformValues folded;

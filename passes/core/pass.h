@@ -216,9 +216,11 @@ struct PassDecl {
   // modifies as they were, whatever its other inputs (constants, tables) hold, and the graph
   // clears them instead of running it. `exact` says for which parameters that is true (absent:
   // all). Each call adds one such set; any of them skips the pass. An empty list is known only
-  // once its CPU pass has run, so a pass it skips must only modify its outputs (the executor
-  // still issues the barriers planned around it). The capture records the inputs, so a replay
-  // checks the claim by running the pass.
+  // once its CPU pass has run (the executor still issues the barriers planned around the pass),
+  // so a pass it skips either only modifies its outputs — the capture records its inputs and a
+  // replay checks the claim by running it — or writes fresh outputs that only passes skipping on
+  // some of the same lists read: they are left cleared, read by no pass that runs, and the
+  // capture records no inputs for it.
   PassDecl& skip_when_cleared(std::vector<std::string> inputs, std::function<bool(const ParamValues&)> exact = {});
   // The first of cleared_skips whose inputs are all in `cleared` and that is exact for `params`.
   const ClearedSkip* cleared_skip(const std::set<std::string>& cleared, const ParamValues& params) const;

@@ -18,8 +18,7 @@
 // was (a normal read and written back would be renormalised).
 //
 // Skipped when the scene has no mesh decal, and when none is visible (cull.main left
-// draws.decals.mesh empty; decals.normal_copy still runs then: its skip is decided before
-// cull.main has run).
+// draws.decals.mesh empty; decals.normal_copy skips with it).
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/gbuffer/draw_surfaces.h"

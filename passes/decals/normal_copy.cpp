@@ -9,8 +9,10 @@
 // the version before its own, here gbuffer.dynamic's.
 //
 // Deviation from frame.md: the copy is a pass of its own (frame.md folds it into decals.mesh).
-// Skipped, with decals.mesh, when the scene has no mesh decal; and when gbuffer.normal is cleared
-// (nothing drawn), whose copy is the cleared decals.normal_copy.
+// Skipped, with decals.mesh, when the scene has no mesh decal, and when none is visible
+// (draws.decals.mesh, which it reads for that alone, is empty): decals.normal_copy is then left
+// cleared, read by no pass that runs. Also skipped when gbuffer.normal is cleared (nothing
+// drawn), whose copy is the cleared decals.normal_copy.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 
@@ -21,7 +23,9 @@ PassDecl decals_normal_copy_pass() {
       .modify("gbuffer.normal", Use::storage_write)
       .write("decals.normal_copy", Use::storage_write,
              ImageDecl{VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::normal})
+      .read("draws.decals.mesh", Use::host)
       .needs("mesh_decals")
+      .skip_when_cleared({"draws.decals.mesh"})
       .skip_when_cleared({"gbuffer.normal"})
       .shader("decals/normal_copy.comp")
       .run([](PassContext& ctx) {

@@ -26,6 +26,7 @@
 //
 // Empty lists: with decals in the scene but none in view, both passes run and leave every target
 // bit for bit.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
@@ -331,8 +332,8 @@ TEST_F(DecalsMesh, CustomBlendMatchesTheCpuFormulaAndFlagsSurvive) {
 class Decals : public GpuTest {};
 
 // Decals in the scene but none in view: cull.main leaves both lists empty, so the executor skips
-// both passes ("inputs all cleared"), and the G-buffer is bit for bit the one of the scene
-// without decals.
+// both passes ("inputs all cleared") and decals.normal_copy with decals.mesh, and the G-buffer
+// is bit for bit the one of the scene without decals.
 TEST_F(Decals, NoneInViewSkipsBothPassesAndLeavesTheGBufferBitForBit) {
   reference::DecalTestScene s = reference::decal_test_scene();
   const Rendered without = render(*gpu_, s.scene);
@@ -353,7 +354,17 @@ TEST_F(Decals, NoneInViewSkipsBothPassesAndLeavesTheGBufferBitForBit) {
       EXPECT_FALSE(pass.runs) << name;
       EXPECT_EQ(pass.reason, "inputs all cleared (draws." + name + ")");
     }
+    if (name == "decals.normal_copy") {
+      EXPECT_FALSE(pass.runs);
+      EXPECT_FALSE(pass.inputs_known) << "a replay has nothing to check: its output is cleared, not the copy";
+      EXPECT_EQ(pass.reason,
+                "inputs all cleared (draws.decals.mesh); its outputs left cleared: every pass that reads them skips "
+                "too");
+    }
   }
+  const auto& copy = *frame.execution.final_version("decals.normal_copy")->bytes;
+  EXPECT_TRUE(std::all_of(copy.begin(), copy.end(), [](uint8_t b) { return b == 0; }))
+      << "decals.normal_copy is not its declared clear value";
   for (const char* target : {"gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "scene.depth"})
     EXPECT_EQ(*frame.execution.final_version(target)->bytes, *without.frame.execution.final_version(target)->bytes)
         << target;

@@ -260,7 +260,9 @@ TEST(Graph, SkippingOnAClearedInputThePassDoesNotReadIsAMistake) {
                        .write("final.ldr", Use::color_attachment, image())
                        .skip_when_cleared({"depth"}));
   EXPECT_THROW(compile_graph(passes, {}, GraphSettings()), GraphError);
-  // An empty CPU list is known only after the barriers are planned: the pass may only modify.
+  // An empty CPU list is known only after the barriers are planned: a fresh output the pass
+  // would leave unwritten may only be read by passes that skip on the same list (a sink is read
+  // by whoever asked for the frame).
   passes.clear();
   passes.push_back(PassDecl("cull", PassType::cpu).write("draws", Use::host, BufferDecl{}));
   passes.push_back(PassDecl("draw", PassType::graphics)
@@ -268,6 +270,40 @@ TEST(Graph, SkippingOnAClearedInputThePassDoesNotReadIsAMistake) {
                        .write("final.ldr", Use::color_attachment, image())
                        .skip_when_cleared({"draws"}));
   EXPECT_THROW(compile_graph(passes, {}, GraphSettings()), GraphError);
+
+  passes.clear();
+  passes.push_back(PassDecl("cull", PassType::cpu).write("draws", Use::host, BufferDecl{}));
+  passes.push_back(PassDecl("geometry", PassType::graphics).write("final.ldr", Use::color_attachment, image()));
+  passes.push_back(PassDecl("copy", PassType::compute)
+                       .read("draws", Use::host)
+                       .modify("final.ldr", Use::storage_write)  // read as decals finds it
+                       .write("copy", Use::storage_write, image())
+                       .skip_when_cleared({"draws"}));
+  passes.push_back(PassDecl("decals", PassType::graphics)
+                       .read("draws", Use::storage_read)
+                       .read("copy", Use::sampled)
+                       .modify("final.ldr", Use::color_attachment)
+                       .skip_when_cleared({"draws"}));
+  GraphSettings settings;
+  settings.sinks = {"final.ldr"};
+  const CompiledGraph graph = compile_graph(passes, {}, settings);
+  const CompiledPass& copy = pass(graph, "copy");
+  EXPECT_TRUE(copy.clears_if_skipped);
+  ASSERT_EQ(copy.sync.clears.size(), 1u);
+  EXPECT_TRUE(copy.sync.clears[0].only_if_skipped);
+  EXPECT_FALSE(pass(graph, "decals").clears_if_skipped);  // it only modifies
+
+  // A reader that runs whatever the list holds would read what the skipped pass left unwritten.
+  passes.push_back(
+      PassDecl("show", PassType::graphics).read("copy", Use::sampled).write("shown", Use::color_attachment, image()));
+  settings.sinks = {"final.ldr", "shown"};
+  try {
+    compile_graph(passes, {}, settings);
+    ADD_FAILURE() << "a reader that does not skip was accepted";
+  } catch (const GraphError& e) {
+    EXPECT_NE(std::string(e.what()).find("show reads it and does not skip on the same lists"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Graph, ResolvesRelativeSizesAndMipChains) {
