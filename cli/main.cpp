@@ -114,7 +114,7 @@ struct RenderFlags {
   double fov = 45.0;
   std::vector<std::string> sets, inject_nan;
   std::vector<uint32_t> cuts;
-  bool force = false;
+  bool force = false, city_block = false;
 };
 
 // "A..B" or "A": the frames to record, inclusive.
@@ -170,23 +170,29 @@ int run_render(const RenderFlags& flags) {
   } else if (!target.empty()) {
     throw UsageError("--target needs --orbit");
   }
-  const bool map = !flags.shot.empty() || flags.map_size != 0.0;
-  if (map && !scene_path.empty()) throw UsageError("--shot and --map-size choose the built-in map, not a glTF scene");
+  const bool map_flags = !flags.shot.empty() || flags.map_size != 0.0;
+  if (map_flags && !scene_path.empty())
+    throw UsageError("--shot and --map-size choose the built-in map, not a glTF scene");
+  if (flags.city_block && !scene_path.empty()) throw UsageError("--city-block is a built-in scene, not a glTF scene");
   nc::Scene scene;
-  if (map) {
+  if (!scene_path.empty()) {
+    scene = nc::load_gltf(scene_path);
+  } else if (flags.city_block) {
+    scene = nc::build_city(seed);
+  } else {
     nc::MapOptions options;
     options.seed = seed;
     if (flags.map_size != 0.0) options.size_km = flags.map_size;
     if (!flags.shot.empty()) options.shot = nc::parse_shot(flags.shot);
     scene = nc::build_map(options);
-  } else {
-    scene = scene_path.empty() ? nc::build_city(seed) : nc::load_gltf(scene_path);
   }
   nc::add_default_lighting(scene);
   settings.description = {{"width", settings.width},
                           {"height", settings.height},
                           {"frames", frames},
-                          {"scene", scene_path.empty() ? "built-in" : scene_path},
+                          {"scene", !scene_path.empty() ? scene_path
+                                    : flags.city_block  ? "built-in city block"
+                                                        : "built-in map"},
                           {"scene_seed", seed},
                           {"shot", flags.shot},
                           {"map_size_km", flags.map_size},
@@ -543,8 +549,9 @@ int main(int argc, char** argv) {
   std::vector<std::string> sets, shaders, pass_names;
   std::string device;
   bool json = false, verify = false, chain = false;
-  auto* render = app.add_subcommand("render", "Render a scene (glTF, or the built-in city) to a capture");
-  render->add_option("scene", r.scene_path, "glTF 2.0 file (.gltf/.glb); omitted: the built-in Night City block");
+  auto* render = app.add_subcommand("render", "Render a scene (glTF, or the built-in map) to a capture");
+  render->add_option("scene", r.scene_path,
+                     "glTF 2.0 file (.gltf/.glb); omitted: the built-in 16 km map from its street shot");
   render->add_option("-o,--output", r.out, "capture folder to create")->required();
   render->add_option("--size", r.size, "output size WIDTHxHEIGHT")->capture_default_str();
   render->add_option("--frames", r.frames, "number of frames to render (1/60 s apart)")->capture_default_str();
@@ -553,13 +560,17 @@ int main(int argc, char** argv) {
   render->add_option("--cut-at", r.cuts, "frame K cuts to another view; every history restarts (repeatable)");
   render->add_option("--record-frames", r.record,
                      "record only frames A..B (inclusive); the frames before still render so history carries");
-  render->add_option("--scene-seed", r.seed, "seed of the built-in city or map")->capture_default_str();
-  render->add_option("--shot", r.shot,
-                     "render the built-in 16 km map from this shot: street (1.7 m up a street), rooftop (60 m up, "
-                     "toward the skyline) or aerial (800 m up at 45°), placed from the seed");
-  render->add_option("--map-size", r.map_size,
-                     "side of the built-in map in km (0.5 to 16; default 16), street shot "
-                     "unless --shot says otherwise");
+  render->add_option("--scene-seed", r.seed, "seed of the built-in map or city block")->capture_default_str();
+  auto* shot = render->add_option("--shot", r.shot,
+                                  "view of the built-in map: street (the default: 1.7 m up a street), rooftop (60 m "
+                                  "up, toward the skyline) or aerial (800 m up at 45°), placed from the seed");
+  auto* map_size =
+      render->add_option("--map-size", r.map_size, "side of the built-in map in km (0.5 to 16; default 16)");
+  render
+      ->add_flag("--city-block", r.city_block,
+                 "render the built-in one-block city instead of the map (1 022 triangles, 38 lights: small and "
+                 "fast, the scene of most tests)")
+      ->excludes(shot, map_size);
   render->add_option("--device", r.device, "Vulkan device name (substring); default: lavapipe (llvmpipe)");
   render->add_option("--set", r.sets, "PASS.PARAM=VALUE parameter override (repeatable)");
   render->add_option("--orbit", r.orbit, "orbit camera THETA,PHI,RADIUS (degrees, scene units)");

@@ -23,7 +23,7 @@ namespace nightcap::test {
 namespace {
 namespace fs = std::filesystem;
 
-const char* kSmall = "--size 64x36";
+const char* kSmall = "--city-block --size 64x36";
 
 void expect_bad_input(const CliResult& r, const std::string& names) {
   EXPECT_EQ(r.code, 2) << r.out << r.err;
@@ -69,7 +69,7 @@ TEST(BadInput, MissingTexture) {
   nlohmann::json gltf = read_json(source / "BoxTextured.gltf");
   gltf["images"][0]["uri"] = "missing.png";
   write_json(dir / "box.gltf", gltf);
-  expect_bad_input(run_cli("render " + quote(dir / "box.gltf") + " " + kSmall + " -o " + quote(dir / "cap")),
+  expect_bad_input(run_cli("render " + quote(dir / "box.gltf") + " --size 64x36 -o " + quote(dir / "cap")),
                    "missing.png");
   EXPECT_FALSE(fs::exists(dir / "cap"));
 }
@@ -262,7 +262,8 @@ struct LongRender {
 };
 LongRender start_long_render(const fs::path& dir, const fs::path& logs) {
   LongRender render;
-  render.pid = spawn_cli({"render", "--size", "64x36", "--frames", "500", "-o", (dir / "cap").string()}, logs);
+  render.pid =
+      spawn_cli({"render", "--city-block", "--size", "64x36", "--frames", "500", "-o", (dir / "cap").string()}, logs);
   render.temporary = dir / ("cap.tmp-" + std::to_string(render.pid));
   EXPECT_GT(render.pid, 0);
   EXPECT_TRUE(wait_for(render.temporary)) << render.temporary << " never appeared";

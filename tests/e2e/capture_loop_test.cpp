@@ -13,7 +13,7 @@ namespace nightcap::test {
 namespace {
 namespace fs = std::filesystem;
 
-const char* kCity = "--size 320x180 --frames 2";
+const char* kCity = "--city-block --size 320x180 --frames 2";
 // Every pass of the frame, CPU passes included.
 const std::vector<std::string> kFramePasses = {
     "cull.main",          "frame.constants", "depth.prepass", "gbuffer.opaque", "depth.convert",      "motion.stencil",
@@ -56,6 +56,25 @@ TEST(CaptureLoop, RenderWritesACompleteCapture) {
   std::vector<std::string> entries;
   for (const auto& entry : fs::directory_iterator(dir)) entries.push_back(entry.path().filename().string());
   EXPECT_EQ(entries, std::vector<std::string>{"cap"});
+}
+
+// With no scene, `render` renders the 16 km map from its street shot; --city-block the one
+// block, which no map flag or glTF file goes with.
+TEST(CaptureLoop, TheBuiltInSceneIsTheMapUnlessTheCityBlockIsAskedFor) {
+  const fs::path dir = scratch("out");
+  ASSERT_EQ(run_cli("render --size 64x36 -o " + quote(dir / "map")).code, 0);
+  EXPECT_EQ(read_json(dir / "map" / "manifest.json").at("scene").at("source"),
+            "built-in map (seed 1, 16 km, street shot)");
+  ASSERT_EQ(run_cli("render --city-block --size 64x36 -o " + quote(dir / "block")).code, 0);
+  EXPECT_EQ(read_json(dir / "block" / "manifest.json").at("scene").at("source"), "built-in city (seed 1)");
+  const std::string box = quote(fs::path(NIGHTCAP_SHARED_DATA) / "gltf/BoxTextured/glTF/BoxTextured.gltf");
+  for (const std::string& flags :
+       std::vector<std::string>{"--city-block --shot street", "--city-block --map-size 2", "--city-block " + box}) {
+    const CliResult r = run_cli("render " + flags + " -o " + quote(dir / "refused"));
+    EXPECT_EQ(r.code, 2) << flags;
+    EXPECT_NE(r.err.find("--city-block"), std::string::npos) << flags << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "refused"));
 }
 
 // Version 2: what tools and replay read instead of guessing.

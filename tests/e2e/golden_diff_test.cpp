@@ -14,7 +14,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const std::string kSmall = "--size 64x36 --frames 1";
+const std::string kSmall = "--city-block --size 64x36 --frames 1";
 const std::string kSmallLight = kSmall + " --set lighting.tiled.intensity_scale=1.5";
 
 std::string last_line(const std::string& text) {

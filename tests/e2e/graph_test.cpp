@@ -16,8 +16,8 @@ namespace nightcap::test {
 namespace {
 namespace fs = std::filesystem;
 
-const char* kCity = "--size 320x180 --frames 2";
-const char* kWalk = "--size 160x90 --frames 8 --cut-at 5";  // as tests/e2e/history_test.cpp
+const char* kCity = "--city-block --size 320x180 --frames 2";
+const char* kWalk = "--city-block --size 160x90 --frames 8 --cut-at 5";  // as tests/e2e/history_test.cpp
 
 struct Node {
   std::string attributes, label;  // label as written in the DOT, escapes included

@@ -21,7 +21,7 @@ namespace nightcap::test {
 namespace {
 namespace fs = std::filesystem;
 
-const char* kWalk = "--size 160x90 --frames 8 --cut-at 5";
+const char* kWalk = "--city-block --size 160x90 --frames 8 --cut-at 5";
 
 const PassRecord& find(const FrameRecord& frame, const std::string& pass) {
   for (const PassRecord& p : frame.passes)
@@ -144,8 +144,8 @@ TEST(History, TheCameraMovesAsMotionSays) {
   for (const auto& [motion, speed] :
        std::vector<std::pair<std::string, double>>{{"static", 0.0}, {"walk", 1.4}, {"drive", 14.0}}) {
     const fs::path dir = scratch("motion-" + motion);
-    const CliResult r =
-        run_cli("render --size 32x18 --frames 3 --cut-at 2 --motion " + motion + " -o " + quote(dir / "cap"));
+    const CliResult r = run_cli("render --city-block --size 32x18 --frames 3 --cut-at 2 --motion " + motion + " -o " +
+                                quote(dir / "cap"));
     ASSERT_EQ(r.code, 0) << r.err;
     const Capture capture = Capture::open(dir / "cap");
     auto position = [&](uint32_t k) {
@@ -168,7 +168,7 @@ TEST(History, TheCameraMovesAsMotionSays) {
 TEST(History, BadFrameFlagsAreRefusedByName) {
   const fs::path dir = scratch("bad-flags");
   auto refused = [&](const std::string& flags, const std::string& message) {
-    const CliResult r = run_cli("render --size 32x18 --frames 4 " + flags + " -o " + quote(dir / "cap"));
+    const CliResult r = run_cli("render --city-block --size 32x18 --frames 4 " + flags + " -o " + quote(dir / "cap"));
     EXPECT_EQ(r.code, 2) << flags;
     EXPECT_NE(r.err.find(message), std::string::npos) << flags << ": " << r.err;
     EXPECT_FALSE(fs::exists(dir / "cap")) << flags;

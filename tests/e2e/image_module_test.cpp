@@ -10,7 +10,7 @@ namespace nightcap::test {
 namespace {
 namespace fs = std::filesystem;
 
-const char* kSmall = "--size 64x36";
+const char* kSmall = "--city-block --size 64x36";
 
 TEST(ImageModule, CommandsThatDecodeNoImageNeverLoadIt) {
   const fs::path capture = shared_capture("city-small", kSmall);
@@ -31,7 +31,7 @@ TEST(ImageModule, AModuleThatCannotBeLoadedIsNamed) {
   const std::string box = quote(fs::path(NIGHTCAP_SHARED_DATA) / "gltf/BoxTextured/glTF/BoxTextured.gltf");
   const fs::path missing = dir / "missing" / "nightcap_images.so";
   CliResult r =
-      run_cli("render " + box + " " + kSmall + " -o " + quote(dir / "cap"), "NIGHTCAP_IMAGES_MODULE=" + quote(missing));
+      run_cli("render " + box + " --size 64x36 -o " + quote(dir / "cap"), "NIGHTCAP_IMAGES_MODULE=" + quote(missing));
   EXPECT_EQ(r.code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find("CesiumLogoFlat.png"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("cannot find the image module " + missing.string() + " (named by NIGHTCAP_IMAGES_MODULE)"),
@@ -41,7 +41,7 @@ TEST(ImageModule, AModuleThatCannotBeLoadedIsNamed) {
 
   const fs::path broken = dir / "broken.so";
   std::ofstream(broken) << "not a shared object";
-  r = run_cli("render " + box + " " + kSmall + " -o " + quote(dir / "cap"), "NIGHTCAP_IMAGES_MODULE=" + quote(broken));
+  r = run_cli("render " + box + " --size 64x36 -o " + quote(dir / "cap"), "NIGHTCAP_IMAGES_MODULE=" + quote(broken));
   EXPECT_EQ(r.code, 2) << r.out << r.err;
   // dlerror's reason follows the path.
   EXPECT_NE(r.err.find("cannot load the image module " + broken.string() + ": "), std::string::npos) << r.err;

@@ -17,7 +17,7 @@
 namespace nightcap::test {
 
 // The small city the inspect tests share (as tests/e2e/capture_loop_test.cpp renders it).
-inline constexpr const char* kCity = "--size 320x180 --frames 2";
+inline constexpr const char* kCity = "--city-block --size 320x180 --frames 2";
 
 struct Inspected {
   CliResult result;

@@ -69,7 +69,7 @@ class Terminal {
 };
 
 TEST(InspectTerminal, CompletesPassNamesAndRecallsHistory) {
-  const std::filesystem::path capture = shared_capture("city", "--size 320x180 --frames 2");
+  const std::filesystem::path capture = shared_capture("city", "--city-block --size 320x180 --frames 2");
   Terminal terminal(capture);
   ASSERT_TRUE(terminal.started());
   ASSERT_TRUE(terminal.read_until("frame 0 cull.main> ")) << terminal.transcript();

@@ -46,7 +46,7 @@ void damage_every_blob(const fs::path& folder) {
 }
 
 TEST(LazyOpen, PassesGraphAndDiffReadNoBlob) {
-  const fs::path intact = shared_capture("city-small", "--size 64x36");
+  const fs::path intact = shared_capture("city-small", "--city-block --size 64x36");
   const fs::path capture = scratch("damaged") / "capture";
   fs::copy(intact, capture, fs::copy_options::recursive);
   const std::vector<std::string> commands = {"passes " + quote(capture), "passes --json " + quote(capture),

@@ -18,9 +18,9 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const char* kInjected = "--size 320x180 --inject-nan lighting.tiled:100,50";
+const char* kInjected = "--city-block --size 320x180 --inject-nan lighting.tiled:100,50";
 // bloom.chain is half the output (160x90, with mips) and exposure.value 1x1.
-const char* kScaled = "--size 320x180 --inject-nan bloom.level0:101,51 --inject-nan exposure:300,170";
+const char* kScaled = "--city-block --size 320x180 --inject-nan bloom.level0:101,51 --inject-nan exposure:300,170";
 
 json inspect_json(const fs::path& capture, const std::string& command) {
   const Inspected run = inspect(capture, command + " --json");
@@ -171,7 +171,8 @@ TEST(NanOrigin, BadInjectionsAreOneLineUsageErrors) {
       {"lighting.tiled:320,0", "pixel (320, 0) is outside the 320x180 output"},
   };
   for (const auto& [flag, message] : cases) {
-    const CliResult r = run_cli("render --size 320x180 --inject-nan '" + flag + "' -o " + quote(dir / "cap"));
+    const CliResult r =
+        run_cli("render --city-block --size 320x180 --inject-nan '" + flag + "' -o " + quote(dir / "cap"));
     EXPECT_EQ(r.code, 2) << flag;
     EXPECT_NE(r.err.find("--inject-nan"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find(message), std::string::npos) << flag << ": " << r.err;

@@ -51,7 +51,7 @@ TEST(RenderDoc, OneCaptureLabelledWithThePassesThatRanAndTheirImagesNamed) {
   REQUIRE_TOOL(std::system("command -v renderdoccmd >/dev/null 2>&1") == 0, "renderdoccmd");
   const fs::path dir = scratch("rdc");
   const std::string command = "renderdoccmd capture -w -c " + quote(dir / "frame") + " " + NIGHTCAP_CLI +
-                              " render --size 96x54 --frames 2 -o " + quote(dir / "capture") + " >" +
+                              " render --city-block --size 96x54 --frames 2 -o " + quote(dir / "capture") + " >" +
                               quote(dir / "log") + " 2>&1";
   // renderdoccmd's exit code is its own, and not the render's: on a loaded machine the render
   // can finish before renderdoccmd connects to it to wait, and it then fails although the

@@ -18,7 +18,7 @@ namespace nightcap::test {
 namespace {
 namespace fs = std::filesystem;
 
-const char* kCity = "--size 320x180 --frames 2";  // as tests/e2e/graph_test.cpp
+const char* kCity = "--city-block --size 320x180 --frames 2";  // as tests/e2e/graph_test.cpp
 
 uint64_t folder_bytes(const fs::path& folder) {
   uint64_t bytes = 0;
