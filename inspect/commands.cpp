@@ -445,8 +445,8 @@ class Runner {
   }
 
   // lights.clusters under a pixel: the froxel of its tile where depth.linear puts the pixel (the
-  // slice lights.cluster's own slicing gives its depth), or at --slice, and that froxel's list of
-  // frame.lights indices from lights.cluster_indices.
+  // slice that lights.cluster's max_distance and the image's slices give its depth), or at
+  // --slice, and that froxel's list of frame.lights indices from lights.cluster_indices.
   void froxel(const ResourceRecord& record, uint32_t x, uint32_t y, Subimage subimage, bool slice_given) {
     const FrameRecord& frame = session_.frame();
     const PassRecord* writer = nullptr;
@@ -461,7 +461,8 @@ class Runner {
       const PixelReading reading =
           read_pixel(linear, session_.load(linear), frame, texel_for_output_pixel(linear, frame, x, y, {}));
       depth = reading.values.raw.at(0);
-      subimage.slice = cluster_slice(*depth, frame.camera.znear, writer->params.at("max_distance"));
+      subimage.slice =
+          cluster_slice(*depth, frame.camera.znear, writer->params.at("max_distance"), record.extent.depth);
     }
     ojson j = reading_json(record, frame, x, y, subimage);
     const uint64_t offset = j["codes"][0], count = j["codes"][1];
@@ -748,7 +749,7 @@ class Runner {
       std::optional<uint32_t> slice;
       if (args.has("--slice")) slice = uint32_t(option_index(args, "--slice", 0));
       const ClusterHeatmap map = cluster_heatmap(record, session_.load(record), slice);
-      const Rgba8Image image = heatmap_picture(map, kClusterTile);
+      const Rgba8Image image = heatmap_picture(map, cluster_tile_size(record, session_.frame()));
       write_png(target, image.pixels, image.width, image.height);
       if (json_) return emit({{"files", {target.string()}}, {"longest", map.longest}, {"mean", map.mean_nonempty}});
       out_ << "wrote " << target.string() << " (longest list " << map.longest << ", mean over tiles with a list "

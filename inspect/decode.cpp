@@ -177,6 +177,16 @@ void check_subimage(const ResourceRecord& record, const Subimage& subimage) {
                        std::to_string(subimage.mip) + ": no slice " + std::to_string(subimage.slice));
 }
 
+uint32_t cluster_tile_size(const ResourceRecord& record, const FrameRecord& frame) {
+  for (const PassRecord& pass : frame.passes)
+    for (const ResourceRecord& out : pass.outputs)
+      if (out.resource == record.resource && out.hash == record.hash) {
+        auto tile = pass.params.find("tile_size");
+        if (tile != pass.params.end() && tile->second >= 1) return uint32_t(tile->second);
+      }
+  return kClusterTile;
+}
+
 TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRecord& frame, uint32_t x, uint32_t y,
                                     const Subimage& subimage) {
   check_subimage(record, subimage);
@@ -185,10 +195,12 @@ TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRec
                        std::to_string(frame.width) + "x" + std::to_string(frame.height) + " output");
   const uint32_t width = mip_size(record.extent.width, subimage.mip);
   const uint32_t height = mip_size(record.extent.height, subimage.mip);
-  // Froxels are whole 32-pixel tiles from the top left, the last row and column cut short.
-  if (record.kind == ResourceKind::light_clusters)
-    return {std::min(x / kClusterTile, width - 1), std::min(y / kClusterTile, height - 1), subimage.mip, subimage.layer,
+  // Froxels are whole tiles from the top left, the last row and column cut short.
+  if (record.kind == ResourceKind::light_clusters) {
+    const uint32_t tile = cluster_tile_size(record, frame);
+    return {std::min(x / tile, width - 1), std::min(y / tile, height - 1), subimage.mip, subimage.layer,
             subimage.slice};
+  }
   return {texel_under_pixel(x, frame.width, width), texel_under_pixel(y, frame.height, height), subimage.mip,
           subimage.layer, subimage.slice};
 }

@@ -37,9 +37,14 @@ struct TexelAddress {
   uint32_t x = 0, y = 0, mip = 0, layer = 0, slice = 0;
 };
 
+// Pixels on a side of a light-cluster image's froxel tile: the tile_size its writer ran with, as
+// the frame records it (32, the only size before it was a parameter, where it records none).
+uint32_t cluster_tile_size(const ResourceRecord& record, const FrameRecord& frame);
+
 // Output coordinates (full resolution) scaled to `subimage` of `record`: half-resolution
 // resources, mips and fixed-size tables take the texel that covers the same place of the
-// screen. Throws InspectError when the pixel or the subimage is outside.
+// screen; froxels, the tile the pixel lies in. Throws InspectError when the pixel or the
+// subimage is outside.
 TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRecord& frame, uint32_t x, uint32_t y,
                                     const Subimage& subimage);
 

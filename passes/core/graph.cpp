@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <queue>
 #include <set>
+#include <sstream>
 
 namespace nightcap {
 namespace {
@@ -14,8 +17,23 @@ struct Version {
   ResourceDesc desc;
 };
 
+// A size a pass's parameter gives (SizeRule::tile_param, ImageDecl::depth_param): a whole number
+// of at least 1.
+uint32_t size_from_param(const ParamValues& params, const std::string& param, const std::string& what) {
+  auto it = params.find(param);
+  if (it == params.end()) throw GraphError(what + " is sized by '" + param + "', which the pass does not declare");
+  const double value = it->second;
+  if (!(value >= 1 && value <= double(std::numeric_limits<uint32_t>::max()) && value == std::floor(value))) {
+    std::ostringstream message;
+    message << what << ": " << param << " " << value << " is not a size (a whole number from 1)";
+    throw GraphError(message.str());
+  }
+  return uint32_t(value);
+}
+
 ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
-                     const std::map<std::string, ResourceDesc>& known, const std::string& pass) {
+                     const std::map<std::string, ResourceDesc>& known, const std::string& pass,
+                     const ParamValues& params) {
   ResourceDesc desc;
   if (out.is_buffer) {
     desc.is_buffer = true;
@@ -38,11 +56,15 @@ ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
       desc.extent.width = (settings.width + 1) / 2;
       desc.extent.height = (settings.height + 1) / 2;
       break;
-    case SizeRule::Mode::output_tiles:
-      if (d.size.tile == 0) throw GraphError(pass + ": output '" + out.resource + "' has tiles of 0 pixels");
-      desc.extent.width = (settings.width + d.size.tile - 1) / d.size.tile;
-      desc.extent.height = (settings.height + d.size.tile - 1) / d.size.tile;
+    case SizeRule::Mode::output_tiles: {
+      const uint32_t tile = d.size.tile_param.empty()
+                                ? d.size.tile
+                                : size_from_param(params, d.size.tile_param, pass + ": output '" + out.resource + "'");
+      if (tile == 0) throw GraphError(pass + ": output '" + out.resource + "' has tiles of 0 pixels");
+      desc.extent.width = (settings.width + tile - 1) / tile;
+      desc.extent.height = (settings.height + tile - 1) / tile;
       break;
+    }
     case SizeRule::Mode::absolute:
       desc.extent.width = d.size.width;
       desc.extent.height = d.size.height;
@@ -57,15 +79,16 @@ ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
     }
   }
   const std::string what = pass + ": output '" + out.resource + "'";
-  if (d.layers == 0 || d.depth == 0) throw GraphError(what + " has no layers or no depth");
-  if (d.depth > 1 && d.layers > 1) throw GraphError(what + " is 3D and layered: Vulkan has no 3D arrays");
+  const uint32_t depth = d.depth_param.empty() ? d.depth : size_from_param(params, d.depth_param, what);
+  if (d.layers == 0 || depth == 0) throw GraphError(what + " has no layers or no depth");
+  if (depth > 1 && d.layers > 1) throw GraphError(what + " is 3D and layered: Vulkan has no 3D arrays");
   if (d.cube && (d.layers % 6 != 0 || desc.extent.width != desc.extent.height))
     throw GraphError(what + " is a cube: it needs square faces and a multiple of 6 layers, not " +
                      std::to_string(desc.extent.width) + "x" + std::to_string(desc.extent.height) + " with " +
                      std::to_string(d.layers));
   desc.cube = d.cube;
   desc.extent.layers = d.layers;
-  desc.extent.depth = d.depth;
+  desc.extent.depth = depth;
   const uint32_t full =
       full_mip_count(std::max(desc.extent.width, desc.extent.depth), std::max(desc.extent.height, desc.extent.depth));
   desc.extent.mips = d.mips == 0 ? full : std::min(d.mips, full);
@@ -534,7 +557,7 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
           if (!read) compiled.inputs.push_back(bound);
           bound.producer = -1;
         } else {
-          bound.desc = resolve(out, settings, graph.resources, decl.name);
+          bound.desc = resolve(out, settings, graph.resources, decl.name, decl.params_with(settings.params));
           graph.resources[out.resource] = bound.desc;
         }
         compiled.outputs.push_back(bound);

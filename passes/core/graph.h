@@ -39,7 +39,7 @@ struct GraphSettings {
   std::vector<std::string> sinks = {"final.ldr"};  // resources the frame must produce
   // Passes to run even when nothing consumes them and their skip conditions hold (replay).
   std::vector<std::string> keep;
-  std::map<std::string, ParamValues> params;  // per pass, for the `enabled` of can_disable
+  std::map<std::string, ParamValues> params;  // per pass: the `enabled` of can_disable, sizes by parameter
   // Copies to the host: every version a pass writes (a capture), and the last version of these.
   bool capture = false;
   std::set<std::string> readback;

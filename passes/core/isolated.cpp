@@ -18,6 +18,7 @@ IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& p
   settings.height = height;
   settings.sinks = {};
   settings.keep = {pass.name};
+  settings.params[pass.name] = params;  // outputs the pass sizes by a parameter
   settings.capture = true;
   settings.nan_injections = nan_injections;
   const std::vector<PassDecl> single{pass};

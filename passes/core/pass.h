@@ -51,6 +51,7 @@ struct SizeRule {
   uint32_t width = 0, height = 0;  // absolute
   std::string like;                // like: same size as this resource
   uint32_t tile = 1;               // output_tiles: a texel per tile of tile×tile output pixels, rounded up
+  std::string tile_param{};        // output_tiles: when named, the writing pass's parameter gives `tile`
 };
 
 struct ImageDecl {
@@ -59,11 +60,12 @@ struct ImageDecl {
   VkFormat format = VK_FORMAT_UNDEFINED;
   ResourceKind kind = ResourceKind::colour;
   SizeRule size;
-  uint32_t mips = 1;     // at most this many (a small image has fewer); 0: the whole chain down to 1x1
-  uint32_t layers = 1;   // more than 1: a 2D array
-  uint32_t depth = 1;    // more than 1: a 3D image of that many slices (one layer)
-  bool cube = false;     // layers are cube faces (a multiple of 6, square): sampled as a cube
-  VkClearValue clear{};  // contents when the writer is skipped, and the attachment clear
+  uint32_t mips = 1;        // at most this many (a small image has fewer); 0: the whole chain down to 1x1
+  uint32_t layers = 1;      // more than 1: a 2D array
+  uint32_t depth = 1;       // more than 1: a 3D image of that many slices (one layer)
+  std::string depth_param;  // when named, the writing pass's parameter gives `depth`
+  bool cube = false;        // layers are cube faces (a multiple of 6, square): sampled as a cube
+  VkClearValue clear{};     // contents when the writer is skipped, and the attachment clear
 };
 
 // The part of an image a use touches: a range of mips and a range of layers (3D slices are not

@@ -35,9 +35,13 @@ layout(set = 0, binding = 5) uniform sampler2D depth_map;
 layout(set = 0, binding = 6) uniform sampler2D linear_depth_map;
 layout(set = 0, binding = 7) uniform usampler3D clusters;
 layout(std430, set = 0, binding = 8) readonly buffer IndexBlock { uint cluster_indices[]; };
+// lights.cluster_stats: its counts (cluster_layout.h), then the froxels' shape. All zero when
+// lights.cluster was skipped (no local light), every list then empty: the max(…, 1) below keep
+// the arithmetic defined there.
 layout(std430, set = 0, binding = 9) readonly buffer ClusterStatsBlock {
-  uint cluster_counts[12];  // lights.cluster_stats' counts (cluster_layout.h)
+  uint cluster_counts[12];
   float slicing_max_distance;
+  uint slicing_tile, slicing_slices;
 };
 layout(set = 0, binding = 10) uniform sampler2D ltc_inverse;
 layout(set = 0, binding = 11) uniform sampler2D ltc_magnitude;
@@ -59,7 +63,7 @@ layout(push_constant) uniform Params {
   uint contact_steps;
 };
 
-const uint kTile = 16u, kClusterTile = 32u, kSlices = 64u;
+const uint kTile = 16u;
 
 bool inside(ivec2 pixel) { return all(lessThan(pixel, ivec2(frame.viewport.xy))); }
 
@@ -72,13 +76,20 @@ bool shaded(ivec2 pixel) {
 // then moved so that it lies between the slice's bounds as cluster.comp computes them (the same
 // float expressions), which float rounding of the logarithm could otherwise miss by one.
 uint pixel_slice(float depth) {
+  int slices = int(max(slicing_slices, 1u));
   float znear = frame.projection_params.x;
   float far = max(slicing_max_distance, 2.0 * znear);
-  float step = log2(far / znear) / float(kSlices);
-  int k = clamp(int(floor(log2(depth / znear) / step)), 0, int(kSlices) - 1);
-  if (k < int(kSlices) - 1 && depth >= znear * exp2(float(k + 1) * step)) ++k;
+  float step = log2(far / znear) / float(slices);
+  int k = clamp(int(floor(log2(depth / znear) / step)), 0, slices - 1);
+  if (k < slices - 1 && depth >= znear * exp2(float(k + 1) * step)) ++k;
   if (k > 0 && depth < znear * exp2(float(k) * step)) --k;
   return uint(k);
+}
+
+// The froxel list of a pixel at a linear depth: (offset, count) into cluster_indices.
+uvec2 froxel_list(ivec2 pixel, float depth) {
+  uvec2 tile = uvec2(pixel) / max(slicing_tile, 1u);
+  return texelFetch(clusters, ivec3(tile, pixel_slice(depth)), 0).xy;
 }
 
 // Phase 0.
@@ -90,8 +101,7 @@ void classify() {
   if (gl_LocalInvocationIndex == 0u) tile_flags = 0u;
   barrier();
   if (inside(pixel) && shaded(pixel)) {
-    uint slice = pixel_slice(texelFetch(linear_depth_map, pixel, 0).r);
-    uvec2 list = texelFetch(clusters, ivec3(uvec2(pixel) / kClusterTile, slice), 0).xy;
+    uvec2 list = froxel_list(pixel, texelFetch(linear_depth_map, pixel, 0).r);
     // The list ascends, so its last light is an area light when it holds any.
     bool area = list.y > 0u && cluster_indices[list.x + list.y - 1u] >= frame.light_groups.y;
     atomicOr(tile_flags, area ? 4u : list.y > 0u ? 2u : 1u);
@@ -294,8 +304,7 @@ void shade_tiles(uint tile_class) {
     specular += specular_term(s.n, s.v, l, radiance, s.albedo, s.metallic, s.alpha);
   }
   if (tile_class >= 2u) {
-    uint slice = pixel_slice(texelFetch(linear_depth_map, pixel, 0).r);
-    uvec2 list = texelFetch(clusters, ivec3(uvec2(pixel) / kClusterTile, slice), 0).xy;
+    uvec2 list = froxel_list(pixel, texelFetch(linear_depth_map, pixel, 0).r);
     // A list ascends, so it holds its point and spot lights, then its spheres, then its tubes.
     uint k = 0u;
     for (; k < list.y; ++k) {

@@ -1,7 +1,7 @@
 #version 460
 // lights.cluster, in three phases of one pass (each a dispatch, ordered by the pass's storage
 // barrier); passes/lights/cluster_layout.h says how froxels divide the view.
-//   0: a workgroup per 32×32 tile, an invocation per depth slice: count the local lights whose
+//   0: a workgroup per tile, an invocation per depth slice: count the local lights whose
 //      bound reaches each froxel (stored in lights.clusters' second channel for phase 1);
 //   1: one workgroup turns the counts into offsets in froxel order (x, then y, then slice), each
 //      count capped at max_lights_per_froxel and the running total at max_indices, and writes
@@ -22,7 +22,10 @@
 // directional lights are not clustered.
 #include "../frame/types.glsl"
 
-layout(local_size_x = 64) in;
+// The froxels' shape, lights.cluster's parameters: the workgroup is one invocation per slice.
+layout(local_size_x_id = 0) in;
+const uint kSlices = gl_WorkGroupSize.x;
+layout(constant_id = 1) const uint kTile = 32u;  // pixels on a side of a tile
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
 layout(std430, set = 0, binding = 1) readonly buffer LightBlock { Light lights[]; };
@@ -33,6 +36,7 @@ layout(std430, set = 0, binding = 5) buffer StatsBlock {
   uint lights_local, froxels, froxels_lit, entries, entries_wanted, max_count, froxels_over_cap, dropped_over_cap,
       froxels_cut, dropped_cut, per_froxel_cap, index_capacity;
   float slicing_max_distance;
+  uint slicing_tile, slicing_slices;
 };
 
 layout(push_constant) uniform Params {
@@ -44,15 +48,14 @@ layout(push_constant) uniform Params {
   uint tiles_x, tiles_y;
 };
 
-const uint kTile = 32u, kSlices = 64u;
 const uint kNone = 0u, kBounded = 1u, kEverywhere = 2u;
 
-// The chunk of 64 lights the workgroup tests together: view-space ends, padded range, reach; and
-// those that reach the tile at all, in ascending order.
-shared vec4 chunk_a[64];  // xyz: first end, w: r'
-shared vec3 chunk_b[64];  // second end (= first for point and spot lights)
-shared uint chunk_reach[64];
-shared uint chunk_tile[64];
+// The chunk of lights (one per invocation) the workgroup tests together: view-space ends, padded
+// range, reach; and those that reach the tile at all, in ascending order.
+shared vec4 chunk_a[kSlices];  // xyz: first end, w: r'
+shared vec3 chunk_b[kSlices];  // second end (= first for point and spot lights)
+shared uint chunk_reach[kSlices];
+shared uint chunk_tile[kSlices];
 shared uint chunk_tile_count;
 
 uint add_saturated(uint a, uint b) { return a > 0xffffffffu - b ? 0xffffffffu : a + b; }
@@ -147,7 +150,7 @@ void build_lists() {
   uint count = 0u;
   uint light_count = frame.counts.x;
   mat3 view = mat3(frame.view);
-  for (uint base = 0u; base < light_count; base += 64u) {
+  for (uint base = 0u; base < light_count; base += kSlices) {
     // Each invocation classifies one light of the chunk against the whole tile.
     uint i = base + gl_LocalInvocationID.x;
     uint reach = kNone;
@@ -175,7 +178,7 @@ void build_lists() {
     // Most lights miss most tiles: each slice then tests only those that reach the tile.
     if (gl_LocalInvocationID.x == 0u) {
       uint n = 0u;
-      for (uint j = 0u; j < 64u; ++j)
+      for (uint j = 0u; j < kSlices; ++j)
         if (chunk_reach[j] != kNone) chunk_tile[n++] = j;
       chunk_tile_count = n;
     }
@@ -195,8 +198,8 @@ void build_lists() {
 
 // Phase 1: offsets from the counts, in one workgroup (each invocation a run of froxels), and the
 // statistics.
-shared uint run_entries[64], run_wanted[64], run_lit[64], run_max[64], run_over[64], run_dropped[64];
-shared uint run_cut[64], run_cut_entries[64], run_lights[64];
+shared uint run_entries[kSlices], run_wanted[kSlices], run_lit[kSlices], run_max[kSlices], run_over[kSlices];
+shared uint run_dropped[kSlices], run_cut[kSlices], run_cut_entries[kSlices], run_lights[kSlices];
 
 uvec3 froxel_texel(uint f) {
   return uvec3(f % tiles_x, (f / tiles_x) % tiles_y, f / (tiles_x * tiles_y));
@@ -205,7 +208,7 @@ uvec3 froxel_texel(uint f) {
 void place_lists() {
   uint lane = gl_LocalInvocationID.x;
   uint total = tiles_x * tiles_y * kSlices;
-  uint per_run = (total + 63u) / 64u;
+  uint per_run = (total + kSlices - 1u) / kSlices;
   uint begin = min(lane * per_run, total), end = min(begin + per_run, total);
   uint capped = 0u, wanted = 0u, lit = 0u, longest = 0u, over = 0u, dropped = 0u;
   for (uint f = begin; f < end; ++f) {
@@ -239,7 +242,7 @@ void place_lists() {
   }
   // Local lights, counted by the same invocations.
   uint local_lights = 0u;
-  for (uint i = lane; i < frame.counts.x; i += 64u)
+  for (uint i = lane; i < frame.counts.x; i += kSlices)
     if (uint(lights[i].position_type.w) != LIGHT_DIRECTIONAL) ++local_lights;
   barrier();
   run_entries[lane] = stored;
@@ -254,7 +257,7 @@ void place_lists() {
   barrier();
   if (lane != 0u) return;
   uint sums[9] = uint[9](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-  for (uint k = 0u; k < 64u; ++k) {
+  for (uint k = 0u; k < kSlices; ++k) {
     sums[0] += run_entries[k];
     sums[1] = add_saturated(sums[1], run_wanted[k]);
     sums[2] += run_lit[k];
@@ -278,13 +281,15 @@ void place_lists() {
   per_froxel_cap = max_per_froxel;
   index_capacity = max_indices;
   slicing_max_distance = max_distance;
+  slicing_tile = kTile;
+  slicing_slices = kSlices;
 }
 
 // Phase 2, besides the lists: the entries past the last one are zero, so the buffer is defined.
 void zero_tail() {
   uint groups = tiles_x * tiles_y;
   uint group = gl_WorkGroupID.y * tiles_x + gl_WorkGroupID.x;
-  for (uint i = entries + group * 64u + gl_LocalInvocationID.x; i < indices.length(); i += groups * 64u)
+  for (uint i = entries + group * kSlices + gl_LocalInvocationID.x; i < indices.length(); i += groups * kSlices)
     indices[i] = 0u;
 }
 

@@ -1,15 +1,18 @@
-// lights.cluster (frame.md section 4): per froxel — a 32×32-pixel tile × one of 64 exponential
-// depth slices (passes/lights/cluster_layout.h) — the list of frame.lights' local lights whose
-// bound reaches it, built on the GPU from the light list and depth.pyramid's min/max depth per
-// tile (cluster.comp states the test). Outputs: lights.clusters (offset and count per froxel),
-// lights.cluster_indices (the lists, one after another) and lights.cluster_stats. A froxel keeps
-// at most max_lights_per_froxel lights (those of lowest index) and all lists together at most
-// max_indices; what the caps drop is counted in lights.cluster_stats and reported on stderr
-// after the frame (warn_from). The lists are the same on every run (no order-dependent
-// atomics), so every output compares exactly. Skipped when the scene has no local light.
+// lights.cluster (frame.md section 4): per froxel — a tile_size×tile_size-pixel tile × one of
+// `slices` exponential depth slices (passes/lights/cluster_layout.h; 32 and 64 by default) — the
+// list of frame.lights' local lights whose bound reaches it, built on the GPU from the light list
+// and depth.pyramid's min/max depth per tile (cluster.comp states the test). Outputs:
+// lights.clusters (offset and count per froxel), lights.cluster_indices (the lists, one after
+// another) and lights.cluster_stats. A froxel keeps at most max_lights_per_froxel lights (those
+// of lowest index) and all lists together at most max_indices; what the caps drop is counted in
+// lights.cluster_stats and reported on stderr after the frame (warn_from). The lists are the
+// same on every run (no order-dependent atomics), so every output compares exactly. Skipped when
+// the scene has no local light.
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
+#include <iterator>
 #include <sstream>
 
 #include "passes/core/context.h"
@@ -26,6 +29,13 @@ struct ClusterConstants {
   float max_distance;
   uint32_t tiles_x, tiles_y;
 };
+
+// A parameter's value as given: 24 or 24.5, not 24.000000.
+std::string number(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
 
 // What the caps cut, in one line; "" when nothing was.
 std::string overflow_warning(std::span<const uint8_t> bytes) {
@@ -59,7 +69,9 @@ BufferSchema cluster_stats_schema() {
       .field("dropped_cut", &S::dropped_cut)
       .field("per_froxel_cap", &S::per_froxel_cap)
       .field("index_capacity", &S::index_capacity)
-      .field("max_distance", &S::max_distance);
+      .field("max_distance", &S::max_distance)
+      .field("tile_size", &S::tile_size)
+      .field("slices", &S::slices);
 }
 
 BufferSchema cluster_index_schema() {
@@ -72,8 +84,8 @@ BufferSchema cluster_index_schema() {
 PassDecl lights_cluster_pass() {
   ImageDecl clusters{VK_FORMAT_R32G32_UINT, ResourceKind::light_clusters};
   clusters.size.mode = SizeRule::Mode::output_tiles;
-  clusters.size.tile = kClusterTile;
-  clusters.depth = kClusterSlices;
+  clusters.size.tile_param = "tile_size";
+  clusters.depth_param = "slices";
   return PassDecl("lights.cluster", PassType::compute)
       .read("frame.constants", Use::uniform_buffer)
       .read("frame.lights", Use::storage_read)
@@ -85,8 +97,11 @@ PassDecl lights_cluster_pass() {
       .layout("lights.cluster_indices", cluster_index_schema())
       .layout("lights.cluster_stats", cluster_stats_schema())
       .needs("local_lights")
+      .param("tile_size", kClusterTile, 8, 64, "pixels on a side of a froxel's screen tile: 8, 16, 32 or 64")
+      .param("slices", kClusterSlices, kClusterMinSlices, kClusterMaxSlices,
+             "exponential depth slices from the near plane to max_distance (a whole number)")
       .param("max_distance", 2000.0, 1.0, 1e6,
-             "metres where the last of the 64 exponential depth slices starts; it reaches to infinity")
+             "metres where the last of the exponential depth slices starts; it reaches to infinity")
       .param("max_lights_per_froxel", 256, 1, 4096, "longest list a froxel keeps (the lights of lowest index)")
       .param("max_indices", kClusterIndexCapacity, 0, kClusterIndexCapacity,
              "entries all lists together keep; froxels past it in froxel order (farthest slice last) are cut")
@@ -94,10 +109,18 @@ PassDecl lights_cluster_pass() {
       .push_constants<ClusterConstants>()
       .shader("lights/cluster.comp")
       .run([](PassContext& ctx) {
+        const double tile_size = ctx.param("tile_size"), slices = ctx.param("slices");
+        if (std::find(std::begin(kClusterTileSizes), std::end(kClusterTileSizes), tile_size) ==
+            std::end(kClusterTileSizes))
+          throw GraphError("lights.cluster: tile_size is 8, 16, 32 or 64, not " + number(tile_size));
+        if (!(slices >= kClusterMinSlices && slices <= kClusterMaxSlices && slices == std::floor(slices)))
+          throw GraphError("lights.cluster: slices is a whole number from " + std::to_string(kClusterMinSlices) +
+                           " to " + std::to_string(kClusterMaxSlices) + ", not " + number(slices));
         const ImageExtent tiles = ctx.desc("lights.clusters").extent;
         const uint32_t levels = ctx.desc("depth.pyramid").extent.mips;
-        // Level 0 is half resolution: level L's texel covers 2^(L+1) pixels, a tile at L = 4.
-        const uint32_t tile_level = std::bit_width(kClusterTile) - 2;
+        // Level 0 is half resolution: level L's texel covers 2^(L+1) pixels, a tile at
+        // L = log2(tile_size) − 1.
+        const uint32_t tile_level = std::bit_width(uint32_t(tile_size)) - 2;
         ClusterConstants constants{0,
                                    uint32_t(ctx.param("max_lights_per_froxel")),
                                    uint32_t(ctx.param("max_indices")),
@@ -105,7 +128,9 @@ PassDecl lights_cluster_pass() {
                                    float(ctx.param("max_distance")),
                                    tiles.width,
                                    tiles.height};
-        ctx.bind_pipeline();
+        // The shape as specialization constants: the slices are the workgroup (an invocation
+        // each) and the tile a constant divisor, no loop bound read from memory.
+        ctx.bind_pipeline({int32_t(slices), int32_t(tile_size)});
         ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
                   Binding::storage(ctx.slot("frame.lights"), "frame.lights"),
                   Binding::texture(ctx.slot("depth.pyramid"), "depth.pyramid", ctx.nearest_clamp()),

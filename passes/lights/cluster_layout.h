@@ -1,11 +1,14 @@
 // How lights.cluster divides the view and lays out its lists, for the pass, its shader
-// (passes/lights/cluster.comp), the debugger and the tests. A froxel is a 32×32-pixel screen tile
-// times one of 64 depth slices spaced exponentially from the near plane to `max_distance`
-// (lights.cluster's parameter), the last slice reaching to infinity:
-//   slice k covers linear depth [z_k, z_(k+1)), z_k = znear · (far / znear)^(k / 64),
-//   far = max(max_distance, 2 · znear), z_0 = 0 and z_64 = ∞ (nothing lies nearer than znear).
-// lights.clusters (R32G32_UINT, tiles_x × tiles_y × 64) holds each froxel's (offset, count) into
+// (passes/lights/cluster.comp), the debugger and the tests. A froxel is a T×T-pixel screen tile
+// times one of S depth slices spaced exponentially from the near plane to `max_distance`, the
+// last slice reaching to infinity (T, S and max_distance are lights.cluster's parameters
+// tile_size, slices and max_distance; frame.md's defaults are 32 and 64):
+//   slice k covers linear depth [z_k, z_(k+1)), z_k = znear · (far / znear)^(k / S),
+//   far = max(max_distance, 2 · znear), z_0 = 0 and z_S = ∞ (nothing lies nearer than znear).
+// lights.clusters (R32G32_UINT, tiles_x × tiles_y × S) holds each froxel's (offset, count) into
 // lights.cluster_indices, whose entries are indices into frame.lights, ascending in each froxel.
+// lights.cluster_stats records T, S and max_distance, so that whoever reads the lists (lighting,
+// replay, the debugger) finds a pixel's froxel from the capture alone.
 #pragma once
 
 #include <algorithm>
@@ -16,8 +19,12 @@
 
 namespace nightcap {
 
-constexpr uint32_t kClusterTile = 32;    // pixels on a side of a tile
-constexpr uint32_t kClusterSlices = 64;  // depth slices
+constexpr uint32_t kClusterTile = 32;    // tile_size's default: pixels on a side of a tile
+constexpr uint32_t kClusterSlices = 64;  // slices' default: depth slices
+// What tile_size and slices may be: a tile is a whole level of depth.pyramid (a power of two of
+// 8 or more pixels); the slices are one workgroup (an invocation each).
+constexpr uint32_t kClusterTileSizes[] = {8, 16, 32, 64};
+constexpr uint32_t kClusterMinSlices = 16, kClusterMaxSlices = 128;
 // Entries lights.cluster_indices holds (4 MiB): about 18 per froxel at 1280×720, 2 at 3840×2160.
 constexpr uint32_t kClusterIndexCapacity = 1u << 20;
 
@@ -25,7 +32,7 @@ constexpr uint32_t kClusterIndexCapacity = 1u << 20;
 // saturate at 2^32 − 1.
 struct GpuClusterStats {
   uint32_t lights;            // local lights of frame.lights (point, spot, tube)
-  uint32_t froxels;           // tiles_x · tiles_y · 64
+  uint32_t froxels;           // tiles_x · tiles_y · slices
   uint32_t froxels_lit;       // froxels that at least one light reaches
   uint32_t entries;           // indices stored
   uint32_t entries_wanted;    // indices the lists would hold without caps
@@ -36,18 +43,21 @@ struct GpuClusterStats {
   uint32_t dropped_cut;       // froxel order: farthest slice first), and the entries they lost
   uint32_t per_froxel_cap;    // the limits applied
   uint32_t index_capacity;
-  float max_distance;  // the slicing (lights.cluster's parameter), by which lighting finds a pixel's slice
+  // The froxels' shape (lights.cluster's parameters), by which lighting finds a pixel's froxel.
+  float max_distance;
+  uint32_t tile_size;
+  uint32_t slices;
 };
-static_assert(sizeof(GpuClusterStats) == 52);
+static_assert(sizeof(GpuClusterStats) == 60);
 
 BufferSchema cluster_stats_schema();
 BufferSchema cluster_index_schema();
 
 // The slice of a linear depth (metres), as lighting finds a pixel's froxel.
-inline uint32_t cluster_slice(double depth, double znear, double max_distance) {
+inline uint32_t cluster_slice(double depth, double znear, double max_distance, uint32_t slices = kClusterSlices) {
   const double far = std::max(max_distance, 2.0 * znear);
-  const double k = std::floor(std::log2(depth / znear) / std::log2(far / znear) * kClusterSlices);
-  return uint32_t(std::clamp(k, 0.0, double(kClusterSlices - 1)));
+  const double k = std::floor(std::log2(depth / znear) / std::log2(far / znear) * slices);
+  return uint32_t(std::clamp(k, 0.0, double(slices - 1)));
 }
 
 }  // namespace nightcap

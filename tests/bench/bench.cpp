@@ -14,6 +14,8 @@
 //  - `nightcap diff` of a 1280x720 pair against idiff over the same images;
 //  - lights.cluster + lighting.tiled against lighting.deferred (tiled), with extra lights;
 //  - lighting.tiled's tube quality: LTC table size and nodes per line, time against error;
+//  - lights.cluster's froxel shape (cluster_shape): tile size and slice count, time against the
+//    error of lighting.tiled against lighting.deferred;
 //  - LTC tube and sphere lights (ltc): error against the integral of GGX by table size,
 //    roughness and view angle, fit time, and the CPU time of one light.
 #include <fcntl.h>
@@ -1044,6 +1046,163 @@ void bench_tube_quality(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   }
 }
 
+// The mean length of the froxel list lighting.tiled reads per shaded pixel (drawn and not
+// emission-only), from its recorded inputs: the slice of the pixel's linear depth by the shape
+// lights.cluster recorded (cluster_layout.h's formula: a pixel on a slice bound may land one
+// slice off the shader's, which moves the mean by nothing visible).
+double mean_list_per_pixel(const std::map<std::string, nc::IsolatedInput>& inputs, const nc::GpuClusterStats& stats) {
+  nc::GpuFrameConstants constants;
+  std::memcpy(&constants, inputs.at("frame.constants").bytes->data(), sizeof constants);
+  const nc::IsolatedInput& clusters = inputs.at("lights.clusters");
+  const auto& linear = *inputs.at("depth.linear").bytes;
+  const auto& depth = *inputs.at("scene.depth").bytes;
+  const auto& albedo = *inputs.at("gbuffer.albedo").bytes;
+  const nc::ImageExtent size = inputs.at("gbuffer.albedo").desc.extent, tiles = clusters.desc.extent;
+  double entries = 0;
+  size_t pixels = 0;
+  for (uint32_t y = 0; y < size.height; ++y)
+    for (uint32_t x = 0; x < size.width; ++x) {
+      const size_t t = size_t(y) * size.width + x;
+      float device_depth, metres;
+      uint32_t albedo_word;
+      std::memcpy(&device_depth, depth.data() + 4 * t, 4);
+      std::memcpy(&albedo_word, albedo.data() + 4 * t, 4);
+      std::memcpy(&metres, linear.data() + 4 * t, 4);
+      if (device_depth <= 0 || (albedo_word >> 30) != 0) continue;
+      const uint32_t slice = nc::cluster_slice(metres, constants.projection_params.x, stats.max_distance, stats.slices);
+      const size_t froxel = (size_t(slice) * tiles.height + y / stats.tile_size) * tiles.width + x / stats.tile_size;
+      uint32_t count;
+      std::memcpy(&count, clusters.bytes->data() + 8 * froxel + 4, 4);
+      entries += count;
+      ++pixels;
+    }
+  return pixels ? entries / double(pixels) : 0.0;
+}
+
+// lights.cluster's froxel shape, time against error: the 2 km map's street shot rendered as far
+// as lighting with tiles of 32 px and 16, 32, 64 or 128 slices, and with 64 slices and tiles of
+// 16, 32 or 64 px. Time: GPU ms of lights.cluster + lighting.tiled in the frame (timestamps),
+// median of `repeats` frames. Load: the mean list over the froxels that have one, the mean list
+// lighting.tiled walks per shaded pixel (its froxel's: what a coarser shape adds there is lights
+// that do not reach the pixel), and the froxels the caps cut (lights.cluster_stats). Error: lighting.tiled run alone on
+// the frame's recorded inputs against lighting.deferred (every light at every pixel) on the same inputs, with spheres
+// and tubes dark and no contact shadow: lighting.deferred models area lights otherwise, and for the sun, point and spot
+// lights the two passes compute the same bits, so what differs is what the lists miss. Per colour channel of diffuse
+// and specular, relative to deferred where it exceeds 2^-14.
+//  - cluster_shape.slices<N>.{ms,cluster_ms,tiled_ms,lights_per_froxel,lights_per_pixel,overflow,
+//    err_max,err_mean}
+//    (tiles of 32 px), and cluster_shape.tile<N>.{…} (64 slices); overflow: froxels over
+//    max_lights_per_froxel plus froxels cut at max_indices.
+void bench_cluster_shape(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height, int repeats) {
+  const nc::Scene scene = nc::build_map({1, 2.0, nc::Shot::street});
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.sinks = {"lighting.diffuse", "lighting.specular"};
+  auto pass_ms = [](const nc::RenderedFrame& frame, const std::string& pass) {
+    for (size_t i = 0; i < frame.graph.passes.size(); ++i)
+      if (frame.graph.passes[i].decl->name == pass && frame.graph.passes[i].runs)
+        return frame.execution.passes[i].gpu_ms.value_or(0.0);
+    return 0.0;
+  };
+  // A lighting pass's recorded inputs with the spheres and tubes (frame.lights from
+  // light_groups.y on) dark.
+  auto without_area_lights = [](std::map<std::string, nc::IsolatedInput> inputs) {
+    nc::GpuFrameConstants constants;
+    std::memcpy(&constants, inputs.at("frame.constants").bytes->data(), sizeof constants);
+    auto lights = std::make_shared<std::vector<uint8_t>>(*inputs.at("frame.lights").bytes);
+    for (uint32_t i = constants.light_groups.y; i < constants.counts.x; ++i) {
+      nc::GpuLight light;
+      std::memcpy(&light, lights->data() + i * sizeof light, sizeof light);
+      light.color_range = glm::vec4(0, 0, 0, light.color_range.w);
+      std::memcpy(lights->data() + i * sizeof light, &light, sizeof light);
+    }
+    inputs["frame.lights"].bytes = lights;
+    return inputs;
+  };
+  nc::ParamValues no_contact = nc::lighting_tiled_pass().default_params();
+  no_contact["contact_steps"] = 0;
+  const nc::FormatInfo half = *nc::format_info(VK_FORMAT_R16G16B16A16_SFLOAT);
+
+  // The baseline: the G-buffer does not depend on the froxels, so one deferred run serves all.
+  nc::IsolatedRun deferred;
+  {
+    nc::Renderer renderer(gpu, scene, settings);
+    const nc::RenderedFrame frame = renderer.render_frame(0, true);
+    deferred = nc::run_isolated(gpu, cache, nc::lighting_deferred_pass(),
+                                without_area_lights(pass_inputs(frame, "lighting.tiled")),
+                                nc::lighting_deferred_pass().default_params(), width, height, builtin());
+  }
+  table() << "\n## lights.cluster froxel shape, time against error (2 km map, street shot, " << width << "x" << height
+          << ", GPU ms median of " << repeats << "; error against lighting.deferred, deferred " << std::fixed
+          << std::setprecision(0) << gpu_ms(deferred) << " ms)\n"
+          << std::left << std::setw(8) << "tile" << std::setw(8) << "slices" << std::right << std::setw(10) << "ms"
+          << std::setw(10) << "cluster" << std::setw(10) << "tiled" << std::setw(14) << "lights/froxel" << std::setw(13)
+          << "lights/pixel" << std::setw(10) << "overflow" << std::setw(12) << "max rel" << std::setw(12) << "mean rel"
+          << std::defaultfloat << "\n";
+  struct Shape {
+    uint32_t tile, slices;
+    std::string row;
+  };
+  std::vector<Shape> shapes;
+  for (uint32_t slices : {16u, 32u, 64u, 128u}) shapes.push_back({32, slices, "slices" + std::to_string(slices)});
+  for (uint32_t tile : {16u, 32u, 64u}) shapes.push_back({tile, 64, "tile" + std::to_string(tile)});
+  for (const Shape& shape : shapes) {
+    settings.params["lights.cluster"] = {{"tile_size", shape.tile}, {"slices", shape.slices}};
+    nc::Renderer renderer(gpu, scene, settings);
+    const nc::RenderedFrame captured = renderer.render_frame(0, true);  // compiles the pipelines too
+    std::vector<double> cluster, tiled, both;
+    for (int r = 0; r < repeats; ++r) {
+      const nc::RenderedFrame frame = renderer.render_frame(0, false);
+      cluster.push_back(pass_ms(frame, "lights.cluster"));
+      tiled.push_back(pass_ms(frame, "lighting.tiled"));
+      both.push_back(cluster.back() + tiled.back());
+    }
+    nc::GpuClusterStats stats{};
+    std::memcpy(&stats, captured.execution.final_version("lights.cluster_stats")->bytes->data(), sizeof(stats));
+    const double per_froxel = stats.froxels_lit ? double(stats.entries) / stats.froxels_lit : 0.0;
+    const uint32_t overflow = stats.froxels_over_cap + stats.froxels_cut;
+    const std::map<std::string, nc::IsolatedInput> inputs = pass_inputs(captured, "lighting.tiled");
+    const double per_pixel = mean_list_per_pixel(inputs, stats);
+
+    const nc::IsolatedRun shaded = nc::run_isolated(gpu, cache, nc::lighting_tiled_pass(), without_area_lights(inputs),
+                                                    no_contact, width, height, builtin());
+    double worst = 0, sum = 0;
+    size_t values = 0;
+    for (const char* output : {"lighting.diffuse", "lighting.specular"}) {
+      const auto& got = *shaded.outputs.at(output);
+      const auto& want = *deferred.outputs.at(output);
+      for (size_t texel = 0; texel < size_t(width) * height; ++texel) {
+        float g[4], w[4];
+        nc::decode_texel(half, 0, got, texel, g);
+        nc::decode_texel(half, 0, want, texel, w);
+        for (int c = 0; c < 3; ++c) {
+          if (!(w[c] > 0x1p-14f)) continue;
+          const double error = std::abs(double(g[c]) - w[c]) / w[c];
+          worst = std::max(worst, error);
+          sum += error;
+          ++values;
+        }
+      }
+    }
+    const double mean = values ? sum / double(values) : 0.0;
+    table() << std::left << std::setw(8) << shape.tile << std::setw(8) << shape.slices << std::right << std::fixed
+            << std::setprecision(1) << std::setw(10) << median(both) << std::setw(10) << median(cluster)
+            << std::setw(10) << median(tiled) << std::setprecision(2) << std::setw(14) << per_froxel << std::setw(13)
+            << per_pixel << std::setw(10) << overflow << std::scientific << std::setprecision(2) << std::setw(12)
+            << worst << std::setw(12) << mean << std::defaultfloat << "\n";
+    const std::string row = "cluster_shape." + shape.row;
+    figure(row + ".ms", median(both));
+    figure(row + ".cluster_ms", median(cluster));
+    figure(row + ".tiled_ms", median(tiled));
+    figure(row + ".lights_per_froxel", per_froxel);
+    figure(row + ".lights_per_pixel", per_pixel);
+    figure(row + ".overflow", overflow);
+    figure(row + ".err_max", worst);
+    figure(row + ".err_mean", mean);
+  }
+}
+
 // decals.mesh and decals.projected against decal count on the reference scene of
 // tests/reference/decal_reference.h: N projected boxes (the reference box, shifted and turned,
 // grime) and N mesh decals (slabs on the ground), GPU ms as the median of `repeats` frames. The
@@ -1647,9 +1806,10 @@ int main(int argc, char** argv) {
   std::string size = "1280x720", device, data = NIGHTCAP_SHARED_DATA;
   bool skip_models = false, map_frames = true;
   std::vector<std::string> only;
-  const std::vector<std::string> sections = {
-      "city",  "models",   "map",     "empty", "frames", "normals", "tubes", "depth",   "motion", "streams",
-      "bloom", "exposure", "startup", "diff",  "report", "decals",  "ltc",   "cluster", "tiled",  "tube_quality"};
+  const std::vector<std::string> sections = {"city",    "models",       "map",          "empty",   "frames", "normals",
+                                             "tubes",   "depth",        "motion",       "streams", "bloom",  "exposure",
+                                             "startup", "diff",         "report",       "decals",  "ltc",    "cluster",
+                                             "tiled",   "tube_quality", "cluster_shape"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -1708,6 +1868,7 @@ int main(int argc, char** argv) {
     if (wanted("cluster")) bench_cluster(gpu, cache, width, height, int(repeats));
     if (wanted("tiled")) bench_tiled(gpu, width, height, int(repeats));
     if (wanted("tube_quality")) bench_tube_quality(gpu, width, height);
+    if (wanted("cluster_shape")) bench_cluster_shape(gpu, cache, width, height, int(repeats));
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

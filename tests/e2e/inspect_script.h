@@ -18,6 +18,9 @@ namespace nightcap::test {
 
 // The small city the inspect tests share (as tests/e2e/capture_loop_test.cpp renders it).
 inline constexpr const char* kCity = "--city-block --size 320x180 --frames 2";
+// The same with froxels of 16 px and 32 slices (lights.cluster's tile_size and slices).
+inline constexpr const char* kCityOtherFroxels =
+    "--city-block --size 320x180 --frames 2 --set lights.cluster.tile_size=16 --set lights.cluster.slices=32";
 
 struct Inspected {
   CliResult result;

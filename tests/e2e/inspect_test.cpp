@@ -330,19 +330,22 @@ TEST_F(InspectTest, StatsOfLinearDepth) {
   }
 }
 
-// lights.clusters under a pixel: the froxel of the pixel's 32×32 tile at the slice its depth.linear
-// falls in (64 slices, exponential from znear to 2000 m, the last one to infinity), or at --slice,
-// and the light indices its (offset, count) select in lights.cluster_indices.
-TEST_F(InspectTest, FroxelUnderAPixelAndItsLightList) {
-  const PassRecord& pass = pass_named(frame0(), "lights.cluster");
-  const std::vector<uint8_t> clusters = capture_->load(output_named(pass, "lights.clusters"));
-  const std::vector<uint8_t> indices = capture_->load(output_named(pass, "lights.cluster_indices"));
-  const std::vector<uint8_t> linear =
-      capture_->load(output_named(pass_named(frame0(), "depth.convert"), "depth.linear"));
-  const double znear = frame0().camera.znear, far = std::max(2000.0, 2 * znear);
-  const uint32_t tiles_x = (320 + 31) / 32, tiles_y = (180 + 31) / 32;
-  const Inspected run = inspect(path_, "goto lights.cluster --json" + pixel_commands("lights.clusters") +
-                                           "; pixel 100 100 lights.clusters --slice 63 --json");
+// lights.clusters under a pixel: the froxel of the pixel's tile (`tile` pixels on a side) at the
+// slice its depth.linear falls in (`slices` slices, exponential from znear to 2000 m, the last one
+// to infinity), or at --slice, and the light indices its (offset, count) select in
+// lights.cluster_indices.
+void expect_froxels_decoded(const std::filesystem::path& path, const Capture& capture, uint32_t tile, uint32_t slices) {
+  const FrameRecord& frame = capture.frame(0);
+  const PassRecord& pass = pass_named(frame, "lights.cluster");
+  const std::vector<uint8_t> clusters = capture.load(output_named(pass, "lights.clusters"));
+  const std::vector<uint8_t> indices = capture.load(output_named(pass, "lights.cluster_indices"));
+  const std::vector<uint8_t> linear = capture.load(output_named(pass_named(frame, "depth.convert"), "depth.linear"));
+  const double znear = frame.camera.znear, far = std::max(2000.0, 2 * znear);
+  const uint32_t tiles_x = (320 + tile - 1) / tile, tiles_y = (180 + tile - 1) / tile;
+  const uint32_t last = slices - 1;
+  const Inspected run =
+      inspect(path, "goto lights.cluster --json" + pixel_commands("lights.clusters") +
+                        "; pixel 100 100 lights.clusters --slice " + std::to_string(last) + " --json");
   ASSERT_EQ(run.result.code, 0) << run.result.err;
   ASSERT_EQ(run.objects.size(), kPixels.size() + 2);
   auto list_at = [&](uint32_t tx, uint32_t ty, uint32_t slice) {
@@ -357,20 +360,47 @@ TEST_F(InspectTest, FroxelUnderAPixelAndItsLightList) {
     const auto [x, y] = kPixels[i];
     const json& d = run.objects[1 + i]["decoded"];
     const double depth = float_at(linear, 4 * (uint64_t(y) * 320 + x));
-    const double k = std::floor(std::log2(depth / znear) / std::log2(far / znear) * 64);
-    const uint32_t slice = uint32_t(std::clamp(k, 0.0, 63.0));
+    const double k = std::floor(std::log2(depth / znear) / std::log2(far / znear) * slices);
+    const uint32_t slice = uint32_t(std::clamp(k, 0.0, double(last)));
     EXPECT_EQ(d["depth_m"].get<double>(), depth);
-    EXPECT_EQ(d["froxel"], json::array({x / 32, y / 32, slice})) << x << "," << y;
-    const std::vector<uint32_t> expected = list_at(x / 32, y / 32, slice);
+    EXPECT_EQ(d["froxel"], json::array({x / tile, y / tile, slice})) << x << "," << y;
+    const std::vector<uint32_t> expected = list_at(x / tile, y / tile, slice);
     EXPECT_EQ(d["lights"].get<std::vector<uint32_t>>(), expected) << x << "," << y;
     EXPECT_EQ(d["count"], expected.size());
     some_light = some_light || !expected.empty();
   }
   EXPECT_TRUE(some_light) << "the pixels should fall in a lit froxel";
   const json& sliced = run.objects.back()["decoded"];
-  EXPECT_EQ(sliced["froxel"], json::array({3, 3, 63}));
+  EXPECT_EQ(sliced["froxel"], json::array({100 / tile, 100 / tile, last}));
   EXPECT_FALSE(sliced.contains("depth_m"));
-  EXPECT_EQ(sliced["lights"].get<std::vector<uint32_t>>(), list_at(3, 3, 63));
+  EXPECT_EQ(sliced["lights"].get<std::vector<uint32_t>>(), list_at(100 / tile, 100 / tile, last));
+}
+
+TEST_F(InspectTest, FroxelUnderAPixelAndItsLightList) { expect_froxels_decoded(path_, *capture_, 32, 64); }
+
+// A capture of another froxel shape: inspect finds a pixel's froxel from what the capture
+// recorded, and (what inspect shows must be what replay reproduces) every pass replays it
+// bit-identically, lights.cluster and lighting.tiled from their recorded inputs included.
+TEST(InspectOtherFroxelShape, FroxelUnderAPixelAndItsLightList) {
+  const std::filesystem::path path = shared_capture("city-froxels-16x32", kCityOtherFroxels);
+  expect_froxels_decoded(path, Capture::open(path), 16, 32);
+}
+
+TEST(InspectOtherFroxelShape, ReplaysBitIdentically) {
+  const std::filesystem::path path = shared_capture("city-froxels-16x32", kCityOtherFroxels);
+  for (int frame : {0, 1}) {
+    const CliResult r = run_cli("replay --verify --json --frame " + std::to_string(frame) + " " + quote(path));
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+    const json report = json::parse(r.out);
+    std::set<std::string> replayed;
+    for (const auto& p : report.at("passes")) {
+      if (!p.at("replayed")) continue;
+      replayed.insert(p.at("name").get<std::string>());
+      for (const auto& o : p.at("outputs"))
+        EXPECT_EQ(o.at("verdict"), "identical") << p.at("name") << " " << o.at("resource");
+    }
+    EXPECT_TRUE(replayed.count("lights.cluster") && replayed.count("lighting.tiled")) << "frame " << frame;
+  }
 }
 
 // Half-float denormals counted from the stored bits: the first frame's motion is tiny noise, much

@@ -2,9 +2,10 @@
 // documented math (passes/lights/cluster_layout.h, passes/lights/cluster.comp) in double
 // precision, from the pass's own float inputs (frame.constants, frame.lights, depth.pyramid):
 //
-// - The froxel of tile (x, y) and slice k: output pixels [32x, min(32x + 32, W)) × [32y, …),
-//   linear depth [z_k, z_(k+1)) (z_0 = 0, z_64 = ∞) clipped to the tile's [min, max] from the
-//   pyramid level whose texel covers 32 pixels (or its last level), texel min(tile, size − 1).
+// - The froxel of tile (x, y) and slice k, for tiles of T pixels and S slices: output pixels
+//   [Tx, min(Tx + T, W)) × [Ty, …), linear depth [z_k, z_(k+1)) (z_0 = 0, z_S = ∞) clipped to the
+//   tile's [min, max] from the pyramid level whose texel covers T pixels (or its last level),
+//   texel min(tile, size − 1).
 // - The conservative test: the light's core (point, or tube segment) within r' of the froxel's
 //   view-space bounding box, and within r' of the inner side of each of the tile's four side
 //   planes, r' = range + 2^-12 · (range + farthest end's distance). It returns the margin: the
@@ -19,6 +20,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -37,26 +39,30 @@ namespace nightcap::reference {
 
 struct ClusterView {
   uint32_t width = 0, height = 0, tiles_x = 0, tiles_y = 0;
-  glm::dmat3 view{1.0};   // frame.view's rotation, floats widened
-  double sx = 1, sy = 1;  // view-space x and y per metre of depth at NDC ±1
+  uint32_t tile = kClusterTile, slices = kClusterSlices;  // lights.cluster's tile_size and slices
+  glm::dmat3 view{1.0};                                   // frame.view's rotation, floats widened
+  double sx = 1, sy = 1;                                  // view-space x and y per metre of depth at NDC ±1
   double znear = 0.1, far = 2000;
   std::vector<std::array<double, 2>> tile_depth;  // per tile (row-major): pyramid min, max
 };
 
 inline ClusterView cluster_view(const GpuFrameConstants& frame, std::span<const uint8_t> pyramid,
-                                const ImageExtent& pyramid_extent, double max_distance) {
+                                const ImageExtent& pyramid_extent, double max_distance, uint32_t tile = kClusterTile,
+                                uint32_t slices = kClusterSlices) {
   ClusterView v;
+  v.tile = tile;
+  v.slices = slices;
   v.width = uint32_t(frame.viewport.x);
   v.height = uint32_t(frame.viewport.y);
-  v.tiles_x = (v.width + kClusterTile - 1) / kClusterTile;
-  v.tiles_y = (v.height + kClusterTile - 1) / kClusterTile;
+  v.tiles_x = (v.width + tile - 1) / tile;
+  v.tiles_y = (v.height + tile - 1) / tile;
   v.view = glm::dmat3(glm::dmat4(frame.view));
   v.sx = 1.0 / double(frame.projection[0][0]);
   v.sy = -1.0 / double(frame.projection[1][1]);
   v.znear = frame.projection_params.x;
   v.far = std::max(double(float(max_distance)), 2.0 * v.znear);
   // Level 0 is half resolution: level L's texel covers 2^(L+1) output pixels.
-  const uint32_t level = std::min<uint32_t>(4, pyramid_extent.mips - 1);
+  const uint32_t level = std::min<uint32_t>(std::bit_width(tile) - 2, pyramid_extent.mips - 1);
   const FormatInfo format = *format_info(VK_FORMAT_R32G32_SFLOAT);
   const uint64_t base = raw_subresource_offset(format, pyramid_extent, 0, level, 0);
   const uint32_t w = mip_size(pyramid_extent.width, level), h = mip_size(pyramid_extent.height, level);
@@ -69,11 +75,11 @@ inline ClusterView cluster_view(const GpuFrameConstants& frame, std::span<const 
   return v;
 }
 
-// Linear depth where slice k starts (k = 64: infinity).
+// Linear depth where slice k starts (k = slices: infinity).
 inline double slice_start(const ClusterView& v, uint32_t k) {
   if (k == 0) return 0.0;
-  if (k >= kClusterSlices) return std::numeric_limits<double>::infinity();
-  return v.znear * std::pow(v.far / v.znear, double(k) / kClusterSlices);
+  if (k >= v.slices) return std::numeric_limits<double>::infinity();
+  return v.znear * std::pow(v.far / v.znear, double(k) / v.slices);
 }
 
 struct Froxel {
@@ -95,10 +101,10 @@ inline Froxel froxel(const ClusterView& v, uint32_t tx, uint32_t ty, uint32_t k)
   // The GPU rounds the slice bounds (exp2 in float); the tile's bounds are its own floats.
   f.marginal = (start > tile_min || end < tile_max) &&
                std::abs(f.far - f.near) <= 0x1p-16 * std::max(std::abs(f.far), std::abs(f.near));
-  const double x0 = 2.0 * (tx * kClusterTile) / v.width - 1.0;
-  const double x1 = 2.0 * std::min((tx + 1) * kClusterTile, v.width) / v.width - 1.0;
-  const double y0 = 2.0 * (ty * kClusterTile) / v.height - 1.0;
-  const double y1 = 2.0 * std::min((ty + 1) * kClusterTile, v.height) / v.height - 1.0;
+  const double x0 = 2.0 * (tx * v.tile) / v.width - 1.0;
+  const double x1 = 2.0 * std::min((tx + 1) * v.tile, v.width) / v.width - 1.0;
+  const double y0 = 2.0 * (ty * v.tile) / v.height - 1.0;
+  const double y1 = 2.0 * std::min((ty + 1) * v.tile, v.height) / v.height - 1.0;
   f.extent = {x0 * v.sx, -y1 * v.sy, x1 * v.sx, -y0 * v.sy};
   const auto& e = f.extent;
   f.lo = {std::min(e[0] * f.near, e[0] * f.far), std::min(e[1] * f.near, e[1] * f.far), -f.far};

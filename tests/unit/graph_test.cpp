@@ -340,6 +340,40 @@ TEST(Graph, ResolvesRelativeSizesAndMipChains) {
   EXPECT_EQ(t.extent.mips, 1u);
 }
 
+// Tiles and slices a pass's parameters give (lights.cluster's tile_size and slices): its defaults,
+// what the settings set, and a value that is no size refused by name.
+TEST(Graph, SizesByTheWritersParameters) {
+  ImageDecl tiles = image(VK_FORMAT_R32G32_UINT);
+  tiles.size.mode = SizeRule::Mode::output_tiles;
+  tiles.size.tile_param = "tile";
+  tiles.depth_param = "slices";
+  std::vector<PassDecl> passes;
+  passes.push_back(PassDecl("t", PassType::compute)
+                       .write("tiles", Use::storage_write, tiles)
+                       .param("tile", 32, 1, 64, "pixels per tile")
+                       .param("slices", 64, 1, 128, "depth slices"));
+  GraphSettings settings;
+  settings.width = 1279;
+  settings.height = 719;
+  settings.sinks = {"tiles"};
+  const ResourceDesc by_default = compile_graph(passes, {}, settings).resources.at("tiles");
+  EXPECT_EQ(by_default.extent.width, 40u);
+  EXPECT_EQ(by_default.extent.height, 23u);
+  EXPECT_EQ(by_default.extent.depth, 64u);
+  settings.params["t"] = {{"tile", 16}, {"slices", 32}};
+  const ResourceDesc set = compile_graph(passes, {}, settings).resources.at("tiles");
+  EXPECT_EQ(set.extent.width, 80u);
+  EXPECT_EQ(set.extent.height, 45u);
+  EXPECT_EQ(set.extent.depth, 32u);
+  settings.params["t"] = {{"slices", 2.5}};
+  try {
+    compile_graph(passes, {}, settings);
+    ADD_FAILURE() << "2.5 slices were accepted";
+  } catch (const GraphError& e) {
+    EXPECT_NE(std::string(e.what()).find("slices 2.5 is not a size"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Graph, DeclarationMistakesAreCaughtBeforeRunning) {
   std::vector<PassDecl> unknown;
   unknown.push_back(PassDecl("x", PassType::graphics)

@@ -18,6 +18,9 @@
 //   integral of GGX along the segment, accuracy.md's 5% mean and 15% max over views ≤ 80°,
 //   except where roughness ≥ 0.5 and the view ≥ 70°, where LTC misses (ltc_test.cpp): there
 //   ≤ 40%, and the worst is printed.
+// - other froxel shapes (lights.cluster's tile_size and slices, which the pass reads from
+//   lights.cluster_stats): the city and the 2 km map's street shot, whole frames, with tiles of
+//   16 px and 32 slices and with 64 px and 128 slices: the same bytes as the default shape's.
 // - stress: 10 000 extra lights in view, a light touching the ground, a zero-length tube, a
 //   sphere light, lights at the camera: every output finite, and the pass run again from its
 //   recorded inputs writes the same bytes (what replay --verify checks).
@@ -329,6 +332,40 @@ TEST_F(LightingTiled, CityEqualsDeferredForPointSpotAndSun) {
               lit, worst);
   EXPECT_GT(lit, 0u);
   EXPECT_EQ(differing, 0u);
+}
+
+// Every pixel's list holds every light that reaches it whatever the froxels' shape, in ascending
+// order; a coarser shape adds lights that do not reach (their range window is 0, so they add 0)
+// and may move a 16×16 tile to a class with more kinds of light, whose loops take a point or spot
+// light with the same arithmetic. So other shapes light the frame with the same bits.
+TEST_F(LightingTiled, OtherFroxelShapesLightTheSame) {
+  const std::pair<const char*, Scene> scenes[] = {{"city", city()}, {"2km map", build_map({1, 2.0, Shot::street})}};
+  const ParamValues shapes[] = {{{"tile_size", 16}, {"slices", 32}}, {{"tile_size", 64}, {"slices", 128}}};
+  for (const auto& [name, scene] : scenes) {
+    const Recorded base = render(scene);
+    for (const ParamValues& shape : shapes) {
+      const Recorded other =
+          render(scene, 1280, 720, [&](RenderSettings& settings) { settings.params["lights.cluster"] = shape; });
+      ASSERT_EQ(other.inputs.at("lights.clusters").desc.extent.depth, uint32_t(shape.at("slices")));
+      for (const char* output : {"lighting.diffuse", "lighting.specular"}) {
+        const std::vector<float> a = halves(*base.outputs.at(output).bytes),
+                                 b = halves(*other.outputs.at(output).bytes);
+        ASSERT_EQ(a.size(), b.size());
+        size_t differing = 0, lit = 0;
+        double worst = 0;
+        for (size_t k = 0; k < a.size(); ++k) {
+          lit += a[k] != 0;
+          if (a[k] == b[k]) continue;
+          ++differing;
+          worst = std::max(worst, std::abs(double(b[k]) - a[k]) / std::max(double(std::abs(a[k])), 0x1p-24));
+        }
+        std::printf("%s, tiles of %d px, %d slices: %s: %zu of %zu non-zero values differ (worst relative %.3g)\n",
+                    name, int(shape.at("tile_size")), int(shape.at("slices")), output, differing, lit, worst);
+        EXPECT_GT(lit, 0u);
+        EXPECT_EQ(differing, 0u) << name << " " << output;
+      }
+    }
+  }
 }
 
 // Area-light specular against its reference integral, binned by roughness and view angle: the

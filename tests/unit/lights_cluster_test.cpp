@@ -11,7 +11,10 @@
 //   most its range) is missing from the froxel's list.
 // - Listed entries over truly reaching ones ≤ 1.5 on every scene (accuracy.md's target).
 // - Lists are packed in froxel order, ascending, within the caps; lights.cluster_stats agrees
-//   with them; overflow is counted, cut where documented and reported by the renderer.
+//   with them and records the froxels' shape; overflow is counted, cut where documented and
+//   reported by the renderer.
+// - All of this for other tile sizes and slice counts than frame.md's 32×32 × 64 too; values the
+//   pass does not take are refused by name.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -39,7 +42,9 @@ struct ClusterFrame {
   ImageExtent pyramid_extent, cluster_extent;
   std::vector<uint32_t> indices;
   GpuClusterStats stats{};
+  // lights.cluster's parameters the frame ran with.
   double max_distance = 2000;
+  uint32_t tile = kClusterTile, slices = kClusterSlices;
 
   std::pair<uint32_t, uint32_t> list(uint32_t tx, uint32_t ty, uint32_t slice) const {
     const size_t texel = (size_t(slice) * cluster_extent.height + ty) * cluster_extent.width + tx;
@@ -58,7 +63,9 @@ std::vector<T> records(const std::vector<uint8_t>& bytes) {
   return out;
 }
 
-ClusterFrame cluster_frame(const Versions& v, double max_distance) {
+// `params`: lights.cluster's, defaults where not given.
+ClusterFrame cluster_frame(const Versions& v, const ParamValues& params = {}) {
+  const ParamValues all = lights_cluster_pass().params_with({{"lights.cluster", params}});
   ClusterFrame c;
   std::memcpy(&c.frame, v.at("frame.constants").second->data(), sizeof(c.frame));
   c.lights = records<GpuLight>(*v.at("frame.lights").second);
@@ -69,7 +76,9 @@ ClusterFrame cluster_frame(const Versions& v, double max_distance) {
   c.cluster_extent = v.at("lights.clusters").first.extent;
   c.indices = records<uint32_t>(*v.at("lights.cluster_indices").second);
   std::memcpy(&c.stats, v.at("lights.cluster_stats").second->data(), sizeof(c.stats));
-  c.max_distance = max_distance;
+  c.max_distance = all.at("max_distance");
+  c.tile = uint32_t(all.at("tile_size"));
+  c.slices = uint32_t(all.at("slices"));
   return c;
 }
 
@@ -103,16 +112,17 @@ std::string froxel_name(uint32_t tx, uint32_t ty, uint32_t k) {
 // Every froxel against the reference. Caps: the lists must be whole (the overflow test checks
 // the caps on their own).
 Comparison compare(const ClusterFrame& c, bool truly = true) {
-  const ref::ClusterView view = ref::cluster_view(c.frame, *c.pyramid, c.pyramid_extent, c.max_distance);
+  const ref::ClusterView view =
+      ref::cluster_view(c.frame, *c.pyramid, c.pyramid_extent, c.max_distance, c.tile, c.slices);
   EXPECT_EQ(c.cluster_extent.width, view.tiles_x);
   EXPECT_EQ(c.cluster_extent.height, view.tiles_y);
-  EXPECT_EQ(c.cluster_extent.depth, kClusterSlices);
+  EXPECT_EQ(c.cluster_extent.depth, c.slices);
   std::vector<ref::LightCore> cores;
   for (const GpuLight& l : c.lights) cores.push_back(ref::light_core(view, l));
   Comparison result;
   uint32_t expected_offset = 0;
   std::vector<char> candidate(cores.size());
-  for (uint32_t k = 0; k < kClusterSlices; ++k)
+  for (uint32_t k = 0; k < c.slices; ++k)
     for (uint32_t ty = 0; ty < view.tiles_y; ++ty)
       for (uint32_t tx = 0; tx < view.tiles_x; ++tx) {
         const auto [offset, count] = c.list(tx, ty, k);
@@ -175,7 +185,7 @@ Comparison compare(const ClusterFrame& c, bool truly = true) {
 void check_stats(const ClusterFrame& c) {
   const GpuClusterStats& s = c.stats;
   uint64_t entries = 0, lit_stored = 0, longest_stored = 0;
-  for (uint32_t k = 0; k < kClusterSlices; ++k)
+  for (uint32_t k = 0; k < c.slices; ++k)
     for (uint32_t ty = 0; ty < c.cluster_extent.height; ++ty)
       for (uint32_t tx = 0; tx < c.cluster_extent.width; ++tx) {
         const uint32_t count = c.list(tx, ty, k).second;
@@ -187,7 +197,10 @@ void check_stats(const ClusterFrame& c) {
   uint32_t local = 0;
   for (const GpuLight& l : c.lights) local += uint32_t(l.position_type.w) != uint32_t(LightType::directional);
   EXPECT_EQ(s.lights, local);
-  EXPECT_EQ(s.froxels, c.cluster_extent.width * c.cluster_extent.height * kClusterSlices);
+  EXPECT_EQ(s.froxels, c.cluster_extent.width * c.cluster_extent.height * c.slices);
+  EXPECT_EQ(s.tile_size, c.tile);
+  EXPECT_EQ(s.slices, c.slices);
+  EXPECT_EQ(s.max_distance, float(c.max_distance));
   EXPECT_EQ(s.entries, entries);
   EXPECT_LE(s.entries, s.index_capacity);
   EXPECT_EQ(uint64_t(s.entries) + s.dropped_over_cap + s.dropped_cut, s.entries_wanted);
@@ -288,14 +301,12 @@ class LightsCluster : public GpuTest {
     inputs["frame.constants"] = buffer(&frame, sizeof(frame));
     inputs["frame.lights"] = buffer(s.lights.data(), s.lights.size() * sizeof(GpuLight));
     inputs["depth.pyramid"] = {pyramid.output_descs.at("depth.pyramid"), pyramid.outputs.at("depth.pyramid")};
-    const PassDecl pass = lights_cluster_pass();
-    const IsolatedRun result = run(pass, inputs, s.width, s.height, params);
+    const IsolatedRun result = run(lights_cluster_pass(), inputs, s.width, s.height, params);
     EXPECT_EQ(first_non_finite(result.execution), "");
     Versions v;
     for (const auto& [name, in] : inputs) v[name] = {in.desc, in.bytes};
     for (const std::string& name : kClusterOutputs) v[name] = {result.output_descs.at(name), result.outputs.at(name)};
-    const ParamValues all = pass.params_with({{"lights.cluster", params}});
-    return cluster_frame(v, all.at("max_distance"));
+    return cluster_frame(v, params);
   }
 };
 
@@ -305,7 +316,7 @@ TEST_F(LightsCluster, CityMatchesTheReference) {
   Renderer renderer(*gpu_, scene, cluster_settings(1280, 720));
   const RenderedFrame frame = renderer.render_frame(0, true);
   EXPECT_TRUE(frame.warnings.empty());
-  expect_matches_reference("city", cluster_frame(frame_versions(frame), 2000));
+  expect_matches_reference("city", cluster_frame(frame_versions(frame)));
 }
 
 TEST_F(LightsCluster, MapStreetShotMatchesTheReference) {
@@ -313,14 +324,14 @@ TEST_F(LightsCluster, MapStreetShotMatchesTheReference) {
   Renderer renderer(*gpu_, scene, cluster_settings(1280, 720));
   const RenderedFrame frame = renderer.render_frame(0, true);
   EXPECT_TRUE(frame.warnings.empty());
-  const ClusterFrame c = cluster_frame(frame_versions(frame), 2000);
+  const ClusterFrame c = cluster_frame(frame_versions(frame));
   EXPECT_GT(c.lights.size(), 100u) << "a street of the map keeps many lights in view";
   expect_matches_reference("2 km map, street shot", c);
 }
 
 // Random depths per 8×8 block (some sky), and lights of every kind around the view: points,
 // spots, tubes (some through the camera's plane), one of infinite range and a directional one.
-TEST_F(LightsCluster, ManyLightsMatchTheReference) {
+Synthetic many_lights() {
   Synthetic s;
   std::mt19937 rng(13);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
@@ -346,9 +357,71 @@ TEST_F(LightsCluster, ManyLightsMatchTheReference) {
   GpuLight sun = point_light({0, 0, 0}, 0.0f);
   sun.position_type.w = float(LightType::directional);
   s.lights.push_back(sun);
-  const ClusterFrame c = run_synthetic(s);
+  return s;
+}
+
+TEST_F(LightsCluster, ManyLightsMatchTheReference) {
+  const ClusterFrame c = run_synthetic(many_lights());
   expect_matches_reference("2000 synthetic lights", c);
   EXPECT_EQ(c.stats.lights, 2001u);
+}
+
+// Shapes other than frame.md's 32×32 × 64: finer and coarser tiles, fewer and more slices.
+const std::vector<ParamValues> kOtherShapes = {
+    {{"tile_size", 16}, {"slices", 32}}, {{"tile_size", 64}, {"slices", 128}}, {{"tile_size", 8}, {"slices", 16}}};
+
+std::string shape_name(const char* scene, const ParamValues& shape) {
+  return std::string(scene) + ", tiles of " + std::to_string(int(shape.at("tile_size"))) + " px, " +
+         std::to_string(int(shape.at("slices"))) + " slices";
+}
+
+TEST_F(LightsCluster, ManyLightsMatchTheReferenceInOtherShapes) {
+  const Synthetic s = many_lights();
+  for (const ParamValues& shape : kOtherShapes) {
+    SCOPED_TRACE(shape_name("2000 synthetic lights", shape));
+    const ClusterFrame c = run_synthetic(s, shape);
+    EXPECT_EQ(c.cluster_extent.width, (s.width + c.tile - 1) / c.tile);
+    EXPECT_EQ(c.cluster_extent.depth, c.slices);
+    expect_matches_reference(shape_name("2000 synthetic lights", shape).c_str(), c);
+  }
+}
+
+TEST_F(LightsCluster, MapStreetShotMatchesTheReferenceInOtherShapes) {
+  const Scene scene = build_map({1, 2.0, Shot::street});
+  for (const ParamValues& shape : {kOtherShapes[0], kOtherShapes[1]}) {
+    SCOPED_TRACE(shape_name("2 km map, street shot", shape));
+    RenderSettings settings = cluster_settings(1280, 720);
+    settings.params["lights.cluster"] = shape;
+    Renderer renderer(*gpu_, scene, settings);
+    const RenderedFrame frame = renderer.render_frame(0, true);
+    EXPECT_TRUE(frame.warnings.empty());
+    expect_matches_reference(shape_name("2 km map, street shot", shape).c_str(),
+                             cluster_frame(frame_versions(frame), shape));
+  }
+}
+
+// tile_size and slices take what the pass can run: another value is refused by name, not rounded.
+TEST_F(LightsCluster, ShapesItCannotRunAreRefused) {
+  Synthetic s;
+  s.width = 64;
+  s.height = 36;
+  s.depth.assign(size_t(s.width) * s.height, 3.0f);
+  s.lights = {point_light({0, 0, -3}, 2.0f)};
+  const std::pair<ParamValues, std::string> refused[] = {
+      {{{"tile_size", 24}}, "lights.cluster: tile_size is 8, 16, 32 or 64, not 24"},
+      {{{"tile_size", 128}}, "lights.cluster: tile_size is 8, 16, 32 or 64, not 128"},
+      {{{"slices", 8}}, "lights.cluster: slices is a whole number from 16 to 128, not 8"},
+      {{{"slices", 129}}, "lights.cluster: slices is a whole number from 16 to 128, not 129"},
+      {{{"slices", 20.5}}, "slices 20.5 is not a size"},  // the graph sizes lights.clusters by it first
+  };
+  for (const auto& [params, message] : refused) {
+    try {
+      run_synthetic(s, params);
+      ADD_FAILURE() << message << ": accepted";
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
 }
 
 // A point light at the camera and a tube through it, before a wall 3 m away: every tile's
@@ -366,7 +439,7 @@ TEST_F(LightsCluster, LightAtTheCamera) {
       ASSERT_EQ(count, 2u) << froxel_name(tx, ty, slice);
       EXPECT_EQ(c.indices[offset], 0u);
       EXPECT_EQ(c.indices[offset + 1], 1u);
-      for (uint32_t k = 0; k < kClusterSlices; ++k) {
+      for (uint32_t k = 0; k < c.slices; ++k) {
         if (k == slice) continue;
         EXPECT_EQ(c.list(tx, ty, k).second, 0u) << froxel_name(tx, ty, k) << " has no surface";
       }
@@ -430,7 +503,7 @@ TEST_F(LightsCluster, TenThousandLightsOverflowIsCountedNotSilent) {
   for (const GpuLight& l : c.lights) cores.push_back(ref::light_core(view, l));
   bool cut_seen = false;
   uint64_t checked = 0, edge = 0;
-  for (uint32_t k = 0; k < kClusterSlices; ++k)
+  for (uint32_t k = 0; k < c.slices; ++k)
     for (uint32_t ty = 0; ty < view.tiles_y; ++ty)
       for (uint32_t tx = 0; tx < view.tiles_x; ++tx) {
         const auto [offset, count] = c.list(tx, ty, k);
@@ -496,7 +569,7 @@ TEST_F(LightsCluster, OverflowIsReportedByTheRenderer) {
   EXPECT_NE(frame.warnings[0].find("lights.cluster: "), std::string::npos) << frame.warnings[0];
   EXPECT_NE(frame.warnings[0].find("over the cap of 1 lights"), std::string::npos) << frame.warnings[0];
   EXPECT_NE(frame.warnings[0].find("cut at the capacity of 50 entries"), std::string::npos) << frame.warnings[0];
-  const ClusterFrame c = cluster_frame(frame_versions(frame), 2000);
+  const ClusterFrame c = cluster_frame(frame_versions(frame), settings.params.at("lights.cluster"));
   check_stats(c);
   EXPECT_EQ(c.stats.entries, 50u);
 }
