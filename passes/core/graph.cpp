@@ -15,7 +15,8 @@ struct Version {
 };
 
 ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
-                     const std::map<std::string, ResourceDesc>& known, const std::string& pass) {
+                     const std::map<std::string, ResourceDesc>& known, const PassDecl& decl) {
+  const std::string& pass = decl.name;
   ResourceDesc desc;
   if (out.is_buffer) {
     desc.is_buffer = true;
@@ -53,6 +54,15 @@ ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
         throw GraphError(pass + ": output '" + out.resource + "' is sized like unknown image '" + d.size.like + "'");
       desc.extent.width = it->second.extent.width;
       desc.extent.height = it->second.extent.height;
+      break;
+    }
+    case SizeRule::Mode::square_param: {
+      const ParamValues params = decl.params_with(settings.params);
+      auto it = params.find(d.size.param);
+      if (it == params.end() || !(it->second >= 1.0))
+        throw GraphError(pass + ": output '" + out.resource + "' is sized by parameter '" + d.size.param +
+                         "', which it does not declare as a size");
+      desc.extent.width = desc.extent.height = uint32_t(it->second);
       break;
     }
   }
@@ -495,7 +505,7 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
           if (!read) compiled.inputs.push_back(bound);
           bound.producer = -1;
         } else {
-          bound.desc = resolve(out, settings, graph.resources, decl.name);
+          bound.desc = resolve(out, settings, graph.resources, decl);
           graph.resources[out.resource] = bound.desc;
         }
         compiled.outputs.push_back(bound);

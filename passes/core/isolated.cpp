@@ -20,6 +20,7 @@ IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& p
   settings.keep = {pass.name};
   settings.capture = true;
   settings.nan_injections = nan_injections;
+  settings.params[pass.name] = params;  // an output may be sized by a parameter
   const std::vector<PassDecl> single{pass};
   run.graph = compile_graph(single, imports, settings);
   ExecutionOptions options;
