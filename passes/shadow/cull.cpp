@@ -123,11 +123,17 @@ class ShadowCuller {
     eye_ = dvec3(world_[3]);
     if (!(camera_.width > 0 && camera_.height > 0)) throw GraphError("shadow.cull: frame.camera has no size");
     travel_ = glm::normalize(dvec3(glm::vec3(constants_.sun_direction)));
-    if (!(constants_.sun_direction.w > 0.0f) || !std::isfinite(travel_.x))
-      throw GraphError("shadow.cull: frame.constants has no sun");
   }
 
   void run() {
+    // No sun above the horizon: the graph skips the pass (the scene has no sun_above_horizon) and
+    // leaves its outputs empty, and a replay of that skip runs it on the recorded inputs, so it
+    // writes nothing either.
+    if (!(constants_.sun_direction.w > 0.0f && travel_.y < 0.0)) {
+      for (const char* name : {"shadow.cascade_data", "draws.shadow.cascades", "shadow.cull_stats"})
+        store(name, nullptr, 0);
+      return;
+    }
     const uint32_t resolution = uint32_t(ctx_.param("resolution"));
     if (resolution % 2 != 0) throw GraphError("shadow.cull: resolution must be even");
     // Light axes: any basis around the sun's direction, fixed for a given sun.
