@@ -1,7 +1,7 @@
 // shadow.sun_resolve (frame.md section 4): the sun's shadow in screen space, R8G8_UNORM at full
 // resolution (R: visibility, filtered; G: 1, left free), before lighting.tiled reads it.
-// sun_resolve.comp says how. The filter's size is a specialization constant: lavapipe runs a
-// loop over a push-constant bound as a general loop, and the taps of a fixed block unroll.
+// sun_resolve.comp says how. The filter's size is a specialization constant, so each size is a
+// pipeline whose block of taps is fixed (style: variants are specialization constants).
 // Skipped with no sun above the horizon, and where nothing was drawn (scene.depth cleared): shadow.sun
 // is then cleared to 1 (unshadowed), what lighting.tiled reads and, for the sky, what it computes. `enabled=0` skips it
 // too (the lighting tests compare unshadowed sun light).
