@@ -50,7 +50,7 @@ struct SizeRule {
   enum class Mode { output, output_half, output_tiles, absolute, like, square_param } mode = Mode::output;
   uint32_t width = 0, height = 0;  // absolute
   std::string like;                // like: same size as this resource
-  std::string param;               // square_param: a square whose side is this parameter of the writing pass
+  std::string param{};             // square_param: a square whose side is this parameter of the writing pass
   uint32_t tile = 1;               // output_tiles: a texel per tile of tile×tile output pixels, rounded up
 };
 
