@@ -15,8 +15,11 @@
 // (the slice's faces that face away from the sun, and planes through its silhouette edges along
 // the sun's direction), every plane pushed out by `margin_texels`: a box outside that shadows
 // no receiver of the slice, nor any texel the resolve's filter reads around one, as long as the
-// margin covers the filter ((filter_radius + 1)·√2 texels). So culling on and off give the same
-// shadow.sun (tested).
+// margin covers the filter ((filter_radius + 1)·√2 texels; and, along the sun, receiver_slope
+// times that for the resolve's receiver-plane bias). A caster inside it is still dropped
+// when its box swept along the sun to the cascade's far light depth or the scene's lowest point
+// (where its shadow can fall), grown by the margins, is hidden behind cull.main's occluders (cull.occlusion): whatever
+// it shadows is then no visible pixel. So culling on and off give the same shadow.sun (tested).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -24,6 +27,7 @@
 
 #include "passes/core/context.h"
 #include "passes/cull/hierarchy.h"
+#include "passes/cull/occlusion_buffer.h"
 #include "passes/frame/camera_math.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
@@ -60,8 +64,10 @@ struct Volume {
 // Corner k of a slice: bit 0 right, bit 1 top, bit 2 far.
 using Corners = std::array<dvec3, 8>;
 
-// The slice extruded toward the sun (`to_sun`, unit), every plane moved out by `margin` metres.
-Volume extruded_slice(const Corners& c, const dvec3& to_sun, double margin) {
+// The slice extruded toward the sun (`to_sun`, unit), every plane moved out by `margin` metres
+// and, along the sun's rays, by `depth_margin` more: the resolve carries a receiver's depth along
+// its plane to texels up to `margin` away, so a caster that much deeper than it can still count.
+Volume extruded_slice(const Corners& c, const dvec3& to_sun, double margin, double depth_margin) {
   // Faces as corner loops, and the slice's centre to orient each plane inward.
   static constexpr int kFaces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
                                        {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
@@ -104,7 +110,7 @@ Volume extruded_slice(const Corners& c, const dvec3& to_sun, double margin) {
   std::sort(face_planes.begin(), face_planes.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   for (const auto& [area, plane] : face_planes)
     if (v.planes.size() < kMaxPlanes) v.planes.push_back(plane);
-  for (Plane& p : v.planes) p.offset += margin;
+  for (Plane& p : v.planes) p.offset += margin + depth_margin * std::max(0.0, glm::dot(p.normal, to_sun));
   return v;
 }
 
@@ -118,10 +124,13 @@ class ShadowCuller {
         meshes_(host_view<MeshRecord>(ctx.host("scene.meshes"))),
         materials_(host_records<GpuMaterial>(ctx.host("scene.materials"))),
         hierarchy_(Hierarchy::parse(ctx.host("scene.hierarchy"), instances_.size())),
+        occlusion_(OcclusionBuffer::from_record(ctx.host("cull.occlusion"))),
         culling_(ctx.param("culling") != 0.0) {
     std::memcpy(&world_[0][0], camera_.world, sizeof(camera_.world));
     eye_ = dvec3(world_[3]);
     if (!(camera_.width > 0 && camera_.height > 0)) throw GraphError("shadow.cull: frame.camera has no size");
+    view_projection_ = reversed_z_projection(camera_.yfov, double(camera_.width) / camera_.height, camera_.znear) *
+                       relative_view(world_);
     travel_ = glm::normalize(dvec3(glm::vec3(constants_.sun_direction)));
   }
 
@@ -173,10 +182,12 @@ class ShadowCuller {
       data.splits[k] = float(splits[k + 1]);
       data.texel_metres[k] = float(texel);
       data.depth_metres[k] = float(depth);
-      const Volume volume = extruded_slice(corners, -travel_, ctx_.param("margin_texels") * texel);
+      const double margin = ctx_.param("margin_texels") * texel;
+      const double depth_margin = ctx_.param("receiver_slope") * margin;
+      const Volume volume = extruded_slice(corners, -travel_, margin, depth_margin);
       stats_.planes[k] = uint32_t(volume.planes.size());
       stats_.first_draw[k] = uint32_t(all.size());
-      std::vector<GpuDraw> cascade = casters(volume, k);
+      std::vector<GpuDraw> cascade = casters(volume, far_light - glm::dot(eye_, travel_), margin, depth_margin, k);
       std::sort(cascade.begin(), cascade.end(), [](const GpuDraw& a, const GpuDraw& b) {
         if (a.material != b.material) return a.material < b.material;
         if (a.first_index != b.first_index) return a.first_index < b.first_index;
@@ -224,10 +235,11 @@ class ShadowCuller {
   }
 
   // The least light depth (along the sun's travel, world) of anything in the scene: the
-  // hierarchy's root box and every moving instance where it is this frame.
-  double scene_light_near() const {
+  // hierarchy's root box and every moving instance where it is this frame. Also sets bottom_.
+  double scene_light_near() {
     double nearest = INFINITY;
     auto take = [&](const dvec3& lo, const dvec3& hi) {
+      bottom_ = std::min(bottom_, lo.y - eye_.y);
       for (int k = 0; k < 8; ++k)
         nearest =
             std::min(nearest, glm::dot(dvec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z), travel_));
@@ -301,7 +313,28 @@ class ShadowCuller {
     return true;
   }
 
-  std::vector<GpuDraw> casters(const Volume& volume, uint32_t cascade) {
+  // Whether the camera-relative box's shadow, out to light depth `far` (camera-relative),
+  // `margin` metres around and `depth_margin` toward the sun (extruded_slice says why), lies
+  // wholly behind the view's occluders.
+  bool shadow_hidden(const Box& box, double far, double margin, double depth_margin) const {
+    double nearest = INFINITY;
+    for (int k = 0; k < 8; ++k)
+      nearest = std::min(nearest, glm::dot(dvec3(k & 1 ? box.max.x : box.min.x, k & 2 ? box.max.y : box.min.y,
+                                                 k & 4 ? box.max.z : box.min.z),
+                                           travel_));
+    // No receiver lies past the cascade's far light depth, nor below the scene's lowest point.
+    const double to_bottom = (box.max.y - bottom_) / -travel_.y;
+    const dvec3 sweep = travel_ * std::max(0.0, std::min(far - nearest, to_bottom));
+    const dvec3 back = -travel_ * depth_margin;
+    const dvec3 lo = glm::min(glm::min(box.min, box.min + sweep), box.min + back) - margin;
+    const dvec3 hi = glm::max(glm::max(box.max, box.max + sweep), box.max + back) + margin;
+    glm::dvec4 corners[8];
+    for (int k = 0; k < 8; ++k)
+      corners[k] = view_projection_ * glm::dvec4(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z, 1.0);
+    return occlusion_.hidden(corners);
+  }
+
+  std::vector<GpuDraw> casters(const Volume& volume, double far, double margin, double depth_margin, uint32_t cascade) {
     std::vector<GpuDraw> out;
     auto consider = [&](uint32_t i) {
       Box box;
@@ -310,6 +343,9 @@ class ShadowCuller {
       ++stats_.casters_tested[cascade];
       if (volume.excludes(box.min, box.max)) {
         ++stats_.casters_culled[cascade];
+        if (culling_) return;
+      } else if (shadow_hidden(box, far, margin, depth_margin)) {
+        ++stats_.casters_hidden[cascade];
         if (culling_) return;
       }
       out.push_back(draw_of(i, *mesh));
@@ -326,6 +362,12 @@ class ShadowCuller {
         const uint32_t count = leaf_count(node);
         stats_.casters_tested[cascade] += count;
         stats_.casters_culled[cascade] += count;
+        continue;
+      }
+      if (culling_ && shadow_hidden({lo, hi}, far, margin, depth_margin)) {
+        const uint32_t count = leaf_count(node);
+        stats_.casters_tested[cascade] += count;
+        stats_.casters_hidden[cascade] += count;
         continue;
       }
       if (node.count > 0) {
@@ -369,9 +411,11 @@ class ShadowCuller {
   std::span<const MeshRecord> meshes_;
   std::vector<GpuMaterial> materials_;
   Hierarchy hierarchy_;
+  OcclusionBuffer occlusion_;
   bool culling_;
-  glm::dmat4 world_{1.0};
+  glm::dmat4 world_{1.0}, view_projection_{1.0};
   dvec3 eye_{0.0}, travel_{0.0};
+  double bottom_ = INFINITY;  // the scene's lowest point, camera-relative
   ShadowCullStats stats_{};
 };
 
@@ -385,6 +429,7 @@ PassDecl shadow_cull_pass() {
       .read("scene.meshes", Use::host)
       .read("scene.hierarchy", Use::host)
       .read("scene.materials", Use::host)
+      .read("cull.occlusion", Use::host)
       .write("shadow.cascade_data", Use::host, BufferDecl{ResourceKind::buffer})
       .write("draws.shadow.cascades", Use::host, BufferDecl{ResourceKind::draw_list})
       .write("shadow.cull_stats", Use::host, BufferDecl{ResourceKind::buffer})
@@ -396,7 +441,10 @@ PassDecl shadow_cull_pass() {
       .param("lambda", 0.75, 0, 1, "practical split: 1 logarithmic, 0 uniform")
       .param("margin_texels", 6, 0, 64,
              "texels each culling plane is pushed out: at least (shadow.sun_resolve.filter_radius + 1)·√2")
-      .param("culling", 1, 0, 1, "1: drop casters outside each cascade's volume (0 keeps them, for the tests)")
+      .param("receiver_slope", 11.43, 0, 1000,
+             "the steepest receiver slope culling allows for: at least shadow.sun_resolve.max_slope")
+      .param("culling", 1, 0, 1,
+             "1: drop casters outside each cascade's volume or whose shadow is hidden (0 keeps them, for the tests)")
       .needs("sun_above_horizon")
       .run([](PassContext& ctx) { ShadowCuller(ctx).run(); });
 }

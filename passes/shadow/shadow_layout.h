@@ -30,12 +30,13 @@ static_assert(sizeof(GpuShadowCascades) == 4 * 64 + 4 * 16);
 struct ShadowCullStats {
   uint32_t casters_tested[kShadowCascades];  // opaque instances looked at, and every instance of a culled node
   uint32_t casters_culled[kShadowCascades];  // outside the cascade's volume (kept when culling=0)
+  uint32_t casters_hidden[kShadowCascades];  // inside it, but their shadow hidden from the view (kept when culling=0)
   uint32_t draws[kShadowCascades];           // records of draws.shadow.cascades for each cascade
   uint32_t first_draw[kShadowCascades];      // where each cascade's records start
   uint32_t triangles[kShadowCascades];
   uint32_t planes[kShadowCascades];  // planes of the culling volume (at most 8)
 };
-static_assert(sizeof(ShadowCullStats) == 6 * 16);
+static_assert(sizeof(ShadowCullStats) == 7 * 16);
 
 inline BufferSchema shadow_cascades_schema() {
   using S = GpuShadowCascades;
@@ -52,6 +53,7 @@ inline BufferSchema shadow_cull_stats_schema() {
   return BufferSchema::of<S>()
       .field("casters_tested", &S::casters_tested)
       .field("casters_culled", &S::casters_culled)
+      .field("casters_hidden", &S::casters_hidden)
       .field("draws", &S::draws)
       .field("first_draw", &S::first_draw)
       .field("triangles", &S::triangles)

@@ -1681,7 +1681,7 @@ void bench_shadows(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repe
     uint32_t drawn = 0, culled = 0, tested = 0;
     for (uint32_t k = 0; k < nc::kShadowCascades; ++k) {
       drawn += stats.draws[k];
-      culled += stats.casters_culled[k];
+      culled += stats.casters_culled[k] + stats.casters_hidden[k];
       tested += stats.casters_tested[k];
     }
     table() << "\n## shadows: 2 km map, street shot (" << width << "x" << height << ", ms, median of " << repeats
