@@ -17,7 +17,7 @@ struct Version {
   ResourceDesc desc;
 };
 
-// A size a pass's parameter gives (SizeRule::tile_param, ImageDecl::depth_param): a whole number
+// A size a pass's parameter gives (SizeRule::tile_param and square_param, ImageDecl::depth_param): a whole number
 // of at least 1.
 uint32_t size_from_param(const ParamValues& params, const std::string& param, const std::string& what) {
   auto it = params.find(param);
@@ -77,6 +77,10 @@ ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
       desc.extent.height = it->second.extent.height;
       break;
     }
+    case SizeRule::Mode::square_param:
+      desc.extent.width = desc.extent.height =
+          size_from_param(params, d.size.param, pass + ": output '" + out.resource + "'");
+      break;
   }
   const std::string what = pass + ": output '" + out.resource + "'";
   const uint32_t depth = d.depth_param.empty() ? d.depth : size_from_param(params, d.depth_param, what);

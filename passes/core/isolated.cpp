@@ -21,6 +21,7 @@ IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& p
   settings.params[pass.name] = params;  // outputs the pass sizes by a parameter
   settings.capture = true;
   settings.nan_injections = nan_injections;
+  settings.params[pass.name] = params;  // an output may be sized by a parameter
   const std::vector<PassDecl> single{pass};
   run.graph = compile_graph(single, imports, settings);
   ExecutionOptions options;

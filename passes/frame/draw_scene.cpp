@@ -30,13 +30,17 @@ std::vector<Binding> geometry_bindings(PassContext& ctx, const std::string& draw
 }
 
 void draw_scene(PassContext& ctx, const std::string& draws,
-                const std::function<void(uint32_t, const GpuMaterial&)>& on_material) {
+                const std::function<void(uint32_t, const GpuMaterial&)>& on_material, DrawRange range) {
   const GeometryHeader header = geometry_header(ctx);
   auto draw_bytes = ctx.host(draws);
   auto material_bytes = ctx.host("scene.materials");
-  const size_t draw_count = draw_bytes.size() / sizeof(GpuDraw);
+  const size_t listed = draw_bytes.size() / sizeof(GpuDraw);
+  if (range.count == SIZE_MAX) range.count = listed - std::min(range.first, listed);
+  if (range.first > listed || range.count > listed - range.first)
+    throw GraphError(ctx.pass() + ": a draw range reaches past the end of " + draws);
+  const size_t draw_count = range.first + range.count;
   const size_t material_count = material_bytes.size() / sizeof(GpuMaterial);
-  if (draw_count == 0) return;
+  if (range.count == 0) return;
   vkCmdBindIndexBuffer(ctx.cmd(), ctx.buffer("scene.geometry"), header.index_offset, VK_INDEX_TYPE_UINT32);
   // The declared faces, which the pipeline bound as the current dynamic state.
   const RasterState& declared = ctx.declaration().raster_state;
@@ -50,7 +54,7 @@ void draw_scene(PassContext& ctx, const std::string& draws,
     std::memcpy(&draw, draw_bytes.data() + i * sizeof(GpuDraw), sizeof(draw));
     return draw;
   };
-  for (size_t i = 0; i < draw_count;) {
+  for (size_t i = range.first; i < draw_count;) {
     const GpuDraw draw = draw_at(i);
     if (draw.material >= material_count || uint64_t(draw.first_index) + draw.index_count > header.index_count)
       throw GraphError(ctx.pass() + ": draw " + std::to_string(i) + " of " + draws + " is out of range");

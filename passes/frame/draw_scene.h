@@ -5,6 +5,7 @@
 // RasterState::per_draw_faces.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
 
@@ -13,8 +14,13 @@
 
 namespace nightcap {
 
+// Records [first, first + count) of the list (all by default): a list packing several views'
+// draws (shadow.cascades) draws each view's range.
+struct DrawRange {
+  size_t first = 0, count = SIZE_MAX;
+};
 void draw_scene(PassContext& ctx, const std::string& draws,
-                const std::function<void(uint32_t material, const GpuMaterial&)>& on_material);
+                const std::function<void(uint32_t material, const GpuMaterial&)>& on_material, DrawRange range = {});
 
 // geometry.glsl's frame constants, vertex stream and draw list at their declared bindings.
 std::vector<Binding> geometry_bindings(PassContext& ctx, const std::string& draws);

@@ -12,6 +12,8 @@ std::vector<PassDecl> frame_passes(FrameLighting lighting) {
   std::vector<PassDecl> passes;
   passes.push_back(frame_constants_pass());
   passes.push_back(cull_main_pass());
+  passes.push_back(shadow_cull_pass());
+  passes.push_back(shadow_cascades_pass());
   passes.push_back(depth_prepass_pass());
   passes.push_back(gbuffer_opaque_pass());
   passes.push_back(gbuffer_dynamic_pass());
@@ -24,6 +26,7 @@ std::vector<PassDecl> frame_passes(FrameLighting lighting) {
   passes.push_back(normals_pack_pass());
   passes.push_back(depth_pyramid_pass());
   passes.push_back(lights_cluster_pass());
+  passes.push_back(shadow_sun_resolve_pass());
   if (lighting == FrameLighting::tiled) {
     passes.push_back(lighting_ltc_table_pass());
     passes.push_back(lighting_tiled_pass());

@@ -16,8 +16,8 @@
 // lights of the pixel's froxel, in ascending index. A point light with a radius is a sphere:
 // Lambert's illuminance of a sphere cut by the horizon, LTC for its specular. A tube is a line
 // of candela per metre: its diffuse integrated along the segment (ltc_lambert_line), its
-// specular by LTC (ltc_tube). The sun's shadow is a parameter until a shadow pass provides it;
-// its contact shadow is a short march here (contact_shadow).
+// specular by LTC (ltc_tube). The sun's shadow is shadow.sun's red channel (shadow.sun_resolve)
+// times its contact shadow, a short march here (contact_shadow).
 #include "../frame/half.glsl"
 #include "../frame/types.glsl"
 #include "brdf.glsl"
@@ -45,12 +45,13 @@ layout(std430, set = 0, binding = 9) readonly buffer ClusterStatsBlock {
 };
 layout(set = 0, binding = 10) uniform sampler2D ltc_inverse;
 layout(set = 0, binding = 11) uniform sampler2D ltc_magnitude;
-layout(set = 0, binding = 12, rgba16f) uniform writeonly image2D diffuse_out;
-layout(set = 0, binding = 13, rgba16f) uniform writeonly image2D specular_out;
-layout(std430, set = 0, binding = 14) buffer ClassBlock {
+layout(set = 0, binding = 12) uniform sampler2D sun_shadow_map;
+layout(set = 0, binding = 13, rgba16f) uniform writeonly image2D diffuse_out;
+layout(set = 0, binding = 14, rgba16f) uniform writeonly image2D specular_out;
+layout(std430, set = 0, binding = 15) buffer ClassBlock {
   uvec4 class_dispatch[3];  // classes 1, 2, 3: workgroups x, y, z; w: first list entry
 };
-layout(std430, set = 0, binding = 15) buffer ListBlock { uvec2 entries[]; };  // (class of tile i, i-th listed tile)
+layout(std430, set = 0, binding = 16) buffer ListBlock { uvec2 entries[]; };  // (class of tile i, i-th listed tile)
 
 layout(constant_id = 0) const uint phase = 0u;  // one pipeline per phase (tiled.cpp says why)
 
@@ -58,7 +59,6 @@ layout(push_constant) uniform Params {
   uint tiles_x, tiles_y;
   float intensity_scale;
   float min_roughness;
-  float sun_visibility;
   float contact_length, contact_thickness;
   uint contact_steps;
 };
@@ -292,6 +292,7 @@ void shade_tiles(uint tile_class) {
 
   vec3 diffuse = vec3(0.0), specular = vec3(0.0);
   if (frame.sun_direction.w > 0.0) {
+    float sun_visibility = texelFetch(sun_shadow_map, pixel, 0).r;
     vec3 e = frame.sun_radiance.rgb * intensity_scale * sun_visibility * contact_shadow(s.position, -frame.sun_direction.xyz);
     diffuse += diffuse_term(s.n, -frame.sun_direction.xyz, e, s.albedo, s.metallic);
     specular += specular_term(s.n, s.v, -frame.sun_direction.xyz, e, s.albedo, s.metallic, s.alpha);

@@ -3,9 +3,9 @@
 // (RGBA16F). Tiles are classified (passes/lighting/tiled_layout.h) and each class shaded by one
 // indirect dispatch whose arguments the pass computes itself; tiled.comp states the phases and
 // the lighting model. Outputs also lighting.tile_classes (the dispatches) and lighting.tile_lists
-// (each tile's class and the lists), the same on every run. The sun's shadow is the parameter
-// sun_visibility until a shadow pass provides it; its contact shadow is a short screen-space
-// march (contact_*); local lights have none.
+// (each tile's class and the lists), the same on every run. The sun's shadow is shadow.sun's red
+// channel (shadow.sun_resolve; 1 where it was skipped), times its contact shadow, a short
+// screen-space march (contact_*); local lights have none.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/lighting/tiled_layout.h"
@@ -23,7 +23,7 @@ ComparisonContract lighting_contract() {
 
 struct TiledConstants {
   uint32_t tiles_x, tiles_y;
-  float intensity_scale, min_roughness, sun_visibility;
+  float intensity_scale, min_roughness;
   float contact_length, contact_thickness;
   uint32_t contact_steps;
 };
@@ -55,6 +55,7 @@ PassDecl lighting_tiled_pass() {
       .read("lights.cluster_stats", Use::storage_read)
       .read("lighting.ltc_inverse", Use::sampled)
       .read("lighting.ltc_magnitude", Use::sampled)
+      .read("shadow.sun", Use::sampled)
       .write("lighting.diffuse", Use::storage_write, hdr)
       .write("lighting.specular", Use::storage_write, hdr)
       .write("lighting.tile_classes", Use::storage_write, BufferDecl{ResourceKind::buffer, sizeof(GpuTileClasses)})
@@ -64,8 +65,6 @@ PassDecl lighting_tiled_pass() {
       .layout("lighting.tile_lists", tile_entry_schema())
       .param("intensity_scale", 1.0, 0.0, 1e6, "multiplies every light's intensity")
       .param("min_roughness", 0.03, 0.0, 1.0, "roughness floor: keeps point highlights finite in half floats")
-      .param("sun_visibility", 1.0, 0.0, 1.0,
-             "the sun's shadow term at every pixel, until a sun shadow pass provides it per pixel")
       .param("tube_nodes", 8, 2, 16,
              "Gauss-Legendre nodes along each tube line for its specular and ranged diffuse: 2, 4, 8 or 16")
       .param("contact_length", 0.5, 0.0, 10.0, "metres the sun's contact shadow marches toward the sun")
@@ -87,7 +86,6 @@ PassDecl lighting_tiled_pass() {
                                        (size.height + kLightingTile - 1) / kLightingTile,
                                        float(ctx.param("intensity_scale")),
                                        float(ctx.param("min_roughness")),
-                                       float(ctx.param("sun_visibility")),
                                        float(ctx.param("contact_length")),
                                        float(ctx.param("contact_thickness")),
                                        uint32_t(ctx.param("contact_steps"))};
@@ -105,6 +103,7 @@ PassDecl lighting_tiled_pass() {
             Binding::storage(ctx.slot("lights.cluster_stats"), "lights.cluster_stats"),
             Binding::texture(ctx.slot("lighting.ltc_inverse"), "lighting.ltc_inverse", nearest),
             Binding::texture(ctx.slot("lighting.ltc_magnitude"), "lighting.ltc_magnitude", nearest),
+            Binding::texture(ctx.slot("shadow.sun"), "shadow.sun", nearest),
             Binding::image(ctx.slot("lighting.diffuse"), "lighting.diffuse", 0),
             Binding::image(ctx.slot("lighting.specular"), "lighting.specular", 0),
             Binding::storage(ctx.slot("lighting.tile_classes"), "lighting.tile_classes"),

@@ -80,6 +80,12 @@ std::set<std::string> Scene::features() const {
   }
   if (!decals.empty()) f.insert("projected_decals");
   for (const Light& l : lights) f.insert(l.type == LightType::directional ? "sun" : "local_lights");
+  // The first directional light is the sun (frame.constants); its shadows need it above the horizon.
+  for (const Light& l : lights)
+    if (l.type == LightType::directional) {
+      if (l.direction.y < 0.0f) f.insert("sun_above_horizon");
+      break;
+    }
   return f;
 }
 

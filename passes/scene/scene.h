@@ -186,7 +186,7 @@ struct Scene {
   glm::dvec3 bounds_max() const;
   // Feature names passes may require: "opaque_geometry", "mask_geometry", "sun",
   // "local_lights", "emissive", "moving_geometry", "mesh_decals" (an instance of a decal
-  // material), "projected_decals".
+  // material), "projected_decals", "sun_above_horizon" (the first directional light shines down).
   std::set<std::string> features() const;
 };
 

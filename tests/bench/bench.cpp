@@ -47,12 +47,14 @@
 #include "passes/lights/cluster_layout.h"
 #include "passes/normals/bfn_lut.h"
 #include "passes/scene/scene.h"
+#include "passes/shadow/shadow_layout.h"
 #include "tests/reference/bloom_reference.h"
 #include "tests/reference/decal_reference.h"
 #include "tests/reference/depth_half_reference.h"
 #include "tests/reference/lighting_reference.h"
 #include "tests/reference/ltc_reference.h"
 #include "tests/reference/motion_mask_reference.h"
+#include "tests/reference/shadow_reference.h"
 
 namespace nc = nightcap;
 namespace fs = std::filesystem;
@@ -490,6 +492,17 @@ std::map<std::string, nc::IsolatedInput> pass_inputs(const nc::RenderedFrame& fr
 
 double gpu_ms(const nc::IsolatedRun& run) { return run.execution.passes.at(0).gpu_ms.value_or(0.0); }
 
+// A pass's time in a frame: by timestamps on the GPU, on the clock for a CPU pass; 0 when it did
+// not run.
+double frame_pass_ms(const nc::RenderedFrame& frame, const std::string& pass) {
+  for (size_t i = 0; i < frame.graph.passes.size(); ++i)
+    if (frame.graph.passes[i].decl->name == pass && frame.graph.passes[i].runs) {
+      const nc::PassExecution& exec = frame.execution.passes[i];
+      return exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms;
+    }
+  return 0.0;
+}
+
 // normals.pack: LUT size against mean/max angular error over a Fibonacci sphere.
 void bench_normals(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t count) {
   const uint32_t width = 2048, height = (count + width - 1) / width;
@@ -852,12 +865,6 @@ void bench_tiled(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
           << std::left << std::setw(18) << "scene" << std::right << std::setw(8) << "lights" << std::setw(12)
           << "cluster" << std::setw(12) << "tiled" << std::setw(12) << "deferred" << std::setw(10) << "ratio"
           << "\n";
-  auto pass_ms = [](const nc::RenderedFrame& frame, const std::string& pass) {
-    for (size_t i = 0; i < frame.graph.passes.size(); ++i)
-      if (frame.graph.passes[i].decl->name == pass && frame.graph.passes[i].runs)
-        return frame.execution.passes[i].gpu_ms.value_or(0.0);
-    return 0.0;
-  };
   for (const std::string key : {"map_street", "city"}) {
     for (int extra : {0, 100, 1000}) {
       nc::Scene scene = key == "city" ? nc::build_city(1) : nc::build_map({1, 2.0, nc::Shot::street});
@@ -873,8 +880,8 @@ void bench_tiled(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
         nc::Renderer renderer(gpu, scene, settings);
         for (int r = 0; r < repeats; ++r) {
           const nc::RenderedFrame frame = renderer.render_frame(0, false);
-          cluster.push_back(pass_ms(frame, "lights.cluster"));
-          tiled.push_back(pass_ms(frame, "lighting.tiled"));
+          cluster.push_back(frame_pass_ms(frame, "lights.cluster"));
+          tiled.push_back(frame_pass_ms(frame, "lighting.tiled"));
           if (r == 0) {
             const nc::RenderedFrame captured = renderer.render_frame(0, true);
             nc::GpuFrameConstants constants;
@@ -886,7 +893,7 @@ void bench_tiled(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
       }
       settings.lighting = nc::FrameLighting::deferred;
       nc::Renderer renderer(gpu, scene, settings);
-      const double deferred = pass_ms(renderer.render_frame(0, false), "lighting.deferred");
+      const double deferred = frame_pass_ms(renderer.render_frame(0, false), "lighting.deferred");
       const double ratio = (median(cluster) + median(tiled)) / deferred;
       table() << std::left << std::setw(18) << key + (extra ? " +" + std::to_string(extra) : "") << std::right
               << std::setw(8) << lights << std::fixed << std::setprecision(1) << std::setw(12) << median(cluster)
@@ -1099,12 +1106,8 @@ void bench_cluster_shape(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t 
   settings.width = width;
   settings.height = height;
   settings.sinks = {"lighting.diffuse", "lighting.specular"};
-  auto pass_ms = [](const nc::RenderedFrame& frame, const std::string& pass) {
-    for (size_t i = 0; i < frame.graph.passes.size(); ++i)
-      if (frame.graph.passes[i].decl->name == pass && frame.graph.passes[i].runs)
-        return frame.execution.passes[i].gpu_ms.value_or(0.0);
-    return 0.0;
-  };
+  // lighting.deferred has no sun shadow: shadow.sun is then 1 everywhere.
+  settings.params["shadow.sun_resolve"]["enabled"] = 0;
   // A lighting pass's recorded inputs with the spheres and tubes (frame.lights from
   // light_groups.y on) dark.
   auto without_area_lights = [](std::map<std::string, nc::IsolatedInput> inputs) {
@@ -1154,8 +1157,8 @@ void bench_cluster_shape(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t 
     std::vector<double> cluster, tiled, both;
     for (int r = 0; r < repeats; ++r) {
       const nc::RenderedFrame frame = renderer.render_frame(0, false);
-      cluster.push_back(pass_ms(frame, "lights.cluster"));
-      tiled.push_back(pass_ms(frame, "lighting.tiled"));
+      cluster.push_back(frame_pass_ms(frame, "lights.cluster"));
+      tiled.push_back(frame_pass_ms(frame, "lighting.tiled"));
       both.push_back(cluster.back() + tiled.back());
     }
     nc::GpuClusterStats stats{};
@@ -1798,6 +1801,91 @@ void bench_ltc() {
   figure("ltc_line_quadrature_max_rel", quadrature);
 }
 
+// The sun's shadow: shadow.cascades and shadow.sun_resolve by timestamps on the street shot of a
+// 2 km map at --size (its moon is the sun), median of --repeats frames rendered as far as
+// shadow.sun; then time against error on the built-in city for the cascades' resolution and the
+// resolve's filter, the error being the share of sampled pixels (every 4th of every 4th row)
+// whose visibility disagrees with the CPU ray cast (tests/reference/shadow_reference.h), away
+// from the ray cast's shadow edges (the unit test's measure) and everywhere.
+//  - shadow_ms_street (cascades + resolve), shadow_cascades_ms_street, shadow_resolve_ms_street,
+//    shadow_cull_ms_street (CPU), shadow_casters_street (draws over the four cascades),
+//    shadow_casters_culled_street (of the casters tested, summed over the cascades)
+//  - shadow.res<R>_pcf<r>.{cascades_ms, resolve_ms, disagree, disagree_everywhere}
+void bench_shadows(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) {
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.sinks = {"shadow.sun"};
+  {
+    nc::Scene scene = nc::build_map({1, 2.0, nc::Shot::street});
+    nc::add_default_lighting(scene);
+    nc::Renderer renderer(gpu, scene, settings);
+    std::vector<double> cull, cascades, resolve;
+    for (int r = 0; r < repeats; ++r) {
+      const nc::RenderedFrame frame = renderer.render_frame(0, false);
+      cull.push_back(frame_pass_ms(frame, "shadow.cull"));
+      cascades.push_back(frame_pass_ms(frame, "shadow.cascades"));
+      resolve.push_back(frame_pass_ms(frame, "shadow.sun_resolve"));
+    }
+    const nc::RenderedFrame captured = renderer.render_frame(0, true);
+    nc::ShadowCullStats stats;
+    std::memcpy(&stats, captured.execution.final_version("shadow.cull_stats")->bytes->data(), sizeof stats);
+    uint32_t drawn = 0, culled = 0, tested = 0;
+    for (uint32_t k = 0; k < nc::kShadowCascades; ++k) {
+      drawn += stats.draws[k];
+      culled += stats.casters_culled[k] + stats.casters_hidden[k];
+      tested += stats.casters_tested[k];
+    }
+    table() << "\n## shadows: 2 km map, street shot (" << width << "x" << height << ", ms, median of " << repeats
+            << ")\nshadow.cull (CPU) " << median(cull) << ", shadow.cascades " << median(cascades)
+            << ", shadow.sun_resolve " << median(resolve) << "; casters drawn " << drawn << " (culled " << culled
+            << " of " << tested << " tested, over 4 cascades)\n";
+    figure("shadow_ms_street", median(cascades) + median(resolve));
+    figure("shadow_cascades_ms_street", median(cascades));
+    figure("shadow_resolve_ms_street", median(resolve));
+    figure("shadow_cull_ms_street", median(cull));
+    figure("shadow_casters_street", drawn);
+    figure("shadow_casters_culled_street", culled);
+  }
+  nc::Scene city = nc::build_city(1);
+  nc::add_default_lighting(city);
+  const ref::ShadowTriangles triangles(city, glm::dvec3(nc::base_camera(city, settings).world[3]));
+  table() << "\n## shadows: time against error (built-in city, " << width << "x" << height
+          << "; disagreement with the CPU ray cast)\n"
+          << std::left << std::setw(8) << "texels" << std::setw(8) << "filter" << std::right << std::setw(14)
+          << "cascades ms" << std::setw(12) << "resolve ms" << std::setw(16) << "off edges" << std::setw(16)
+          << "everywhere"
+          << "\n";
+  for (int resolution : {512, 1024, 2048}) {
+    for (int radius : {0, 1, 2, 3}) {
+      settings.params["shadow.cull"]["resolution"] = resolution;
+      settings.params["shadow.cascades"]["resolution"] = resolution;
+      settings.params["shadow.sun_resolve"]["filter_radius"] = radius;
+      nc::Renderer renderer(gpu, city, settings);
+      std::vector<double> cascades, resolve;
+      for (int r = 0; r < repeats; ++r) {
+        const nc::RenderedFrame frame = renderer.render_frame(0, false);
+        cascades.push_back(frame_pass_ms(frame, "shadow.cascades"));
+        resolve.push_back(frame_pass_ms(frame, "shadow.sun_resolve"));
+      }
+      const nc::RenderedFrame captured = renderer.render_frame(0, true);
+      const auto inputs = pass_inputs(captured, "shadow.sun_resolve");
+      const nc::VersionData& sun = *captured.execution.final_version("shadow.sun");
+      const ref::ShadowView view(inputs, {sun.desc, sun.bytes});
+      const ref::ShadowAgreement a = ref::shadow_agreement(view, triangles, 4);
+      const std::string row = "shadow.res" + std::to_string(resolution) + "_pcf" + std::to_string(radius);
+      table() << std::left << std::setw(8) << resolution << std::setw(8) << (2 * radius + 1) << std::right << std::fixed
+              << std::setprecision(1) << std::setw(14) << median(cascades) << std::setw(12) << median(resolve)
+              << std::setprecision(4) << std::setw(16) << 1.0 - a.share() << std::setw(16) << 1.0 - a.share_everywhere()
+              << std::defaultfloat << "\n";
+      figure(row + ".cascades_ms", median(cascades));
+      figure(row + ".resolve_ms", median(resolve));
+      figure(row + ".disagree", 1.0 - a.share());
+      figure(row + ".disagree_everywhere", 1.0 - a.share_everywhere());
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -1806,10 +1894,10 @@ int main(int argc, char** argv) {
   std::string size = "1280x720", device, data = NIGHTCAP_SHARED_DATA;
   bool skip_models = false, map_frames = true;
   std::vector<std::string> only;
-  const std::vector<std::string> sections = {"city",    "models",       "map",          "empty",   "frames", "normals",
-                                             "tubes",   "depth",        "motion",       "streams", "bloom",  "exposure",
-                                             "startup", "diff",         "report",       "decals",  "ltc",    "cluster",
-                                             "tiled",   "tube_quality", "cluster_shape"};
+  const std::vector<std::string> sections = {
+      "city",   "models",  "map",   "empty",        "frames",        "normals", "tubes",  "depth",
+      "motion", "streams", "bloom", "exposure",     "startup",       "diff",    "report", "decals",
+      "ltc",    "cluster", "tiled", "tube_quality", "cluster_shape", "shadows"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -1869,6 +1957,7 @@ int main(int argc, char** argv) {
     if (wanted("tiled")) bench_tiled(gpu, width, height, int(repeats));
     if (wanted("tube_quality")) bench_tube_quality(gpu, width, height);
     if (wanted("cluster_shape")) bench_cluster_shape(gpu, cache, width, height, int(repeats));
+    if (wanted("shadows")) bench_shadows(gpu, width, height, int(repeats));
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

@@ -77,7 +77,7 @@ TEST(NanOrigin, NamesTheInjectedPassPixelAndItsInputsThere) {
   std::set<std::string> inputs;
   for (const json& in : texel.at("inputs")) inputs.insert(in.at("resource").get<std::string>());
   EXPECT_EQ(inputs, (std::set<std::string>{"gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "scene.depth",
-                                           "depth.linear", "lights.clusters"}));
+                                           "depth.linear", "lights.clusters", "shadow.sun"}));
   const Capture capture = Capture::open(path);
   const std::vector<uint8_t> depth =
       capture.load(input_named(pass_named(capture.frame(0), "lighting.tiled"), "scene.depth"));

@@ -374,6 +374,30 @@ TEST(Graph, SizesByTheWritersParameters) {
   }
 }
 
+// A square output whose side is a parameter of its writer: the default, an override, and a
+// parameter the pass does not declare refused.
+TEST(Graph, SizesAnOutputByItsWritersParameter) {
+  ImageDecl map = image(VK_FORMAT_D32_SFLOAT);
+  map.size.mode = SizeRule::Mode::square_param;
+  map.size.param = "resolution";
+  map.layers = 4;
+  std::vector<PassDecl> passes;
+  passes.push_back(PassDecl("s", PassType::graphics)
+                       .write("map", Use::depth_attachment, map)
+                       .param("resolution", 1024, 64, 4096, "texels a side"));
+  GraphSettings settings;
+  settings.sinks = {"map"};
+  EXPECT_EQ(compile_graph(passes, {}, settings).resources.at("map").extent.width, 1024u);
+  settings.params["s"]["resolution"] = 512;
+  const ResourceDesc& d = compile_graph(passes, {}, settings).resources.at("map");
+  EXPECT_EQ(d.extent.width, 512u);
+  EXPECT_EQ(d.extent.height, 512u);
+  EXPECT_EQ(d.extent.layers, 4u);
+  map.size.param = "texels";
+  passes[0] = PassDecl("s", PassType::graphics).write("map", Use::depth_attachment, map);
+  EXPECT_THROW(compile_graph(passes, {}, settings), GraphError);
+}
+
 TEST(Graph, DeclarationMistakesAreCaughtBeforeRunning) {
   std::vector<PassDecl> unknown;
   unknown.push_back(PassDecl("x", PassType::graphics)

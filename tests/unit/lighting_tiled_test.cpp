@@ -264,6 +264,9 @@ class LightingTiled : public GpuTest {
     settings.width = width;
     settings.height = height;
     settings.sinks = {"lighting.diffuse", "lighting.specular"};
+    // The references light the sun unshadowed: shadow.sun stays 1 (tests/unit/shadow_test.cpp
+    // holds the sun's shadow to its own reference).
+    settings.params["shadow.sun_resolve"]["enabled"] = 0;
     if (adjust) adjust(settings);
     Renderer renderer(*gpu_, scene, settings);
     const RenderedFrame frame = renderer.render_frame(0, true);

@@ -1,0 +1,61 @@
+// shadow.cascades (frame.md section 1): the sun's cascaded shadow map, one layer of a D32 2D
+// array per cascade, each drawn from its own range of draws.shadow.cascades (no geometry-shader
+// layer routing [001]) with the projections of shadow.cascade_data; shadow.cull chose both.
+// D32 rather than D16: a cascade's light depth spans the whole scene toward the sun (up to
+// 16 km of map at a low sun), where D16's 2⁻¹⁶ steps would be 0.25 m, coarser than the bias the
+// resolve needs; D32 keeps millimetres. Depth is forward (0 at the light's near plane, LESS),
+// casters are drawn from both sides (an open mesh still casts), and the bias is the resolve's,
+// per receiver, not a raster bias here. Skipped with no sun above the horizon.
+#include <cstring>
+
+#include "passes/core/context.h"
+#include "passes/frame/draw_scene.h"
+#include "passes/frame/frame_passes.h"
+#include "passes/frame/scene_resources.h"
+#include "passes/shadow/shadow_layout.h"
+
+namespace nightcap {
+
+PassDecl shadow_cascades_pass() {
+  ImageDecl map{VK_FORMAT_D32_SFLOAT, ResourceKind::lookup_table};
+  map.size.mode = SizeRule::Mode::square_param;
+  map.size.param = "resolution";
+  map.layers = kShadowCascades;
+  map.clear.depthStencil = {1.0f, 0};
+  return PassDecl("shadow.cascades", PassType::graphics)
+      .read("frame.constants", Use::uniform_buffer)
+      .read("scene.geometry", Use::storage_read)
+      .read("draws.shadow.cascades", Use::storage_read)
+      .read("shadow.cascade_data", Use::uniform_buffer)
+      .read("scene.geometry", Use::index_buffer)
+      .read("scene.materials", Use::host)
+      .read("shadow.cull_stats", Use::host)
+      .write("shadow.cascades", Use::depth_attachment, map)
+      .param("resolution", kShadowResolution, 64, 4096, "texels per side of each cascade: shadow.cull.resolution's")
+      .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
+      .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
+      .needs("sun_above_horizon")
+      .push_constants<uint32_t>()
+      .shader("shadow/cascades.vert")
+      .run([](PassContext& ctx) {
+        const auto data = host_records<GpuShadowCascades>(ctx.host("shadow.cascade_data")).at(0);
+        if (uint32_t(data.light_direction.w) != ctx.desc("shadow.cascades").extent.width)
+          throw GraphError("shadow.cascades: its resolution (" +
+                           std::to_string(ctx.desc("shadow.cascades").extent.width) + ") is not shadow.cull's (" +
+                           std::to_string(uint32_t(data.light_direction.w)) + "): set both");
+        const auto stats = host_records<ShadowCullStats>(ctx.host("shadow.cull_stats")).at(0);
+        for (uint32_t cascade = 0; cascade < kShadowCascades; ++cascade) {
+          ctx.begin_rendering({}, "shadow.cascades", 0, cascade);
+          ctx.bind_pipeline();
+          std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.cascades");
+          bindings.push_back(Binding::uniform(ctx.slot("shadow.cascade_data"), "shadow.cascade_data"));
+          ctx.push(bindings);
+          ctx.push_constants(cascade);
+          draw_scene(ctx, "draws.shadow.cascades", [](uint32_t, const GpuMaterial&) {},
+                     {stats.first_draw[cascade], stats.draws[cascade]});
+          ctx.end_rendering();
+        }
+      });
+}
+
+}  // namespace nightcap

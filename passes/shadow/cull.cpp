@@ -1,0 +1,452 @@
+// shadow.cull (CPU): the sun's cascades for this frame and what each draws. frame.md's
+// shadow.cascades culls "per cascade against an up-to-8-plane convex volume"; culling is CPU
+// work, and a CPU pass is how the graph records it, so it is its own pass ahead of the GPU one.
+//
+// Cascades: the view from znear to `max_distance` split by the practical scheme (Zhang et al.
+// 2006: `lambda` between the logarithmic and the uniform split). Each cascade is an orthographic
+// projection along the sun around its slice's bounding sphere, whose radius depends on the
+// camera's lens alone, so the map's footprint does not change as the camera turns; its centre is
+// snapped to whole texels in world (not camera-relative) light space, so a moving camera does
+// not make the shadow's edges crawl. Light depth spans from the scene's side nearest the sun to
+// the slice's far side, whatever is culled, so culling changes no depth the map stores.
+//
+// Casters are the opaque instances, static and moving, at the level of detail the main view
+// draws. A caster is kept for a cascade when its box meets the slice extruded toward the sun
+// (the slice's faces that face away from the sun, and planes through its silhouette edges along
+// the sun's direction), every plane pushed out by `margin_texels`: a box outside that shadows
+// no receiver of the slice, nor any texel the resolve's filter reads around one, as long as the
+// margin covers the filter ((filter_radius + 1)·√2 texels; and, along the sun, receiver_slope
+// times that for the resolve's receiver-plane bias). A caster inside it is still dropped
+// when its box swept along the sun to the cascade's far light depth or the scene's lowest point
+// (where its shadow can fall), grown by the margins, is hidden behind cull.main's occluders (cull.occlusion): whatever
+// it shadows is then no visible pixel. So culling on and off give the same shadow.sun (tested).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+
+#include "passes/core/context.h"
+#include "passes/cull/hierarchy.h"
+#include "passes/cull/occlusion_buffer.h"
+#include "passes/frame/camera_math.h"
+#include "passes/frame/frame_passes.h"
+#include "passes/frame/gpu_types.h"
+#include "passes/frame/scene_resources.h"
+#include "passes/frame/vertex_streams.h"
+#include "passes/shadow/shadow_layout.h"
+
+namespace nightcap {
+namespace {
+
+using glm::dvec3;
+
+constexpr uint32_t kMaxPlanes = 8;
+
+struct Plane {
+  dvec3 normal;   // inward
+  double offset;  // inside where dot(normal, p) + offset ≥ 0
+  double distance(const dvec3& p) const { return glm::dot(normal, p) + offset; }
+};
+
+struct Volume {
+  std::vector<Plane> planes;
+  // Outside when the box lies wholly outside one plane.
+  bool excludes(const dvec3& lo, const dvec3& hi) const {
+    for (const Plane& p : planes) {
+      const dvec3 far_corner(p.normal.x >= 0 ? hi.x : lo.x, p.normal.y >= 0 ? hi.y : lo.y,
+                             p.normal.z >= 0 ? hi.z : lo.z);
+      if (p.distance(far_corner) < 0.0) return true;
+    }
+    return false;
+  }
+};
+
+// Corner k of a slice: bit 0 right, bit 1 top, bit 2 far.
+using Corners = std::array<dvec3, 8>;
+
+// The slice extruded toward the sun (`to_sun`, unit), every plane moved out by `margin` metres
+// and, along the sun's rays, by `depth_margin` more: the resolve carries a receiver's depth along
+// its plane to texels up to `margin` away, so a caster that much deeper than it can still count.
+Volume extruded_slice(const Corners& c, const dvec3& to_sun, double margin, double depth_margin) {
+  // Faces as corner loops, and the slice's centre to orient each plane inward.
+  static constexpr int kFaces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
+                                       {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+  dvec3 centre(0.0);
+  for (const dvec3& p : c) centre += p / 8.0;
+  auto inward = [&](dvec3 normal, const dvec3& through) {
+    normal = glm::normalize(normal);
+    if (glm::dot(normal, centre - through) < 0) normal = -normal;
+    return Plane{normal, -glm::dot(normal, through)};
+  };
+  std::array<Plane, 6> faces;
+  std::array<bool, 6> kept{};
+  std::vector<std::pair<double, Plane>> face_planes;  // (face area, plane): the smallest dropped first past 8
+  for (int f = 0; f < 6; ++f) {
+    const dvec3 &a = c[kFaces[f][0]], &b = c[kFaces[f][1]], &d = c[kFaces[f][3]], &e = c[kFaces[f][2]];
+    const dvec3 cross = glm::cross(e - a, d - b);
+    faces[f] = inward(cross, a);
+    // Extruding toward the sun never leaves a face's half-space when its inward normal has no
+    // component against the sun's direction.
+    kept[f] = glm::dot(faces[f].normal, to_sun) >= -1e-12;
+    if (kept[f]) face_planes.push_back({glm::length(cross), faces[f]});
+  }
+  Volume v;
+  // Silhouette edges: shared by a kept face and a dropped one.
+  for (int f = 0; f < 6; ++f) {
+    if (!kept[f]) continue;
+    for (int g = 0; g < 6; ++g) {
+      if (kept[g]) continue;
+      int shared[2], n = 0;
+      for (int i : kFaces[f])
+        for (int j : kFaces[g])
+          if (i == j && n < 2) shared[n++] = i;
+      if (n != 2) continue;
+      const dvec3 normal = glm::cross(c[shared[1]] - c[shared[0]], to_sun);
+      if (glm::dot(normal, normal) < 1e-24) continue;
+      v.planes.push_back(inward(normal, c[shared[0]]));
+    }
+  }
+  // Dropping a plane only enlarges the volume: past 8, the smallest faces go first.
+  std::sort(face_planes.begin(), face_planes.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (const auto& [area, plane] : face_planes)
+    if (v.planes.size() < kMaxPlanes) v.planes.push_back(plane);
+  for (Plane& p : v.planes) p.offset += margin + depth_margin * std::max(0.0, glm::dot(p.normal, to_sun));
+  return v;
+}
+
+class ShadowCuller {
+ public:
+  explicit ShadowCuller(PassContext& ctx)
+      : ctx_(ctx),
+        camera_(host_records<CameraRecordGpu>(ctx.host("frame.camera")).at(0)),
+        constants_(host_records<GpuFrameConstants>(ctx.host("frame.constants")).at(0)),
+        instances_(host_view<InstanceRecord>(ctx.host("scene.instances"))),
+        meshes_(host_view<MeshRecord>(ctx.host("scene.meshes"))),
+        materials_(host_records<GpuMaterial>(ctx.host("scene.materials"))),
+        hierarchy_(Hierarchy::parse(ctx.host("scene.hierarchy"), instances_.size())),
+        occlusion_(OcclusionBuffer::from_record(ctx.host("cull.occlusion"))),
+        culling_(ctx.param("culling") != 0.0) {
+    std::memcpy(&world_[0][0], camera_.world, sizeof(camera_.world));
+    eye_ = dvec3(world_[3]);
+    if (!(camera_.width > 0 && camera_.height > 0)) throw GraphError("shadow.cull: frame.camera has no size");
+    view_projection_ = reversed_z_projection(camera_.yfov, double(camera_.width) / camera_.height, camera_.znear) *
+                       relative_view(world_);
+    travel_ = glm::normalize(dvec3(glm::vec3(constants_.sun_direction)));
+  }
+
+  void run() {
+    // No sun above the horizon: the graph skips the pass (the scene has no sun_above_horizon) and
+    // leaves its outputs empty, and a replay of that skip runs it on the recorded inputs, so it
+    // writes nothing either.
+    if (!(constants_.sun_direction.w > 0.0f && travel_.y < 0.0)) {
+      for (const char* name : {"shadow.cascade_data", "draws.shadow.cascades", "shadow.cull_stats"})
+        store(name, nullptr, 0);
+      return;
+    }
+    const uint32_t resolution = uint32_t(ctx_.param("resolution"));
+    if (resolution % 2 != 0) throw GraphError("shadow.cull: resolution must be even");
+    // Light axes: any basis around the sun's direction, fixed for a given sun.
+    const dvec3 helper = std::abs(travel_.y) < 0.99 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
+    const dvec3 axis_x = glm::normalize(glm::cross(helper, travel_));
+    const dvec3 axis_y = glm::cross(travel_, axis_x);
+    const double near_light = scene_light_near();
+    GpuShadowCascades data{};
+    data.light_direction = glm::vec4(glm::vec3(travel_), float(resolution));
+    const std::array<double, kShadowCascades + 1> splits = split_distances();
+    std::vector<GpuDraw> all;
+    for (uint32_t k = 0; k < kShadowCascades; ++k) {
+      const Corners corners = slice_corners(splits[k], splits[k + 1]);
+      dvec3 centre(0.0);
+      for (const dvec3& p : corners) centre += p / 8.0;
+      double radius = 0.0;
+      for (const dvec3& p : corners) radius = std::max(radius, glm::length(p - centre));
+      radius = std::ceil(radius * 16.0) / 16.0;  // the same for every view through this lens
+      const double texel = 2.0 * radius / resolution;
+      // Snapped in world light space: the map's texel grid stays put as the camera moves.
+      const dvec3 centre_world = centre + eye_;
+      const double u = std::floor(glm::dot(centre_world, axis_x) / texel) * texel;
+      const double v = std::floor(glm::dot(centre_world, axis_y) / texel) * texel;
+      const double far_light = glm::dot(centre_world, travel_) + radius + 1.0;
+      const double near = std::min(near_light, far_light - 2.0 * radius - 2.0);
+      const double depth = far_light - near;
+      // camera-relative p → ((p + eye)·x − u) / r, ((p + eye)·y − v) / r, ((p + eye)·t − near) / depth.
+      glm::dmat4 m(0.0);
+      for (int c = 0; c < 3; ++c) {
+        m[c][0] = axis_x[c] / radius;
+        m[c][1] = axis_y[c] / radius;
+        m[c][2] = travel_[c] / depth;
+      }
+      m[3] = glm::dvec4((glm::dot(eye_, axis_x) - u) / radius, (glm::dot(eye_, axis_y) - v) / radius,
+                        (glm::dot(eye_, travel_) - near) / depth, 1.0);
+      data.light_from_world[k] = glm::mat4(m);
+      data.splits[k] = float(splits[k + 1]);
+      data.texel_metres[k] = float(texel);
+      data.depth_metres[k] = float(depth);
+      const double margin = ctx_.param("margin_texels") * texel;
+      const double depth_margin = ctx_.param("receiver_slope") * margin;
+      const Volume volume = extruded_slice(corners, -travel_, margin, depth_margin);
+      stats_.planes[k] = uint32_t(volume.planes.size());
+      stats_.first_draw[k] = uint32_t(all.size());
+      std::vector<GpuDraw> cascade = casters(volume, far_light - glm::dot(eye_, travel_), margin, depth_margin, k);
+      std::sort(cascade.begin(), cascade.end(), [](const GpuDraw& a, const GpuDraw& b) {
+        if (a.material != b.material) return a.material < b.material;
+        if (a.first_index != b.first_index) return a.first_index < b.first_index;
+        return a.instance < b.instance;
+      });
+      stats_.draws[k] = uint32_t(cascade.size());
+      for (const GpuDraw& d : cascade) stats_.triangles[k] += d.index_count / 3;
+      all.insert(all.end(), cascade.begin(), cascade.end());
+    }
+    store("shadow.cascade_data", &data, sizeof(data));
+    store("shadow.cull_stats", &stats_, sizeof(stats_));
+    store("draws.shadow.cascades", all.data(), all.size() * sizeof(GpuDraw));
+  }
+
+ private:
+  void store(const char* name, const void* bytes, size_t size) {
+    auto& out = ctx_.output(name);
+    out.resize(size);
+    if (size) std::memcpy(out.data(), bytes, size);
+  }
+
+  std::array<double, kShadowCascades + 1> split_distances() const {
+    const double n = camera_.znear, f = std::max(ctx_.param("max_distance"), 2.0 * n);
+    const double lambda = ctx_.param("lambda");
+    std::array<double, kShadowCascades + 1> s{};
+    s[0] = n;
+    for (uint32_t i = 1; i <= kShadowCascades; ++i) {
+      const double t = double(i) / kShadowCascades;
+      s[i] = lambda * n * std::pow(f / n, t) + (1.0 - lambda) * (n + (f - n) * t);
+    }
+    return s;
+  }
+
+  // Camera-relative corners of the view between depths `a` and `b` along the view axis.
+  Corners slice_corners(double a, double b) const {
+    const dvec3 right = glm::normalize(dvec3(world_[0])), up = glm::normalize(dvec3(world_[1]));
+    const dvec3 forward = -glm::normalize(dvec3(world_[2]));
+    const double tan_y = std::tan(0.5 * camera_.yfov), tan_x = tan_y * double(camera_.width) / camera_.height;
+    Corners c;
+    for (int k = 0; k < 8; ++k) {
+      const double d = k & 4 ? b : a;
+      c[k] = forward * d + right * ((k & 1 ? 1 : -1) * tan_x * d) + up * ((k & 2 ? 1 : -1) * tan_y * d);
+    }
+    return c;
+  }
+
+  // The least light depth (along the sun's travel, world) of anything in the scene: the
+  // hierarchy's root box and every moving instance where it is this frame. Also sets bottom_.
+  double scene_light_near() {
+    double nearest = INFINITY;
+    auto take = [&](const dvec3& lo, const dvec3& hi) {
+      bottom_ = std::min(bottom_, lo.y - eye_.y);
+      for (int k = 0; k < 8; ++k)
+        nearest =
+            std::min(nearest, glm::dot(dvec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z), travel_));
+    };
+    if (!hierarchy_.static_order.empty()) {
+      const HierarchyNode& root = hierarchy_.nodes[0];
+      take(dvec3(root.bounds_min[0], root.bounds_min[1], root.bounds_min[2]),
+           dvec3(root.bounds_max[0], root.bounds_max[1], root.bounds_max[2]));
+    }
+    for (uint32_t i : hierarchy_.moving) {
+      Box box;
+      if (world_box(i, box)) take(box.min + eye_, box.max + eye_);
+    }
+    return std::isfinite(nearest) ? nearest - 1.0 : glm::dot(eye_, travel_);
+  }
+
+  // The instance's model matrix (camera-relative) at this frame's time.
+  glm::dmat4 model_of(uint32_t index) const {
+    const InstanceRecord& r = instances_[index];
+    glm::dmat4 model(1.0);
+    for (int c = 0; c < 3; ++c)
+      for (int row = 0; row < 3; ++row) model[c][row] = r.basis[c * 3 + row];
+    dvec3 translation(r.position[0], r.position[1], r.position[2]);
+    if (r.flags & kInstanceMoving) translation += dvec3(r.velocity[0], r.velocity[1], r.velocity[2]) * camera_.time;
+    model[3] = glm::dvec4(translation - eye_, 1.0);
+    return model;
+  }
+
+  const MeshRecord* mesh_at(uint32_t index) const {
+    if (index >= meshes_.size()) throw GraphError("shadow.cull: an instance names mesh " + std::to_string(index));
+    return &meshes_[index];
+  }
+
+  // The level the main view draws (cull.main picks it by the same distance), or null when the
+  // instance is not drawn at all: degenerate, beyond its draw distance, or not an opaque caster.
+  const MeshRecord* drawn_mesh(uint32_t index, const glm::dmat4& model) const {
+    const InstanceRecord& r = instances_[index];
+    if (r.material >= materials_.size()) return nullptr;
+    const GpuMaterial& m = materials_[r.material];
+    if (m.extra.z != float(AlphaMode::opaque) || (int(m.extra.w) & 4) != 0) return nullptr;
+    const double determinant = glm::determinant(glm::dmat3(model));
+    const MeshRecord* mesh = mesh_at(r.primitive);
+    if (!std::isfinite(determinant) || determinant == 0.0 || mesh->index_count == 0) return nullptr;
+    const dvec3 centre(model * glm::dvec4(0.5 * (mesh->bounds_min[0] + mesh->bounds_max[0]),
+                                          0.5 * (mesh->bounds_min[1] + mesh->bounds_max[1]),
+                                          0.5 * (mesh->bounds_min[2] + mesh->bounds_max[2]), 1.0));
+    const double distance = glm::length(centre);
+    uint32_t steps = 0;
+    while (mesh->coarser >= 0 && distance > mesh->lod_distance) {
+      if (++steps > meshes_.size()) throw GraphError("shadow.cull: mesh levels of detail form a cycle");
+      mesh = mesh_at(uint32_t(mesh->coarser));
+    }
+    return distance > mesh->draw_distance ? nullptr : mesh;
+  }
+
+  // Camera-relative box of the instance's drawn level; false when it is not drawn.
+  bool world_box(uint32_t index, Box& box, const MeshRecord** drawn = nullptr) const {
+    const glm::dmat4 model = model_of(index);
+    const MeshRecord* mesh = drawn_mesh(index, model);
+    if (!mesh) return false;
+    box.min = dvec3(INFINITY);
+    box.max = dvec3(-INFINITY);
+    for (int k = 0; k < 8; ++k) {
+      const dvec3 p(model * glm::dvec4(k & 1 ? mesh->bounds_max[0] : mesh->bounds_min[0],
+                                       k & 2 ? mesh->bounds_max[1] : mesh->bounds_min[1],
+                                       k & 4 ? mesh->bounds_max[2] : mesh->bounds_min[2], 1.0));
+      box.min = glm::min(box.min, p);
+      box.max = glm::max(box.max, p);
+    }
+    if (drawn) *drawn = mesh;
+    return true;
+  }
+
+  // Whether the camera-relative box's shadow, out to light depth `far` (camera-relative),
+  // `margin` metres around and `depth_margin` toward the sun (extruded_slice says why), lies
+  // wholly behind the view's occluders.
+  bool shadow_hidden(const Box& box, double far, double margin, double depth_margin) const {
+    double nearest = INFINITY;
+    for (int k = 0; k < 8; ++k)
+      nearest = std::min(nearest, glm::dot(dvec3(k & 1 ? box.max.x : box.min.x, k & 2 ? box.max.y : box.min.y,
+                                                 k & 4 ? box.max.z : box.min.z),
+                                           travel_));
+    // No receiver lies past the cascade's far light depth, nor below the scene's lowest point.
+    const double to_bottom = (box.max.y - bottom_) / -travel_.y;
+    const dvec3 sweep = travel_ * std::max(0.0, std::min(far - nearest, to_bottom));
+    const dvec3 back = -travel_ * depth_margin;
+    const dvec3 lo = glm::min(glm::min(box.min, box.min + sweep), box.min + back) - margin;
+    const dvec3 hi = glm::max(glm::max(box.max, box.max + sweep), box.max + back) + margin;
+    glm::dvec4 corners[8];
+    for (int k = 0; k < 8; ++k)
+      corners[k] = view_projection_ * glm::dvec4(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z, 1.0);
+    return occlusion_.hidden(corners);
+  }
+
+  std::vector<GpuDraw> casters(const Volume& volume, double far, double margin, double depth_margin, uint32_t cascade) {
+    std::vector<GpuDraw> out;
+    auto consider = [&](uint32_t i) {
+      Box box;
+      const MeshRecord* mesh = nullptr;
+      if (!world_box(i, box, &mesh)) return;
+      ++stats_.casters_tested[cascade];
+      if (volume.excludes(box.min, box.max)) {
+        ++stats_.casters_culled[cascade];
+        if (culling_) return;
+      } else if (shadow_hidden(box, far, margin, depth_margin)) {
+        ++stats_.casters_hidden[cascade];
+        if (culling_) return;
+      }
+      out.push_back(draw_of(i, *mesh));
+    };
+    // Static instances through the hierarchy: a node outside the volume drops what it holds.
+    std::vector<uint32_t> stack;
+    if (!hierarchy_.static_order.empty()) stack.push_back(0);
+    while (!stack.empty()) {
+      const HierarchyNode& node = hierarchy_.nodes[stack.back()];
+      stack.pop_back();
+      const dvec3 lo = dvec3(node.bounds_min[0], node.bounds_min[1], node.bounds_min[2]) - eye_;
+      const dvec3 hi = dvec3(node.bounds_max[0], node.bounds_max[1], node.bounds_max[2]) - eye_;
+      if (culling_ && volume.excludes(lo, hi)) {
+        const uint32_t count = leaf_count(node);
+        stats_.casters_tested[cascade] += count;
+        stats_.casters_culled[cascade] += count;
+        continue;
+      }
+      if (culling_ && shadow_hidden({lo, hi}, far, margin, depth_margin)) {
+        const uint32_t count = leaf_count(node);
+        stats_.casters_tested[cascade] += count;
+        stats_.casters_hidden[cascade] += count;
+        continue;
+      }
+      if (node.count > 0) {
+        for (uint32_t k = node.first; k < node.first + node.count; ++k) consider(hierarchy_.static_order[k]);
+      } else {
+        stack.push_back(node.first + 1);
+        stack.push_back(node.first);
+      }
+    }
+    for (uint32_t i : hierarchy_.moving) consider(i);
+    return out;
+  }
+
+  uint32_t leaf_count(const HierarchyNode& node) const {
+    if (node.count > 0) return node.count;
+    return leaf_count(hierarchy_.nodes[node.first]) + leaf_count(hierarchy_.nodes[node.first + 1]);
+  }
+
+  GpuDraw draw_of(uint32_t index, const MeshRecord& mesh) const {
+    const glm::dmat4 model = model_of(index);
+    GpuDraw d{};
+    d.model = glm::mat4(model);
+    d.previous_model = d.model;
+    d.normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::dmat3(model))));
+    d.first_index = mesh.first_index;
+    d.index_count = mesh.index_count;
+    d.vertex_offset = mesh.vertex_offset;
+    d.material = instances_[index].material;
+    d.instance = index;
+    d.mirrored = glm::determinant(glm::dmat3(model)) < 0.0;
+    const glm::vec3 lo = glm::make_vec3(mesh.bounds_min), hi = glm::make_vec3(mesh.bounds_max);
+    d.position_origin = glm::vec4(lo, 0.0f);
+    d.position_step = glm::vec4(position_step(lo, hi), 0.0f);
+    return d;
+  }
+
+  PassContext& ctx_;
+  CameraRecordGpu camera_;
+  GpuFrameConstants constants_;
+  std::span<const InstanceRecord> instances_;
+  std::span<const MeshRecord> meshes_;
+  std::vector<GpuMaterial> materials_;
+  Hierarchy hierarchy_;
+  OcclusionBuffer occlusion_;
+  bool culling_;
+  glm::dmat4 world_{1.0}, view_projection_{1.0};
+  dvec3 eye_{0.0}, travel_{0.0};
+  double bottom_ = INFINITY;  // the scene's lowest point, camera-relative
+  ShadowCullStats stats_{};
+};
+
+}  // namespace
+
+PassDecl shadow_cull_pass() {
+  return PassDecl("shadow.cull", PassType::cpu)
+      .read("frame.camera", Use::host)
+      .read("frame.constants", Use::host)
+      .read("scene.instances", Use::host)
+      .read("scene.meshes", Use::host)
+      .read("scene.hierarchy", Use::host)
+      .read("scene.materials", Use::host)
+      .read("cull.occlusion", Use::host)
+      .write("shadow.cascade_data", Use::host, BufferDecl{ResourceKind::buffer})
+      .write("draws.shadow.cascades", Use::host, BufferDecl{ResourceKind::draw_list})
+      .write("shadow.cull_stats", Use::host, BufferDecl{ResourceKind::buffer})
+      .layout("shadow.cascade_data", shadow_cascades_schema())
+      .layout("draws.shadow.cascades", draw_schema())
+      .layout("shadow.cull_stats", shadow_cull_stats_schema())
+      .param("resolution", kShadowResolution, 64, 4096, "texels per side of each cascade (even)")
+      .param("max_distance", 120, 1, 20000, "metres along the view where the last cascade ends (no sun shadow beyond)")
+      .param("lambda", 0.75, 0, 1, "practical split: 1 logarithmic, 0 uniform")
+      .param("margin_texels", 6, 0, 64,
+             "texels each culling plane is pushed out: at least (shadow.sun_resolve.filter_radius + 1)·√2")
+      .param("receiver_slope", 11.43, 0, 1000,
+             "the steepest receiver slope culling allows for: at least shadow.sun_resolve.max_slope")
+      .param("culling", 1, 0, 1,
+             "1: drop casters outside each cascade's volume or whose shadow is hidden (0 keeps them, for the tests)")
+      .needs("sun_above_horizon")
+      .run([](PassContext& ctx) { ShadowCuller(ctx).run(); });
+}
+
+}  // namespace nightcap

@@ -1,0 +1,56 @@
+// shadow.sun_resolve (frame.md section 4): the sun's shadow in screen space, R8G8_UNORM at full
+// resolution (R: visibility, filtered; G: 1, left free), before lighting.tiled reads it.
+// sun_resolve.comp says how. The filter's size is a specialization constant, so each size is a
+// pipeline whose block of taps is fixed (style: variants are specialization constants).
+// Skipped with no sun above the horizon, and where nothing was drawn (scene.depth cleared): shadow.sun
+// is then cleared to 1 (unshadowed), what lighting.tiled reads and, for the sky, what it computes. `enabled=0` skips it
+// too (the lighting tests compare unshadowed sun light).
+#include "passes/core/context.h"
+#include "passes/frame/frame_passes.h"
+
+namespace nightcap {
+
+namespace {
+
+struct ResolveConstants {
+  float depth_bias, max_slope;
+};
+
+}  // namespace
+
+PassDecl shadow_sun_resolve_pass() {
+  ImageDecl sun{VK_FORMAT_R8G8_UNORM, ResourceKind::mask};
+  sun.clear.color = {{1.0f, 1.0f, 0.0f, 0.0f}};
+  return PassDecl("shadow.sun_resolve", PassType::compute)
+      .read("frame.constants", Use::uniform_buffer)
+      .read("shadow.cascade_data", Use::uniform_buffer)
+      .read("scene.depth", Use::sampled)
+      .read("gbuffer.normal", Use::sampled)
+      .read("shadow.cascades", Use::sampled)
+      .write("shadow.sun", Use::storage_write, sun)
+      .param("filter_radius", 1, 0, 3, "the filter takes (2r + 1)² texels around the pixel's point (0: one)")
+      .param("depth_bias", 0.5, 0, 16, "texels of light depth a receiver may lie behind the map and stay lit")
+      .param("max_slope", 11.43, 0, 1000,
+             "largest receiver slope carried to the filter's texels (tan 85°: steeper ones self-shadow)")
+      .can_disable("sun shadows disabled by settings")
+      .needs("sun_above_horizon")
+      .skip_when_cleared({"scene.depth"})
+      .push_constants<ResolveConstants>()
+      .shader("shadow/sun_resolve.comp")
+      .run([](PassContext& ctx) {
+        const ImageExtent size = ctx.desc("shadow.sun").extent;
+        const ResolveConstants constants{float(ctx.param("depth_bias")), float(ctx.param("max_slope"))};
+        const VkSampler nearest = ctx.nearest_clamp();
+        ctx.bind_pipeline({int32_t(ctx.param("filter_radius"))});
+        ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
+                  Binding::uniform(ctx.slot("shadow.cascade_data"), "shadow.cascade_data"),
+                  Binding::texture(ctx.slot("scene.depth"), "scene.depth", nearest, ViewAspect::depth),
+                  Binding::texture(ctx.slot("gbuffer.normal"), "gbuffer.normal", nearest),
+                  Binding::texture(ctx.slot("shadow.cascades"), "shadow.cascades", nearest),
+                  Binding::image(ctx.slot("shadow.sun"), "shadow.sun", 0)});
+        ctx.push_constants(constants);
+        vkCmdDispatch(ctx.cmd(), (size.width + 7) / 8, (size.height + 7) / 8, 1);
+      });
+}
+
+}  // namespace nightcap

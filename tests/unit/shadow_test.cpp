@@ -1,0 +1,332 @@
+// The sun's shadow (shadow.cull, shadow.cascades, shadow.sun_resolve) against a CPU ray cast of
+// the scene's triangles in double precision (tests/reference/shadow_reference.h). Bounds, from
+// shared/design/accuracy.md:
+// - agreement: at pixels facing the sun (n·l > 0.1), closer than the last split and more than 2
+//   cascade texels (measured across the sun's rays) from an edge of the ray cast's shadow, the
+//   pass's visibility (R ≥ 0.5 lit) agrees with the ray cast at ≥ 99% of them;
+// - acne: a plane lit at incidence 0–80° has no texel of shadow.sun below 1;
+// - peter-panning: behind a thin wall standing on a plane, the ground the ray cast shadows but
+//   the pass calls lit lies within 1 texel of the wall;
+// (the acne and peter-panning tests also break their own bound on purpose, to show they can see
+// a failure);
+// - culling (shadow.cull.culling on and off) leaves shadow.sun bit-identical;
+// - stress (the sun at the horizon, straight down, a caster around the camera, the map's far
+//   corner): every float output finite, and each shadow pass run again on its recorded inputs
+//   writes the same bytes (what replay --verify checks).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <optional>
+
+#include "passes/frame/frame_passes.h"
+#include "passes/frame/gpu_types.h"
+#include "passes/frame/renderer.h"
+#include "passes/scene/scene_kit.h"
+#include "passes/shadow/shadow_layout.h"
+#include "tests/reference/shadow_reference.h"
+#include "tests/unit/gpu_fixture.h"
+
+namespace nightcap::test {
+namespace {
+
+using glm::dvec3;
+using Inputs = std::map<std::string, IsolatedInput>;
+using reference::ShadowAgreement;
+using reference::ShadowTriangles;
+using reference::ShadowView;
+
+struct Recorded {
+  Inputs inputs, outputs;
+};
+
+Recorded recorded(const RenderedFrame& frame, const std::string& pass) {
+  Recorded r;
+  for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
+    if (frame.graph.passes[i].decl->name != pass) continue;
+    for (int v : frame.execution.passes[i].inputs) {
+      const VersionData& d = frame.execution.versions[v];
+      r.inputs[d.resource] = {d.desc, d.bytes};
+    }
+    for (int v : frame.execution.passes[i].outputs) {
+      const VersionData& d = frame.execution.versions[v];
+      r.outputs[d.resource] = {d.desc, d.bytes};
+    }
+  }
+  return r;
+}
+
+// A frame's shadow passes: what each read and wrote, the resolve decoded.
+struct Frame {
+  Recorded cull, map, resolve;
+  std::optional<ShadowView> view;
+  ShadowCullStats stats{};
+  std::string non_finite;
+  dvec3 eye{0.0};
+  uint32_t width = 0, height = 0;
+};
+
+Scene with_sun(Scene scene, const glm::vec3& direction) {
+  for (Light& light : scene.lights)
+    if (light.type == LightType::directional) {
+      light.direction = glm::normalize(direction);
+      return scene;
+    }
+  Light sun = scene_kit::moon();
+  sun.direction = glm::normalize(direction);
+  scene.lights.insert(scene.lights.begin(), sun);
+  return scene;
+}
+
+// A ground plane (its top at y = 0) with boxes standing on it, lit by the sun, seen from
+// `eye` looking at `target`.
+Scene plane_scene(const std::vector<std::pair<dvec3, dvec3>>& boxes, const glm::vec3& sun, const dvec3& eye,
+                  const dvec3& target) {
+  Scene scene;
+  scene.source = "shadow reference";
+  scene_kit::Builder build(scene);
+  const uint32_t grey = build.material(scene_kit::plain("ground", {0.5f, 0.5f, 0.5f}, 0.0f, 0.8f, stencil::plain));
+  build.place(build.box(glm::vec3(40.0f, 0.05f, 40.0f), grey, 1.0f, true, true), {0.0, -0.05, 0.0});
+  for (const auto& [centre, half] : boxes) build.place(build.box(glm::vec3(half), grey, 1.0f, true, true), centre);
+  Camera camera;
+  camera.yfov = glm::radians(60.0f);
+  camera.znear = 0.1f;
+  camera.world = glm::inverse(glm::lookAt(eye, target, dvec3(0.0, 1.0, 0.0)));
+  scene.camera = camera;
+  return with_sun(scene, sun);
+}
+
+Scene moved(Scene scene, const dvec3& offset) {
+  for (Instance& instance : scene.instances) instance.world[3] += glm::dvec4(offset, 0.0);
+  for (Light& light : scene.lights) {
+    light.position += offset;
+    light.end += offset;
+  }
+  if (scene.camera) scene.camera->world[3] += glm::dvec4(offset, 0.0);
+  return scene;
+}
+
+class Shadows : public GpuTest {
+ protected:
+  static Frame render(const Scene& scene, uint32_t width, uint32_t height,
+                      std::map<std::string, ParamValues> params = {}) {
+    RenderSettings settings;
+    settings.width = width;
+    settings.height = height;
+    settings.path.motion = CameraPath::Motion::still;
+    settings.sinks = {"shadow.sun"};
+    settings.params = std::move(params);
+    Renderer renderer(*gpu_, scene, settings);
+    const RenderedFrame rendered = renderer.render_frame(0, true);
+    Frame f;
+    f.width = width;
+    f.height = height;
+    f.non_finite = first_non_finite(rendered.execution);
+    f.cull = recorded(rendered, "shadow.cull");
+    f.map = recorded(rendered, "shadow.cascades");
+    f.resolve = recorded(rendered, "shadow.sun_resolve");
+    f.eye = dvec3(base_camera(scene, settings).world[3]);
+    if (f.resolve.outputs.empty()) {
+      ADD_FAILURE() << "shadow.sun_resolve did not run";
+      return f;
+    }
+    f.view.emplace(f.resolve.inputs, f.resolve.outputs.at("shadow.sun"));
+    std::memcpy(&f.stats, f.cull.outputs.at("shadow.cull_stats").bytes->data(), sizeof(f.stats));
+    return f;
+  }
+
+  static void expect_agreement(const char* name, const Scene& scene, const Frame& f, uint32_t stride) {
+    ASSERT_TRUE(f.view);
+    const ShadowAgreement a = reference::shadow_agreement(*f.view, ShadowTriangles(scene, f.eye), stride);
+    std::printf("%s: %zu of %zu sampled pixels agree with the ray cast (%.3f%%; %zu ray-shadowed), %zu near an edge\n",
+                name, a.agreed, a.compared, 100.0 * a.share(), a.ray_shadowed, a.near_edge);
+    EXPECT_GT(a.compared, 500u);
+    EXPECT_GT(a.ray_shadowed, 50u) << "the test needs shadows to compare";
+    EXPECT_GE(a.share(), 0.99) << a.first_disagreement;
+  }
+
+  // Each shadow pass run again on the inputs the frame recorded for it writes the same bytes.
+  static void expect_replays(const Frame& f) {
+    for (const auto& [decl, r] : {std::pair{shadow_cull_pass(), &f.cull}, std::pair{shadow_cascades_pass(), &f.map},
+                                  std::pair{shadow_sun_resolve_pass(), &f.resolve}}) {
+      const IsolatedRun again = run(decl, r->inputs, f.width, f.height);
+      for (const auto& [name, output] : r->outputs)
+        EXPECT_TRUE(*again.outputs.at(name) == *output.bytes) << decl.name << ": " << name << " differs when run again";
+    }
+  }
+};
+
+const glm::vec3 kSun(0.35f, -0.8f, 0.45f);
+
+TEST_F(Shadows, BoxesOnAPlaneAgreeWithARayCast) {
+  const Scene scene = plane_scene({{{0.0, 1.0, 0.0}, {1.0, 1.0, 1.0}},
+                                   {{-4.0, 0.25, 3.0}, {0.5, 0.25, 2.0}},
+                                   {{5.0, 3.0, -6.0}, {1.5, 3.0, 1.5}},
+                                   {{-8.0, 0.6, -12.0}, {3.0, 0.6, 0.4}}},
+                                  kSun, {6.0, 6.0, 14.0}, {-1.0, 0.0, -2.0});
+  const Frame f = render(scene, 640, 360);
+  EXPECT_EQ(f.non_finite, "");
+  expect_agreement("boxes on a plane", scene, f, 3);
+}
+
+TEST_F(Shadows, CityAgreesWithARayCast) {
+  Scene scene = build_city(1);
+  add_default_lighting(scene);
+  const Frame f = render(scene, 640, 360);
+  EXPECT_EQ(f.non_finite, "");
+  expect_agreement("city", scene, f, 3);
+}
+
+// A plane lit at incidence up to 80°, nothing else: no texel of shadow.sun may be below 1. The
+// same plane without the receiver-plane bias (max_slope 0, depth_bias 0) has acne at 80°: the
+// test can see it.
+TEST_F(Shadows, NoAcneUpTo80DegreesIncidence) {
+  auto shadowed_pixels = [&](double degrees, std::map<std::string, ParamValues> params) {
+    const double a = glm::radians(degrees);
+    // Turned about the vertical so the sun does not line up with the map's axes.
+    const glm::vec3 sun(float(std::sin(a) * 0.8), float(-std::cos(a)), float(std::sin(a) * 0.6));
+    const Scene scene = plane_scene({}, sun, {0.0, 3.0, 10.0}, {0.0, 0.0, -20.0});
+    const Frame f = render(scene, 320, 180, std::move(params));
+    EXPECT_EQ(f.non_finite, "");
+    size_t pixels = 0, shadowed = 0;
+    if (!f.view) return std::pair{pixels, shadowed};
+    const ShadowView& v = *f.view;
+    for (uint32_t y = 0; y < v.height; ++y)
+      for (uint32_t x = 0; x < v.width; ++x) {
+        const auto s = v.surface(x, y);
+        if (!s || s->view_depth > v.cascades.splits[3]) continue;
+        ++pixels;
+        shadowed += v.visibility(x, y) < 1.0;
+      }
+    return std::pair{pixels, shadowed};
+  };
+  for (double degrees : {0.0, 30.0, 60.0, 70.0, 80.0}) {
+    const auto [pixels, shadowed] = shadowed_pixels(degrees, {});
+    std::printf("incidence %.0f°: %zu of %zu plane pixels shadowed\n", degrees, shadowed, pixels);
+    EXPECT_GT(pixels, 10000u);
+    EXPECT_EQ(shadowed, 0u) << "acne at " << degrees << "°";
+  }
+  const auto [pixels, shadowed] =
+      shadowed_pixels(80.0, {{"shadow.sun_resolve", {{"max_slope", 0.0}, {"depth_bias", 0.0}}}});
+  std::printf("incidence 80° without the bias: %zu of %zu plane pixels shadowed\n", shadowed, pixels);
+  EXPECT_GT(shadowed, pixels / 10) << "without its bias the plane should shadow itself";
+}
+
+// A thin wall (4 cm) standing on the plane, a low sun: the ground behind it that the ray cast
+// shadows and the pass lights (the gap between the contact and the shadow) lies within 1 texel
+// of the wall. With a depth bias of 16 texels the gap opens wider than a texel: the test sees it.
+TEST_F(Shadows, PeterPanningAtMostOneTexel) {
+  const dvec3 half(1.0, 0.3, 0.02);
+  auto gap_behind = [&](double elevation, std::map<std::string, ParamValues> params) {
+    const double e = glm::radians(elevation);
+    const glm::vec3 sun(0.0f, float(-std::sin(e)), float(-std::cos(e)));  // toward -z: the shadow falls there
+    // Seen from the shadow's side, so the ground behind the wall is in view.
+    const Scene scene = plane_scene({{{0.0, half.y, 0.0}, half}}, sun, {2.0, 2.5, -4.0}, {0.0, 0.0, -0.8});
+    const Frame f = render(scene, 640, 360, std::move(params));
+    EXPECT_EQ(f.non_finite, "");
+    double gap = 0.0, texel = 0.0;
+    size_t behind = 0;
+    if (!f.view) return std::tuple{gap, texel, behind};
+    const ShadowView& v = *f.view;
+    const ShadowTriangles triangles(scene, f.eye);
+    const dvec3 l = v.to_sun();
+    const double back = -half.z, length = 2 * half.y / std::tan(e);
+    for (uint32_t y = 0; y < v.height; ++y)
+      for (uint32_t x = 0; x < v.width; ++x) {
+        const auto s = v.surface(x, y);
+        if (!s || s->normal.y < 0.99) continue;
+        const dvec3 world = s->position + f.eye;
+        const double pixel_texel = v.cascades.texel_metres[v.cascade_of(s->view_depth)];
+        // On the ground, behind the wall, away from the shadow's sides, in its first half.
+        const double from_wall = back - world.z;
+        if (world.y > 0.01 || from_wall < 0 || from_wall > 0.5 * length || std::abs(world.x) > half.x - 3 * pixel_texel)
+          continue;
+        ++behind;
+        texel = std::max(texel, pixel_texel);
+        if (!triangles.lit(s->position, s->normal, l, s->view_depth) && v.visibility(x, y) >= 0.5)
+          gap = std::max(gap, from_wall);
+      }
+    return std::tuple{gap, texel, behind};
+  };
+  for (double elevation : {20.0, 45.0}) {
+    const auto [gap, texel, behind] = gap_behind(elevation, {});
+    std::printf("sun %.0f° up: gap %.4f m behind the wall (a texel is %.4f m), %zu ground pixels behind it\n",
+                elevation, gap, texel, behind);
+    EXPECT_GT(behind, 200u);
+    EXPECT_LE(gap, texel);
+  }
+  const auto [gap, texel, behind] = gap_behind(20.0, {{"shadow.sun_resolve", {{"depth_bias", 16.0}}}});
+  std::printf("sun 20° up, depth_bias 16: gap %.4f m (a texel is %.4f m)\n", gap, texel);
+  EXPECT_GT(gap, texel) << "a large bias should open a gap the test sees";
+}
+
+// Culling (by the cascades' volumes and by the view's occluders) drops no caster that changes the
+// shadow: shadow.sun is bit-identical with it off, on the city and on the street shot of a 2 km
+// map (levels of detail, traffic).
+TEST_F(Shadows, CullingChangesNoShadow) {
+  Scene city = build_city(1);
+  add_default_lighting(city);
+  Scene street = build_map({1, 2.0, Shot::street});
+  add_default_lighting(street);
+  for (const auto& [name, scene] : {std::pair{"city", &city}, std::pair{"2 km map, street", &street}}) {
+    SCOPED_TRACE(name);
+    const Frame on = render(*scene, 640, 360);
+    const Frame off = render(*scene, 640, 360, {{"shadow.cull", {{"culling", 0}}}});
+    ASSERT_TRUE(on.view && off.view);
+    uint32_t culled = 0, hidden = 0, tested = 0;
+    for (uint32_t k = 0; k < kShadowCascades; ++k) {
+      culled += on.stats.casters_culled[k];
+      hidden += on.stats.casters_hidden[k];
+      tested += on.stats.casters_tested[k];
+      std::printf(
+          "%s, cascade %u: %u casters tested, %u culled, %u hidden, %u drawn, %u planes, ends at %.1f m, texel %.4f "
+          "m\n",
+          name, k, on.stats.casters_tested[k], on.stats.casters_culled[k], on.stats.casters_hidden[k],
+          on.stats.draws[k], on.stats.planes[k], on.view->cascades.splits[k], on.view->cascades.texel_metres[k]);
+      EXPECT_LE(on.stats.planes[k], 8u);
+      EXPECT_EQ(off.stats.draws[k], off.stats.casters_tested[k]);
+    }
+    EXPECT_GT(culled + hidden, tested / 4) << "culling must remove casters for the comparison to mean something";
+    if (scene == &street) {
+      EXPECT_GT(hidden, 0u) << "the view's occluders must hide some shadow, so the test covers them";
+    }
+    EXPECT_TRUE(*on.resolve.outputs.at("shadow.sun").bytes == *off.resolve.outputs.at("shadow.sun").bytes)
+        << "shadow.sun differs with culling off";
+  }
+}
+
+TEST_F(Shadows, StressStaysFiniteAndReplaysIdentically) {
+  Scene city = build_city(1);
+  add_default_lighting(city);
+  RenderSettings probe;
+  probe.width = 320;
+  probe.height = 180;
+  const Camera camera = base_camera(city, probe);
+  // A box around the camera: its inside faces touch the near plane.
+  Scene touching = city;
+  {
+    scene_kit::Builder build(touching);
+    const uint32_t m = build.material(scene_kit::plain("around", {0.5f, 0.5f, 0.5f}, 0.0f, 0.8f, stencil::plain));
+    build.place(build.box(glm::vec3(0.3f, 0.3f, 0.3f), m, 1.0f, true, true), dvec3(camera.world[3]) + dvec3(0.2, 0, 0));
+  }
+  const std::vector<std::pair<const char*, Scene>> cases = {
+      {"sun at the horizon", with_sun(city, {1.0f, -1e-3f, 0.3f})},
+      {"sun straight down", with_sun(city, {0.0f, -1.0f, 0.0f})},
+      {"caster touching the camera", touching},
+      {"map's far corner", moved(build_map({1, 1.0, Shot::street}), {7500.0, 0.0, 7500.0})}};
+  for (const auto& [name, scene] : cases) {
+    SCOPED_TRACE(name);
+    const Frame f = render(scene, 320, 180);
+    EXPECT_EQ(f.non_finite, "");
+    ASSERT_TRUE(f.view);
+    for (uint32_t k = 0; k < kShadowCascades; ++k)
+      for (int c = 0; c < 16; ++c) EXPECT_TRUE(std::isfinite(glm::value_ptr(f.view->cascades.light_from_world[k])[c]));
+    expect_replays(f);
+  }
+}
+
+}  // namespace
+}  // namespace nightcap::test
