@@ -389,7 +389,7 @@ TEST(Graph, SizesAnOutputByItsWritersParameter) {
   settings.sinks = {"map"};
   EXPECT_EQ(compile_graph(passes, {}, settings).resources.at("map").extent.width, 1024u);
   settings.params["s"]["resolution"] = 512;
-  const ResourceDesc& d = compile_graph(passes, {}, settings).resources.at("map");
+  const ResourceDesc d = compile_graph(passes, {}, settings).resources.at("map");
   EXPECT_EQ(d.extent.width, 512u);
   EXPECT_EQ(d.extent.height, 512u);
   EXPECT_EQ(d.extent.layers, 4u);
