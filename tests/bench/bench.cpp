@@ -55,6 +55,7 @@
 #include "tests/reference/ltc_reference.h"
 #include "tests/reference/motion_mask_reference.h"
 #include "tests/reference/shadow_reference.h"
+#include "tests/unit/recorded_pass.h"
 
 namespace nc = nightcap;
 namespace fs = std::filesystem;
@@ -477,19 +478,6 @@ nc::IsolatedInput constants_input(const nc::GpuFrameConstants& constants) {
   return input;
 }
 
-// What `pass` read in a frame rendered with capture, by resource, as run_isolated takes it.
-std::map<std::string, nc::IsolatedInput> pass_inputs(const nc::RenderedFrame& frame, const std::string& pass) {
-  std::map<std::string, nc::IsolatedInput> inputs;
-  for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
-    if (frame.graph.passes[i].decl->name != pass) continue;
-    for (int v : frame.execution.passes[i].inputs) {
-      const nc::VersionData& version = frame.execution.versions[v];
-      inputs[version.resource] = {version.desc, version.bytes};
-    }
-  }
-  return inputs;
-}
-
 double gpu_ms(const nc::IsolatedRun& run) { return run.execution.passes.at(0).gpu_ms.value_or(0.0); }
 
 // A pass's time in a frame: by timestamps on the GPU, on the clock for a CPU pass; 0 when it did
@@ -571,7 +559,7 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   settings.lighting = nc::FrameLighting::deferred;
   nc::Renderer renderer(gpu, scene, settings);
   const nc::RenderedFrame frame = renderer.render_frame(0, true);
-  std::map<std::string, nc::IsolatedInput> inputs = pass_inputs(frame, "lighting.deferred");
+  std::map<std::string, nc::IsolatedInput> inputs = nc::recorded_pass(frame, "lighting.deferred").inputs;
   nc::GpuFrameConstants constants;
   std::memcpy(&constants, inputs.at("frame.constants").bytes->data(), sizeof(constants));
   const auto& light_bytes = *inputs.at("frame.lights").bytes;
@@ -924,7 +912,7 @@ void bench_tube_quality(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   settings.sinks = {"lighting.diffuse", "lighting.specular"};
   nc::Renderer renderer(gpu, scene, settings);
   const nc::RenderedFrame frame = renderer.render_frame(0, true);
-  std::map<std::string, nc::IsolatedInput> inputs = pass_inputs(frame, "lighting.tiled");
+  std::map<std::string, nc::IsolatedInput> inputs = nc::recorded_pass(frame, "lighting.tiled").inputs;
   nc::GpuFrameConstants constants;
   std::memcpy(&constants, inputs.at("frame.constants").bytes->data(), sizeof(constants));
   std::vector<nc::GpuLight> lights(constants.counts.x);
@@ -1133,7 +1121,7 @@ void bench_cluster_shape(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t 
     nc::Renderer renderer(gpu, scene, settings);
     const nc::RenderedFrame frame = renderer.render_frame(0, true);
     deferred = nc::run_isolated(gpu, cache, nc::lighting_deferred_pass(),
-                                without_area_lights(pass_inputs(frame, "lighting.tiled")),
+                                without_area_lights(nc::recorded_pass(frame, "lighting.tiled").inputs),
                                 nc::lighting_deferred_pass().default_params(), width, height, builtin());
   }
   table() << "\n## lights.cluster froxel shape, time against error (2 km map, street shot, " << width << "x" << height
@@ -1165,7 +1153,7 @@ void bench_cluster_shape(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t 
     std::memcpy(&stats, captured.execution.final_version("lights.cluster_stats")->bytes->data(), sizeof(stats));
     const double per_froxel = stats.froxels_lit ? double(stats.entries) / stats.froxels_lit : 0.0;
     const uint32_t overflow = stats.froxels_over_cap + stats.froxels_cut;
-    const std::map<std::string, nc::IsolatedInput> inputs = pass_inputs(captured, "lighting.tiled");
+    const std::map<std::string, nc::IsolatedInput> inputs = nc::recorded_pass(captured, "lighting.tiled").inputs;
     const double per_pixel = mean_list_per_pixel(inputs, stats);
 
     const nc::IsolatedRun shaded = nc::run_isolated(gpu, cache, nc::lighting_tiled_pass(), without_area_lights(inputs),
@@ -1869,7 +1857,7 @@ void bench_shadows(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repe
         resolve.push_back(frame_pass_ms(frame, "shadow.sun_resolve"));
       }
       const nc::RenderedFrame captured = renderer.render_frame(0, true);
-      const auto inputs = pass_inputs(captured, "shadow.sun_resolve");
+      const auto inputs = nc::recorded_pass(captured, "shadow.sun_resolve").inputs;
       const nc::VersionData& sun = *captured.execution.final_version("shadow.sun");
       const ref::ShadowView view(inputs, {sun.desc, sun.bytes});
       const ref::ShadowAgreement a = ref::shadow_agreement(view, triangles, 4);

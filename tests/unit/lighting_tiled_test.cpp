@@ -37,6 +37,7 @@
 #include "passes/lighting/tiled_layout.h"
 #include "tests/reference/lighting_reference.h"
 #include "tests/unit/gpu_fixture.h"
+#include "tests/unit/recorded_pass.h"
 
 namespace nightcap::test {
 namespace {
@@ -50,27 +51,6 @@ const double kMinRoughness = double(0.03f);  // the default floor, as the pass r
 const ParamValues kNoContact = {{"contact_steps", 0}};
 
 using Inputs = std::map<std::string, IsolatedInput>;
-
-// What one pass of a rendered frame read and wrote.
-struct Recorded {
-  Inputs inputs, outputs;
-};
-
-Recorded recorded(const RenderedFrame& frame, const std::string& pass) {
-  Recorded r;
-  for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
-    if (frame.graph.passes[i].decl->name != pass) continue;
-    for (int v : frame.execution.passes[i].inputs) {
-      const VersionData& d = frame.execution.versions[v];
-      r.inputs[d.resource] = {d.desc, d.bytes};
-    }
-    for (int v : frame.execution.passes[i].outputs) {
-      const VersionData& d = frame.execution.versions[v];
-      r.outputs[d.resource] = {d.desc, d.bytes};
-    }
-  }
-  return r;
-}
 
 template <typename T>
 std::vector<T> records(const std::vector<uint8_t>& bytes, size_t count) {
@@ -258,8 +238,8 @@ class LightingTiled : public GpuTest {
   }
 
   // lighting.tiled's inputs in frame 0 of `scene` at 1280×720 (or `size`), captured.
-  static Recorded render(const Scene& scene, uint32_t width = 1280, uint32_t height = 720,
-                         const std::function<void(RenderSettings&)>& adjust = {}) {
+  static RecordedPass render(const Scene& scene, uint32_t width = 1280, uint32_t height = 720,
+                             const std::function<void(RenderSettings&)>& adjust = {}) {
     RenderSettings settings;
     settings.width = width;
     settings.height = height;
@@ -271,13 +251,13 @@ class LightingTiled : public GpuTest {
     Renderer renderer(*gpu_, scene, settings);
     const RenderedFrame frame = renderer.render_frame(0, true);
     EXPECT_EQ(first_non_finite(frame.execution), "");
-    Recorded r = recorded(frame, "lighting.tiled");
+    RecordedPass r = recorded_pass(frame, "lighting.tiled");
     EXPECT_FALSE(r.inputs.empty()) << "lighting.tiled did not run";
     return r;
   }
 
   // Sun, point and spot lights (tubes dark) against the reference.
-  static void expect_punctual_matches(const char* name, const Recorded& r, uint32_t stride) {
+  static void expect_punctual_matches(const char* name, const RecordedPass& r, uint32_t stride) {
     std::vector<GpuLight> lights = decode(r.inputs).lights;
     size_t local = 0;
     for (GpuLight& l : lights) {
@@ -315,7 +295,7 @@ TEST_F(LightingTiled, MapStreetShotPointSpotAndSunMatchTheReference) {
 // Point, spot and sun (no contact shadow): lighting.tiled writes what lighting.deferred writes
 // from the same inputs.
 TEST_F(LightingTiled, CityEqualsDeferredForPointSpotAndSun) {
-  const Recorded r = render(city());
+  const RecordedPass r = render(city());
   std::vector<GpuLight> lights = decode(r.inputs).lights;
   for (GpuLight& l : lights)
     if (is_tube(l)) l.color_range = glm::vec4(0, 0, 0, l.color_range.w);
@@ -345,9 +325,9 @@ TEST_F(LightingTiled, OtherFroxelShapesLightTheSame) {
   const std::pair<const char*, Scene> scenes[] = {{"city", city()}, {"2km map", build_map({1, 2.0, Shot::street})}};
   const ParamValues shapes[] = {{{"tile_size", 16}, {"slices", 32}}, {{"tile_size", 64}, {"slices", 128}}};
   for (const auto& [name, scene] : scenes) {
-    const Recorded base = render(scene);
+    const RecordedPass base = render(scene);
     for (const ParamValues& shape : shapes) {
-      const Recorded other =
+      const RecordedPass other =
           render(scene, 1280, 720, [&](RenderSettings& settings) { settings.params["lights.cluster"] = shape; });
       ASSERT_EQ(other.inputs.at("lights.clusters").desc.extent.depth, uint32_t(shape.at("slices")));
       for (const char* output : {"lighting.diffuse", "lighting.specular"}) {
@@ -427,7 +407,7 @@ class AreaErrors {
 // the lobe's peak, where the LTC's tail is not GGX's. What this asserts is what was measured,
 // with a margin: the error weighted by the reference over all sampled values.
 TEST_F(LightingTiled, CityTubesAgainstTheSegmentIntegrals) {
-  const Recorded r = render(city());
+  const RecordedPass r = render(city());
   Frame f = decode(r.inputs);
   std::vector<GpuLight> lights = f.lights;
   size_t tubes = 0;
@@ -520,7 +500,7 @@ TEST_F(LightingTiled, CitySpheresAgainstTheCapIntegrals) {
   Scene scene = city();
   for (Light& l : scene.lights)
     if (l.type == LightType::point) l.radius = 0.25f;
-  const Recorded r = render(scene);
+  const RecordedPass r = render(scene);
   Frame f = decode(r.inputs);
   std::vector<GpuLight> lights = f.lights;
   size_t spheres = 0;
@@ -597,7 +577,7 @@ TEST_F(LightingTiled, CitySpheresAgainstTheCapIntegrals) {
 // across a texel edge or a comparison across its threshold, so at most 0.5% of lit pixels
 // (measured: none). A march of 4 m must shadow more than 3 times what the default 0.5 m does.
 TEST_F(LightingTiled, SunContactShadowAgreesWithADoublePrecisionMarch) {
-  const Recorded r = render(city());
+  const RecordedPass r = render(city());
   Frame f = decode(r.inputs);
   ASSERT_GT(f.constants.sun_direction.w, 0.0f) << "the city needs a sun";
   std::vector<GpuLight> lights = f.lights;
@@ -654,7 +634,7 @@ TEST_F(LightingTiled, SunContactShadowAgreesWithADoublePrecisionMarch) {
 
 // tube_nodes takes the rules ltc.glsl has: another count is refused by name, not rounded.
 TEST_F(LightingTiled, TubeNodesOtherThanItsRulesAreRefused) {
-  const Recorded r = render(city(), 64, 36);
+  const RecordedPass r = render(city(), 64, 36);
   for (int nodes : {2, 4, 8, 16})
     EXPECT_EQ(shade(lighting_tiled_pass(), r.inputs, {{"tube_nodes", nodes}}).non_finite, "");
   try {
@@ -713,7 +693,7 @@ TEST_F(LightingTiled, StressStaysFiniteAndReplaysIdentically) {
   through.end = eye + right;
   scene.lights.push_back(through);
 
-  const Recorded r = render(scene, 640, 360);
+  const RecordedPass r = render(scene, 640, 360);
   const Output again = shade(lighting_tiled_pass(), r.inputs);
   EXPECT_EQ(again.non_finite, "");
   for (const char* name : {"lighting.diffuse", "lighting.specular", "lighting.tile_classes", "lighting.tile_lists"})
@@ -737,7 +717,7 @@ TEST_F(LightingTiled, TileListsAgreeWithTheClasses) {
   Scene scene = city();
   for (size_t k = 0; k < scene.lights.size(); k += 3)
     if (scene.lights[k].type == LightType::point) scene.lights[k].radius = 0.2f;  // some spheres too
-  const Recorded r = render(scene, 320, 180);
+  const RecordedPass r = render(scene, 320, 180);
   const Frame f = decode(r.inputs);
   GpuTileClasses classes;
   std::memcpy(&classes, r.outputs.at("lighting.tile_classes").bytes->data(), sizeof classes);

@@ -29,6 +29,7 @@
 #include "passes/shadow/shadow_layout.h"
 #include "tests/reference/shadow_reference.h"
 #include "tests/unit/gpu_fixture.h"
+#include "tests/unit/recorded_pass.h"
 
 namespace nightcap::test {
 namespace {
@@ -39,29 +40,9 @@ using reference::ShadowAgreement;
 using reference::ShadowTriangles;
 using reference::ShadowView;
 
-struct Recorded {
-  Inputs inputs, outputs;
-};
-
-Recorded recorded(const RenderedFrame& frame, const std::string& pass) {
-  Recorded r;
-  for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
-    if (frame.graph.passes[i].decl->name != pass) continue;
-    for (int v : frame.execution.passes[i].inputs) {
-      const VersionData& d = frame.execution.versions[v];
-      r.inputs[d.resource] = {d.desc, d.bytes};
-    }
-    for (int v : frame.execution.passes[i].outputs) {
-      const VersionData& d = frame.execution.versions[v];
-      r.outputs[d.resource] = {d.desc, d.bytes};
-    }
-  }
-  return r;
-}
-
 // A frame's shadow passes: what each read and wrote, the resolve decoded.
 struct Frame {
-  Recorded cull, map, resolve;
+  RecordedPass cull, map, resolve;
   std::optional<ShadowView> view;
   ShadowCullStats stats{};
   std::string non_finite;
@@ -125,9 +106,9 @@ class Shadows : public GpuTest {
     f.width = width;
     f.height = height;
     f.non_finite = first_non_finite(rendered.execution);
-    f.cull = recorded(rendered, "shadow.cull");
-    f.map = recorded(rendered, "shadow.cascades");
-    f.resolve = recorded(rendered, "shadow.sun_resolve");
+    f.cull = recorded_pass(rendered, "shadow.cull");
+    f.map = recorded_pass(rendered, "shadow.cascades");
+    f.resolve = recorded_pass(rendered, "shadow.sun_resolve");
     f.eye = dvec3(base_camera(scene, settings).world[3]);
     if (f.resolve.outputs.empty()) {
       ADD_FAILURE() << "shadow.sun_resolve did not run";
