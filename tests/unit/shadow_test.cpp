@@ -35,7 +35,6 @@ namespace nightcap::test {
 namespace {
 
 using glm::dvec3;
-using Inputs = std::map<std::string, IsolatedInput>;
 using reference::ShadowAgreement;
 using reference::ShadowTriangles;
 using reference::ShadowView;
