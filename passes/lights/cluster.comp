@@ -1,12 +1,19 @@
 #version 460
-// lights.cluster, in three phases of one pass (each a dispatch, ordered by the pass's storage
-// barrier); passes/lights/cluster_layout.h says how froxels divide the view.
-//   0: a workgroup per tile, an invocation per depth slice: count the local lights whose
-//      bound reaches each froxel (stored in lights.clusters' second channel for phase 1);
-//   1: one workgroup turns the counts into offsets in froxel order (x, then y, then slice), each
+// lights.cluster, in four phases of one pass (each a dispatch and its own pipeline, ordered by
+// the pass's storage barriers); passes/lights/cluster_layout.h says how froxels divide the view.
+//   0: a workgroup per block of kBlock×kBlock tiles lists, in ascending order, the local lights
+//      whose bound reaches the block's view-space box (the box of its tiles' depth range) in
+//      lights.cluster_blocks, so that a tile tests those rather than every light of the frame:
+//      on the 16 km map thousands of lights survive the frame's culling and most tiles see a
+//      few. A block whose list outgrows its slot of the buffer (or max_block_lights) is marked,
+//      and its tiles test every light;
+//   1: a workgroup per tile, an invocation per depth slice: count the lights of the tile's
+//      block list whose bound reaches each froxel (stored in lights.clusters' second channel for
+//      phase 2);
+//   2: one workgroup turns the counts into offsets in froxel order (x, then y, then slice), each
 //      count capped at max_lights_per_froxel and the running total at max_indices, and writes
 //      lights.cluster_stats;
-//   2: per tile again, the same tests write each froxel's list (ascending light indices) at its
+//   3: per tile again, the same tests write each froxel's list (ascending light indices) at its
 //      offset, and the workgroups together zero the index buffer past the last entry.
 // Nothing depends on execution order (integer sums, no atomics on the lists): every run writes
 // the same bytes.
@@ -20,12 +27,21 @@
 // linear depth from depth.pyramid (the level whose texel covers the tile), so a froxel between
 // or beyond the tile's surfaces is empty. A light of range 0 reaches every non-empty froxel;
 // directional lights are not clustered.
+//
+// The block's test keeps every light that any of its froxels keeps: a froxel's box lies in its
+// tile's box, which lies in the block's (the same products of larger extents and a wider depth
+// range), and the distance to a box is never more than to a box inside it; r' is padded by 2^-10
+// more there against the rounding of the two distances. The block has no side-plane test: a side
+// plane of a block is not a side plane of its tiles, and behind the camera a light can lie
+// outside the block's plane and inside the tile's.
 #include "../frame/types.glsl"
 
 // The froxels' shape, lights.cluster's parameters: the workgroup is one invocation per slice.
 layout(local_size_x_id = 0) in;
 const uint kSlices = gl_WorkGroupSize.x;
 layout(constant_id = 1) const uint kTile = 32u;  // pixels on a side of a tile
+layout(constant_id = 2) const uint phase = 0u;   // one pipeline per phase (cluster.cpp says why)
+const uint kBlock = 4u;                          // tiles on a side of a block
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
 layout(std430, set = 0, binding = 1) readonly buffer LightBlock { Light lights[]; };
@@ -39,16 +55,24 @@ layout(std430, set = 0, binding = 5) buffer StatsBlock {
   uint slicing_tile, slicing_slices;
 };
 
+// Per block, a slot of block_slot() words: the count (kOverflow when the list did not fit), then
+// the list.
+layout(std430, set = 0, binding = 6) buffer BlockListBlock { uint block_lists[]; };
+
 layout(push_constant) uniform Params {
-  uint phase;
   uint max_per_froxel;
   uint max_indices;
   int pyramid_level;  // the level of depth.pyramid whose texel covers a tile (or its last)
   float max_distance;
   uint tiles_x, tiles_y;
+  uint max_block_lights;
 };
 
 const uint kNone = 0u, kBounded = 1u, kEverywhere = 2u;
+const uint kOverflow = 0xffffffffu;
+
+uvec2 block_count() { return (uvec2(tiles_x, tiles_y) + kBlock - 1u) / kBlock; }
+uint block_slot() { return uint(block_lists.length()) / (block_count().x * block_count().y); }
 
 // The chunk of lights (one per invocation) the workgroup tests together: view-space ends, padded
 // range, reach; and those that reach the tile at all, in ascending order.
@@ -57,6 +81,7 @@ shared vec3 chunk_b[kSlices];  // second end (= first for point and spot lights)
 shared uint chunk_reach[kSlices];
 shared uint chunk_tile[kSlices];
 shared uint chunk_tile_count;
+shared uint chunk_light[kSlices];  // the light each invocation classified
 
 uint add_saturated(uint a, uint b) { return a > 0xffffffffu - b ? 0xffffffffu : a + b; }
 
@@ -112,8 +137,87 @@ bool reaches(uint j, vec3 lo, vec3 hi) {
   return segment_box_distance2(a.xyz, chunk_b[j] - a.xyz, lo, hi) <= a.w * a.w;
 }
 
-// Phases 0 and 2: the lights reaching each froxel of this invocation's tile and slice, counted
-// (phase 0) or written (phase 2) in ascending order.
+// The lateral extent per metre of depth of the pixels [first, last): x in [extent.x, extent.z]·d,
+// y in [extent.y, extent.w]·d.
+vec4 screen_extent(vec2 first, vec2 last) {
+  vec2 ndc0 = first / frame.viewport.xy * 2.0 - 1.0, ndc1 = last / frame.viewport.xy * 2.0 - 1.0;
+  float sx = 1.0 / frame.projection[0][0], sy = -1.0 / frame.projection[1][1];
+  return vec4(ndc0.x * sx, -ndc1.y * sy, ndc1.x * sx, -ndc0.y * sy);
+}
+
+// A light's view-space ends (b = a for point and spot lights) and padded range r'; kNone for
+// directional lights.
+uint light_core(uint i, out vec3 a, out vec3 b, out float r) {
+  a = vec3(0.0);
+  b = vec3(0.0);
+  r = 0.0;
+  Light light = lights[i];
+  if (uint(light.position_type.w) == LIGHT_DIRECTIONAL) return kNone;
+  float range = light.color_range.w;
+  if (range <= 0.0) return kEverywhere;
+  mat3 view = mat3(frame.view);
+  a = view * light.position_type.xyz;
+  b = uint(light.position_type.w) == LIGHT_TUBE ? view * light.end_radius.xyz : a;
+  r = range + exp2(-12.0) * (range + max(length(a), length(b)));
+  return kBounded;
+}
+
+// Phase 0: the block's list. Its depth range is the union of its tiles' (depth.pyramid's texels
+// at the tiles' level), so its box holds each of their boxes.
+void build_block_list() {
+  uvec2 block = gl_WorkGroupID.xy;
+  uint lane = gl_LocalInvocationID.x;
+  uvec2 first_tile = block * kBlock, end_tile = min(first_tile + kBlock, uvec2(tiles_x, tiles_y));
+  ivec2 level_size = textureSize(pyramid, pyramid_level);
+  vec2 depth_range = vec2(3.0e38, -3.0e38);
+  for (uint y = first_tile.y; y < end_tile.y; ++y)
+    for (uint x = first_tile.x; x < end_tile.x; ++x) {
+      vec2 d = texelFetch(pyramid, min(ivec2(x, y), level_size - 1), pyramid_level).rg;
+      depth_range = vec2(min(depth_range.x, d.x), max(depth_range.y, d.y));
+    }
+  vec2 first = vec2(first_tile * kTile), last = min(vec2(end_tile * kTile), frame.viewport.xy);
+  vec3 lo, hi;
+  cell_box(screen_extent(first, last), depth_range.x, depth_range.y, lo, hi);
+
+  uint slot = (block.y * block_count().x + block.x) * block_slot();
+  uint capacity = min(max_block_lights, max(block_slot(), 1u) - 1u);
+  uint count = 0u;
+  uint light_count = frame.counts.x;
+  for (uint base = 0u; base < light_count; base += kSlices) {
+    uint i = base + lane;
+    uint reach = kNone;
+    if (i < light_count) {
+      vec3 a, b;
+      float r;
+      reach = light_core(i, a, b, r);
+      r *= 1.0 + exp2(-10.0);
+      if (reach == kBounded && segment_box_distance2(a, b - a, lo, hi) > r * r) reach = kNone;
+    }
+    chunk_reach[lane] = reach;
+    barrier();
+    if (lane == 0u) {
+      for (uint j = 0u; j < kSlices; ++j) {
+        if (chunk_reach[j] == kNone) continue;
+        if (count < capacity) block_lists[slot + 1u + count] = base + j;
+        ++count;
+      }
+    }
+    barrier();
+  }
+  // The count is lane 0's; the slot's unused words are zero, so the buffer is defined.
+  if (lane == 0u) chunk_tile_count = count;
+  barrier();
+  count = chunk_tile_count;
+  if (lane == 0u) block_lists[slot] = count > capacity ? kOverflow : count;
+  for (uint k = min(count, capacity) + lane; k < capacity; k += kSlices) block_lists[slot + 1u + k] = 0u;
+  // The words past the last slot (the buffer's length is rarely a multiple of the blocks).
+  uint blocks = block_count().x * block_count().y;
+  if (block.x == 0u && block.y == 0u)
+    for (uint k = blocks * block_slot() + lane; k < uint(block_lists.length()); k += kSlices) block_lists[k] = 0u;
+}
+
+// Phases 1 and 3: the lights reaching each froxel of this invocation's tile and slice, counted
+// (phase 1) or written (phase 3) in ascending order.
 void build_lists() {
   uvec2 tile = gl_WorkGroupID.xy;
   uint slice = gl_LocalInvocationID.x;
@@ -129,11 +233,8 @@ void build_lists() {
   deep = min(deep, depth_range.y);
   bool occupied = near <= deep;
 
-  // Lateral extent per metre of depth: x in [extent.x, extent.z]·d, y in [extent.y, extent.w]·d.
   vec2 first = vec2(tile * kTile), last = min(vec2((tile + 1u) * kTile), frame.viewport.xy);
-  vec2 ndc0 = first / frame.viewport.xy * 2.0 - 1.0, ndc1 = last / frame.viewport.xy * 2.0 - 1.0;
-  float sx = 1.0 / frame.projection[0][0], sy = -1.0 / frame.projection[1][1];
-  vec4 extent = vec4(ndc0.x * sx, -ndc1.y * sy, ndc1.x * sx, -ndc0.y * sy);
+  vec4 extent = screen_extent(first, last);
   // The tile's side planes through the camera, normals inward.
   vec3 planes[4] = vec3[4](normalize(vec3(1.0, 0.0, extent.x)), normalize(vec3(0.0, 1.0, extent.y)),
                            normalize(vec3(-1.0, 0.0, -extent.z)), normalize(vec3(0.0, -1.0, -extent.w)));
@@ -142,30 +243,28 @@ void build_lists() {
   cell_box(extent, near, deep, lo, hi);
 
   uint offset = 0u, stored = 0u;
-  if (phase == 2u) {
+  if (phase == 3u) {
     uvec2 list = imageLoad(clusters, ivec3(tile, slice)).xy;
     offset = list.x;
     stored = list.y;
   }
+  // The lights to test: the block's list, or every light when it did not fit.
+  uvec2 block = tile / kBlock;
+  uint slot = (block.y * block_count().x + block.x) * block_slot();
+  uint block_lights = block_lists[slot];
+  bool every_light = block_lights == kOverflow;
+  uint light_count = every_light ? frame.counts.x : block_lights;
   uint count = 0u;
-  uint light_count = frame.counts.x;
-  mat3 view = mat3(frame.view);
   for (uint base = 0u; base < light_count; base += kSlices) {
     // Each invocation classifies one light of the chunk against the whole tile.
-    uint i = base + gl_LocalInvocationID.x;
+    uint k = base + gl_LocalInvocationID.x;
+    uint i = every_light ? k : block_lists[slot + 1u + min(k, max(block_slot(), 2u) - 2u)];
     uint reach = kNone;
     vec3 a = vec3(0.0), b = vec3(0.0);
     float r = 0.0;
-    if (i < light_count && uint(lights[i].position_type.w) != LIGHT_DIRECTIONAL) {
-      Light light = lights[i];
-      float range = light.color_range.w;
-      if (range <= 0.0) {
-        reach = kEverywhere;
-      } else {
-        a = view * light.position_type.xyz;
-        b = uint(light.position_type.w) == LIGHT_TUBE ? view * light.end_radius.xyz : a;
-        r = range + exp2(-12.0) * (range + max(length(a), length(b)));
-        reach = kBounded;
+    if (k < light_count) {
+      reach = light_core(i, a, b, r);
+      if (reach == kBounded) {
         for (int p = 0; p < 4; ++p)
           if (max(dot(planes[p], a), dot(planes[p], b)) < -r) reach = kNone;
         if (reach == kBounded && segment_box_distance2(a, b - a, tile_lo, tile_hi) > r * r) reach = kNone;
@@ -174,6 +273,7 @@ void build_lists() {
     chunk_a[gl_LocalInvocationID.x] = vec4(a, r);
     chunk_b[gl_LocalInvocationID.x] = b;
     chunk_reach[gl_LocalInvocationID.x] = reach;
+    chunk_light[gl_LocalInvocationID.x] = i;
     barrier();
     // Most lights miss most tiles: each slice then tests only those that reach the tile.
     if (gl_LocalInvocationID.x == 0u) {
@@ -187,16 +287,16 @@ void build_lists() {
       for (uint c = 0u; c < chunk_tile_count; ++c) {
         uint j = chunk_tile[c];
         if (!reaches(j, lo, hi)) continue;
-        if (phase == 2u && count < stored) indices[offset + count] = base + j;
+        if (phase == 3u && count < stored) indices[offset + count] = chunk_light[j];
         ++count;
       }
     }
     barrier();
   }
-  if (phase == 0u) imageStore(clusters, ivec3(tile, slice), uvec4(0u, count, 0u, 0u));
+  if (phase == 1u) imageStore(clusters, ivec3(tile, slice), uvec4(0u, count, 0u, 0u));
 }
 
-// Phase 1: offsets from the counts, in one workgroup (each invocation a run of froxels), and the
+// Phase 2: offsets from the counts, in one workgroup (each invocation a run of froxels), and the
 // statistics.
 shared uint run_entries[kSlices], run_wanted[kSlices], run_lit[kSlices], run_max[kSlices], run_over[kSlices];
 shared uint run_dropped[kSlices], run_cut[kSlices], run_cut_entries[kSlices], run_lights[kSlices];
@@ -285,7 +385,7 @@ void place_lists() {
   slicing_slices = kSlices;
 }
 
-// Phase 2, besides the lists: the entries past the last one are zero, so the buffer is defined.
+// Phase 3, besides the lists: the entries past the last one are zero, so the buffer is defined.
 void zero_tail() {
   uint groups = tiles_x * tiles_y;
   uint group = gl_WorkGroupID.y * tiles_x + gl_WorkGroupID.x;
@@ -294,10 +394,12 @@ void zero_tail() {
 }
 
 void main() {
-  if (phase == 1u) {
+  if (phase == 0u) {
+    build_block_list();
+  } else if (phase == 2u) {
     place_lists();
-    return;
+  } else {
+    if (phase == 3u) zero_tail();
+    build_lists();
   }
-  if (phase == 2u) zero_tail();
-  build_lists();
 }

@@ -24,10 +24,11 @@ namespace nightcap {
 namespace {
 
 struct ClusterConstants {
-  uint32_t phase, max_per_froxel, max_indices;
+  uint32_t max_per_froxel, max_indices;
   int32_t pyramid_level;
   float max_distance;
   uint32_t tiles_x, tiles_y;
+  uint32_t max_block_lights;
 };
 
 // A parameter's value as given: 24 or 24.5, not 24.000000.
@@ -94,6 +95,8 @@ PassDecl lights_cluster_pass() {
       .write("lights.cluster_indices", Use::storage_write,
              BufferDecl{ResourceKind::buffer, uint64_t(kClusterIndexCapacity) * 4})
       .write("lights.cluster_stats", Use::storage_write, BufferDecl{ResourceKind::buffer, sizeof(GpuClusterStats)})
+      .write("lights.cluster_blocks", Use::storage_write,
+             BufferDecl{ResourceKind::buffer, uint64_t(kClusterBlockCapacity) * 4})
       .layout("lights.cluster_indices", cluster_index_schema())
       .layout("lights.cluster_stats", cluster_stats_schema())
       .needs("local_lights")
@@ -105,6 +108,9 @@ PassDecl lights_cluster_pass() {
       .param("max_lights_per_froxel", 256, 1, 4096, "longest list a froxel keeps (the lights of lowest index)")
       .param("max_indices", kClusterIndexCapacity, 0, kClusterIndexCapacity,
              "entries all lists together keep; froxels past it in froxel order (farthest slice last) are cut")
+      .param("max_block_lights", kClusterBlockCapacity, 0, kClusterBlockCapacity,
+             "longest list a block of tiles keeps (also its share of lights.cluster_blocks); the tiles of a "
+             "block with more test every light: time, not the lists, depends on it")
       .warn_from("lights.cluster_stats", overflow_warning)
       .push_constants<ClusterConstants>()
       .shader("lights/cluster.comp")
@@ -121,30 +127,38 @@ PassDecl lights_cluster_pass() {
         // Level 0 is half resolution: level L's texel covers 2^(L+1) pixels, a tile at
         // L = log2(tile_size) − 1.
         const uint32_t tile_level = std::bit_width(uint32_t(tile_size)) - 2;
-        ClusterConstants constants{0,
-                                   uint32_t(ctx.param("max_lights_per_froxel")),
-                                   uint32_t(ctx.param("max_indices")),
-                                   int32_t(std::min(tile_level, levels - 1)),
-                                   float(ctx.param("max_distance")),
-                                   tiles.width,
-                                   tiles.height};
+        const ClusterConstants constants{uint32_t(ctx.param("max_lights_per_froxel")),
+                                         uint32_t(ctx.param("max_indices")),
+                                         int32_t(std::min(tile_level, levels - 1)),
+                                         float(ctx.param("max_distance")),
+                                         tiles.width,
+                                         tiles.height,
+                                         uint32_t(ctx.param("max_block_lights"))};
         // The shape as specialization constants: the slices are the workgroup (an invocation
-        // each) and the tile a constant divisor, no loop bound read from memory.
-        ctx.bind_pipeline({int32_t(slices), int32_t(tile_size)});
-        ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
-                  Binding::storage(ctx.slot("frame.lights"), "frame.lights"),
-                  Binding::texture(ctx.slot("depth.pyramid"), "depth.pyramid", ctx.nearest_clamp()),
-                  Binding::image(ctx.slot("lights.clusters"), "lights.clusters", 0),
-                  Binding::storage(ctx.slot("lights.cluster_indices"), "lights.cluster_indices"),
-                  Binding::storage(ctx.slot("lights.cluster_stats"), "lights.cluster_stats")});
-        for (uint32_t phase = 0; phase < 3; ++phase) {
-          constants.phase = phase;
+        // each) and the tile a constant divisor, no loop bound read from memory. Each phase is
+        // its own pipeline too: lavapipe runs every side of a branch, so a phase chosen by a push
+        // constant would pay for the others' loops in every workgroup.
+        const std::vector<Binding> bindings{
+            Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
+            Binding::storage(ctx.slot("frame.lights"), "frame.lights"),
+            Binding::texture(ctx.slot("depth.pyramid"), "depth.pyramid", ctx.nearest_clamp()),
+            Binding::image(ctx.slot("lights.clusters"), "lights.clusters", 0),
+            Binding::storage(ctx.slot("lights.cluster_indices"), "lights.cluster_indices"),
+            Binding::storage(ctx.slot("lights.cluster_stats"), "lights.cluster_stats"),
+            Binding::storage(ctx.slot("lights.cluster_blocks"), "lights.cluster_blocks")};
+        const uint32_t blocks_x = (tiles.width + kClusterBlock - 1) / kClusterBlock;
+        const uint32_t blocks_y = (tiles.height + kClusterBlock - 1) / kClusterBlock;
+        for (int32_t phase = 0; phase < 4; ++phase) {
+          ctx.bind_pipeline({int32_t(slices), int32_t(tile_size), phase});
+          ctx.push(bindings);
           ctx.push_constants(constants);
-          if (phase == 1)
+          if (phase == 0)
+            vkCmdDispatch(ctx.cmd(), blocks_x, blocks_y, 1);
+          else if (phase == 2)
             vkCmdDispatch(ctx.cmd(), 1, 1, 1);
           else
             vkCmdDispatch(ctx.cmd(), tiles.width, tiles.height, 1);
-          if (phase < 2) ctx.storage_barrier();
+          if (phase < 3) ctx.storage_barrier();
         }
       });
 }

@@ -27,6 +27,12 @@ constexpr uint32_t kClusterTileSizes[] = {8, 16, 32, 64};
 constexpr uint32_t kClusterMinSlices = 16, kClusterMaxSlices = 128;
 // Entries lights.cluster_indices holds (4 MiB): about 18 per froxel at 1280×720, 2 at 3840×2160.
 constexpr uint32_t kClusterIndexCapacity = 1u << 20;
+// Tiles on a side of a block: lights.cluster lists the lights that reach each block first, and a
+// tile tests only its block's (cluster.comp's kBlock).
+constexpr uint32_t kClusterBlock = 4;
+// Words of lights.cluster_blocks (4 MiB), shared equally by the blocks: 17 475 lights a block at
+// 1280×720 with 32-pixel tiles; a block whose list is longer makes its tiles test every light.
+constexpr uint32_t kClusterBlockCapacity = 1u << 20;
 
 // lights.cluster_stats: what the lists hold, what the caps cut and how the depth was sliced. Sums
 // saturate at 2^32 − 1.

@@ -766,7 +766,8 @@ void bench_empty(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
   figure("frame_ms_empty", median(frame_ms));
 }
 
-// lights.cluster on the street shot of a 2 km map and on the built-in city, each frame rendered
+// lights.cluster on the street shot of a 2 km map, of the 16 km map (the built-in scene: thousands
+// of lights survive the frame's culling there) and on the built-in city, each frame rendered
 // only as far as the clusters (the map's lighting.deferred shades every light at every pixel and
 // takes minutes at 1280x720 on lavapipe): GPU time in the frame (timestamps, median of `repeats`
 // walking frames after a warm-up one), the isolated run's wall clock on the last frame's recorded
@@ -777,7 +778,9 @@ void bench_cluster(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width,
   nc::Scene city = nc::build_city(1);
   nc::add_default_lighting(city);
   const std::vector<std::pair<std::string, nc::Scene>> scenes = {
-      {"map_street", nc::build_map({1, 2.0, nc::Shot::street})}, {"city", std::move(city)}};
+      {"map_street", nc::build_map({1, 2.0, nc::Shot::street})},
+      {"map16_street", nc::build_map({1, 16.0, nc::Shot::street})},
+      {"city", std::move(city)}};
   for (const auto& [key, scene] : scenes) {
     nc::RenderSettings settings;
     settings.width = width;
@@ -808,7 +811,7 @@ void bench_cluster(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width,
     nc::GpuClusterStats stats{};
     std::memcpy(&stats, captured.execution.final_version("lights.cluster_stats")->bytes->data(), sizeof(stats));
     const double mean = stats.froxels_lit ? double(stats.entries) / stats.froxels_lit : 0.0;
-    table() << std::left << std::setw(12) << key << std::right << std::fixed << std::setprecision(3) << median(ms)
+    table() << std::left << std::setw(14) << key << std::right << std::fixed << std::setprecision(3) << median(ms)
             << " ms (timestamps), " << median(wall) << " ms isolated wall clock; " << stats.lights << " local lights, "
             << stats.froxels_lit << " of " << stats.froxels << " froxels lit, mean list " << std::setprecision(2)
             << mean << ", longest " << stats.max_count << ", " << stats.entries << " entries\n";

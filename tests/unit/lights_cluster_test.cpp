@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <span>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -41,6 +42,7 @@ struct ClusterFrame {
   std::shared_ptr<const std::vector<uint8_t>> pyramid, clusters;
   ImageExtent pyramid_extent, cluster_extent;
   std::vector<uint32_t> indices;
+  std::vector<uint32_t> blocks;  // lights.cluster_blocks
   GpuClusterStats stats{};
   // lights.cluster's parameters the frame ran with.
   double max_distance = 2000;
@@ -75,6 +77,7 @@ ClusterFrame cluster_frame(const Versions& v, const ParamValues& params = {}) {
   c.clusters = v.at("lights.clusters").second;
   c.cluster_extent = v.at("lights.clusters").first.extent;
   c.indices = records<uint32_t>(*v.at("lights.cluster_indices").second);
+  c.blocks = records<uint32_t>(*v.at("lights.cluster_blocks").second);
   std::memcpy(&c.stats, v.at("lights.cluster_stats").second->data(), sizeof(c.stats));
   c.max_distance = all.at("max_distance");
   c.tile = uint32_t(all.at("tile_size"));
@@ -82,7 +85,8 @@ ClusterFrame cluster_frame(const Versions& v, const ParamValues& params = {}) {
   return c;
 }
 
-const std::vector<std::string> kClusterOutputs = {"lights.clusters", "lights.cluster_indices", "lights.cluster_stats"};
+const std::vector<std::string> kClusterOutputs = {"lights.clusters", "lights.cluster_indices", "lights.cluster_stats",
+                                                  "lights.cluster_blocks"};
 
 Versions frame_versions(const RenderedFrame& frame) {
   Versions v;
@@ -364,6 +368,105 @@ TEST_F(LightsCluster, ManyLightsMatchTheReference) {
   const ClusterFrame c = run_synthetic(many_lights());
   expect_matches_reference("2000 synthetic lights", c);
   EXPECT_EQ(c.stats.lights, 2001u);
+}
+
+// lights.cluster_blocks, as cluster.comp lays it out: per block of kClusterBlock² tiles, a slot of
+// equal size holding the count (or kOverflow) and the block's list.
+struct BlockLists {
+  static constexpr uint32_t kOverflow = 0xffffffffu;
+  uint32_t blocks_x, blocks_y, slot;
+  const std::vector<uint32_t>& words;
+  BlockLists(const ClusterFrame& c)
+      : blocks_x((c.cluster_extent.width + kClusterBlock - 1) / kClusterBlock),
+        blocks_y((c.cluster_extent.height + kClusterBlock - 1) / kClusterBlock),
+        slot(uint32_t(c.blocks.size()) / (blocks_x * blocks_y)),
+        words(c.blocks) {}
+  uint32_t count(uint32_t bx, uint32_t by) const { return words[(by * blocks_x + bx) * slot]; }
+  std::span<const uint32_t> list(uint32_t bx, uint32_t by) const {
+    return {words.data() + (by * blocks_x + bx) * slot + 1, count(bx, by)};
+  }
+};
+
+// The lists a tile's froxels hold are drawn from its block's (so a block's test drops no light any
+// of its froxels keeps), each block list ascends, and what a slot does not use is zero. Returns
+// the mean length of a block's list.
+double expect_block_lists_cover_their_froxels(const ClusterFrame& c) {
+  const BlockLists blocks(c);
+  EXPECT_GE(blocks.slot, 2u);
+  uint64_t block_entries = 0;
+  for (uint32_t by = 0; by < blocks.blocks_y; ++by)
+    for (uint32_t bx = 0; bx < blocks.blocks_x; ++bx) {
+      const std::string block = "block (" + std::to_string(bx) + ", " + std::to_string(by) + ")";
+      if (blocks.count(bx, by) == BlockLists::kOverflow) {
+        ADD_FAILURE() << block << " overflowed its slot of " << blocks.slot << " words";
+        continue;
+      }
+      const std::span<const uint32_t> list = blocks.list(bx, by);
+      EXPECT_TRUE(std::is_sorted(list.begin(), list.end()) &&
+                  std::adjacent_find(list.begin(), list.end()) == list.end())
+          << block;
+      block_entries += list.size();
+      const auto unused = c.blocks.begin() + (by * blocks.blocks_x + bx) * blocks.slot + 1 + list.size();
+      EXPECT_TRUE(std::all_of(unused, unused + (blocks.slot - 1 - list.size()), [](uint32_t w) { return w == 0; }))
+          << block;
+      for (uint32_t ty = by * kClusterBlock; ty < std::min((by + 1) * kClusterBlock, c.cluster_extent.height); ++ty)
+        for (uint32_t tx = bx * kClusterBlock; tx < std::min((bx + 1) * kClusterBlock, c.cluster_extent.width); ++tx)
+          for (uint32_t k = 0; k < c.slices; ++k) {
+            const auto [offset, count] = c.list(tx, ty, k);
+            for (uint32_t e = offset; e < offset + count; ++e)
+              if (!std::binary_search(list.begin(), list.end(), c.indices[e])) {
+                ADD_FAILURE() << froxel_name(tx, ty, k) << " lists light " << c.indices[e] << ", " << block
+                              << " does not";
+                return 0;
+              }
+          }
+    }
+  EXPECT_TRUE(std::all_of(c.blocks.begin() + blocks.blocks_x * blocks.blocks_y * blocks.slot, c.blocks.end(),
+                          [](uint32_t w) { return w == 0; }));
+  return double(block_entries) / (blocks.blocks_x * blocks.blocks_y);
+}
+
+TEST_F(LightsCluster, BlockListsHoldEveryLightTheirFroxelsList) {
+  // Random depths with sky in every block: each block's box spans the whole view's depth.
+  const ClusterFrame synthetic = run_synthetic(many_lights());
+  const double synthetic_mean = expect_block_lists_cover_their_froxels(synthetic);
+  // A street of the map, where what the blocks are for shows: most lights miss most blocks.
+  const Scene scene = build_map({1, 2.0, Shot::street});
+  Renderer renderer(*gpu_, scene, cluster_settings(1280, 720));
+  const ClusterFrame street = cluster_frame(frame_versions(renderer.render_frame(0, true)));
+  const double street_mean = expect_block_lists_cover_their_froxels(street);
+  std::printf("a block lists %.1f of 2002 synthetic lights; %.1f of the street's %zu\n", synthetic_mean, street_mean,
+              street.lights.size());
+  EXPECT_LT(street_mean, 0.25 * double(street.lights.size()));
+}
+
+// A block whose list does not fit is marked, and its tiles test every light: the lists stay the
+// reference's.
+TEST_F(LightsCluster, BlocksThatOverflowTestEveryLight) {
+  const Synthetic s = many_lights();
+  // A cap at the median of the lists' lengths: about half the blocks overflow.
+  const ClusterFrame uncapped = run_synthetic(s);
+  const BlockLists uncapped_blocks(uncapped);
+  std::vector<uint32_t> counts;
+  for (uint32_t by = 0; by < uncapped_blocks.blocks_y; ++by)
+    for (uint32_t bx = 0; bx < uncapped_blocks.blocks_x; ++bx) counts.push_back(uncapped_blocks.count(bx, by));
+  std::sort(counts.begin(), counts.end());
+  const uint32_t cap = counts[counts.size() / 2];
+  const ClusterFrame c = run_synthetic(s, {{"max_block_lights", cap}});
+  const BlockLists blocks(c);
+  uint32_t overflowed = 0;
+  for (uint32_t by = 0; by < blocks.blocks_y; ++by)
+    for (uint32_t bx = 0; bx < blocks.blocks_x; ++bx) {
+      const uint32_t count = blocks.count(bx, by);
+      if (count == BlockLists::kOverflow)
+        ++overflowed;
+      else
+        EXPECT_EQ(count, uncapped_blocks.count(bx, by));
+    }
+  EXPECT_GT(overflowed, 0u);
+  EXPECT_LT(overflowed, blocks.blocks_x * blocks.blocks_y) << "some blocks keep their lists";
+  EXPECT_EQ(c.indices, uncapped.indices);
+  expect_matches_reference(("2000 synthetic lights, blocks of at most " + std::to_string(cap) + " lights").c_str(), c);
 }
 
 // Shapes other than frame.md's 32×32 × 64: finer and coarser tiles, fewer and more slices.
