@@ -9,6 +9,8 @@
 #include <cstring>
 #include <fstream>
 
+#include "passes/frame/frame_passes.h"
+#include "passes/frame/gpu_types.h"
 #include "passes/frame/renderer.h"
 #include "passes/scene/scene_kit.h"
 #include "passes/scene/time_of_day.h"
@@ -173,14 +175,17 @@ class TodShadows : public GpuTest {
   }
 };
 
-// The street and rooftop shots of a 1 km map, at baked hours and between them: of the pixels in
+// The street and rooftop shots of a 1 km map, at baked hours and between them, by the sun and
+// by the moon: of the pixels in
 // shadow (visibility below 1) with the filter or without, the share where both agree.
 TEST_F(TodShadows, FilteredShadowAgreesWithUnfiltered) {
   const TodTable table = bake_tod(build_map({3, 1.0, Shot::street}), 3, 1.0);
   uint32_t dropped_total = 0;
   for (Shot shot : {Shot::street, Shot::rooftop}) {
     const Scene scene = build_map({3, 1.0, shot});
-    for (double hour : {8.0, 10.0, 16.0, 9.0, 15.0}) {
+    // By day, baked and between; 7:00 between sunrise (level light, baked from both sides) and
+    // 8:00; 21:00 by the moon.
+    for (double hour : {8.0, 10.0, 16.0, 9.0, 15.0, 7.0, 21.0}) {
       const Sun full = render(scene, nullptr, hour), filtered = render(scene, &table, hour);
       size_t shadowed = 0, agree = 0;
       for (size_t i = 0; i < full.visibility.size(); ++i) {
@@ -207,6 +212,54 @@ TEST_F(TodShadows, FilteredShadowAgreesWithUnfiltered) {
     }
   }
   EXPECT_GT(dropped_total, 0u) << "the filter must drop casters for the comparison to mean something";
+}
+
+// Stress: a table that hides every static caster at 22:00 and 0:00, read at 23:30 (the union
+// across midnight): only the moving casters are drawn, and shadow.cull run again on its recorded
+// inputs writes the same bytes (what replay --verify checks). A scene.tod of the wrong size is
+// refused with a message naming it.
+TEST_F(TodShadows, EveryStaticCasterDroppedAcrossMidnightReplays) {
+  Scene scene = build_map({1, 0.5, Shot::street});
+  set_hour(scene, 23.5);
+  scene.tod_hour = 23.5;
+  size_t moving = 0;
+  for (const Instance& instance : scene.instances) {
+    scene.tod_visible.push_back(instance.moving ? kTodAllHours : uint16_t(kTodAllHours & ~(1u << 11 | 1u)));
+    moving += instance.moving;
+  }
+  ASSERT_GT(moving, 0u);
+  RenderSettings settings;
+  settings.width = 320;
+  settings.height = 180;
+  settings.path.motion = CameraPath::Motion::still;
+  settings.sinks = {"shadow.sun"};
+  Renderer renderer(*gpu_, scene, settings);
+  const RenderedFrame frame = renderer.render_frame(0, true);
+  EXPECT_EQ(first_non_finite(frame.execution), "");
+  const RecordedPass cull = recorded_pass(frame, "shadow.cull");
+  ASSERT_FALSE(cull.outputs.empty()) << "the moon is up at 23:30: shadow.cull runs";
+  ShadowCullStats stats{};
+  std::memcpy(&stats, cull.outputs.at("shadow.cull_stats").bytes->data(), sizeof(stats));
+  const auto draws = host_records<GpuDraw>(*cull.outputs.at("draws.shadow.cascades").bytes);
+  uint32_t dropped = 0;
+  for (uint32_t k = 0; k < kShadowCascades; ++k) dropped += stats.casters_tod_dropped[k];
+  EXPECT_GT(dropped, 0u);
+  for (const GpuDraw& d : draws) EXPECT_TRUE(scene.instances.at(d.instance).moving) << "instance " << d.instance;
+  const IsolatedRun again = run(shadow_cull_pass(), cull.inputs, settings.width, settings.height);
+  for (const auto& [name, output] : cull.outputs)
+    EXPECT_TRUE(*again.outputs.at(name) == *output.bytes) << name << " differs when run again";
+
+  auto inputs = cull.inputs;
+  auto shorter = std::make_shared<std::vector<uint8_t>>(*inputs.at("scene.tod").bytes);
+  shorter->resize(shorter->size() - 4);
+  inputs.at("scene.tod").bytes = shorter;
+  inputs.at("scene.tod").desc.buffer_size = shorter->size();
+  try {
+    run(shadow_cull_pass(), inputs, settings.width, settings.height);
+    ADD_FAILURE() << "a scene.tod without a mask for every instance ran";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.tod"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
