@@ -51,9 +51,10 @@ Light sky_light(double hour) {
   if (to_sun.y > 0.0) {
     light.direction = glm::vec3(-to_sun);
     light.color = {1.0f, 0.95f, 0.88f};
-    // A tenth of real sunlight: a sunlit facade then stays inside the exposure histogram's range
-    // (2¹² nits), and the neon still shows.
-    light.intensity = 10000.0f;
+    // 2% of real sunlight: the frame has no sky light, so the shadowed majority of the view sets
+    // the exposure, and at 10 000 lux sunlit facades burnt out to white; at 2 000 the windows
+    // still show on most of them.
+    light.intensity = 2000.0f;
   } else {
     light.direction = glm::vec3(to_sun);  // the moon stands opposite the sun
   }
