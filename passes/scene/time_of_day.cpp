@@ -234,8 +234,6 @@ class LightRaster {
     return false;
   }
 
-  double reference_depth() const { return origin_.z; }
-
  private:
   Basis basis_;
   double texel_ = 1.0;
@@ -324,8 +322,7 @@ bool caster_visible(const Scene& scene, const Item& item, const LightRaster& ras
   // The box first: behind the occluders everywhere, nothing of it can show.
   {
     glm::dvec3 min(INFINITY), max(-INFINITY);
-    const glm::dmat4 identity(1.0);
-    const LightTransform world = raster.transform(identity);
+    const LightTransform world = raster.transform(glm::dmat4(1.0));
     for (int k = 0; k < 8; ++k) {
       const glm::dvec3 q = world.apply(
           glm::dvec3(k & 1 ? item.hi.x : item.lo.x, k & 2 ? item.hi.y : item.lo.y, k & 4 ? item.hi.z : item.lo.z));
