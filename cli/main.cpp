@@ -27,6 +27,7 @@
 #include "passes/core/shader.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/renderer.h"
+#include "passes/scene/time_of_day.h"
 #include "replay/isolate.h"
 #include "replay/replay.h"
 #include "reports/capture_report.h"
@@ -112,6 +113,8 @@ struct RenderFlags {
   uint32_t frames = 1, seed = 1;
   double map_size = 0.0;  // 0: not given
   double fov = 45.0;
+  std::optional<double> hour;
+  std::string tod;
   std::vector<std::string> sets, inject_nan;
   std::vector<uint32_t> cuts;
   bool force = false, city_block = false;
@@ -174,17 +177,25 @@ int run_render(const RenderFlags& flags) {
   if (map_flags && !scene_path.empty())
     throw UsageError("--shot and --map-size choose the built-in map, not a glTF scene");
   if (flags.city_block && !scene_path.empty()) throw UsageError("--city-block is a built-in scene, not a glTF scene");
+  if (!flags.tod.empty() && (!scene_path.empty() || flags.city_block))
+    throw UsageError("--tod: a time-of-day table is baked for the built-in map (`nightcap bake-tod`), not for " +
+                     (flags.city_block ? std::string("the city block") : scene_path));
   nc::Scene scene;
+  nc::MapOptions options;
   if (!scene_path.empty()) {
     scene = nc::load_gltf(scene_path);
   } else if (flags.city_block) {
     scene = nc::build_city(seed);
   } else {
-    nc::MapOptions options;
     options.seed = seed;
     if (flags.map_size != 0.0) options.size_km = flags.map_size;
     if (!flags.shot.empty()) options.shot = nc::parse_shot(flags.shot);
     scene = nc::build_map(options);
+  }
+  if (flags.hour) nc::set_hour(scene, *flags.hour);
+  if (!flags.tod.empty()) {
+    scene.tod_visible = nc::read_tod(flags.tod, options.seed, options.size_km, scene).visible;
+    scene.tod_hour = *flags.hour;
   }
   nc::add_default_lighting(scene);
   settings.description = {{"width", settings.width},
@@ -205,6 +216,8 @@ int run_render(const RenderFlags& flags) {
                           {"fov", fov},
                           {"codec", codec},
                           {"inject_nan", flags.inject_nan}};
+  if (flags.hour) settings.description["hour"] = *flags.hour;
+  if (!flags.tod.empty()) settings.description["tod"] = flags.tod;
   nc::GpuDevice gpu({flags.device, validation_requested()});
   stop_on_signals();
   nc::RenderSummary summary = nc::render_to_capture(gpu, scene, settings, flags.out, flags.force, render_monitor());
@@ -213,6 +226,25 @@ int run_render(const RenderFlags& flags) {
   std::cout << "capture written to " << flags.out << " (" << recorded << " frame" << (recorded > 1 ? "s" : "") << ", "
             << gpu.name() << ", " << std::fixed << std::setprecision(1) << summary.disk_bytes / 1048576.0
             << " MiB on disk)\n";
+  return 0;
+}
+
+int run_bake_tod(uint32_t seed, double size_km, const std::string& out) {
+  const auto start = std::chrono::steady_clock::now();
+  const nc::Scene scene = nc::build_map({seed, size_km, nc::Shot::street});
+  const nc::TodTable table = nc::bake_tod(scene, seed, size_km);
+  nc::write_tod(table, out);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "time-of-day table written to " << out << " (" << table.visible.size() << " instances, latitude "
+            << nc::kTodLatitudeDegrees << "° N, equinox; " << std::fixed << std::setprecision(1) << seconds
+            << " s)\nstatic casters hidden from the light at each baked hour:";
+  for (uint32_t slot = 0; slot < nc::kTodHours; ++slot) {
+    size_t hidden = 0;
+    for (uint16_t bits : table.visible) hidden += !(bits >> slot & 1);
+    std::cout << (slot % 6 ? ", " : "\n  ") << std::setw(2) << std::setfill('0') << slot * 2 << ":00 "
+              << std::setfill(' ') << hidden;
+  }
+  std::cout << "\n";
   return 0;
 }
 
@@ -573,6 +605,15 @@ int main(int argc, char** argv) {
       ->excludes(shot, map_size);
   render->add_option("--device", r.device, "Vulkan device name (substring); default: lavapipe (llvmpipe)");
   render->add_option("--set", r.sets, "PASS.PARAM=VALUE parameter override (repeatable)");
+  auto* hour = render->add_option(
+      "--hour", r.hour,
+      "time of day, 0 to 24: the scene's sun (or, at night, the full moon) for an equinox at 37.8° N replaces its "
+      "first directional light");
+  render
+      ->add_option("--tod", r.tod,
+                   "time-of-day table of `bake-tod` for this map: casters hidden from the light around --hour cast "
+                   "no shadow")
+      ->needs(hour);
   render->add_option("--orbit", r.orbit, "orbit camera THETA,PHI,RADIUS (degrees, scene units)");
   render->add_option("--target", r.target, "orbit target X,Y,Z (default 0,0,0)");
   render->add_option("--fov", r.fov, "vertical field of view of the orbit camera, degrees")->capture_default_str();
@@ -585,6 +626,17 @@ int main(int argc, char** argv) {
                      "PASS:X,Y: after PASS runs, write a NaN into its first float output at output pixel (X, Y), "
                      "to test `inspect` (nan) and the passes after it (repeatable, one per pass)");
   render->add_flag("--force", r.force, "replace an existing capture");
+
+  uint32_t bake_seed = 1;
+  double bake_size = 16.0;
+  std::string bake_out;
+  auto* bake_tod = app.add_subcommand(
+      "bake-tod",
+      "Bake which casters of the built-in map can cast a visible shadow at each of 12 hours (every 2 h): each 256 m "
+      "sector and its 8 neighbours rasterised from the sun or moon; `render --hour H --tod FILE` reads it");
+  bake_tod->add_option("--scene-seed", bake_seed, "seed of the built-in map")->capture_default_str();
+  bake_tod->add_option("--map-size", bake_size, "side of the built-in map in km (0.5 to 16)")->capture_default_str();
+  bake_tod->add_option("-o,--output", bake_out, "table file to write (replaced atomically)")->required();
 
   std::string capture_path, capture_b;
   auto* passes = app.add_subcommand("passes", "List the passes of a capture");
@@ -707,6 +759,7 @@ int main(int argc, char** argv) {
   int code = kExitBadInput;
   try {
     if (*render) code = run_render(r);
+    if (*bake_tod) code = run_bake_tod(bake_seed, bake_size, bake_out);
     if (*passes) code = run_passes(capture_path, json);
     if (*replay) code = run_replay(capture_path, frame, pass_names, sets, shaders, device, verify, chain, json);
     if (*diff) {

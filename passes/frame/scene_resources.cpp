@@ -196,6 +196,16 @@ Imports scene_imports(const Scene& scene) {
   }
   imports["scene.decals"] = buffer(ResourceKind::buffer, bytes_of(decals));
 
+  std::vector<uint32_t> tod;
+  if (!scene.tod_visible.empty()) {
+    const TodRecordHeader header{float(scene.tod_hour), uint32_t(scene.tod_visible.size())};
+    static_assert(sizeof(header) == 2 * sizeof(uint32_t));
+    tod.resize(2);
+    std::memcpy(tod.data(), &header, sizeof(header));
+    tod.insert(tod.end(), scene.tod_visible.begin(), scene.tod_visible.end());
+  }
+  imports["scene.tod"] = buffer(ResourceKind::buffer, bytes_of(tod));
+
   for (uint32_t i = 0; i < scene.textures.size(); ++i)
     imports[texture_resource(i)] = texture_with_mips(scene.textures[i]);
   Texture white_texture{"white", 1, 1, false, {255, 255, 255, 255}};

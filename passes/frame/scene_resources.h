@@ -58,6 +58,14 @@ struct DecalRecord {
 };
 static_assert(sizeof(DecalRecord) == 168);
 
+// scene.tod: the time-of-day table of Scene::tod_visible (nothing when none is loaded): this
+// header, then one uint32 per instance (bit k: it casts a visible shadow at 2k:00). shadow.cull
+// keeps a static caster only when it is visible at a baked hour tod_hour_bits(hour) names.
+struct TodRecordHeader {
+  float hour;
+  uint32_t instances;
+};
+
 // frame.camera: this frame's and the previous frame's camera (the same on a cut), and the clock.
 struct CameraRecordGpu {
   double world[16], previous_world[16];
@@ -76,7 +84,7 @@ struct ImportedData {
 using Imports = std::map<std::string, ImportedData>;
 
 // scene.geometry (pack_geometry), scene.meshes, scene.instances, scene.hierarchy
-// (passes/cull/hierarchy.h), scene.materials, scene.lights, scene.decals and scene.texture.<n> (mip chains
+// (passes/cull/hierarchy.h), scene.materials, scene.lights, scene.decals, scene.tod and scene.texture.<n> (mip chains
 // built here; the last texture is 1×1 white, bound where a material has none).
 Imports scene_imports(const Scene& scene);
 // frame.camera of frame `frame_index` (at frame_index × kFrameSeconds); `cut`: the view jumped.

@@ -177,6 +177,10 @@ struct Scene {
   std::vector<Decal> decals;       // projected decals
   std::optional<Camera> camera;    // the first glTF camera, if any
   std::vector<std::string> notes;  // what was approximated, e.g. BLEND drawn as opaque
+  // A table of `nightcap bake-tod` for `tod_hour` (passes/scene/time_of_day.h): per instance, bit
+  // k set when it can cast a visible shadow at 2k:00. Empty: none loaded, every caster casts.
+  std::vector<uint16_t> tod_visible;
+  double tod_hour = 0.0;
 
   uint32_t material_of(const Instance& instance) const {
     return instance.material >= 0 ? uint32_t(instance.material) : primitives.at(instance.primitive).material;

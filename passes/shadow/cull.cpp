@@ -20,6 +20,9 @@
 // when its box swept along the sun to the cascade's far light depth or the scene's lowest point
 // (where its shadow can fall), grown by the margins, is hidden behind cull.main's occluders (cull.occlusion): whatever
 // it shadows is then no visible pixel. So culling on and off give the same shadow.sun (tested).
+// Last, with a time-of-day table (scene.tod, `render --tod`), a caster hidden from the light at
+// the baked hours around this one is dropped (passes/scene/time_of_day.cpp says why that changes
+// no texel of the map at a baked hour).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -33,6 +36,7 @@
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/frame/vertex_streams.h"
+#include "passes/scene/time_of_day.h"
 #include "passes/shadow/shadow_layout.h"
 
 namespace nightcap {
@@ -132,6 +136,19 @@ class ShadowCuller {
     view_projection_ = reversed_z_projection(camera_.yfov, double(camera_.width) / camera_.height, camera_.znear) *
                        relative_view(world_);
     travel_ = glm::normalize(dvec3(glm::vec3(constants_.sun_direction)));
+    const std::span<const uint8_t> tod = ctx.host("scene.tod");
+    if (!tod.empty()) {
+      TodRecordHeader header{};
+      if (tod.size() >= sizeof(header)) std::memcpy(&header, tod.data(), sizeof(header));
+      if (tod.size() < sizeof(header) || header.instances != instances_.size() ||
+          tod.size() != sizeof(header) + size_t(header.instances) * sizeof(uint32_t))
+        throw GraphError("shadow.cull: scene.tod does not hold a mask for each of the " +
+                         std::to_string(instances_.size()) + " instances");
+      if (!(header.hour >= 0.0f && header.hour < 24.0f))
+        throw GraphError("shadow.cull: scene.tod's hour " + std::to_string(header.hour) + " is outside [0, 24)");
+      tod_visible_ = host_view<uint32_t>(tod.subspan(sizeof(header)));
+      tod_bits_ = tod_hour_bits(header.hour);
+    }
   }
 
   void run() {
@@ -348,6 +365,11 @@ class ShadowCuller {
         ++stats_.casters_hidden[cascade];
         if (culling_) return;
       }
+      if (!tod_visible_.empty() && !(tod_visible_[i] & tod_bits_)) {
+        ++stats_.casters_tod_dropped[cascade];
+        stats_.tod_triangles_saved[cascade] += mesh->index_count / 3;
+        return;
+      }
       out.push_back(draw_of(i, *mesh));
     };
     // Static instances through the hierarchy: a node outside the volume drops what it holds.
@@ -413,6 +435,8 @@ class ShadowCuller {
   Hierarchy hierarchy_;
   OcclusionBuffer occlusion_;
   bool culling_;
+  std::span<const uint32_t> tod_visible_;  // empty: no table, every caster casts
+  uint16_t tod_bits_ = 0;                  // the baked hours that decide at this hour
   glm::dmat4 world_{1.0}, view_projection_{1.0};
   dvec3 eye_{0.0}, travel_{0.0};
   double bottom_ = INFINITY;  // the scene's lowest point, camera-relative
@@ -430,6 +454,7 @@ PassDecl shadow_cull_pass() {
       .read("scene.hierarchy", Use::host)
       .read("scene.materials", Use::host)
       .read("cull.occlusion", Use::host)
+      .read("scene.tod", Use::host)
       .write("shadow.cascade_data", Use::host, BufferDecl{ResourceKind::buffer})
       .write("draws.shadow.cascades", Use::host, BufferDecl{ResourceKind::draw_list})
       .write("shadow.cull_stats", Use::host, BufferDecl{ResourceKind::buffer})

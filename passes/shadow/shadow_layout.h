@@ -35,8 +35,12 @@ struct ShadowCullStats {
   uint32_t first_draw[kShadowCascades];      // where each cascade's records start
   uint32_t triangles[kShadowCascades];
   uint32_t planes[kShadowCascades];  // planes of the culling volume (at most 8)
+  // Casters that passed the tests above but scene.tod (`render --tod`) says cast no visible
+  // shadow at this hour, and the triangles they would have drawn.
+  uint32_t casters_tod_dropped[kShadowCascades];
+  uint32_t tod_triangles_saved[kShadowCascades];
 };
-static_assert(sizeof(ShadowCullStats) == 7 * 16);
+static_assert(sizeof(ShadowCullStats) == 9 * 16);
 
 inline BufferSchema shadow_cascades_schema() {
   using S = GpuShadowCascades;
@@ -57,7 +61,9 @@ inline BufferSchema shadow_cull_stats_schema() {
       .field("draws", &S::draws)
       .field("first_draw", &S::first_draw)
       .field("triangles", &S::triangles)
-      .field("planes", &S::planes);
+      .field("planes", &S::planes)
+      .field("casters_tod_dropped", &S::casters_tod_dropped)
+      .field("tod_triangles_saved", &S::tod_triangles_saved);
 }
 
 }  // namespace nightcap

@@ -47,6 +47,7 @@
 #include "passes/lights/cluster_layout.h"
 #include "passes/normals/bfn_lut.h"
 #include "passes/scene/scene.h"
+#include "passes/scene/time_of_day.h"
 #include "passes/shadow/shadow_layout.h"
 #include "tests/reference/bloom_reference.h"
 #include "tests/reference/decal_reference.h"
@@ -1877,6 +1878,80 @@ void bench_shadows(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repe
   }
 }
 
+// Time of day (issue 14): `bake-tod` of the 2 km map (seed 1) on this machine's cores, and on its
+// street shot at 08:00, 09:00 (between baked hours) and 10:00 what the filter saves: the sun's
+// triangles it drops over the four cascades against those drawn without it, shadow.cascades'
+// GPU time with and without it, and the share of shadowed pixels of shadow.sun that differ.
+//  - tod_bake_s_2km; tod_triangles_saved_ratio (street shot, 08:00)
+//  - tod_triangles_saved_ratio_street_<H>h, tod_cascades_ms_street_<H>h, tod_cascades_ms_unfiltered_street_<H>h,
+//    tod_disagree_street_<H>h
+void bench_tod(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) {
+  const nc::Scene map = nc::build_map({1, 2.0, nc::Shot::street});
+  const double start = now_ms();
+  const nc::TodTable tod = nc::bake_tod(map, 1, 2.0);
+  const double bake_s = (now_ms() - start) / 1000.0;
+  figure("tod_bake_s_2km", bake_s);
+  table() << "\n## time of day: 2 km map (seed 1), street shot (" << width << "x" << height << ")\nbake-tod: " << bake_s
+          << " s on " << std::thread::hardware_concurrency() << " threads\n"
+          << std::left << std::setw(8) << "hour" << std::right << std::setw(14) << "triangles" << std::setw(12)
+          << "saved" << std::setw(14) << "cascades ms" << std::setw(16) << "unfiltered ms" << std::setw(12)
+          << "disagree"
+          << "\n";
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.path.motion = nc::CameraPath::Motion::still;
+  settings.sinks = {"shadow.sun"};
+  for (double hour : {8.0, 9.0, 10.0}) {
+    struct Run {
+      double cascades_ms = 0;
+      nc::ShadowCullStats stats{};
+      std::vector<uint8_t> sun;
+    };
+    auto run = [&](bool filtered) {
+      nc::Scene scene = map;
+      nc::set_hour(scene, hour);
+      if (filtered) {
+        scene.tod_visible = tod.visible;
+        scene.tod_hour = hour;
+      }
+      nc::Renderer renderer(gpu, scene, settings);
+      renderer.render_frame(0, false);  // pipelines compiled outside the measurement
+      std::vector<double> cascades;
+      for (int r = 0; r < repeats; ++r)
+        cascades.push_back(frame_pass_ms(renderer.render_frame(0, false), "shadow.cascades"));
+      const nc::RenderedFrame captured = renderer.render_frame(0, true);
+      Run out;
+      out.cascades_ms = median(cascades);
+      std::memcpy(&out.stats, captured.execution.final_version("shadow.cull_stats")->bytes->data(), sizeof out.stats);
+      out.sun = *captured.execution.final_version("shadow.sun")->bytes;
+      return out;
+    };
+    const Run full = run(false), filtered = run(true);
+    uint64_t drawn = 0, saved = 0;
+    for (uint32_t k = 0; k < nc::kShadowCascades; ++k) {
+      drawn += full.stats.triangles[k];
+      saved += filtered.stats.tod_triangles_saved[k];
+    }
+    size_t shadowed = 0, differ = 0;
+    for (size_t i = 0; i < full.sun.size(); i += 2) {
+      if (full.sun[i] == 255 && filtered.sun[i] == 255) continue;
+      ++shadowed;
+      differ += full.sun[i] != filtered.sun[i];
+    }
+    const double ratio = drawn ? double(saved) / drawn : 0.0, disagree = shadowed ? double(differ) / shadowed : 0.0;
+    const std::string suffix = "_street_" + std::to_string(int(hour)) + "h";
+    table() << std::left << std::setw(8) << hour << std::right << std::setw(14) << drawn << std::setw(12) << saved
+            << std::fixed << std::setprecision(2) << std::setw(14) << filtered.cascades_ms << std::setw(16)
+            << full.cascades_ms << std::setprecision(5) << std::setw(12) << disagree << std::defaultfloat << "\n";
+    figure("tod_triangles_saved_ratio" + suffix, ratio);
+    figure("tod_cascades_ms" + suffix, filtered.cascades_ms);
+    figure("tod_cascades_ms_unfiltered" + suffix, full.cascades_ms);
+    figure("tod_disagree" + suffix, disagree);
+    if (hour == 8.0) figure("tod_triangles_saved_ratio", ratio);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -1888,7 +1963,7 @@ int main(int argc, char** argv) {
   const std::vector<std::string> sections = {
       "city",   "models",  "map",   "empty",        "frames",        "normals", "tubes",  "depth",
       "motion", "streams", "bloom", "exposure",     "startup",       "diff",    "report", "decals",
-      "ltc",    "cluster", "tiled", "tube_quality", "cluster_shape", "shadows"};
+      "ltc",    "cluster", "tiled", "tube_quality", "cluster_shape", "shadows", "tod"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -1949,6 +2024,7 @@ int main(int argc, char** argv) {
     if (wanted("tube_quality")) bench_tube_quality(gpu, width, height);
     if (wanted("cluster_shape")) bench_cluster_shape(gpu, cache, width, height, int(repeats));
     if (wanted("shadows")) bench_shadows(gpu, width, height, int(repeats));
+    if (wanted("tod")) bench_tod(gpu, width, height, int(repeats));
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";
