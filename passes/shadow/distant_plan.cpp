@@ -1,6 +1,7 @@
 // shadow.distant_plan (CPU): where the sun's distant shadow levels lie this frame and which part
 // of them shadow.distant redraws (frame.md section 1, [004 §2.1]). Collecting the casters cannot
-// be spread over frames [004 §2.1], so it is done here, whole, every frame; only the drawing is.
+// be spread over frames [004 §2.1]: every unit's casters are counted every frame (the schedule
+// needs them all), and the draws of this frame's units are built.
 //
 // Levels: four orthographic maps along the sun, level k covering a square of side E·4^k, where
 // E is `level0_metres`, grown when four levels at that size would not reach across the static
@@ -149,8 +150,12 @@ class DistantPlanner {
         }
     }
 
+    // Every unit's triangles, for the schedule; the draws of this frame's units only (a draw
+    // costs more to build than a caster to count).
     std::vector<Unit> units(tile_rects.size());
-    collect(tile_rects, units);
+    walk(tile_rects, [&](size_t t, uint32_t, const glm::dmat4&, const MeshRecord& mesh) {
+      units[t].triangles += mesh.index_count / 3;
+    });
 
     // The cycle: units in order, packed into frames within the budget.
     const uint32_t budget = uint32_t(ctx_.param("budget_triangles"));
@@ -167,12 +172,25 @@ class DistantPlanner {
     DistantPlan plan{};
     plan.cycle_frames = uint32_t(cycle.size());
     plan.frame_in_cycle = camera_.frame_index % plan.cycle_frames;
+    const std::vector<uint32_t>& due = cycle[plan.frame_in_cycle];
+    std::vector<Rect> due_rects;
+    for (uint32_t u : due) due_rects.push_back(tile_rects[u]);
+    walk(due_rects, [&](size_t t, uint32_t index, const glm::dmat4& model, const MeshRecord& mesh) {
+      units[due[t]].draws.push_back(draw_of(index, model, mesh));
+    });
+    // Sorted for batching and so the list does not depend on the hierarchy's walk.
+    for (uint32_t u : due)
+      std::sort(units[u].draws.begin(), units[u].draws.end(), [](const GpuDraw& a, const GpuDraw& b) {
+        if (a.material != b.material) return a.material < b.material;
+        if (a.first_index != b.first_index) return a.first_index < b.first_index;
+        return a.instance < b.instance;
+      });
     plan.tiles_per_side = tiles;
     plan.budget_triangles = budget;
     plan.units = uint32_t(units.size());
     std::vector<GpuDraw> all;
     for (uint32_t u = 0; u < units.size(); ++u) plan.unit_triangles[u] = units[u].triangles;
-    for (uint32_t u : cycle[plan.frame_in_cycle]) {
+    for (uint32_t u : due) {
       const uint32_t per_level = tiles * tiles;
       plan.refreshed[u / per_level] |= 1u << (u % per_level);
       plan.unit_first_draw[u] = uint32_t(all.size());
@@ -242,47 +260,37 @@ class DistantPlanner {
     return model;
   }
 
-  void consider(uint32_t index, const std::vector<Rect>& tiles, std::vector<Unit>& units) const {
-    const glm::dmat4 model = model_of(index);
-    const MeshRecord* mesh = caster_mesh(index, model);
-    if (!mesh) return;
-    Rect r;
-    for (int k = 0; k < 8; ++k)
-      grow(r, dvec3(model * glm::dvec4(k & 1 ? mesh->bounds_max[0] : mesh->bounds_min[0],
-                                       k & 2 ? mesh->bounds_max[1] : mesh->bounds_min[1],
-                                       k & 4 ? mesh->bounds_max[2] : mesh->bounds_min[2], 1.0)));
-    for (size_t t = 0; t < tiles.size(); ++t) {
-      if (!r.meets(tiles[t])) continue;
-      units[t].draws.push_back(draw_of(index, model, *mesh));
-      units[t].triangles += mesh->index_count / 3;
-    }
-  }
-
-  // Every static caster into the units whose tiles it meets, through the hierarchy.
-  void collect(const std::vector<Rect>& tiles, std::vector<Unit>& units) const {
+  // Every static caster whose box, across the sun, meets one of `tiles`, through the hierarchy:
+  // visit(tile, instance, model, mesh) for each tile it meets.
+  template <typename Visit>
+  void walk(const std::vector<Rect>& tiles, Visit visit) const {
     std::vector<uint32_t> stack;
-    if (!hierarchy_.static_order.empty()) stack.push_back(0);
+    if (!hierarchy_.static_order.empty() && !tiles.empty()) stack.push_back(0);
     while (!stack.empty()) {
       const HierarchyNode& node = hierarchy_.nodes[stack.back()];
       stack.pop_back();
       const Rect r = across_sun(dvec3(node.bounds_min[0], node.bounds_min[1], node.bounds_min[2]),
                                 dvec3(node.bounds_max[0], node.bounds_max[1], node.bounds_max[2]));
       if (std::none_of(tiles.begin(), tiles.end(), [&](const Rect& t) { return r.meets(t); })) continue;
-      if (node.count > 0) {
-        for (uint32_t k = node.first; k < node.first + node.count; ++k)
-          consider(hierarchy_.static_order[k], tiles, units);
-      } else {
+      if (node.count == 0) {
         stack.push_back(node.first + 1);
         stack.push_back(node.first);
+        continue;
+      }
+      for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+        const uint32_t index = hierarchy_.static_order[k];
+        const glm::dmat4 model = model_of(index);
+        const MeshRecord* mesh = caster_mesh(index, model);
+        if (!mesh) continue;
+        Rect box;
+        for (int c = 0; c < 8; ++c)
+          grow(box, dvec3(model * glm::dvec4(c & 1 ? mesh->bounds_max[0] : mesh->bounds_min[0],
+                                             c & 2 ? mesh->bounds_max[1] : mesh->bounds_min[1],
+                                             c & 4 ? mesh->bounds_max[2] : mesh->bounds_min[2], 1.0)));
+        for (size_t t = 0; t < tiles.size(); ++t)
+          if (box.meets(tiles[t])) visit(t, index, model, *mesh);
       }
     }
-    // Sorted for batching and so the list does not depend on the hierarchy's walk.
-    for (Unit& unit : units)
-      std::sort(unit.draws.begin(), unit.draws.end(), [](const GpuDraw& a, const GpuDraw& b) {
-        if (a.material != b.material) return a.material < b.material;
-        if (a.first_index != b.first_index) return a.first_index < b.first_index;
-        return a.instance < b.instance;
-      });
   }
 
   GpuDraw draw_of(uint32_t index, const glm::dmat4& world_model, const MeshRecord& mesh) const {
