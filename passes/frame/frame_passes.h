@@ -34,6 +34,8 @@ PassDecl motion_stencil_pass();
 PassDecl normals_bfn_lut_pass();
 PassDecl normals_pack_pass();
 PassDecl depth_pyramid_pass();
+PassDecl shadow_distant_plan_pass();
+PassDecl shadow_distant_pass();
 PassDecl shadow_cull_pass();
 PassDecl shadow_cascades_pass();
 PassDecl shadow_sun_resolve_pass();

@@ -12,6 +12,8 @@ std::vector<PassDecl> frame_passes(FrameLighting lighting) {
   std::vector<PassDecl> passes;
   passes.push_back(frame_constants_pass());
   passes.push_back(cull_main_pass());
+  passes.push_back(shadow_distant_plan_pass());
+  passes.push_back(shadow_distant_pass());
   passes.push_back(shadow_cull_pass());
   passes.push_back(shadow_cascades_pass());
   passes.push_back(depth_prepass_pass());

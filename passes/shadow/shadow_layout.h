@@ -1,6 +1,9 @@
 // What the sun's shadow passes hand each other: shadow.cull (CPU) writes the cascades'
 // projections (shadow.cascade_data, read by shadow.cascades and shadow.sun_resolve), one draw
 // list per cascade packed into draws.shadow.cascades, and what it culled (shadow.cull_stats).
+// shadow.distant_plan (CPU) writes the distant levels' projections and this frame's refresh
+// (shadow.distant_data, read by shadow.distant and shadow.sun_resolve), the draws of the
+// refreshed tiles (draws.shadow.distant) and the recorded decision (shadow.distant_plan).
 #pragma once
 
 #include <cstdint>
@@ -64,6 +67,71 @@ inline BufferSchema shadow_cull_stats_schema() {
       .field("planes", &S::planes)
       .field("casters_tod_dropped", &S::casters_tod_dropped)
       .field("tod_triangles_saved", &S::tod_triangles_saved);
+}
+
+constexpr uint32_t kDistantLevels = 4;
+// Tiles per side of a level at most: a level's refreshed tiles are one 16-bit mask.
+constexpr uint32_t kDistantMaxTilesPerSide = 4;
+constexpr uint32_t kDistantUnits = kDistantLevels * kDistantMaxTilesPerSide * kDistantMaxTilesPerSide;
+constexpr uint32_t kDistantResolution = 1024;
+
+// Mirrored by passes/shadow/distant.vert, distant.frag and sun_resolve.comp (std140).
+struct GpuDistantLevels {
+  // Camera-relative world → the level's light clip space (as GpuShadowCascades'); z spans the
+  // static scene's light depth, the same at every level.
+  glm::mat4 light_from_world[kDistantLevels];
+  glm::vec4 texel_metres;     // a texel's side in metres, per level
+  glm::vec4 depth_metres;     // metres of light depth that z's [0, 1] spans, per level
+  glm::vec4 light_direction;  // xyz: the way sunlight travels; w: the levels' resolution in texels
+  // Per level: xy, the texel of the previous frame's level that this frame's texel (0, 0) covers
+  // (the level moved with the camera by whole texels); z, the mask of tiles redrawn this frame
+  // (bit ty·w + tx); w, tiles per side.
+  glm::ivec4 refresh[kDistantLevels];
+};
+static_assert(sizeof(GpuDistantLevels) == 4 * 64 + 3 * 16 + 4 * 16);
+
+// What shadow.distant_plan decided this frame, as the capture records it. A unit is one tile of
+// one level, numbered level · tiles² + ty · tiles + tx.
+struct DistantPlan {
+  uint32_t cycle_frames;    // frames one refresh of every unit takes under the budget
+  uint32_t frame_in_cycle;  // which of them this frame is (frame index mod cycle_frames)
+  uint32_t tiles_per_side;
+  uint32_t budget_triangles;                // per frame
+  uint32_t refreshed[kDistantLevels];       // per level, the mask of its tiles redrawn this frame
+  uint32_t draws, triangles;                // drawn this frame
+  uint32_t over_budget;                     // 1 when one unit alone exceeds the budget (it is drawn whole)
+  uint32_t units;                           // units in the cycle (levels · tiles²)
+  uint32_t unit_triangles[kDistantUnits];   // every unit's triangles, redrawn this frame or not
+  uint32_t unit_first_draw[kDistantUnits];  // this frame's draws.shadow.distant range of a redrawn unit
+  uint32_t unit_draws[kDistantUnits];
+};
+static_assert(sizeof(DistantPlan) == (12 + 3 * kDistantUnits) * 4);
+
+inline BufferSchema distant_levels_schema() {
+  using S = GpuDistantLevels;
+  return BufferSchema::of<S>()
+      .field("light_from_world", &S::light_from_world)
+      .field("texel_metres", &S::texel_metres)
+      .field("depth_metres", &S::depth_metres)
+      .field("light_direction", &S::light_direction)
+      .field("refresh", &S::refresh);
+}
+
+inline BufferSchema distant_plan_schema() {
+  using S = DistantPlan;
+  return BufferSchema::of<S>()
+      .field("cycle_frames", &S::cycle_frames)
+      .field("frame_in_cycle", &S::frame_in_cycle)
+      .field("tiles_per_side", &S::tiles_per_side)
+      .field("budget_triangles", &S::budget_triangles)
+      .field("refreshed", &S::refreshed)
+      .field("draws", &S::draws)
+      .field("triangles", &S::triangles)
+      .field("over_budget", &S::over_budget)
+      .field("units", &S::units)
+      .field("unit_triangles", &S::unit_triangles)
+      .field("unit_first_draw", &S::unit_first_draw)
+      .field("unit_draws", &S::unit_draws);
 }
 
 }  // namespace nightcap

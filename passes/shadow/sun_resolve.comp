@@ -1,12 +1,15 @@
 #version 460
 // shadow.sun_resolve: the sun's visibility at each pixel from shadow.cascades. The cascade is
 // chosen by the pixel's view depth alone (interval-based selection [004 §2.2]); beyond the last
-// split there is no sun shadow. Visibility is the share of a (2·FILTER_RADIUS + 1)² block of
-// texels around the pixel's light-space point whose stored depth is not nearer the sun than the
-// receiver. The receiver's depth is carried to each texel's centre along its own plane (from
-// gbuffer.normal): a receiver-plane bias, so a plane lit at a grazing angle does not shadow
-// itself at the texels it slopes away from, and only depth_bias texels of constant bias are
-// needed, which keeps the shadow's gap at a contact small. R: visibility; G: 1 (free, frame.md).
+// split the pixel falls back to shadow.distant: the finest level whose map holds the filter's
+// texels around it (none: unshadowed), with the same filter and biases. Visibility is the share
+// of a (2·FILTER_RADIUS + 1)² block of texels around the pixel's light-space point whose stored
+// depth is not nearer the sun than the receiver. The receiver's depth is carried to each texel's
+// centre along its own plane (from gbuffer.normal): a receiver-plane bias, so a plane lit at a
+// grazing angle does not shadow itself at the texels it slopes away from, and only depth_bias
+// texels of constant bias are needed, which keeps the shadow's gap at a contact small. A texel
+// at 1 holds no caster: lit, even for a receiver past the map's far depth. R: visibility; G: 1
+// (free, frame.md).
 #include "../frame/types.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -23,24 +26,33 @@ layout(std140, set = 0, binding = 1) uniform CascadeBlock {
 layout(set = 0, binding = 2) uniform sampler2D depth_map;
 layout(set = 0, binding = 3) uniform sampler2D normal_map;
 layout(set = 0, binding = 4) uniform sampler2DArray cascade_maps;
-layout(set = 0, binding = 5, rg8) uniform writeonly image2D sun_out;
+layout(std140, set = 0, binding = 5) uniform DistantBlock {
+  mat4 distant_from_world[4];
+  vec4 distant_texel_metres;
+  vec4 distant_depth_metres;
+  vec4 distant_light_direction;  // w: the levels' resolution
+  ivec4 distant_refresh[4];
+};
+layout(set = 0, binding = 6) uniform sampler2DArray distant_maps;
+layout(set = 0, binding = 7, rg8) uniform writeonly image2D sun_out;
 
 layout(push_constant) uniform Params {
   float depth_bias;  // texels
   float max_slope;   // metres of light depth per metre across, at most (a receiver nearly edge-on)
 };
 
-float cascade_visibility(uint cascade, vec3 position, vec3 n) {
-  mat4 m = light_from_world[cascade];
+// The filtered visibility from layer `layer` of `maps`, whose projection is m, texel and depth
+// spans texel_m and depth_m, at resolution texels per side.
+float map_visibility(sampler2DArray maps, int layer, mat4 m, float texel_m, float depth_m, float resolution,
+                     vec3 position, vec3 n) {
   vec3 clip = (m * vec4(position, 1.0)).xyz;
-  float resolution = light_direction.w;
   vec2 at = (clip.xy * 0.5 + 0.5) * resolution;  // in texels
   // The receiver's plane in light clip space: its depth change per texel along x and y.
   vec3 plane = transpose(inverse(mat3(m))) * n;
-  float limit = max_slope * texel_metres[cascade] / depth_metres[cascade];
+  float limit = max_slope * texel_m / depth_m;
   vec2 per_texel = abs(plane.z) > 1e-12 ? -plane.xy / plane.z * (2.0 / resolution) : vec2(0.0);
   per_texel = clamp(per_texel, vec2(-limit), vec2(limit));
-  float bias = depth_bias * texel_metres[cascade] / depth_metres[cascade];
+  float bias = depth_bias * texel_m / depth_m;
   ivec2 base = ivec2(floor(at));
   int last = int(resolution) - 1;
   float lit = 0.0;
@@ -49,8 +61,8 @@ float cascade_visibility(uint cascade, vec3 position, vec3 n) {
       ivec2 texel = base + ivec2(dx, dy);
       float expected = clip.z + dot(vec2(texel) + 0.5 - at, per_texel);
       bool inside = all(greaterThanEqual(texel, ivec2(0))) && all(lessThanEqual(texel, ivec2(last)));
-      float stored = texelFetch(cascade_maps, ivec3(clamp(texel, ivec2(0), ivec2(last)), int(cascade)), 0).r;
-      lit += (!inside || expected - bias <= stored) ? 1.0 : 0.0;
+      float stored = texelFetch(maps, ivec3(clamp(texel, ivec2(0), ivec2(last)), layer), 0).r;
+      lit += (!inside || stored >= 1.0 || expected - bias <= stored) ? 1.0 : 0.0;
     }
   }
   float taps = float((2 * FILTER_RADIUS + 1) * (2 * FILTER_RADIUS + 1));
@@ -71,7 +83,22 @@ void main() {
                    (view_depth > splits.z ? 1u : 0u);
     vec3 n = texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0;
     n = dot(n, n) > 1e-8 ? normalize(n) : vec3(0.0);
-    if (view_depth <= splits.w) visibility = cascade_visibility(cascade, position, n);
+    if (view_depth <= splits.w) {
+      visibility = map_visibility(cascade_maps, int(cascade), light_from_world[cascade], texel_metres[cascade],
+                                  depth_metres[cascade], light_direction.w, position, n);
+    } else {
+      // The finest level that holds every texel the filter reads, with a texel to spare.
+      float resolution = distant_light_direction.w;
+      float reach = 2.0 * float(FILTER_RADIUS + 2) / max(resolution, 1.0);
+      int level = 4;
+      for (int k = 3; k >= 0; --k) {
+        vec2 clip = (distant_from_world[k] * vec4(position, 1.0)).xy;
+        if (all(lessThanEqual(abs(clip), vec2(1.0 - reach)))) level = k;
+      }
+      if (level < 4)
+        visibility = map_visibility(distant_maps, level, distant_from_world[level], distant_texel_metres[level],
+                                    distant_depth_metres[level], resolution, position, n);
+    }
   }
   imageStore(sun_out, pixel, vec4(visibility, 1.0, 0.0, 0.0));
 }

@@ -1,7 +1,9 @@
 // shadow.sun_resolve (frame.md section 4): the sun's shadow in screen space, R8G8_UNORM at full
 // resolution (R: visibility, filtered; G: 1, left free), before lighting.tiled reads it.
-// sun_resolve.comp says how. The filter's size is a specialization constant, so each size is a
-// pipeline whose block of taps is fixed (style: variants are specialization constants).
+// sun_resolve.comp says how: shadow.cascades up to the last split, shadow.distant's levels beyond
+// it (level 0 is the occluder there, the coarser ones further out). The filter's size is a
+// specialization constant, so each size is a pipeline whose block of taps is fixed (style:
+// variants are specialization constants).
 // Skipped with no sun above the horizon, and where nothing was drawn (scene.depth cleared): shadow.sun
 // is then cleared to 1 (unshadowed), what lighting.tiled reads and, for the sky, what it computes. `enabled=0` skips it
 // too (the lighting tests compare unshadowed sun light).
@@ -27,6 +29,8 @@ PassDecl shadow_sun_resolve_pass() {
       .read("scene.depth", Use::sampled)
       .read("gbuffer.normal", Use::sampled)
       .read("shadow.cascades", Use::sampled)
+      .read("shadow.distant_data", Use::uniform_buffer)
+      .read("shadow.distant", Use::sampled)
       .write("shadow.sun", Use::storage_write, sun)
       .param("filter_radius", 1, 0, 3, "the filter takes (2r + 1)² texels around the pixel's point (0: one)")
       .param("depth_bias", 0.5, 0, 16, "texels of light depth a receiver may lie behind the map and stay lit")
@@ -47,6 +51,8 @@ PassDecl shadow_sun_resolve_pass() {
                   Binding::texture(ctx.slot("scene.depth"), "scene.depth", nearest, ViewAspect::depth),
                   Binding::texture(ctx.slot("gbuffer.normal"), "gbuffer.normal", nearest),
                   Binding::texture(ctx.slot("shadow.cascades"), "shadow.cascades", nearest),
+                  Binding::uniform(ctx.slot("shadow.distant_data"), "shadow.distant_data"),
+                  Binding::texture(ctx.slot("shadow.distant"), "shadow.distant", nearest),
                   Binding::image(ctx.slot("shadow.sun"), "shadow.sun", 0)});
         ctx.push_constants(constants);
         vkCmdDispatch(ctx.cmd(), (size.width + 7) / 8, (size.height + 7) / 8, 1);

@@ -1952,6 +1952,93 @@ void bench_tod(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats)
   }
 }
 
+// The sun's distant shadow (shadow.distant_plan on the CPU, shadow.distant by timestamps) on the
+// street shot of the 16 km map (the default render's) at --size, a still camera: per frame under
+// the default budget (median over one refresh cycle), the cycle's length, and every level drawn
+// in one frame; then time against error over the per-frame budget, the error being the share of the levels' texels
+// that still differ from a render of every level at once 4 frames after a history reset.
+//  - shadow_distant_ms, shadow_distant_plan_ms (CPU), shadow_distant_cycle_frames,
+//    shadow_distant_triangles (per frame, median), shadow_distant_full_ms (every level at once)
+//  - shadow.distant_budget<B>.{ms, cycle_frames, stale_after4}
+void bench_distant(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.path.motion = nc::CameraPath::Motion::still;
+  settings.sinks = {"shadow.sun"};
+  nc::Scene scene = nc::build_map({1, 16.0, nc::Shot::street});
+  nc::add_default_lighting(scene);
+  struct Run {
+    std::vector<double> ms, plan_ms, triangles;
+    uint32_t cycle = 0;
+    std::vector<uint8_t> levels;  // after the last frame
+  };
+  auto run = [&](double budget, uint32_t frames) {
+    settings.params["shadow.distant_plan"]["budget_triangles"] = budget;
+    nc::Renderer renderer(gpu, scene, settings);
+    Run r;
+    for (uint32_t i = 0; i < frames; ++i) {
+      const nc::RenderedFrame frame = renderer.render_frame(i, i + 1 == frames);
+      r.ms.push_back(frame_pass_ms(frame, "shadow.distant"));
+      r.plan_ms.push_back(frame_pass_ms(frame, "shadow.distant_plan"));
+      if (i + 1 == frames) {
+        const auto plan = nc::host_records<nc::DistantPlan>(
+                              std::span<const uint8_t>(*frame.execution.final_version("shadow.distant_plan")->bytes))
+                              .at(0);
+        r.cycle = plan.cycle_frames;
+        r.levels = *frame.execution.final_version("shadow.distant")->bytes;
+      }
+    }
+    return r;
+  };
+  const Run full = run(1e9, 2);
+  const double default_budget = nc::shadow_distant_plan_pass().find_param("budget_triangles")->default_value;
+  const Run probe = run(default_budget, 1);
+  // One whole cycle, and its triangles per frame.
+  Run cycle;
+  {
+    settings.params["shadow.distant_plan"]["budget_triangles"] = default_budget;
+    nc::Renderer renderer(gpu, scene, settings);
+    for (uint32_t i = 0; i < probe.cycle; ++i) {
+      const nc::RenderedFrame frame = renderer.render_frame(i, true);
+      cycle.ms.push_back(frame_pass_ms(frame, "shadow.distant"));
+      cycle.plan_ms.push_back(frame_pass_ms(frame, "shadow.distant_plan"));
+      const auto plan = nc::host_records<nc::DistantPlan>(
+                            std::span<const uint8_t>(*frame.execution.final_version("shadow.distant_plan")->bytes))
+                            .at(0);
+      cycle.triangles.push_back(plan.triangles);
+    }
+  }
+  table() << "\n## distant shadows: 16 km map, street shot (" << width << "x" << height << ", still camera)\n"
+          << "budget " << default_budget << " triangles: a cycle of " << probe.cycle << " frames; per frame (median) "
+          << "shadow.distant " << median(cycle.ms) << " ms, shadow.distant_plan (CPU) " << median(cycle.plan_ms)
+          << " ms, " << median(cycle.triangles) << " triangles; every level at once: " << full.ms.at(0) << " ms\n";
+  figure("shadow_distant_ms", median(cycle.ms));
+  figure("shadow_distant_plan_ms", median(cycle.plan_ms));
+  figure("shadow_distant_cycle_frames", probe.cycle);
+  figure("shadow_distant_triangles", median(cycle.triangles));
+  figure("shadow_distant_full_ms", full.ms.at(0));
+  table() << "\n## distant shadows: time against error over the per-frame budget (texels differing from a full "
+             "render 4 frames after a reset)\n"
+          << std::left << std::setw(12) << "budget" << std::right << std::setw(10) << "cycle" << std::setw(14)
+          << "ms/frame" << std::setw(14) << "stale"
+          << "\n";
+  for (double budget : {20000.0, 100000.0, 500000.0, 2000000.0, 1e9}) {
+    const Run r = run(budget, 4);
+    size_t stale = 0;
+    const size_t texels = r.levels.size() / 4;
+    for (size_t t = 0; t < texels; ++t) stale += std::memcmp(&r.levels[4 * t], &full.levels[4 * t], 4) != 0;
+    const double share = texels ? double(stale) / double(texels) : 0.0;
+    const std::string row = "shadow.distant_budget" + std::to_string(int64_t(budget));
+    table() << std::left << std::setw(12) << int64_t(budget) << std::right << std::setw(10) << r.cycle << std::fixed
+            << std::setprecision(2) << std::setw(14) << median(r.ms) << std::setprecision(4) << std::setw(14) << share
+            << std::defaultfloat << "\n";
+    figure(row + ".ms", median(r.ms));
+    figure(row + ".cycle_frames", r.cycle);
+    figure(row + ".stale_after4", share);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -1963,7 +2050,7 @@ int main(int argc, char** argv) {
   const std::vector<std::string> sections = {
       "city",   "models",  "map",   "empty",        "frames",        "normals", "tubes",  "depth",
       "motion", "streams", "bloom", "exposure",     "startup",       "diff",    "report", "decals",
-      "ltc",    "cluster", "tiled", "tube_quality", "cluster_shape", "shadows", "tod"};
+      "ltc",    "cluster", "tiled", "tube_quality", "cluster_shape", "shadows", "tod", "distant"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -2025,6 +2112,7 @@ int main(int argc, char** argv) {
     if (wanted("cluster_shape")) bench_cluster_shape(gpu, cache, width, height, int(repeats));
     if (wanted("shadows")) bench_shadows(gpu, width, height, int(repeats));
     if (wanted("tod")) bench_tod(gpu, width, height, int(repeats));
+    if (wanted("distant")) bench_distant(gpu, width, height);
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

@@ -1,0 +1,20 @@
+#version 460
+// shadow.distant: a static caster's vertex in the light clip space of the level being drawn.
+#include "../frame/geometry.glsl"
+
+layout(std140, set = 0, binding = 3) uniform DistantBlock {
+  mat4 light_from_world[4];
+  vec4 texel_metres;
+  vec4 depth_metres;
+  vec4 light_direction;
+  ivec4 refresh[4];
+};
+
+layout(push_constant) uniform Params { uint level; };
+
+void main() {
+  Draw draw = draws[gl_InstanceIndex];
+  SceneVertex v = load_vertex(gl_VertexIndex);
+  precise vec4 world = draw.model * vec4(v.position, 1.0);
+  gl_Position = light_from_world[level] * world;
+}

@@ -1,0 +1,352 @@
+// shadow.distant_plan (CPU): where the sun's distant shadow levels lie this frame and which part
+// of them shadow.distant redraws (frame.md section 1, [004 §2.1]). Collecting the casters cannot
+// be spread over frames [004 §2.1]: every unit's casters are counted every frame (the schedule
+// needs them all), and the draws of this frame's units are built.
+//
+// Levels: four orthographic maps along the sun, level k covering a square of side E·4^k, where
+// E is `level0_metres`, grown when four levels at that size would not reach across the static
+// scene: the last level then covers the whole map (its light-space square around the static
+// scene's box, with a texel of room for snapping). The last level is centred on the map; the
+// others on the camera, their centres snapped to an eighth of their side in world light space,
+// so they move rarely and by whole texels: shadow.distant keeps what a moved level already
+// holds by reading the previous frame's texel that covers the same place (refresh.xy; the
+// previous frame's centres come from frame.camera's previous view, the sun is the scene's and
+// fixed). Light depth spans the static scene's box, the same at every level and every frame.
+//
+// Refresh: each level is cut into `tiles`² tiles; the units (level, tile) in order, finest level
+// first, are packed into frames whose triangles stay within `budget_triangles` (a unit alone
+// above the budget gets a frame of its own, flagged over_budget); frame f redraws the units of
+// the cycle's frame f mod cycle_frames. A stateless schedule: a CPU pass cannot read its own
+// previous output (the history pool keeps GPU resources), so the plan cannot know which units
+// are already drawn; it follows the frame clock, and every unit is redrawn once per cycle. After
+// a history reset (first frame, camera cut) the levels read as unshadowed until the cycle
+// reaches each unit: complete after cycle_frames frames. A level with no unit due this frame is
+// not drawn (it is up to date); the whole pass is skipped with no sun above the horizon.
+//
+// Casters: the static opaque instances (moving ones would leave stale shadows behind in a map
+// refreshed every few frames), at their coarsest level of detail, whatever their draw distance
+// (a level is the same from wherever the camera is, so tiles drawn in different frames agree).
+// A caster is kept for a tile when its box, projected across the sun, meets the tile grown by a
+// texel; a texel's depth is the nearest of the casters covering it, so the kept set gives the
+// tile the same depths as drawing every caster.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "passes/core/context.h"
+#include "passes/cull/hierarchy.h"
+#include "passes/frame/frame_passes.h"
+#include "passes/frame/gpu_types.h"
+#include "passes/frame/scene_resources.h"
+#include "passes/frame/vertex_streams.h"
+#include "passes/shadow/shadow_layout.h"
+
+namespace nightcap {
+namespace {
+
+using glm::dvec2;
+using glm::dvec3;
+
+// A rectangle across the sun, in world light-space metres.
+struct Rect {
+  dvec2 lo{INFINITY}, hi{-INFINITY};
+  bool meets(const Rect& o) const { return lo.x <= o.hi.x && o.lo.x <= hi.x && lo.y <= o.hi.y && o.lo.y <= hi.y; }
+};
+
+struct Unit {
+  uint32_t triangles = 0;
+  std::vector<GpuDraw> draws;
+};
+
+class DistantPlanner {
+ public:
+  explicit DistantPlanner(PassContext& ctx)
+      : ctx_(ctx),
+        camera_(host_records<CameraRecordGpu>(ctx.host("frame.camera")).at(0)),
+        constants_(host_records<GpuFrameConstants>(ctx.host("frame.constants")).at(0)),
+        instances_(host_view<InstanceRecord>(ctx.host("scene.instances"))),
+        meshes_(host_view<MeshRecord>(ctx.host("scene.meshes"))),
+        materials_(host_records<GpuMaterial>(ctx.host("scene.materials"))),
+        hierarchy_(Hierarchy::parse(ctx.host("scene.hierarchy"), instances_.size())) {
+    travel_ = glm::normalize(dvec3(glm::vec3(constants_.sun_direction)));
+  }
+
+  void run() {
+    // As shadow.cull: a replay of the skip runs the pass on the recorded inputs, and it writes nothing.
+    if (!(constants_.sun_direction.w > 0.0f && travel_.y < 0.0)) {
+      for (const char* name : {"shadow.distant_data", "draws.shadow.distant", "shadow.distant_plan"})
+        store(name, nullptr, 0);
+      return;
+    }
+    const uint32_t resolution = uint32_t(ctx_.param("resolution"));
+    const uint32_t tiles = uint32_t(ctx_.param("tiles"));
+    if (resolution % 8 != 0) throw GraphError("shadow.distant_plan: resolution must be a multiple of 8");
+    if (resolution % tiles != 0) throw GraphError("shadow.distant_plan: tiles must divide the resolution");
+    // The same basis as shadow.cull's: any basis around the sun, fixed for a given sun.
+    const dvec3 helper = std::abs(travel_.y) < 0.99 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
+    axis_x_ = glm::normalize(glm::cross(helper, travel_));
+    axis_y_ = glm::cross(travel_, axis_x_);
+
+    // The static scene in light space (a box around the eye when there is none).
+    Rect map;
+    double near = INFINITY, far = -INFINITY;
+    dvec3 lo = dvec3(eye()) - 1.0, hi = dvec3(eye()) + 1.0;
+    if (!hierarchy_.static_order.empty()) {
+      const HierarchyNode& root = hierarchy_.nodes[0];
+      lo = dvec3(root.bounds_min[0], root.bounds_min[1], root.bounds_min[2]);
+      hi = dvec3(root.bounds_max[0], root.bounds_max[1], root.bounds_max[2]);
+    }
+    for (int k = 0; k < 8; ++k) {
+      const dvec3 p(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+      grow(map, p);
+      near = std::min(near, glm::dot(p, travel_));
+      far = std::max(far, glm::dot(p, travel_));
+    }
+    near -= 1.0;
+    const double depth = far + 1.0 - near;
+    const double map_side = std::max(map.hi.x - map.lo.x, map.hi.y - map.lo.y) + 2.0;
+    const double last_scale = std::pow(4.0, kDistantLevels - 1);
+    // Snapping moves a centre by less than a texel: the last level keeps a texel of room each side.
+    const double side0 = std::max(ctx_.param("level0_metres"), map_side / (last_scale * (1.0 - 2.0 / resolution)));
+
+    GpuDistantLevels data{};
+    data.light_direction = glm::vec4(glm::vec3(travel_), float(resolution));
+    const dvec3 eye_now = eye(),
+                eye_before(camera_.previous_world[12], camera_.previous_world[13], camera_.previous_world[14]);
+    const dvec2 map_centre = 0.5 * (map.lo + map.hi);
+    std::vector<Rect> tile_rects;
+    for (uint32_t k = 0; k < kDistantLevels; ++k) {
+      const double side = side0 * std::pow(4.0, k), texel = side / resolution;
+      const bool last = k + 1 == kDistantLevels;
+      auto centre_for = [&](const dvec3& eye_at) {
+        const dvec2 wanted = last ? map_centre : dvec2(glm::dot(eye_at, axis_x_), glm::dot(eye_at, axis_y_));
+        const double step = last ? texel : side / 8.0;
+        return glm::floor(wanted / step) * step;
+      };
+      const dvec2 centre = centre_for(eye_now), before = centre_for(eye_before);
+      const dvec2 shift = glm::round((centre - before) / texel);
+      data.refresh[k] = glm::ivec4(int(shift.x), int(shift.y), 0, int(tiles));
+      // camera-relative p → ((p + eye)·x − cx) / (side / 2), ((p + eye)·y − cy) / (side / 2), ((p + eye)·t − near) /
+      // depth.
+      const double half = 0.5 * side;
+      glm::dmat4 m(0.0);
+      for (int c = 0; c < 3; ++c) {
+        m[c][0] = axis_x_[c] / half;
+        m[c][1] = axis_y_[c] / half;
+        m[c][2] = travel_[c] / depth;
+      }
+      m[3] = glm::dvec4((glm::dot(eye_now, axis_x_) - centre.x) / half, (glm::dot(eye_now, axis_y_) - centre.y) / half,
+                        (glm::dot(eye_now, travel_) - near) / depth, 1.0);
+      data.light_from_world[k] = glm::mat4(m);
+      data.texel_metres[k] = float(texel);
+      data.depth_metres[k] = float(depth);
+      const double tile_side = side / tiles;
+      for (uint32_t ty = 0; ty < tiles; ++ty)
+        for (uint32_t tx = 0; tx < tiles; ++tx) {
+          Rect r;
+          r.lo = centre - half + dvec2(tx, ty) * tile_side - texel;
+          r.hi = r.lo + tile_side + 2.0 * texel;
+          tile_rects.push_back(r);
+        }
+    }
+
+    // Every unit's triangles, for the schedule; the draws of this frame's units only (a draw
+    // costs more to build than a caster to count).
+    std::vector<Unit> units(tile_rects.size());
+    walk(tile_rects, [&](size_t t, uint32_t, const glm::dmat4&, const MeshRecord& mesh) {
+      units[t].triangles += mesh.index_count / 3;
+    });
+
+    // The cycle: units in order, packed into frames within the budget.
+    const uint32_t budget = uint32_t(ctx_.param("budget_triangles"));
+    std::vector<std::vector<uint32_t>> cycle(1);
+    uint32_t filled = 0;
+    for (uint32_t u = 0; u < units.size(); ++u) {
+      if (!cycle.back().empty() && uint64_t(filled) + units[u].triangles > budget) {
+        cycle.emplace_back();
+        filled = 0;
+      }
+      cycle.back().push_back(u);
+      filled += units[u].triangles;
+    }
+    DistantPlan plan{};
+    plan.cycle_frames = uint32_t(cycle.size());
+    plan.frame_in_cycle = camera_.frame_index % plan.cycle_frames;
+    const std::vector<uint32_t>& due = cycle[plan.frame_in_cycle];
+    std::vector<Rect> due_rects;
+    for (uint32_t u : due) due_rects.push_back(tile_rects[u]);
+    walk(due_rects, [&](size_t t, uint32_t index, const glm::dmat4& model, const MeshRecord& mesh) {
+      units[due[t]].draws.push_back(draw_of(index, model, mesh));
+    });
+    // Sorted for batching and so the list does not depend on the hierarchy's walk.
+    for (uint32_t u : due)
+      std::sort(units[u].draws.begin(), units[u].draws.end(), [](const GpuDraw& a, const GpuDraw& b) {
+        if (a.material != b.material) return a.material < b.material;
+        if (a.first_index != b.first_index) return a.first_index < b.first_index;
+        return a.instance < b.instance;
+      });
+    plan.tiles_per_side = tiles;
+    plan.budget_triangles = budget;
+    plan.units = uint32_t(units.size());
+    std::vector<GpuDraw> all;
+    for (uint32_t u = 0; u < units.size(); ++u) plan.unit_triangles[u] = units[u].triangles;
+    for (uint32_t u : due) {
+      const uint32_t per_level = tiles * tiles;
+      plan.refreshed[u / per_level] |= 1u << (u % per_level);
+      plan.unit_first_draw[u] = uint32_t(all.size());
+      plan.unit_draws[u] = uint32_t(units[u].draws.size());
+      plan.triangles += units[u].triangles;
+      all.insert(all.end(), units[u].draws.begin(), units[u].draws.end());
+    }
+    plan.draws = uint32_t(all.size());
+    plan.over_budget = plan.triangles > budget ? 1u : 0u;
+    for (uint32_t k = 0; k < kDistantLevels; ++k) data.refresh[k].z = int(plan.refreshed[k]);
+    store("shadow.distant_data", &data, sizeof(data));
+    store("shadow.distant_plan", &plan, sizeof(plan));
+    store("draws.shadow.distant", all.data(), all.size() * sizeof(GpuDraw));
+  }
+
+ private:
+  dvec3 eye() const { return dvec3(camera_.world[12], camera_.world[13], camera_.world[14]); }
+
+  void grow(Rect& r, const dvec3& p) const {
+    const dvec2 at(glm::dot(p, axis_x_), glm::dot(p, axis_y_));
+    r.lo = glm::min(r.lo, at);
+    r.hi = glm::max(r.hi, at);
+  }
+
+  Rect across_sun(const dvec3& lo, const dvec3& hi) const {
+    Rect r;
+    for (int k = 0; k < 8; ++k) grow(r, dvec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z));
+    return r;
+  }
+
+  void store(const char* name, const void* bytes, size_t size) {
+    auto& out = ctx_.output(name);
+    out.resize(size);
+    if (size) std::memcpy(out.data(), bytes, size);
+  }
+
+  const MeshRecord* mesh_at(uint32_t index) const {
+    if (index >= meshes_.size())
+      throw GraphError("shadow.distant_plan: an instance names mesh " + std::to_string(index));
+    return &meshes_[index];
+  }
+
+  // The coarsest level of the instance's mesh, or null when it casts no shadow here.
+  const MeshRecord* caster_mesh(uint32_t index, const glm::dmat4& model) const {
+    const InstanceRecord& r = instances_[index];
+    if (r.material >= materials_.size()) return nullptr;
+    const GpuMaterial& m = materials_[r.material];
+    if (m.extra.z != float(AlphaMode::opaque) || (int(m.extra.w) & 4) != 0) return nullptr;
+    const double determinant = glm::determinant(glm::dmat3(model));
+    const MeshRecord* mesh = mesh_at(r.primitive);
+    uint32_t steps = 0;
+    while (mesh->coarser >= 0) {
+      if (++steps > meshes_.size()) throw GraphError("shadow.distant_plan: mesh levels of detail form a cycle");
+      mesh = mesh_at(uint32_t(mesh->coarser));
+    }
+    if (!std::isfinite(determinant) || determinant == 0.0 || mesh->index_count == 0) return nullptr;
+    return mesh;
+  }
+
+  // World model matrix of a static instance.
+  glm::dmat4 model_of(uint32_t index) const {
+    const InstanceRecord& r = instances_[index];
+    glm::dmat4 model(1.0);
+    for (int c = 0; c < 3; ++c)
+      for (int row = 0; row < 3; ++row) model[c][row] = r.basis[c * 3 + row];
+    model[3] = glm::dvec4(r.position[0], r.position[1], r.position[2], 1.0);
+    return model;
+  }
+
+  // Every static caster whose box, across the sun, meets one of `tiles`, through the hierarchy:
+  // visit(tile, instance, model, mesh) for each tile it meets.
+  template <typename Visit>
+  void walk(const std::vector<Rect>& tiles, Visit visit) const {
+    std::vector<uint32_t> stack;
+    if (!hierarchy_.static_order.empty() && !tiles.empty()) stack.push_back(0);
+    while (!stack.empty()) {
+      const HierarchyNode& node = hierarchy_.nodes[stack.back()];
+      stack.pop_back();
+      const Rect r = across_sun(dvec3(node.bounds_min[0], node.bounds_min[1], node.bounds_min[2]),
+                                dvec3(node.bounds_max[0], node.bounds_max[1], node.bounds_max[2]));
+      if (std::none_of(tiles.begin(), tiles.end(), [&](const Rect& t) { return r.meets(t); })) continue;
+      if (node.count == 0) {
+        stack.push_back(node.first + 1);
+        stack.push_back(node.first);
+        continue;
+      }
+      for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+        const uint32_t index = hierarchy_.static_order[k];
+        const glm::dmat4 model = model_of(index);
+        const MeshRecord* mesh = caster_mesh(index, model);
+        if (!mesh) continue;
+        Rect box;
+        for (int c = 0; c < 8; ++c)
+          grow(box, dvec3(model * glm::dvec4(c & 1 ? mesh->bounds_max[0] : mesh->bounds_min[0],
+                                             c & 2 ? mesh->bounds_max[1] : mesh->bounds_min[1],
+                                             c & 4 ? mesh->bounds_max[2] : mesh->bounds_min[2], 1.0)));
+        for (size_t t = 0; t < tiles.size(); ++t)
+          if (box.meets(tiles[t])) visit(t, index, model, *mesh);
+      }
+    }
+  }
+
+  GpuDraw draw_of(uint32_t index, const glm::dmat4& world_model, const MeshRecord& mesh) const {
+    glm::dmat4 model = world_model;
+    model[3] -= glm::dvec4(eye(), 0.0);  // camera-relative, as every draw list
+    GpuDraw d{};
+    d.model = glm::mat4(model);
+    d.previous_model = d.model;
+    d.normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::dmat3(model))));
+    d.first_index = mesh.first_index;
+    d.index_count = mesh.index_count;
+    d.vertex_offset = mesh.vertex_offset;
+    d.material = instances_[index].material;
+    d.instance = index;
+    d.mirrored = glm::determinant(glm::dmat3(model)) < 0.0;
+    const glm::vec3 lo = glm::make_vec3(mesh.bounds_min), hi = glm::make_vec3(mesh.bounds_max);
+    d.position_origin = glm::vec4(lo, 0.0f);
+    d.position_step = glm::vec4(position_step(lo, hi), 0.0f);
+    return d;
+  }
+
+  PassContext& ctx_;
+  CameraRecordGpu camera_;
+  GpuFrameConstants constants_;
+  std::span<const InstanceRecord> instances_;
+  std::span<const MeshRecord> meshes_;
+  std::vector<GpuMaterial> materials_;
+  Hierarchy hierarchy_;
+  dvec3 travel_{0.0}, axis_x_{0.0}, axis_y_{0.0};
+};
+
+}  // namespace
+
+PassDecl shadow_distant_plan_pass() {
+  return PassDecl("shadow.distant_plan", PassType::cpu)
+      .read("frame.camera", Use::host)
+      .read("frame.constants", Use::host)
+      .read("scene.instances", Use::host)
+      .read("scene.meshes", Use::host)
+      .read("scene.hierarchy", Use::host)
+      .read("scene.materials", Use::host)
+      .write("shadow.distant_data", Use::host, BufferDecl{ResourceKind::buffer})
+      .write("draws.shadow.distant", Use::host, BufferDecl{ResourceKind::draw_list})
+      .write("shadow.distant_plan", Use::host, BufferDecl{ResourceKind::buffer})
+      .layout("shadow.distant_data", distant_levels_schema())
+      .layout("draws.shadow.distant", draw_schema())
+      .layout("shadow.distant_plan", distant_plan_schema())
+      .param("resolution", kDistantResolution, 64, 4096,
+             "texels per side of each level (a multiple of 8): shadow.distant.resolution's")
+      .param("level0_metres", 256, 1, 100000,
+             "side of the finest level in metres (grown until the last level covers the map)")
+      .param("tiles", 2, 1, kDistantMaxTilesPerSide, "tiles per side of a level: the unit of refresh")
+      .param("budget_triangles", 500000, 0, 1e9,
+             "triangles shadow.distant draws per frame at most (a unit above it is drawn alone)")
+      .needs("sun_above_horizon")
+      .run([](PassContext& ctx) { DistantPlanner(ctx).run(); });
+}
+
+}  // namespace nightcap

@@ -1,0 +1,389 @@
+// The sun's distant shadow (shadow.distant_plan, shadow.distant, and shadow.sun_resolve beyond
+// the last cascade) against a CPU ray cast in double precision (tests/reference/shadow_reference.h).
+// Bounds:
+// - agreement: at pixels beyond the last cascade's split facing the sun (n·l > 0.1), more than 2
+//   texels of the level the resolve reads (measured across the sun's rays) from an edge of the
+//   ray cast's shadow, the visibility (R ≥ 0.5 lit) agrees with the ray cast at ≥ 99% of them
+//   (accuracy.md's shadow bound, with the level's texel in place of the cascade's);
+// - refresh: with a static camera and a budget that spreads the levels over several frames, each
+//   frame draws at most the budget (or one unit alone), every unit is redrawn once per cycle,
+//   and after one cycle the levels are bit-identical to a render of every level at once;
+// - up to date: a level with no unit due is not drawn and keeps the previous frame's bytes; no
+//   sun above the horizon skips both passes;
+// - a moved camera: the texels a level keeps are bit-identical to a full render at the new view;
+// - replay: frame 2 of a driving camera, each distant pass run again on its recorded inputs
+//   (the previous frame's levels included), writes the same bytes;
+// - stress (the sun at the horizon, straight down, the map's far corner): finite, replays.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "passes/frame/frame_passes.h"
+#include "passes/frame/renderer.h"
+#include "passes/scene/scene_kit.h"
+#include "passes/shadow/shadow_layout.h"
+#include "tests/reference/shadow_reference.h"
+#include "tests/unit/gpu_fixture.h"
+#include "tests/unit/recorded_pass.h"
+
+namespace nightcap::test {
+namespace {
+
+using glm::dvec3;
+using reference::ShadowTriangles;
+using reference::ShadowView;
+
+struct Frame {
+  RecordedPass plan, levels, resolve;
+  DistantPlan decision{};
+  GpuDistantLevels data{};
+  std::string non_finite;
+  dvec3 eye{0.0};
+  bool planned = false, ran = false;  // shadow.distant_plan and shadow.distant ran
+};
+
+Scene with_sun(Scene scene, const glm::vec3& direction) {
+  for (Light& light : scene.lights)
+    if (light.type == LightType::directional) {
+      light.direction = glm::normalize(direction);
+      return scene;
+    }
+  Light sun = scene_kit::moon();
+  sun.direction = glm::normalize(direction);
+  scene.lights.insert(scene.lights.begin(), sun);
+  return scene;
+}
+
+// A 600 m ground (its top at y = 0) with boxes out to 200 m, seen from 8 m up looking along -z.
+Scene field_scene(const glm::vec3& sun) {
+  Scene scene;
+  scene.source = "distant shadow reference";
+  scene_kit::Builder build(scene);
+  const uint32_t grey = build.material(scene_kit::plain("ground", {0.5f, 0.5f, 0.5f}, 0.0f, 0.8f, stencil::plain));
+  build.place(build.box(glm::vec3(300.0f, 0.5f, 300.0f), grey, 1.0f, true, true), {0.0, -0.5, 0.0});
+  const std::vector<std::pair<dvec3, dvec3>> boxes = {
+      {{-6.0, 2.0, -25.0}, {2.0, 2.0, 2.0}},   {{8.0, 4.0, -45.0}, {3.0, 4.0, 1.5}},
+      {{-15.0, 3.0, -70.0}, {4.0, 3.0, 4.0}},  {{20.0, 6.0, -100.0}, {5.0, 6.0, 3.0}},
+      {{-30.0, 5.0, -140.0}, {8.0, 5.0, 2.0}}, {{10.0, 8.0, -180.0}, {6.0, 8.0, 6.0}},
+      {{40.0, 2.5, -60.0}, {2.0, 2.5, 10.0}},  {{-45.0, 10.0, -110.0}, {3.0, 10.0, 3.0}}};
+  for (const auto& [centre, half] : boxes) build.place(build.box(glm::vec3(half), grey, 1.0f, true, true), centre);
+  Camera camera;
+  camera.yfov = glm::radians(60.0f);
+  camera.znear = 0.1f;
+  camera.world = glm::inverse(glm::lookAt(dvec3(0.0, 8.0, 0.0), dvec3(0.0, 0.0, -60.0), dvec3(0.0, 1.0, 0.0)));
+  scene.camera = camera;
+  return with_sun(scene, sun);
+}
+
+const glm::vec3 kSun(0.35f, -0.8f, 0.45f);
+
+// Cascades end at 10 m, so most of the view reads the distant levels.
+std::map<std::string, ParamValues> distant_params(double budget, double tiles = 2) {
+  return {{"shadow.cull", {{"max_distance", 10.0}}},
+          {"shadow.distant_plan", {{"level0_metres", 128.0}, {"budget_triangles", budget}, {"tiles", tiles}}}};
+}
+
+class DistantShadows : public GpuTest {
+ protected:
+  // Frames 0 … count − 1 of `scene` in order (the history carried), each decoded.
+  static std::vector<Frame> render(const Scene& scene, uint32_t count, std::map<std::string, ParamValues> params,
+                                   CameraPath::Motion motion = CameraPath::Motion::still, uint32_t width = 320,
+                                   uint32_t height = 180) {
+    RenderSettings settings;
+    settings.width = width;
+    settings.height = height;
+    settings.path.motion = motion;
+    settings.sinks = {"shadow.sun"};
+    settings.params = std::move(params);
+    Renderer renderer(*gpu_, scene, settings);
+    std::vector<Frame> frames;
+    for (uint32_t i = 0; i < count; ++i) {
+      const RenderedFrame rendered = renderer.render_frame(i, true);
+      Frame f;
+      f.non_finite = first_non_finite(rendered.execution);
+      f.plan = recorded_pass(rendered, "shadow.distant_plan");
+      f.levels = recorded_pass(rendered, "shadow.distant");
+      f.resolve = recorded_pass(rendered, "shadow.sun_resolve");
+      for (size_t p = 0; p < rendered.graph.passes.size(); ++p) {
+        const std::string& name = rendered.graph.passes[p].decl->name;
+        if (name == "shadow.distant_plan") f.planned = rendered.graph.passes[p].runs;
+        if (name == "shadow.distant") f.ran = rendered.graph.passes[p].runs;
+      }
+      if (f.plan.outputs.count("shadow.distant_plan") &&
+          f.plan.outputs.at("shadow.distant_plan").bytes->size() == sizeof(DistantPlan)) {
+        std::memcpy(&f.decision, f.plan.outputs.at("shadow.distant_plan").bytes->data(), sizeof(DistantPlan));
+        std::memcpy(&f.data, f.plan.outputs.at("shadow.distant_data").bytes->data(), sizeof(GpuDistantLevels));
+      }
+      if (f.plan.inputs.count("frame.camera")) {
+        const CameraRecordGpu camera =
+            host_records<CameraRecordGpu>(std::span<const uint8_t>(*f.plan.inputs.at("frame.camera").bytes)).at(0);
+        f.eye = dvec3(camera.world[12], camera.world[13], camera.world[14]);
+      }
+      frames.push_back(std::move(f));
+    }
+    return frames;
+  }
+
+  static const std::vector<uint8_t>& levels_of(const Frame& f) { return *f.levels.outputs.at("shadow.distant").bytes; }
+
+  // Each distant pass (and the resolve) run again on the inputs the frame recorded writes the same bytes.
+  static void expect_replays(const Frame& f, const std::map<std::string, ParamValues>& params) {
+    for (const auto& [decl, r] :
+         {std::pair{shadow_distant_plan_pass(), &f.plan}, std::pair{shadow_distant_pass(), &f.levels},
+          std::pair{shadow_sun_resolve_pass(), &f.resolve}}) {
+      if (r->outputs.empty()) continue;
+      const auto it = params.find(decl.name);
+      const IsolatedRun again = run(decl, r->inputs, 320, 180, it == params.end() ? ParamValues{} : it->second);
+      for (const auto& [name, output] : r->outputs)
+        EXPECT_TRUE(*again.outputs.at(name) == *output.bytes) << decl.name << ": " << name << " differs when run again";
+    }
+  }
+};
+
+// The level sun_resolve.comp reads at camera-relative p (the finest that holds its filter), or -1.
+int level_at(const GpuDistantLevels& d, const dvec3& p) {
+  const double reach = 2.0 * (1 + 2) / d.light_direction.w;
+  for (int k = 0; k < int(kDistantLevels); ++k) {
+    const glm::dvec4 clip = glm::dmat4(d.light_from_world[k]) * glm::dvec4(p, 1.0);
+    if (std::abs(clip.x) <= 1.0 - reach && std::abs(clip.y) <= 1.0 - reach) return k;
+  }
+  return -1;
+}
+
+TEST_F(DistantShadows, BeyondTheCascadesAgreeWithARayCast) {
+  const Scene scene = field_scene(kSun);
+  const Frame f = render(scene, 1, distant_params(1e9), CameraPath::Motion::still, 640, 360).at(0);
+  EXPECT_EQ(f.non_finite, "");
+  ASSERT_TRUE(f.ran && !f.resolve.outputs.empty());
+  EXPECT_EQ(f.decision.cycle_frames, 1u) << "an unlimited budget draws every level at once";
+  const ShadowView v(f.resolve.inputs, f.resolve.outputs.at("shadow.sun"));
+  const ShadowTriangles triangles(scene, f.eye);
+  const dvec3 l = v.to_sun();
+  size_t compared = 0, agreed = 0, shadowed = 0, near_edge = 0;
+  size_t per_level[kDistantLevels] = {};
+  std::string first;
+  for (uint32_t y = 1; y < v.height; y += 3)
+    for (uint32_t x = 1; x < v.width; x += 3) {
+      const auto s = v.surface(x, y);
+      if (!s || s->view_depth <= v.cascades.splits[3] || glm::dot(s->normal, l) <= 0.1) continue;
+      const int level = level_at(f.data, s->position);
+      ASSERT_GE(level, 0) << "the last level covers the whole map";
+      const bool lit = triangles.lit(s->position, s->normal, l, s->view_depth);
+      const double texel = f.data.texel_metres[level];
+      const dvec3 u =
+          glm::normalize(glm::cross(s->normal, std::abs(s->normal.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0)));
+      const dvec3 w2 = glm::cross(s->normal, u);
+      bool edge = false;
+      for (int k = 0; k < 8 && !edge; ++k) {
+        const double angle = k * 0.7853981633974483;
+        const dvec3 w = u * std::cos(angle) + w2 * std::sin(angle);
+        const double across = glm::length(w - glm::dot(w, l) * l);
+        edge =
+            triangles.lit(s->position + w * (2.0 * texel / std::max(across, 0.1)), s->normal, l, s->view_depth) != lit;
+      }
+      if (edge) {
+        ++near_edge;
+        continue;
+      }
+      const bool agrees = (v.visibility(x, y) >= 0.5) == lit;
+      ++compared;
+      ++per_level[level];
+      shadowed += !lit;
+      agreed += agrees;
+      if (!agrees && first.empty())
+        first = "pixel " + std::to_string(x) + "," + std::to_string(y) + " (level " + std::to_string(level) +
+                "): ray cast " + (lit ? "lit" : "shadowed") + ", visibility " + std::to_string(v.visibility(x, y));
+    }
+  std::printf(
+      "beyond the cascades: %zu of %zu sampled pixels agree (%.3f%%; %zu ray-shadowed; levels 0-3: %zu %zu %zu %zu), "
+      "%zu near an edge; texels %.3f %.3f %.3f %.3f m\n",
+      agreed, compared, compared ? 100.0 * agreed / compared : 0.0, shadowed, per_level[0], per_level[1], per_level[2],
+      per_level[3], near_edge, f.data.texel_metres[0], f.data.texel_metres[1], f.data.texel_metres[2],
+      f.data.texel_metres[3]);
+  EXPECT_GT(compared, 1000u);
+  EXPECT_GT(shadowed, 100u) << "the test needs shadows to compare";
+  EXPECT_GT(per_level[0], 100u);
+  EXPECT_GT(per_level[1], 20u) << "the test should reach a coarser level";
+  EXPECT_GE(double(agreed), 0.99 * double(compared)) << first;
+}
+
+TEST_F(DistantShadows, RefreshWithinTheBudgetConvergesToAFullRender) {
+  const Scene scene = field_scene(kSun);
+  const Frame full = render(scene, 1, distant_params(1e9, 1)).at(0);
+  ASSERT_TRUE(full.ran);
+  EXPECT_EQ(full.decision.cycle_frames, 1u);
+  // Every box is 12 triangles; 30 per frame spreads the 16 units (4 levels of 2×2 tiles) over several.
+  const double budget = 30;
+  const uint32_t count = 16;
+  const std::vector<Frame> frames = render(scene, count, distant_params(budget));
+  const uint32_t cycle = frames.at(0).decision.cycle_frames;
+  std::printf("budget %.0f triangles: a cycle of %u frames; triangles per unit:", budget, cycle);
+  for (uint32_t u = 0; u < frames[0].decision.units; ++u) std::printf(" %u", frames[0].decision.unit_triangles[u]);
+  std::printf("\n");
+  ASSERT_GE(cycle, 4u) << "the budget should spread the refresh";
+  ASSERT_LE(cycle + 1, count);
+  std::vector<uint32_t> redrawn(kDistantLevels, 0);
+  for (uint32_t i = 0; i < count; ++i) {
+    const DistantPlan& p = frames[i].decision;
+    EXPECT_EQ(p.cycle_frames, cycle);
+    EXPECT_EQ(p.frame_in_cycle, i % cycle);
+    EXPECT_TRUE(p.triangles <= budget || p.over_budget) << "frame " << i;
+    uint32_t units = 0;
+    for (uint32_t k = 0; k < kDistantLevels; ++k) units += std::popcount(p.refreshed[k]);
+    if (p.over_budget) {
+      EXPECT_EQ(units, 1u) << "only a unit alone may exceed the budget";
+    }
+    if (i < cycle)
+      for (uint32_t k = 0; k < kDistantLevels; ++k) {
+        EXPECT_EQ(redrawn[k] & p.refreshed[k], 0u) << "a unit redrawn twice in one cycle";
+        redrawn[k] |= p.refreshed[k];
+      }
+  }
+  for (uint32_t k = 0; k < kDistantLevels; ++k) EXPECT_EQ(redrawn[k], 0xfu) << "level " << k << " incomplete";
+  EXPECT_FALSE(levels_of(frames[0]) == levels_of(full)) << "one frame of the budget should not complete the levels";
+  for (uint32_t i = cycle - 1; i < count; ++i)
+    EXPECT_TRUE(levels_of(frames[i]) == levels_of(full)) << "frame " << i << " differs from a full render";
+}
+
+TEST_F(DistantShadows, UpToDateLevelsAreCarriedNotDrawn) {
+  const Scene scene = field_scene(kSun);
+  const std::vector<Frame> frames = render(scene, 6, distant_params(30));
+  const size_t layer = levels_of(frames[0]).size() / kDistantLevels;
+  size_t carried = 0;
+  for (size_t i = 1; i < frames.size(); ++i)
+    for (uint32_t k = 0; k < kDistantLevels; ++k) {
+      if (frames[i].decision.refreshed[k] != 0) continue;
+      ++carried;
+      for (uint32_t u = 0; u < 4; ++u) EXPECT_EQ(frames[i].decision.unit_draws[k * 4 + u], 0u);
+      EXPECT_TRUE(std::equal(levels_of(frames[i]).begin() + k * layer, levels_of(frames[i]).begin() + (k + 1) * layer,
+                             levels_of(frames[i - 1]).begin() + k * layer))
+          << "frame " << i << ", level " << k << " changed without a redraw";
+    }
+  EXPECT_GT(carried, 4u);
+  // The sun below the horizon: neither pass runs.
+  const Frame night = render(with_sun(scene, {0.3f, 0.5f, 0.2f}), 1, distant_params(30)).at(0);
+  EXPECT_FALSE(night.ran);
+  EXPECT_FALSE(night.planned);
+}
+
+// The camera moves 40 m, more than a snap step of levels 0–2 (16, 64, 256 m): the kept texels
+// (those not redrawn, covered before) are the full render's at the new view.
+TEST_F(DistantShadows, AMovedLevelKeepsWhatItCovered) {
+  const Scene scene = field_scene(kSun);
+  Scene there = scene;
+  there.camera->world[3] += glm::dvec4(37.0, 0.0, -41.0, 0.0);
+  const auto frames_here = render(scene, 1, distant_params(1e9)).at(0);
+  const auto full_there = render(there, 1, distant_params(1e9)).at(0);
+  ASSERT_TRUE(frames_here.ran && full_there.ran);
+  // The history of `here` read at `there`: run shadow.distant on `there`'s plan with nothing due.
+  std::map<std::string, IsolatedInput> inputs = full_there.levels.inputs;
+  inputs[previous("shadow.distant")] = frames_here.levels.outputs.at("shadow.distant");
+  GpuDistantLevels data = full_there.data;
+  DistantPlan plan = full_there.decision;
+  const dvec3 shift_metres = dvec3(37.0, 0.0, -41.0);
+  const double resolution = data.light_direction.w;
+  glm::ivec2 shifts[kDistantLevels];
+  for (uint32_t k = 0; k < kDistantLevels; ++k) {
+    // The planner's own shift, recomputed as it would be with `here` as the previous view.
+    // One world point, `here`'s eye: at the origin of `here`'s camera-relative space.
+    const glm::dvec4 now = glm::dmat4(frames_here.data.light_from_world[k]) * glm::dvec4(0.0, 0.0, 0.0, 1.0);
+    const glm::dvec4 then = glm::dmat4(full_there.data.light_from_world[k]) * glm::dvec4(-shift_metres, 1.0);
+    shifts[k] = glm::ivec2(glm::round((glm::dvec2(now) - glm::dvec2(then)) * 0.5 * resolution));
+    data.refresh[k] = glm::ivec4(shifts[k], 0, int(plan.tiles_per_side));
+    plan.refreshed[k] = 0;
+  }
+  EXPECT_NE(shifts[0], glm::ivec2(0)) << "level 0 should move";
+  EXPECT_EQ(shifts[3], glm::ivec2(0)) << "the last level stays on the map";
+  auto bytes = [](const auto& value) {
+    return std::make_shared<std::vector<uint8_t>>(reinterpret_cast<const uint8_t*>(&value),
+                                                  reinterpret_cast<const uint8_t*>(&value) + sizeof(value));
+  };
+  inputs["shadow.distant_data"].bytes = bytes(data);
+  inputs["shadow.distant_plan"].bytes = bytes(plan);
+  const IsolatedRun kept = run(shadow_distant_pass(), inputs, 320, 180);
+  const auto& got = *kept.outputs.at("shadow.distant");
+  const auto& want = levels_of(full_there);
+  const uint32_t n = uint32_t(resolution);
+  // Camera-relative float positions, and the rasterizer's sub-texel snapping of them, differ at the
+  // two views: depths match to a small part of a texel's side (far below the resolve's half-texel
+  // bias), and a texel on a caster's silhouette may flip.
+  size_t compared = 0, bits = 0, apart = 0;
+  double largest = 0.0;
+  for (uint32_t k = 0; k < kDistantLevels; ++k)
+    for (uint32_t y = 0; y < n; ++y)
+      for (uint32_t x = 0; x < n; ++x) {
+        const glm::ivec2 before = glm::ivec2(x, y) + shifts[k];
+        if (before.x < 0 || before.y < 0 || before.x >= int(n) || before.y >= int(n)) continue;
+        const size_t at = ((size_t(k) * n + y) * n + x) * 4;
+        float a, b;
+        std::memcpy(&a, &got[at], 4);
+        std::memcpy(&b, &want[at], 4);
+        ++compared;
+        bits += a != b;
+        const double texels = std::abs(double(a) - double(b)) * data.depth_metres[k] / data.texel_metres[k];
+        if (texels > 0.25)
+          ++apart;
+        else
+          largest = std::max(largest, texels);
+      }
+  std::printf(
+      "moved: %zu kept texels, %zu not bit-identical to a full render there, %zu more than 1/4 texel of depth "
+      "apart, the rest within %.4f texel (shifts %d,%d %d,%d %d,%d)\n",
+      compared, bits, apart, largest, shifts[0].x, shifts[0].y, shifts[1].x, shifts[1].y, shifts[2].x, shifts[2].y);
+  EXPECT_GT(compared, size_t(n) * n * 2);
+  EXPECT_LE(double(apart), 1e-3 * double(compared));
+  EXPECT_LE(largest, 0.1);
+}
+
+TEST_F(DistantShadows, AFrameOfADrivingCameraReplays) {
+  Scene map = build_map({1, 2.0, Shot::street});
+  add_default_lighting(map);
+  const auto params = std::map<std::string, ParamValues>{{"shadow.distant_plan", {{"budget_triangles", 20000}}}};
+  const std::vector<Frame> frames = render(map, 3, params, CameraPath::Motion::drive);
+  for (const Frame& f : frames) {
+    EXPECT_EQ(f.non_finite, "");
+    EXPECT_TRUE(f.ran);
+    std::printf("2 km map, driving: frame in cycle %u of %u, %u draws, %u triangles, levels %x %x %x %x\n",
+                f.decision.frame_in_cycle, f.decision.cycle_frames, f.decision.draws, f.decision.triangles,
+                f.decision.refreshed[0], f.decision.refreshed[1], f.decision.refreshed[2], f.decision.refreshed[3]);
+  }
+  EXPECT_GT(frames[2].decision.cycle_frames, 1u) << "the budget should spread the map's refresh";
+  ASSERT_TRUE(frames[2].levels.inputs.count(previous("shadow.distant")));
+  EXPECT_TRUE(*frames[2].levels.inputs.at(previous("shadow.distant")).bytes == levels_of(frames[1]))
+      << "frame 2 reads frame 1's levels";
+  expect_replays(frames[2], params);
+}
+
+TEST_F(DistantShadows, StressStaysFiniteAndReplays) {
+  const Scene field = field_scene(kSun);
+  const std::vector<std::pair<const char*, Scene>> cases = {
+      {"sun at the horizon", with_sun(field, {1.0f, -1e-3f, 0.3f})},
+      {"sun straight down", with_sun(field, {0.0f, -1.0f, 0.0f})},
+      {"map's far corner", [] {
+         Scene s = build_map({1, 1.0, Shot::street});
+         add_default_lighting(s);
+         for (Instance& instance : s.instances) instance.world[3] += glm::dvec4(7500.0, 0.0, 7500.0, 0.0);
+         for (Light& light : s.lights) light.position += dvec3(7500.0, 0.0, 7500.0);
+         if (s.camera) s.camera->world[3] += glm::dvec4(7500.0, 0.0, 7500.0, 0.0);
+         return s;
+       }()}};
+  const auto params = distant_params(60);
+  for (const auto& [name, scene] : cases) {
+    SCOPED_TRACE(name);
+    const std::vector<Frame> frames = render(scene, 2, params);
+    for (const Frame& f : frames) {
+      EXPECT_EQ(f.non_finite, "");
+      ASSERT_TRUE(f.ran);
+      for (uint32_t k = 0; k < kDistantLevels; ++k)
+        for (int c = 0; c < 16; ++c) EXPECT_TRUE(std::isfinite((&f.data.light_from_world[k][0][0])[c]));
+    }
+    expect_replays(frames[1], params);
+  }
+}
+
+}  // namespace
+}  // namespace nightcap::test
