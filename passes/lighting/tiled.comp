@@ -1,12 +1,12 @@
 #version 460
 // lighting.tiled: direct light per 16×16-pixel tile from the froxel lists of lights.cluster, in
-// five dispatches of one pass (passes/lighting/tiled_layout.h names the classes):
+// seven dispatches of one pass (passes/lighting/tiled_layout.h names the classes):
 //   0: a workgroup per tile classifies it (unlit, directional only, local point and spot lights,
-//      local lights with spheres or tubes) into lighting.tile_lists, writes an unlit tile's
+//      with tubes, with spheres, with both) into lighting.tile_lists, writes an unlit tile's
 //      outputs (0) at once, and zeroes the entries past the last tile;
-//   1: one workgroup lists the tiles of classes 1, 2 and 3 in row-major order (each invocation a
+//   1: one workgroup lists the tiles of classes 1 to 5 in row-major order (each invocation a
 //      run of tiles, offsets from the runs' counts) and writes each class's indirect dispatch;
-//   2, 3, 4: a workgroup per listed tile of class 1, 2, then 3, shades its pixels.
+//   2 to 6: a workgroup per listed tile of class 1, 2, … 5, shades its pixels.
 // Nothing depends on execution order (the classification ORs flags, the lists come from integer
 // sums), and each pixel is shaded the same way whatever the order: every run writes the same
 // bytes.
@@ -48,8 +48,9 @@ layout(set = 0, binding = 11) uniform sampler2D ltc_magnitude;
 layout(set = 0, binding = 12) uniform sampler2D sun_shadow_map;
 layout(set = 0, binding = 13, rgba16f) uniform writeonly image2D diffuse_out;
 layout(set = 0, binding = 14, rgba16f) uniform writeonly image2D specular_out;
+const uint kClasses = 5u;  // shaded classes, 1 to 5
 layout(std430, set = 0, binding = 15) buffer ClassBlock {
-  uvec4 class_dispatch[3];  // classes 1, 2, 3: workgroups x, y, z; w: first list entry
+  uvec4 class_dispatch[kClasses];  // classes 1 to 5: workgroups x, y, z; w: first list entry
 };
 layout(std430, set = 0, binding = 16) buffer ListBlock { uvec2 entries[]; };  // (class of tile i, i-th listed tile)
 
@@ -93,7 +94,7 @@ uvec2 froxel_list(ivec2 pixel, float depth) {
 }
 
 // Phase 0.
-shared uint tile_flags;  // 1: a lit pixel; 2: its froxel lists a local light; 4: a sphere or tube
+shared uint tile_flags;  // 1: a lit pixel; 2: its froxel lists a local light; 4: a tube; 8: a sphere
 
 void classify() {
   uvec2 tile = gl_WorkGroupID.xy;
@@ -102,12 +103,21 @@ void classify() {
   barrier();
   if (inside(pixel) && shaded(pixel)) {
     uvec2 list = froxel_list(pixel, texelFetch(linear_depth_map, pixel, 0).r);
-    // The list ascends, so its last light is an area light when it holds any.
-    bool area = list.y > 0u && cluster_indices[list.x + list.y - 1u] >= frame.light_groups.y;
-    atomicOr(tile_flags, area ? 4u : list.y > 0u ? 2u : 1u);
+    // The list ascends: point and spot lights, then spheres, then tubes.
+    uint flags = list.y > 0u ? 3u : 1u;
+    for (uint k = 0u; k < list.y; ++k) {
+      uint i = cluster_indices[list.x + k];
+      if (i >= frame.light_groups.z) flags |= 4u;
+      else if (i >= frame.light_groups.y) flags |= 8u;
+    }
+    atomicOr(tile_flags, flags);
   }
   barrier();
-  uint tile_class = (tile_flags & 4u) != 0u ? 3u : (tile_flags & 2u) != 0u ? 2u : tile_flags;
+  uint tile_class = (tile_flags & 12u) == 12u ? 5u
+                    : (tile_flags & 8u) != 0u ? 4u
+                    : (tile_flags & 4u) != 0u ? 3u
+                    : (tile_flags & 2u) != 0u ? 2u
+                    : tile_flags;
   if (tile_class == 0u && inside(pixel)) {
     imageStore(diffuse_out, pixel, vec4(0.0));
     imageStore(specular_out, pixel, vec4(0.0));
@@ -120,28 +130,34 @@ void classify() {
 }
 
 // Phase 1.
-shared uvec3 run_counts[256];  // tiles of classes 1, 2, 3 in each invocation's run
+shared uint run_counts[kClasses][256];  // tiles of classes 1 to 5 in each invocation's run
 
 void place() {
   uint lane = gl_LocalInvocationIndex;
   uint total = tiles_x * tiles_y;
   uint per_run = (total + 255u) / 256u;
   uint begin = min(lane * per_run, total), end = min(begin + per_run, total);
-  uvec3 counts = uvec3(0u);
+  uint counts[kClasses] = uint[kClasses](0u, 0u, 0u, 0u, 0u);
   for (uint t = begin; t < end; ++t) {
     uint tile_class = entries[t].x;
     if (tile_class > 0u) ++counts[tile_class - 1u];
   }
-  run_counts[lane] = counts;
+  for (uint c = 0u; c < kClasses; ++c) run_counts[c][lane] = counts[c];
   barrier();
-  uvec3 before = uvec3(0u), all = uvec3(0u);
-  for (uint k = 0u; k < 256u; ++k) {
-    if (k < lane) before += run_counts[k];
-    all += run_counts[k];
-  }
   // Each class's list follows the previous classes' lists.
-  uvec3 first = uvec3(0u, all.x, all.x + all.y);
-  uvec3 at = first + before;
+  uint at[kClasses], first[kClasses], all[kClasses];
+  uint listed = 0u;
+  for (uint c = 0u; c < kClasses; ++c) {
+    uint before = 0u;
+    all[c] = 0u;
+    for (uint k = 0u; k < 256u; ++k) {
+      if (k < lane) before += run_counts[c][k];
+      all[c] += run_counts[c][k];
+    }
+    first[c] = listed;
+    at[c] = listed + before;
+    listed += all[c];
+  }
   for (uint t = begin; t < end; ++t) {
     uint tile_class = entries[t].x;
     if (tile_class > 0u) entries[at[tile_class - 1u]++].y = t;
@@ -149,13 +165,13 @@ void place() {
   if (lane != 0u) return;
   // A class with no tile dispatches nothing; (0, 0, 0) is also the buffer's cleared value, which
   // a frame with nothing to shade then computes (the pass's skip for cleared inputs).
-  for (uint c = 0u; c < 3u; ++c) {
+  for (uint c = 0u; c < kClasses; ++c) {
     uint any = min(all[c], 1u);
     class_dispatch[c] = uvec4(all[c], any, any, first[c]);
   }
 }
 
-// Phases 2, 3 and 4.
+// Phases 2 to 6.
 float spot_factor(Light light, vec3 to_light) {
   float cos_outer = light.direction_cos_outer.w, cos_inner = light.cos_inner.x;
   float cd = dot(light.direction_cos_outer.xyz, -to_light);
@@ -313,16 +329,19 @@ void shade_tiles(uint tile_class) {
       if (i >= frame.light_groups.y) break;
       shade_punctual(lights[i], s, diffuse, specular);
     }
-    // Only class 3 has spheres and tubes: lavapipe would run a pass of their loops even where
-    // no list holds one.
-    if (tile_class == 3u) {
+    // Only classes 4 and 5 have spheres, 3 and 5 tubes: lavapipe runs a loop's body at least
+    // once per SIMD row, even where no list holds a light of its kind (tiled_layout.h).
+    if (tile_class >= 3u) {
       Lobe lobe = lobe_of(s);
-      for (; k < list.y; ++k) {
-        uint i = cluster_indices[list.x + k];
-        if (i >= frame.light_groups.z) break;
-        shade_sphere(lights[i], s, lobe, diffuse, specular);
+      if (tile_class >= 4u) {
+        for (; k < list.y; ++k) {
+          uint i = cluster_indices[list.x + k];
+          if (i >= frame.light_groups.z) break;
+          shade_sphere(lights[i], s, lobe, diffuse, specular);
+        }
       }
-      for (; k < list.y; ++k) shade_tube(lights[cluster_indices[list.x + k]], s, lobe, diffuse, specular);
+      if (tile_class != 4u)
+        for (; k < list.y; ++k) shade_tube(lights[cluster_indices[list.x + k]], s, lobe, diffuse, specular);
     }
   }
   imageStore(diffuse_out, pixel, vec4(nearest_half(diffuse), 1.0));

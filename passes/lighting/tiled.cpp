@@ -32,7 +32,12 @@ struct TiledConstants {
 
 BufferSchema tile_classes_schema() {
   using C = GpuTileClasses;
-  return BufferSchema::of<C>().field("directional", &C::directional).field("local", &C::local).field("area", &C::area);
+  return BufferSchema::of<C>()
+      .field("directional", &C::directional)
+      .field("local", &C::local)
+      .field("tube", &C::tube)
+      .field("sphere", &C::sphere)
+      .field("sphere_and_tube", &C::sphere_and_tube);
 }
 
 BufferSchema tile_entry_schema() {
@@ -109,8 +114,8 @@ PassDecl lighting_tiled_pass() {
             Binding::storage(ctx.slot("lighting.tile_classes"), "lighting.tile_classes"),
             Binding::storage(ctx.slot("lighting.tile_lists"), "lighting.tile_lists")};
         // Each phase is its own pipeline (tiled.comp's constant `phase`): lavapipe runs every
-        // side of a branch, so one pipeline switching on a push constant paid for all four
-        // phases in each dispatch (phase 1's loops in every workgroup of the shading).
+        // side of a branch, so one pipeline switching on a push constant paid for every phase
+        // in each dispatch (phase 1's loops in every workgroup of the shading).
         const int32_t tube_nodes = int32_t(ctx.param("tube_nodes"));
         if (tube_nodes != 2 && tube_nodes != 4 && tube_nodes != 8 && tube_nodes != 16)
           throw GraphError("lighting.tiled: tube_nodes is 2, 4, 8 or 16, not " + std::to_string(tube_nodes));
@@ -128,7 +133,7 @@ PassDecl lighting_tiled_pass() {
         // The classes write disjoint tiles and read only what phases 0 and 1 wrote; the
         // barriers between them are for the synchronization validation, which counts the
         // arguments' binding (written in phase 1) as written by every dispatch.
-        for (uint32_t tile_class = 1; tile_class <= 3; ++tile_class) {
+        for (uint32_t tile_class = 1; tile_class <= kLightingTileClasses; ++tile_class) {
           if (tile_class > 1) ctx.storage_barrier();
           begin_phase(int32_t(tile_class + 1));
           ctx.dispatch_indirect("lighting.tile_classes", (tile_class - 1) * sizeof(glm::uvec4));

@@ -6,9 +6,14 @@
 //   1 (directional): lit pixels, and no froxel they fall in lists a local light: the sun and
 //     directional lights only;
 //   2 (local): some pixel's froxel lists local lights, point and spot lights only;
-//   3 (area): some pixel's froxel lists a sphere or a tube light.
-// Classes 1, 2 and 3 are shaded by one indirect dispatch each, a workgroup per listed tile; each
-// is its own pipeline, which leaves out the code its tiles do not need.
+//   3 (tube): some pixel's froxel lists a tube light, none a sphere;
+//   4 (sphere): some pixel's froxel lists a sphere light, none a tube;
+//   5 (sphere and tube): both kinds are listed in the tile.
+// Classes 1 to 5 are shaded by one indirect dispatch each, a workgroup per listed tile; each is
+// its own pipeline, which leaves out the code its tiles do not need. That matters on lavapipe,
+// which runs a loop's body at least once per SIMD row even when no lane enters it: with spheres
+// and tubes in one class, the 2 km map's street (no sphere light at all) paid for a pass of the
+// sphere code in every row of every tile with a tube.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -23,21 +28,24 @@ constexpr uint32_t kLightingTile = 16;  // pixels on a side of a tile
 // Tiles lighting.tile_lists holds: those of the largest output (16384² pixels).
 constexpr uint32_t kLightingTileCapacity = 1u << 20;
 
-enum class TileClass : uint32_t { unlit = 0, directional = 1, local = 2, area = 3 };
+enum class TileClass : uint32_t { unlit = 0, directional = 1, local = 2, tube = 3, sphere = 4, sphere_and_tube = 5 };
+constexpr uint32_t kLightingTileClasses = 5;  // shaded classes: 1 to 5
 
 // lighting.tile_classes: per shaded class, its VkDispatchIndirectCommand (x: the class's tiles;
 // y = z = 1, or all 0 when it has none) and in w the first entry of its list in
 // lighting.tile_lists.
 struct GpuTileClasses {
-  glm::uvec4 directional;  // class 1
-  glm::uvec4 local;        // class 2
-  glm::uvec4 area;         // class 3
+  glm::uvec4 directional;      // class 1
+  glm::uvec4 local;            // class 2
+  glm::uvec4 tube;             // class 3
+  glm::uvec4 sphere;           // class 4
+  glm::uvec4 sphere_and_tube;  // class 5
 };
-static_assert(sizeof(GpuTileClasses) == 48);
+static_assert(sizeof(GpuTileClasses) == 80);
 
 // lighting.tile_lists, entry i: the class of tile i (row-major: y · tiles across + x), and the
-// i-th tile of the lists (class 1's, then 2's, then 3's, each in row-major order); 0 past the
-// tiles.
+// i-th tile of the lists (class 1's, then 2's, and so on to 5's, each in row-major order); 0 past
+// the tiles.
 struct GpuTileEntry {
   uint32_t tile_class;
   uint32_t listed_tile;

@@ -700,19 +700,22 @@ TEST_F(LightingTiled, StressStaysFiniteAndReplaysIdentically) {
     EXPECT_TRUE(*again.bytes.at(name) == *r.outputs.at(name).bytes) << name << " differs when run again";
   GpuTileClasses classes;
   std::memcpy(&classes, r.outputs.at("lighting.tile_classes").bytes->data(), sizeof classes);
-  EXPECT_GT(classes.local.x + classes.area.x, 0u) << "tiles with local lights";
+  EXPECT_GT(classes.local.x + classes.tube.x + classes.sphere.x + classes.sphere_and_tube.x, 0u)
+      << "tiles with local lights";
   const std::vector<GpuLight> recorded_lights = decode(r.inputs).lights;
   const size_t local = std::count_if(recorded_lights.begin(), recorded_lights.end(),
                                      [](const GpuLight& l) { return uint32_t(l.position_type.w) != 0; });
-  std::printf("stress: %zu local lights in frame.lights; %u directional-only, %u local and %u area tiles\n", local,
-              classes.directional.x, classes.local.x, classes.area.x);
+  std::printf(
+      "stress: %zu local lights in frame.lights; %u directional-only, %u local, %u tube, %u sphere and %u sphere and "
+      "tube tiles\n",
+      local, classes.directional.x, classes.local.x, classes.tube.x, classes.sphere.x, classes.sphere_and_tube.x);
   EXPECT_GT(local, 5000u);
 }
 
 // Tiles are classified and listed in row-major order, the dispatches count them, and the
 // entries past the tiles are 0. A tile's class follows from its pixels' froxel lists, decoded
-// here: unlit when none is shaded, area when some pixel's list holds a sphere or a tube, local
-// when some list holds only point and spot lights, directional otherwise.
+// here: unlit when none is shaded; else by what the lists of its pixels hold: spheres and tubes
+// (5), spheres (4), tubes (3), only point and spot lights (2), nothing (1).
 TEST_F(LightingTiled, TileListsAgreeWithTheClasses) {
   Scene scene = city();
   for (size_t k = 0; k < scene.lights.size(); k += 3)
@@ -727,39 +730,43 @@ TEST_F(LightingTiled, TileListsAgreeWithTheClasses) {
   const std::vector<float> linear = records<float>(*r.inputs.at("depth.linear").bytes, size_t(f.width) * f.height);
   const double znear = f.constants.projection_params.x, far = 2000.0;
   const uint32_t tiles_x = (f.width + 15) / 16, tiles = tiles_x * ((f.height + 15) / 16);
-  std::vector<uint32_t> lists[4];
+  std::vector<uint32_t> lists[kLightingTileClasses + 1];
   for (uint32_t t = 0; t < tiles; ++t) {
-    ASSERT_LE(entries[t].tile_class, 3u);
+    ASSERT_LE(entries[t].tile_class, kLightingTileClasses);
     lists[entries[t].tile_class].push_back(t);
-    uint32_t expected = 0;
+    bool lit = false, local = false, sphere = false, tube = false;
     for (uint32_t y = (t / tiles_x) * 16; y < std::min(f.height, (t / tiles_x + 1) * 16); ++y)
       for (uint32_t x = (t % tiles_x) * 16; x < std::min(f.width, (t % tiles_x + 1) * 16); ++x) {
         if (!f.shaded(f.index(x, y))) continue;
         const double k = std::floor(std::log2(linear[f.index(x, y)] / znear) / std::log2(far / znear) * 64);
         // A pixel within a float rounding of a slice boundary may fall either side: skip it.
         const double frac = std::log2(linear[f.index(x, y)] / znear) / std::log2(far / znear) * 64 - k;
-        if (frac < 1e-4 || frac > 1 - 1e-4) {
-          expected = std::max(expected, 1u);
-          continue;
-        }
+        lit = true;
+        if (frac < 1e-4 || frac > 1 - 1e-4) continue;
         const uint32_t slice = uint32_t(std::clamp(k, 0.0, 63.0));
         const glm::uvec2 list = clusters[(slice * 6 + y / 32) * 10 + x / 32];
-        const bool area = list.y > 0 && indices[list.x + list.y - 1] >= f.constants.light_groups.y;
-        expected = std::max(expected, area ? 3u : list.y > 0 ? 2u : 1u);
+        local |= list.y > 0;
+        for (uint32_t e = list.x; e < list.x + list.y; ++e) {
+          tube |= indices[e] >= f.constants.light_groups.z;
+          sphere |= indices[e] >= f.constants.light_groups.y && indices[e] < f.constants.light_groups.z;
+        }
       }
+    const uint32_t expected = sphere && tube ? 5 : sphere ? 4 : tube ? 3 : local ? 2 : lit ? 1 : 0;
     EXPECT_EQ(entries[t].tile_class, expected) << "tile " << t;
   }
-  const glm::uvec4* dispatch[3] = {&classes.directional, &classes.local, &classes.area};
+  const glm::uvec4* dispatch[kLightingTileClasses] = {&classes.directional, &classes.local, &classes.tube,
+                                                      &classes.sphere, &classes.sphere_and_tube};
   uint32_t first = 0;
-  for (int c = 1; c <= 3; ++c) {
+  for (uint32_t c = 1; c <= kLightingTileClasses; ++c) {
     const bool any = !lists[c].empty();
     EXPECT_EQ(*dispatch[c - 1], glm::uvec4(lists[c].size(), any, any, first)) << "class " << c;
     first += uint32_t(lists[c].size());
   }
-  EXPECT_GT(lists[2].size() + lists[3].size(), 0u);
-  EXPECT_GT(lists[3].size(), 0u) << "the city's tubes and the spheres make area tiles";
+  EXPECT_GT(lists[2].size(), 0u);
+  EXPECT_GT(lists[3].size() + lists[5].size(), 0u) << "the city's tubes";
+  EXPECT_GT(lists[4].size() + lists[5].size(), 0u) << "the spheres";
   size_t at = 0;
-  for (int c : {1, 2, 3})
+  for (uint32_t c = 1; c <= kLightingTileClasses; ++c)
     for (uint32_t t : lists[c]) EXPECT_EQ(entries[at++].listed_tile, t);
   for (size_t k = at; k < entries.size(); ++k)
     if (entries[k].listed_tile != 0 || (k >= tiles && entries[k].tile_class != 0)) {
