@@ -45,7 +45,8 @@ PassDecl shadow_cascades_pass() {
         if (uint32_t(data.light_direction.w) != ctx.desc("shadow.cascades").extent.width)
           throw GraphError("shadow.cascades: its resolution (" +
                            std::to_string(ctx.desc("shadow.cascades").extent.width) + ") is not shadow.cull's (" +
-                           std::to_string(uint32_t(data.light_direction.w)) + "): set both");
+                           std::to_string(uint32_t(data.light_direction.w)) +
+                           "): set shadow.cull, shadow.cascades_static and shadow.cascades alike");
         const auto stats = host_records<ShadowCullStats>(ctx.host("shadow.cull_stats")).at(0);
         for (uint32_t cascade = 0; cascade < kShadowCascades; ++cascade) {
           ctx.begin_rendering({}, "shadow.cascades", 0, cascade);

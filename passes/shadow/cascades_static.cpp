@@ -40,13 +40,20 @@ PassDecl shadow_cascades_static_pass() {
       .read("scene.materials", Use::host)
       .read("shadow.cull_stats", Use::host)
       .write("shadow.cascades_static", Use::depth_attachment, map)
-      .param("resolution", kShadowResolution, 64, 4096, "texels per side of each cascade: shadow.cull.resolution's")
+      .param("resolution", kShadowResolution, 64, 4096,
+             "texels per side of each cascade: shadow.cull.resolution's (and shadow.cascades')")
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
       .needs("sun_above_horizon")
       .push_constants<uint32_t>()
       .shader("shadow/cascades.vert")
       .run([](PassContext& ctx) {
+        const auto data = host_records<GpuShadowCascades>(ctx.host("shadow.cascade_data")).at(0);
+        const uint32_t resolution = ctx.desc("shadow.cascades_static").extent.width;
+        if (uint32_t(data.light_direction.w) != resolution)
+          throw GraphError("shadow.cascades_static: its resolution (" + std::to_string(resolution) +
+                           ") is not shadow.cull's (" + std::to_string(uint32_t(data.light_direction.w)) +
+                           "): set shadow.cull, shadow.cascades_static and shadow.cascades alike");
         const auto stats = host_records<ShadowCullStats>(ctx.host("shadow.cull_stats")).at(0);
         for (uint32_t cascade = 0; cascade < kShadowCascades; ++cascade) {
           ctx.begin_rendering({}, "shadow.cascades_static", 0, cascade);
