@@ -23,6 +23,18 @@
 // Last, with a time-of-day table (scene.tod, `render --tod`), a caster hidden from the light at
 // the baked hours around this one is dropped (passes/scene/time_of_day.cpp says why that changes
 // no texel of the map at a baked hour).
+//
+// Caching across frames (`cache`, [004 §2]): each cascade's draws list its static casters, then
+// its moving ones. shadow.cascades_static keeps the static casters' depth as history and
+// shadow.cascades draws the moving ones over it each frame. A cascade keeps the previous frame's
+// static depth when this pass, recomputing the previous frame's cascade from frame.camera's
+// previous_world (and the moving instances' place a frame earlier, for the light's near plane),
+// gets the same eye, projection and culling volume, bit for bit, and the history is valid (not
+// frame 0, not a cut): its static casters are then not even listed. With the cache on, static
+// casters are culled by the volume alone, since a kept depth must not depend on what hides it
+// from one frame's view. What each cascade did and why is ShadowCullStats::static_source.
+// The pass cannot see a history reset the graph makes for a resize; a renderer keeps its size
+// and the cascades' resolution over a run.
 #include <algorithm>
 #include <array>
 #include <cmath>
