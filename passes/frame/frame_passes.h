@@ -38,6 +38,7 @@ PassDecl shadow_distant_plan_pass();
 PassDecl shadow_distant_pass();
 PassDecl shadow_cull_pass();
 PassDecl shadow_cascades_pass();
+PassDecl shadow_cascades_static_pass();
 PassDecl shadow_sun_resolve_pass();
 PassDecl lights_cluster_pass();
 PassDecl lighting_ltc_table_pass();

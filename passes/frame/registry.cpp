@@ -15,6 +15,7 @@ std::vector<PassDecl> frame_passes(FrameLighting lighting) {
   passes.push_back(shadow_distant_plan_pass());
   passes.push_back(shadow_distant_pass());
   passes.push_back(shadow_cull_pass());
+  passes.push_back(shadow_cascades_static_pass());
   passes.push_back(shadow_cascades_pass());
   passes.push_back(depth_prepass_pass());
   passes.push_back(gbuffer_opaque_pass());

@@ -5,7 +5,9 @@
 // 16 km of map at a low sun), where D16's 2⁻¹⁶ steps would be 0.25 m, coarser than the bias the
 // resolve needs; D32 keeps millimetres. Depth is forward (0 at the light's near plane, LESS),
 // casters are drawn from both sides (an open mesh still casts), and the bias is the resolve's,
-// per receiver, not a raster bias here. Skipped with no sun above the horizon.
+// per receiver, not a raster bias here. Each layer starts as shadow.cascades_static's (the static
+// casters, possibly kept from the previous frame) and this frame's moving casters are drawn over
+// it. Skipped with no sun above the horizon.
 #include <cstring>
 
 #include "passes/core/context.h"
@@ -30,6 +32,7 @@ PassDecl shadow_cascades_pass() {
       .read("scene.geometry", Use::index_buffer)
       .read("scene.materials", Use::host)
       .read("shadow.cull_stats", Use::host)
+      .read("shadow.cascades_static", Use::sampled)
       .write("shadow.cascades", Use::depth_attachment, map)
       .param("resolution", kShadowResolution, 64, 4096, "texels per side of each cascade: shadow.cull.resolution's")
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
@@ -42,17 +45,23 @@ PassDecl shadow_cascades_pass() {
         if (uint32_t(data.light_direction.w) != ctx.desc("shadow.cascades").extent.width)
           throw GraphError("shadow.cascades: its resolution (" +
                            std::to_string(ctx.desc("shadow.cascades").extent.width) + ") is not shadow.cull's (" +
-                           std::to_string(uint32_t(data.light_direction.w)) + "): set both");
+                           std::to_string(uint32_t(data.light_direction.w)) +
+                           "): set shadow.cull, shadow.cascades_static and shadow.cascades alike");
         const auto stats = host_records<ShadowCullStats>(ctx.host("shadow.cull_stats")).at(0);
         for (uint32_t cascade = 0; cascade < kShadowCascades; ++cascade) {
           ctx.begin_rendering({}, "shadow.cascades", 0, cascade);
+          ctx.bind(shadow_layer_copy_pipeline());
+          ctx.push({Binding::texture(0, "shadow.cascades_static", ctx.nearest_clamp(), ViewAspect::depth)});
+          ctx.push_constants(cascade);
+          vkCmdDraw(ctx.cmd(), 3, 1, 0, 0);
           ctx.bind_pipeline();
           std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.cascades");
           bindings.push_back(Binding::uniform(ctx.slot("shadow.cascade_data"), "shadow.cascade_data"));
           ctx.push(bindings);
           ctx.push_constants(cascade);
           draw_scene(ctx, "draws.shadow.cascades", [](uint32_t, const GpuMaterial&) {},
-                     {stats.first_draw[cascade], stats.draws[cascade]});
+                     {stats.first_draw[cascade] + stats.draws[cascade] - stats.moving_draws[cascade],
+                      stats.moving_draws[cascade]});
           ctx.end_rendering();
         }
       });

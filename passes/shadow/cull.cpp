@@ -23,6 +23,18 @@
 // Last, with a time-of-day table (scene.tod, `render --tod`), a caster hidden from the light at
 // the baked hours around this one is dropped (passes/scene/time_of_day.cpp says why that changes
 // no texel of the map at a baked hour).
+//
+// Caching across frames (`cache`, [004 §2]): each cascade's draws list its static casters, then
+// its moving ones. shadow.cascades_static keeps the static casters' depth as history and
+// shadow.cascades draws the moving ones over it each frame. A cascade keeps the previous frame's
+// static depth when this pass, recomputing the previous frame's cascade from frame.camera's
+// previous_world (and the moving instances' place a frame earlier, for the light's near plane),
+// gets the same eye, projection and culling volume, bit for bit, and the history is valid (not
+// frame 0, not a cut): its static casters are then not even listed. With the cache on, static
+// casters are culled by the volume alone, since a kept depth must not depend on what hides it
+// from one frame's view. What each cascade did and why is ShadowCullStats::static_source.
+// The pass cannot see a history reset the graph makes for a resize; a renderer keeps its size
+// and the cascades' resolution over a run.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -54,6 +66,12 @@ struct Plane {
 
 struct Volume {
   std::vector<Plane> planes;
+  bool operator==(const Volume& other) const {
+    if (planes.size() != other.planes.size()) return false;
+    for (size_t i = 0; i < planes.size(); ++i)
+      if (planes[i].normal != other.planes[i].normal || planes[i].offset != other.planes[i].offset) return false;
+    return true;
+  }
   // Outside when the box lies wholly outside one plane.
   bool excludes(const dvec3& lo, const dvec3& hi) const {
     for (const Plane& p : planes) {
@@ -164,55 +182,63 @@ class ShadowCuller {
     if (resolution % 2 != 0) throw GraphError("shadow.cull: resolution must be even");
     // Light axes: any basis around the sun's direction, fixed for a given sun.
     const dvec3 helper = std::abs(travel_.y) < 0.99 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
-    const dvec3 axis_x = glm::normalize(glm::cross(helper, travel_));
-    const dvec3 axis_y = glm::cross(travel_, axis_x);
-    const double near_light = scene_light_near();
+    axis_x_ = glm::normalize(glm::cross(helper, travel_));
+    axis_y_ = glm::cross(travel_, axis_x_);
+    const double near_light = scene_light_near(eye_, camera_.time, &bottom_);
     GpuShadowCascades data{};
     data.light_direction = glm::vec4(glm::vec3(travel_), float(resolution));
     const std::array<double, kShadowCascades + 1> splits = split_distances();
+    // The previous frame's cascades, recomputed from its camera and the same sun (the scene's
+    // first directional light, fixed over a run): a cascade whose projection and culling volume
+    // come out the same bits keeps its static depth. Any difference, however small, redraws.
+    const bool cache = ctx_.param("cache") != 0.0;
+    const bool history = camera_.frame_index > 0 && camera_.cut == 0;
+    glm::dmat4 previous_world;
+    std::memcpy(&previous_world[0][0], camera_.previous_world, sizeof(camera_.previous_world));
+    const dvec3 previous_eye(previous_world[3]);
+    const double previous_near =
+        cache && history ? scene_light_near(previous_eye, camera_.time - camera_.time_step, nullptr) : 0.0;
     std::vector<GpuDraw> all;
     for (uint32_t k = 0; k < kShadowCascades; ++k) {
-      const Corners corners = slice_corners(splits[k], splits[k + 1]);
-      dvec3 centre(0.0);
-      for (const dvec3& p : corners) centre += p / 8.0;
-      double radius = 0.0;
-      for (const dvec3& p : corners) radius = std::max(radius, glm::length(p - centre));
-      radius = std::ceil(radius * 16.0) / 16.0;  // the same for every view through this lens
-      const double texel = 2.0 * radius / resolution;
-      // Snapped in world light space: the map's texel grid stays put as the camera moves.
-      const dvec3 centre_world = centre + eye_;
-      const double u = std::floor(glm::dot(centre_world, axis_x) / texel) * texel;
-      const double v = std::floor(glm::dot(centre_world, axis_y) / texel) * texel;
-      const double far_light = glm::dot(centre_world, travel_) + radius + 1.0;
-      const double near = std::min(near_light, far_light - 2.0 * radius - 2.0);
-      const double depth = far_light - near;
-      // camera-relative p → ((p + eye)·x − u) / r, ((p + eye)·y − v) / r, ((p + eye)·t − near) / depth.
-      glm::dmat4 m(0.0);
-      for (int c = 0; c < 3; ++c) {
-        m[c][0] = axis_x[c] / radius;
-        m[c][1] = axis_y[c] / radius;
-        m[c][2] = travel_[c] / depth;
-      }
-      m[3] = glm::dvec4((glm::dot(eye_, axis_x) - u) / radius, (glm::dot(eye_, axis_y) - v) / radius,
-                        (glm::dot(eye_, travel_) - near) / depth, 1.0);
-      data.light_from_world[k] = glm::mat4(m);
+      const Cascade now = cascade(world_, eye_, near_light, splits[k], splits[k + 1], resolution);
+      data.light_from_world[k] = now.light_from_world;
       data.splits[k] = float(splits[k + 1]);
-      data.texel_metres[k] = float(texel);
-      data.depth_metres[k] = float(depth);
-      const double margin = ctx_.param("margin_texels") * texel;
-      const double depth_margin = ctx_.param("receiver_slope") * margin;
-      const Volume volume = extruded_slice(corners, -travel_, margin, depth_margin);
-      stats_.planes[k] = uint32_t(volume.planes.size());
+      data.texel_metres[k] = float(now.texel);
+      data.depth_metres[k] = float(now.depth);
+      ShadowStaticSource source = ShadowStaticSource::redrawn_cache_off;
+      if (cache && !history) {
+        source = ShadowStaticSource::redrawn_reset;
+      } else if (cache) {
+        const Cascade before =
+            cascade(previous_world, previous_eye, previous_near, splits[k], splits[k + 1], resolution);
+        const bool same = previous_eye == eye_ && before.light_from_world == now.light_from_world &&
+                          before.depth == now.depth && before.volume == now.volume;
+        source = same ? ShadowStaticSource::reused : ShadowStaticSource::redrawn_changed;
+      }
+      stats_.static_source[k] = uint32_t(source);
+      stats_.planes[k] = uint32_t(now.volume.planes.size());
       stats_.first_draw[k] = uint32_t(all.size());
-      std::vector<GpuDraw> cascade = casters(volume, far_light - glm::dot(eye_, travel_), margin, depth_margin, k);
-      std::sort(cascade.begin(), cascade.end(), [](const GpuDraw& a, const GpuDraw& b) {
-        if (a.material != b.material) return a.material < b.material;
-        if (a.first_index != b.first_index) return a.first_index < b.first_index;
-        return a.instance < b.instance;
-      });
-      stats_.draws[k] = uint32_t(cascade.size());
-      for (const GpuDraw& d : cascade) stats_.triangles[k] += d.index_count / 3;
-      all.insert(all.end(), cascade.begin(), cascade.end());
+      // Cached static depth must not depend on what hides it from this frame's view (the view's
+      // occluders include moving ones), so with the cache on only the volume culls static casters.
+      const CasterSet set{.statics = source != ShadowStaticSource::reused,
+                          .static_occlusion = !cache,
+                          .far = now.far_light - glm::dot(eye_, travel_),
+                          .margin = now.margin,
+                          .depth_margin = now.depth_margin,
+                          .cascade = k};
+      std::vector<GpuDraw> statics, moving;
+      casters(now.volume, set, statics, moving);
+      for (std::vector<GpuDraw>* list : {&statics, &moving}) {
+        std::sort(list->begin(), list->end(), [](const GpuDraw& a, const GpuDraw& b) {
+          if (a.material != b.material) return a.material < b.material;
+          if (a.first_index != b.first_index) return a.first_index < b.first_index;
+          return a.instance < b.instance;
+        });
+        for (const GpuDraw& d : *list) stats_.triangles[k] += d.index_count / 3;
+        all.insert(all.end(), list->begin(), list->end());
+      }
+      stats_.draws[k] = uint32_t(statics.size() + moving.size());
+      stats_.moving_draws[k] = uint32_t(moving.size());
     }
     store("shadow.cascade_data", &data, sizeof(data));
     store("shadow.cull_stats", &stats_, sizeof(stats_));
@@ -220,6 +246,47 @@ class ShadowCuller {
   }
 
  private:
+  struct Cascade {
+    glm::mat4 light_from_world;
+    double texel, depth, far_light, margin, depth_margin;
+    Volume volume;
+  };
+
+  // The cascade over view depths [a, b] of a camera at `world` (eye: its position), with the
+  // scene's nearest light depth `near_light`.
+  Cascade cascade(const glm::dmat4& world, const dvec3& eye, double near_light, double a, double b,
+                  uint32_t resolution) const {
+    const Corners corners = slice_corners(world, a, b);
+    dvec3 centre(0.0);
+    for (const dvec3& p : corners) centre += p / 8.0;
+    double radius = 0.0;
+    for (const dvec3& p : corners) radius = std::max(radius, glm::length(p - centre));
+    radius = std::ceil(radius * 16.0) / 16.0;  // the same for every view through this lens
+    Cascade c;
+    c.texel = 2.0 * radius / resolution;
+    // Snapped in world light space: the map's texel grid stays put as the camera moves.
+    const dvec3 centre_world = centre + eye;
+    const double u = std::floor(glm::dot(centre_world, axis_x_) / c.texel) * c.texel;
+    const double v = std::floor(glm::dot(centre_world, axis_y_) / c.texel) * c.texel;
+    c.far_light = glm::dot(centre_world, travel_) + radius + 1.0;
+    const double near = std::min(near_light, c.far_light - 2.0 * radius - 2.0);
+    c.depth = c.far_light - near;
+    // camera-relative p → ((p + eye)·x − u) / r, ((p + eye)·y − v) / r, ((p + eye)·t − near) / depth.
+    glm::dmat4 m(0.0);
+    for (int i = 0; i < 3; ++i) {
+      m[i][0] = axis_x_[i] / radius;
+      m[i][1] = axis_y_[i] / radius;
+      m[i][2] = travel_[i] / c.depth;
+    }
+    m[3] = glm::dvec4((glm::dot(eye, axis_x_) - u) / radius, (glm::dot(eye, axis_y_) - v) / radius,
+                      (glm::dot(eye, travel_) - near) / c.depth, 1.0);
+    c.light_from_world = glm::mat4(m);
+    c.margin = ctx_.param("margin_texels") * c.texel;
+    c.depth_margin = ctx_.param("receiver_slope") * c.margin;
+    c.volume = extruded_slice(corners, -travel_, c.margin, c.depth_margin);
+    return c;
+  }
+
   void store(const char* name, const void* bytes, size_t size) {
     auto& out = ctx_.output(name);
     out.resize(size);
@@ -238,10 +305,10 @@ class ShadowCuller {
     return s;
   }
 
-  // Camera-relative corners of the view between depths `a` and `b` along the view axis.
-  Corners slice_corners(double a, double b) const {
-    const dvec3 right = glm::normalize(dvec3(world_[0])), up = glm::normalize(dvec3(world_[1]));
-    const dvec3 forward = -glm::normalize(dvec3(world_[2]));
+  // Corners, relative to the camera at `world`, of its view between depths `a` and `b` along the view axis.
+  Corners slice_corners(const glm::dmat4& world, double a, double b) const {
+    const dvec3 right = glm::normalize(dvec3(world[0])), up = glm::normalize(dvec3(world[1]));
+    const dvec3 forward = -glm::normalize(dvec3(world[2]));
     const double tan_y = std::tan(0.5 * camera_.yfov), tan_x = tan_y * double(camera_.width) / camera_.height;
     Corners c;
     for (int k = 0; k < 8; ++k) {
@@ -252,11 +319,12 @@ class ShadowCuller {
   }
 
   // The least light depth (along the sun's travel, world) of anything in the scene: the
-  // hierarchy's root box and every moving instance where it is this frame. Also sets bottom_.
-  double scene_light_near() {
+  // hierarchy's root box and every moving instance where it is at `time`, the camera at `eye`
+  // (which picks the level drawn). Also sets *bottom to the scene's lowest point relative to it.
+  double scene_light_near(const dvec3& eye, double time, double* bottom) const {
     double nearest = INFINITY;
     auto take = [&](const dvec3& lo, const dvec3& hi) {
-      bottom_ = std::min(bottom_, lo.y - eye_.y);
+      if (bottom) *bottom = std::min(*bottom, lo.y - eye.y);
       for (int k = 0; k < 8; ++k)
         nearest =
             std::min(nearest, glm::dot(dvec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z), travel_));
@@ -268,20 +336,20 @@ class ShadowCuller {
     }
     for (uint32_t i : hierarchy_.moving) {
       Box box;
-      if (world_box(i, box)) take(box.min + eye_, box.max + eye_);
+      if (world_box(i, box, nullptr, eye, time)) take(box.min + eye, box.max + eye);
     }
-    return std::isfinite(nearest) ? nearest - 1.0 : glm::dot(eye_, travel_);
+    return std::isfinite(nearest) ? nearest - 1.0 : glm::dot(eye, travel_);
   }
 
-  // The instance's model matrix (camera-relative) at this frame's time.
-  glm::dmat4 model_of(uint32_t index) const {
+  // The instance's model matrix relative to a camera at `eye`, at `time`.
+  glm::dmat4 model_of(uint32_t index, const dvec3& eye, double time) const {
     const InstanceRecord& r = instances_[index];
     glm::dmat4 model(1.0);
     for (int c = 0; c < 3; ++c)
       for (int row = 0; row < 3; ++row) model[c][row] = r.basis[c * 3 + row];
     dvec3 translation(r.position[0], r.position[1], r.position[2]);
-    if (r.flags & kInstanceMoving) translation += dvec3(r.velocity[0], r.velocity[1], r.velocity[2]) * camera_.time;
-    model[3] = glm::dvec4(translation - eye_, 1.0);
+    if (r.flags & kInstanceMoving) translation += dvec3(r.velocity[0], r.velocity[1], r.velocity[2]) * time;
+    model[3] = glm::dvec4(translation - eye, 1.0);
     return model;
   }
 
@@ -312,9 +380,10 @@ class ShadowCuller {
     return distance > mesh->draw_distance ? nullptr : mesh;
   }
 
-  // Camera-relative box of the instance's drawn level; false when it is not drawn.
-  bool world_box(uint32_t index, Box& box, const MeshRecord** drawn = nullptr) const {
-    const glm::dmat4 model = model_of(index);
+  // The box, relative to a camera at `eye`, of the instance's drawn level at `time`; false when
+  // it is not drawn.
+  bool world_box(uint32_t index, Box& box, const MeshRecord** drawn, const dvec3& eye, double time) const {
+    const glm::dmat4 model = model_of(index, eye, time);
     const MeshRecord* mesh = drawn_mesh(index, model);
     if (!mesh) return false;
     box.min = dvec3(INFINITY);
@@ -351,17 +420,26 @@ class ShadowCuller {
     return occlusion_.hidden(corners);
   }
 
-  std::vector<GpuDraw> casters(const Volume& volume, double far, double margin, double depth_margin, uint32_t cascade) {
-    std::vector<GpuDraw> out;
-    auto consider = [&](uint32_t i) {
+  // Which casters of a cascade to list, and its culling margins.
+  struct CasterSet {
+    bool statics;           // list static casters (not when the cascade keeps its static depth)
+    bool static_occlusion;  // drop static casters whose shadow the view's occluders hide
+    double far, margin, depth_margin;
+    uint32_t cascade;
+  };
+
+  void casters(const Volume& volume, const CasterSet& set, std::vector<GpuDraw>& statics,
+               std::vector<GpuDraw>& moving) {
+    const uint32_t cascade = set.cascade;
+    auto consider = [&](uint32_t i, bool occlusion, std::vector<GpuDraw>& out) {
       Box box;
       const MeshRecord* mesh = nullptr;
-      if (!world_box(i, box, &mesh)) return;
+      if (!world_box(i, box, &mesh, eye_, camera_.time)) return;
       ++stats_.casters_tested[cascade];
       if (volume.excludes(box.min, box.max)) {
         ++stats_.casters_culled[cascade];
         if (culling_) return;
-      } else if (shadow_hidden(box, far, margin, depth_margin)) {
+      } else if (occlusion && shadow_hidden(box, set.far, set.margin, set.depth_margin)) {
         ++stats_.casters_hidden[cascade];
         if (culling_) return;
       }
@@ -374,7 +452,7 @@ class ShadowCuller {
     };
     // Static instances through the hierarchy: a node outside the volume drops what it holds.
     std::vector<uint32_t> stack;
-    if (!hierarchy_.static_order.empty()) stack.push_back(0);
+    if (set.statics && !hierarchy_.static_order.empty()) stack.push_back(0);
     while (!stack.empty()) {
       const HierarchyNode& node = hierarchy_.nodes[stack.back()];
       stack.pop_back();
@@ -386,21 +464,21 @@ class ShadowCuller {
         stats_.casters_culled[cascade] += count;
         continue;
       }
-      if (culling_ && shadow_hidden({lo, hi}, far, margin, depth_margin)) {
+      if (culling_ && set.static_occlusion && shadow_hidden({lo, hi}, set.far, set.margin, set.depth_margin)) {
         const uint32_t count = leaf_count(node);
         stats_.casters_tested[cascade] += count;
         stats_.casters_hidden[cascade] += count;
         continue;
       }
       if (node.count > 0) {
-        for (uint32_t k = node.first; k < node.first + node.count; ++k) consider(hierarchy_.static_order[k]);
+        for (uint32_t k = node.first; k < node.first + node.count; ++k)
+          consider(hierarchy_.static_order[k], set.static_occlusion, statics);
       } else {
         stack.push_back(node.first + 1);
         stack.push_back(node.first);
       }
     }
-    for (uint32_t i : hierarchy_.moving) consider(i);
-    return out;
+    for (uint32_t i : hierarchy_.moving) consider(i, true, moving);
   }
 
   uint32_t leaf_count(const HierarchyNode& node) const {
@@ -409,7 +487,7 @@ class ShadowCuller {
   }
 
   GpuDraw draw_of(uint32_t index, const MeshRecord& mesh) const {
-    const glm::dmat4 model = model_of(index);
+    const glm::dmat4 model = model_of(index, eye_, camera_.time);
     GpuDraw d{};
     d.model = glm::mat4(model);
     d.previous_model = d.model;
@@ -439,7 +517,8 @@ class ShadowCuller {
   uint16_t tod_bits_ = 0;                  // the baked hours that decide at this hour
   glm::dmat4 world_{1.0}, view_projection_{1.0};
   dvec3 eye_{0.0}, travel_{0.0};
-  double bottom_ = INFINITY;  // the scene's lowest point, camera-relative
+  dvec3 axis_x_{0.0}, axis_y_{0.0};  // the light's axes across the map
+  double bottom_ = INFINITY;         // the scene's lowest point, camera-relative
   ShadowCullStats stats_{};
 };
 
@@ -468,6 +547,9 @@ PassDecl shadow_cull_pass() {
              "texels each culling plane is pushed out: at least (shadow.sun_resolve.filter_radius + 1)·√2")
       .param("receiver_slope", 11.43, 0, 1000,
              "the steepest receiver slope culling allows for: at least shadow.sun_resolve.max_slope")
+      .param("cache", 1, 0, 1,
+             "1: a cascade whose projection and culling volume are the previous frame's keeps its static casters' "
+             "depth (shadow.cascades_static) and draws only the moving ones; 0: everything drawn each frame")
       .param("culling", 1, 0, 1,
              "1: drop casters outside each cascade's volume or whose shadow is hidden (0 keeps them, for the tests)")
       .needs("sun_above_horizon")

@@ -18,10 +18,12 @@
 // above the budget gets a frame of its own, flagged over_budget); frame f redraws the units of
 // the cycle's frame f mod cycle_frames. A stateless schedule: a CPU pass cannot read its own
 // previous output (the history pool keeps GPU resources), so the plan cannot know which units
-// are already drawn; it follows the frame clock, and every unit is redrawn once per cycle. After
-// a history reset (first frame, camera cut) the levels read as unshadowed until the cycle
-// reaches each unit: complete after cycle_frames frames. A level with no unit due this frame is
-// not drawn (it is up to date); the whole pass is skipped with no sun above the horizon.
+// are already drawn; it follows the frame clock, and every unit is redrawn once per cycle. A
+// history reset (first frame, camera cut; frame.camera says) leaves the levels empty, so that
+// frame redraws every unit whatever the budget (recorded as `reset`) and the frame after a reset
+// has complete distant shadows; the cycle then goes on from the frame clock. A level with no
+// unit due this frame is not drawn (it is up to date); the whole pass is skipped with no sun
+// above the horizon.
 //
 // Casters: the static opaque instances (moving ones would leave stale shadows behind in a map
 // refreshed every few frames), at their coarsest level of detail, whatever their draw distance
@@ -172,7 +174,12 @@ class DistantPlanner {
     DistantPlan plan{};
     plan.cycle_frames = uint32_t(cycle.size());
     plan.frame_in_cycle = camera_.frame_index % plan.cycle_frames;
-    const std::vector<uint32_t>& due = cycle[plan.frame_in_cycle];
+    plan.reset = camera_.frame_index == 0 || camera_.cut != 0 ? 1u : 0u;
+    std::vector<uint32_t> due = cycle[plan.frame_in_cycle];
+    if (plan.reset) {
+      due.resize(units.size());
+      for (uint32_t u = 0; u < units.size(); ++u) due[u] = u;
+    }
     std::vector<Rect> due_rects;
     for (uint32_t u : due) due_rects.push_back(tile_rects[u]);
     walk(due_rects, [&](size_t t, uint32_t index, const glm::dmat4& model, const MeshRecord& mesh) {
@@ -199,7 +206,8 @@ class DistantPlanner {
       all.insert(all.end(), units[u].draws.begin(), units[u].draws.end());
     }
     plan.draws = uint32_t(all.size());
-    plan.over_budget = plan.triangles > budget ? 1u : 0u;
+    for (uint32_t u : due)
+      if (units[u].triangles > budget) plan.over_budget = 1;
     for (uint32_t k = 0; k < kDistantLevels; ++k) data.refresh[k].z = int(plan.refreshed[k]);
     store("shadow.distant_data", &data, sizeof(data));
     store("shadow.distant_plan", &plan, sizeof(plan));

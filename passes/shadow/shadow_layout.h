@@ -13,6 +13,8 @@
 
 namespace nightcap {
 
+struct GraphicsPipelineDesc;
+
 constexpr uint32_t kShadowCascades = 4;
 // Texels per side of each cascade by default (shadow.cull.resolution and shadow.cascades.resolution,
 // which must agree: shadow.cascades checks).
@@ -42,8 +44,24 @@ struct ShadowCullStats {
   // shadow at this hour, and the triangles they would have drawn.
   uint32_t casters_tod_dropped[kShadowCascades];
   uint32_t tod_triangles_saved[kShadowCascades];
+  // Each cascade's range of draws lists its static casters first, then these many moving ones.
+  uint32_t moving_draws[kShadowCascades];
+  // Where each cascade's static depth (shadow.cascades_static) comes from: a ShadowStaticSource.
+  uint32_t static_source[kShadowCascades];
 };
-static_assert(sizeof(ShadowCullStats) == 9 * 16);
+static_assert(sizeof(ShadowCullStats) == 11 * 16);
+
+// Why a cascade's static depth was reused or redrawn this frame (ShadowCullStats::static_source).
+enum class ShadowStaticSource : uint32_t {
+  reused = 0,             // the previous frame's, the projection and culling volume unchanged
+  redrawn_cache_off = 1,  // shadow.cull.cache is 0
+  redrawn_reset = 2,      // no history: frame 0 or a camera cut
+  redrawn_changed = 3,    // the projection or culling volume differs from the previous frame's
+};
+
+// The pipeline shadow.cascades and shadow.cascades_static copy a layer of a D32 array with
+// (cascades.frag), drawn over the whole layer.
+GraphicsPipelineDesc shadow_layer_copy_pipeline();
 
 inline BufferSchema shadow_cascades_schema() {
   using S = GpuShadowCascades;
@@ -66,7 +84,9 @@ inline BufferSchema shadow_cull_stats_schema() {
       .field("triangles", &S::triangles)
       .field("planes", &S::planes)
       .field("casters_tod_dropped", &S::casters_tod_dropped)
-      .field("tod_triangles_saved", &S::tod_triangles_saved);
+      .field("tod_triangles_saved", &S::tod_triangles_saved)
+      .field("moving_draws", &S::moving_draws)
+      .field("static_source", &S::static_source);
 }
 
 constexpr uint32_t kDistantLevels = 4;
@@ -96,16 +116,18 @@ struct DistantPlan {
   uint32_t cycle_frames;    // frames one refresh of every unit takes under the budget
   uint32_t frame_in_cycle;  // which of them this frame is (frame index mod cycle_frames)
   uint32_t tiles_per_side;
-  uint32_t budget_triangles;                // per frame
-  uint32_t refreshed[kDistantLevels];       // per level, the mask of its tiles redrawn this frame
-  uint32_t draws, triangles;                // drawn this frame
-  uint32_t over_budget;                     // 1 when one unit alone exceeds the budget (it is drawn whole)
-  uint32_t units;                           // units in the cycle (levels · tiles²)
+  uint32_t budget_triangles;           // per frame
+  uint32_t refreshed[kDistantLevels];  // per level, the mask of its tiles redrawn this frame
+  uint32_t draws, triangles;           // drawn this frame
+  uint32_t over_budget;                // 1 when a unit drawn this frame alone exceeds the budget (it is drawn whole)
+  uint32_t units;                      // units in the cycle (levels · tiles²)
+  // 1: no history (frame 0 or a camera cut): every unit is redrawn this frame, past the budget.
+  uint32_t reset;
   uint32_t unit_triangles[kDistantUnits];   // every unit's triangles, redrawn this frame or not
   uint32_t unit_first_draw[kDistantUnits];  // this frame's draws.shadow.distant range of a redrawn unit
   uint32_t unit_draws[kDistantUnits];
 };
-static_assert(sizeof(DistantPlan) == (12 + 3 * kDistantUnits) * 4);
+static_assert(sizeof(DistantPlan) == (13 + 3 * kDistantUnits) * 4);
 
 inline BufferSchema distant_levels_schema() {
   using S = GpuDistantLevels;
@@ -129,6 +151,7 @@ inline BufferSchema distant_plan_schema() {
       .field("triangles", &S::triangles)
       .field("over_budget", &S::over_budget)
       .field("units", &S::units)
+      .field("reset", &S::reset)
       .field("unit_triangles", &S::unit_triangles)
       .field("unit_first_draw", &S::unit_first_draw)
       .field("unit_draws", &S::unit_draws);

@@ -1799,7 +1799,8 @@ void bench_ltc() {
 // resolve's filter, the error being the share of sampled pixels (every 4th of every 4th row)
 // whose visibility disagrees with the CPU ray cast (tests/reference/shadow_reference.h), away
 // from the ray cast's shadow edges (the unit test's measure) and everywhere.
-//  - shadow_ms_street (cascades + resolve), shadow_cascades_ms_street, shadow_resolve_ms_street,
+//  - shadow_ms_street (cascades_static + cascades + resolve, frame 0), shadow_cascades_ms_street,
+//  shadow_resolve_ms_street,
 //    shadow_cull_ms_street (CPU), shadow_casters_street (draws over the four cascades),
 //    shadow_casters_culled_street (of the casters tested, summed over the cascades)
 //  - shadow.res<R>_pcf<r>.{cascades_ms, resolve_ms, disagree, disagree_everywhere}
@@ -1816,7 +1817,7 @@ void bench_shadows(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repe
     for (int r = 0; r < repeats; ++r) {
       const nc::RenderedFrame frame = renderer.render_frame(0, false);
       cull.push_back(frame_pass_ms(frame, "shadow.cull"));
-      cascades.push_back(frame_pass_ms(frame, "shadow.cascades"));
+      cascades.push_back(frame_pass_ms(frame, "shadow.cascades_static") + frame_pass_ms(frame, "shadow.cascades"));
       resolve.push_back(frame_pass_ms(frame, "shadow.sun_resolve"));
     }
     const nc::RenderedFrame captured = renderer.render_frame(0, true);
@@ -1829,9 +1830,9 @@ void bench_shadows(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repe
       tested += stats.casters_tested[k];
     }
     table() << "\n## shadows: 2 km map, street shot (" << width << "x" << height << ", ms, median of " << repeats
-            << ")\nshadow.cull (CPU) " << median(cull) << ", shadow.cascades " << median(cascades)
-            << ", shadow.sun_resolve " << median(resolve) << "; casters drawn " << drawn << " (culled " << culled
-            << " of " << tested << " tested, over 4 cascades)\n";
+            << ")\nshadow.cull (CPU) " << median(cull) << ", shadow.cascades_static + shadow.cascades "
+            << median(cascades) << ", shadow.sun_resolve " << median(resolve) << "; casters drawn " << drawn
+            << " (culled " << culled << " of " << tested << " tested, over 4 cascades)\n";
     figure("shadow_ms_street", median(cascades) + median(resolve));
     figure("shadow_cascades_ms_street", median(cascades));
     figure("shadow_resolve_ms_street", median(resolve));
@@ -1851,13 +1852,14 @@ void bench_shadows(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repe
   for (int resolution : {512, 1024, 2048}) {
     for (int radius : {0, 1, 2, 3}) {
       settings.params["shadow.cull"]["resolution"] = resolution;
+      settings.params["shadow.cascades_static"]["resolution"] = resolution;
       settings.params["shadow.cascades"]["resolution"] = resolution;
       settings.params["shadow.sun_resolve"]["filter_radius"] = radius;
       nc::Renderer renderer(gpu, city, settings);
       std::vector<double> cascades, resolve;
       for (int r = 0; r < repeats; ++r) {
         const nc::RenderedFrame frame = renderer.render_frame(0, false);
-        cascades.push_back(frame_pass_ms(frame, "shadow.cascades"));
+        cascades.push_back(frame_pass_ms(frame, "shadow.cascades_static") + frame_pass_ms(frame, "shadow.cascades"));
         resolve.push_back(frame_pass_ms(frame, "shadow.sun_resolve"));
       }
       const nc::RenderedFrame captured = renderer.render_frame(0, true);
@@ -1918,8 +1920,10 @@ void bench_tod(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats)
       nc::Renderer renderer(gpu, scene, settings);
       renderer.render_frame(0, false);  // pipelines compiled outside the measurement
       std::vector<double> cascades;
-      for (int r = 0; r < repeats; ++r)
-        cascades.push_back(frame_pass_ms(renderer.render_frame(0, false), "shadow.cascades"));
+      for (int r = 0; r < repeats; ++r) {
+        const nc::RenderedFrame frame = renderer.render_frame(0, false);
+        cascades.push_back(frame_pass_ms(frame, "shadow.cascades_static") + frame_pass_ms(frame, "shadow.cascades"));
+      }
       const nc::RenderedFrame captured = renderer.render_frame(0, true);
       Run out;
       out.cascades_ms = median(cascades);
@@ -1950,6 +1954,70 @@ void bench_tod(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats)
     figure("tod_disagree" + suffix, disagree);
     if (hour == 8.0) figure("tod_triangles_saved_ratio", ratio);
   }
+}
+
+// The sun's shadows across frames: frame 3 of a still camera (vehicles still move) on the street
+// shot of a 2 km map at --size, rendered as far as shadow.sun with shadow.cull.cache on and off
+// in this process: every shadow pass's own time (CPU passes by their clock, GPU ones by
+// timestamps; median of --repeats runs of frames 0 to 3), and the sums' ratio.
+//  - static_cached_vs_uncached_ratio (the sums of the shadow.* passes' times, cache on / off)
+//  - shadow_cache.on_ms, shadow_cache.off_ms (those sums), shadow_cache.<pass>.{on,off}_ms
+//  - shadow_cache.cascades_ratio: the same over the passes the cache changes (shadow.cull,
+//    shadow.cascades_static, shadow.cascades); the others (the resolve, the distant levels) do
+//    the same work either way
+void bench_shadow_cache(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) {
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.path.motion = nc::CameraPath::Motion::still;
+  settings.sinks = {"shadow.sun"};
+  nc::Scene scene = nc::build_map({1, 2.0, nc::Shot::street});
+  nc::add_default_lighting(scene);
+  auto frame3 = [&](double cache) {
+    settings.params["shadow.cull"]["cache"] = cache;
+    nc::Renderer renderer(gpu, scene, settings);
+    std::map<std::string, std::vector<double>> runs;
+    for (int r = 0; r < repeats; ++r)
+      for (uint32_t i = 0; i <= 3; ++i) {
+        const nc::RenderedFrame frame = renderer.render_frame(i, false);
+        if (i < 3) continue;
+        for (size_t p = 0; p < frame.graph.passes.size(); ++p) {
+          const std::string& name = frame.graph.passes[p].decl->name;
+          if (name.rfind("shadow.", 0) == 0) runs[name].push_back(frame_pass_ms(frame, name));
+        }
+      }
+    std::map<std::string, double> ms;
+    for (auto& [name, times] : runs) ms[name] = median(times);
+    return ms;
+  };
+  const std::map<std::string, double> on = frame3(1), off = frame3(0);
+  double on_sum = 0, off_sum = 0, on_cascades = 0, off_cascades = 0;
+  table() << "\n## the sun's shadows across frames: 2 km map, street shot, still camera (" << width << "x" << height
+          << "), frame 3, ms, median of " << repeats << "\n"
+          << std::left << std::setw(26) << "pass" << std::right << std::setw(12) << "cache on" << std::setw(12)
+          << "cache off\n";
+  for (const auto& [name, off_ms] : off) {
+    const double on_ms = on.count(name) ? on.at(name) : 0.0;
+    on_sum += on_ms;
+    off_sum += off_ms;
+    if (name == "shadow.cull" || name == "shadow.cascades_static" || name == "shadow.cascades") {
+      on_cascades += on_ms;
+      off_cascades += off_ms;
+    }
+    table() << std::left << std::setw(26) << name << std::right << std::fixed << std::setprecision(3) << std::setw(12)
+            << on_ms << std::setw(12) << off_ms << std::defaultfloat << "\n";
+    figure("shadow_cache." + name + ".on_ms", on_ms);
+    figure("shadow_cache." + name + ".off_ms", off_ms);
+  }
+  const double ratio = off_sum > 0 ? on_sum / off_sum : 0.0;
+  const double cascades_ratio = off_cascades > 0 ? on_cascades / off_cascades : 0.0;
+  table() << "every shadow pass: " << on_sum << " against " << off_sum << " ms, ratio " << ratio
+          << " (target <= 0.6); the cascades' passes (shadow.cull, shadow.cascades_static, shadow.cascades): "
+          << on_cascades << " against " << off_cascades << " ms, ratio " << cascades_ratio << "\n";
+  figure("shadow_cache.cascades_ratio", cascades_ratio);
+  figure("shadow_cache.on_ms", on_sum);
+  figure("shadow_cache.off_ms", off_sum);
+  figure("static_cached_vs_uncached_ratio", ratio);
 }
 
 // The sun's distant shadow (shadow.distant_plan on the CPU, shadow.distant by timestamps) on the
@@ -2048,9 +2116,9 @@ int main(int argc, char** argv) {
   bool skip_models = false, map_frames = true;
   std::vector<std::string> only;
   const std::vector<std::string> sections = {
-      "city",   "models",  "map",   "empty",        "frames",        "normals", "tubes",  "depth",
-      "motion", "streams", "bloom", "exposure",     "startup",       "diff",    "report", "decals",
-      "ltc",    "cluster", "tiled", "tube_quality", "cluster_shape", "shadows", "tod", "distant"};
+      "city",    "models",       "map",           "empty",   "frames", "normals", "tubes",       "depth", "motion",
+      "streams", "bloom",        "exposure",      "startup", "diff",   "report",  "decals",      "ltc",   "cluster",
+      "tiled",   "tube_quality", "cluster_shape", "shadows", "tod",    "distant", "shadow_cache"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -2113,6 +2181,7 @@ int main(int argc, char** argv) {
     if (wanted("shadows")) bench_shadows(gpu, width, height, int(repeats));
     if (wanted("tod")) bench_tod(gpu, width, height, int(repeats));
     if (wanted("distant")) bench_distant(gpu, width, height);
+    if (wanted("shadow_cache")) bench_shadow_cache(gpu, width, height, int(repeats));
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

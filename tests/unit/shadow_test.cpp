@@ -10,6 +10,9 @@
 // (the acne and peter-panning tests also break their own bound on purpose, to show they can see
 // a failure);
 // - culling (shadow.cull.culling on and off) leaves shadow.sun bit-identical;
+// - caching (shadow.cull.cache on and off) leaves shadow.sun bit-identical over frames 0-4 of a
+//   still camera (vehicles moving) and of a driving one, a still camera keeping every cascade's
+//   static depth from frame 1 on; each shadow pass of frame 3 replays from its record;
 // - stress (the sun at the horizon, straight down, a caster around the camera, the map's far
 //   corner): every float output finite, and each shadow pass run again on its recorded inputs
 //   writes the same bytes (what replay --verify checks).
@@ -41,7 +44,7 @@ using reference::ShadowView;
 
 // A frame's shadow passes: what each read and wrote, the resolve decoded.
 struct Frame {
-  RecordedPass cull, map, resolve;
+  RecordedPass cull, statics, map, resolve;
   std::optional<ShadowView> view;
   ShadowCullStats stats{};
   std::string non_finite;
@@ -91,6 +94,24 @@ Scene moved(Scene scene, const dvec3& offset) {
 
 class Shadows : public GpuTest {
  protected:
+  static Frame frame_of(const RenderedFrame& rendered, uint32_t width, uint32_t height) {
+    Frame f;
+    f.width = width;
+    f.height = height;
+    f.non_finite = first_non_finite(rendered.execution);
+    f.cull = recorded_pass(rendered, "shadow.cull");
+    f.statics = recorded_pass(rendered, "shadow.cascades_static");
+    f.map = recorded_pass(rendered, "shadow.cascades");
+    f.resolve = recorded_pass(rendered, "shadow.sun_resolve");
+    if (f.resolve.outputs.empty()) {
+      ADD_FAILURE() << "shadow.sun_resolve did not run";
+      return f;
+    }
+    f.view.emplace(f.resolve.inputs, f.resolve.outputs.at("shadow.sun"));
+    std::memcpy(&f.stats, f.cull.outputs.at("shadow.cull_stats").bytes->data(), sizeof(f.stats));
+    return f;
+  }
+
   static Frame render(const Scene& scene, uint32_t width, uint32_t height,
                       std::map<std::string, ParamValues> params = {}) {
     RenderSettings settings;
@@ -100,22 +121,24 @@ class Shadows : public GpuTest {
     settings.sinks = {"shadow.sun"};
     settings.params = std::move(params);
     Renderer renderer(*gpu_, scene, settings);
-    const RenderedFrame rendered = renderer.render_frame(0, true);
-    Frame f;
-    f.width = width;
-    f.height = height;
-    f.non_finite = first_non_finite(rendered.execution);
-    f.cull = recorded_pass(rendered, "shadow.cull");
-    f.map = recorded_pass(rendered, "shadow.cascades");
-    f.resolve = recorded_pass(rendered, "shadow.sun_resolve");
+    Frame f = frame_of(renderer.render_frame(0, true), width, height);
     f.eye = dvec3(base_camera(scene, settings).world[3]);
-    if (f.resolve.outputs.empty()) {
-      ADD_FAILURE() << "shadow.sun_resolve did not run";
-      return f;
-    }
-    f.view.emplace(f.resolve.inputs, f.resolve.outputs.at("shadow.sun"));
-    std::memcpy(&f.stats, f.cull.outputs.at("shadow.cull_stats").bytes->data(), sizeof(f.stats));
     return f;
+  }
+
+  // Frames 0 to count - 1 of the camera's `motion`.
+  static std::vector<Frame> render_frames(const Scene& scene, CameraPath::Motion motion, uint32_t count,
+                                          std::map<std::string, ParamValues> params) {
+    RenderSettings settings;
+    settings.width = 320;
+    settings.height = 180;
+    settings.path.motion = motion;
+    settings.sinks = {"shadow.sun"};
+    settings.params = std::move(params);
+    Renderer renderer(*gpu_, scene, settings);
+    std::vector<Frame> frames;
+    for (uint32_t i = 0; i < count; ++i) frames.push_back(frame_of(renderer.render_frame(i, true), 320, 180));
+    return frames;
   }
 
   static void expect_agreement(const char* name, const Scene& scene, const Frame& f, uint32_t stride) {
@@ -130,8 +153,9 @@ class Shadows : public GpuTest {
 
   // Each shadow pass run again on the inputs the frame recorded for it writes the same bytes.
   static void expect_replays(const Frame& f) {
-    for (const auto& [decl, r] : {std::pair{shadow_cull_pass(), &f.cull}, std::pair{shadow_cascades_pass(), &f.map},
-                                  std::pair{shadow_sun_resolve_pass(), &f.resolve}}) {
+    for (const auto& [decl, r] :
+         {std::pair{shadow_cull_pass(), &f.cull}, std::pair{shadow_cascades_static_pass(), &f.statics},
+          std::pair{shadow_cascades_pass(), &f.map}, std::pair{shadow_sun_resolve_pass(), &f.resolve}}) {
       const IsolatedRun again = run(decl, r->inputs, f.width, f.height);
       for (const auto& [name, output] : r->outputs)
         EXPECT_TRUE(*again.outputs.at(name) == *output.bytes) << decl.name << ": " << name << " differs when run again";
@@ -253,8 +277,9 @@ TEST_F(Shadows, CullingChangesNoShadow) {
   add_default_lighting(street);
   for (const auto& [name, scene] : {std::pair{"city", &city}, std::pair{"2 km map, street", &street}}) {
     SCOPED_TRACE(name);
-    const Frame on = render(*scene, 640, 360);
-    const Frame off = render(*scene, 640, 360, {{"shadow.cull", {{"culling", 0}}}});
+    // With the cache off, so that the view's occluders may hide static casters too.
+    const Frame on = render(*scene, 640, 360, {{"shadow.cull", {{"cache", 0}}}});
+    const Frame off = render(*scene, 640, 360, {{"shadow.cull", {{"culling", 0}, {"cache", 0}}}});
     ASSERT_TRUE(on.view && off.view);
     uint32_t culled = 0, hidden = 0, tested = 0;
     for (uint32_t k = 0; k < kShadowCascades; ++k) {
@@ -275,6 +300,47 @@ TEST_F(Shadows, CullingChangesNoShadow) {
     }
     EXPECT_TRUE(*on.resolve.outputs.at("shadow.sun").bytes == *off.resolve.outputs.at("shadow.sun").bytes)
         << "shadow.sun differs with culling off";
+  }
+}
+
+TEST_F(Shadows, CachingChangesNoShadowAcrossFrames) {
+  Scene street = build_map({1, 2.0, Shot::street});
+  add_default_lighting(street);
+  for (const CameraPath::Motion motion : {CameraPath::Motion::still, CameraPath::Motion::drive}) {
+    const bool still = motion == CameraPath::Motion::still;
+    SCOPED_TRACE(still ? "still camera" : "driving");
+    const std::vector<Frame> on = render_frames(street, motion, 5, {});
+    const std::vector<Frame> off = render_frames(street, motion, 5, {{"shadow.cull", {{"cache", 0}}}});
+    uint32_t moving = 0;
+    for (uint32_t i = 0; i < on.size(); ++i) {
+      ASSERT_TRUE(on[i].view && off[i].view);
+      std::printf("%s, frame %u: static depth per cascade (0 kept, 2 reset, 3 changed):", still ? "still" : "driving",
+                  i);
+      for (uint32_t k = 0; k < kShadowCascades; ++k) {
+        std::printf(" %u (%u of %u draws moving)", on[i].stats.static_source[k], on[i].stats.moving_draws[k],
+                    on[i].stats.draws[k]);
+        moving += on[i].stats.moving_draws[k];
+        EXPECT_EQ(off[i].stats.static_source[k], uint32_t(ShadowStaticSource::redrawn_cache_off));
+        const ShadowStaticSource want = i == 0  ? ShadowStaticSource::redrawn_reset
+                                        : still ? ShadowStaticSource::reused
+                                                : ShadowStaticSource::redrawn_changed;
+        EXPECT_EQ(on[i].stats.static_source[k], uint32_t(want)) << "frame " << i << ", cascade " << k;
+      }
+      std::printf("\n");
+      EXPECT_EQ(on[i].non_finite, "");
+      // shadow.cascades itself may differ: with the cache on, static casters whose shadow the
+      // view hides are drawn (culling says why that changes no shadow).
+      EXPECT_TRUE(*on[i].resolve.outputs.at("shadow.sun").bytes == *off[i].resolve.outputs.at("shadow.sun").bytes)
+          << "frame " << i << ": shadow.sun differs with the cache off";
+    }
+    EXPECT_GT(moving, 0u) << "the test needs moving casters over the kept static depth";
+    if (still) {
+      ASSERT_TRUE(on[3].statics.inputs.count(previous("shadow.cascades_static")));
+      EXPECT_TRUE(*on[3].statics.inputs.at(previous("shadow.cascades_static")).bytes ==
+                  *on[2].statics.outputs.at("shadow.cascades_static").bytes)
+          << "frame 3 reads frame 2's static depth";
+    }
+    expect_replays(on[3]);
   }
 }
 
