@@ -17,6 +17,7 @@ const char* kCity = "--city-block --size 320x180 --frames 2";
 // Every pass of the frame, CPU passes included.
 const std::vector<std::string> kFramePasses = {"cull.main",          "frame.constants", "shadow.distant_plan",
                                                "shadow.distant",     "shadow.cull",     "shadow.cascades",
+                                               "shadow.local_plan",  "shadow.local",    "shadow.local_moments",
                                                "depth.prepass",      "gbuffer.opaque",  "depth.convert",
                                                "motion.stencil",     "normals.bfn_lut", "normals.pack",
                                                "depth.pyramid",      "lights.cluster",  "shadow.sun_resolve",
