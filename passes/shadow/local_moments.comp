@@ -4,6 +4,9 @@
 // column sums. The map's edge repeats its last texel.
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(constant_id = 0) const int BLUR = 1;
+// A layer without a map: its depth is 1 everywhere, so its moments are (1, 1). A constant, so
+// that lavapipe does not run the blur's loads and barriers for the empty layers too.
+layout(constant_id = 1) const bool EMPTY_LAYERS = false;
 
 layout(std140, set = 0, binding = 0) uniform LocalBlock {
   vec4 clip_x[16], clip_y[16], clip_z[16], clip_w[16];  // rows of camera-relative world → clip
@@ -22,6 +25,11 @@ shared vec2 row_sums[16 * kSide];
 void main() {
   int slice = int(first_slice + gl_WorkGroupID.z);
   int resolution = textureSize(depth_maps, 0).x;
+  if (EMPTY_LAYERS) {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (all(lessThan(pixel, ivec2(resolution)))) imageStore(moments_out, ivec3(pixel, slice), vec4(1.0, 1.0, 0.0, 0.0));
+    return;
+  }
   ivec2 origin = ivec2(gl_WorkGroupID.xy) * 16 - BLUR;
   uint lane = gl_LocalInvocationIndex;
   vec4 range = depth_range[slice];
@@ -31,8 +39,6 @@ void main() {
     // Forward perspective depth back to the distance along the axis, then to [0, 1].
     float w = range.x * range.y / max(range.y - d * (range.y - range.x), 1e-30);
     float t = clamp((w - range.x) * range.z, 0.0, 1.0);
-    // An unused layer's range is zero: its depth is 1 everywhere, so is t.
-    if (range.y <= range.x) t = 1.0;
     texel_moments[i] = vec2(t, t * t);
   }
   barrier();

@@ -36,10 +36,10 @@ PassDecl shadow_local_moments_pass() {
             Binding::uniform(ctx.slot("shadow.local_data"), "shadow.local_data"),
             Binding::texture(ctx.slot("shadow.local"), "shadow.local", ctx.nearest_clamp(), ViewAspect::depth),
             Binding::image(ctx.slot("shadow.local_moments"), "shadow.local_moments", 0)};
-        // The maps with their blur; the empty layers without (their depth is 1 everywhere).
+        // The maps with their blur; the empty layers filled with (1, 1) by a pipeline of their own.
         const uint32_t maps = std::min(plan.maps, kLocalShadowSlices);
         if (maps > 0) {
-          ctx.bind_pipeline({int32_t(ctx.param("blur_radius"))});
+          ctx.bind_pipeline({int32_t(ctx.param("blur_radius")), 0});
           ctx.push(bindings);
           ctx.push_constants(uint32_t(0));
           vkCmdDispatch(ctx.cmd(), groups, groups, maps);
@@ -47,7 +47,7 @@ PassDecl shadow_local_moments_pass() {
         if (maps < kLocalShadowSlices) {
           // Disjoint layers, but the validation's synchronization checks see the whole bound image.
           if (maps > 0) ctx.storage_barrier();
-          ctx.bind_pipeline({0});
+          ctx.bind_pipeline({0, 1});
           ctx.push(bindings);
           ctx.push_constants(maps);
           vkCmdDispatch(ctx.cmd(), groups, groups, kLocalShadowSlices - maps);
