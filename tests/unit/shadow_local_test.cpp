@@ -13,7 +13,8 @@
 //   recorded as over budget, a spot with range 0 as unbounded;
 // - skip: a scene without spot lights runs neither shadow.local nor shadow.local_moments;
 // - stress (a light inside a caster, a light at the camera, 120 spot lights): every float output
-//   finite, and each local shadow pass run again on its recorded inputs writes the same bytes.
+//   finite, and each local shadow pass run again on its recorded inputs writes the same bytes;
+//   the agreement scene moved to the 16 km map's far corner keeps the agreement bound.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -116,6 +117,22 @@ TEST_F(LocalShadows, SpotLightAgreesWithARayCast) {
       c.agreed, c.compared, 100.0 * c.share(), c.ray_shadowed, c.near_edge, c.mean_error());
   EXPECT_GT(c.compared, 2000u);
   EXPECT_GT(c.ray_shadowed, 200u) << "the test needs shadows to compare";
+  EXPECT_GE(c.share(), 0.99);
+  EXPECT_LT(c.mean_error(), 0.05);
+}
+
+// The same scene at the 16 km map's far corner: the maps' projections are camera-relative, so
+// they hold their precision there.
+TEST_F(LocalShadows, AtTheMapsFarCornerAgreesWithARayCast) {
+  const dvec3 corner(8000.0, 0.0, -8000.0);
+  Scene scene = reference::spot_boxes_scene();
+  for (Instance& instance : scene.instances) instance.world[3] += glm::dvec4(corner, 0.0);
+  for (Light& light : scene.lights) light.position += corner;
+  scene.camera->world[3] += glm::dvec4(corner, 0.0);
+  const LocalComparison c = compare(scene, reference::kSpotBoxesEye + corner);
+  std::printf("far corner: %zu of %zu sampled pixels agree (%.3f%%; %zu ray-shadowed); mean |error| %.4f\n", c.agreed,
+              c.compared, 100.0 * c.share(), c.ray_shadowed, c.mean_error());
+  EXPECT_GT(c.ray_shadowed, 200u);
   EXPECT_GE(c.share(), 0.99);
   EXPECT_LT(c.mean_error(), 0.05);
 }
