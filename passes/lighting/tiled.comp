@@ -17,7 +17,8 @@
 // Lambert's illuminance of a sphere cut by the horizon, LTC for its specular. A tube is a line
 // of candela per metre: its diffuse integrated along the segment (ltc_lambert_line), its
 // specular by LTC (ltc_tube). The sun's shadow is shadow.sun's red channel (shadow.sun_resolve)
-// times its contact shadow, a short march here (contact_shadow).
+// times its contact shadow, a short march here (contact_shadow). A spot light with a map in
+// shadow.local_moments is shadowed by it (local_visibility).
 #include "../frame/half.glsl"
 #include "../frame/types.glsl"
 #include "brdf.glsl"
@@ -46,13 +47,21 @@ layout(std430, set = 0, binding = 9) readonly buffer ClusterStatsBlock {
 layout(set = 0, binding = 10) uniform sampler2D ltc_inverse;
 layout(set = 0, binding = 11) uniform sampler2D ltc_magnitude;
 layout(set = 0, binding = 12) uniform sampler2D sun_shadow_map;
-layout(set = 0, binding = 13, rgba16f) uniform writeonly image2D diffuse_out;
-layout(set = 0, binding = 14, rgba16f) uniform writeonly image2D specular_out;
+// shadow.local_plan's maps (passes/shadow/local_layout.h), each light's map or -1, the moments.
+layout(std140, set = 0, binding = 13) uniform LocalShadowBlock {
+  vec4 local_x[16], local_y[16], local_z[16], local_w[16];  // rows of camera-relative world → clip
+  vec4 local_depth_range[16];  // near, far, 1 / (far − near), light
+  uvec4 local_counts;
+};
+layout(std430, set = 0, binding = 14) readonly buffer LocalSlotBlock { int local_slots[]; };
+layout(set = 0, binding = 15) uniform sampler2DArray local_moments;
+layout(set = 0, binding = 16, rgba16f) uniform writeonly image2D diffuse_out;
+layout(set = 0, binding = 17, rgba16f) uniform writeonly image2D specular_out;
 const uint kClasses = 5u;  // shaded classes, 1 to 5
-layout(std430, set = 0, binding = 15) buffer ClassBlock {
+layout(std430, set = 0, binding = 18) buffer ClassBlock {
   uvec4 class_dispatch[kClasses];  // classes 1 to 5: workgroups x, y, z; w: first list entry
 };
-layout(std430, set = 0, binding = 16) buffer ListBlock { uvec2 entries[]; };  // (class of tile i, i-th listed tile)
+layout(std430, set = 0, binding = 19) buffer ListBlock { uvec2 entries[]; };  // (class of tile i, i-th listed tile)
 
 layout(constant_id = 0) const uint phase = 0u;  // one pipeline per phase (tiled.cpp says why)
 
@@ -62,6 +71,7 @@ layout(push_constant) uniform Params {
   float min_roughness;
   float contact_length, contact_thickness;
   uint contact_steps;
+  float local_bias, local_min_variance, local_bleeding;
 };
 
 const uint kTile = 16u;
@@ -214,9 +224,32 @@ Lobe lobe_of(Surface s) {
   return lobe;
 }
 
+// How much of light `index`'s light reaches `position`: 1 without a map, or outside its map's
+// frustum; else Chebyshev's upper bound P(t ≤ depth) = σ² / (σ² + (t − μ)²) from the filtered
+// moments (μ, E[t²]), with the part below local_bleeding cut away and the rest rescaled (light
+// bleeding reduction: where two occluders overlap, the bound stays well above 0 behind both).
+float local_visibility(uint index, vec3 position) {
+  int slot = local_slots[index];
+  if (slot < 0) return 1.0;
+  vec4 at = vec4(position, 1.0);
+  vec4 clip = vec4(dot(local_x[slot], at), dot(local_y[slot], at), dot(local_z[slot], at), dot(local_w[slot], at));
+  vec4 range = local_depth_range[slot];
+  if (clip.w <= range.x) return 1.0;
+  vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
+  if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+  float t = (clip.w - range.x) * range.z - local_bias;
+  vec2 m = textureLod(local_moments, vec3(uv, float(slot)), 0.0).rg;
+  if (t <= m.x) return 1.0;
+  float variance = max(m.y - m.x * m.x, local_min_variance);
+  float d = t - m.x;
+  float p = variance / (variance + d * d);
+  return clamp((p - local_bleeding) / (1.0 - local_bleeding), 0.0, 1.0);
+}
+
 // Each kind of light has its own function and its own loop in shade_tiles(): lavapipe runs both
 // sides of a branch, so shading kinds apart keeps a point light from paying for a tube's LTC.
-void shade_punctual(Light light, Surface s, inout vec3 diffuse, inout vec3 specular) {
+void shade_punctual(uint index, Surface s, inout vec3 diffuse, inout vec3 specular) {
+  Light light = lights[index];
   vec3 radiance = light.color_range.rgb * intensity_scale;
   float range = light.color_range.w;
   vec3 to_light = light.position_type.xyz - s.position;
@@ -225,7 +258,7 @@ void shade_punctual(Light light, Surface s, inout vec3 diffuse, inout vec3 specu
   float d = sqrt(d2);
   vec3 l = to_light / d;
   float attenuation = ltc_range_window(d, range) / d2;
-  if (uint(light.position_type.w) == LIGHT_SPOT) attenuation *= spot_factor(light, l);
+  if (uint(light.position_type.w) == LIGHT_SPOT) attenuation *= spot_factor(light, l) * local_visibility(index, s.position);
   if (attenuation <= 0.0) return;
   diffuse += diffuse_term(s.n, l, radiance * attenuation, s.albedo, s.metallic);
   specular += specular_term(s.n, s.v, l, radiance * attenuation, s.albedo, s.metallic, s.alpha);
@@ -327,7 +360,7 @@ void shade_tiles(uint tile_class) {
     for (; k < list.y; ++k) {
       uint i = cluster_indices[list.x + k];
       if (i >= frame.light_groups.y) break;
-      shade_punctual(lights[i], s, diffuse, specular);
+      shade_punctual(i, s, diffuse, specular);
     }
     // Only classes 4 and 5 have spheres, 3 and 5 tubes: lavapipe runs a loop's body at least
     // once per SIMD row, even where no list holds a light of its kind (tiled_layout.h).

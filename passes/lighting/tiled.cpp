@@ -5,7 +5,10 @@
 // the lighting model. Outputs also lighting.tile_classes (the dispatches) and lighting.tile_lists
 // (each tile's class and the lists), the same on every run. The sun's shadow is shadow.sun's red
 // channel (shadow.sun_resolve; 1 where it was skipped), times its contact shadow, a short
-// screen-space march (contact_*); local lights have none.
+// screen-space march (contact_*). A spot light with a map this frame (shadow.local_slots) is
+// shadowed by its variance shadow map (shadow.local_moments, local_*): Chebyshev's upper bound
+// on the fraction of the filter lit, with light-bleeding reduction; other local lights have no
+// shadow.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/lighting/tiled_layout.h"
@@ -26,6 +29,7 @@ struct TiledConstants {
   float intensity_scale, min_roughness;
   float contact_length, contact_thickness;
   uint32_t contact_steps;
+  float local_bias, local_min_variance, local_bleeding;
 };
 
 }  // namespace
@@ -61,6 +65,9 @@ PassDecl lighting_tiled_pass() {
       .read("lighting.ltc_inverse", Use::sampled)
       .read("lighting.ltc_magnitude", Use::sampled)
       .read("shadow.sun", Use::sampled)
+      .read("shadow.local_data", Use::uniform_buffer)
+      .read("shadow.local_slots", Use::storage_read)
+      .read("shadow.local_moments", Use::sampled)
       .write("lighting.diffuse", Use::storage_write, hdr)
       .write("lighting.specular", Use::storage_write, hdr)
       .write("lighting.tile_classes", Use::storage_write, BufferDecl{ResourceKind::buffer, sizeof(GpuTileClasses)})
@@ -76,6 +83,12 @@ PassDecl lighting_tiled_pass() {
       .param("contact_steps", 8, 0, 64, "steps of the contact shadow's march (0: no contact shadow)")
       .param("contact_thickness", 0.5, 0.001, 100.0,
              "metres in front of the march beyond which a surface does not occlude it")
+      .param("local_bias", 0.002, 0.0, 0.1,
+             "linear depth (a fraction of the light's range) a receiver may lie behind its map and stay lit")
+      .param("local_min_variance", 2e-5, 0.0, 0.01,
+             "floor of the moments' variance: keeps a flat receiver lit through 16-bit rounding")
+      .param("local_bleeding", 0.2, 0.0, 0.99,
+             "light-bleeding reduction: Chebyshev bounds below this read as shadow, the rest rescaled")
       .compare("lighting.diffuse", lighting_contract())
       .compare("lighting.specular", lighting_contract())
       .skip_when([](const SkipContext& frame) {
@@ -93,7 +106,15 @@ PassDecl lighting_tiled_pass() {
                                        float(ctx.param("min_roughness")),
                                        float(ctx.param("contact_length")),
                                        float(ctx.param("contact_thickness")),
-                                       uint32_t(ctx.param("contact_steps"))};
+                                       uint32_t(ctx.param("contact_steps")),
+                                       float(ctx.param("local_bias")),
+                                       float(ctx.param("local_min_variance")),
+                                       float(ctx.param("local_bleeding"))};
+        // Bilinear over the moments: the filter VSM is made for, and no stair steps at a shadow's edge.
+        SamplerDesc linear;
+        linear.mag_filter = linear.min_filter = VK_FILTER_LINEAR;
+        linear.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+        linear.wrap_u = linear.wrap_v = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
         const VkSampler nearest = ctx.nearest_clamp();
         const std::vector<Binding> bindings{
             Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
@@ -109,6 +130,9 @@ PassDecl lighting_tiled_pass() {
             Binding::texture(ctx.slot("lighting.ltc_inverse"), "lighting.ltc_inverse", nearest),
             Binding::texture(ctx.slot("lighting.ltc_magnitude"), "lighting.ltc_magnitude", nearest),
             Binding::texture(ctx.slot("shadow.sun"), "shadow.sun", nearest),
+            Binding::uniform(ctx.slot("shadow.local_data"), "shadow.local_data"),
+            Binding::storage(ctx.slot("shadow.local_slots"), "shadow.local_slots"),
+            Binding::texture(ctx.slot("shadow.local_moments"), "shadow.local_moments", ctx.sampler(linear)),
             Binding::image(ctx.slot("lighting.diffuse"), "lighting.diffuse", 0),
             Binding::image(ctx.slot("lighting.specular"), "lighting.specular", 0),
             Binding::storage(ctx.slot("lighting.tile_classes"), "lighting.tile_classes"),

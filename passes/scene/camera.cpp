@@ -80,6 +80,9 @@ std::set<std::string> Scene::features() const {
   }
   if (!decals.empty()) f.insert("projected_decals");
   for (const Light& l : lights) f.insert(l.type == LightType::directional ? "sun" : "local_lights");
+  // Spot lights are the local lights with shadow maps (shadow.local_plan).
+  for (const Light& l : lights)
+    if (l.type == LightType::spot) f.insert("spot_lights");
   // The first directional light is the sun (frame.constants); its shadows need it above the horizon.
   for (const Light& l : lights)
     if (l.type == LightType::directional) {

@@ -48,11 +48,13 @@
 #include "passes/normals/bfn_lut.h"
 #include "passes/scene/scene.h"
 #include "passes/scene/time_of_day.h"
+#include "passes/shadow/local_layout.h"
 #include "passes/shadow/shadow_layout.h"
 #include "tests/reference/bloom_reference.h"
 #include "tests/reference/decal_reference.h"
 #include "tests/reference/depth_half_reference.h"
 #include "tests/reference/lighting_reference.h"
+#include "tests/reference/local_shadow_reference.h"
 #include "tests/reference/ltc_reference.h"
 #include "tests/reference/motion_mask_reference.h"
 #include "tests/reference/shadow_reference.h"
@@ -1880,6 +1882,124 @@ void bench_shadows(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repe
   }
 }
 
+// Spot light shadows (shadow.local_plan, shadow.local, shadow.local_moments; issue 14 item 4):
+// their time on the built-in city's street (its spot lights) and lighting.tiled's with and
+// without them; the umbra leak of 2-moment VSM under two stacked occluders, plain
+// (local_bleeding 0, accuracy.md's baseline) and with the default light-bleeding reduction;
+// resolution × blur radius against the disagreement with the ray cast
+// (tests/reference/local_shadow_reference.h). No 4-moment variant and no caching exist yet.
+//  - local_plan_ms_city, local_ms_city, local_moments_ms_city, local_maps_city,
+//    local_tiled_ms_city, local_tiled_ms_city_unshadowed
+//  - local_leak_{max,mean}_vsm[_low][_bleed0.2]: the lower occluder 2 m up (_low: 0.5 m), plain or
+//    with local_bleeding 0.2
+//  - local.res<R>_blur<B>.{map_ms,moments_ms,disagree,mean_error}
+void bench_local(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) {
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.sinks = {"lighting.diffuse"};
+  {
+    nc::Scene city = nc::build_city(1);
+    nc::add_default_lighting(city);
+    std::map<std::string, std::vector<double>> ms;
+    uint32_t maps = 0;
+    for (int shadowed = 1; shadowed >= 0; --shadowed) {
+      settings.params["shadow.local_plan"]["max_maps"] = shadowed ? 8 : 0;
+      nc::Renderer renderer(gpu, city, settings);
+      for (int r = 0; r < repeats; ++r) {
+        const nc::RenderedFrame frame = renderer.render_frame(0, false);
+        const std::string suffix = shadowed ? "" : "_unshadowed";
+        ms["tiled" + suffix].push_back(frame_pass_ms(frame, "lighting.tiled"));
+        if (!shadowed) continue;
+        ms["plan"].push_back(frame_pass_ms(frame, "shadow.local_plan"));
+        ms["map"].push_back(frame_pass_ms(frame, "shadow.local"));
+        ms["moments"].push_back(frame_pass_ms(frame, "shadow.local_moments"));
+      }
+      if (shadowed) {
+        const nc::RenderedFrame captured = renderer.render_frame(0, true);
+        nc::LocalShadowPlan plan;
+        std::memcpy(&plan, captured.execution.final_version("shadow.local_plan")->bytes->data(), sizeof plan);
+        maps = plan.maps;
+      }
+    }
+    settings.params.clear();
+    table() << "\n## local shadows: built-in city (" << width << "x" << height << ", ms, median of " << repeats
+            << ")\nshadow.local_plan (CPU) " << median(ms["plan"]) << ", shadow.local " << median(ms["map"])
+            << ", shadow.local_moments " << median(ms["moments"]) << " (" << maps << " maps); lighting.tiled "
+            << median(ms["tiled"]) << " with them, " << median(ms["tiled_unshadowed"]) << " without\n";
+    figure("local_plan_ms_city", median(ms["plan"]));
+    figure("local_ms_city", median(ms["map"]));
+    figure("local_moments_ms_city", median(ms["moments"]));
+    figure("local_maps_city", maps);
+    figure("local_tiled_ms_city", median(ms["tiled"]));
+    figure("local_tiled_ms_city_unshadowed", median(ms["tiled_unshadowed"]));
+  }
+  // Lighting with and without the maps at 480×270 (the unit test's size), and the comparison.
+  auto compare = [&](const nc::Scene& scene, const glm::dvec3& eye, std::map<std::string, nc::ParamValues> params,
+                     std::map<std::string, double>* pass_ms) {
+    nc::RenderSettings s;
+    s.width = 480;
+    s.height = 270;
+    s.sinks = {"lighting.diffuse"};
+    s.params = params;
+    nc::Renderer shadowed(gpu, scene, s);
+    if (pass_ms) {
+      std::vector<double> map, moments;
+      for (int r = 0; r < repeats; ++r) {
+        const nc::RenderedFrame frame = shadowed.render_frame(0, false);
+        map.push_back(frame_pass_ms(frame, "shadow.local"));
+        moments.push_back(frame_pass_ms(frame, "shadow.local_moments"));
+      }
+      (*pass_ms)["map"] = median(map);
+      (*pass_ms)["moments"] = median(moments);
+    }
+    const nc::RenderedFrame with = shadowed.render_frame(0, true);
+    s.params["shadow.local_plan"]["max_maps"] = 0;
+    nc::Renderer open(gpu, scene, s);
+    const nc::RenderedFrame without = open.render_frame(0, true);
+    const nc::RecordedPass lit = nc::recorded_pass(with, "lighting.tiled");
+    const nc::RecordedPass unlit = nc::recorded_pass(without, "lighting.tiled");
+    const double resolution = params["shadow.local"].count("resolution") ? params["shadow.local"]["resolution"] : 512;
+    const double blur =
+        params["shadow.local_moments"].count("blur_radius") ? params["shadow.local_moments"]["blur_radius"] : 1;
+    return ref::compare_local_shadow(scene, eye, lit.inputs, lit.outputs.at("lighting.diffuse"),
+                                     unlit.outputs.at("lighting.diffuse"), resolution, blur, 2);
+  };
+  table() << "\n## local shadows: umbra leak under two stacked occluders (2-moment VSM)\n";
+  for (double lower : {2.0, 0.5})
+    for (double bleeding : {0.0, 0.2}) {
+      const ref::LocalComparison c = compare(ref::stacked_occluders_scene(lower), ref::kStackedEye,
+                                             {{"lighting.tiled", {{"local_bleeding", bleeding}}}}, nullptr);
+      const std::string suffix = std::string(lower < 1.0 ? "_low" : "") + (bleeding > 0 ? "_bleed0.2" : "");
+      table() << "lower occluder " << lower << " m up, local_bleeding " << bleeding << ": max " << c.umbra_max
+              << ", mean " << c.umbra_mean() << " over " << c.ray_shadowed << " umbra pixels\n";
+      figure("local_leak_max_vsm" + suffix, c.umbra_max);
+      figure("local_leak_mean_vsm" + suffix, c.umbra_mean());
+    }
+  table() << "\n## local shadows: time against error (one spot over two boxes, 480x270; disagreement with the "
+             "CPU ray cast off edges)\n"
+          << std::left << std::setw(8) << "texels" << std::setw(8) << "blur" << std::right << std::setw(10) << "map ms"
+          << std::setw(12) << "moments ms" << std::setw(12) << "disagree" << std::setw(12) << "mean |err|"
+          << "\n";
+  for (int resolution : {256, 512, 1024})
+    for (int blur : {0, 1, 2}) {
+      std::map<std::string, double> pass_ms;
+      const ref::LocalComparison c =
+          compare(ref::spot_boxes_scene(), ref::kSpotBoxesEye,
+                  {{"shadow.local", {{"resolution", resolution}}}, {"shadow.local_moments", {{"blur_radius", blur}}}},
+                  &pass_ms);
+      const std::string row = "local.res" + std::to_string(resolution) + "_blur" + std::to_string(blur);
+      table() << std::left << std::setw(8) << resolution << std::setw(8) << blur << std::right << std::fixed
+              << std::setprecision(2) << std::setw(10) << pass_ms["map"] << std::setw(12) << pass_ms["moments"]
+              << std::setprecision(4) << std::setw(12) << 1.0 - c.share() << std::setw(12) << c.mean_error()
+              << std::defaultfloat << "\n";
+      figure(row + ".map_ms", pass_ms["map"]);
+      figure(row + ".moments_ms", pass_ms["moments"]);
+      figure(row + ".disagree", 1.0 - c.share());
+      figure(row + ".mean_error", c.mean_error());
+    }
+}
+
 // Time of day (issue 14): `bake-tod` of the 2 km map (seed 1) on this machine's cores, and on its
 // street shot at 08:00, 09:00 (between baked hours) and 10:00 what the filter saves: the sun's
 // triangles it drops over the four cascades against those drawn without it, shadow.cascades'
@@ -2116,9 +2236,9 @@ int main(int argc, char** argv) {
   bool skip_models = false, map_frames = true;
   std::vector<std::string> only;
   const std::vector<std::string> sections = {
-      "city",    "models",       "map",           "empty",   "frames", "normals", "tubes",       "depth", "motion",
-      "streams", "bloom",        "exposure",      "startup", "diff",   "report",  "decals",      "ltc",   "cluster",
-      "tiled",   "tube_quality", "cluster_shape", "shadows", "tod",    "distant", "shadow_cache"};
+      "city",    "models",       "map",           "empty",   "frames", "normals", "tubes",        "depth", "motion",
+      "streams", "bloom",        "exposure",      "startup", "diff",   "report",  "decals",       "ltc",   "cluster",
+      "tiled",   "tube_quality", "cluster_shape", "shadows", "tod",    "distant", "shadow_cache", "local"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -2182,6 +2302,7 @@ int main(int argc, char** argv) {
     if (wanted("tod")) bench_tod(gpu, width, height, int(repeats));
     if (wanted("distant")) bench_distant(gpu, width, height);
     if (wanted("shadow_cache")) bench_shadow_cache(gpu, width, height, int(repeats));
+    if (wanted("local")) bench_local(gpu, width, height, int(repeats));
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

@@ -15,15 +15,36 @@ namespace fs = std::filesystem;
 
 const char* kCity = "--city-block --size 320x180 --frames 2";
 // Every pass of the frame, CPU passes included.
-const std::vector<std::string> kFramePasses = {"cull.main",          "frame.constants",    "shadow.distant_plan",
-                                               "shadow.distant",     "shadow.cull",        "shadow.cascades_static",
-                                               "shadow.cascades",    "depth.prepass",      "gbuffer.opaque",
-                                               "depth.convert",      "motion.stencil",     "normals.bfn_lut",
-                                               "normals.pack",       "depth.pyramid",      "lights.cluster",
-                                               "shadow.sun_resolve", "lighting.ltc_table", "lighting.tiled",
-                                               "lighting.composite", "bloom.level0",       "bloom.level1",
-                                               "bloom.level2",       "bloom.level3",       "bloom.level4",
-                                               "bloom.level5",       "exposure",           "tonemap"};
+const std::vector<std::string> kFramePasses = {"cull.main",
+                                               "frame.constants",
+                                               "shadow.distant_plan",
+                                               "shadow.distant",
+                                               "shadow.cull",
+                                               "shadow.cascades_static",
+                                               "shadow.cascades",
+                                               "shadow.local_plan",
+                                               "shadow.local",
+                                               "shadow.local_moments",
+                                               "depth.prepass",
+                                               "gbuffer.opaque",
+                                               "depth.convert",
+                                               "motion.stencil",
+                                               "normals.bfn_lut",
+                                               "normals.pack",
+                                               "depth.pyramid",
+                                               "lights.cluster",
+                                               "shadow.sun_resolve",
+                                               "lighting.ltc_table",
+                                               "lighting.tiled",
+                                               "lighting.composite",
+                                               "bloom.level0",
+                                               "bloom.level1",
+                                               "bloom.level2",
+                                               "bloom.level3",
+                                               "bloom.level4",
+                                               "bloom.level5",
+                                               "exposure",
+                                               "tonemap"};
 
 // The passes that run in frame `frame` of kCity: the city has no moving geometry and the camera
 // walks from frame 1 on, so motion.stencil is skipped in frame 0 only.

@@ -247,6 +247,9 @@ class LightingTiled : public GpuTest {
     // The references light the sun unshadowed: shadow.sun stays 1 (tests/unit/shadow_test.cpp
     // holds the sun's shadow to its own reference).
     settings.params["shadow.sun_resolve"]["enabled"] = 0;
+    // Local lights unshadowed likewise (tests/unit/shadow_local_test.cpp holds the spot lights'
+    // shadows to theirs).
+    settings.params["shadow.local_plan"]["max_maps"] = 0;
     if (adjust) adjust(settings);
     Renderer renderer(*gpu_, scene, settings);
     const RenderedFrame frame = renderer.render_frame(0, true);
