@@ -853,8 +853,11 @@ void add_lights_in_view(nc::Scene& scene, uint32_t width, uint32_t height, int c
 // lights), GPU time by timestamps, frames rendered only as far as lighting: the 2 km map's street
 // shot and the built-in city, each as it is and with 100 and 1 000 more lights of 10 m range in
 // the first 200 m of the view. Tiled: median of `repeats` frames; deferred: one frame (on the map
-// it takes seconds a frame on lavapipe).
-void bench_tiled(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) {
+// it takes seconds a frame on lavapipe). Then the same passes each run alone on that frame's
+// recorded inputs, wall clock (upload and readback included; tiled the median of 3 runs after a
+// warm-up one, deferred one run): lavapipe's timestamps around a compute pass can take in work
+// queued before it, so this ratio (`…_isolated`) does not depend on them.
+void bench_tiled(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height, int repeats) {
   table() << "\n## lighting.tiled against lighting.deferred (" << width << "x" << height << ", GPU ms)\n"
           << std::left << std::setw(18) << "scene" << std::right << std::setw(8) << "lights" << std::setw(12)
           << "cluster" << std::setw(12) << "tiled" << std::setw(12) << "deferred" << std::setw(10) << "ratio"
@@ -870,31 +873,52 @@ void bench_tiled(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
       settings.sinks = {"lighting.diffuse", "lighting.specular"};
       std::vector<double> cluster, tiled;
       uint32_t lights = 0;
+      // A pass alone on the frame's recorded inputs: the median wall clock of `runs` after a warm-up one.
+      auto isolated_ms = [&](const nc::PassDecl& pass, const nc::RenderedFrame& frame, int runs) {
+        const std::map<std::string, nc::IsolatedInput> inputs = nc::recorded_pass(frame, pass.name).inputs;
+        std::vector<double> wall;
+        for (int r = 0; r <= runs; ++r) {
+          const double start = now_ms();
+          nc::run_isolated(gpu, cache, pass, inputs, pass.default_params(), width, height, builtin());
+          if (r > 0 || runs == 0) wall.push_back(now_ms() - start);
+        }
+        return median(wall);
+      };
+      double cluster_alone = 0, tiled_alone = 0;
       {
         nc::Renderer renderer(gpu, scene, settings);
         for (int r = 0; r < repeats; ++r) {
           const nc::RenderedFrame frame = renderer.render_frame(0, false);
           cluster.push_back(frame_pass_ms(frame, "lights.cluster"));
           tiled.push_back(frame_pass_ms(frame, "lighting.tiled"));
-          if (r == 0) {
-            const nc::RenderedFrame captured = renderer.render_frame(0, true);
-            nc::GpuFrameConstants constants;
-            std::memcpy(&constants, captured.execution.final_version("frame.constants")->bytes->data(),
-                        sizeof constants);
-            lights = constants.counts.x;
-          }
         }
+        const nc::RenderedFrame captured = renderer.render_frame(0, true);
+        nc::GpuFrameConstants constants;
+        std::memcpy(&constants, captured.execution.final_version("frame.constants")->bytes->data(), sizeof constants);
+        lights = constants.counts.x;
+        cluster_alone = isolated_ms(nc::lights_cluster_pass(), captured, 3);
+        tiled_alone = isolated_ms(nc::lighting_tiled_pass(), captured, 3);
       }
       settings.lighting = nc::FrameLighting::deferred;
       nc::Renderer renderer(gpu, scene, settings);
-      const double deferred = frame_pass_ms(renderer.render_frame(0, false), "lighting.deferred");
+      const nc::RenderedFrame deferred_frame = renderer.render_frame(0, true);
+      const double deferred = frame_pass_ms(deferred_frame, "lighting.deferred");
+      const double deferred_alone = isolated_ms(nc::lighting_deferred_pass(), deferred_frame, 0);
       const double ratio = (median(cluster) + median(tiled)) / deferred;
+      const double ratio_alone = (cluster_alone + tiled_alone) / deferred_alone;
       table() << std::left << std::setw(18) << key + (extra ? " +" + std::to_string(extra) : "") << std::right
               << std::setw(8) << lights << std::fixed << std::setprecision(1) << std::setw(12) << median(cluster)
               << std::setw(12) << median(tiled) << std::setw(12) << deferred << std::setprecision(4) << std::setw(10)
-              << ratio << std::defaultfloat << "\n";
+              << ratio << std::defaultfloat << "\n"
+              << std::left << std::setw(18) << "  alone" << std::right << std::setw(8) << "" << std::fixed
+              << std::setprecision(1) << std::setw(12) << cluster_alone << std::setw(12) << tiled_alone << std::setw(12)
+              << deferred_alone << std::setprecision(4) << std::setw(10) << ratio_alone << std::defaultfloat << "\n";
       const std::string suffix = (extra ? "_" + std::to_string(extra) : "") + (key == "city" ? ".city" : "");
       figure("tiled_vs_deferred_ratio" + suffix, ratio);
+      figure("tiled_vs_deferred_ratio_isolated" + suffix, ratio_alone);
+      figure("tiled_isolated_wall_ms" + suffix, tiled_alone);
+      figure("tiled_cluster_isolated_wall_ms" + suffix, cluster_alone);
+      figure("deferred_isolated_wall_ms" + suffix, deferred_alone);
       figure("tiled_ms" + suffix, median(tiled));
       figure("tiled_cluster_ms" + suffix, median(cluster));
       figure("deferred_ms" + suffix, deferred);
@@ -2295,7 +2319,7 @@ int main(int argc, char** argv) {
     if (wanted("decals")) bench_decals(gpu, width, height, int(repeats));
     if (wanted("ltc")) bench_ltc();
     if (wanted("cluster")) bench_cluster(gpu, cache, width, height, int(repeats));
-    if (wanted("tiled")) bench_tiled(gpu, width, height, int(repeats));
+    if (wanted("tiled")) bench_tiled(gpu, cache, width, height, int(repeats));
     if (wanted("tube_quality")) bench_tube_quality(gpu, width, height);
     if (wanted("cluster_shape")) bench_cluster_shape(gpu, cache, width, height, int(repeats));
     if (wanted("shadows")) bench_shadows(gpu, width, height, int(repeats));
