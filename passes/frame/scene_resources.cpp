@@ -67,6 +67,16 @@ ImportedData texture_with_mips(const Texture& texture) {
 
 }  // namespace
 
+glm::dmat4 instance_model(const InstanceRecord& r, double time) {
+  glm::dmat4 model(1.0);
+  for (int c = 0; c < 3; ++c)
+    for (int row = 0; row < 3; ++row) model[c][row] = r.basis[c * 3 + row];
+  glm::dvec3 translation(r.position[0], r.position[1], r.position[2]);
+  if (r.flags & kInstanceMoving) translation += glm::dvec3(r.velocity[0], r.velocity[1], r.velocity[2]) * time;
+  model[3] = glm::dvec4(translation, 1.0);
+  return model;
+}
+
 std::string texture_resource(uint32_t index) { return "scene.texture." + std::to_string(index); }
 
 uint32_t pack_sampler(const SamplerDesc& d) {

@@ -2,6 +2,8 @@
 // imported resource with host bytes, so the capture records it and replay can feed it back.
 #pragma once
 
+#include <glm/glm.hpp>
+
 #include <cstring>
 #include <map>
 #include <memory>
@@ -39,6 +41,9 @@ struct InstanceRecord {
   uint32_t flags;      // kInstanceMoving
 };
 constexpr uint32_t kInstanceMoving = 1;
+
+// An instance's world model matrix at `time` seconds (a moving one along its velocity).
+glm::dmat4 instance_model(const InstanceRecord& r, double time);
 
 // scene.lights: world-space lights (host-side, read by frame.constants).
 struct LightRecord {

@@ -47,8 +47,8 @@
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/scene_resources.h"
-#include "passes/frame/vertex_streams.h"
 #include "passes/scene/time_of_day.h"
+#include "passes/shadow/caster_draw.h"
 #include "passes/shadow/shadow_layout.h"
 
 namespace nightcap {
@@ -343,13 +343,8 @@ class ShadowCuller {
 
   // The instance's model matrix relative to a camera at `eye`, at `time`.
   glm::dmat4 model_of(uint32_t index, const dvec3& eye, double time) const {
-    const InstanceRecord& r = instances_[index];
-    glm::dmat4 model(1.0);
-    for (int c = 0; c < 3; ++c)
-      for (int row = 0; row < 3; ++row) model[c][row] = r.basis[c * 3 + row];
-    dvec3 translation(r.position[0], r.position[1], r.position[2]);
-    if (r.flags & kInstanceMoving) translation += dvec3(r.velocity[0], r.velocity[1], r.velocity[2]) * time;
-    model[3] = glm::dvec4(translation - eye, 1.0);
+    glm::dmat4 model = instance_model(instances_[index], time);
+    model[3] -= glm::dvec4(eye, 0.0);
     return model;
   }
 
@@ -487,21 +482,7 @@ class ShadowCuller {
   }
 
   GpuDraw draw_of(uint32_t index, const MeshRecord& mesh) const {
-    const glm::dmat4 model = model_of(index, eye_, camera_.time);
-    GpuDraw d{};
-    d.model = glm::mat4(model);
-    d.previous_model = d.model;
-    d.normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::dmat3(model))));
-    d.first_index = mesh.first_index;
-    d.index_count = mesh.index_count;
-    d.vertex_offset = mesh.vertex_offset;
-    d.material = instances_[index].material;
-    d.instance = index;
-    d.mirrored = glm::determinant(glm::dmat3(model)) < 0.0;
-    const glm::vec3 lo = glm::make_vec3(mesh.bounds_min), hi = glm::make_vec3(mesh.bounds_max);
-    d.position_origin = glm::vec4(lo, 0.0f);
-    d.position_step = glm::vec4(position_step(lo, hi), 0.0f);
-    return d;
+    return caster_draw(index, instances_[index], model_of(index, eye_, camera_.time), mesh);
   }
 
   PassContext& ctx_;

@@ -40,7 +40,7 @@
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/scene_resources.h"
-#include "passes/frame/vertex_streams.h"
+#include "passes/shadow/caster_draw.h"
 #include "passes/shadow/shadow_layout.h"
 
 namespace nightcap {
@@ -259,14 +259,7 @@ class DistantPlanner {
   }
 
   // World model matrix of a static instance.
-  glm::dmat4 model_of(uint32_t index) const {
-    const InstanceRecord& r = instances_[index];
-    glm::dmat4 model(1.0);
-    for (int c = 0; c < 3; ++c)
-      for (int row = 0; row < 3; ++row) model[c][row] = r.basis[c * 3 + row];
-    model[3] = glm::dvec4(r.position[0], r.position[1], r.position[2], 1.0);
-    return model;
-  }
+  glm::dmat4 model_of(uint32_t index) const { return instance_model(instances_[index], camera_.time); }
 
   // Every static caster whose box, across the sun, meets one of `tiles`, through the hierarchy:
   // visit(tile, instance, model, mesh) for each tile it meets.
@@ -304,20 +297,7 @@ class DistantPlanner {
   GpuDraw draw_of(uint32_t index, const glm::dmat4& world_model, const MeshRecord& mesh) const {
     glm::dmat4 model = world_model;
     model[3] -= glm::dvec4(eye(), 0.0);  // camera-relative, as every draw list
-    GpuDraw d{};
-    d.model = glm::mat4(model);
-    d.previous_model = d.model;
-    d.normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::dmat3(model))));
-    d.first_index = mesh.first_index;
-    d.index_count = mesh.index_count;
-    d.vertex_offset = mesh.vertex_offset;
-    d.material = instances_[index].material;
-    d.instance = index;
-    d.mirrored = glm::determinant(glm::dmat3(model)) < 0.0;
-    const glm::vec3 lo = glm::make_vec3(mesh.bounds_min), hi = glm::make_vec3(mesh.bounds_max);
-    d.position_origin = glm::vec4(lo, 0.0f);
-    d.position_step = glm::vec4(position_step(lo, hi), 0.0f);
-    return d;
+    return caster_draw(index, instances_[index], model, mesh);
   }
 
   PassContext& ctx_;

@@ -34,8 +34,8 @@
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/scene_resources.h"
-#include "passes/frame/vertex_streams.h"
 #include "passes/scene/scene.h"
+#include "passes/shadow/caster_draw.h"
 #include "passes/shadow/local_layout.h"
 
 namespace nightcap {
@@ -180,16 +180,7 @@ class LocalPlanner {
     return mesh->index_count == 0 ? nullptr : mesh;
   }
 
-  glm::dmat4 model_of(uint32_t index) const {
-    const InstanceRecord& r = instances_[index];
-    glm::dmat4 model(1.0);
-    for (int c = 0; c < 3; ++c)
-      for (int row = 0; row < 3; ++row) model[c][row] = r.basis[c * 3 + row];
-    dvec3 position(r.position[0], r.position[1], r.position[2]);
-    if (r.flags & kInstanceMoving) position += dvec3(r.velocity[0], r.velocity[1], r.velocity[2]) * camera_.time;
-    model[3] = glm::dvec4(position, 1.0);
-    return model;
-  }
+  glm::dmat4 model_of(uint32_t index) const { return instance_model(instances_[index], camera_.time); }
 
   static bool meets(const dvec3& lo, const dvec3& hi, const dvec3& olo, const dvec3& ohi) {
     return glm::all(glm::lessThanEqual(lo, ohi)) && glm::all(glm::lessThanEqual(olo, hi));
@@ -236,21 +227,7 @@ class LocalPlanner {
   GpuDraw draw_of(const Caster& caster) const {
     glm::dmat4 model = caster.model;
     model[3] -= glm::dvec4(eye(), 0.0);  // camera-relative, as every draw list
-    const MeshRecord& mesh = *caster.mesh;
-    GpuDraw d{};
-    d.model = glm::mat4(model);
-    d.previous_model = d.model;
-    d.normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::dmat3(model))));
-    d.first_index = mesh.first_index;
-    d.index_count = mesh.index_count;
-    d.vertex_offset = mesh.vertex_offset;
-    d.material = instances_[caster.instance].material;
-    d.instance = caster.instance;
-    d.mirrored = glm::determinant(glm::dmat3(model)) < 0.0;
-    const glm::vec3 lo = glm::make_vec3(mesh.bounds_min), hi = glm::make_vec3(mesh.bounds_max);
-    d.position_origin = glm::vec4(lo, 0.0f);
-    d.position_step = glm::vec4(position_step(lo, hi), 0.0f);
-    return d;
+    return caster_draw(caster.instance, instances_[caster.instance], model, *caster.mesh);
   }
 
   PassContext& ctx_;

@@ -1,0 +1,28 @@
+#include "passes/shadow/caster_draw.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "passes/frame/vertex_streams.h"
+
+namespace nightcap {
+
+GpuDraw caster_draw(uint32_t instance, const InstanceRecord& record, const glm::dmat4& relative_model,
+                    const MeshRecord& mesh) {
+  GpuDraw d{};
+  d.model = glm::mat4(relative_model);
+  d.previous_model = d.model;
+  d.normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::dmat3(relative_model))));
+  d.first_index = mesh.first_index;
+  d.index_count = mesh.index_count;
+  d.vertex_offset = mesh.vertex_offset;
+  d.material = record.material;
+  d.instance = instance;
+  d.mirrored = glm::determinant(glm::dmat3(relative_model)) < 0.0;
+  // The box scene.geometry quantised the mesh's positions in (vertex_streams.h).
+  const glm::vec3 lo = glm::make_vec3(mesh.bounds_min), hi = glm::make_vec3(mesh.bounds_max);
+  d.position_origin = glm::vec4(lo, 0.0f);
+  d.position_step = glm::vec4(position_step(lo, hi), 0.0f);
+  return d;
+}
+
+}  // namespace nightcap
