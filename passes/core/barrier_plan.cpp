@@ -228,9 +228,14 @@ void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& imp
       for (const BoundUse& out : graph.passes[i].outputs)
         if (versions(graph.passes[i], out)) final_writer[out.resource] = i;
   const std::set<std::pair<size_t, std::string>> read_skipped = read_skipped_versions(graph);
-  // A version's bytes are on the host when it is imported or a CPU pass wrote it.
+  // A version's bytes are on the host when it is imported or a CPU pass wrote it (a CPU pass's
+  // history too: the pool keeps it as bytes).
+  std::set<std::string> cpu_written;
+  for (const CompiledPass& pass : graph.passes)
+    if (!pass.culled && pass.decl->type == PassType::cpu)
+      for (const BoundUse& out : pass.outputs) cpu_written.insert(out.resource);
   auto on_host = [&](const BoundUse& in) {
-    if (in.history) return imports.count(in.resource) > 0;
+    if (in.history) return imports.count(in.resource) > 0 || cpu_written.count(history_source(in.resource)) > 0;
     return in.producer < 0 || graph.passes[size_t(in.producer)].decl->type == PassType::cpu;
   };
 

@@ -212,6 +212,33 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
     shared.host[name] = bytes;
     add_version(name, it->second, bytes);
   }
+  // previous(name) inputs of CPU passes: the bytes the pool kept from the last frame (a replay
+  // imports them instead), empty when there is no valid history.
+  std::map<std::string, std::string> host_pooled;  // previous(name) -> name
+  for (CompiledPass& pass : graph.passes) {
+    if (pass.culled || pass.decl->type != PassType::cpu) continue;
+    for (BoundUse& in : pass.inputs) {
+      if (!in.history || imports.count(in.resource)) continue;
+      const std::string resource = history_source(in.resource);
+      if (!options.history)
+        throw GraphError(pass.decl->name + ": reads the previous frame's '" + resource +
+                         "', but this run keeps no history");
+      if (!host_pooled.emplace(in.resource, resource).second) continue;
+      std::shared_ptr<const std::vector<uint8_t>> kept = options.history->find_host(resource);
+      if (!kept)
+        result.history_reset[resource] = "no earlier frame";
+      else if (graph.settings.frame.camera_cut)
+        result.history_reset[resource] = "camera cut";
+      if (result.history_reset.count(resource)) kept = std::make_shared<const std::vector<uint8_t>>();
+      ResourceDesc& desc = graph.resources[in.resource];
+      desc.buffer_size = kept->size();
+      shared.host[in.resource] = kept;
+      add_version(in.resource, desc, kept);
+    }
+  }
+  for (CompiledPass& pass : graph.passes)
+    for (BoundUse& in : pass.inputs)
+      if (host_pooled.count(in.resource)) in.desc = graph.resources.at(in.resource);
   auto params_of = [&](const PassDecl& decl) { return decl.params_with(options.params); };
   // Runs a CPU pass whose inputs are on the host; its outputs become host data.
   auto run_cpu_pass = [&](size_t i) {
@@ -564,6 +591,12 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
   }
   submit(true);
   for (const auto& [name, slot] : slots) slot->filled = true;
+  for (const auto& [name, resource] : host_pooled) {
+    auto written = shared.host.find(resource);
+    options.history->keep_host(resource, written != shared.host.end() && written->second
+                                             ? written->second
+                                             : std::make_shared<const std::vector<uint8_t>>());
+  }
 
   std::vector<uint64_t> stamps(query_info.queryCount, 0);
   vkGetQueryPoolResults(gpu.device(), cleanup.queries, 0, query_info.queryCount, stamps.size() * 8, stamps.data(), 8,

@@ -359,9 +359,11 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
         if (imported.count(previous(in.resource))) {
           add(previous(in.resource));
         } else if (fresh_writer.count(in.resource)) {
-          if (passes[fresh_writer.at(in.resource)].type == PassType::cpu)
+          // The pool keeps a CPU pass's output as bytes, which only a CPU pass reads.
+          if (passes[fresh_writer.at(in.resource)].type == PassType::cpu &&
+              (passes[i].type != PassType::cpu || in.use != Use::host))
             throw GraphError(passes[i].name + ": reads the previous frame's '" + in.resource +
-                             "', a CPU pass's output (the history pool keeps GPU resources)");
+                             "', a CPU pass's output, on the GPU (only a CPU pass reads a CPU pass's history)");
           history_reads[i].push_back(in.resource);
         } else {
           throw GraphError(passes[i].name + ": reads the previous frame's '" + in.resource + "', which no pass writes");
@@ -586,7 +588,8 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
   for (CompiledPass& pass : graph.passes)
     for (BoundUse& in : pass.inputs) {
       if (!in.history || imported.count(in.resource)) continue;
-      // A GPU writer declares every size, so the description is complete.
+      // A GPU writer declares every size, so the description is complete; a CPU buffer's size
+      // is the kept bytes', known when the frame runs.
       in.desc = graph.resources[in.resource] = graph.resources.at(history_source(in.resource));
     }
   // Only a pass that runs, or a fold's write, touches its ranges (a skipped pass clears whole

@@ -21,6 +21,13 @@ HistorySlot& HistoryPool::replace(const std::string& resource, HistorySlot slot)
   return slots_.emplace(resource, std::move(slot)).first->second;
 }
 
+HistoryPool::HostBytes HistoryPool::find_host(const std::string& resource) const {
+  auto it = host_.find(resource);
+  return it == host_.end() ? nullptr : it->second;
+}
+
+void HistoryPool::keep_host(const std::string& resource, HostBytes bytes) { host_[resource] = std::move(bytes); }
+
 void HistoryPool::destroy(HistorySlot& slot) {
   gpu_.destroy(slot.resource.image);
   gpu_.destroy(slot.resource.buffer);

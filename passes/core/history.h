@@ -2,10 +2,14 @@
 // it across frames; execute_graph binds each previous(name) to its slot, starts a slot from the
 // resource's clear value when it has no valid history (first frame, camera cut, resize), and at
 // the end of the frame copies the resource's final version into the slot for the next frame.
+// A CPU pass's output read by a CPU pass a frame later (a plan that remembers what it decided)
+// is kept as its bytes; with no valid history it reads as empty.
 #pragma once
 
 #include <map>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "passes/core/execution_state.h"
 
@@ -31,10 +35,16 @@ class HistoryPool {
   // A new, unfilled slot for `resource` (replacing one of another size or usage).
   HistorySlot& replace(const std::string& resource, HistorySlot slot);
 
+  using HostBytes = std::shared_ptr<const std::vector<uint8_t>>;
+  // The bytes a CPU pass wrote to `resource` in the last frame that kept them; null when none has.
+  HostBytes find_host(const std::string& resource) const;
+  void keep_host(const std::string& resource, HostBytes bytes);
+
  private:
   void destroy(HistorySlot& slot);
   GpuDevice& gpu_;
   std::map<std::string, HistorySlot> slots_;
+  std::map<std::string, HostBytes> host_;
 };
 
 }  // namespace nightcap

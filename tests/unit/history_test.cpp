@@ -1,7 +1,8 @@
 // The history pool across frames: a pass that reads its own previous output sees the value the
 // previous execution left, its declared clear value on the first frame, after a camera cut and
 // after a resize; the capture records that history as an input version equal to the previous
-// frame's output.
+// frame's output. A CPU pass reading its own previous output gets the bytes it wrote a frame
+// earlier, and nothing on the first frame or after a cut.
 #include <cstring>
 
 #include "passes/core/history.h"
@@ -113,6 +114,74 @@ TEST_F(History, AGraphThatReadsHistoryNeedsAPool) {
   } catch (const GraphError& e) {
     EXPECT_NE(std::string(e.what()).find("accumulate: reads the previous frame's 'sum', but this run keeps no history"),
               std::string::npos)
+        << e.what();
+  }
+}
+
+// A CPU pass that appends one byte to what it wrote the frame before.
+PassDecl counting_plan_pass() {
+  return PassDecl("plan", PassType::cpu)
+      .read_previous("plan.record", Use::host)
+      .write("plan.record", Use::host, BufferDecl{ResourceKind::buffer})
+      .run([](PassContext& ctx) {
+        const std::span<const uint8_t> before = ctx.host(previous("plan.record"));
+        std::vector<uint8_t>& now = ctx.output("plan.record");
+        now.assign(before.begin(), before.end());
+        now.push_back(uint8_t(before.size()));
+      });
+}
+
+TEST_F(History, ACpuPassReadsWhatItWroteAFrameEarlier) {
+  HistoryPool pool(*gpu_);
+  struct Frame {
+    std::vector<uint8_t> history, record;
+    std::map<std::string, std::string> reset;
+  };
+  auto run = [&](bool cut) {
+    GraphSettings settings;
+    settings.sinks = {"plan.record"};
+    settings.frame.camera_cut = cut;
+    settings.capture = true;
+    CompiledGraph graph = compile_graph({counting_plan_pass()}, {}, settings);
+    ExecutionOptions options;
+    options.history = &pool;
+    const Execution execution = execute_graph(*gpu_, *cache_, graph, {}, options);
+    const PassExecution& pass = execution.passes.at(0);
+    const VersionData& input = execution.versions.at(pass.inputs.at(0));
+    EXPECT_EQ(input.resource, "plan.record@previous");
+    EXPECT_EQ(input.desc.buffer_size, input.bytes->size()) << "described by the bytes kept";
+    return Frame{*input.bytes, *execution.versions.at(pass.outputs.at(0)).bytes, execution.history_reset};
+  };
+  using Bytes = std::vector<uint8_t>;
+  using Resets = std::map<std::string, std::string>;
+  const Frame f0 = run(false);
+  EXPECT_EQ(f0.history, Bytes{});
+  EXPECT_EQ(f0.record, Bytes{0});
+  EXPECT_EQ(f0.reset, (Resets{{"plan.record", "no earlier frame"}}));
+  const Frame f1 = run(false);
+  EXPECT_EQ(f1.history, f0.record);
+  EXPECT_EQ(f1.record, (Bytes{0, 1}));
+  EXPECT_TRUE(f1.reset.empty());
+  const Frame f2 = run(true);
+  EXPECT_EQ(f2.history, Bytes{}) << "a camera cut forgets it";
+  EXPECT_EQ(f2.reset, (Resets{{"plan.record", "camera cut"}}));
+  EXPECT_EQ(run(false).history, f2.record);
+}
+
+TEST_F(History, OnlyACpuPassReadsACpuPassHistory) {
+  const PassDecl reader = PassDecl("reader", PassType::compute)
+                              .read_previous("plan.record", Use::storage_read)
+                              .write("out", Use::storage_write, ImageDecl{VK_FORMAT_R32_SFLOAT, ResourceKind::colour})
+                              .run([](PassContext&) {});
+  GraphSettings settings;
+  settings.sinks = {"out"};
+  try {
+    compile_graph({counting_plan_pass(), reader}, {}, settings);
+    ADD_FAILURE() << "expected a GraphError";
+  } catch (const GraphError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("reader: reads the previous frame's 'plan.record', a CPU pass's output, on the GPU"),
+        std::string::npos)
         << e.what();
   }
 }
