@@ -10,21 +10,21 @@
 // others on the camera, their centres snapped to an eighth of their side in world light space,
 // so they move rarely and by whole texels: shadow.distant keeps what a moved level already
 // holds by reading the previous frame's texel that covers the same place (refresh.xy; the
-// previous frame's centres come from frame.camera's previous view, the sun is the scene's and
-// fixed). Light depth spans the static scene's box, the same at every level and every frame.
+// previous frame's centres are in its record). Light depth spans the static scene's box, the same at every level and
+// every frame.
 //
-// Refresh: each level is cut into `tiles`² tiles; the units (level, tile) in order, finest level
-// first, are packed into frames whose triangles stay within `budget_triangles` (a unit alone
-// above the budget gets a frame of its own, flagged over_budget); frame f redraws the units of
-// the cycle's frame f mod cycle_frames. A stateless schedule: a CPU pass cannot read its own
-// previous output (the history pool keeps GPU resources), so the plan cannot know which units
-// are already drawn; it follows the frame clock, and every unit is redrawn once per cycle. A
-// history reset (first frame, camera cut; frame.camera says) leaves the levels empty, so that
-// frame redraws every unit whatever the budget (recorded as `reset`) and the frame after a reset
-// has complete distant shadows; the cycle then goes on from the frame clock. A level with no
-// unit due this frame is not drawn (it is up to date); the whole pass is skipped with no sun
-// above the horizon.
-//
+// Refresh: each level is cut into `tiles`² tiles, the units of refresh. The plan reads its own
+// previous record (history: empty on frame 0 and after a camera cut), which says where each
+// level lay and which of its units held their casters' depth (`complete`). A level that moved
+// keeps a unit complete only when every texel it now covers was covered by complete units
+// before; the others are stale. Stale units are redrawn, finest level first, as many as fit in
+// `budget_triangles` (a unit alone above the budget gets a frame of its own, flagged
+// over_budget); the rest wait for the next frames (`pending`). With no history, or when the
+// levels' frame changed (the sun, the scene's extent, a parameter), or with `cache` 0, every unit
+// is redrawn whatever the budget, so the frame after a reset has complete distant shadows
+// (recorded as `reset`, DistantReset). Static casters and a fixed sun never make a complete unit
+// stale: a still camera redraws nothing after frame 0, a driving one only what its levels' moves
+// uncover.
 // Casters: the static opaque instances (moving ones would leave stale shadows behind in a map
 // refreshed every few frames), at their coarsest level of detail, whatever their draw distance
 // (a level is the same from wherever the camera is, so tiles drawn in different frames agree).
@@ -111,23 +111,43 @@ class DistantPlanner {
     // Snapping moves a centre by less than a texel: the last level keeps a texel of room each side.
     const double side0 = std::max(ctx_.param("level0_metres"), map_side / (last_scale * (1.0 - 2.0 / resolution)));
 
+    DistantPlan plan{};
+    plan.tiles_per_side = tiles;
+    plan.resolution = resolution;
+    plan.budget_triangles = uint32_t(ctx_.param("budget_triangles"));
+    plan.units = kDistantLevels * tiles * tiles;
+    const float key[6] = {float(travel_.x), float(travel_.y), float(travel_.z),
+                          float(side0),     float(near),      float(depth)};
+    std::copy(std::begin(key), std::end(key), plan.frame_key);
+    const DistantPlan* before = previous_plan();
+    if (ctx_.param("cache") == 0.0)
+      plan.reset = uint32_t(DistantReset::cache_off);
+    else if (!before)
+      plan.reset = uint32_t(DistantReset::no_history);
+    else if (before->tiles_per_side != tiles || before->resolution != resolution ||
+             std::memcmp(before->frame_key, plan.frame_key, sizeof(key)) != 0)
+      plan.reset = uint32_t(DistantReset::levels_changed);
+
     GpuDistantLevels data{};
     data.light_direction = glm::vec4(glm::vec3(travel_), float(resolution));
-    const dvec3 eye_now = eye(),
-                eye_before(camera_.previous_world[12], camera_.previous_world[13], camera_.previous_world[14]);
+    const dvec3 eye_now = eye();
     const dvec2 map_centre = 0.5 * (map.lo + map.hi);
     std::vector<Rect> tile_rects;
     for (uint32_t k = 0; k < kDistantLevels; ++k) {
       const double side = side0 * std::pow(4.0, k), texel = side / resolution;
       const bool last = k + 1 == kDistantLevels;
-      auto centre_for = [&](const dvec3& eye_at) {
-        const dvec2 wanted = last ? map_centre : dvec2(glm::dot(eye_at, axis_x_), glm::dot(eye_at, axis_y_));
-        const double step = last ? texel : side / 8.0;
-        return glm::floor(wanted / step) * step;
-      };
-      const dvec2 centre = centre_for(eye_now), before = centre_for(eye_before);
-      const dvec2 shift = glm::round((centre - before) / texel);
-      data.refresh[k] = glm::ivec4(int(shift.x), int(shift.y), 0, int(tiles));
+      const dvec2 wanted = last ? map_centre : dvec2(glm::dot(eye_now, axis_x_), glm::dot(eye_now, axis_y_));
+      const double step = last ? texel : side / 8.0;
+      const dvec2 centre = glm::floor(wanted / step) * step;
+      // Whole texels: the centre is a multiple of a texel (an eighth of a side is resolution / 8 of them).
+      const glm::ivec2 centre_texels(glm::round(centre / texel));
+      plan.centre[2 * k] = centre_texels.x;
+      plan.centre[2 * k + 1] = centre_texels.y;
+      // The texel of the previous frame's level that this frame's texel (0, 0) covers.
+      const glm::ivec2 shift =
+          plan.reset ? glm::ivec2(0) : centre_texels - glm::ivec2(before->centre[2 * k], before->centre[2 * k + 1]);
+      data.refresh[k] = glm::ivec4(shift.x, shift.y, 0, int(tiles));
+      plan.stale[k] = plan.reset ? all_tiles(tiles) : stale_after_move(before->complete[k], shift, tiles, resolution);
       // camera-relative p → ((p + eye)·x − cx) / (side / 2), ((p + eye)·y − cy) / (side / 2), ((p + eye)·t − near) /
       // depth.
       const double half = 0.5 * side;
@@ -159,26 +179,19 @@ class DistantPlanner {
       units[t].triangles += mesh.index_count / 3;
     });
 
-    // The cycle: units in order, packed into frames within the budget.
-    const uint32_t budget = uint32_t(ctx_.param("budget_triangles"));
-    std::vector<std::vector<uint32_t>> cycle(1);
-    uint32_t filled = 0;
+    // This frame's units: the stale ones in order (finest level first) while they fit the budget;
+    // every one after a reset.
+    const uint32_t per_level = tiles * tiles;
+    std::vector<uint32_t> due;
+    uint64_t filled = 0;
     for (uint32_t u = 0; u < units.size(); ++u) {
-      if (!cycle.back().empty() && uint64_t(filled) + units[u].triangles > budget) {
-        cycle.emplace_back();
-        filled = 0;
+      if (!(plan.stale[u / per_level] >> (u % per_level) & 1u)) continue;
+      if (!plan.reset && !due.empty() && filled + units[u].triangles > plan.budget_triangles) {
+        ++plan.pending;
+        continue;
       }
-      cycle.back().push_back(u);
+      due.push_back(u);
       filled += units[u].triangles;
-    }
-    DistantPlan plan{};
-    plan.cycle_frames = uint32_t(cycle.size());
-    plan.frame_in_cycle = camera_.frame_index % plan.cycle_frames;
-    plan.reset = camera_.frame_index == 0 || camera_.cut != 0 ? 1u : 0u;
-    std::vector<uint32_t> due = cycle[plan.frame_in_cycle];
-    if (plan.reset) {
-      due.resize(units.size());
-      for (uint32_t u = 0; u < units.size(); ++u) due[u] = u;
     }
     std::vector<Rect> due_rects;
     for (uint32_t u : due) due_rects.push_back(tile_rects[u]);
@@ -192,22 +205,20 @@ class DistantPlanner {
         if (a.first_index != b.first_index) return a.first_index < b.first_index;
         return a.instance < b.instance;
       });
-    plan.tiles_per_side = tiles;
-    plan.budget_triangles = budget;
-    plan.units = uint32_t(units.size());
     std::vector<GpuDraw> all;
     for (uint32_t u = 0; u < units.size(); ++u) plan.unit_triangles[u] = units[u].triangles;
     for (uint32_t u : due) {
-      const uint32_t per_level = tiles * tiles;
       plan.refreshed[u / per_level] |= 1u << (u % per_level);
       plan.unit_first_draw[u] = uint32_t(all.size());
       plan.unit_draws[u] = uint32_t(units[u].draws.size());
       plan.triangles += units[u].triangles;
       all.insert(all.end(), units[u].draws.begin(), units[u].draws.end());
     }
+    for (uint32_t k = 0; k < kDistantLevels; ++k)
+      plan.complete[k] = (all_tiles(tiles) & ~plan.stale[k]) | plan.refreshed[k];
     plan.draws = uint32_t(all.size());
     for (uint32_t u : due)
-      if (units[u].triangles > budget) plan.over_budget = 1;
+      if (units[u].triangles > plan.budget_triangles) plan.over_budget = 1;
     for (uint32_t k = 0; k < kDistantLevels; ++k) data.refresh[k].z = int(plan.refreshed[k]);
     store("shadow.distant_data", &data, sizeof(data));
     store("shadow.distant_plan", &plan, sizeof(plan));
@@ -215,6 +226,36 @@ class DistantPlanner {
   }
 
  private:
+  static uint32_t all_tiles(uint32_t tiles) { return (1u << (tiles * tiles)) - 1u; }
+
+  // The previous frame's record, or null when there is none to keep (frame 0, a cut, a frame
+  // whose plan did not run).
+  const DistantPlan* previous_plan() {
+    const std::span<const uint8_t> bytes = ctx_.host(previous("shadow.distant_plan"));
+    if (bytes.size() != sizeof(DistantPlan)) return nullptr;
+    std::memcpy(&previous_, bytes.data(), sizeof(DistantPlan));
+    return &previous_;
+  }
+
+  // The tiles of a level that moved by `shift` texels (this frame's texel t covers the previous
+  // frame's t + shift) that are stale: some texel of theirs was not covered by a complete tile.
+  static uint32_t stale_after_move(uint32_t complete_before, glm::ivec2 shift, uint32_t tiles, uint32_t resolution) {
+    const int side = int(resolution / tiles);
+    uint32_t stale = 0;
+    for (uint32_t ty = 0; ty < tiles; ++ty)
+      for (uint32_t tx = 0; tx < tiles; ++tx) {
+        // The previous frame's texels under this tile: [lo, lo + side) on each axis.
+        const glm::ivec2 lo = glm::ivec2(int(tx), int(ty)) * side + shift, hi = lo + side - 1;
+        bool complete = glm::all(glm::greaterThanEqual(lo, glm::ivec2(0))) &&
+                        glm::all(glm::lessThan(hi, glm::ivec2(int(resolution))));
+        for (int y = lo.y / side; complete && y <= hi.y / side; ++y)
+          for (int x = lo.x / side; complete && x <= hi.x / side; ++x)
+            complete = (complete_before >> (y * int(tiles) + x) & 1u) != 0;
+        if (!complete) stale |= 1u << (ty * tiles + tx);
+      }
+    return stale;
+  }
+
   dvec3 eye() const { return dvec3(camera_.world[12], camera_.world[13], camera_.world[14]); }
 
   void grow(Rect& r, const dvec3& p) const {
@@ -308,6 +349,7 @@ class DistantPlanner {
   std::vector<GpuMaterial> materials_;
   Hierarchy hierarchy_;
   dvec3 travel_{0.0}, axis_x_{0.0}, axis_y_{0.0};
+  DistantPlan previous_{};
 };
 
 }  // namespace
@@ -320,6 +362,7 @@ PassDecl shadow_distant_plan_pass() {
       .read("scene.meshes", Use::host)
       .read("scene.hierarchy", Use::host)
       .read("scene.materials", Use::host)
+      .read_previous("shadow.distant_plan", Use::host)
       .write("shadow.distant_data", Use::host, BufferDecl{ResourceKind::buffer})
       .write("draws.shadow.distant", Use::host, BufferDecl{ResourceKind::draw_list})
       .write("shadow.distant_plan", Use::host, BufferDecl{ResourceKind::buffer})
@@ -333,6 +376,9 @@ PassDecl shadow_distant_plan_pass() {
       .param("tiles", 2, 1, kDistantMaxTilesPerSide, "tiles per side of a level: the unit of refresh")
       .param("budget_triangles", 500000, 0, 1e9,
              "triangles shadow.distant draws per frame at most (a unit above it is drawn alone)")
+      .param("cache", 1, 0, 1,
+             "1: levels carry over from the previous frame and only stale units are redrawn; 0: every level "
+             "drawn whole each frame")
       .needs("sun_above_horizon")
       .run([](PassContext& ctx) { DistantPlanner(ctx).run(); });
 }

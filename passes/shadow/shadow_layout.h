@@ -110,24 +110,40 @@ struct GpuDistantLevels {
 };
 static_assert(sizeof(GpuDistantLevels) == 4 * 64 + 3 * 16 + 4 * 16);
 
-// What shadow.distant_plan decided this frame, as the capture records it. A unit is one tile of
-// one level, numbered level · tiles² + ty · tiles + tx.
+// Why shadow.distant_plan redraws every unit this frame, past the budget (DistantPlan::reset).
+enum class DistantReset : uint32_t {
+  none = 0,            // the levels carry over; only stale units are redrawn, within the budget
+  no_history = 1,      // frame 0, a camera cut, or a previous frame without levels
+  levels_changed = 2,  // the sun, the static scene's extent or the parameters moved the levels' frame
+  cache_off = 3,       // `cache` 0: every level drawn whole each frame
+};
+
+// What shadow.distant_plan decided this frame, as the capture records it, and what the next
+// frame's plan reads back as its history. A unit is one tile of one level, numbered
+// level · tiles² + ty · tiles + tx; masks are per level, bit ty · tiles + tx.
 struct DistantPlan {
-  uint32_t cycle_frames;    // frames one refresh of every unit takes under the budget
-  uint32_t frame_in_cycle;  // which of them this frame is (frame index mod cycle_frames)
+  uint32_t reset;  // DistantReset
   uint32_t tiles_per_side;
   uint32_t budget_triangles;           // per frame
-  uint32_t refreshed[kDistantLevels];  // per level, the mask of its tiles redrawn this frame
+  uint32_t stale[kDistantLevels];      // units that did not hold their casters' depth before this frame
+  uint32_t refreshed[kDistantLevels];  // units redrawn this frame
+  uint32_t complete[kDistantLevels];   // units that hold their casters' depth after it
   uint32_t draws, triangles;           // drawn this frame
   uint32_t over_budget;                // 1 when a unit drawn this frame alone exceeds the budget (it is drawn whole)
-  uint32_t units;                      // units in the cycle (levels · tiles²)
-  // 1: no history (frame 0 or a camera cut): every unit is redrawn this frame, past the budget.
-  uint32_t reset;
+  uint32_t units;                      // levels · tiles²
+  uint32_t pending;                    // units still stale after this frame
+  uint32_t resolution;
+  // Each level's centre in whole texels of world light space (x, y): where the next frame's
+  // levels find what this one holds.
+  int32_t centre[2 * kDistantLevels];
+  // The levels' frame (the sun's direction, the finest level's side, the light depth's start and
+  // span): history is kept only while it is the same, bit for bit.
+  float frame_key[6];
   uint32_t unit_triangles[kDistantUnits];   // every unit's triangles, redrawn this frame or not
   uint32_t unit_first_draw[kDistantUnits];  // this frame's draws.shadow.distant range of a redrawn unit
   uint32_t unit_draws[kDistantUnits];
 };
-static_assert(sizeof(DistantPlan) == (13 + 3 * kDistantUnits) * 4);
+static_assert(sizeof(DistantPlan) == (9 + 3 * kDistantLevels + 2 * kDistantLevels + 6 + 3 * kDistantUnits) * 4);
 
 inline BufferSchema distant_levels_schema() {
   using S = GpuDistantLevels;
@@ -142,16 +158,20 @@ inline BufferSchema distant_levels_schema() {
 inline BufferSchema distant_plan_schema() {
   using S = DistantPlan;
   return BufferSchema::of<S>()
-      .field("cycle_frames", &S::cycle_frames)
-      .field("frame_in_cycle", &S::frame_in_cycle)
+      .field("reset", &S::reset)
       .field("tiles_per_side", &S::tiles_per_side)
       .field("budget_triangles", &S::budget_triangles)
+      .field("stale", &S::stale)
       .field("refreshed", &S::refreshed)
+      .field("complete", &S::complete)
       .field("draws", &S::draws)
       .field("triangles", &S::triangles)
       .field("over_budget", &S::over_budget)
       .field("units", &S::units)
-      .field("reset", &S::reset)
+      .field("pending", &S::pending)
+      .field("resolution", &S::resolution)
+      .field("centre", &S::centre)
+      .field("frame_key", &S::frame_key)
       .field("unit_triangles", &S::unit_triangles)
       .field("unit_first_draw", &S::unit_first_draw)
       .field("unit_draws", &S::unit_draws);

@@ -3,7 +3,7 @@
 // its own record, the previous frames' static cascade depth being a declared history input; the
 // recorded shadow.cull_stats say a still camera kept every cascade's static depth from frame 1
 // on and a driving one redrew it; the recorded distant plans redraw every level at frame 0 (the
-// history reset) and stay within the budget after.
+// history reset), stay within the budget after, and draw nothing for a still camera.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -72,6 +72,7 @@ TEST(ShadowCache, FrameThreeReplaysAndTheRecordsSayWhatWasKept) {
           EXPECT_EQ(plan.refreshed[level], (1u << (plan.tiles_per_side * plan.tiles_per_side)) - 1u) << level;
       } else {
         EXPECT_TRUE(plan.triangles <= plan.budget_triangles || plan.over_budget) << "frame " << k;
+        if (still) EXPECT_EQ(plan.draws, 0u) << "frame " << k << ": a still camera's levels are complete";
       }
       if (still && k > 0) {
         const ResourceRecord* history =
