@@ -261,7 +261,8 @@ void PassContext::begin_rendering(const std::vector<std::string>& colors, const 
     auto a = vk_struct<VkRenderingAttachmentInfo>(VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO);
     a.imageView = view(name, aspect, int(mip), int(layer));
     a.imageLayout = layout;
-    a.loadOp = use->modifies ? VK_ATTACHMENT_LOAD_OP_LOAD : VK_ATTACHMENT_LOAD_OP_CLEAR;
+    a.loadOp = use->modifies || (mip == 0 && copied_layers_.count({name, layer})) ? VK_ATTACHMENT_LOAD_OP_LOAD
+                                                                                  : VK_ATTACHMENT_LOAD_OP_CLEAR;
     a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
     a.clearValue = desc(name).clear;
     return a;
@@ -289,6 +290,80 @@ void PassContext::begin_rendering(const std::vector<std::string>& colors, const 
   vkCmdSetViewport(cmd(), 0, 1, &viewport);
   vkCmdSetScissor(cmd(), 0, 1, &scissor);
   vkCmdSetStencilReference(cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, 0);
+}
+
+void PassContext::copy_layer(const std::string& from, const std::string& to, uint32_t layer, int32_t dx, int32_t dy) {
+  const BoundUse* source = nullptr;
+  const BoundUse* target = nullptr;
+  for (const BoundUse& u : pass_.inputs)
+    if (u.resource == from && !u.desc.is_buffer && u.range.contains(0, layer)) source = &u;
+  for (const BoundUse& u : pass_.outputs)
+    if (u.resource == to && !u.desc.is_buffer && u.range.contains(0, layer)) target = &u;
+  if (!source || !target)
+    throw GraphError(pass() + ": copies layer " + std::to_string(layer) + " of '" + from + "' into '" + to +
+                     "' without reading the one and writing the other there");
+  const PhysicalResource& src = shared_.resources.at(from);
+  const PhysicalResource& dst = shared_.resources.at(to);
+  const ImageExtent &a = src.desc.extent, &b = dst.desc.extent;
+  if (src.desc.format != dst.desc.format || a.width != b.width || a.height != b.height || a.depth != 1)
+    throw GraphError(pass() + ": copies '" + from + "' into '" + to + "', which differ in format or size");
+  const FormatInfo format = *format_info(dst.desc.format);
+  const VkImageAspectFlags aspects =
+      format.is_depth ? VK_IMAGE_ASPECT_DEPTH_BIT | (format.has_stencil ? VK_IMAGE_ASPECT_STENCIL_BIT : 0)
+                      : VK_IMAGE_ASPECT_COLOR_BIT;
+  const VkImageSubresourceRange range{aspects, 0, 1, layer, 1};
+  const bool depth = format.is_depth;
+  const AccessState read = required_state(source->use, pass_.decl->type, depth);
+  const AccessState written = required_state(target->use, pass_.decl->type, depth);
+  auto transition = [&](const PhysicalResource& r, const AccessState& before, const AccessState& after) {
+    auto b = vk_struct<VkImageMemoryBarrier2>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2);
+    b.srcStageMask = before.stages;
+    b.srcAccessMask = before.access;
+    b.dstStageMask = after.stages;
+    b.dstAccessMask = after.access;
+    b.oldLayout = before.layout;
+    b.newLayout = after.layout;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = r.image.image;
+    b.subresourceRange = range;
+    return b;
+  };
+  auto issue = [&](std::vector<VkImageMemoryBarrier2> barriers) {
+    auto dep = vk_struct<VkDependencyInfo>(VK_STRUCTURE_TYPE_DEPENDENCY_INFO);
+    dep.imageMemoryBarrierCount = uint32_t(barriers.size());
+    dep.pImageMemoryBarriers = barriers.data();
+    vkCmdPipelineBarrier2(cmd(), &dep);
+  };
+  const AccessState copy_from = transfer_state(false), copy_to = transfer_state(true);
+  issue({transition(src, read, copy_from), transition(dst, written, copy_to)});
+  // The part of `to` whose texels have a source.
+  const int32_t w = int32_t(b.width), h = int32_t(b.height);
+  const int32_t x0 = std::max(0, -dx), y0 = std::max(0, -dy), x1 = std::min(w, w - dx), y1 = std::min(h, h - dy);
+  if (dx != 0 || dy != 0) {
+    const VkClearValue clear = dst.desc.clear;
+    if (depth)
+      vkCmdClearDepthStencilImage(cmd(), dst.image.image, copy_to.layout, &clear.depthStencil, 1, &range);
+    else
+      vkCmdClearColorImage(cmd(), dst.image.image, copy_to.layout, &clear.color, 1, &range);
+    issue({transition(dst, copy_to, copy_to)});
+  }
+  if (x0 < x1 && y0 < y1) {
+    std::vector<VkImageCopy> regions;
+    for (VkImageAspectFlags aspect :
+         {VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_ASPECT_STENCIL_BIT}) {
+      if (!(aspects & aspect)) continue;
+      VkImageCopy region{};
+      region.srcSubresource = region.dstSubresource = {aspect, 0, layer, 1};
+      region.srcOffset = {x0 + dx, y0 + dy, 0};
+      region.dstOffset = {x0, y0, 0};
+      region.extent = {uint32_t(x1 - x0), uint32_t(y1 - y0), 1};
+      regions.push_back(region);
+    }
+    vkCmdCopyImage(cmd(), src.image.image, copy_from.layout, dst.image.image, copy_to.layout, uint32_t(regions.size()),
+                   regions.data());
+  }
+  issue({transition(src, copy_from, read), transition(dst, copy_to, written)});
+  copied_layers_.insert({to, layer});
 }
 
 void PassContext::begin_rendering() { begin_rendering(colour_targets(declaration()), depth_target(declaration())); }

@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <set>
 #include <span>
 #include <string>
 #include <type_traits>
@@ -108,6 +109,13 @@ class PassContext {
                        uint32_t layer = 0);
   // The declared colour attachments in declaration order and the declared depth attachment.
   void begin_rendering();
+  // Copies layer `layer` (mip 0) of `from`, an image the pass reads, into the same layer of `to`,
+  // an image of the same format and size it writes, by transfer commands between the states the
+  // graph planned for the pass: on a CPU driver a copy costs a small part of a full-screen draw.
+  // Texel (x, y) of `to` takes texel (x + dx, y + dy) of `from`; those with none outside it keep
+  // `to`'s clear value. begin_rendering then loads that layer of `to` rather than clearing it.
+  // Called before the pass renders to or reads that layer.
+  void copy_layer(const std::string& from, const std::string& to, uint32_t layer, int32_t dx = 0, int32_t dy = 0);
   void end_rendering();
   // Orders this pass's own storage writes before its next reads (e.g. between mip levels),
   // indirect arguments it wrote included.
@@ -128,6 +136,7 @@ class PassContext {
   Shared& shared_;
   const CompiledPass& pass_;
   const ParamValues& params_;
+  std::set<std::pair<std::string, uint32_t>> copied_layers_;  // (resource, layer) filled by copy_layer
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipelineBindPoint bind_point_ = VK_PIPELINE_BIND_POINT_GRAPHICS;
   uint32_t push_constant_bytes_ = 0;

@@ -49,11 +49,9 @@ PassDecl shadow_cascades_pass() {
                            "): set shadow.cull, shadow.cascades_static and shadow.cascades alike");
         const auto stats = host_records<ShadowCullStats>(ctx.host("shadow.cull_stats")).at(0);
         for (uint32_t cascade = 0; cascade < kShadowCascades; ++cascade) {
+          ctx.copy_layer("shadow.cascades_static", "shadow.cascades", cascade);
+          if (stats.moving_draws[cascade] == 0) continue;
           ctx.begin_rendering({}, "shadow.cascades", 0, cascade);
-          ctx.bind(shadow_layer_copy_pipeline());
-          ctx.push({Binding::texture(0, "shadow.cascades_static", ctx.nearest_clamp(), ViewAspect::depth)});
-          ctx.push_constants(cascade);
-          vkCmdDraw(ctx.cmd(), 3, 1, 0, 0);
           ctx.bind_pipeline();
           std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.cascades");
           bindings.push_back(Binding::uniform(ctx.slot("shadow.cascade_data"), "shadow.cascade_data"));

@@ -1,10 +1,10 @@
 // shadow.cascades_static: the static casters' part of the sun's cascades [004 §2], kept across
 // frames. shadow.cull says per cascade whether the previous frame's layer still holds (its
 // projection and culling volume unchanged, history valid: ShadowCullStats::static_source); such a
-// layer is copied from history (cascades.frag), any other is cleared and its static casters drawn.
-// shadow.cascades then lays each layer down and draws the moving casters over it. The depth test
-// keeps the least depth whatever the order of draws, so the sum is the map drawn in one go, bit
-// for bit. Skipped with no sun above the horizon.
+// layer is copied from history (a transfer copy: PassContext::copy_layer), any other is cleared
+// and its static casters drawn. shadow.cascades then copies each layer and draws the moving casters over it. The depth
+// test keeps the least depth whatever the order of draws, so the sum is the map drawn in one go, bit for bit. Skipped
+// with no sun above the horizon.
 #include "passes/core/context.h"
 #include "passes/frame/draw_scene.h"
 #include "passes/frame/frame_passes.h"
@@ -12,17 +12,6 @@
 #include "passes/shadow/shadow_layout.h"
 
 namespace nightcap {
-
-GraphicsPipelineDesc shadow_layer_copy_pipeline() {
-  GraphicsPipelineDesc copy;
-  copy.vertex = "frame/fullscreen.vert";
-  copy.fragment = "shadow/cascades.frag";
-  copy.bindings = {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
-  copy.push_constant_bytes = sizeof(uint32_t);
-  copy.depth_format = VK_FORMAT_D32_SFLOAT;
-  copy.depth_stencil = DepthStencilState::depth(VK_COMPARE_OP_ALWAYS, true);
-  return copy;
-}
 
 PassDecl shadow_cascades_static_pass() {
   ImageDecl map{VK_FORMAT_D32_SFLOAT, ResourceKind::lookup_table};
@@ -56,21 +45,18 @@ PassDecl shadow_cascades_static_pass() {
                            "): set shadow.cull, shadow.cascades_static and shadow.cascades alike");
         const auto stats = host_records<ShadowCullStats>(ctx.host("shadow.cull_stats")).at(0);
         for (uint32_t cascade = 0; cascade < kShadowCascades; ++cascade) {
-          ctx.begin_rendering({}, "shadow.cascades_static", 0, cascade);
           if (stats.static_source[cascade] == uint32_t(ShadowStaticSource::reused)) {
-            ctx.bind(shadow_layer_copy_pipeline());
-            ctx.push({Binding::texture(0, previous("shadow.cascades_static"), ctx.nearest_clamp(), ViewAspect::depth)});
-            ctx.push_constants(cascade);
-            vkCmdDraw(ctx.cmd(), 3, 1, 0, 0);
-          } else {
-            ctx.bind_pipeline();
-            std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.cascades");
-            bindings.push_back(Binding::uniform(ctx.slot("shadow.cascade_data"), "shadow.cascade_data"));
-            ctx.push(bindings);
-            ctx.push_constants(cascade);
-            draw_scene(ctx, "draws.shadow.cascades", [](uint32_t, const GpuMaterial&) {},
-                       {stats.first_draw[cascade], stats.draws[cascade] - stats.moving_draws[cascade]});
+            ctx.copy_layer(previous("shadow.cascades_static"), "shadow.cascades_static", cascade);
+            continue;
           }
+          ctx.begin_rendering({}, "shadow.cascades_static", 0, cascade);
+          ctx.bind_pipeline();
+          std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.cascades");
+          bindings.push_back(Binding::uniform(ctx.slot("shadow.cascade_data"), "shadow.cascade_data"));
+          ctx.push(bindings);
+          ctx.push_constants(cascade);
+          draw_scene(ctx, "draws.shadow.cascades", [](uint32_t, const GpuMaterial&) {},
+                     {stats.first_draw[cascade], stats.draws[cascade] - stats.moving_draws[cascade]});
           ctx.end_rendering();
         }
       });

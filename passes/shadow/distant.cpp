@@ -1,10 +1,10 @@
 // shadow.distant (frame.md section 1, [004 §2.1]): the sun's distant shadow, four levels of a
 // D32 2D array, each 4× the side of the previous, the last covering the whole map; where they
 // lie and what is redrawn this frame is shadow.distant_plan's (which says why). The levels are
-// history: each layer starts from the previous frame's (distant.frag: moved by whole texels with
-// the camera, its redrawn tiles and newly covered texels back to 1, no occluder), then the
-// planned tiles' static casters are drawn, each tile under its own scissor. A level with nothing
-// redrawn and no move is up to date: it is only carried over. shadow.sun_resolve reads level 0
+// history: each layer starts from the previous frame's, moved by whole texels with the camera
+// (a transfer copy, PassContext::copy_layer; newly covered texels at 1, no occluder), then each
+// planned tile is cleared to 1 and its static casters drawn under its own scissor. A level with
+// nothing redrawn is only carried over. shadow.sun_resolve reads level 0
 // (and the coarser ones) as the occluder beyond the last cascade.
 // D32, as shadow.cascades and for the same reason: a level's depth spans the whole static scene
 // toward the sun. Skipped with no sun above the horizon, or by `enabled=0` (the resolve then
@@ -53,40 +53,31 @@ PassDecl shadow_distant_pass() {
                            "): set both");
         const auto plan = host_records<DistantPlan>(ctx.host("shadow.distant_plan")).at(0);
         const uint32_t tiles = plan.tiles_per_side, tile_texels = extent.width / tiles;
-        // The carried-over part: the whole layer, its depth written as distant.frag says.
-        GraphicsPipelineDesc keep;
-        keep.vertex = "frame/fullscreen.vert";
-        keep.fragment = "shadow/distant.frag";
-        keep.bindings = {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER};
-        keep.push_constant_bytes = sizeof(uint32_t);
-        keep.depth_format = VK_FORMAT_D32_SFLOAT;
-        keep.depth_stencil = DepthStencilState::depth(VK_COMPARE_OP_ALWAYS, true);
-        const std::string history = previous("shadow.distant");
+        const uint32_t all_tiles = (1u << (tiles * tiles)) - 1u;
         for (uint32_t level = 0; level < kDistantLevels; ++level) {
-          ctx.begin_rendering({}, "shadow.distant", 0, level);
           // A level redrawn whole keeps nothing: the attachment's clear is already its start.
-          if (plan.refreshed[level] != (1u << (tiles * tiles)) - 1u) {
-            ctx.bind(keep);
-            ctx.push({Binding::uniform(0, "shadow.distant_data"),
-                      Binding::texture(1, history, ctx.nearest_clamp(), ViewAspect::depth)});
-            ctx.push_constants(level);
-            vkCmdDraw(ctx.cmd(), 3, 1, 0, 0);
-          }
-          if (plan.refreshed[level] != 0) {
-            ctx.bind_pipeline();
-            std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.distant");
-            bindings.push_back(Binding::uniform(ctx.slot("shadow.distant_data"), "shadow.distant_data"));
-            ctx.push(bindings);
-            ctx.push_constants(level);
-            for (uint32_t t = 0; t < tiles * tiles; ++t) {
-              if (!(plan.refreshed[level] >> t & 1u)) continue;
-              const uint32_t unit = level * tiles * tiles + t;
-              const VkRect2D scissor{{int32_t(t % tiles * tile_texels), int32_t(t / tiles * tile_texels)},
-                                     {tile_texels, tile_texels}};
-              vkCmdSetScissor(ctx.cmd(), 0, 1, &scissor);
-              draw_scene(ctx, "draws.shadow.distant", [](uint32_t, const GpuMaterial&) {},
-                         {plan.unit_first_draw[unit], plan.unit_draws[unit]});
-            }
+          if (plan.refreshed[level] != all_tiles)
+            ctx.copy_layer(previous("shadow.distant"), "shadow.distant", level, data.refresh[level].x,
+                           data.refresh[level].y);
+          if (plan.refreshed[level] == 0) continue;
+          ctx.begin_rendering({}, "shadow.distant", 0, level);
+          ctx.bind_pipeline();
+          std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.distant");
+          bindings.push_back(Binding::uniform(ctx.slot("shadow.distant_data"), "shadow.distant_data"));
+          ctx.push(bindings);
+          ctx.push_constants(level);
+          for (uint32_t t = 0; t < tiles * tiles; ++t) {
+            if (!(plan.refreshed[level] >> t & 1u)) continue;
+            const uint32_t unit = level * tiles * tiles + t;
+            const VkRect2D scissor{{int32_t(t % tiles * tile_texels), int32_t(t / tiles * tile_texels)},
+                                   {tile_texels, tile_texels}};
+            // What the tile held is redrawn from nothing (1: no occluder).
+            const VkClearAttachment clear{VK_IMAGE_ASPECT_DEPTH_BIT, 0, {.depthStencil = {1.0f, 0}}};
+            const VkClearRect rect{scissor, 0, 1};
+            vkCmdClearAttachments(ctx.cmd(), 1, &clear, 1, &rect);
+            vkCmdSetScissor(ctx.cmd(), 0, 1, &scissor);
+            draw_scene(ctx, "draws.shadow.distant", [](uint32_t, const GpuMaterial&) {},
+                       {plan.unit_first_draw[unit], plan.unit_draws[unit]});
           }
           ctx.end_rendering();
         }

@@ -59,10 +59,6 @@ enum class ShadowStaticSource : uint32_t {
   redrawn_changed = 3,    // the projection or culling volume differs from the previous frame's
 };
 
-// The pipeline shadow.cascades and shadow.cascades_static copy a layer of a D32 array with
-// (cascades.frag), drawn over the whole layer.
-GraphicsPipelineDesc shadow_layer_copy_pipeline();
-
 inline BufferSchema shadow_cascades_schema() {
   using S = GpuShadowCascades;
   return BufferSchema::of<S>()
@@ -95,7 +91,7 @@ constexpr uint32_t kDistantMaxTilesPerSide = 4;
 constexpr uint32_t kDistantUnits = kDistantLevels * kDistantMaxTilesPerSide * kDistantMaxTilesPerSide;
 constexpr uint32_t kDistantResolution = 1024;
 
-// Mirrored by passes/shadow/distant.vert, distant.frag and sun_resolve.comp (std140).
+// Mirrored by passes/shadow/distant.vert and sun_resolve.comp (std140).
 struct GpuDistantLevels {
   // Camera-relative world → the level's light clip space (as GpuShadowCascades'); z spans the
   // static scene's light depth, the same at every level.

@@ -41,64 +41,95 @@ layout(push_constant) uniform Params {
   float max_slope;   // metres of light depth per metre across, at most (a receiver nearly edge-on)
 };
 
-// The filtered visibility from layer `layer` of `maps`, whose projection is m, texel and depth
-// spans texel_m and depth_m, at resolution texels per side.
-float map_visibility(sampler2DArray maps, int layer, mat4 m, float texel_m, float depth_m, float resolution,
-                     vec3 position, vec3 n) {
-  vec3 clip = (m * vec4(position, 1.0)).xyz;
-  vec2 at = (clip.xy * 0.5 + 0.5) * resolution;  // in texels
+// Where a pixel reads its shadow: a layer of the cascades or of the distant levels, its
+// projection, a texel's side and the light depth [0, 1] spans in metres, texels per side.
+struct ShadowMap {
+  int layer;
+  mat4 m;
+  float texel_m, depth_m, resolution;
+};
+
+// The receiver's depth, its plane's slope per texel and the bias, carried to the texels the filter reads.
+struct Receiver {
+  vec2 at;  // in texels
+  float depth, bias;
+  vec2 per_texel;
+};
+
+Receiver receiver_in(ShadowMap map, vec3 position, vec3 n) {
+  Receiver r;
+  vec3 clip = (map.m * vec4(position, 1.0)).xyz;
+  r.at = (clip.xy * 0.5 + 0.5) * map.resolution;
+  r.depth = clip.z;
   // The receiver's plane in light clip space: its depth change per texel along x and y.
-  vec3 plane = transpose(inverse(mat3(m))) * n;
-  float limit = max_slope * texel_m / depth_m;
-  vec2 per_texel = abs(plane.z) > 1e-12 ? -plane.xy / plane.z * (2.0 / resolution) : vec2(0.0);
-  per_texel = clamp(per_texel, vec2(-limit), vec2(limit));
-  float bias = depth_bias * texel_m / depth_m;
-  ivec2 base = ivec2(floor(at));
-  int last = int(resolution) - 1;
-  float lit = 0.0;
-  for (int dy = -FILTER_RADIUS; dy <= FILTER_RADIUS; ++dy) {
-    for (int dx = -FILTER_RADIUS; dx <= FILTER_RADIUS; ++dx) {
-      ivec2 texel = base + ivec2(dx, dy);
-      float expected = clip.z + dot(vec2(texel) + 0.5 - at, per_texel);
-      bool inside = all(greaterThanEqual(texel, ivec2(0))) && all(lessThanEqual(texel, ivec2(last)));
-      float stored = texelFetch(maps, ivec3(clamp(texel, ivec2(0), ivec2(last)), layer), 0).r;
-      lit += (!inside || stored >= 1.0 || expected - bias <= stored) ? 1.0 : 0.0;
-    }
-  }
-  float taps = float((2 * FILTER_RADIUS + 1) * (2 * FILTER_RADIUS + 1));
-  return lit / taps;
+  vec3 plane = transpose(inverse(mat3(map.m))) * n;
+  float limit = max_slope * map.texel_m / map.depth_m;
+  vec2 per_texel = abs(plane.z) > 1e-12 ? -plane.xy / plane.z * (2.0 / map.resolution) : vec2(0.0);
+  r.per_texel = clamp(per_texel, vec2(-limit), vec2(limit));
+  r.bias = depth_bias * map.texel_m / map.depth_m;
+  return r;
 }
+
+// Whether the filter's tap at `texel` is lit: outside the map, no caster (1) or the receiver not
+// behind the stored depth.
+bool tap_lit(Receiver r, ivec2 texel, float stored, int last) {
+  float expected = r.depth + dot(vec2(texel) + 0.5 - r.at, r.per_texel);
+  bool inside = all(greaterThanEqual(texel, ivec2(0))) && all(lessThanEqual(texel, ivec2(last)));
+  return !inside || stored >= 1.0 || expected - r.bias <= stored;
+}
+
+const int kSide = 2 * FILTER_RADIUS + 1;
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, ivec2(frame.viewport.xy)))) return;
   float depth = texelFetch(depth_map, pixel, 0).r;
-  float visibility = 1.0;
-  if (depth > 0.0) {
-    vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
-    vec4 p = frame.inverse_view_projection * vec4(ndc, depth, 1.0);
-    vec3 position = p.xyz / p.w;  // camera-relative world, as lighting.tiled finds it
-    float view_depth = frame.projection_params.x / depth;
-    uint cascade = (view_depth > splits.x ? 1u : 0u) + (view_depth > splits.y ? 1u : 0u) +
-                   (view_depth > splits.z ? 1u : 0u);
-    vec3 n = texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0;
-    n = dot(n, n) > 1e-8 ? normalize(n) : vec3(0.0);
-    if (view_depth <= splits.w) {
-      visibility = map_visibility(cascade_maps, int(cascade), light_from_world[cascade], texel_metres[cascade],
-                                  depth_metres[cascade], light_direction.w, position, n);
-    } else {
-      // The finest level that holds every texel the filter reads, with a texel to spare.
-      float resolution = distant_light_direction.w;
-      float reach = 2.0 * float(FILTER_RADIUS + 2) / max(resolution, 1.0);
-      int level = 4;
-      for (int k = 3; k >= 0; --k) {
-        vec2 clip = (distant_from_world[k] * vec4(position, 1.0)).xy;
-        if (all(lessThanEqual(abs(clip), vec2(1.0 - reach)))) level = k;
-      }
-      if (level < 4)
-        visibility = map_visibility(distant_maps, level, distant_from_world[level], distant_texel_metres[level],
-                                    distant_depth_metres[level], resolution, position, n);
-    }
+  vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
+  vec4 p = frame.inverse_view_projection * vec4(ndc, max(depth, 1e-30), 1.0);
+  vec3 position = p.xyz / p.w;  // camera-relative world, as lighting.tiled finds it
+  float view_depth = frame.projection_params.x / max(depth, 1e-30);
+  uint cascade = (view_depth > splits.x ? 1u : 0u) + (view_depth > splits.y ? 1u : 0u) +
+                 (view_depth > splits.z ? 1u : 0u);
+  vec3 n = texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0;
+  n = dot(n, n) > 1e-8 ? normalize(n) : vec3(0.0);
+  // Beyond the last split: the finest distant level that holds every texel the filter reads,
+  // with a texel to spare (4: none, unshadowed).
+  float distant_resolution = distant_light_direction.w;
+  float reach = 2.0 * float(FILTER_RADIUS + 2) / max(distant_resolution, 1.0);
+  int level = 4;
+  for (int k = 3; k >= 0; --k) {
+    vec2 clip = (distant_from_world[k] * vec4(position, 1.0)).xy;
+    if (all(lessThanEqual(abs(clip), vec2(1.0 - reach)))) level = k;
   }
+  bool in_cascades = depth > 0.0 && view_depth <= splits.w;
+  bool in_distant = depth > 0.0 && !in_cascades && level < 4;
+  ShadowMap map;
+  if (in_distant) {
+    map = ShadowMap(level, distant_from_world[level], distant_texel_metres[level], distant_depth_metres[level],
+                    distant_resolution);
+  } else {
+    map = ShadowMap(int(cascade), light_from_world[cascade], texel_metres[cascade], depth_metres[cascade],
+                    light_direction.w);
+  }
+  Receiver r = receiver_in(map, position, n);
+  ivec2 base = ivec2(floor(r.at));
+  int last = int(map.resolution) - 1;
+  // One loop per kind of map, run for the pixels that read it: lavapipe runs a loop's body once
+  // when no lane of a row enters it, not (2r + 1)² times, so a row of cascade pixels does not
+  // pay for the distant levels' taps, nor a row of sky for either.
+  float lit = 0.0;
+  int cascade_taps = in_cascades ? kSide * kSide : 0;
+  for (int i = 0; i < cascade_taps; ++i) {
+    ivec2 texel = base + ivec2(i % kSide, i / kSide) - FILTER_RADIUS;
+    float stored = texelFetch(cascade_maps, ivec3(clamp(texel, ivec2(0), ivec2(last)), map.layer), 0).r;
+    lit += tap_lit(r, texel, stored, last) ? 1.0 : 0.0;
+  }
+  int distant_taps = in_distant ? kSide * kSide : 0;
+  for (int i = 0; i < distant_taps; ++i) {
+    ivec2 texel = base + ivec2(i % kSide, i / kSide) - FILTER_RADIUS;
+    float stored = texelFetch(distant_maps, ivec3(clamp(texel, ivec2(0), ivec2(last)), map.layer), 0).r;
+    lit += tap_lit(r, texel, stored, last) ? 1.0 : 0.0;
+  }
+  float visibility = in_cascades || in_distant ? lit / float(kSide * kSide) : 1.0;
   imageStore(sun_out, pixel, vec4(visibility, 1.0, 0.0, 0.0));
 }

@@ -72,7 +72,9 @@ TEST(ShadowCache, FrameThreeReplaysAndTheRecordsSayWhatWasKept) {
           EXPECT_EQ(plan.refreshed[level], (1u << (plan.tiles_per_side * plan.tiles_per_side)) - 1u) << level;
       } else {
         EXPECT_TRUE(plan.triangles <= plan.budget_triangles || plan.over_budget) << "frame " << k;
-        if (still) EXPECT_EQ(plan.draws, 0u) << "frame " << k << ": a still camera's levels are complete";
+        if (still) {
+          EXPECT_EQ(plan.draws, 0u) << "frame " << k << ": a still camera's levels are complete";
+        }
       }
       if (still && k > 0) {
         const ResourceRecord* history =

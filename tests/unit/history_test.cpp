@@ -118,6 +118,29 @@ TEST_F(History, AGraphThatReadsHistoryNeedsAPool) {
   }
 }
 
+// Moves the previous frame's sum one texel left by a transfer copy (PassContext::copy_layer).
+PassDecl shift_left_pass() {
+  ImageDecl sum{VK_FORMAT_R32_SFLOAT, ResourceKind::colour};
+  sum.clear.color.float32[0] = 10.0f;
+  return PassDecl("shift", PassType::compute)
+      .read_previous("sum", Use::sampled)
+      .write("sum", Use::storage_write, sum)
+      .run([](PassContext& ctx) { ctx.copy_layer(previous("sum"), "sum", 0, 1, 0); });
+}
+
+TEST_F(History, CopyLayerMovesThePreviousFrameAndClearsWhatItUncovers) {
+  HistoryPool pool(*gpu_);
+  const Frame f0 = run_frame({accumulate_pass()}, &pool, 5, false);
+  ASSERT_EQ(f0.sum, std::vector<float>(5 * 3, 11.0f));
+  const Frame f1 = run_frame({shift_left_pass()}, &pool, 5, false);
+  std::vector<float> want(5 * 3, 11.0f);
+  for (int y = 0; y < 3; ++y) want[y * 5 + 4] = 10.0f;  // no texel to its right: the clear value
+  EXPECT_EQ(f1.sum, want);
+  const Frame f2 = run_frame({shift_left_pass()}, &pool, 5, false);
+  for (int y = 0; y < 3; ++y) want[y * 5 + 3] = 10.0f;
+  EXPECT_EQ(f2.sum, want) << "the cleared column moved left with the rest";
+}
+
 // A CPU pass that appends one byte to what it wrote the frame before.
 PassDecl counting_plan_pass() {
   return PassDecl("plan", PassType::cpu)
