@@ -8,7 +8,6 @@
 // per receiver, not a raster bias here. Each layer starts as shadow.cascades_static's (the static
 // casters, possibly kept from the previous frame) and this frame's moving casters are drawn over
 // it. Skipped with no sun above the horizon.
-#include <cstring>
 
 #include "passes/core/context.h"
 #include "passes/frame/draw_scene.h"
@@ -20,8 +19,9 @@ namespace nightcap {
 
 PassDecl shadow_cascades_pass() {
   ImageDecl map{VK_FORMAT_D32_SFLOAT, ResourceKind::lookup_table};
-  map.size.mode = SizeRule::Mode::square_param;
-  map.size.param = "resolution";
+  // Sized like the static layers, so the resolution is set on shadow.cull and shadow.cascades_static.
+  map.size.mode = SizeRule::Mode::like;
+  map.size.like = "shadow.cascades_static";
   map.layers = kShadowCascades;
   map.clear.depthStencil = {1.0f, 0};
   return PassDecl("shadow.cascades", PassType::graphics)
@@ -34,19 +34,12 @@ PassDecl shadow_cascades_pass() {
       .read("shadow.cull_stats", Use::host)
       .read("shadow.cascades_static", Use::sampled)
       .write("shadow.cascades", Use::depth_attachment, map)
-      .param("resolution", kShadowResolution, 64, 4096, "texels per side of each cascade: shadow.cull.resolution's")
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
       .needs("sun_above_horizon")
       .push_constants<uint32_t>()
       .shader("shadow/cascades.vert")
       .run([](PassContext& ctx) {
-        const auto data = host_records<GpuShadowCascades>(ctx.host("shadow.cascade_data")).at(0);
-        if (uint32_t(data.light_direction.w) != ctx.desc("shadow.cascades").extent.width)
-          throw GraphError("shadow.cascades: its resolution (" +
-                           std::to_string(ctx.desc("shadow.cascades").extent.width) + ") is not shadow.cull's (" +
-                           std::to_string(uint32_t(data.light_direction.w)) +
-                           "): set shadow.cull, shadow.cascades_static and shadow.cascades alike");
         const auto stats = host_records<ShadowCullStats>(ctx.host("shadow.cull_stats")).at(0);
         for (uint32_t cascade = 0; cascade < kShadowCascades; ++cascade) {
           ctx.copy_layer("shadow.cascades_static", "shadow.cascades", cascade);

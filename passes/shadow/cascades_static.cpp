@@ -30,7 +30,7 @@ PassDecl shadow_cascades_static_pass() {
       .read("shadow.cull_stats", Use::host)
       .write("shadow.cascades_static", Use::depth_attachment, map)
       .param("resolution", kShadowResolution, 64, 4096,
-             "texels per side of each cascade: shadow.cull.resolution's (and shadow.cascades')")
+             "texels per side of each cascade (shadow.cascades' too): shadow.cull.resolution's")
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
       .needs("sun_above_horizon")
@@ -42,7 +42,7 @@ PassDecl shadow_cascades_static_pass() {
         if (uint32_t(data.light_direction.w) != resolution)
           throw GraphError("shadow.cascades_static: its resolution (" + std::to_string(resolution) +
                            ") is not shadow.cull's (" + std::to_string(uint32_t(data.light_direction.w)) +
-                           "): set shadow.cull, shadow.cascades_static and shadow.cascades alike");
+                           "): set shadow.cull.resolution and shadow.cascades_static.resolution alike");
         const auto stats = host_records<ShadowCullStats>(ctx.host("shadow.cull_stats")).at(0);
         for (uint32_t cascade = 0; cascade < kShadowCascades; ++cascade) {
           if (stats.static_source[cascade] == uint32_t(ShadowStaticSource::reused)) {

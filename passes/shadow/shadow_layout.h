@@ -16,8 +16,8 @@ namespace nightcap {
 struct GraphicsPipelineDesc;
 
 constexpr uint32_t kShadowCascades = 4;
-// Texels per side of each cascade by default (shadow.cull.resolution and shadow.cascades.resolution,
-// which must agree: shadow.cascades checks).
+// Texels per side of each cascade by default (shadow.cull.resolution and
+// shadow.cascades_static.resolution, which must agree: shadow.cascades_static checks).
 constexpr uint32_t kShadowResolution = 1024;
 
 // Mirrored by passes/shadow/cascades.vert and sun_resolve.comp (std140).
