@@ -30,6 +30,7 @@ PassDecl shadow_local_moments_pass() {
   moments.size.mode = SizeRule::Mode::like;
   moments.size.like = "shadow.local";
   moments.layers = kLocalShadowSlices;
+  // What a skipped pass leaves: read by no light (lighting.tiled reads only the layers of maps).
   moments.clear.color = {{1.0f, 1.0f, 0.0f, 0.0f}};
   return PassDecl("shadow.local_moments", PassType::compute)
       .read("shadow.local_data", Use::uniform_buffer)

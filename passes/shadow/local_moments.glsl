@@ -5,7 +5,8 @@
 // UNORM keeps enough of their differences for the reconstruction. Written by
 // shadow.local_moments, undone by lighting.tiled; being linear, it commutes with the blur and the
 // bilinear lookup. A's inverse is computed in exact arithmetic from the paper's A and rounded
-// here (tests/unit/shadow_local_test.cpp checks the product).
+// here; LocalShadows.MomentReconstructionMatchesClosedForm encodes with its own copy of A, so a
+// wrong inverse fails it.
 
 // Columns of A (GLSL matrices are column-major): A's rows are (−2.07…, 32.23…, −68.57…, 39.37…), …
 const mat4 kMomentEncode = mat4(-2.07224649, 13.7948857237, 0.105877704, 9.7924062118,  //
