@@ -88,7 +88,7 @@ PassDecl lighting_tiled_pass() {
       .param("local_bias", 0.002, 0.0, 0.1,
              "linear depth (a fraction of the light's range) a receiver may lie behind its map and stay lit")
       .param("local_min_variance", 2e-5, 0.0, 0.01,
-             "floor of the moments' variance: keeps a flat receiver lit through 16-bit rounding")
+             "2 moments: floor of the moments' variance, which keeps a flat receiver lit through 16-bit rounding")
       .param("local_bleeding", 0.2, 0.0, 0.99,
              "light-bleeding reduction: visibilities below this read as shadow, the rest rescaled")
       .param("local_moment_bias", 3e-5, 0.0, 0.1,

@@ -22,8 +22,9 @@
 // - selection: with more spot lights in view than max_maps, max_maps get maps, the rest are
 //   recorded as over budget, a spot with range 0 as unbounded;
 // - skip: a scene without spot lights runs neither shadow.local nor shadow.local_moments;
-// - stress (a light inside a caster, a light at the camera, 120 spot lights): every float output
-//   finite, and each local shadow pass run again on its recorded inputs writes the same bytes;
+// - stress (a light inside a caster, a light at the camera, 120 spot lights; 4 and 2 moments):
+//   every float output finite, and each local shadow pass and lighting.tiled run again on its
+//   recorded inputs writes the same bytes;
 //   the agreement scene moved to the 16 km map's far corner keeps the agreement bound.
 #include <gtest/gtest.h>
 
@@ -105,10 +106,12 @@ class LocalShadows : public GpuTest {
         shadow_local_moments_pass().default_params().at("blur_radius"), 2);
   }
 
-  // Each local shadow pass run again on the inputs the frame recorded for it writes the same bytes.
+  // Each local shadow pass, and lighting.tiled's lookup, run again on the inputs the frame
+  // recorded for it writes the same bytes.
   static void expect_replays(const Frame& f) {
-    for (const auto& [decl, r] : {std::pair{shadow_local_plan_pass(), &f.plan}, std::pair{shadow_local_pass(), &f.map},
-                                  std::pair{shadow_local_moments_pass(), &f.moments}}) {
+    for (const auto& [decl, r] :
+         {std::pair{shadow_local_plan_pass(), &f.plan}, std::pair{shadow_local_pass(), &f.map},
+          std::pair{shadow_local_moments_pass(), &f.moments}, std::pair{lighting_tiled_pass(), &f.lighting}}) {
       if (r->outputs.empty()) continue;
       const auto params = f.params.find(decl.name);
       const IsolatedRun again =
@@ -321,11 +324,13 @@ TEST_F(LocalShadows, StressCases) {
     lights.push_back(reference::spot_light({-6.0 + k % 12, 2.5, -6.0 + k / 12}, {0.1f, -1.0f, 0.0f}, 5.0f));
   const Scene scene = reference::boxes_scene({{{0.0, 1.0, 0.0}, {0.6, 0.6, 0.6}}, {{3.0, 1.0, 2.0}, {0.3, 1.0, 0.3}}},
                                              lights, kEye, {0.0, 0.0, 0.0});
-  const Frame f = render(scene, 320, 180);
-  EXPECT_EQ(f.non_finite, "");
-  EXPECT_EQ(f.record.maps, 8u);
-  EXPECT_GT(f.record.dropped, 100u);
-  expect_replays(f);
+  for (int moments : {4, 2}) {
+    const Frame f = render(scene, 320, 180, {{"shadow.local_plan", {{"moments", moments}}}});
+    EXPECT_EQ(f.non_finite, "") << moments << " moments";
+    EXPECT_EQ(f.record.maps, 8u);
+    EXPECT_GT(f.record.dropped, 100u);
+    expect_replays(f);
+  }
 }
 
 }  // namespace
