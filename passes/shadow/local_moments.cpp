@@ -7,8 +7,8 @@
 // - 4 (the default): moment shadow maps (Peters and Klein 2015), E[(t, t², t³, t⁴)] through the
 //   paper's quantization transform (local_moments.glsl); lighting.tiled reconstructs with
 //   Hamburger 4MSM. Deviation from frame.md (2-moment VSM, R16G16_UNORM): under two stacked
-//   occluders VSM lets up to half the light through the umbra, 4MSM under 2% (accuracy.md's
-//   bound; tests/unit/shadow_local_test.cpp).
+//   occluders VSM lets half the light through the umbra even with light-bleeding reduction,
+//   4MSM with it none (accuracy.md asks ≤ 2%; LocalShadows.StackedOccludersLeak).
 // - 2: variance shadow maps, (E[t], E[t²]) in .rg, .ba 0; lighting.tiled's Chebyshev bound.
 // One RGBA16_UNORM resource for both rather than an R16G16_UNORM one beside it: a resource's
 // format is fixed by its declaration, and a second array would be bound, cleared and recorded
