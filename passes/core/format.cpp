@@ -19,6 +19,7 @@ const std::vector<FormatInfo> kFormats = {
     {VK_FORMAT_R8_UINT, "R8_UINT", E::uint8, 1, 1},
     {VK_FORMAT_R16_UNORM, "R16_UNORM", E::unorm16, 1, 2},
     {VK_FORMAT_R16G16_UNORM, "R16G16_UNORM", E::unorm16, 2, 4},
+    {VK_FORMAT_R16G16B16A16_UNORM, "R16G16B16A16_UNORM", E::unorm16, 4, 8},
     {VK_FORMAT_R16_UINT, "R16_UINT", E::uint16, 1, 2},
     {VK_FORMAT_R16_SFLOAT, "R16_SFLOAT", E::sfloat16, 1, 2},
     {VK_FORMAT_R16G16_SFLOAT, "R16G16_SFLOAT", E::sfloat16, 2, 4},

@@ -18,12 +18,16 @@
 // of candela per metre: its diffuse integrated along the segment (ltc_lambert_line), its
 // specular by LTC (ltc_tube). The sun's shadow is shadow.sun's red channel (shadow.sun_resolve)
 // times its contact shadow, a short march here (contact_shadow). A spot light with a map in
-// shadow.local_moments is shadowed by it (local_visibility).
+// shadow.local_moments is shadowed by it (local_visibility: 4MSM or VSM).
 #include "../frame/half.glsl"
 #include "../frame/types.glsl"
 #include "brdf.glsl"
 layout(constant_id = 1) const int LTC_LINE_NODES = 8;  // the tube_nodes parameter
 #include "ltc.glsl"
+#include "../shadow/local_moments.glsl"
+// shadow.local_data's counts.y: 4, moment shadow maps; 2, variance shadow maps. A constant:
+// lavapipe would run both reconstructions for every spot light otherwise.
+layout(constant_id = 2) const int LOCAL_MOMENTS = 4;
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
@@ -71,7 +75,7 @@ layout(push_constant) uniform Params {
   float min_roughness;
   float contact_length, contact_thickness;
   uint contact_steps;
-  float local_bias, local_min_variance, local_bleeding;
+  float local_bias, local_min_variance, local_bleeding, local_moment_bias;
 };
 
 const uint kTile = 16u;
@@ -224,10 +228,47 @@ Lobe lobe_of(Surface s) {
   return lobe;
 }
 
+// Variance shadow maps: Chebyshev's upper bound P(t ≤ depth) = σ² / (σ² + (t − μ)²) on the
+// fraction of the filter lit, from the filtered moments (μ, E[t²]) in .rg.
+float chebyshev_visibility(vec4 m, float t) {
+  if (t <= m.x) return 1.0;
+  float variance = max(m.y - m.x * m.x, local_min_variance);
+  float d = t - m.x;
+  return variance / (variance + d * d);
+}
+
+// Moment shadow maps (Peters and Klein 2015, algorithm 3, Hamburger 4MSM): the moments b, mixed
+// with those of t = ½ by local_moment_bias, are those of some distribution of depths; of all
+// such, the one that puts the least weight in front of the receiver (depth z) has three points,
+// z and the roots z₂ ≤ z₃ of the polynomial c₁ + c₂x + c₃x² whose coefficients solve
+// B c = (1, z, z²) for the Hankel matrix B = (b_{i+j}), i, j = 0…2 (b₀ = 1; Cholesky, B = L D Lᵀ).
+// Its weight in front, the shadow: 0 if z ≤ z₂; z₂'s weight if z ≤ z₃; else all but z's.
+float moment_visibility(vec4 q, float z) {
+  vec4 b = mix(decode_moments(q), vec4(0.5), local_moment_bias);
+  float d22 = b.y - b.x * b.x;
+  float l32 = (b.z - b.x * b.y) / d22;
+  float d33 = b.w - b.y * b.y - l32 * l32 * d22;
+  float y2 = z - b.x;
+  float y3 = z * z - b.y - l32 * y2;
+  float c3 = y3 / d33;
+  float c2 = y2 / d22 - l32 * c3;
+  float c1 = 1.0 - b.x * c2 - b.y * c3;
+  float p = c2 / c3, r = sqrt(max(0.25 * p * p - c1 / c3, 0.0));
+  float z2 = -0.5 * p - r, z3 = -0.5 * p + r;
+  float shadow;
+  if (z <= z2)
+    shadow = 0.0;
+  else if (z <= z3)
+    shadow = (z * z3 - b.x * (z + z3) + b.y) / ((z3 - z2) * (z - z2));
+  else
+    shadow = 1.0 - (z2 * z3 - b.x * (z2 + z3) + b.y) / ((z - z2) * (z - z3));
+  return 1.0 - clamp(shadow, 0.0, 1.0);
+}
+
 // How much of light `index`'s light reaches `position`: 1 without a map, or outside its map's
-// frustum; else Chebyshev's upper bound P(t ≤ depth) = σ² / (σ² + (t − μ)²) from the filtered
-// moments (μ, E[t²]), with the part below local_bleeding cut away and the rest rescaled (light
-// bleeding reduction: where two occluders overlap, the bound stays well above 0 behind both).
+// frustum; else the moments' visibility (LOCAL_MOMENTS) at the receiver's linear depth less
+// local_bias, with the part below local_bleeding cut away and the rest rescaled (light-bleeding
+// reduction: where two occluders overlap, a bound stays above 0 behind both).
 float local_visibility(uint index, vec3 position) {
   int slot = local_slots[index];
   if (slot < 0) return 1.0;
@@ -238,11 +279,8 @@ float local_visibility(uint index, vec3 position) {
   vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
   float t = (clip.w - range.x) * range.z - local_bias;
-  vec2 m = textureLod(local_moments, vec3(uv, float(slot)), 0.0).rg;
-  if (t <= m.x) return 1.0;
-  float variance = max(m.y - m.x * m.x, local_min_variance);
-  float d = t - m.x;
-  float p = variance / (variance + d * d);
+  vec4 m = textureLod(local_moments, vec3(uv, float(slot)), 0.0);
+  float p = LOCAL_MOMENTS == 4 ? moment_visibility(m, t) : chebyshev_visibility(m, t);
   return clamp((p - local_bleeding) / (1.0 - local_bleeding), 0.0, 1.0);
 }
 

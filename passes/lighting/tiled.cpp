@@ -6,12 +6,14 @@
 // (each tile's class and the lists), the same on every run. The sun's shadow is shadow.sun's red
 // channel (shadow.sun_resolve; 1 where it was skipped), times its contact shadow, a short
 // screen-space march (contact_*). A spot light with a map this frame (shadow.local_slots) is
-// shadowed by its variance shadow map (shadow.local_moments, local_*): Chebyshev's upper bound
-// on the fraction of the filter lit, with light-bleeding reduction; other local lights have no
-// shadow.
+// shadowed by it (shadow.local_moments, local_*): with 4 moments (shadow.local_data's counts.y)
+// the Hamburger 4MSM lower bound on the fraction of the filter in front of the receiver, with 2
+// Chebyshev's upper bound on the fraction lit; either with light-bleeding reduction. Other local
+// lights have no shadow.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/lighting/tiled_layout.h"
+#include "passes/shadow/local_layout.h"
 
 namespace nightcap {
 
@@ -29,7 +31,7 @@ struct TiledConstants {
   float intensity_scale, min_roughness;
   float contact_length, contact_thickness;
   uint32_t contact_steps;
-  float local_bias, local_min_variance, local_bleeding;
+  float local_bias, local_min_variance, local_bleeding, local_moment_bias;
 };
 
 }  // namespace
@@ -86,9 +88,12 @@ PassDecl lighting_tiled_pass() {
       .param("local_bias", 0.002, 0.0, 0.1,
              "linear depth (a fraction of the light's range) a receiver may lie behind its map and stay lit")
       .param("local_min_variance", 2e-5, 0.0, 0.01,
-             "floor of the moments' variance: keeps a flat receiver lit through 16-bit rounding")
+             "2 moments: floor of the moments' variance, which keeps a flat receiver lit through 16-bit rounding")
       .param("local_bleeding", 0.2, 0.0, 0.99,
-             "light-bleeding reduction: Chebyshev bounds below this read as shadow, the rest rescaled")
+             "light-bleeding reduction: visibilities below this read as shadow, the rest rescaled")
+      .param("local_moment_bias", 3e-5, 0.0, 0.1,
+             "4 moments: weight of (0.5, 0.5, 0.5, 0.5) mixed into them (Peters and Klein's α for 16 bits), "
+             "which keeps their Hankel matrix invertible through rounding")
       .compare("lighting.diffuse", lighting_contract())
       .compare("lighting.specular", lighting_contract())
       .skip_when([](const SkipContext& frame) {
@@ -109,8 +114,9 @@ PassDecl lighting_tiled_pass() {
                                        uint32_t(ctx.param("contact_steps")),
                                        float(ctx.param("local_bias")),
                                        float(ctx.param("local_min_variance")),
-                                       float(ctx.param("local_bleeding"))};
-        // Bilinear over the moments: the filter VSM is made for, and no stair steps at a shadow's edge.
+                                       float(ctx.param("local_bleeding")),
+                                       float(ctx.param("local_moment_bias"))};
+        // Bilinear over the moments: the filter moment maps are made for, and no stair steps at a shadow's edge.
         SamplerDesc linear;
         linear.mag_filter = linear.min_filter = VK_FILTER_LINEAR;
         linear.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
@@ -143,8 +149,10 @@ PassDecl lighting_tiled_pass() {
         const int32_t tube_nodes = int32_t(ctx.param("tube_nodes"));
         if (tube_nodes != 2 && tube_nodes != 4 && tube_nodes != 8 && tube_nodes != 16)
           throw GraphError("lighting.tiled: tube_nodes is 2, 4, 8 or 16, not " + std::to_string(tube_nodes));
+        // The moments' reconstruction too: shadow.local_plan's record says which were written.
+        const int32_t moments = local_shadow_moments(ctx.host("shadow.local_data"), "lighting.tiled");
         auto begin_phase = [&](int32_t phase) {
-          ctx.bind_pipeline({phase, tube_nodes});
+          ctx.bind_pipeline({phase, tube_nodes, moments});
           ctx.push(bindings);
           ctx.push_constants(constants);
         };

@@ -6,9 +6,13 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <glm/glm.hpp>
+#include <span>
+#include <string>
 
 #include "passes/core/buffer_schema.h"
+#include "passes/core/graph.h"
 
 namespace nightcap {
 
@@ -29,10 +33,25 @@ struct GpuLocalShadows {
   // Per map: x near, y far (metres along the axis), z 1 / (far − near), w: the light's index in
   // frame.lights.
   glm::vec4 depth_range[kLocalShadowSlices];
-  // x: maps this frame; y, z, w: unused.
+  // x: maps this frame; y: moments per texel in shadow.local_moments, 2 (variance shadow maps)
+  // or 4 (moment shadow maps), from shadow.local_plan's `moments`; z, w: unused.
   glm::uvec4 counts;
 };
 static_assert(sizeof(GpuLocalShadows) == kLocalShadowSlices * 80 + 16);
+
+// counts.y of shadow.local_data's bytes: which moments shadow.local_moments writes and
+// lighting.tiled reconstructs, each picking its pipeline by it (`pass` names the reader in the error).
+inline int32_t local_shadow_moments(std::span<const uint8_t> data, const std::string& pass) {
+  GpuLocalShadows shadows;
+  if (data.size() < sizeof shadows)
+    throw GraphError(pass + ": shadow.local_data has " + std::to_string(data.size()) + " bytes, not " +
+                     std::to_string(sizeof shadows));
+  std::memcpy(&shadows, data.data(), sizeof shadows);
+  if (shadows.counts.y != 2 && shadows.counts.y != 4)
+    throw GraphError(pass + ": shadow.local_data says " + std::to_string(shadows.counts.y) +
+                     " moments per texel; 2 or 4 are made");
+  return int32_t(shadows.counts.y);
+}
 
 // Why a spot light has a map this frame or not (LocalShadowPlan::reason).
 enum class LocalShadowReason : uint32_t {

@@ -1,12 +1,17 @@
 #version 460
 // shadow.local_moments: a 16×16 tile of one map's moments, box-blurred (radius BLUR) through
-// shared memory: linear depth and its square for the tile and its apron, then row sums, then
-// column sums. The map's edge repeats its last texel.
+// shared memory: the powers of linear depth for the tile and its apron, then row sums, then
+// column sums. The map's edge repeats its last texel. MOMENTS 2: (t, t²) in .rg (variance shadow
+// maps); 4: (t, t², t³, t⁴) through local_moments.glsl's quantization transform.
+#include "local_moments.glsl"
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(constant_id = 0) const int BLUR = 1;
-// A layer without a map: its depth is 1 everywhere, so its moments are (1, 1). A constant, so
+// A layer without a map: its depth is 1 everywhere, so its moments are all 1. A constant, so
 // that lavapipe does not run the blur's loads and barriers for the empty layers too.
 layout(constant_id = 1) const bool EMPTY_LAYERS = false;
+// shadow.local_data's counts.y (the plan's `moments`): a constant, so that the 2-moment variant
+// does not pay for the 4-moment one's shared memory and sums on lavapipe.
+layout(constant_id = 2) const int MOMENTS = 4;
 
 layout(std140, set = 0, binding = 0) uniform LocalBlock {
   vec4 clip_x[16], clip_y[16], clip_z[16], clip_w[16];  // rows of camera-relative world → clip
@@ -14,20 +19,26 @@ layout(std140, set = 0, binding = 0) uniform LocalBlock {
   uvec4 counts;
 };
 layout(set = 0, binding = 1) uniform sampler2DArray depth_maps;
-layout(set = 0, binding = 2, rg16) uniform writeonly image2DArray moments_out;
+layout(set = 0, binding = 2, rgba16) uniform writeonly image2DArray moments_out;
 
 layout(push_constant) uniform Params { uint first_slice; };
 
 const int kSide = 16 + 2 * BLUR;
-shared vec2 texel_moments[kSide * kSide];
-shared vec2 row_sums[16 * kSide];
+// (t, t²) and, with 4 moments, (t³, t⁴): the latter one element long otherwise.
+const int kHighSide = MOMENTS == 4 ? kSide : 1;
+shared vec2 texel_low[kSide * kSide];
+shared vec2 row_low[16 * kSide];
+shared vec2 texel_high[kHighSide * kHighSide];
+shared vec2 row_high[16 * kHighSide];
+
+vec4 stored(vec4 b) { return MOMENTS == 4 ? encode_moments(b) : vec4(b.xy, 0.0, 0.0); }
 
 void main() {
   int slice = int(first_slice + gl_WorkGroupID.z);
   int resolution = textureSize(depth_maps, 0).x;
   if (EMPTY_LAYERS) {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-    if (all(lessThan(pixel, ivec2(resolution)))) imageStore(moments_out, ivec3(pixel, slice), vec4(1.0, 1.0, 0.0, 0.0));
+    if (all(lessThan(pixel, ivec2(resolution)))) imageStore(moments_out, ivec3(pixel, slice), stored(vec4(1.0)));
     return;
   }
   ivec2 origin = ivec2(gl_WorkGroupID.xy) * 16 - BLUR;
@@ -39,20 +50,29 @@ void main() {
     // Forward perspective depth back to the distance along the axis, then to [0, 1].
     float w = range.x * range.y / max(range.y - d * (range.y - range.x), 1e-30);
     float t = clamp((w - range.x) * range.z, 0.0, 1.0);
-    texel_moments[i] = vec2(t, t * t);
+    float t2 = t * t;
+    texel_low[i] = vec2(t, t2);
+    if (MOMENTS == 4) texel_high[i] = vec2(t2 * t, t2 * t2);
   }
   barrier();
   for (uint i = lane; i < uint(16 * kSide); i += 256u) {
     int x = int(i) % 16, y = int(i) / 16;
-    vec2 sum = vec2(0.0);
-    for (int k = 0; k <= 2 * BLUR; ++k) sum += texel_moments[y * kSide + x + k];
-    row_sums[i] = sum;
+    vec2 low = vec2(0.0), high = vec2(0.0);
+    for (int k = 0; k <= 2 * BLUR; ++k) {
+      low += texel_low[y * kSide + x + k];
+      if (MOMENTS == 4) high += texel_high[y * kSide + x + k];
+    }
+    row_low[i] = low;
+    if (MOMENTS == 4) row_high[i] = high;
   }
   barrier();
   ivec2 local = ivec2(gl_LocalInvocationID.xy);
-  vec2 sum = vec2(0.0);
-  for (int k = 0; k <= 2 * BLUR; ++k) sum += row_sums[(local.y + k) * 16 + local.x];
+  vec2 low = vec2(0.0), high = vec2(0.0);
+  for (int k = 0; k <= 2 * BLUR; ++k) {
+    low += row_low[(local.y + k) * 16 + local.x];
+    if (MOMENTS == 4) high += row_high[(local.y + k) * 16 + local.x];
+  }
   ivec2 pixel = origin + BLUR + local;
   if (all(lessThan(pixel, ivec2(resolution))))
-    imageStore(moments_out, ivec3(pixel, slice), vec4(sum / float((2 * BLUR + 1) * (2 * BLUR + 1)), 0.0, 0.0));
+    imageStore(moments_out, ivec3(pixel, slice), stored(vec4(low, high) / float((2 * BLUR + 1) * (2 * BLUR + 1))));
 }

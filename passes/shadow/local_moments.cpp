@@ -1,12 +1,23 @@
 // shadow.local_moments (frame.md section 1, shadow.local [000][001]): each spot light's depth
-// map turned into variance shadow map moments (E[t], E[t²] of t, the linear depth along the
-// light's axis mapped to [0, 1] between the map's near plane and the light's range), filtered
-// by a (2r + 1)² box blur, into an R16G16_UNORM array (one layer per map) that lighting.tiled
-// filters with Chebyshev's inequality. The blur is separable and done in one dispatch per map:
-// a workgroup loads its 16×16 tile and an r-texel apron into shared memory, sums rows, then
-// columns. Linear t rather than the stored perspective depth: the moments' variance only
-// measures how far apart two surfaces are when the depth is linear. Layers without a map hold
-// (1, 1): nothing in front of the far plane, lit. Skipped with shadow.local.
+// map turned into the moments of t, the linear depth along the light's axis mapped to [0, 1]
+// between the map's near plane and the light's range, filtered by a (2r + 1)² box blur, into an
+// RGBA16_UNORM array (one layer per map) that lighting.tiled reads. How many moments is
+// shadow.local_plan's `moments` (recorded in shadow.local_data's counts.y, which lighting.tiled
+// reads too, so the two cannot disagree, in a frame or a replay):
+// - 4 (the default): moment shadow maps (Peters and Klein 2015), E[(t, t², t³, t⁴)] through the
+//   paper's quantization transform (local_moments.glsl); lighting.tiled reconstructs with
+//   Hamburger 4MSM. Deviation from frame.md (2-moment VSM, R16G16_UNORM): under two stacked
+//   occluders VSM lets half the light through the umbra even with light-bleeding reduction,
+//   4MSM with it none (accuracy.md asks ≤ 2%; LocalShadows.StackedOccludersLeak).
+// - 2: variance shadow maps, (E[t], E[t²]) in .rg, .ba 0; lighting.tiled's Chebyshev bound.
+// One RGBA16_UNORM resource for both rather than an R16G16_UNORM one beside it: a resource's
+// format is fixed by its declaration, and a second array would be bound, cleared and recorded
+// in every frame while only one is written; VSM pays for the two unused channels.
+// The blur is separable and done in one dispatch per map: a workgroup loads its 16×16 tile and
+// an r-texel apron into shared memory, sums rows, then columns. Linear t rather than the stored
+// perspective depth: the moments' variance only measures how far apart two surfaces are when
+// the depth is linear. Layers without a map hold the moments of t = 1: nothing in front of the
+// far plane, lit. Skipped with shadow.local.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
@@ -15,10 +26,11 @@
 namespace nightcap {
 
 PassDecl shadow_local_moments_pass() {
-  ImageDecl moments{VK_FORMAT_R16G16_UNORM, ResourceKind::lookup_table};
+  ImageDecl moments{VK_FORMAT_R16G16B16A16_UNORM, ResourceKind::lookup_table};
   moments.size.mode = SizeRule::Mode::like;
   moments.size.like = "shadow.local";
   moments.layers = kLocalShadowSlices;
+  // What a skipped pass leaves: read by no light (lighting.tiled reads only the layers of maps).
   moments.clear.color = {{1.0f, 1.0f, 0.0f, 0.0f}};
   return PassDecl("shadow.local_moments", PassType::compute)
       .read("shadow.local_data", Use::uniform_buffer)
@@ -31,15 +43,16 @@ PassDecl shadow_local_moments_pass() {
       .shader("shadow/local_moments.comp")
       .run([](PassContext& ctx) {
         const auto plan = host_records<LocalShadowPlan>(ctx.host("shadow.local_plan")).at(0);
+        const int32_t moments = local_shadow_moments(ctx.host("shadow.local_data"), "shadow.local_moments");
         const uint32_t side = ctx.desc("shadow.local_moments").extent.width, groups = (side + 15) / 16;
         const std::vector<Binding> bindings{
             Binding::uniform(ctx.slot("shadow.local_data"), "shadow.local_data"),
             Binding::texture(ctx.slot("shadow.local"), "shadow.local", ctx.nearest_clamp(), ViewAspect::depth),
             Binding::image(ctx.slot("shadow.local_moments"), "shadow.local_moments", 0)};
-        // The maps with their blur; the empty layers filled with (1, 1) by a pipeline of their own.
+        // The maps with their blur; the empty layers filled with t = 1 by a pipeline of their own.
         const uint32_t maps = std::min(plan.maps, kLocalShadowSlices);
         if (maps > 0) {
-          ctx.bind_pipeline({int32_t(ctx.param("blur_radius")), 0});
+          ctx.bind_pipeline({int32_t(ctx.param("blur_radius")), 0, moments});
           ctx.push(bindings);
           ctx.push_constants(uint32_t(0));
           vkCmdDispatch(ctx.cmd(), groups, groups, maps);
@@ -47,7 +60,7 @@ PassDecl shadow_local_moments_pass() {
         if (maps < kLocalShadowSlices) {
           // Disjoint layers, but the validation's synchronization checks see the whole bound image.
           if (maps > 0) ctx.storage_barrier();
-          ctx.bind_pipeline({0, 1});
+          ctx.bind_pipeline({0, 1, moments});
           ctx.push(bindings);
           ctx.push_constants(maps);
           vkCmdDispatch(ctx.cmd(), groups, groups, kLocalShadowSlices - maps);

@@ -22,6 +22,10 @@
 // Never skipped: lighting.tiled reads its outputs whenever a light shades the frame (with no
 // spot light in view they say that no light has a map), and it costs a pass over frame.lights.
 //
+// Moments: the `moments` parameter, recorded in shadow.local_data (counts.y) so that
+// shadow.local_moments and lighting.tiled pick the same variant from the record
+// (local_moments.cpp says why 4 by default).
+//
 // Projection: along the spot's axis, a square frustum whose half-angle is the outer cone (at
 // most kMaxHalfAngle: a wider cone is shadowed only inside that; beyond it lighting.tiled reads
 // it as lit), z forward from `near_metres` to the light's range.
@@ -132,6 +136,9 @@ class LocalPlanner {
     }
     plan.draws = uint32_t(all.size());
     data.counts.x = plan.maps;
+    data.counts.y = uint32_t(ctx_.param("moments"));
+    if (data.counts.y != 2 && data.counts.y != 4)
+      throw GraphError("shadow.local_plan: moments is 2 or 4, not " + std::to_string(data.counts.y));
     store("shadow.local_data", &data, sizeof(data));
     store("shadow.local_slots", slots.data(), slots.size() * sizeof(int32_t));
     store("shadow.local_plan", &plan, sizeof(plan));
@@ -258,6 +265,9 @@ PassDecl shadow_local_plan_pass() {
       .layout("shadow.local_plan", local_shadow_plan_schema())
       .param("max_maps", 8, 0, kLocalShadowSlices, "spot lights with a shadow map per frame at most")
       .param("near_metres", 0.05, 0.001, 10, "the maps' near plane: casters closer to the light cast nothing")
+      .param("moments", 4, 2, 4,
+             "moments per texel of shadow.local_moments: 4, moment shadow maps (Hamburger 4MSM); 2, variance "
+             "shadow maps (frame.md's; leaks under stacked occluders)")
       .run([](PassContext& ctx) { LocalPlanner(ctx).run(); });
 }
 

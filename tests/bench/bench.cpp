@@ -34,6 +34,7 @@
 #include <functional>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <random>
 #include <thread>
 
@@ -1907,15 +1908,17 @@ void bench_shadows(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repe
 
 // Spot light shadows (shadow.local_plan, shadow.local, shadow.local_moments; issue 14 item 4):
 // their time on the built-in city's street (its spot lights) and lighting.tiled's with and
-// without them; the umbra leak of 2-moment VSM under two stacked occluders, plain
-// (local_bleeding 0, accuracy.md's baseline) and with the default light-bleeding reduction;
-// resolution × blur radius against the disagreement with the ray cast
-// (tests/reference/local_shadow_reference.h). No 4-moment variant and no caching exist yet.
+// without them, with the default settings (4 moments) and for each of shadow.local_plan's
+// `moments` (4: moment shadow maps, msm4; 2: VSM); the umbra leak of both under two stacked
+// occluders, plain (local_bleeding 0, accuracy.md's baseline for VSM) and with the default
+// light-bleeding reduction; resolution × blur radius (default settings) against the
+// disagreement with the ray cast (tests/reference/local_shadow_reference.h). No caching exists yet.
 //  - local_plan_ms_city, local_ms_city, local_moments_ms_city, local_maps_city,
 //    local_tiled_ms_city, local_tiled_ms_city_unshadowed
-//  - local_leak_{max,mean}_vsm[_low][_bleed0.2]: the lower occluder 2 m up (_low: 0.5 m), plain or
-//    with local_bleeding 0.2
-//  - local.res<R>_blur<B>.{map_ms,moments_ms,disagree,mean_error}
+//  - local_moments_ms_city_{msm4,vsm}, local_tiled_ms_city_{msm4,vsm}
+//  - local_leak_{max,mean}_{vsm,msm4}[_low][_bleed0.2]: the lower occluder 2 m up (_low: 0.5 m),
+//    plain or with local_bleeding 0.2
+//  - local.res<R>_blur<B>.{map_ms,moments_ms,disagree,mean_error}, and local.res512_blur1_vsm.*
 void bench_local(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) {
   nc::RenderSettings settings;
   settings.width = width;
@@ -1945,17 +1948,41 @@ void bench_local(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
         maps = plan.maps;
       }
     }
+    // Each variant of the moments: shadow.local_moments and lighting.tiled, their frames
+    // alternating so that the machine's load drifts over both alike.
+    {
+      std::map<std::string, std::unique_ptr<nc::Renderer>> variants;
+      for (int moments : {4, 2}) {
+        settings.params["shadow.local_plan"]["moments"] = moments;
+        auto& renderer = variants[moments == 4 ? "msm4" : "vsm"];
+        renderer = std::make_unique<nc::Renderer>(gpu, city, settings);
+        renderer->render_frame(0, false);  // pipelines compiled outside the measurement
+      }
+      for (int r = 0; r < repeats; ++r)
+        for (auto& [variant, renderer] : variants) {
+          const nc::RenderedFrame frame = renderer->render_frame(0, false);
+          ms["moments_" + variant].push_back(frame_pass_ms(frame, "shadow.local_moments"));
+          ms["tiled_" + variant].push_back(frame_pass_ms(frame, "lighting.tiled"));
+        }
+    }
     settings.params.clear();
     table() << "\n## local shadows: built-in city (" << width << "x" << height << ", ms, median of " << repeats
             << ")\nshadow.local_plan (CPU) " << median(ms["plan"]) << ", shadow.local " << median(ms["map"])
             << ", shadow.local_moments " << median(ms["moments"]) << " (" << maps << " maps); lighting.tiled "
-            << median(ms["tiled"]) << " with them, " << median(ms["tiled_unshadowed"]) << " without\n";
+            << median(ms["tiled"]) << " with them, " << median(ms["tiled_unshadowed"]) << " without\n"
+            << "4 moments: shadow.local_moments " << median(ms["moments_msm4"]) << ", lighting.tiled "
+            << median(ms["tiled_msm4"]) << "; 2 moments (VSM): " << median(ms["moments_vsm"]) << ", "
+            << median(ms["tiled_vsm"]) << "\n";
     figure("local_plan_ms_city", median(ms["plan"]));
     figure("local_ms_city", median(ms["map"]));
     figure("local_moments_ms_city", median(ms["moments"]));
     figure("local_maps_city", maps);
     figure("local_tiled_ms_city", median(ms["tiled"]));
     figure("local_tiled_ms_city_unshadowed", median(ms["tiled_unshadowed"]));
+    for (const char* variant : {"msm4", "vsm"}) {
+      figure(std::string("local_moments_ms_city_") + variant, median(ms[std::string("moments_") + variant]));
+      figure(std::string("local_tiled_ms_city_") + variant, median(ms[std::string("tiled_") + variant]));
+    }
   }
   // Lighting with and without the maps at 480×270 (the unit test's size), and the comparison.
   auto compare = [&](const nc::Scene& scene, const glm::dvec3& eye, std::map<std::string, nc::ParamValues> params,
@@ -1988,39 +2015,52 @@ void bench_local(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
     return ref::compare_local_shadow(scene, eye, lit.inputs, lit.outputs.at("lighting.diffuse"),
                                      unlit.outputs.at("lighting.diffuse"), resolution, blur, 2);
   };
-  table() << "\n## local shadows: umbra leak under two stacked occluders (2-moment VSM)\n";
-  for (double lower : {2.0, 0.5})
-    for (double bleeding : {0.0, 0.2}) {
-      const ref::LocalComparison c = compare(ref::stacked_occluders_scene(lower), ref::kStackedEye,
-                                             {{"lighting.tiled", {{"local_bleeding", bleeding}}}}, nullptr);
-      const std::string suffix = std::string(lower < 1.0 ? "_low" : "") + (bleeding > 0 ? "_bleed0.2" : "");
-      table() << "lower occluder " << lower << " m up, local_bleeding " << bleeding << ": max " << c.umbra_max
-              << ", mean " << c.umbra_mean() << " over " << c.ray_shadowed << " umbra pixels\n";
-      figure("local_leak_max_vsm" + suffix, c.umbra_max);
-      figure("local_leak_mean_vsm" + suffix, c.umbra_mean());
-    }
+  table() << "\n## local shadows: umbra leak under two stacked occluders (2-moment VSM, 4-moment MSM)\n";
+  for (int moments : {2, 4})
+    for (double lower : {2.0, 0.5})
+      for (double bleeding : {0.0, 0.2}) {
+        const ref::LocalComparison c =
+            compare(ref::stacked_occluders_scene(lower), ref::kStackedEye,
+                    {{"shadow.local_plan", {{"moments", moments}}}, {"lighting.tiled", {{"local_bleeding", bleeding}}}},
+                    nullptr);
+        const std::string suffix = std::string(moments == 4 ? "_msm4" : "_vsm") + (lower < 1.0 ? "_low" : "") +
+                                   (bleeding > 0 ? "_bleed0.2" : "");
+        table() << moments << " moments, lower occluder " << lower << " m up, local_bleeding " << bleeding << ": max "
+                << c.umbra_max << ", mean " << c.umbra_mean() << " over " << c.ray_shadowed << " umbra pixels\n";
+        figure("local_leak_max" + suffix, c.umbra_max);
+        figure("local_leak_mean" + suffix, c.umbra_mean());
+      }
   table() << "\n## local shadows: time against error (one spot over two boxes, 480x270; disagreement with the "
              "CPU ray cast off edges)\n"
           << std::left << std::setw(8) << "texels" << std::setw(8) << "blur" << std::right << std::setw(10) << "map ms"
           << std::setw(12) << "moments ms" << std::setw(12) << "disagree" << std::setw(12) << "mean |err|"
           << "\n";
+  // The default settings (4 moments), then VSM at the default resolution and blur.
+  struct Row {
+    int resolution, blur;
+    bool vsm;
+  };
+  std::vector<Row> rows;
   for (int resolution : {256, 512, 1024})
-    for (int blur : {0, 1, 2}) {
-      std::map<std::string, double> pass_ms;
-      const ref::LocalComparison c =
-          compare(ref::spot_boxes_scene(), ref::kSpotBoxesEye,
-                  {{"shadow.local", {{"resolution", resolution}}}, {"shadow.local_moments", {{"blur_radius", blur}}}},
-                  &pass_ms);
-      const std::string row = "local.res" + std::to_string(resolution) + "_blur" + std::to_string(blur);
-      table() << std::left << std::setw(8) << resolution << std::setw(8) << blur << std::right << std::fixed
-              << std::setprecision(2) << std::setw(10) << pass_ms["map"] << std::setw(12) << pass_ms["moments"]
-              << std::setprecision(4) << std::setw(12) << 1.0 - c.share() << std::setw(12) << c.mean_error()
-              << std::defaultfloat << "\n";
-      figure(row + ".map_ms", pass_ms["map"]);
-      figure(row + ".moments_ms", pass_ms["moments"]);
-      figure(row + ".disagree", 1.0 - c.share());
-      figure(row + ".mean_error", c.mean_error());
-    }
+    for (int blur : {0, 1, 2}) rows.push_back({resolution, blur, false});
+  rows.push_back({512, 1, true});
+  for (const auto& [resolution, blur, vsm] : rows) {
+    std::map<std::string, double> pass_ms;
+    std::map<std::string, nc::ParamValues> params{{"shadow.local", {{"resolution", resolution}}},
+                                                  {"shadow.local_moments", {{"blur_radius", blur}}}};
+    if (vsm) params["shadow.local_plan"]["moments"] = 2;
+    const ref::LocalComparison c = compare(ref::spot_boxes_scene(), ref::kSpotBoxesEye, params, &pass_ms);
+    const std::string row =
+        "local.res" + std::to_string(resolution) + "_blur" + std::to_string(blur) + (vsm ? "_vsm" : "");
+    table() << std::left << std::setw(8) << (std::to_string(resolution) + (vsm ? " VSM" : "")) << std::setw(8) << blur
+            << std::right << std::fixed << std::setprecision(2) << std::setw(10) << pass_ms["map"] << std::setw(12)
+            << pass_ms["moments"] << std::setprecision(4) << std::setw(12) << 1.0 - c.share() << std::setw(12)
+            << c.mean_error() << std::defaultfloat << "\n";
+    figure(row + ".map_ms", pass_ms["map"]);
+    figure(row + ".moments_ms", pass_ms["moments"]);
+    figure(row + ".disagree", 1.0 - c.share());
+    figure(row + ".mean_error", c.mean_error());
+  }
 }
 
 // Time of day (issue 14): `bake-tod` of the 2 km map (seed 1) on this machine's cores, and on its
