@@ -107,6 +107,7 @@ TEST(CaptureLoop, ManifestRecordsOutputSizeSinksShaderSourcesAndPipelineState) {
   const fs::path capture = shared_capture("city", kCity);
   const nlohmann::json manifest = read_json(capture / "manifest.json");
   EXPECT_EQ(manifest.at("version"), 5);
+  size_t with_pipelines = 0;
   for (const auto& frame : manifest.at("frames")) {
     EXPECT_EQ(frame.at("output"), (nlohmann::json{{"width", 320}, {"height", 180}}));
     const auto sinks = frame.at("sinks").get<std::vector<std::string>>();
@@ -114,7 +115,12 @@ TEST(CaptureLoop, ManifestRecordsOutputSizeSinksShaderSourcesAndPipelineState) {
     for (const auto& p : frame.at("passes")) {
       if (p.at("status") != "ran" || p.at("gpu_ms").is_null()) continue;
       const std::string name = p.at("name");
-      ASSERT_FALSE(p.at("pipelines").empty()) << name;
+      // A pass may run transfer commands only (shadow.cascades_static keeping every layer).
+      if (p.at("pipelines").empty()) {
+        EXPECT_TRUE(p.at("shaders").empty()) << name << " recorded shaders it did not bind";
+        continue;
+      }
+      ++with_pipelines;
       std::set<std::string> recorded, bound;
       for (const auto& s : p.at("shaders")) {
         recorded.insert(s.at("path").get<std::string>());
@@ -131,6 +137,7 @@ TEST(CaptureLoop, ManifestRecordsOutputSizeSinksShaderSourcesAndPipelineState) {
       EXPECT_EQ(bound, recorded) << name;
     }
   }
+  EXPECT_GT(with_pipelines, 20u);
   // Every full-screen pass samples through a nearest clamp-to-edge sampler, and says so.
   const auto& tonemap = find_pass(manifest.at("frames")[0], "tonemap");
   ASSERT_EQ(tonemap.at("samplers").size(), 1u);
