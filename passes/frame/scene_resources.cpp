@@ -4,6 +4,7 @@
 
 #include "passes/cull/hierarchy.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/scene/shadow_occluder.h"
 
 namespace nightcap {
 namespace {
@@ -123,7 +124,8 @@ Imports scene_imports(const Scene& scene) {
   }
   std::vector<InstanceRecord> instances;
   instances.reserve(scene.instances.size());
-  for (const Instance& instance : scene.instances) {
+  for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& instance = scene.instances[i];
     InstanceRecord r{};
     for (int k = 0; k < 3; ++k) {
       r.position[k] = instance.world[3][k];
@@ -132,7 +134,8 @@ Imports scene_imports(const Scene& scene) {
     }
     r.primitive = instance.primitive;
     r.material = scene.material_of(instance);
-    r.flags = instance.moving ? kInstanceMoving : 0;
+    r.flags =
+        (instance.moving ? kInstanceMoving : 0) | (shadow_occluder_indices(scene, i) > 0 ? kInstanceShadowOccluder : 0);
     instances.push_back(r);
   }
   imports["scene.meshes"] = buffer(ResourceKind::buffer, bytes_of(meshes));

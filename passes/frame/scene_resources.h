@@ -38,9 +38,13 @@ struct InstanceRecord {
   float velocity[3];   // metres per second: the translation at time t is position + velocity·t
   uint32_t primitive;  // the finest level of detail
   uint32_t material;   // the effective material (an instance may override its mesh's)
-  uint32_t flags;      // kInstanceMoving
+  uint32_t flags;      // kInstanceMoving, kInstanceShadowOccluder
 };
 constexpr uint32_t kInstanceMoving = 1;
+// Its finest mesh's occluder prefix (MeshRecord::occluder_index_count, whole triangles) is in
+// every shadow map the instance is drawn into, at any level and distance
+// (passes/scene/shadow_occluder.h).
+constexpr uint32_t kInstanceShadowOccluder = 2;
 
 // An instance's world model matrix at `time` seconds (a moving one along its velocity).
 glm::dmat4 instance_model(const InstanceRecord& r, double time);

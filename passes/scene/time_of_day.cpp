@@ -31,6 +31,7 @@
 
 #include "captures/hash.h"
 #include "passes/scene/scene_kit.h"
+#include "passes/scene/shadow_occluder.h"
 
 namespace nightcap {
 
@@ -285,19 +286,8 @@ std::vector<Item> bake_items(const Scene& scene, std::vector<uint16_t>& visible)
       }
     }
     // An occluder: every level drawn at any distance, with the same occluder prefix.
-    const Primitive& finest = scene.primitives[levels.front()];
-    const uint32_t prefix = std::min(finest.occluder_index_count, finest.index_count) / 3 * 3;
-    item.occluder = prefix > 0;
-    for (uint32_t level : levels) {
-      const Primitive& p = scene.primitives[level];
-      if (!std::isinf(p.draw_distance) || std::min(p.occluder_index_count, p.index_count) / 3 * 3 != prefix) {
-        item.occluder = false;
-        break;
-      }
-      for (uint32_t k = 0; k < prefix && item.occluder; ++k)
-        item.occluder = glm::length(vertex_position(scene, p, k) - vertex_position(scene, finest, k)) < 1e-3;
-    }
-    item.occluder_indices = item.occluder ? prefix : 0;
+    item.occluder_indices = shadow_occluder_indices(scene, i);
+    item.occluder = item.occluder_indices > 0;
     std::reverse(levels.begin(), levels.end());
     item.levels = std::move(levels);
     items.push_back(std::move(item));

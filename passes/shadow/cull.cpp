@@ -20,7 +20,10 @@
 // when its box swept along the sun to the cascade's far light depth or the scene's lowest point
 // (where its shadow can fall), grown by the margins, is hidden behind cull.main's occluders (cull.occlusion): whatever
 // it shadows is then no visible pixel. So culling on and off give the same shadow.sun (tested).
-// Last, with a time-of-day table (scene.tod, `render --tod`), a caster hidden from the light at
+// A caster that passes both is still dropped when, seen from the sun, it lies wholly behind
+// shadow.distant_occluders (level 0 of the distant shadow, with only the occluders every cascade
+// draws too: LightOccluders says how) [004 §2.2.3]. Last, with a time-of-day table (scene.tod,
+// `render --tod`), a caster hidden from the light at
 // the baked hours around this one is dropped (passes/scene/time_of_day.cpp says why that changes
 // no texel of the map at a baked hour).
 //
@@ -136,6 +139,82 @@ Volume extruded_slice(const Corners& c, const dvec3& to_sun, double margin, doub
   return v;
 }
 
+// shadow.distant_occluders as an occlusion buffer from the sun [004 §2.2.3]: level 0 of the
+// distant shadow, holding only what every cascade surely draws too (shadow.distant_plan's
+// occluders). A caster whose box, seen from the sun, lies wholly behind its depth over the box's
+// footprint grown by a texel each side, by more than `slope` times two texels of depth, draws no
+// texel of a cascade: the occluder's depth is less wherever the caster's could land. Sampled at
+// texel centres, so an opening narrower than a texel (25 cm at the default 256 m level) between
+// occluders is not seen; the slope margin covers a surface's depth changing between centres.
+// Empty (hides nothing) when the distant levels did not run.
+class LightOccluders {
+ public:
+  LightOccluders(std::span<const uint8_t> data, std::span<const uint8_t> depth, double slope) {
+    if (data.size() != sizeof(GpuDistantLevels)) return;
+    const GpuDistantLevels levels = host_records<GpuDistantLevels>(data).at(0);
+    resolution_ = uint32_t(levels.light_direction.w);
+    if (resolution_ == 0 || depth.size() != size_t(resolution_) * resolution_ * sizeof(float)) {
+      resolution_ = 0;
+      return;
+    }
+    light_from_world_ = glm::dmat4(levels.light_from_world[0]);
+    margin_ = slope * 2.0 * levels.texel_metres[0] / levels.depth_metres[0] + 1e-6;
+    // A pyramid of maxima: mip m's texel holds the largest depth of its 2^m × 2^m texels.
+    std::vector<float> level(size_t(resolution_) * resolution_);
+    std::memcpy(level.data(), depth.data(), depth.size());
+    mips_.push_back(std::move(level));
+    for (uint32_t side = resolution_; side > 1; side = (side + 1) / 2) {
+      const std::vector<float>& fine = mips_.back();
+      const uint32_t half = (side + 1) / 2;
+      std::vector<float> coarse(size_t(half) * half);
+      for (uint32_t y = 0; y < half; ++y)
+        for (uint32_t x = 0; x < half; ++x) {
+          float m = 0.0f;
+          for (uint32_t dy = 0; dy < 2; ++dy)
+            for (uint32_t dx = 0; dx < 2; ++dx)
+              m = std::max(m, fine[size_t(std::min(2 * y + dy, side - 1)) * side + std::min(2 * x + dx, side - 1)]);
+          coarse[size_t(y) * half + x] = m;
+        }
+      mips_.push_back(std::move(coarse));
+    }
+  }
+
+  // Whether the camera-relative box is wholly behind the occluders, seen from the sun.
+  bool hides(const Box& box) const {
+    if (resolution_ == 0) return false;
+    glm::dvec2 lo(INFINITY), hi(-INFINITY);
+    double nearest = INFINITY;
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec4 clip =
+          light_from_world_ *
+          glm::dvec4(k & 1 ? box.max.x : box.min.x, k & 2 ? box.max.y : box.min.y, k & 4 ? box.max.z : box.min.z, 1.0);
+      lo = glm::min(lo, glm::dvec2(clip));
+      hi = glm::max(hi, glm::dvec2(clip));
+      nearest = std::min(nearest, clip.z);
+    }
+    const double n = resolution_;
+    const double x0 = std::floor((lo.x * 0.5 + 0.5) * n) - 1, x1 = std::floor((hi.x * 0.5 + 0.5) * n) + 1;
+    const double y0 = std::floor((lo.y * 0.5 + 0.5) * n) - 1, y1 = std::floor((hi.y * 0.5 + 0.5) * n) + 1;
+    if (!(x0 >= 0 && y0 >= 0 && x1 < n && y1 < n)) return false;
+    // The mip at which the footprint spans at most 2 × 2 texels, then at most 3 × 3 of them.
+    uint32_t mip = 0;
+    while (mip + 1 < mips_.size() && (uint32_t(x1 - x0) >> mip) > 1) ++mip;
+    while (mip + 1 < mips_.size() && (uint32_t(y1 - y0) >> mip) > 1) ++mip;
+    const uint32_t side = (resolution_ + (1u << mip) - 1) >> mip;
+    float deepest = 0.0f;
+    for (uint32_t y = uint32_t(y0) >> mip; y <= (uint32_t(y1) >> mip); ++y)
+      for (uint32_t x = uint32_t(x0) >> mip; x <= (uint32_t(x1) >> mip); ++x)
+        deepest = std::max(deepest, mips_[mip][size_t(y) * side + x]);
+    return double(deepest) < nearest - margin_;
+  }
+
+ private:
+  uint32_t resolution_ = 0;
+  glm::dmat4 light_from_world_{1.0};
+  double margin_ = 0.0;
+  std::vector<std::vector<float>> mips_;
+};
+
 class ShadowCuller {
  public:
   explicit ShadowCuller(PassContext& ctx)
@@ -147,6 +226,9 @@ class ShadowCuller {
         materials_(host_records<GpuMaterial>(ctx.host("scene.materials"))),
         hierarchy_(Hierarchy::parse(ctx.host("scene.hierarchy"), instances_.size())),
         occlusion_(OcclusionBuffer::from_record(ctx.host("cull.occlusion"))),
+        light_occluders_(
+            ctx.param("light_occlusion") != 0.0 ? ctx.host("shadow.distant_data") : std::span<const uint8_t>(),
+            ctx.host("shadow.distant_occluders"), ctx.param("receiver_slope")),
         culling_(ctx.param("culling") != 0.0) {
     std::memcpy(&world_[0][0], camera_.world, sizeof(camera_.world));
     eye_ = dvec3(world_[3]);
@@ -437,6 +519,10 @@ class ShadowCuller {
       } else if (occlusion && shadow_hidden(box, set.far, set.margin, set.depth_margin)) {
         ++stats_.casters_hidden[cascade];
         if (culling_) return;
+      } else if (light_occluders_.hides(box)) {
+        ++stats_.casters_light_hidden[cascade];
+        stats_.light_hidden_triangles[cascade] += mesh->index_count / 3;
+        if (culling_) return;
       }
       if (!tod_visible_.empty() && !(tod_visible_[i] & tod_bits_)) {
         ++stats_.casters_tod_dropped[cascade];
@@ -493,6 +579,7 @@ class ShadowCuller {
   std::vector<GpuMaterial> materials_;
   Hierarchy hierarchy_;
   OcclusionBuffer occlusion_;
+  LightOccluders light_occluders_;
   bool culling_;
   std::span<const uint32_t> tod_visible_;  // empty: no table, every caster casts
   uint16_t tod_bits_ = 0;                  // the baked hours that decide at this hour
@@ -515,6 +602,8 @@ PassDecl shadow_cull_pass() {
       .read("scene.materials", Use::host)
       .read("cull.occlusion", Use::host)
       .read("scene.tod", Use::host)
+      .read("shadow.distant_data", Use::host)
+      .read("shadow.distant_occluders", Use::host)
       .write("shadow.cascade_data", Use::host, BufferDecl{ResourceKind::buffer})
       .write("draws.shadow.cascades", Use::host, BufferDecl{ResourceKind::draw_list})
       .write("shadow.cull_stats", Use::host, BufferDecl{ResourceKind::buffer})
@@ -531,6 +620,9 @@ PassDecl shadow_cull_pass() {
       .param("cache", 1, 0, 1,
              "1: a cascade whose projection and culling volume are the previous frame's keeps its static casters' "
              "depth (shadow.cascades_static) and draws only the moving ones; 0: everything drawn each frame")
+      .param("light_occlusion", 1, 0, 1,
+             "1: drop casters wholly behind shadow.distant_occluders from the sun; 0: not (culling=0 turns every "
+             "test off)")
       .param("culling", 1, 0, 1,
              "1: drop casters outside each cascade's volume or whose shadow is hidden (0 keeps them, for the tests)")
       .needs("sun_above_horizon")

@@ -9,9 +9,13 @@
 // D32, as shadow.cascades and for the same reason: a level's depth spans the whole static scene
 // toward the sun. Skipped with no sun above the horizon, or by `enabled=0` (the resolve then
 // reads 1, unshadowed, beyond the cascades).
+// shadow.distant_occluders: level 0 again, with only the shadow occluders' occluder triangles
+// (shadow.distant_plan says which), kept and refreshed as level 0 is; shadow.cull reads it to
+// drop cascade casters the sun cannot see [004 §2.2.3]. A layer of its own because level 0
+// holds every static caster at its coarsest level whatever its draw distance, which the
+// cascades need not draw: a caster hidden behind one of those could still cast there.
 // Not done: shadow.topdown (frame.md may merge it with the last level) does not exist yet, so
-// nothing shares the last level; shadow.cull does not yet use level 0 to cull cascade casters
-// [004 §2.2.3].
+// nothing shares the last level.
 #include "passes/core/context.h"
 #include "passes/frame/draw_scene.h"
 #include "passes/frame/frame_passes.h"
@@ -26,6 +30,8 @@ PassDecl shadow_distant_pass() {
   levels.size.param = "resolution";
   levels.layers = kDistantLevels;
   levels.clear.depthStencil = {1.0f, 0};
+  ImageDecl occluders = levels;
+  occluders.layers = 1;
   return PassDecl("shadow.distant", PassType::graphics)
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
@@ -36,6 +42,8 @@ PassDecl shadow_distant_pass() {
       .read("scene.materials", Use::host)
       .read("shadow.distant_plan", Use::host)
       .write("shadow.distant", Use::depth_attachment, levels)
+      .read_previous("shadow.distant_occluders", Use::sampled)
+      .write("shadow.distant_occluders", Use::depth_attachment, occluders)
       .param("resolution", kDistantResolution, 64, 4096,
              "texels per side of each level: shadow.distant_plan.resolution's")
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
@@ -54,6 +62,12 @@ PassDecl shadow_distant_pass() {
         const auto plan = host_records<DistantPlan>(ctx.host("shadow.distant_plan")).at(0);
         const uint32_t tiles = plan.tiles_per_side, tile_texels = extent.width / tiles;
         const uint32_t all_tiles = (1u << (tiles * tiles)) - 1u;
+        auto tile_rect = [&](uint32_t t) {
+          return VkRect2D{{int32_t(t % tiles * tile_texels), int32_t(t / tiles * tile_texels)},
+                          {tile_texels, tile_texels}};
+        };
+        // What a redrawn tile held is drawn again from nothing (1: no occluder).
+        static constexpr VkClearAttachment kNoOccluder{VK_IMAGE_ASPECT_DEPTH_BIT, 0, {.depthStencil = {1.0f, 0}}};
         for (uint32_t level = 0; level < kDistantLevels; ++level) {
           // A level redrawn whole keeps nothing: the attachment's clear is already its start.
           if (plan.refreshed[level] != all_tiles)
@@ -69,18 +83,36 @@ PassDecl shadow_distant_pass() {
           for (uint32_t t = 0; t < tiles * tiles; ++t) {
             if (!(plan.refreshed[level] >> t & 1u)) continue;
             const uint32_t unit = level * tiles * tiles + t;
-            const VkRect2D scissor{{int32_t(t % tiles * tile_texels), int32_t(t / tiles * tile_texels)},
-                                   {tile_texels, tile_texels}};
-            // What the tile held is redrawn from nothing (1: no occluder).
-            const VkClearAttachment clear{VK_IMAGE_ASPECT_DEPTH_BIT, 0, {.depthStencil = {1.0f, 0}}};
+            const VkRect2D scissor = tile_rect(t);
             const VkClearRect rect{scissor, 0, 1};
-            vkCmdClearAttachments(ctx.cmd(), 1, &clear, 1, &rect);
+            vkCmdClearAttachments(ctx.cmd(), 1, &kNoOccluder, 1, &rect);
             vkCmdSetScissor(ctx.cmd(), 0, 1, &scissor);
             draw_scene(ctx, "draws.shadow.distant", [](uint32_t, const GpuMaterial&) {},
                        {plan.unit_first_draw[unit], plan.unit_draws[unit]});
           }
           ctx.end_rendering();
         }
+        // Level 0's occluders, on the same tiles with the same move.
+        if (plan.refreshed[0] != all_tiles)
+          ctx.copy_layer(previous("shadow.distant_occluders"), "shadow.distant_occluders", 0, data.refresh[0].x,
+                         data.refresh[0].y);
+        if (plan.refreshed[0] == 0) return;
+        ctx.begin_rendering({}, "shadow.distant_occluders", 0, 0);
+        ctx.bind_pipeline();
+        std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.distant");
+        bindings.push_back(Binding::uniform(ctx.slot("shadow.distant_data"), "shadow.distant_data"));
+        ctx.push(bindings);
+        ctx.push_constants(uint32_t(0));
+        for (uint32_t t = 0; t < tiles * tiles; ++t) {
+          if (!(plan.refreshed[0] >> t & 1u)) continue;
+          const VkRect2D scissor = tile_rect(t);
+          const VkClearRect rect{scissor, 0, 1};
+          vkCmdClearAttachments(ctx.cmd(), 1, &kNoOccluder, 1, &rect);
+          vkCmdSetScissor(ctx.cmd(), 0, 1, &scissor);
+          draw_scene(ctx, "draws.shadow.distant", [](uint32_t, const GpuMaterial&) {},
+                     {plan.occluder_first_draw[t], plan.occluder_draws[t]});
+        }
+        ctx.end_rendering();
       });
 }
 

@@ -25,6 +25,12 @@
 // (recorded as `reset`, DistantReset). Static casters and a fixed sun never make a complete unit
 // stale: a still camera redraws nothing after frame 0, a driving one only what its levels' moves
 // uncover.
+// Occluders: with each tile of level 0 it redraws, the draws of the static instances flagged
+// kInstanceShadowOccluder, only their finest mesh's occluder triangles (which every level of
+// detail they may be drawn at has, at any distance): shadow.distant draws them into
+// shadow.distant_occluders, level 0's depth of what surely is in every cascade too, which
+// shadow.cull reads to drop casters hidden from the sun [004 §2.2.3].
+//
 // Casters: the static opaque instances (moving ones would leave stale shadows behind in a map
 // refreshed every few frames), at their coarsest level of detail, whatever their draw distance
 // (a level is the same from wherever the camera is, so tiles drawn in different frames agree).
@@ -58,6 +64,7 @@ struct Rect {
 struct Unit {
   uint32_t triangles = 0;
   std::vector<GpuDraw> draws;
+  std::vector<GpuDraw> occluders;  // level 0's tiles: the shadow occluders' occluder triangles
 };
 
 class DistantPlanner {
@@ -196,15 +203,26 @@ class DistantPlanner {
     std::vector<Rect> due_rects;
     for (uint32_t u : due) due_rects.push_back(tile_rects[u]);
     walk(due_rects, [&](size_t t, uint32_t index, const glm::dmat4& model, const MeshRecord& mesh) {
-      units[due[t]].draws.push_back(draw_of(index, model, mesh));
+      Unit& unit = units[due[t]];
+      unit.draws.push_back(draw_of(index, model, mesh));
+      if (due[t] < per_level && (instances_[index].flags & kInstanceShadowOccluder)) {
+        // The finest mesh's leading triangles, which every level the instance is drawn at has.
+        const MeshRecord& finest = *mesh_at(instances_[index].primitive);
+        GpuDraw occluder = draw_of(index, model, finest);
+        occluder.index_count = finest.occluder_index_count / 3 * 3;
+        if (occluder.index_count > 0) unit.occluders.push_back(occluder);
+      }
     });
     // Sorted for batching and so the list does not depend on the hierarchy's walk.
-    for (uint32_t u : due)
-      std::sort(units[u].draws.begin(), units[u].draws.end(), [](const GpuDraw& a, const GpuDraw& b) {
-        if (a.material != b.material) return a.material < b.material;
-        if (a.first_index != b.first_index) return a.first_index < b.first_index;
-        return a.instance < b.instance;
-      });
+    auto batched = [](const GpuDraw& a, const GpuDraw& b) {
+      if (a.material != b.material) return a.material < b.material;
+      if (a.first_index != b.first_index) return a.first_index < b.first_index;
+      return a.instance < b.instance;
+    };
+    for (uint32_t u : due) {
+      std::sort(units[u].draws.begin(), units[u].draws.end(), batched);
+      std::sort(units[u].occluders.begin(), units[u].occluders.end(), batched);
+    }
     std::vector<GpuDraw> all;
     for (uint32_t u = 0; u < units.size(); ++u) plan.unit_triangles[u] = units[u].triangles;
     for (uint32_t u : due) {
@@ -213,6 +231,12 @@ class DistantPlanner {
       plan.unit_draws[u] = uint32_t(units[u].draws.size());
       plan.triangles += units[u].triangles;
       all.insert(all.end(), units[u].draws.begin(), units[u].draws.end());
+    }
+    for (uint32_t u : due) {
+      if (u >= per_level) continue;
+      plan.occluder_first_draw[u] = uint32_t(all.size());
+      plan.occluder_draws[u] = uint32_t(units[u].occluders.size());
+      all.insert(all.end(), units[u].occluders.begin(), units[u].occluders.end());
     }
     for (uint32_t k = 0; k < kDistantLevels; ++k)
       plan.complete[k] = (all_tiles(tiles) & ~plan.stale[k]) | plan.refreshed[k];

@@ -48,8 +48,12 @@ struct ShadowCullStats {
   uint32_t moving_draws[kShadowCascades];
   // Where each cascade's static depth (shadow.cascades_static) comes from: a ShadowStaticSource.
   uint32_t static_source[kShadowCascades];
+  // Casters that passed the volume and the view's occluders but lie wholly behind
+  // shadow.distant_occluders from the sun (kept when culling=0), and their triangles.
+  uint32_t casters_light_hidden[kShadowCascades];
+  uint32_t light_hidden_triangles[kShadowCascades];
 };
-static_assert(sizeof(ShadowCullStats) == 11 * 16);
+static_assert(sizeof(ShadowCullStats) == 13 * 16);
 
 // Why a cascade's static depth was reused or redrawn this frame (ShadowCullStats::static_source).
 enum class ShadowStaticSource : uint32_t {
@@ -82,13 +86,16 @@ inline BufferSchema shadow_cull_stats_schema() {
       .field("casters_tod_dropped", &S::casters_tod_dropped)
       .field("tod_triangles_saved", &S::tod_triangles_saved)
       .field("moving_draws", &S::moving_draws)
-      .field("static_source", &S::static_source);
+      .field("static_source", &S::static_source)
+      .field("casters_light_hidden", &S::casters_light_hidden)
+      .field("light_hidden_triangles", &S::light_hidden_triangles);
 }
 
 constexpr uint32_t kDistantLevels = 4;
 // Tiles per side of a level at most: a level's refreshed tiles are one 16-bit mask.
 constexpr uint32_t kDistantMaxTilesPerSide = 4;
-constexpr uint32_t kDistantUnits = kDistantLevels * kDistantMaxTilesPerSide * kDistantMaxTilesPerSide;
+constexpr uint32_t kDistantTiles = kDistantMaxTilesPerSide * kDistantMaxTilesPerSide;  // per level, at most
+constexpr uint32_t kDistantUnits = kDistantLevels * kDistantTiles;
 constexpr uint32_t kDistantResolution = 1024;
 
 // Mirrored by passes/shadow/distant.vert and sun_resolve.comp (std140).
@@ -138,8 +145,13 @@ struct DistantPlan {
   uint32_t unit_triangles[kDistantUnits];   // every unit's triangles, redrawn this frame or not
   uint32_t unit_first_draw[kDistantUnits];  // this frame's draws.shadow.distant range of a redrawn unit
   uint32_t unit_draws[kDistantUnits];
+  // Per tile of level 0 redrawn this frame, the draws.shadow.distant range of its shadow
+  // occluders (kInstanceShadowOccluder, their occluder triangles): shadow.distant_occluders.
+  uint32_t occluder_first_draw[kDistantTiles];
+  uint32_t occluder_draws[kDistantTiles];
 };
-static_assert(sizeof(DistantPlan) == (9 + 3 * kDistantLevels + 2 * kDistantLevels + 6 + 3 * kDistantUnits) * 4);
+static_assert(sizeof(DistantPlan) ==
+              (9 + 3 * kDistantLevels + 2 * kDistantLevels + 6 + 3 * kDistantUnits + 2 * kDistantTiles) * 4);
 
 inline BufferSchema distant_levels_schema() {
   using S = GpuDistantLevels;
@@ -170,7 +182,9 @@ inline BufferSchema distant_plan_schema() {
       .field("frame_key", &S::frame_key)
       .field("unit_triangles", &S::unit_triangles)
       .field("unit_first_draw", &S::unit_first_draw)
-      .field("unit_draws", &S::unit_draws);
+      .field("unit_draws", &S::unit_draws)
+      .field("occluder_first_draw", &S::occluder_first_draw)
+      .field("occluder_draws", &S::occluder_draws);
 }
 
 }  // namespace nightcap

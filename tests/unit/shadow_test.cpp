@@ -152,11 +152,13 @@ class Shadows : public GpuTest {
   }
 
   // Each shadow pass run again on the inputs the frame recorded for it writes the same bytes.
-  static void expect_replays(const Frame& f) {
+  static void expect_replays(const Frame& f, const std::map<std::string, ParamValues>& params = {}) {
     for (const auto& [decl, r] :
          {std::pair{shadow_cull_pass(), &f.cull}, std::pair{shadow_cascades_static_pass(), &f.statics},
           std::pair{shadow_cascades_pass(), &f.map}, std::pair{shadow_sun_resolve_pass(), &f.resolve}}) {
-      const IsolatedRun again = run(decl, r->inputs, f.width, f.height);
+      const auto set = params.find(decl.name);
+      const IsolatedRun again =
+          run(decl, r->inputs, f.width, f.height, set == params.end() ? ParamValues{} : set->second);
       for (const auto& [name, output] : r->outputs)
         EXPECT_TRUE(*again.outputs.at(name) == *output.bytes) << decl.name << ": " << name << " differs when run again";
     }
@@ -267,9 +269,9 @@ TEST_F(Shadows, PeterPanningAtMostOneTexel) {
   EXPECT_GT(gap, texel) << "a large bias should open a gap the test sees";
 }
 
-// Culling (by the cascades' volumes and by the view's occluders) drops no caster that changes the
-// shadow: shadow.sun is bit-identical with it off, on the city and on the street shot of a 2 km
-// map (levels of detail, traffic).
+// Culling (by the cascades' volumes, the view's occluders and shadow.distant_occluders from the
+// sun) drops no caster that changes the shadow: shadow.sun is bit-identical with it off, on the city and on the street
+// shot of a 2 km map (levels of detail, traffic).
 TEST_F(Shadows, CullingChangesNoShadow) {
   Scene city = build_city(1);
   add_default_lighting(city);
@@ -281,22 +283,25 @@ TEST_F(Shadows, CullingChangesNoShadow) {
     const Frame on = render(*scene, 640, 360, {{"shadow.cull", {{"cache", 0}}}});
     const Frame off = render(*scene, 640, 360, {{"shadow.cull", {{"culling", 0}, {"cache", 0}}}});
     ASSERT_TRUE(on.view && off.view);
-    uint32_t culled = 0, hidden = 0, tested = 0;
+    uint32_t culled = 0, hidden = 0, light_hidden = 0, tested = 0;
     for (uint32_t k = 0; k < kShadowCascades; ++k) {
       culled += on.stats.casters_culled[k];
       hidden += on.stats.casters_hidden[k];
+      light_hidden += on.stats.casters_light_hidden[k];
       tested += on.stats.casters_tested[k];
       std::printf(
-          "%s, cascade %u: %u casters tested, %u culled, %u hidden, %u drawn, %u planes, ends at %.1f m, texel %.4f "
-          "m\n",
+          "%s, cascade %u: %u casters tested, %u culled, %u hidden, %u behind the sun's occluders, %u drawn, %u "
+          "planes, ends at %.1f m, texel %.4f m\n",
           name, k, on.stats.casters_tested[k], on.stats.casters_culled[k], on.stats.casters_hidden[k],
-          on.stats.draws[k], on.stats.planes[k], on.view->cascades.splits[k], on.view->cascades.texel_metres[k]);
+          on.stats.casters_light_hidden[k], on.stats.draws[k], on.stats.planes[k], on.view->cascades.splits[k],
+          on.view->cascades.texel_metres[k]);
       EXPECT_LE(on.stats.planes[k], 8u);
       EXPECT_EQ(off.stats.draws[k], off.stats.casters_tested[k]);
     }
     EXPECT_GT(culled + hidden, tested / 4) << "culling must remove casters for the comparison to mean something";
     if (scene == &street) {
       EXPECT_GT(hidden, 0u) << "the view's occluders must hide some shadow, so the test covers them";
+      EXPECT_GT(light_hidden, 0u) << "the sun's occluders must hide some caster, so the test covers them";
     }
     EXPECT_TRUE(*on.resolve.outputs.at("shadow.sun").bytes == *off.resolve.outputs.at("shadow.sun").bytes)
         << "shadow.sun differs with culling off";
@@ -309,8 +314,11 @@ TEST_F(Shadows, CachingChangesNoShadowAcrossFrames) {
   for (const CameraPath::Motion motion : {CameraPath::Motion::still, CameraPath::Motion::drive}) {
     const bool still = motion == CameraPath::Motion::still;
     SCOPED_TRACE(still ? "still camera" : "driving");
-    const std::vector<Frame> on = render_frames(street, motion, 5, {});
-    const std::vector<Frame> off = render_frames(street, motion, 5, {{"shadow.cull", {{"cache", 0}}}});
+    // The street's cars are all in the buildings' shadow seen from the sun: without the sun's
+    // occluders culling them, they are drawn over the kept static depth.
+    const std::vector<Frame> on = render_frames(street, motion, 5, {{"shadow.cull", {{"light_occlusion", 0}}}});
+    const std::vector<Frame> off =
+        render_frames(street, motion, 5, {{"shadow.cull", {{"cache", 0}, {"light_occlusion", 0}}}});
     uint32_t moving = 0;
     for (uint32_t i = 0; i < on.size(); ++i) {
       ASSERT_TRUE(on[i].view && off[i].view);
@@ -340,7 +348,7 @@ TEST_F(Shadows, CachingChangesNoShadowAcrossFrames) {
                   *on[2].statics.outputs.at("shadow.cascades_static").bytes)
           << "frame 3 reads frame 2's static depth";
     }
-    expect_replays(on[3]);
+    expect_replays(on[3], {{"shadow.cull", {{"light_occlusion", 0}}}});
   }
 }
 
