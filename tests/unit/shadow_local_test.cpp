@@ -17,8 +17,8 @@
 // - stress (a light inside a caster, a light at the camera, 120 spot lights): every float output
 //   finite, and each local shadow pass run again on its recorded inputs writes the same bytes;
 //   the agreement scene moved to the 16 km map's far corner keeps the agreement bound;
-// - caching (shadow.local_plan.cache on and off, frames 0-4 of a still camera, a box moving
-//   under the lights): shadow.local_moments and lighting.diffuse the same bytes every frame;
+// - caching (shadow.local_plan.cache on and off, frames 0-4 of a still camera and of a driving
+//   one, a box moving under the lights): shadow.local_moments and lighting.diffuse the same bytes every frame;
 //   frame 0 refreshes every map (reset), frames 1-4 reuse every one and draw only the moving
 //   box, whose shadow moves; a camera cut refreshes them all again (reset); frame 3 reads frame
 //   2's static depth as history and each pass of it replays from its record alone;
@@ -64,14 +64,14 @@ class LocalShadows : public GpuTest {
     return render_frames(scene, width, height, 1, std::move(params)).at(0);
   }
 
-  // Frames 0 to count − 1 of a still camera (cut at the frames in `cuts`).
+  // Frames 0 to count − 1 (cut at the frames in `cuts`).
   static std::vector<Frame> render_frames(const Scene& scene, uint32_t width, uint32_t height, uint32_t count,
-                                          std::map<std::string, ParamValues> params = {},
-                                          std::set<uint32_t> cuts = {}) {
+                                          std::map<std::string, ParamValues> params = {}, std::set<uint32_t> cuts = {},
+                                          CameraPath::Motion motion = CameraPath::Motion::still) {
     RenderSettings settings;
     settings.width = width;
     settings.height = height;
-    settings.path.motion = CameraPath::Motion::still;
+    settings.path.motion = motion;
     settings.path.cuts = std::move(cuts);
     settings.sinks = {"lighting.diffuse"};
     settings.params = std::move(params);
@@ -264,56 +264,59 @@ const std::vector<uint8_t>& output_bytes(const RecordedPass& pass, const std::st
 
 TEST_F(LocalShadows, CachingChangesNoShadowAcrossFrames) {
   const Scene scene = cache_scene();
-  std::map<std::string, ParamValues> params{{"shadow.local_plan", {{"max_refreshes", 16}}}};
-  const std::vector<Frame> on = render_frames(scene, 320, 180, 5, params);
-  params["shadow.local_plan"]["cache"] = 0;
-  const std::vector<Frame> off = render_frames(scene, 320, 180, 5, params);
-  uint32_t moving = 0;
-  for (uint32_t i = 0; i < on.size(); ++i) {
-    SCOPED_TRACE("frame " + std::to_string(i));
-    EXPECT_EQ(on[i].non_finite, "");
-    ASSERT_EQ(on[i].record.maps, 3u);
-    ASSERT_EQ(off[i].record.maps, 3u);
-    EXPECT_EQ(on[i].record.reset, i == 0 ? 1u : 0u);
-    EXPECT_EQ(on[i].record.refreshed, i == 0 ? 3u : 0u);
-    EXPECT_EQ(on[i].record.reused, i == 0 ? 0u : 3u);
-    std::printf("cache on, frame %u: slot states", i);
-    for (uint32_t k = 0; k < 3; ++k) {
-      const uint32_t state = on[i].record.slot_state[on[i].record.slice_slot[k]];
-      std::printf(" %u (%u of %u draws moving)", state, on[i].record.slice_moving_draws[k],
-                  on[i].record.slice_draws[k]);
-      EXPECT_EQ(state, uint32_t(i == 0 ? LocalSlotState::refreshed_reset : LocalSlotState::reused)) << "map " << k;
-      EXPECT_EQ(on[i].record.candidate_reason[k],
-                uint32_t(i == 0 ? LocalShadowReason::refreshed : LocalShadowReason::reused));
-      EXPECT_EQ(off[i].record.slot_state[off[i].record.slice_slot[k]], uint32_t(LocalSlotState::refreshed_cache_off));
-      if (i > 0) {
-        EXPECT_EQ(on[i].record.slice_draws[k], on[i].record.slice_moving_draws[k]) << "static casters listed";
+  for (const CameraPath::Motion motion : {CameraPath::Motion::still, CameraPath::Motion::drive}) {
+    SCOPED_TRACE(CameraPath::motion_name(motion));
+    std::map<std::string, ParamValues> params{{"shadow.local_plan", {{"max_refreshes", 16}}}};
+    const std::vector<Frame> on = render_frames(scene, 320, 180, 5, params, {}, motion);
+    params["shadow.local_plan"]["cache"] = 0;
+    const std::vector<Frame> off = render_frames(scene, 320, 180, 5, params, {}, motion);
+    uint32_t moving = 0;
+    for (uint32_t i = 0; i < on.size(); ++i) {
+      SCOPED_TRACE("frame " + std::to_string(i));
+      EXPECT_EQ(on[i].non_finite, "");
+      ASSERT_EQ(on[i].record.maps, 3u);
+      ASSERT_EQ(off[i].record.maps, 3u);
+      EXPECT_EQ(on[i].record.reset, i == 0 ? 1u : 0u);
+      EXPECT_EQ(on[i].record.refreshed, i == 0 ? 3u : 0u);
+      EXPECT_EQ(on[i].record.reused, i == 0 ? 0u : 3u);
+      std::printf("%s, cache on, frame %u: slot states", CameraPath::motion_name(motion).c_str(), i);
+      for (uint32_t k = 0; k < 3; ++k) {
+        const uint32_t state = on[i].record.slot_state[on[i].record.slice_slot[k]];
+        std::printf(" %u (%u of %u draws moving)", state, on[i].record.slice_moving_draws[k],
+                    on[i].record.slice_draws[k]);
+        EXPECT_EQ(state, uint32_t(i == 0 ? LocalSlotState::refreshed_reset : LocalSlotState::reused)) << "map " << k;
+        EXPECT_EQ(on[i].record.candidate_reason[k],
+                  uint32_t(i == 0 ? LocalShadowReason::refreshed : LocalShadowReason::reused));
+        EXPECT_EQ(off[i].record.slot_state[off[i].record.slice_slot[k]], uint32_t(LocalSlotState::refreshed_cache_off));
+        if (i > 0) {
+          EXPECT_EQ(on[i].record.slice_draws[k], on[i].record.slice_moving_draws[k]) << "static casters listed";
+        }
+        moving += on[i].record.slice_moving_draws[k];
       }
-      moving += on[i].record.slice_moving_draws[k];
+      std::printf("\n");
+      EXPECT_TRUE(output_bytes(on[i].moments, "shadow.local_moments") ==
+                  output_bytes(off[i].moments, "shadow.local_moments"))
+          << "shadow.local_moments differs with the cache off";
+      EXPECT_TRUE(output_bytes(on[i].lighting, "lighting.diffuse") == output_bytes(off[i].lighting, "lighting.diffuse"))
+          << "lighting.diffuse differs with the cache off";
+      if (i > 1) {
+        EXPECT_TRUE(output_bytes(on[i].statics, "shadow.local_static") ==
+                    output_bytes(on[1].statics, "shadow.local_static"))
+            << "the static depth changed";
+      }
     }
-    std::printf("\n");
-    EXPECT_TRUE(output_bytes(on[i].moments, "shadow.local_moments") ==
-                output_bytes(off[i].moments, "shadow.local_moments"))
-        << "shadow.local_moments differs with the cache off";
-    EXPECT_TRUE(output_bytes(on[i].lighting, "lighting.diffuse") == output_bytes(off[i].lighting, "lighting.diffuse"))
-        << "lighting.diffuse differs with the cache off";
-    if (i > 1) {
-      EXPECT_TRUE(output_bytes(on[i].statics, "shadow.local_static") ==
-                  output_bytes(on[1].statics, "shadow.local_static"))
-          << "the static depth changed";
-    }
+    EXPECT_GT(moving, 0u) << "the test needs the moving box in a map";
+    EXPECT_FALSE(output_bytes(on[4].map, "shadow.local") == output_bytes(on[0].map, "shadow.local"))
+        << "the moving box's shadow did not move";
+    ASSERT_TRUE(on[3].statics.inputs.count(previous("shadow.local_static")));
+    EXPECT_TRUE(*on[3].statics.inputs.at(previous("shadow.local_static")).bytes ==
+                output_bytes(on[2].statics, "shadow.local_static"))
+        << "frame 3 reads frame 2's static depth";
+    ASSERT_TRUE(on[3].plan.inputs.count(previous("shadow.local_plan")));
+    EXPECT_TRUE(*on[3].plan.inputs.at(previous("shadow.local_plan")).bytes ==
+                output_bytes(on[2].plan, "shadow.local_plan"));
+    expect_replays(on[3]);
   }
-  EXPECT_GT(moving, 0u) << "the test needs the moving box in a map";
-  EXPECT_FALSE(output_bytes(on[4].map, "shadow.local") == output_bytes(on[0].map, "shadow.local"))
-      << "the moving box's shadow did not move";
-  ASSERT_TRUE(on[3].statics.inputs.count(previous("shadow.local_static")));
-  EXPECT_TRUE(*on[3].statics.inputs.at(previous("shadow.local_static")).bytes ==
-              output_bytes(on[2].statics, "shadow.local_static"))
-      << "frame 3 reads frame 2's static depth";
-  ASSERT_TRUE(on[3].plan.inputs.count(previous("shadow.local_plan")));
-  EXPECT_TRUE(*on[3].plan.inputs.at(previous("shadow.local_plan")).bytes ==
-              output_bytes(on[2].plan, "shadow.local_plan"));
-  expect_replays(on[3]);
 }
 
 TEST_F(LocalShadows, ACameraCutRefreshesEveryMap) {
