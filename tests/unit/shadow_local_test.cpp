@@ -23,7 +23,10 @@
 //   box, whose shadow moves; a camera cut refreshes them all again (reset); frame 3 reads frame
 //   2's static depth as history and each pass of it replays from its record alone;
 // - throttling: the plan run on a recorded frame whose previous record holds none of its lights
-//   refreshes max_refreshes of them and records the others as throttled, without a map.
+//   refreshes max_refreshes of them and records the others as throttled, without a map;
+// - stress (120 spot lights along a driving camera's path, 16 maps): after frame 0 at most max_refreshes
+//   refreshes a frame, some lights throttled, no two maps in one slot, a reused slot holding the
+//   light it held, and the last frame's passes replay.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -369,6 +372,48 @@ TEST_F(LocalShadows, RefreshesPastTheBudgetAreThrottled) {
   std::vector<int32_t> slots(again.outputs.at("shadow.local_slots")->size() / sizeof(int32_t));
   std::memcpy(slots.data(), again.outputs.at("shadow.local_slots")->data(), slots.size() * sizeof(int32_t));
   for (uint32_t k = 2; k < 5; ++k) EXPECT_EQ(slots.at(r.candidate_light[k]), -1) << "a throttled light has a map";
+}
+
+// 120 spot lights in a row 5 cm apart along a driving camera's path: the nearest ones rank first
+// (range over distance), so about 5 lights join the 16 maps each frame and the refresh budget
+// binds.
+TEST_F(LocalShadows, CacheUnderChurnKeepsItsRules) {
+  std::vector<Light> lights;
+  for (int k = 0; k < 120; ++k)
+    lights.push_back(reference::spot_light({0.0, 3.0, 3.0 - 0.05 * k}, {0.1f, -1.0f, 0.0f}, 5.0f));
+  const Scene scene = reference::boxes_scene({{{0.0, 1.0, 0.0}, {0.6, 0.6, 0.6}}, {{1.5, 1.0, -2.0}, {0.3, 1.0, 0.3}}},
+                                             lights, {0.5, 2.0, 3.5}, {0.5, 1.5, -10.0});
+  const std::vector<Frame> frames =
+      render_frames(scene, 320, 180, 6, {{"shadow.local_plan", {{"max_maps", 16}, {"max_refreshes", 2}}}}, {},
+                    CameraPath::Motion::drive);
+  uint32_t throttled = 0;
+  for (uint32_t i = 0; i < frames.size(); ++i) {
+    SCOPED_TRACE("frame " + std::to_string(i));
+    const LocalShadowPlan& r = frames[i].record;
+    EXPECT_EQ(frames[i].non_finite, "");
+    std::printf("churn, frame %u: %u maps, %u refreshed, %u reused, %u throttled\n", i, r.maps, r.refreshed, r.reused,
+                r.throttled);
+    EXPECT_LE(r.maps, 16u);
+    EXPECT_EQ(r.refreshed + r.reused, r.maps);
+    if (i > 0) {
+      EXPECT_LE(r.refreshed, 2u);
+    }
+    throttled += r.throttled;
+    std::set<uint32_t> used;
+    for (uint32_t k = 0; k < r.maps; ++k) {
+      EXPECT_TRUE(used.insert(r.slice_slot[k]).second) << "two maps in slot " << r.slice_slot[k];
+      const auto state = LocalSlotState(r.slot_state[r.slice_slot[k]]);
+      EXPECT_TRUE(state == LocalSlotState::reused || state == LocalSlotState::refreshed_new ||
+                  state == LocalSlotState::refreshed_reset)
+          << "map " << k << ": state " << uint32_t(state);
+      if (state == LocalSlotState::reused) {
+        const LocalShadowPlan& before = frames[i - 1].record;
+        EXPECT_EQ(before.slot_light[r.slice_slot[k]], r.slot_light[r.slice_slot[k]]) << "reused another light's slot";
+      }
+    }
+  }
+  EXPECT_GT(throttled, 0u) << "the test needs the budget to bind";
+  expect_replays(frames.back());
 }
 
 }  // namespace
