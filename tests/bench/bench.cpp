@@ -1996,7 +1996,8 @@ void add_spots_in_view(nc::Scene& scene, uint32_t width, uint32_t height, int co
 //    shadow.local_moments, frame 3; local_cached_vs_uncached_ratio (on / off);
 //    local_cache.<pass>.{on,off}_ms; local_cache.reused_maps (frame 3, cache on)
 //  - local_cache_map.*: the same on the 2 km map's street shot with 8 spot lights over its first
-//    60 m (add_spots_in_view), whose maps hold many more static casters than the city's
+//    60 m (add_spots_in_view); local_cache_boxes.*: 1 600 small boxes under 4 spot lights, maps
+//    with many static casters
 //  - local_leak_{max,mean}_vsm[_low][_bleed0.2]: the lower occluder 2 m up (_low: 0.5 m), plain or
 //    with local_bleeding 0.2
 //  - local.res<R>_blur<B>.{map_ms,moments_ms,disagree,mean_error}
@@ -2047,6 +2048,15 @@ void bench_local(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
     nc::add_default_lighting(street);
     add_spots_in_view(street, width, height, 8);
     bench_local_cache(gpu, street, settings, repeats, "local_cache_map", "2 km map, street shot, 8 spot lights");
+    // Many static casters per map: 1 600 small boxes (19 200 triangles) under 4 spot lights.
+    std::vector<std::pair<glm::dvec3, glm::dvec3>> boxes;
+    for (int k = 0; k < 1600; ++k)
+      boxes.push_back({{-10.0 + 0.5 * (k % 40), 0.15 + 0.1 * (k % 3), -10.0 + 0.5 * (k / 40)}, {0.12, 0.15, 0.12}});
+    std::vector<nc::Light> spots;
+    for (int k = 0; k < 4; ++k)
+      spots.push_back(ref::spot_light({-5.0 + 10.0 * (k % 2), 6.0, -5.0 + 10.0 * (k / 2)}, {0.0f, -1.0f, 0.0f}, 15.0f));
+    bench_local_cache(gpu, ref::boxes_scene(boxes, spots, {0.0, 14.0, 16.0}, {0.0, 0.0, 0.0}), settings, repeats,
+                      "local_cache_boxes", "1 600 boxes under 4 spot lights");
   }
   // Lighting with and without the maps at 480×270 (the unit test's size), and the comparison.
   auto compare = [&](const nc::Scene& scene, const glm::dvec3& eye, std::map<std::string, nc::ParamValues> params,
