@@ -32,11 +32,12 @@
 // another light's map is no answer; the largest on screen are refreshed first and the light is
 // first in line next frame. The budget does not apply on a frame without history (the first,
 // a cut): every map is new then, and a cut is where missing shadows would show most. A slot
-// whose light has no map this frame keeps its depth (copied over from history) until another
-// light needs it. With `cache` 0 every map is refreshed every frame into slot k, without a
-// budget. What each candidate and slot did, and why, is in the record (LocalShadowReason,
-// LocalSlotState). The pass cannot see a history reset the graph makes for a resize: a renderer
-// keeps shadow.local_static's resolution over a run.
+// whose light has no map this frame keeps its depth (copied over from history, a layer copy
+// each frame) until another light needs it or `keep_frames` frames have passed. With `cache` 0
+// every map is refreshed every frame into slot k, without a budget. What each candidate and
+// slot did, and why, is in the record (LocalShadowReason, LocalSlotState). The pass cannot see
+// a history reset the graph makes for a resize: a renderer keeps shadow.local_static's
+// resolution over a run.
 //
 // Never skipped: lighting.tiled reads its outputs whenever a light shades the frame (with no
 // spot light in view they say that no light has a map), and it costs a pass over frame.lights.
@@ -225,15 +226,21 @@ class LocalPlanner {
       map_slot[map] = pick;
       slot_taken[pick] = true;
     }
+    // A slot without a map this frame keeps its light for keep_frames frames: each kept slot
+    // costs shadow.local_static a layer copy every frame.
+    const uint32_t keep_frames = uint32_t(ctx_.param("keep_frames"));
     std::array<uint32_t, kLocalShadowSlices> slot_state{};
-    for (uint32_t s = 0; s < kLocalShadowSlices; ++s)
-      if (plan.slot_light[s] != kLocalNoLight) {
-        slot_state[s] = uint32_t(LocalSlotState::kept);
-        ++plan.slot_idle[s];
-        const glm::mat4 kept(views_before.view_x[s], views_before.view_y[s], views_before.view_z[s],
-                             views_before.view_w[s]);
-        set_view(views, s, kept);
+    for (uint32_t s = 0; s < kLocalShadowSlices; ++s) {
+      if (plan.slot_light[s] == kLocalNoLight) continue;
+      if (++plan.slot_idle[s] > keep_frames) {
+        plan.slot_light[s] = kLocalNoLight;
+        continue;
       }
+      slot_state[s] = uint32_t(LocalSlotState::kept);
+      const glm::mat4 kept(views_before.view_x[s], views_before.view_y[s], views_before.view_z[s],
+                           views_before.view_w[s]);
+      set_view(views, s, kept);
+    }
     for (uint32_t map = 0; map < plan.maps; ++map) {
       const uint32_t s = uint32_t(map_slot[map]);
       plan.slice_slot[map] = s;
@@ -406,6 +413,9 @@ PassDecl shadow_local_plan_pass() {
       .param("max_refreshes", 4, 0, kLocalShadowSlices,
              "cache slots whose static casters are drawn per frame at most, with the cache on and history (a light "
              "needing one past that gets no map this frame)")
+      .param("keep_frames", 60, 0, 100000,
+             "frames a cache slot keeps the static depth of a light without a map (copied each frame) before it is "
+             "freed")
       .param("cache", 1, 0, 1,
              "1: a map whose light and view are the previous frame's keeps its static casters' depth "
              "(shadow.local_static) and draws only the moving ones; 0: everything drawn each frame")

@@ -23,10 +23,11 @@
 //   box, whose shadow moves; a camera cut refreshes them all again (reset); frame 3 reads frame
 //   2's static depth as history and each pass of it replays from its record alone;
 // - throttling: the plan run on a recorded frame whose previous record holds none of its lights
-//   refreshes max_refreshes of them and records the others as throttled, without a map;
+//   refreshes max_refreshes of them and records the others as throttled, without a map; a slot
+//   whose light has no map is kept keep_frames frames, then freed;
 // - stress (120 spot lights along a driving camera's path, 16 maps): after frame 0 at most max_refreshes
 //   refreshes a frame, some lights throttled, no two maps in one slot, a reused slot holding the
-//   light it held, and the last frame's passes replay.
+//   light it held, no slot kept past keep_frames, and the last frame's passes replay.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -383,9 +384,9 @@ TEST_F(LocalShadows, CacheUnderChurnKeepsItsRules) {
     lights.push_back(reference::spot_light({0.0, 3.0, 3.0 - 0.05 * k}, {0.1f, -1.0f, 0.0f}, 5.0f));
   const Scene scene = reference::boxes_scene({{{0.0, 1.0, 0.0}, {0.6, 0.6, 0.6}}, {{1.5, 1.0, -2.0}, {0.3, 1.0, 0.3}}},
                                              lights, {0.5, 2.0, 3.5}, {0.5, 1.5, -10.0});
-  const std::vector<Frame> frames =
-      render_frames(scene, 320, 180, 6, {{"shadow.local_plan", {{"max_maps", 16}, {"max_refreshes", 2}}}}, {},
-                    CameraPath::Motion::drive);
+  const std::vector<Frame> frames = render_frames(
+      scene, 320, 180, 6, {{"shadow.local_plan", {{"max_maps", 16}, {"max_refreshes", 2}, {"keep_frames", 1}}}}, {},
+      CameraPath::Motion::drive);
   uint32_t throttled = 0;
   for (uint32_t i = 0; i < frames.size(); ++i) {
     SCOPED_TRACE("frame " + std::to_string(i));
@@ -399,6 +400,11 @@ TEST_F(LocalShadows, CacheUnderChurnKeepsItsRules) {
       EXPECT_LE(r.refreshed, 2u);
     }
     throttled += r.throttled;
+    for (uint32_t slot = 0; slot < kLocalShadowSlices; ++slot) {
+      if (r.slot_state[slot] == uint32_t(LocalSlotState::kept)) {
+        EXPECT_LE(r.slot_idle[slot], 1u) << "slot " << slot << " kept past keep_frames";
+      }
+    }
     std::set<uint32_t> used;
     for (uint32_t k = 0; k < r.maps; ++k) {
       EXPECT_TRUE(used.insert(r.slice_slot[k]).second) << "two maps in slot " << r.slice_slot[k];
@@ -414,6 +420,36 @@ TEST_F(LocalShadows, CacheUnderChurnKeepsItsRules) {
   }
   EXPECT_GT(throttled, 0u) << "the test needs the budget to bind";
   expect_replays(frames.back());
+}
+
+// Frame 1's plan run again with two more slots in its previous record, holding lights that have
+// no map now: one idle 59 frames (kept, keep_frames being 60), one idle 60 (freed).
+TEST_F(LocalShadows, ASlotWithoutAMapIsKeptForKeepFrames) {
+  const std::vector<Frame> frames = render_frames(cache_scene(), 320, 180, 2);
+  ASSERT_EQ(frames[1].record.maps, 3u);
+  std::map<std::string, IsolatedInput> inputs = frames[1].plan.inputs;
+  LocalShadowPlan before{};
+  const auto& kept = *inputs.at(previous("shadow.local_plan")).bytes;
+  ASSERT_EQ(kept.size(), sizeof before);
+  std::memcpy(&before, kept.data(), sizeof before);
+  for (uint32_t slot : {10u, 11u}) {
+    ASSERT_EQ(before.slot_light[slot], kLocalNoLight);
+    before.slot_light[slot] = 100 + slot;  // no light of the scene: never a candidate
+    before.slot_state[slot] = uint32_t(LocalSlotState::kept);
+    before.slot_idle[slot] = slot == 10 ? 59 : 60;
+  }
+  const auto* bytes = reinterpret_cast<const uint8_t*>(&before);
+  inputs.at(previous("shadow.local_plan")).bytes =
+      std::make_shared<const std::vector<uint8_t>>(bytes, bytes + sizeof before);
+  const IsolatedRun again = run(shadow_local_plan_pass(), inputs, 320, 180);
+  LocalShadowPlan r{};
+  std::memcpy(&r, again.outputs.at("shadow.local_plan")->data(), sizeof r);
+  EXPECT_EQ(r.reused, 3u);
+  EXPECT_EQ(r.slot_light[10], 110u);
+  EXPECT_EQ(r.slot_state[10], uint32_t(LocalSlotState::kept));
+  EXPECT_EQ(r.slot_idle[10], 60u);
+  EXPECT_EQ(r.slot_light[11], kLocalNoLight);
+  EXPECT_EQ(r.slot_state[11], uint32_t(LocalSlotState::empty));
 }
 
 }  // namespace
