@@ -292,16 +292,17 @@ void PassContext::begin_rendering(const std::vector<std::string>& colors, const 
   vkCmdSetStencilReference(cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, 0);
 }
 
-void PassContext::copy_layer(const std::string& from, const std::string& to, uint32_t layer, int32_t dx, int32_t dy) {
+void PassContext::copy_layer(const std::string& from, uint32_t from_layer, const std::string& to, uint32_t to_layer,
+                             int32_t dx, int32_t dy) {
   const BoundUse* source = nullptr;
   const BoundUse* target = nullptr;
   for (const BoundUse& u : pass_.inputs)
-    if (u.resource == from && !u.desc.is_buffer && u.range.contains(0, layer)) source = &u;
+    if (u.resource == from && !u.desc.is_buffer && u.range.contains(0, from_layer)) source = &u;
   for (const BoundUse& u : pass_.outputs)
-    if (u.resource == to && !u.desc.is_buffer && u.range.contains(0, layer)) target = &u;
-  if (!source || !target)
-    throw GraphError(pass() + ": copies layer " + std::to_string(layer) + " of '" + from + "' into '" + to +
-                     "' without reading the one and writing the other there");
+    if (u.resource == to && !u.desc.is_buffer && u.range.contains(0, to_layer)) target = &u;
+  if (!source || !target || from == to)
+    throw GraphError(pass() + ": copies layer " + std::to_string(from_layer) + " of '" + from + "' into layer " +
+                     std::to_string(to_layer) + " of '" + to + "' without reading the one and writing the other there");
   const PhysicalResource& src = shared_.resources.at(from);
   const PhysicalResource& dst = shared_.resources.at(to);
   const ImageExtent &a = src.desc.extent, &b = dst.desc.extent;
@@ -311,11 +312,12 @@ void PassContext::copy_layer(const std::string& from, const std::string& to, uin
   const VkImageAspectFlags aspects =
       format.is_depth ? VK_IMAGE_ASPECT_DEPTH_BIT | (format.has_stencil ? VK_IMAGE_ASPECT_STENCIL_BIT : 0)
                       : VK_IMAGE_ASPECT_COLOR_BIT;
-  const VkImageSubresourceRange range{aspects, 0, 1, layer, 1};
+  const VkImageSubresourceRange source_range{aspects, 0, 1, from_layer, 1}, range{aspects, 0, 1, to_layer, 1};
   const bool depth = format.is_depth;
   const AccessState read = required_state(source->use, pass_.decl->type, depth);
   const AccessState written = required_state(target->use, pass_.decl->type, depth);
   auto transition = [&](const PhysicalResource& r, const AccessState& before, const AccessState& after) {
+    const bool is_source = &r == &src;
     auto b = vk_struct<VkImageMemoryBarrier2>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2);
     b.srcStageMask = before.stages;
     b.srcAccessMask = before.access;
@@ -325,7 +327,7 @@ void PassContext::copy_layer(const std::string& from, const std::string& to, uin
     b.newLayout = after.layout;
     b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     b.image = r.image.image;
-    b.subresourceRange = range;
+    b.subresourceRange = is_source ? source_range : range;
     return b;
   };
   auto issue = [&](std::vector<VkImageMemoryBarrier2> barriers) {
@@ -353,7 +355,8 @@ void PassContext::copy_layer(const std::string& from, const std::string& to, uin
          {VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_ASPECT_STENCIL_BIT}) {
       if (!(aspects & aspect)) continue;
       VkImageCopy region{};
-      region.srcSubresource = region.dstSubresource = {aspect, 0, layer, 1};
+      region.srcSubresource = {aspect, 0, from_layer, 1};
+      region.dstSubresource = {aspect, 0, to_layer, 1};
       region.srcOffset = {x0 + dx, y0 + dy, 0};
       region.dstOffset = {x0, y0, 0};
       region.extent = {uint32_t(x1 - x0), uint32_t(y1 - y0), 1};
@@ -363,7 +366,7 @@ void PassContext::copy_layer(const std::string& from, const std::string& to, uin
                    regions.data());
   }
   issue({transition(src, copy_from, read), transition(dst, copy_to, written)});
-  copied_layers_.insert({to, layer});
+  copied_layers_.insert({to, to_layer});
 }
 
 void PassContext::begin_rendering() { begin_rendering(colour_targets(declaration()), depth_target(declaration())); }

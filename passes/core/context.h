@@ -109,13 +109,14 @@ class PassContext {
                        uint32_t layer = 0);
   // The declared colour attachments in declaration order and the declared depth attachment.
   void begin_rendering();
-  // Copies layer `layer` (mip 0) of `from`, an image the pass reads, into the same layer of `to`,
-  // an image of the same format and size it writes, by transfer commands between the states the
-  // graph planned for the pass: on a CPU driver a copy costs a small part of a full-screen draw.
-  // Texel (x, y) of `to` takes texel (x + dx, y + dy) of `from`; those with none outside it keep
-  // `to`'s clear value. begin_rendering then loads that layer of `to` rather than clearing it.
-  // Called before the pass renders to or reads that layer.
-  void copy_layer(const std::string& from, const std::string& to, uint32_t layer, int32_t dx = 0, int32_t dy = 0);
+  // Copies layer `from_layer` (mip 0) of `from`, an image the pass reads, into layer `to_layer`
+  // of `to`, an image of the same format and size it writes, by transfer commands between the
+  // states the graph planned for the pass: on a CPU driver a copy costs a small part of a
+  // full-screen draw. Texel (x, y) of `to` takes texel (x + dx, y + dy) of `from`; those with none
+  // inside it keep `to`'s clear value. begin_rendering then loads that layer of `to` rather than
+  // clearing it. Called before the pass renders to or reads those layers.
+  void copy_layer(const std::string& from, uint32_t from_layer, const std::string& to, uint32_t to_layer,
+                  int32_t dx = 0, int32_t dy = 0);
   void end_rendering();
   // Orders this pass's own storage writes before its next reads (e.g. between mip levels),
   // indirect arguments it wrote included.

@@ -58,7 +58,8 @@ void build_constants(PassContext& ctx) {
   std::vector<GpuLight> list;
   bool has_sun = false;
   uint32_t dropped = 0;
-  for (const LightRecord& l : lights) {
+  for (uint32_t index = 0; index < lights.size(); ++index) {
+    const LightRecord& l = lights[index];
     const glm::vec3 radiance = glm::vec3(l.color[0], l.color[1], l.color[2]) * l.intensity;
     const glm::vec3 direction = glm::normalize(glm::vec3(l.direction[0], l.direction[1], l.direction[2]));
     if (l.type == uint32_t(LightType::directional) && !has_sun) {
@@ -79,7 +80,7 @@ void build_constants(PassContext& ctx) {
     g.end_radius = glm::vec4(glm::vec3(end), l.radius);
     g.color_range = glm::vec4(radiance, l.range);
     g.direction_cos_outer = glm::vec4(direction, std::cos(l.outer_cone));
-    g.cos_inner = glm::vec4(std::cos(l.inner_cone), 0, 0, 0);
+    g.cos_inner = glm::vec4(std::cos(l.inner_cone), float(index), 0, 0);
     list.push_back(g);
   }
   // Grouped so that a shader loops over each kind of light apart: lavapipe runs both sides of a

@@ -41,6 +41,7 @@ PassDecl shadow_cascades_pass();
 PassDecl shadow_cascades_static_pass();
 PassDecl shadow_sun_resolve_pass();
 PassDecl shadow_local_plan_pass();
+PassDecl shadow_local_static_pass();
 PassDecl shadow_local_pass();
 PassDecl shadow_local_moments_pass();
 PassDecl lights_cluster_pass();

@@ -36,7 +36,9 @@ struct GpuLight {
   glm::vec4 end_radius;           // tube: xyz second end, w: radius
   glm::vec4 color_range;          // rgb × intensity, w: range (0: none)
   glm::vec4 direction_cos_outer;  // xyz: the way light travels, w: cos(outer cone)
-  glm::vec4 cos_inner;            // x: cos(inner cone)
+  // x: cos(inner cone); y: the light's index in scene.lights (frame.lights is culled per frame,
+  // so shadow.local_plan follows a light across frames by it)
+  glm::vec4 cos_inner;
 };
 static_assert(sizeof(GpuLight) == 80);
 

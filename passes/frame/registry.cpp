@@ -18,6 +18,7 @@ std::vector<PassDecl> frame_passes(FrameLighting lighting) {
   passes.push_back(shadow_cascades_static_pass());
   passes.push_back(shadow_cascades_pass());
   passes.push_back(shadow_local_plan_pass());
+  passes.push_back(shadow_local_static_pass());
   passes.push_back(shadow_local_pass());
   passes.push_back(shadow_local_moments_pass());
   passes.push_back(depth_prepass_pass());

@@ -42,7 +42,7 @@ PassDecl shadow_cascades_pass() {
       .run([](PassContext& ctx) {
         const auto stats = host_records<ShadowCullStats>(ctx.host("shadow.cull_stats")).at(0);
         for (uint32_t cascade = 0; cascade < kShadowCascades; ++cascade) {
-          ctx.copy_layer("shadow.cascades_static", "shadow.cascades", cascade);
+          ctx.copy_layer("shadow.cascades_static", cascade, "shadow.cascades", cascade);
           if (stats.moving_draws[cascade] == 0) continue;
           ctx.begin_rendering({}, "shadow.cascades", 0, cascade);
           ctx.bind_pipeline();

@@ -46,7 +46,7 @@ PassDecl shadow_cascades_static_pass() {
         const auto stats = host_records<ShadowCullStats>(ctx.host("shadow.cull_stats")).at(0);
         for (uint32_t cascade = 0; cascade < kShadowCascades; ++cascade) {
           if (stats.static_source[cascade] == uint32_t(ShadowStaticSource::reused)) {
-            ctx.copy_layer(previous("shadow.cascades_static"), "shadow.cascades_static", cascade);
+            ctx.copy_layer(previous("shadow.cascades_static"), cascade, "shadow.cascades_static", cascade);
             continue;
           }
           ctx.begin_rendering({}, "shadow.cascades_static", 0, cascade);

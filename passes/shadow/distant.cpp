@@ -71,7 +71,7 @@ PassDecl shadow_distant_pass() {
         for (uint32_t level = 0; level < kDistantLevels; ++level) {
           // A level redrawn whole keeps nothing: the attachment's clear is already its start.
           if (plan.refreshed[level] != all_tiles)
-            ctx.copy_layer(previous("shadow.distant"), "shadow.distant", level, data.refresh[level].x,
+            ctx.copy_layer(previous("shadow.distant"), level, "shadow.distant", level, data.refresh[level].x,
                            data.refresh[level].y);
           if (plan.refreshed[level] == 0) continue;
           ctx.begin_rendering({}, "shadow.distant", 0, level);
@@ -94,7 +94,7 @@ PassDecl shadow_distant_pass() {
         }
         // Level 0's occluders, on the same tiles with the same move.
         if (plan.refreshed[0] != all_tiles)
-          ctx.copy_layer(previous("shadow.distant_occluders"), "shadow.distant_occluders", 0, data.refresh[0].x,
+          ctx.copy_layer(previous("shadow.distant_occluders"), 0, "shadow.distant_occluders", 0, data.refresh[0].x,
                          data.refresh[0].y);
         if (plan.refreshed[0] == 0) return;
         ctx.begin_rendering({}, "shadow.distant_occluders", 0, 0);

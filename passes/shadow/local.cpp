@@ -3,7 +3,9 @@
 // of draws.shadow.local (no layer routing in a geometry shader [001]). D32, forward (0 at the
 // near plane, LESS): a perspective depth crowds its precision near the light, and D16 would
 // leave centimetre steps at a street light's range. Casters are drawn from both sides (an open
-// mesh still casts); the bias is the lookup's. Layers without a map keep the clear (1: nothing).
+// mesh still casts); the bias is the lookup's. Each map starts as its cache slot of
+// shadow.local_static (the static casters, possibly kept from earlier frames; a transfer copy)
+// and this frame's moving casters are drawn over it. Layers without a map keep the clear (1: nothing).
 // shadow.local_moments turns the depth into the moments lighting.tiled filters. Skipped with no
 // spot light in the scene; a frame whose spot lights are all out of view draws nothing.
 #include "passes/core/context.h"
@@ -24,12 +26,14 @@ PassDecl shadow_local_pass() {
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
       .read("draws.shadow.local", Use::storage_read)
-      .read("shadow.local_data", Use::uniform_buffer)
+      .read("shadow.local_views", Use::uniform_buffer)
       .read("scene.geometry", Use::index_buffer)
       .read("scene.materials", Use::host)
       .read("shadow.local_plan", Use::host)
+      .read("shadow.local_static", Use::sampled)
       .write("shadow.local", Use::depth_attachment, map)
-      .param("resolution", kLocalShadowResolution, 64, 2048, "texels per side of each map")
+      .param("resolution", kLocalShadowResolution, 64, 2048,
+             "texels per side of each map: shadow.local_static's (checked)")
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
       .needs("spot_lights")
@@ -37,17 +41,32 @@ PassDecl shadow_local_pass() {
       .shader("shadow/local.vert")
       .run([](PassContext& ctx) {
         const auto plan = host_records<LocalShadowPlan>(ctx.host("shadow.local_plan")).at(0);
-        for (uint32_t slice = 0; slice < kLocalShadowSlices; ++slice) {
-          ctx.begin_rendering({}, "shadow.local", 0, slice);
-          if (slice < plan.maps && plan.slice_draws[slice] > 0) {
-            ctx.bind_pipeline();
-            std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.local");
-            bindings.push_back(Binding::uniform(ctx.slot("shadow.local_data"), "shadow.local_data"));
-            ctx.push(bindings);
-            ctx.push_constants(slice);
-            draw_scene(ctx, "draws.shadow.local", [](uint32_t, const GpuMaterial&) {},
-                       {plan.slice_first_draw[slice], plan.slice_draws[slice]});
+        if (ctx.desc("shadow.local_static").extent.width != ctx.desc("shadow.local").extent.width)
+          throw GraphError("shadow.local: its resolution (" + std::to_string(ctx.desc("shadow.local").extent.width) +
+                           ") is not shadow.local_static's (" +
+                           std::to_string(ctx.desc("shadow.local_static").extent.width) + "): set both alike");
+        for (uint32_t layer = 0; layer < kLocalShadowSlices; ++layer) {
+          // A layer without a map is only cleared (1: nothing).
+          if (layer >= plan.maps) {
+            ctx.begin_rendering({}, "shadow.local", 0, layer);
+            ctx.end_rendering();
+            continue;
           }
+          const uint32_t slot = plan.slice_slot[layer];
+          if (slot >= kLocalShadowSlices)
+            throw GraphError("shadow.local: shadow.local_plan puts map " + std::to_string(layer) + " in slot " +
+                             std::to_string(slot));
+          ctx.copy_layer("shadow.local_static", slot, "shadow.local", layer);
+          if (plan.slice_moving_draws[layer] == 0) continue;
+          ctx.begin_rendering({}, "shadow.local", 0, layer);
+          ctx.bind_pipeline();
+          std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.local");
+          bindings.push_back(Binding::uniform(ctx.slot("shadow.local_views"), "shadow.local_views"));
+          ctx.push(bindings);
+          ctx.push_constants(slot);
+          draw_scene(ctx, "draws.shadow.local", [](uint32_t, const GpuMaterial&) {},
+                     {plan.slice_first_draw[layer] + plan.slice_draws[layer] - plan.slice_moving_draws[layer],
+                      plan.slice_moving_draws[layer]});
           ctx.end_rendering();
         }
       });

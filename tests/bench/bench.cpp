@@ -1906,16 +1906,100 @@ void bench_shadows(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repe
   }
 }
 
+// Frame 3 of a still camera over `scene`, shadow.local_plan.cache on and off, in this process:
+// the four local shadow passes' own times (median of `repeats` runs of frames 0 to 3), figures
+// under `prefix`.
+void bench_local_cache(nc::GpuDevice& gpu, const nc::Scene& scene, nc::RenderSettings settings, int repeats,
+                       const std::string& prefix, const std::string& title) {
+  settings.path.motion = nc::CameraPath::Motion::still;
+  settings.sinks = {"shadow.local_moments"};
+  settings.params.clear();
+  const std::vector<std::string> passes{"shadow.local_plan", "shadow.local_static", "shadow.local",
+                                        "shadow.local_moments"};
+  nc::LocalShadowPlan plan{};
+  auto frame3 = [&](double cache) {
+    settings.params["shadow.local_plan"]["cache"] = cache;
+    nc::Renderer renderer(gpu, scene, settings);
+    std::map<std::string, std::vector<double>> runs;
+    for (int r = 0; r < repeats; ++r)
+      for (uint32_t i = 0; i <= 3; ++i) {
+        const nc::RenderedFrame frame = renderer.render_frame(i, i == 3 && r == 0);
+        if (i < 3) continue;
+        for (const std::string& name : passes) runs[name].push_back(frame_pass_ms(frame, name));
+        if (r == 0 && cache != 0)
+          std::memcpy(&plan, frame.execution.final_version("shadow.local_plan")->bytes->data(), sizeof plan);
+      }
+    std::map<std::string, double> result;
+    for (auto& [name, times] : runs) result[name] = median(times);
+    return result;
+  };
+  const std::map<std::string, double> on = frame3(1), off = frame3(0);
+  double on_sum = 0, off_sum = 0;
+  table() << "\n## local shadows across frames: " << title << ", still camera (" << settings.width << "x"
+          << settings.height << "), frame 3, ms, median of " << repeats << "\n";
+  for (const std::string& name : passes) {
+    on_sum += on.at(name);
+    off_sum += off.at(name);
+    table() << name << ": " << on.at(name) << " cache on, " << off.at(name) << " off\n";
+    figure(prefix + "." + name + ".on_ms", on.at(name));
+    figure(prefix + "." + name + ".off_ms", off.at(name));
+  }
+  const double ratio = off_sum > 0 ? on_sum / off_sum : 0.0;
+  table() << "the four: " << on_sum << " against " << off_sum << " ms, ratio " << ratio << "; cache on: " << plan.maps
+          << " maps, " << plan.reused << " reused, " << plan.draws << " draws (moving casters)\n";
+  figure(prefix + ".on_ms", on_sum);
+  figure(prefix + ".off_ms", off_sum);
+  figure(prefix + ".ratio", ratio);
+  figure(prefix + ".reused_maps", plan.reused);
+  if (prefix == "local_cache") figure("local_cached_vs_uncached_ratio", ratio);
+}
+
+// `count` spot lights 8 m up, pointing down and ahead, 25 m range, spread over the first 60 m of
+// the view of frame 0 (seeded): street lamps over the part of the scene the maps cover.
+void add_spots_in_view(nc::Scene& scene, uint32_t width, uint32_t height, int count) {
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  const nc::Camera camera = nc::base_camera(scene, settings);
+  const glm::dvec3 eye = glm::dvec3(camera.world[3]);
+  const double tan_x = std::tan(camera.yfov / 2) * width / height;
+  std::mt19937 rng{uint32_t(count)};
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int i = 0; i < count; ++i) {
+    const double depth = 10.0 + 50.0 * unit(rng);
+    const glm::dvec3 local((unit(rng) * 2 - 1) * tan_x * depth * 0.8, 0.0, -depth);
+    nc::Light spot;
+    spot.type = nc::LightType::spot;
+    spot.position = eye + glm::dvec3(camera.world * glm::dvec4(local, 0.0));
+    spot.position.y = 8.0;
+    spot.direction = glm::normalize(glm::vec3(glm::dvec3(camera.world * glm::dvec4(0.0, 0.0, -0.3, 0.0))) +
+                                    glm::vec3(0.0f, -1.0f, 0.0f));
+    spot.intensity = 2000.0f;
+    spot.range = 25.0f;
+    spot.inner_cone = 0.4f;
+    spot.outer_cone = 0.7f;
+    scene.lights.push_back(spot);
+  }
+}
+
 // Spot light shadows (shadow.local_plan, shadow.local, shadow.local_moments; issue 14 item 4):
 // their time on the built-in city's street (its spot lights) and lighting.tiled's with and
 // without them, with the default settings (4 moments) and for each of shadow.local_plan's
 // `moments` (4: moment shadow maps, msm4; 2: VSM); the umbra leak of both under two stacked
 // occluders, plain (local_bleeding 0, accuracy.md's baseline for VSM) and with the default
 // light-bleeding reduction; resolution × blur radius (default settings) against the
-// disagreement with the ray cast (tests/reference/local_shadow_reference.h). No caching exists yet.
+// disagreement with the ray cast (tests/reference/local_shadow_reference.h); the cache: frame 3
+// of a still camera with shadow.local_plan.cache on and off, in this process (CPU passes by
+// their clock, GPU ones by timestamps; median of --repeats runs of frames 0 to 3).
 //  - local_plan_ms_city, local_ms_city, local_moments_ms_city, local_maps_city,
-//    local_tiled_ms_city, local_tiled_ms_city_unshadowed
+//    local_tiled_ms_city, local_tiled_ms_city_unshadowed (frame 0, the cache off: every map drawn)
 //  - local_moments_ms_city_{msm4,vsm}, local_tiled_ms_city_{msm4,vsm}
+//  - local_cache.on_ms, local_cache.off_ms: shadow.local_plan + shadow.local_static + shadow.local +
+//    shadow.local_moments, frame 3; local_cached_vs_uncached_ratio (on / off);
+//    local_cache.<pass>.{on,off}_ms; local_cache.reused_maps (frame 3, cache on)
+//  - local_cache_map.*: the same on the 2 km map's street shot with 8 spot lights over its first
+//    60 m (add_spots_in_view); local_cache_boxes.*: 1 600 small boxes under 4 spot lights, maps
+//    with many static casters
 //  - local_leak_{max,mean}_{vsm,msm4}[_low][_bleed0.2]: the lower occluder 2 m up (_low: 0.5 m),
 //    plain or with local_bleeding 0.2
 //  - local.res<R>_blur<B>.{map_ms,moments_ms,disagree,mean_error}, and local.res512_blur1_vsm.*
@@ -1931,6 +2015,7 @@ void bench_local(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
     uint32_t maps = 0;
     for (int shadowed = 1; shadowed >= 0; --shadowed) {
       settings.params["shadow.local_plan"]["max_maps"] = shadowed ? 8 : 0;
+      settings.params["shadow.local_plan"]["cache"] = 0;  // repeated frames would reuse the maps
       nc::Renderer renderer(gpu, city, settings);
       for (int r = 0; r < repeats; ++r) {
         const nc::RenderedFrame frame = renderer.render_frame(0, false);
@@ -1983,6 +2068,21 @@ void bench_local(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
       figure(std::string("local_moments_ms_city_") + variant, median(ms[std::string("moments_") + variant]));
       figure(std::string("local_tiled_ms_city_") + variant, median(ms[std::string("tiled_") + variant]));
     }
+
+    bench_local_cache(gpu, city, settings, repeats, "local_cache", "built-in city");
+    nc::Scene street = nc::build_map({1, 2.0, nc::Shot::street});
+    nc::add_default_lighting(street);
+    add_spots_in_view(street, width, height, 8);
+    bench_local_cache(gpu, street, settings, repeats, "local_cache_map", "2 km map, street shot, 8 spot lights");
+    // Many static casters per map: 1 600 small boxes (19 200 triangles) under 4 spot lights.
+    std::vector<std::pair<glm::dvec3, glm::dvec3>> boxes;
+    for (int k = 0; k < 1600; ++k)
+      boxes.push_back({{-10.0 + 0.5 * (k % 40), 0.15 + 0.1 * (k % 3), -10.0 + 0.5 * (k / 40)}, {0.12, 0.15, 0.12}});
+    std::vector<nc::Light> spots;
+    for (int k = 0; k < 4; ++k)
+      spots.push_back(ref::spot_light({-5.0 + 10.0 * (k % 2), 6.0, -5.0 + 10.0 * (k / 2)}, {0.0f, -1.0f, 0.0f}, 15.0f));
+    bench_local_cache(gpu, ref::boxes_scene(boxes, spots, {0.0, 14.0, 16.0}, {0.0, 0.0, 0.0}), settings, repeats,
+                      "local_cache_boxes", "1 600 boxes under 4 spot lights");
   }
   // Lighting with and without the maps at 480×270 (the unit test's size), and the comparison.
   auto compare = [&](const nc::Scene& scene, const glm::dvec3& eye, std::map<std::string, nc::ParamValues> params,
@@ -1997,7 +2097,7 @@ void bench_local(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
       std::vector<double> map, moments;
       for (int r = 0; r < repeats; ++r) {
         const nc::RenderedFrame frame = shadowed.render_frame(0, false);
-        map.push_back(frame_pass_ms(frame, "shadow.local"));
+        map.push_back(frame_pass_ms(frame, "shadow.local_static") + frame_pass_ms(frame, "shadow.local"));
         moments.push_back(frame_pass_ms(frame, "shadow.local_moments"));
       }
       (*pass_ms)["map"] = median(map);
@@ -2046,7 +2146,8 @@ void bench_local(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
   rows.push_back({512, 1, true});
   for (const auto& [resolution, blur, vsm] : rows) {
     std::map<std::string, double> pass_ms;
-    std::map<std::string, nc::ParamValues> params{{"shadow.local", {{"resolution", resolution}}},
+    std::map<std::string, nc::ParamValues> params{{"shadow.local_static", {{"resolution", resolution}}},
+                                                  {"shadow.local", {{"resolution", resolution}}},
                                                   {"shadow.local_moments", {{"blur_radius", blur}}}};
     if (vsm) params["shadow.local_plan"]["moments"] = 2;
     const ref::LocalComparison c = compare(ref::spot_boxes_scene(), ref::kSpotBoxesEye, params, &pass_ms);

@@ -3,12 +3,17 @@
 // its own record, the previous frames' static cascade depth being a declared history input; the
 // recorded shadow.cull_stats say a still camera kept every cascade's static depth from frame 1
 // on and a driving one redrew it; the recorded distant plans redraw every level at frame 0 (the
-// history reset), stay within the budget after, and draw nothing for a still camera.
+// history reset), stay within the budget after, and draw nothing for a still camera. The
+// built-in city's spot light maps likewise: frame 3 replays from its own record (the plan's
+// previous record and the static slots' previous depth being history inputs), frame 0 refreshes
+// every map and frames 1-3 reuse them.
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <set>
 
 #include "captures/capture.h"
+#include "passes/shadow/local_layout.h"
 #include "passes/shadow/shadow_layout.h"
 #include "tests/e2e/cli.h"
 
@@ -85,6 +90,48 @@ TEST(ShadowCache, FrameThreeReplaysAndTheRecordsSayWhatWasKept) {
         EXPECT_EQ(history->hash, before->hash)
             << "frame " << k << " read something else than frame " << k - 1 << " wrote";
       }
+    }
+  }
+}
+
+TEST(ShadowCache, SpotLightMapsAreKeptAndFrameThreeReplays) {
+  const std::filesystem::path path =
+      shared_capture("local-cache-still", "--city-block --size 160x90 --frames 4 --motion static");
+  const CliResult r = run_cli("replay --verify --json --frame 3 " + quote(path));
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const nlohmann::json report = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(report.at("different").get<bool>());
+  std::set<std::string> replayed;
+  for (const auto& p : report.at("passes")) {
+    if (p.at("replayed").get<bool>()) replayed.insert(p.at("name").get<std::string>());
+    for (const auto& o : p.value("outputs", nlohmann::json::array()))
+      EXPECT_EQ(o.at("verdict"), "identical") << p.at("name") << " " << o.at("resource");
+  }
+  for (const char* pass : {"shadow.local_plan", "shadow.local_static", "shadow.local", "shadow.local_moments"})
+    EXPECT_TRUE(replayed.count(pass)) << pass;
+
+  const Capture capture = Capture::open(path);
+  ASSERT_EQ(capture.manifest().frames.size(), 4u);
+  for (uint32_t k = 0; k < 4; ++k) {
+    const FrameRecord& frame = capture.frame(k);
+    const ResourceRecord* record = find_resource(frame, "shadow.local_plan", "shadow.local_plan", true);
+    ASSERT_TRUE(record) << "frame " << k;
+    const auto plan = load_record<LocalShadowPlan>(capture, *record);
+    EXPECT_GT(plan.maps, 0u) << "frame " << k;
+    EXPECT_EQ(plan.reset, k == 0 ? 1u : 0u) << "frame " << k;
+    EXPECT_EQ(plan.reused, k == 0 ? 0u : plan.maps) << "frame " << k;
+    for (uint32_t m = 0; m < plan.maps; ++m)
+      EXPECT_EQ(plan.slot_state[plan.slice_slot[m]],
+                uint32_t(k == 0 ? LocalSlotState::refreshed_reset : LocalSlotState::reused))
+          << "frame " << k << ", map " << m;
+    if (k > 0) {
+      const ResourceRecord* history =
+          find_resource(frame, "shadow.local_static", "shadow.local_static@previous", false);
+      const ResourceRecord* before =
+          find_resource(capture.frame(k - 1), "shadow.local_static", "shadow.local_static", true);
+      ASSERT_TRUE(history && before) << "frame " << k;
+      EXPECT_EQ(history->hash, before->hash)
+          << "frame " << k << " read something else than frame " << k - 1 << " wrote";
     }
   }
 }

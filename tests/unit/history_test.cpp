@@ -125,7 +125,7 @@ PassDecl shift_left_pass() {
   return PassDecl("shift", PassType::compute)
       .read_previous("sum", Use::sampled)
       .write("sum", Use::storage_write, sum)
-      .run([](PassContext& ctx) { ctx.copy_layer(previous("sum"), "sum", 0, 1, 0); });
+      .run([](PassContext& ctx) { ctx.copy_layer(previous("sum"), 0, "sum", 0, 1, 0); });
 }
 
 TEST_F(History, CopyLayerMovesThePreviousFrameAndClearsWhatItUncovers) {

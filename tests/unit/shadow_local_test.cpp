@@ -25,7 +25,18 @@
 // - stress (a light inside a caster, a light at the camera, 120 spot lights; 4 and 2 moments):
 //   every float output finite, and each local shadow pass and lighting.tiled run again on its
 //   recorded inputs writes the same bytes;
-//   the agreement scene moved to the 16 km map's far corner keeps the agreement bound.
+//   the agreement scene moved to the 16 km map's far corner keeps the agreement bound;
+// - caching (shadow.local_plan.cache on and off, frames 0-4 of a still camera and of a driving
+//   one, a box moving under the lights): shadow.local_moments and lighting.diffuse the same bytes every frame;
+//   frame 0 refreshes every map (reset), frames 1-4 reuse every one and draw only the moving
+//   box, whose shadow moves; a camera cut refreshes them all again (reset); frame 3 reads frame
+//   2's static depth as history and each pass of it replays from its record alone;
+// - throttling: the plan run on a recorded frame whose previous record holds none of its lights
+//   refreshes max_refreshes of them and records the others as throttled, without a map; a slot
+//   whose light has no map is kept keep_frames frames, then freed;
+// - stress (120 spot lights along a driving camera's path, 16 maps): after frame 0 at most max_refreshes
+//   refreshes a frame, some lights throttled, no two maps in one slot, a reused slot holding the
+//   light it held, no slot kept past keep_frames, and the last frame's passes replay.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -53,7 +64,7 @@ using glm::dvec3;
 using reference::LocalComparison;
 
 struct Frame {
-  RecordedPass plan, map, moments, lighting;
+  RecordedPass plan, statics, map, moments, lighting;
   std::set<std::string> ran;
   std::map<std::string, ParamValues> params;
   std::string non_finite;
@@ -65,22 +76,36 @@ class LocalShadows : public GpuTest {
  protected:
   static Frame render(const Scene& scene, uint32_t width, uint32_t height,
                       std::map<std::string, ParamValues> params = {}) {
+    return render_frames(scene, width, height, 1, std::move(params)).at(0);
+  }
+
+  // Frames 0 to count − 1 (cut at the frames in `cuts`).
+  static std::vector<Frame> render_frames(const Scene& scene, uint32_t width, uint32_t height, uint32_t count,
+                                          std::map<std::string, ParamValues> params = {}, std::set<uint32_t> cuts = {},
+                                          CameraPath::Motion motion = CameraPath::Motion::still) {
     RenderSettings settings;
     settings.width = width;
     settings.height = height;
-    settings.path.motion = CameraPath::Motion::still;
+    settings.path.motion = motion;
+    settings.path.cuts = std::move(cuts);
     settings.sinks = {"lighting.diffuse"};
     settings.params = std::move(params);
     Renderer renderer(*gpu_, scene, settings);
-    const RenderedFrame rendered = renderer.render_frame(0, true);
+    std::vector<Frame> frames;
+    for (uint32_t i = 0; i < count; ++i) frames.push_back(frame_of(renderer.render_frame(i, true), settings));
+    return frames;
+  }
+
+  static Frame frame_of(const RenderedFrame& rendered, const RenderSettings& settings) {
     Frame f;
-    f.width = width;
-    f.height = height;
+    f.width = settings.width;
+    f.height = settings.height;
     f.non_finite = first_non_finite(rendered.execution);
     f.params = settings.params;
     for (const auto& pass : rendered.graph.passes)
       if (pass.runs) f.ran.insert(pass.decl->name);
     f.plan = recorded_pass(rendered, "shadow.local_plan");
+    f.statics = recorded_pass(rendered, "shadow.local_static");
     f.map = recorded_pass(rendered, "shadow.local");
     f.moments = recorded_pass(rendered, "shadow.local_moments");
     f.lighting = recorded_pass(rendered, "lighting.tiled");
@@ -110,8 +135,9 @@ class LocalShadows : public GpuTest {
   // recorded for it writes the same bytes.
   static void expect_replays(const Frame& f) {
     for (const auto& [decl, r] :
-         {std::pair{shadow_local_plan_pass(), &f.plan}, std::pair{shadow_local_pass(), &f.map},
-          std::pair{shadow_local_moments_pass(), &f.moments}, std::pair{lighting_tiled_pass(), &f.lighting}}) {
+         {std::pair{shadow_local_plan_pass(), &f.plan}, std::pair{shadow_local_static_pass(), &f.statics},
+          std::pair{shadow_local_pass(), &f.map}, std::pair{shadow_local_moments_pass(), &f.moments},
+          std::pair{lighting_tiled_pass(), &f.lighting}}) {
       if (r->outputs.empty()) continue;
       const auto params = f.params.find(decl.name);
       const IsolatedRun again =
@@ -295,14 +321,18 @@ TEST_F(LocalShadows, SelectionKeepsMaxMapsAndRecordsWhy) {
   uint32_t selected = 0, over = 0, unbounded = 0;
   for (uint32_t k = 0; k < f.record.candidates; ++k) {
     const auto reason = LocalShadowReason(f.record.candidate_reason[k]);
-    selected += reason == LocalShadowReason::selected;
+    selected += reason == LocalShadowReason::refreshed;
     over += reason == LocalShadowReason::over_budget;
     unbounded += reason == LocalShadowReason::unbounded_range;
   }
   EXPECT_EQ(selected, 4u);
   EXPECT_EQ(over, 16u);
   EXPECT_EQ(unbounded, 1u);
-  for (uint32_t s = 0; s < 4; ++s) EXPECT_GT(f.record.slice_draws[s], 0u) << "map " << s << " has no caster";
+  for (uint32_t s = 0; s < 4; ++s) {
+    EXPECT_GT(f.record.slice_draws[s], 0u) << "map " << s << " has no caster";
+    EXPECT_EQ(f.record.slot_state[f.record.slice_slot[s]], uint32_t(LocalSlotState::refreshed_reset)) << s;
+  }
+  EXPECT_EQ(f.record.reset, 1u);
   expect_replays(f);
 }
 
@@ -331,6 +361,215 @@ TEST_F(LocalShadows, StressCases) {
     EXPECT_GT(f.record.dropped, 100u);
     expect_replays(f);
   }
+}
+
+// Three spot lights over boxes, and a box driving under them at 6 m/s (a moving instance: a
+// caster drawn over the cached static depth each frame).
+Scene cache_scene(uint32_t lights = 3) {
+  const std::vector<Light> all{reference::spot_light({0.6, 6.0, 0.4}, {-0.1f, -1.0f, 0.05f}, 15.0f),
+                               reference::spot_light({-3.0, 5.0, -2.0}, {0.2f, -1.0f, 0.1f}, 12.0f),
+                               reference::spot_light({3.0, 5.0, 2.0}, {-0.2f, -1.0f, -0.1f}, 12.0f),
+                               reference::spot_light({-3.0, 5.0, 3.0}, {0.1f, -1.0f, -0.2f}, 12.0f),
+                               reference::spot_light({2.0, 5.0, -3.0}, {-0.1f, -1.0f, 0.2f}, 12.0f)};
+  Scene scene = reference::boxes_scene(
+      {{{0.0, 1.0, 0.0}, {0.8, 1.0, 0.8}}, {{-1.5, 2.5, 1.5}, {1.0, 0.05, 1.0}}, {{-2.5, 0.5, -2.0}, {0.5, 0.5, 0.5}}},
+      std::vector<Light>(all.begin(), all.begin() + lights), kEye, {0.0, 0.0, 0.0});
+  Instance vehicle = scene.instances.back();
+  vehicle.world[3] = glm::dvec4(-2.0, 0.5, 2.5, 1.0);
+  vehicle.moving = true;
+  vehicle.velocity = {6.0f, 0.0f, 0.0f};
+  scene.instances.push_back(vehicle);
+  return scene;
+}
+
+const std::vector<uint8_t>& output_bytes(const RecordedPass& pass, const std::string& resource) {
+  return *pass.outputs.at(resource).bytes;
+}
+
+TEST_F(LocalShadows, CachingChangesNoShadowAcrossFrames) {
+  const Scene scene = cache_scene();
+  for (const CameraPath::Motion motion : {CameraPath::Motion::still, CameraPath::Motion::drive}) {
+    SCOPED_TRACE(CameraPath::motion_name(motion));
+    std::map<std::string, ParamValues> params{{"shadow.local_plan", {{"max_refreshes", 16}}}};
+    const std::vector<Frame> on = render_frames(scene, 320, 180, 5, params, {}, motion);
+    params["shadow.local_plan"]["cache"] = 0;
+    const std::vector<Frame> off = render_frames(scene, 320, 180, 5, params, {}, motion);
+    uint32_t moving = 0;
+    for (uint32_t i = 0; i < on.size(); ++i) {
+      SCOPED_TRACE("frame " + std::to_string(i));
+      EXPECT_EQ(on[i].non_finite, "");
+      ASSERT_EQ(on[i].record.maps, 3u);
+      ASSERT_EQ(off[i].record.maps, 3u);
+      EXPECT_EQ(on[i].record.reset, i == 0 ? 1u : 0u);
+      EXPECT_EQ(on[i].record.refreshed, i == 0 ? 3u : 0u);
+      EXPECT_EQ(on[i].record.reused, i == 0 ? 0u : 3u);
+      std::printf("%s, cache on, frame %u: slot states", CameraPath::motion_name(motion).c_str(), i);
+      for (uint32_t k = 0; k < 3; ++k) {
+        const uint32_t state = on[i].record.slot_state[on[i].record.slice_slot[k]];
+        std::printf(" %u (%u of %u draws moving)", state, on[i].record.slice_moving_draws[k],
+                    on[i].record.slice_draws[k]);
+        EXPECT_EQ(state, uint32_t(i == 0 ? LocalSlotState::refreshed_reset : LocalSlotState::reused)) << "map " << k;
+        EXPECT_EQ(on[i].record.candidate_reason[k],
+                  uint32_t(i == 0 ? LocalShadowReason::refreshed : LocalShadowReason::reused));
+        EXPECT_EQ(off[i].record.slot_state[off[i].record.slice_slot[k]], uint32_t(LocalSlotState::refreshed_cache_off));
+        if (i > 0) {
+          EXPECT_EQ(on[i].record.slice_draws[k], on[i].record.slice_moving_draws[k]) << "static casters listed";
+        }
+        moving += on[i].record.slice_moving_draws[k];
+      }
+      std::printf("\n");
+      EXPECT_TRUE(output_bytes(on[i].moments, "shadow.local_moments") ==
+                  output_bytes(off[i].moments, "shadow.local_moments"))
+          << "shadow.local_moments differs with the cache off";
+      EXPECT_TRUE(output_bytes(on[i].lighting, "lighting.diffuse") == output_bytes(off[i].lighting, "lighting.diffuse"))
+          << "lighting.diffuse differs with the cache off";
+      if (i > 1) {
+        EXPECT_TRUE(output_bytes(on[i].statics, "shadow.local_static") ==
+                    output_bytes(on[1].statics, "shadow.local_static"))
+            << "the static depth changed";
+      }
+    }
+    EXPECT_GT(moving, 0u) << "the test needs the moving box in a map";
+    EXPECT_FALSE(output_bytes(on[4].map, "shadow.local") == output_bytes(on[0].map, "shadow.local"))
+        << "the moving box's shadow did not move";
+    ASSERT_TRUE(on[3].statics.inputs.count(previous("shadow.local_static")));
+    EXPECT_TRUE(*on[3].statics.inputs.at(previous("shadow.local_static")).bytes ==
+                output_bytes(on[2].statics, "shadow.local_static"))
+        << "frame 3 reads frame 2's static depth";
+    ASSERT_TRUE(on[3].plan.inputs.count(previous("shadow.local_plan")));
+    EXPECT_TRUE(*on[3].plan.inputs.at(previous("shadow.local_plan")).bytes ==
+                output_bytes(on[2].plan, "shadow.local_plan"));
+    expect_replays(on[3]);
+  }
+}
+
+TEST_F(LocalShadows, ACameraCutRefreshesEveryMap) {
+  const std::vector<Frame> frames = render_frames(cache_scene(), 320, 180, 4, {}, {2});
+  for (uint32_t i = 0; i < frames.size(); ++i) {
+    SCOPED_TRACE("frame " + std::to_string(i));
+    const LocalShadowPlan& r = frames[i].record;
+    const bool reset = i == 0 || i == 2;
+    EXPECT_GT(r.maps, 0u);
+    EXPECT_EQ(r.reset, reset ? 1u : 0u);
+    EXPECT_EQ(r.throttled, 0u);
+    for (uint32_t k = 0; k < r.maps; ++k)
+      EXPECT_EQ(r.slot_state[r.slice_slot[k]],
+                uint32_t(reset ? LocalSlotState::refreshed_reset : LocalSlotState::reused))
+          << "map " << k;
+  }
+  EXPECT_TRUE(frames[2].plan.inputs.at(previous("shadow.local_plan")).bytes->empty()) << "a cut forgets the record";
+  expect_replays(frames[2]);
+}
+
+// Frame 1's plan run again on its recorded inputs, but with a previous record that holds none
+// of its lights, as when they have just come into view: max_refreshes of them get a map.
+TEST_F(LocalShadows, RefreshesPastTheBudgetAreThrottled) {
+  const std::map<std::string, ParamValues> params{{"shadow.local_plan", {{"max_refreshes", 2}}}};
+  const std::vector<Frame> frames = render_frames(cache_scene(5), 320, 180, 2, params);
+  ASSERT_EQ(frames[0].record.maps, 5u) << "the first frame is not throttled";
+  EXPECT_EQ(frames[1].record.reused, 5u);
+  std::map<std::string, IsolatedInput> inputs = frames[1].plan.inputs;
+  LocalShadowPlan before{};
+  const auto& kept = *inputs.at(previous("shadow.local_plan")).bytes;
+  ASSERT_EQ(kept.size(), sizeof before);
+  std::memcpy(&before, kept.data(), sizeof before);
+  std::fill(std::begin(before.slot_light), std::end(before.slot_light), kLocalNoLight);
+  std::fill(std::begin(before.slot_state), std::end(before.slot_state), uint32_t(LocalSlotState::empty));
+  const auto* bytes = reinterpret_cast<const uint8_t*>(&before);
+  inputs.at(previous("shadow.local_plan")).bytes =
+      std::make_shared<const std::vector<uint8_t>>(bytes, bytes + sizeof before);
+  const IsolatedRun again = run(shadow_local_plan_pass(), inputs, 320, 180, params.at("shadow.local_plan"));
+  LocalShadowPlan r{};
+  std::memcpy(&r, again.outputs.at("shadow.local_plan")->data(), sizeof r);
+  EXPECT_EQ(r.reset, 0u);
+  EXPECT_EQ(r.maps, 2u);
+  EXPECT_EQ(r.refreshed, 2u);
+  EXPECT_EQ(r.throttled, 3u);
+  EXPECT_EQ(r.dropped, 3u);
+  for (uint32_t k = 0; k < 5; ++k)
+    EXPECT_EQ(r.candidate_reason[k], uint32_t(k < 2 ? LocalShadowReason::refreshed : LocalShadowReason::throttled))
+        << "rank " << k;
+  for (uint32_t k = 0; k < 2; ++k) EXPECT_EQ(r.slot_state[r.slice_slot[k]], uint32_t(LocalSlotState::refreshed_new));
+  std::vector<int32_t> slots(again.outputs.at("shadow.local_slots")->size() / sizeof(int32_t));
+  std::memcpy(slots.data(), again.outputs.at("shadow.local_slots")->data(), slots.size() * sizeof(int32_t));
+  for (uint32_t k = 2; k < 5; ++k) EXPECT_EQ(slots.at(r.candidate_light[k]), -1) << "a throttled light has a map";
+}
+
+// 120 spot lights in a row 5 cm apart along a driving camera's path: the nearest ones rank first
+// (range over distance), so about 5 lights join the 16 maps each frame and the refresh budget
+// binds.
+TEST_F(LocalShadows, CacheUnderChurnKeepsItsRules) {
+  std::vector<Light> lights;
+  for (int k = 0; k < 120; ++k)
+    lights.push_back(reference::spot_light({0.0, 3.0, 3.0 - 0.05 * k}, {0.1f, -1.0f, 0.0f}, 5.0f));
+  const Scene scene = reference::boxes_scene({{{0.0, 1.0, 0.0}, {0.6, 0.6, 0.6}}, {{1.5, 1.0, -2.0}, {0.3, 1.0, 0.3}}},
+                                             lights, {0.5, 2.0, 3.5}, {0.5, 1.5, -10.0});
+  const std::vector<Frame> frames = render_frames(
+      scene, 320, 180, 6, {{"shadow.local_plan", {{"max_maps", 16}, {"max_refreshes", 2}, {"keep_frames", 1}}}}, {},
+      CameraPath::Motion::drive);
+  uint32_t throttled = 0;
+  for (uint32_t i = 0; i < frames.size(); ++i) {
+    SCOPED_TRACE("frame " + std::to_string(i));
+    const LocalShadowPlan& r = frames[i].record;
+    EXPECT_EQ(frames[i].non_finite, "");
+    std::printf("churn, frame %u: %u maps, %u refreshed, %u reused, %u throttled\n", i, r.maps, r.refreshed, r.reused,
+                r.throttled);
+    EXPECT_LE(r.maps, 16u);
+    EXPECT_EQ(r.refreshed + r.reused, r.maps);
+    if (i > 0) {
+      EXPECT_LE(r.refreshed, 2u);
+    }
+    throttled += r.throttled;
+    for (uint32_t slot = 0; slot < kLocalShadowSlices; ++slot) {
+      if (r.slot_state[slot] == uint32_t(LocalSlotState::kept)) {
+        EXPECT_LE(r.slot_idle[slot], 1u) << "slot " << slot << " kept past keep_frames";
+      }
+    }
+    std::set<uint32_t> used;
+    for (uint32_t k = 0; k < r.maps; ++k) {
+      EXPECT_TRUE(used.insert(r.slice_slot[k]).second) << "two maps in slot " << r.slice_slot[k];
+      const auto state = LocalSlotState(r.slot_state[r.slice_slot[k]]);
+      EXPECT_TRUE(state == LocalSlotState::reused || state == LocalSlotState::refreshed_new ||
+                  state == LocalSlotState::refreshed_reset)
+          << "map " << k << ": state " << uint32_t(state);
+      if (state == LocalSlotState::reused) {
+        const LocalShadowPlan& before = frames[i - 1].record;
+        EXPECT_EQ(before.slot_light[r.slice_slot[k]], r.slot_light[r.slice_slot[k]]) << "reused another light's slot";
+      }
+    }
+  }
+  EXPECT_GT(throttled, 0u) << "the test needs the budget to bind";
+  expect_replays(frames.back());
+}
+
+// Frame 1's plan run again with two more slots in its previous record, holding lights that have
+// no map now: one idle 59 frames (kept, keep_frames being 60), one idle 60 (freed).
+TEST_F(LocalShadows, ASlotWithoutAMapIsKeptForKeepFrames) {
+  const std::vector<Frame> frames = render_frames(cache_scene(), 320, 180, 2);
+  ASSERT_EQ(frames[1].record.maps, 3u);
+  std::map<std::string, IsolatedInput> inputs = frames[1].plan.inputs;
+  LocalShadowPlan before{};
+  const auto& kept = *inputs.at(previous("shadow.local_plan")).bytes;
+  ASSERT_EQ(kept.size(), sizeof before);
+  std::memcpy(&before, kept.data(), sizeof before);
+  for (uint32_t slot : {10u, 11u}) {
+    ASSERT_EQ(before.slot_light[slot], kLocalNoLight);
+    before.slot_light[slot] = 100 + slot;  // no light of the scene: never a candidate
+    before.slot_state[slot] = uint32_t(LocalSlotState::kept);
+    before.slot_idle[slot] = slot == 10 ? 59 : 60;
+  }
+  const auto* bytes = reinterpret_cast<const uint8_t*>(&before);
+  inputs.at(previous("shadow.local_plan")).bytes =
+      std::make_shared<const std::vector<uint8_t>>(bytes, bytes + sizeof before);
+  const IsolatedRun again = run(shadow_local_plan_pass(), inputs, 320, 180);
+  LocalShadowPlan r{};
+  std::memcpy(&r, again.outputs.at("shadow.local_plan")->data(), sizeof r);
+  EXPECT_EQ(r.reused, 3u);
+  EXPECT_EQ(r.slot_light[10], 110u);
+  EXPECT_EQ(r.slot_state[10], uint32_t(LocalSlotState::kept));
+  EXPECT_EQ(r.slot_idle[10], 60u);
+  EXPECT_EQ(r.slot_light[11], kLocalNoLight);
+  EXPECT_EQ(r.slot_state[11], uint32_t(LocalSlotState::empty));
 }
 
 }  // namespace

@@ -1,0 +1,68 @@
+// shadow.local_static: the static casters' depth of each spot light's map [004 §3], in
+// kLocalShadowSlices cache slots (a D32 2D array) kept across frames as history.
+// shadow.local_plan says what each slot holds (LocalShadowPlan::slot_state): a slot whose light
+// and view are the previous frame's is copied from history (a transfer copy, PassContext::copy_layer), whether its
+// light has a map this frame or not; a refreshed one is cleared and its static casters drawn (the first part of its
+// map's range of draws.shadow.local); an empty one stays cleared. shadow.local then lays each map's slot down and draws
+// the moving casters over it. The depth test keeps the least depth whatever the order of draws, so the sum is the map
+// drawn in one go, bit for bit. Skipped with no spot light in the scene.
+#include "passes/core/context.h"
+#include "passes/frame/draw_scene.h"
+#include "passes/frame/frame_passes.h"
+#include "passes/frame/scene_resources.h"
+#include "passes/shadow/local_layout.h"
+
+namespace nightcap {
+
+PassDecl shadow_local_static_pass() {
+  ImageDecl map{VK_FORMAT_D32_SFLOAT, ResourceKind::lookup_table};
+  map.size.mode = SizeRule::Mode::square_param;
+  map.size.param = "resolution";
+  map.layers = kLocalShadowSlices;
+  map.clear.depthStencil = {1.0f, 0};
+  return PassDecl("shadow.local_static", PassType::graphics)
+      .read("frame.constants", Use::uniform_buffer)
+      .read("scene.geometry", Use::storage_read)
+      .read("draws.shadow.local", Use::storage_read)
+      .read("shadow.local_views", Use::uniform_buffer)
+      .read_previous("shadow.local_static", Use::sampled)
+      .read("scene.geometry", Use::index_buffer)
+      .read("scene.materials", Use::host)
+      .read("shadow.local_plan", Use::host)
+      .write("shadow.local_static", Use::depth_attachment, map)
+      .param("resolution", kLocalShadowResolution, 64, 2048, "texels per side of each slot: shadow.local's")
+      .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
+      .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
+      .needs("spot_lights")
+      .push_constants<uint32_t>()
+      .shader("shadow/local.vert")
+      .run([](PassContext& ctx) {
+        const auto plan = host_records<LocalShadowPlan>(ctx.host("shadow.local_plan")).at(0);
+        if (plan.maps > kLocalShadowSlices)
+          throw GraphError("shadow.local_static: shadow.local_plan records " + std::to_string(plan.maps) + " maps");
+        for (uint32_t slot = 0; slot < kLocalShadowSlices; ++slot) {
+          const auto state = LocalSlotState(plan.slot_state[slot]);
+          if (state == LocalSlotState::reused || state == LocalSlotState::kept) {
+            ctx.copy_layer(previous("shadow.local_static"), slot, "shadow.local_static", slot);
+            continue;
+          }
+          ctx.begin_rendering({}, "shadow.local_static", 0, slot);
+          if (state != LocalSlotState::empty) {
+            for (uint32_t map = 0; map < plan.maps; ++map) {
+              const uint32_t statics = plan.slice_draws[map] - plan.slice_moving_draws[map];
+              if (plan.slice_slot[map] != slot || statics == 0) continue;
+              ctx.bind_pipeline();
+              std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.local");
+              bindings.push_back(Binding::uniform(ctx.slot("shadow.local_views"), "shadow.local_views"));
+              ctx.push(bindings);
+              ctx.push_constants(slot);
+              draw_scene(ctx, "draws.shadow.local", [](uint32_t, const GpuMaterial&) {},
+                         {plan.slice_first_draw[map], statics});
+            }
+          }
+          ctx.end_rendering();
+        }
+      });
+}
+
+}  // namespace nightcap
