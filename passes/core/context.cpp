@@ -292,6 +292,17 @@ void PassContext::begin_rendering(const std::vector<std::string>& colors, const 
   vkCmdSetStencilReference(cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, 0);
 }
 
+namespace {
+
+// Every aspect of an image of `format`.
+VkImageAspectFlags aspects_of(const FormatInfo& format) {
+  if (!format.is_depth) return VK_IMAGE_ASPECT_COLOR_BIT;
+  if (!format.has_stencil) return VK_IMAGE_ASPECT_DEPTH_BIT;
+  return VK_IMAGE_ASPECT_DEPTH_BIT | VK_IMAGE_ASPECT_STENCIL_BIT;
+}
+
+}  // namespace
+
 void PassContext::copy_layer(const std::string& from, uint32_t from_layer, const std::string& to, uint32_t to_layer,
                              int32_t dx, int32_t dy) {
   const BoundUse* source = nullptr;
@@ -309,9 +320,7 @@ void PassContext::copy_layer(const std::string& from, uint32_t from_layer, const
   if (src.desc.format != dst.desc.format || a.width != b.width || a.height != b.height || a.depth != 1)
     throw GraphError(pass() + ": copies '" + from + "' into '" + to + "', which differ in format or size");
   const FormatInfo format = *format_info(dst.desc.format);
-  const VkImageAspectFlags aspects =
-      format.is_depth ? VK_IMAGE_ASPECT_DEPTH_BIT | (format.has_stencil ? VK_IMAGE_ASPECT_STENCIL_BIT : 0)
-                      : VK_IMAGE_ASPECT_COLOR_BIT;
+  const VkImageAspectFlags aspects = aspects_of(format);
   const VkImageSubresourceRange source_range{aspects, 0, 1, from_layer, 1}, range{aspects, 0, 1, to_layer, 1};
   const bool depth = format.is_depth;
   const AccessState read = required_state(source->use, pass_.decl->type, depth);
@@ -367,6 +376,45 @@ void PassContext::copy_layer(const std::string& from, uint32_t from_layer, const
   }
   issue({transition(src, copy_from, read), transition(dst, copy_to, written)});
   copied_layers_.insert({to, to_layer});
+}
+
+void PassContext::clear_layers(const std::string& to, uint32_t first_layer, uint32_t count, const VkClearValue& value) {
+  if (count == 0) return;
+  const BoundUse* target = nullptr;
+  for (const BoundUse& u : pass_.outputs)
+    if (u.resource == to && !u.desc.is_buffer && u.range.contains(0, first_layer) &&
+        u.range.contains(0, first_layer + count - 1))
+      target = &u;
+  if (!target)
+    throw GraphError(pass() + ": clears layers " + std::to_string(first_layer) + "+" + std::to_string(count) + " of '" +
+                     to + "' without writing them");
+  const PhysicalResource& dst = shared_.resources.at(to);
+  const FormatInfo format = *format_info(dst.desc.format);
+  const VkImageSubresourceRange range{aspects_of(format), 0, 1, first_layer, count};
+  const AccessState written = required_state(target->use, pass_.decl->type, format.is_depth);
+  const AccessState clearing = transfer_state(true);
+  auto transition = [&](const AccessState& before, const AccessState& after) {
+    auto b = vk_struct<VkImageMemoryBarrier2>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2);
+    b.srcStageMask = before.stages;
+    b.srcAccessMask = before.access;
+    b.dstStageMask = after.stages;
+    b.dstAccessMask = after.access;
+    b.oldLayout = before.layout;
+    b.newLayout = after.layout;
+    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = dst.image.image;
+    b.subresourceRange = range;
+    auto dep = vk_struct<VkDependencyInfo>(VK_STRUCTURE_TYPE_DEPENDENCY_INFO);
+    dep.imageMemoryBarrierCount = 1;
+    dep.pImageMemoryBarriers = &b;
+    vkCmdPipelineBarrier2(cmd(), &dep);
+  };
+  transition(written, clearing);
+  if (format.is_depth)
+    vkCmdClearDepthStencilImage(cmd(), dst.image.image, clearing.layout, &value.depthStencil, 1, &range);
+  else
+    vkCmdClearColorImage(cmd(), dst.image.image, clearing.layout, &value.color, 1, &range);
+  transition(clearing, written);
 }
 
 void PassContext::begin_rendering() { begin_rendering(colour_targets(declaration()), depth_target(declaration())); }

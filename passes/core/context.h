@@ -117,6 +117,10 @@ class PassContext {
   // clearing it. Called before the pass renders to or reads those layers.
   void copy_layer(const std::string& from, uint32_t from_layer, const std::string& to, uint32_t to_layer,
                   int32_t dx = 0, int32_t dy = 0);
+  // Sets layers [first_layer, first_layer + count) (mip 0) of `to`, an image the pass writes, to
+  // `value` by a transfer clear between the states the graph planned for the pass, before the
+  // pass writes them otherwise.
+  void clear_layers(const std::string& to, uint32_t first_layer, uint32_t count, const VkClearValue& value);
   void end_rendering();
   // Orders this pass's own storage writes before its next reads (e.g. between mip levels),
   // indirect arguments it wrote included.

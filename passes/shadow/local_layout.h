@@ -116,8 +116,14 @@ struct LocalShadowPlan {
   uint32_t slot_idle[kLocalShadowSlices];           // frames since the slot's light last had a map
   uint32_t candidate_light[kLocalShadowRecorded];   // frame.lights index of the first candidates, by rank
   uint32_t candidate_reason[kLocalShadowRecorded];  // LocalShadowReason
+  // The layer of the previous frame's shadow.local_moments that holds map k's moments already,
+  // or -1: its slot reused, no moving caster in it this frame nor in the previous one's map of
+  // that slot, and the same `moments`; shadow.local_moments copies such a layer.
+  int32_t moments_from[kLocalShadowSlices];
+  uint32_t moments;  // the `moments` parameter (shadow.local_data's counts.y)
+  uint32_t pad[3];
 };
-static_assert(sizeof(LocalShadowPlan) == (12 + 9 * kLocalShadowSlices + 2 * kLocalShadowRecorded) * 4);
+static_assert(sizeof(LocalShadowPlan) == (16 + 10 * kLocalShadowSlices + 2 * kLocalShadowRecorded) * 4);
 
 inline BufferSchema local_shadows_schema() {
   using S = GpuLocalShadows;
@@ -164,7 +170,9 @@ inline BufferSchema local_shadow_plan_schema() {
       .field("slot_state", &S::slot_state)
       .field("slot_idle", &S::slot_idle)
       .field("candidate_light", &S::candidate_light)
-      .field("candidate_reason", &S::candidate_reason);
+      .field("candidate_reason", &S::candidate_reason)
+      .field("moments_from", &S::moments_from)
+      .field("moments", &S::moments);
 }
 
 }  // namespace nightcap

@@ -6,12 +6,9 @@
 #include "local_moments.glsl"
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(constant_id = 0) const int BLUR = 1;
-// A layer without a map: its depth is 1 everywhere, so its moments are all 1. A constant, so
-// that lavapipe does not run the blur's loads and barriers for the empty layers too.
-layout(constant_id = 1) const bool EMPTY_LAYERS = false;
 // shadow.local_data's counts.y (the plan's `moments`): a constant, so that the 2-moment variant
 // does not pay for the 4-moment one's shared memory and sums on lavapipe.
-layout(constant_id = 2) const int MOMENTS = 4;
+layout(constant_id = 1) const int MOMENTS = 4;
 
 layout(std140, set = 0, binding = 0) uniform LocalBlock {
   vec4 clip_x[16], clip_y[16], clip_z[16], clip_w[16];  // rows of camera-relative world → clip
@@ -19,7 +16,8 @@ layout(std140, set = 0, binding = 0) uniform LocalBlock {
   uvec4 counts;
 };
 layout(set = 0, binding = 1) uniform sampler2DArray depth_maps;
-layout(set = 0, binding = 2, rgba16) uniform writeonly image2DArray moments_out;
+// Binding 2 is the previous frame's moments, which only the copies of unchanged maps read.
+layout(set = 0, binding = 3, rgba16) uniform writeonly image2DArray moments_out;
 
 layout(push_constant) uniform Params { uint first_slice; };
 
@@ -36,11 +34,6 @@ vec4 stored(vec4 b) { return MOMENTS == 4 ? encode_moments(b) : vec4(b.xy, 0.0, 
 void main() {
   int slice = int(first_slice + gl_WorkGroupID.z);
   int resolution = textureSize(depth_maps, 0).x;
-  if (EMPTY_LAYERS) {
-    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-    if (all(lessThan(pixel, ivec2(resolution)))) imageStore(moments_out, ivec3(pixel, slice), stored(vec4(1.0)));
-    return;
-  }
   ivec2 origin = ivec2(gl_WorkGroupID.xy) * 16 - BLUR;
   uint lane = gl_LocalInvocationIndex;
   vec4 range = depth_range[slice];

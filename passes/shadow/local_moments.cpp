@@ -16,14 +16,25 @@
 // The blur is separable and done in one dispatch per map: a workgroup loads its 16×16 tile and
 // an r-texel apron into shared memory, sums rows, then columns. Linear t rather than the stored
 // perspective depth: the moments' variance only measures how far apart two surfaces are when
-// the depth is linear. Layers without a map hold the moments of t = 1: nothing in front of the
-// far plane, lit. Skipped with shadow.local.
+// the depth is linear. Layers without a map hold the moments of t = 1 (nothing in front of the
+// far plane, lit), by a transfer clear. A map whose depth is unchanged since the previous frame (its slot's kept static
+// depth, no moving caster then or now: shadow.local_plan's moments_from) copies its moments from
+// the previous frame's layer instead; `blur_radius` is taken to stay the same over a run (the
+// plan cannot see it). Skipped with shadow.local.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/shadow/local_layout.h"
 
 namespace nightcap {
+
+// The quantization transform shared with the shaders, for the empty layers' clear value: the
+// GLSL is valid C++ over glm's types.
+namespace local_moments_glsl {
+using glm::mat4;
+using glm::vec4;
+#include "passes/shadow/local_moments.glsl"
+}  // namespace local_moments_glsl
 
 PassDecl shadow_local_moments_pass() {
   ImageDecl moments{VK_FORMAT_R16G16B16A16_UNORM, ResourceKind::lookup_table};
@@ -36,6 +47,7 @@ PassDecl shadow_local_moments_pass() {
       .read("shadow.local_data", Use::uniform_buffer)
       .read("shadow.local", Use::sampled)
       .read("shadow.local_plan", Use::host)
+      .read_previous("shadow.local_moments", Use::sampled)
       .write("shadow.local_moments", Use::storage_write, moments)
       .param("blur_radius", 1, 0, kLocalShadowMaxBlur, "the box blur takes (2r + 1)² texels (0: none)")
       .needs("spot_lights")
@@ -49,22 +61,42 @@ PassDecl shadow_local_moments_pass() {
             Binding::uniform(ctx.slot("shadow.local_data"), "shadow.local_data"),
             Binding::texture(ctx.slot("shadow.local"), "shadow.local", ctx.nearest_clamp(), ViewAspect::depth),
             Binding::image(ctx.slot("shadow.local_moments"), "shadow.local_moments", 0)};
-        // The maps with their blur; the empty layers filled with t = 1 by a pipeline of their own.
+        // Maps whose moments the previous frame already has (the plan says which): copied.
         const uint32_t maps = std::min(plan.maps, kLocalShadowSlices);
-        if (maps > 0) {
-          ctx.bind_pipeline({int32_t(ctx.param("blur_radius")), 0, moments});
-          ctx.push(bindings);
-          ctx.push_constants(uint32_t(0));
-          vkCmdDispatch(ctx.cmd(), groups, groups, maps);
+        std::vector<bool> copied(maps, false);
+        for (uint32_t map = 0; map < maps; ++map) {
+          const int32_t from = plan.moments_from[map];
+          if (from < 0) continue;
+          if (uint32_t(from) >= kLocalShadowSlices)
+            throw GraphError("shadow.local_moments: shadow.local_plan takes map " + std::to_string(map) +
+                             "'s moments from layer " + std::to_string(from));
+          ctx.copy_layer(previous("shadow.local_moments"), uint32_t(from), "shadow.local_moments", map);
+          copied[map] = true;
         }
-        if (maps < kLocalShadowSlices) {
+        // The others with their blur, a dispatch per run of consecutive maps.
+        bool dispatched = false;
+        for (uint32_t first = 0; first < maps;) {
+          if (copied[first]) {
+            ++first;
+            continue;
+          }
+          uint32_t end = first;
+          while (end < maps && !copied[end]) ++end;
           // Disjoint layers, but the validation's synchronization checks see the whole bound image.
-          if (maps > 0) ctx.storage_barrier();
-          ctx.bind_pipeline({0, 1, moments});
+          if (dispatched) ctx.storage_barrier();
+          ctx.bind_pipeline({int32_t(ctx.param("blur_radius")), moments});
           ctx.push(bindings);
-          ctx.push_constants(maps);
-          vkCmdDispatch(ctx.cmd(), groups, groups, kLocalShadowSlices - maps);
+          ctx.push_constants(first);
+          vkCmdDispatch(ctx.cmd(), groups, groups, end - first);
+          dispatched = true;
+          first = end;
         }
+        // The empty layers: the stored moments of t = 1 (nothing in front of the far plane), cleared.
+        VkClearValue lit{};
+        const glm::vec4 stored =
+            moments == 4 ? local_moments_glsl::encode_moments(glm::vec4(1.0f)) : glm::vec4(1.0f, 1.0f, 0.0f, 0.0f);
+        for (int c = 0; c < 4; ++c) lit.color.float32[c] = stored[c];
+        ctx.clear_layers("shadow.local_moments", maps, kLocalShadowSlices - maps, lit);
       });
 }
 

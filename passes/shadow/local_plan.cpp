@@ -259,9 +259,20 @@ class LocalPlanner {
     }
     plan.draws = uint32_t(all.size());
     data.counts.x = plan.maps;
-    data.counts.y = uint32_t(ctx_.param("moments"));
+    data.counts.y = plan.moments = uint32_t(ctx_.param("moments"));
     if (data.counts.y != 2 && data.counts.y != 4)
       throw GraphError("shadow.local_plan: moments is 2 or 4, not " + std::to_string(data.counts.y));
+    // A map whose depth is its slot's kept static depth alone, as the previous frame's map of
+    // that slot was, has that map's moments.
+    std::fill(std::begin(plan.moments_from), std::end(plan.moments_from), -1);
+    for (uint32_t map = 0; map < plan.maps; ++map) {
+      if (map_state[map] != uint32_t(LocalSlotState::reused) || plan.slice_moving_draws[map] != 0 ||
+          before.moments != plan.moments)
+        continue;
+      for (uint32_t earlier = 0; earlier < std::min(before.maps, kLocalShadowSlices); ++earlier)
+        if (before.slice_slot[earlier] == plan.slice_slot[map] && before.slice_moving_draws[earlier] == 0)
+          plan.moments_from[map] = int32_t(earlier);
+    }
     store("shadow.local_data", &data, sizeof(data));
     store("shadow.local_views", &views, sizeof(views));
     store("shadow.local_slots", slots.data(), slots.size() * sizeof(int32_t));

@@ -2241,70 +2241,79 @@ void bench_tod(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats)
 }
 
 // The shadow passes with a `cache` parameter.
-constexpr const char* kShadowCaches[] = {"shadow.cull", "shadow.distant_plan"};
+constexpr const char* kShadowCaches[] = {"shadow.cull", "shadow.distant_plan", "shadow.local_plan"};
 
-// The sun's shadows across frames: frame 3 of a still camera (vehicles still move) on the street
-// shot of a 2 km map at --size, rendered as far as shadow.sun with every shadow cache
-// (kShadowCaches) on and off in this process: every shadow pass's own time (CPU passes by their
-// clock, GPU ones by timestamps; median of --repeats runs of frames 0 to 3), and the sums' ratio.
+// Every shadow across frames: frame 3 of a still camera (vehicles still move) on the street shot
+// of a 2 km map at --size, rendered as far as shadow.sun and shadow.local_moments with every
+// shadow cache (kShadowCaches) on and off in this process: every shadow pass's own time (CPU
+// passes by their clock, GPU ones by timestamps; median of --repeats runs of frames 0 to 3), and
+// the sums' ratio. The street as built (no spot light: the sun's passes), and again with 8 spot
+// lights in view (add_spots_in_view), over the traffic.
 //  - static_cached_vs_uncached_ratio (the sums of the shadow.* passes' times, caches on / off)
 //  - shadow_cache.on_ms, shadow_cache.off_ms (those sums), shadow_cache.<pass>.{on,off}_ms
 //  - shadow_cache.cascades_ratio: the same over the cascades' passes (shadow.cull,
 //    shadow.cascades_static, shadow.cascades)
+//  - the same with 8 spot lights: static_cached_vs_uncached_ratio_spots, shadow_cache_spots.*
 void bench_shadow_cache(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) {
   nc::RenderSettings settings;
   settings.width = width;
   settings.height = height;
   settings.path.motion = nc::CameraPath::Motion::still;
-  settings.sinks = {"shadow.sun"};
-  nc::Scene scene = nc::build_map({1, 2.0, nc::Shot::street});
-  nc::add_default_lighting(scene);
-  // Each repeat renders frames 0 to 3 with a fresh renderer (no history), the cache on and then
-  // off, so that the machine's load falls on both alike.
-  std::map<std::string, std::vector<double>> runs[2];
-  for (int r = 0; r < repeats; ++r)
-    for (int cache : {1, 0}) {
-      for (const char* pass : kShadowCaches) settings.params[pass]["cache"] = cache;
-      nc::Renderer renderer(gpu, scene, settings);
-      for (uint32_t i = 0; i <= 3; ++i) {
-        const nc::RenderedFrame frame = renderer.render_frame(i, false);
-        if (i < 3) continue;
-        for (size_t p = 0; p < frame.graph.passes.size(); ++p) {
-          const std::string& name = frame.graph.passes[p].decl->name;
-          if (name.rfind("shadow.", 0) == 0) runs[cache][name].push_back(frame_pass_ms(frame, name));
+  settings.sinks = {"shadow.sun", "shadow.local_moments"};
+  nc::Scene street = nc::build_map({1, 2.0, nc::Shot::street});
+  nc::add_default_lighting(street);
+  nc::Scene spots = street;
+  add_spots_in_view(spots, width, height, 8);
+  for (const auto& [scene, suffix] : {std::pair{&street, std::string()}, std::pair{&spots, std::string("_spots")}}) {
+    // Each repeat renders frames 0 to 3 with a fresh renderer (no history), the cache on and then
+    // off, so that the machine's load falls on both alike.
+    std::map<std::string, std::vector<double>> runs[2];
+    for (int r = 0; r < repeats; ++r)
+      for (int cache : {1, 0}) {
+        for (const char* pass : kShadowCaches) settings.params[pass]["cache"] = cache;
+        nc::Renderer renderer(gpu, *scene, settings);
+        for (uint32_t i = 0; i <= 3; ++i) {
+          const nc::RenderedFrame frame = renderer.render_frame(i, false);
+          if (i < 3) continue;
+          for (size_t p = 0; p < frame.graph.passes.size(); ++p) {
+            const std::string& name = frame.graph.passes[p].decl->name;
+            if (name.rfind("shadow.", 0) == 0 && frame.graph.passes[p].runs)
+              runs[cache][name].push_back(frame_pass_ms(frame, name));
+          }
         }
       }
+    std::map<std::string, double> on, off;
+    for (auto& [name, times] : runs[1]) on[name] = median(times);
+    for (auto& [name, times] : runs[0]) off[name] = median(times);
+    double on_sum = 0, off_sum = 0, on_cascades = 0, off_cascades = 0;
+    table() << "\n## shadows across frames: 2 km map, street shot" << (suffix.empty() ? "" : ", 8 spot lights")
+            << ", still camera (" << width << "x" << height << "), frame 3, ms, median of " << repeats << "\n"
+            << std::left << std::setw(26) << "pass" << std::right << std::setw(12) << "cache on" << std::setw(12)
+            << "cache off\n";
+    const std::string prefix = "shadow_cache" + suffix;
+    for (const auto& [name, off_ms] : off) {
+      const double on_ms = on.count(name) ? on.at(name) : 0.0;
+      on_sum += on_ms;
+      off_sum += off_ms;
+      if (name == "shadow.cull" || name == "shadow.cascades_static" || name == "shadow.cascades") {
+        on_cascades += on_ms;
+        off_cascades += off_ms;
+      }
+      table() << std::left << std::setw(26) << name << std::right << std::fixed << std::setprecision(3) << std::setw(12)
+              << on_ms << std::setw(12) << off_ms << std::defaultfloat << "\n";
+      figure(prefix + "." + name + ".on_ms", on_ms);
+      figure(prefix + "." + name + ".off_ms", off_ms);
     }
-  std::map<std::string, double> on, off;
-  for (auto& [name, times] : runs[1]) on[name] = median(times);
-  for (auto& [name, times] : runs[0]) off[name] = median(times);
-  double on_sum = 0, off_sum = 0, on_cascades = 0, off_cascades = 0;
-  table() << "\n## the sun's shadows across frames: 2 km map, street shot, still camera (" << width << "x" << height
-          << "), frame 3, ms, median of " << repeats << "\n"
-          << std::left << std::setw(26) << "pass" << std::right << std::setw(12) << "cache on" << std::setw(12)
-          << "cache off\n";
-  for (const auto& [name, off_ms] : off) {
-    const double on_ms = on.count(name) ? on.at(name) : 0.0;
-    on_sum += on_ms;
-    off_sum += off_ms;
-    if (name == "shadow.cull" || name == "shadow.cascades_static" || name == "shadow.cascades") {
-      on_cascades += on_ms;
-      off_cascades += off_ms;
-    }
-    table() << std::left << std::setw(26) << name << std::right << std::fixed << std::setprecision(3) << std::setw(12)
-            << on_ms << std::setw(12) << off_ms << std::defaultfloat << "\n";
-    figure("shadow_cache." + name + ".on_ms", on_ms);
-    figure("shadow_cache." + name + ".off_ms", off_ms);
+    const double ratio = off_sum > 0 ? on_sum / off_sum : 0.0;
+    const double cascades_ratio = off_cascades > 0 ? on_cascades / off_cascades : 0.0;
+    table() << "every shadow pass: " << on_sum << " against " << off_sum << " ms, ratio " << ratio
+            << " (target <= 0.6); the cascades' passes (shadow.cull, shadow.cascades_static, shadow.cascades): "
+            << on_cascades << " against " << off_cascades << " ms, ratio " << cascades_ratio << "\n";
+    figure(prefix + ".cascades_ratio", cascades_ratio);
+    figure(prefix + ".on_ms", on_sum);
+    figure(prefix + ".off_ms", off_sum);
+    figure("static_cached_vs_uncached_ratio" + suffix, ratio);
   }
-  const double ratio = off_sum > 0 ? on_sum / off_sum : 0.0;
-  const double cascades_ratio = off_cascades > 0 ? on_cascades / off_cascades : 0.0;
-  table() << "every shadow pass: " << on_sum << " against " << off_sum << " ms, ratio " << ratio
-          << " (target <= 0.6); the cascades' passes (shadow.cull, shadow.cascades_static, shadow.cascades): "
-          << on_cascades << " against " << off_cascades << " ms, ratio " << cascades_ratio << "\n";
-  figure("shadow_cache.cascades_ratio", cascades_ratio);
-  figure("shadow_cache.on_ms", on_sum);
-  figure("shadow_cache.off_ms", off_sum);
-  figure("static_cached_vs_uncached_ratio", ratio);
 }
 
 // The sun's distant shadow (shadow.distant_plan on the CPU, shadow.distant by timestamps) at

@@ -27,7 +27,8 @@
 //   recorded inputs writes the same bytes;
 //   the agreement scene moved to the 16 km map's far corner keeps the agreement bound;
 // - caching (shadow.local_plan.cache on and off, frames 0-4 of a still camera and of a driving
-//   one, a box moving under the lights): shadow.local_moments and lighting.diffuse the same bytes every frame;
+//   one, a box moving under the lights): shadow.local_moments and lighting.diffuse the same bytes every frame
+//   (maps without the box in them this frame and the last copy their moments from the previous frame);
 //   frame 0 refreshes every map (reset), frames 1-4 reuse every one and draw only the moving
 //   box, whose shadow moves; a camera cut refreshes them all again (reset); frame 3 reads frame
 //   2's static depth as history and each pass of it replays from its record alone;
@@ -387,24 +388,37 @@ const std::vector<uint8_t>& output_bytes(const RecordedPass& pass, const std::st
 }
 
 TEST_F(LocalShadows, CachingChangesNoShadowAcrossFrames) {
-  const Scene scene = cache_scene();
+  // A fourth spot light, off the moving box's path: its map has no moving caster.
+  Scene scene = cache_scene();
+  scene.lights.push_back(reference::spot_light({2.0, 3.0, -4.0}, {0.0f, -1.0f, 0.0f}, 3.5f));
   for (const CameraPath::Motion motion : {CameraPath::Motion::still, CameraPath::Motion::drive}) {
     SCOPED_TRACE(CameraPath::motion_name(motion));
     std::map<std::string, ParamValues> params{{"shadow.local_plan", {{"max_refreshes", 16}}}};
     const std::vector<Frame> on = render_frames(scene, 320, 180, 5, params, {}, motion);
     params["shadow.local_plan"]["cache"] = 0;
     const std::vector<Frame> off = render_frames(scene, 320, 180, 5, params, {}, motion);
-    uint32_t moving = 0;
+    uint32_t moving = 0, moments_kept = 0;
     for (uint32_t i = 0; i < on.size(); ++i) {
       SCOPED_TRACE("frame " + std::to_string(i));
       EXPECT_EQ(on[i].non_finite, "");
-      ASSERT_EQ(on[i].record.maps, 3u);
-      ASSERT_EQ(off[i].record.maps, 3u);
+      ASSERT_EQ(on[i].record.maps, 4u);
+      for (uint32_t k = 0; k < 4; ++k) {
+        const int32_t from = on[i].record.moments_from[k];
+        // Kept only where neither this frame nor the one before drew a moving caster in the slot.
+        if (from >= 0) {
+          ++moments_kept;
+          EXPECT_EQ(on[i].record.slice_moving_draws[k], 0u);
+          EXPECT_EQ(on[i - 1].record.slice_slot[from], on[i].record.slice_slot[k]);
+          EXPECT_EQ(on[i - 1].record.slice_moving_draws[from], 0u);
+        }
+        EXPECT_EQ(off[i].record.moments_from[k], -1);
+      }
+      ASSERT_EQ(off[i].record.maps, 4u);
       EXPECT_EQ(on[i].record.reset, i == 0 ? 1u : 0u);
-      EXPECT_EQ(on[i].record.refreshed, i == 0 ? 3u : 0u);
-      EXPECT_EQ(on[i].record.reused, i == 0 ? 0u : 3u);
+      EXPECT_EQ(on[i].record.refreshed, i == 0 ? 4u : 0u);
+      EXPECT_EQ(on[i].record.reused, i == 0 ? 0u : 4u);
       std::printf("%s, cache on, frame %u: slot states", CameraPath::motion_name(motion).c_str(), i);
-      for (uint32_t k = 0; k < 3; ++k) {
+      for (uint32_t k = 0; k < 4; ++k) {
         const uint32_t state = on[i].record.slot_state[on[i].record.slice_slot[k]];
         std::printf(" %u (%u of %u draws moving)", state, on[i].record.slice_moving_draws[k],
                     on[i].record.slice_draws[k]);
@@ -430,6 +444,7 @@ TEST_F(LocalShadows, CachingChangesNoShadowAcrossFrames) {
       }
     }
     EXPECT_GT(moving, 0u) << "the test needs the moving box in a map";
+    EXPECT_GT(moments_kept, 0u) << "the test needs a map whose moments are kept";
     EXPECT_FALSE(output_bytes(on[4].map, "shadow.local") == output_bytes(on[0].map, "shadow.local"))
         << "the moving box's shadow did not move";
     ASSERT_TRUE(on[3].statics.inputs.count(previous("shadow.local_static")));
