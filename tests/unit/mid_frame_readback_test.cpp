@@ -105,15 +105,16 @@ INSTANTIATE_TEST_SUITE_P(CaptureOffAndOn, MidFrameReadback, ::testing::Bool(),
 
 class FrameSubmits : public GpuTest {};
 
-TEST_F(FrameSubmits, CpuPassesOnHostDataAloneDoNotSplitTheFrame) {
-  // The frame's own CPU passes read only the scene and the camera: one submit per frame.
+TEST_F(FrameSubmits, OnlyTheSunsOccludersSplitTheFrame) {
+  // The frame's CPU passes read only the scene, the camera and each other's outputs, except
+  // shadow.cull, which reads shadow.distant's occluder layer: two submits per frame.
   Scene scene = build_city(1);
   add_default_lighting(scene);
   RenderSettings settings;
   settings.width = 64;
   settings.height = 36;
   Renderer renderer(*gpu_, scene, settings);
-  EXPECT_EQ(renderer.render_frame(0, false).execution.submits, 1u);
+  EXPECT_EQ(renderer.render_frame(0, false).execution.submits, 2u);
 }
 
 }  // namespace
