@@ -2037,6 +2037,7 @@ void bench_local(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
     // alternating so that the machine's load drifts over both alike.
     {
       std::map<std::string, std::unique_ptr<nc::Renderer>> variants;
+      settings.params["shadow.local_plan"]["max_maps"] = 8;
       for (int moments : {4, 2}) {
         settings.params["shadow.local_plan"]["moments"] = moments;
         auto& renderer = variants[moments == 4 ? "msm4" : "vsm"];

@@ -156,6 +156,7 @@ PassDecl counting_plan_pass() {
 
 TEST_F(History, ACpuPassReadsWhatItWroteAFrameEarlier) {
   HistoryPool pool(*gpu_);
+  const std::vector<PassDecl> passes{counting_plan_pass()};  // the compiled graph points into it
   struct Frame {
     std::vector<uint8_t> history, record;
     std::map<std::string, std::string> reset;
@@ -165,7 +166,7 @@ TEST_F(History, ACpuPassReadsWhatItWroteAFrameEarlier) {
     settings.sinks = {"plan.record"};
     settings.frame.camera_cut = cut;
     settings.capture = true;
-    CompiledGraph graph = compile_graph({counting_plan_pass()}, {}, settings);
+    CompiledGraph graph = compile_graph(passes, {}, settings);
     ExecutionOptions options;
     options.history = &pool;
     const Execution execution = execute_graph(*gpu_, *cache_, graph, {}, options);
