@@ -116,14 +116,18 @@ struct LocalShadowPlan {
   uint32_t slot_idle[kLocalShadowSlices];           // frames since the slot's light last had a map
   uint32_t candidate_light[kLocalShadowRecorded];   // frame.lights index of the first candidates, by rank
   uint32_t candidate_reason[kLocalShadowRecorded];  // LocalShadowReason
-  // The layer of the previous frame's shadow.local_moments that holds map k's moments already,
-  // or -1: its slot reused, no moving caster in it this frame nor in the previous one's map of
-  // that slot, and the same `moments`; shadow.local_moments copies such a layer.
+  // The layer of the previous frame's shadow.local_moments that holds map k's moments but where
+  // moving casters are or were, or -1: its slot reused (the same static depth) and the previous
+  // frame had a map of that slot, with the same `moments`. shadow.local_moments copies that layer
+  // and computes again only moments_dirty[k]: in the map's NDC (x0, y0, x1, y1), the box around
+  // every moving caster that meets the light's range, where it is and where it was a frame
+  // earlier (x0 > x1: none).
   int32_t moments_from[kLocalShadowSlices];
+  glm::vec4 moments_dirty[kLocalShadowSlices];
   uint32_t moments;  // the `moments` parameter (shadow.local_data's counts.y)
   uint32_t pad[3];
 };
-static_assert(sizeof(LocalShadowPlan) == (16 + 10 * kLocalShadowSlices + 2 * kLocalShadowRecorded) * 4);
+static_assert(sizeof(LocalShadowPlan) == (16 + 14 * kLocalShadowSlices + 2 * kLocalShadowRecorded) * 4);
 
 inline BufferSchema local_shadows_schema() {
   using S = GpuLocalShadows;
@@ -172,6 +176,7 @@ inline BufferSchema local_shadow_plan_schema() {
       .field("candidate_light", &S::candidate_light)
       .field("candidate_reason", &S::candidate_reason)
       .field("moments_from", &S::moments_from)
+      .field("moments_dirty", &S::moments_dirty)
       .field("moments", &S::moments);
 }
 

@@ -19,7 +19,8 @@ layout(set = 0, binding = 1) uniform sampler2DArray depth_maps;
 // Binding 2 is the previous frame's moments, which only the copies of unchanged maps read.
 layout(set = 0, binding = 3, rgba16) uniform writeonly image2DArray moments_out;
 
-layout(push_constant) uniform Params { uint first_slice; };
+// The dispatch's first layer and its first 16×16 tile (a map computed again where moving casters are).
+layout(push_constant) uniform Params { uint first_slice, tile_x, tile_y; };
 
 const int kSide = 16 + 2 * BLUR;
 // (t, t²) and, with 4 moments, (t³, t⁴): the latter one element long otherwise.
@@ -34,7 +35,7 @@ vec4 stored(vec4 b) { return MOMENTS == 4 ? encode_moments(b) : vec4(b.xy, 0.0, 
 void main() {
   int slice = int(first_slice + gl_WorkGroupID.z);
   int resolution = textureSize(depth_maps, 0).x;
-  ivec2 origin = ivec2(gl_WorkGroupID.xy) * 16 - BLUR;
+  ivec2 origin = (ivec2(gl_WorkGroupID.xy) + ivec2(tile_x, tile_y)) * 16 - BLUR;
   uint lane = gl_LocalInvocationIndex;
   vec4 range = depth_range[slice];
   for (uint i = lane; i < uint(kSide * kSide); i += 256u) {

@@ -17,10 +17,13 @@
 // an r-texel apron into shared memory, sums rows, then columns. Linear t rather than the stored
 // perspective depth: the moments' variance only measures how far apart two surfaces are when
 // the depth is linear. Layers without a map hold the moments of t = 1 (nothing in front of the
-// far plane, lit), by a transfer clear. A map whose depth is unchanged since the previous frame (its slot's kept static
-// depth, no moving caster then or now: shadow.local_plan's moments_from) copies its moments from
-// the previous frame's layer instead; `blur_radius` is taken to stay the same over a run (the
-// plan cannot see it). Skipped with shadow.local.
+// far plane, lit), by a transfer clear. A map whose slot kept its static depth since the previous
+// frame's map of it (shadow.local_plan's moments_from) copies that map's moments and computes
+// again only the tiles moving casters cover now or did then, grown by the blur (moments_dirty); `blur_radius` is taken
+// to stay the same over a run (the plan cannot see it). Skipped with shadow.local.
+#include <algorithm>
+#include <cmath>
+
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
@@ -35,6 +38,15 @@ using glm::mat4;
 using glm::vec4;
 #include "passes/shadow/local_moments.glsl"
 }  // namespace local_moments_glsl
+
+namespace {
+
+// Mirrored by local_moments.comp's push constants: the dispatch's first layer and first tile.
+struct MomentsDispatch {
+  uint32_t first_slice, tile_x, tile_y, pad;
+};
+
+}  // namespace
 
 PassDecl shadow_local_moments_pass() {
   ImageDecl moments{VK_FORMAT_R16G16B16A16_UNORM, ResourceKind::lookup_table};
@@ -51,7 +63,7 @@ PassDecl shadow_local_moments_pass() {
       .write("shadow.local_moments", Use::storage_write, moments)
       .param("blur_radius", 1, 0, kLocalShadowMaxBlur, "the box blur takes (2r + 1)² texels (0: none)")
       .needs("spot_lights")
-      .push_constants<uint32_t>()
+      .push_constants<MomentsDispatch>()
       .shader("shadow/local_moments.comp")
       .run([](PassContext& ctx) {
         const auto plan = host_records<LocalShadowPlan>(ctx.host("shadow.local_plan")).at(0);
@@ -61,8 +73,21 @@ PassDecl shadow_local_moments_pass() {
             Binding::uniform(ctx.slot("shadow.local_data"), "shadow.local_data"),
             Binding::texture(ctx.slot("shadow.local"), "shadow.local", ctx.nearest_clamp(), ViewAspect::depth),
             Binding::image(ctx.slot("shadow.local_moments"), "shadow.local_moments", 0)};
-        // Maps whose moments the previous frame already has (the plan says which): copied.
+        // Maps whose moments the previous frame has but where moving casters are or were (the
+        // plan says which): copied, then computed again over that part alone.
         const uint32_t maps = std::min(plan.maps, kLocalShadowSlices);
+        const int32_t blur = int32_t(ctx.param("blur_radius"));
+        bool dispatched = false;
+        // Tiles [x0, x1) × [y0, y1) of layers [first, first + layers).
+        auto dispatch = [&](uint32_t first, uint32_t layers, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1) {
+          // Disjoint layers or tiles, but the validation's synchronization checks see the whole bound image.
+          if (dispatched) ctx.storage_barrier();
+          ctx.bind_pipeline({blur, moments});
+          ctx.push(bindings);
+          ctx.push_constants(MomentsDispatch{first, x0, y0, 0});
+          vkCmdDispatch(ctx.cmd(), x1 - x0, y1 - y0, layers);
+          dispatched = true;
+        };
         std::vector<bool> copied(maps, false);
         for (uint32_t map = 0; map < maps; ++map) {
           const int32_t from = plan.moments_from[map];
@@ -73,8 +98,18 @@ PassDecl shadow_local_moments_pass() {
           ctx.copy_layer(previous("shadow.local_moments"), uint32_t(from), "shadow.local_moments", map);
           copied[map] = true;
         }
-        // The others with their blur, a dispatch per run of consecutive maps.
-        bool dispatched = false;
+        for (uint32_t map = 0; map < maps; ++map) {
+          const glm::vec4 dirty = plan.moments_dirty[map];
+          if (!copied[map] || !(dirty.x <= dirty.z && dirty.y <= dirty.w)) continue;
+          // The texels the moving casters cover, and those whose blur reaches them.
+          auto texel = [&](float ndc, int32_t grow) {
+            return std::clamp(int32_t(std::floor((double(ndc) * 0.5 + 0.5) * side)) + grow, 0, int32_t(side) - 1);
+          };
+          const int32_t x0 = texel(dirty.x, -blur - 1), x1 = texel(dirty.z, blur + 1);
+          const int32_t y0 = texel(dirty.y, -blur - 1), y1 = texel(dirty.w, blur + 1);
+          dispatch(map, 1, uint32_t(x0) / 16, uint32_t(y0) / 16, uint32_t(x1) / 16 + 1, uint32_t(y1) / 16 + 1);
+        }
+        // The others whole, a dispatch per run of consecutive maps.
         for (uint32_t first = 0; first < maps;) {
           if (copied[first]) {
             ++first;
@@ -82,13 +117,7 @@ PassDecl shadow_local_moments_pass() {
           }
           uint32_t end = first;
           while (end < maps && !copied[end]) ++end;
-          // Disjoint layers, but the validation's synchronization checks see the whole bound image.
-          if (dispatched) ctx.storage_barrier();
-          ctx.bind_pipeline({int32_t(ctx.param("blur_radius")), moments});
-          ctx.push(bindings);
-          ctx.push_constants(first);
-          vkCmdDispatch(ctx.cmd(), groups, groups, end - first);
-          dispatched = true;
+          dispatch(first, end - first, 0, 0, groups, groups);
           first = end;
         }
         // The empty layers: the stored moments of t = 1 (nothing in front of the far plane), cleared.

@@ -262,16 +262,18 @@ class LocalPlanner {
     data.counts.y = plan.moments = uint32_t(ctx_.param("moments"));
     if (data.counts.y != 2 && data.counts.y != 4)
       throw GraphError("shadow.local_plan: moments is 2 or 4, not " + std::to_string(data.counts.y));
-    // A map whose depth is its slot's kept static depth alone, as the previous frame's map of
-    // that slot was, has that map's moments.
+    // A map whose slot kept its static depth, and whose slot the previous frame mapped too, has
+    // that map's moments but where moving casters are or were.
     std::fill(std::begin(plan.moments_from), std::end(plan.moments_from), -1);
     for (uint32_t map = 0; map < plan.maps; ++map) {
-      if (map_state[map] != uint32_t(LocalSlotState::reused) || plan.slice_moving_draws[map] != 0 ||
-          before.moments != plan.moments)
-        continue;
+      if (map_state[map] != uint32_t(LocalSlotState::reused) || before.moments != plan.moments) continue;
       for (uint32_t earlier = 0; earlier < std::min(before.maps, kLocalShadowSlices); ++earlier)
-        if (before.slice_slot[earlier] == plan.slice_slot[map] && before.slice_moving_draws[earlier] == 0)
-          plan.moments_from[map] = int32_t(earlier);
+        if (before.slice_slot[earlier] == plan.slice_slot[map]) plan.moments_from[map] = int32_t(earlier);
+      if (plan.moments_from[map] < 0) continue;
+      const LightRecord& record = scene_lights_[map_scene[map]];
+      const GpuLight& l = lights_[plan.slice_light[map]];
+      plan.moments_dirty[map] = moving_footprint(l, dvec3(record.position[0], record.position[1], record.position[2]),
+                                                 near, double(l.color_range.w));
     }
     store("shadow.local_data", &data, sizeof(data));
     store("shadow.local_views", &views, sizeof(views));
@@ -346,7 +348,50 @@ class LocalPlanner {
     return mesh->index_count == 0 ? nullptr : mesh;
   }
 
-  glm::dmat4 model_of(uint32_t index) const { return instance_model(instances_[index], camera_.time); }
+  glm::dmat4 model_of(uint32_t index, double time) const { return instance_model(instances_[index], time); }
+  glm::dmat4 model_of(uint32_t index) const { return model_of(index, camera_.time); }
+
+  // World box of the instance's mesh at `time`; false when it casts nothing.
+  bool world_box(uint32_t index, double time, dvec3& lo, dvec3& hi) const {
+    const MeshRecord* mesh = caster_mesh(index);
+    if (!mesh) return false;
+    const glm::dmat4 model = model_of(index, time);
+    const double determinant = glm::determinant(glm::dmat3(model));
+    if (!std::isfinite(determinant) || determinant == 0.0) return false;
+    lo = dvec3(INFINITY);
+    hi = dvec3(-INFINITY);
+    for (int c = 0; c < 8; ++c) {
+      const dvec3 p(model * glm::dvec4(c & 1 ? mesh->bounds_max[0] : mesh->bounds_min[0],
+                                       c & 2 ? mesh->bounds_max[1] : mesh->bounds_min[1],
+                                       c & 4 ? mesh->bounds_max[2] : mesh->bounds_min[2], 1.0));
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    return true;
+  }
+
+  // The NDC rectangle (x0, y0, x1, y1) of the map of light `l` at world `origin` that holds every
+  // moving caster meeting its range, this frame and the one before; x0 > x1 when there is none,
+  // the whole map when one reaches behind the light.
+  glm::vec4 moving_footprint(const GpuLight& l, const dvec3& origin, double near, double far) const {
+    const glm::dmat4 view = projection(l, dvec3(0.0), near, far);
+    glm::dvec2 lo(INFINITY), hi(-INFINITY);
+    for (uint32_t index : hierarchy_.moving)
+      for (const double time : {camera_.time, camera_.time - camera_.time_step}) {
+        dvec3 blo, bhi;
+        if (!world_box(index, time, blo, bhi) || !meets(blo, bhi, origin - far, origin + far)) continue;
+        for (int c = 0; c < 8; ++c) {
+          const glm::dvec4 clip =
+              view *
+              glm::dvec4(dvec3(c & 1 ? bhi.x : blo.x, c & 2 ? bhi.y : blo.y, c & 4 ? bhi.z : blo.z) - origin, 1.0);
+          if (!(clip.w > near * 0.5)) return glm::vec4(-1.0f, -1.0f, 1.0f, 1.0f);
+          lo = glm::min(lo, glm::dvec2(clip) / clip.w);
+          hi = glm::max(hi, glm::dvec2(clip) / clip.w);
+        }
+      }
+    if (!(lo.x <= hi.x)) return glm::vec4(1.0f, 1.0f, -1.0f, -1.0f);
+    return glm::vec4(glm::clamp(glm::dvec4(lo, hi), -2.0, 2.0));
+  }
 
   static bool meets(const dvec3& lo, const dvec3& hi, const dvec3& olo, const dvec3& ohi) {
     return glm::all(glm::lessThanEqual(lo, ohi)) && glm::all(glm::lessThanEqual(olo, hi));
