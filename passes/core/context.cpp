@@ -292,17 +292,6 @@ void PassContext::begin_rendering(const std::vector<std::string>& colors, const 
   vkCmdSetStencilReference(cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, 0);
 }
 
-namespace {
-
-// Every aspect of an image of `format`.
-VkImageAspectFlags aspects_of(const FormatInfo& format) {
-  if (!format.is_depth) return VK_IMAGE_ASPECT_COLOR_BIT;
-  if (!format.has_stencil) return VK_IMAGE_ASPECT_DEPTH_BIT;
-  return VK_IMAGE_ASPECT_DEPTH_BIT | VK_IMAGE_ASPECT_STENCIL_BIT;
-}
-
-}  // namespace
-
 void PassContext::copy_layer(const std::string& from, uint32_t from_layer, const std::string& to, uint32_t to_layer,
                              int32_t dx, int32_t dy) {
   const BoundUse* source = nullptr;
@@ -319,46 +308,22 @@ void PassContext::copy_layer(const std::string& from, uint32_t from_layer, const
   const ImageExtent &a = src.desc.extent, &b = dst.desc.extent;
   if (src.desc.format != dst.desc.format || a.width != b.width || a.height != b.height || a.depth != 1)
     throw GraphError(pass() + ": copies '" + from + "' into '" + to + "', which differ in format or size");
-  const FormatInfo format = *format_info(dst.desc.format);
-  const VkImageAspectFlags aspects = aspects_of(format);
-  const VkImageSubresourceRange source_range{aspects, 0, 1, from_layer, 1}, range{aspects, 0, 1, to_layer, 1};
-  const bool depth = format.is_depth;
+  const bool depth = is_depth(dst.desc);
   const AccessState read = required_state(source->use, pass_.decl->type, depth);
   const AccessState written = required_state(target->use, pass_.decl->type, depth);
-  auto transition = [&](const PhysicalResource& r, const AccessState& before, const AccessState& after) {
-    const bool is_source = &r == &src;
-    auto b = vk_struct<VkImageMemoryBarrier2>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2);
-    b.srcStageMask = before.stages;
-    b.srcAccessMask = before.access;
-    b.dstStageMask = after.stages;
-    b.dstAccessMask = after.access;
-    b.oldLayout = before.layout;
-    b.newLayout = after.layout;
-    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = r.image.image;
-    b.subresourceRange = is_source ? source_range : range;
-    return b;
-  };
-  auto issue = [&](std::vector<VkImageMemoryBarrier2> barriers) {
-    auto dep = vk_struct<VkDependencyInfo>(VK_STRUCTURE_TYPE_DEPENDENCY_INFO);
-    dep.imageMemoryBarrierCount = uint32_t(barriers.size());
-    dep.pImageMemoryBarriers = barriers.data();
-    vkCmdPipelineBarrier2(cmd(), &dep);
-  };
   const AccessState copy_from = transfer_state(false), copy_to = transfer_state(true);
-  issue({transition(src, read, copy_from), transition(dst, written, copy_to)});
+  const Subresources source_layer{0, 1, from_layer, 1}, target_layer{0, 1, to_layer, 1};
+  issue(cmd(), shared_.resources, {{from, source_layer, {read, copy_from}}, {to, target_layer, {written, copy_to}}},
+        {});
   // The part of `to` whose texels have a source.
   const int32_t w = int32_t(b.width), h = int32_t(b.height);
   const int32_t x0 = std::max(0, -dx), y0 = std::max(0, -dy), x1 = std::min(w, w - dx), y1 = std::min(h, h - dy);
   if (dx != 0 || dy != 0) {
-    const VkClearValue clear = dst.desc.clear;
-    if (depth)
-      vkCmdClearDepthStencilImage(cmd(), dst.image.image, copy_to.layout, &clear.depthStencil, 1, &range);
-    else
-      vkCmdClearColorImage(cmd(), dst.image.image, copy_to.layout, &clear.color, 1, &range);
-    issue({transition(dst, copy_to, copy_to)});
+    clear_to(cmd(), dst, target_layer, dst.desc.clear);
+    issue(cmd(), shared_.resources, {{to, target_layer, {copy_to, copy_to}}}, {});
   }
   if (x0 < x1 && y0 < y1) {
+    const VkImageAspectFlags aspects = natural_aspects(dst.desc.format);
     std::vector<VkImageCopy> regions;
     for (VkImageAspectFlags aspect :
          {VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_ASPECT_STENCIL_BIT}) {
@@ -374,7 +339,8 @@ void PassContext::copy_layer(const std::string& from, uint32_t from_layer, const
     vkCmdCopyImage(cmd(), src.image.image, copy_from.layout, dst.image.image, copy_to.layout, uint32_t(regions.size()),
                    regions.data());
   }
-  issue({transition(src, copy_from, read), transition(dst, copy_to, written)});
+  issue(cmd(), shared_.resources, {{from, source_layer, {copy_from, read}}, {to, target_layer, {copy_to, written}}},
+        {});
   copied_layers_.insert({to, to_layer});
 }
 
@@ -389,32 +355,12 @@ void PassContext::clear_layers(const std::string& to, uint32_t first_layer, uint
     throw GraphError(pass() + ": clears layers " + std::to_string(first_layer) + "+" + std::to_string(count) + " of '" +
                      to + "' without writing them");
   const PhysicalResource& dst = shared_.resources.at(to);
-  const FormatInfo format = *format_info(dst.desc.format);
-  const VkImageSubresourceRange range{aspects_of(format), 0, 1, first_layer, count};
-  const AccessState written = required_state(target->use, pass_.decl->type, format.is_depth);
+  const AccessState written = required_state(target->use, pass_.decl->type, is_depth(dst.desc));
   const AccessState clearing = transfer_state(true);
-  auto transition = [&](const AccessState& before, const AccessState& after) {
-    auto b = vk_struct<VkImageMemoryBarrier2>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2);
-    b.srcStageMask = before.stages;
-    b.srcAccessMask = before.access;
-    b.dstStageMask = after.stages;
-    b.dstAccessMask = after.access;
-    b.oldLayout = before.layout;
-    b.newLayout = after.layout;
-    b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = dst.image.image;
-    b.subresourceRange = range;
-    auto dep = vk_struct<VkDependencyInfo>(VK_STRUCTURE_TYPE_DEPENDENCY_INFO);
-    dep.imageMemoryBarrierCount = 1;
-    dep.pImageMemoryBarriers = &b;
-    vkCmdPipelineBarrier2(cmd(), &dep);
-  };
-  transition(written, clearing);
-  if (format.is_depth)
-    vkCmdClearDepthStencilImage(cmd(), dst.image.image, clearing.layout, &value.depthStencil, 1, &range);
-  else
-    vkCmdClearColorImage(cmd(), dst.image.image, clearing.layout, &value.color, 1, &range);
-  transition(clearing, written);
+  const Subresources layers{0, 1, first_layer, count};
+  issue(cmd(), shared_.resources, {{to, layers, {written, clearing}}}, {});
+  clear_to(cmd(), dst, layers, value);
+  issue(cmd(), shared_.resources, {{to, layers, {clearing, written}}}, {});
 }
 
 void PassContext::begin_rendering() { begin_rendering(colour_targets(declaration()), depth_target(declaration())); }

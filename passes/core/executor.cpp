@@ -36,9 +36,82 @@ VkImageUsageFlags usage_for(Use use) {
   }
 }
 
-// Issues one step of the graph's barrier plan as one dependency.
-// `waits`: a resource's first-use barriers also wait for the last use of the resources whose
-// memory it takes over (FrameMemory::waits).
+std::vector<VkBufferImageCopy> raw_copy_regions(const ResourceDesc& d) {
+  const FormatInfo f = *format_info(d.format);
+  std::vector<VkBufferImageCopy> regions;
+  for (uint32_t a = 0; a < aspect_count(f); ++a)
+    for (uint32_t m = 0; m < d.extent.mips; ++m) {
+      VkBufferImageCopy region{};
+      region.bufferOffset = raw_subresource_offset(f, d.extent, a, m, 0);
+      region.imageSubresource = {raw_aspect(d.format, a), m, 0, d.extent.layers};
+      region.imageExtent = {mip_size(d.extent.width, m), mip_size(d.extent.height, m), mip_size(d.extent.depth, m)};
+      regions.push_back(region);
+    }
+  return regions;
+}
+
+// Creates the image or buffer of `r.desc`: with its own memory, or unbound for FrameMemory.
+void create(GpuDevice& gpu, const std::string& name, PhysicalResource& r, VkImageUsageFlags usage, bool bound) {
+  const ResourceDesc& d = r.desc;
+  if (d.is_buffer) {
+    const VkBufferUsageFlags buffer_usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+                                            VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                                            VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    const uint64_t size = std::max<uint64_t>(d.buffer_size, 16);
+    r.buffer = bound ? gpu.create_buffer(size, buffer_usage, false, name)
+                     : gpu.create_unbound_buffer(size, buffer_usage, name);
+    return;
+  }
+  auto info = vk_struct<VkImageCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO);
+  info.imageType = d.extent.depth > 1 ? VK_IMAGE_TYPE_3D : VK_IMAGE_TYPE_2D;
+  if (d.cube) info.flags |= VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
+  info.format = d.format;
+  info.extent = {d.extent.width, d.extent.height, d.extent.depth};
+  info.mipLevels = d.extent.mips;
+  info.arrayLayers = d.extent.layers;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  // Sampling depth uses DEPTH_STENCIL_READ_ONLY_OPTIMAL, which needs attachment usage.
+  if (format_info(d.format)->is_depth) info.usage |= VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+  r.image = bound ? gpu.create_image(info, name) : gpu.create_unbound_image(info, name);
+}
+
+Subresources whole(const ResourceDesc& d) { return {0, d.extent.mips, 0, d.extent.layers}; }
+
+// Every mip, layer and aspect of `from` into `to` (same description), both in transfer states.
+void copy_whole(VkCommandBuffer cmd, const PhysicalResource& from, const PhysicalResource& to) {
+  const ResourceDesc& d = from.desc;
+  if (d.is_buffer) {
+    const VkBufferCopy copy{0, 0, d.buffer_size};
+    vkCmdCopyBuffer(cmd, from.buffer.buffer, to.buffer.buffer, 1, &copy);
+    return;
+  }
+  std::vector<VkImageCopy> regions;
+  for (uint32_t a = 0; a < aspect_count(*format_info(d.format)); ++a)
+    for (uint32_t m = 0; m < d.extent.mips; ++m) {
+      VkImageCopy region{};
+      region.srcSubresource = region.dstSubresource = {raw_aspect(d.format, a), m, 0, d.extent.layers};
+      region.extent = {mip_size(d.extent.width, m), mip_size(d.extent.height, m), mip_size(d.extent.depth, m)};
+      regions.push_back(region);
+    }
+  vkCmdCopyImage(cmd, from.image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, to.image.image,
+                 VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, uint32_t(regions.size()), regions.data());
+}
+
+bool same_shape(const ResourceDesc& a, const ResourceDesc& b) {
+  const ImageExtent &x = a.extent, &y = b.extent;
+  return a.is_buffer == b.is_buffer && a.format == b.format && a.buffer_size == b.buffer_size && x.width == y.width &&
+         x.height == y.height && x.depth == y.depth && x.mips == y.mips && x.layers == y.layers;
+}
+
+struct Staging {
+  GpuBuffer buffer;
+  int version;
+};
+
+}  // namespace
+
 void issue(VkCommandBuffer cmd, std::map<std::string, PhysicalResource>& resources,
            const std::vector<PlannedBarrier>& planned, const std::map<std::string, AccessState>& waits) {
   if (planned.empty()) return;
@@ -87,52 +160,6 @@ void issue(VkCommandBuffer cmd, std::map<std::string, PhysicalResource>& resourc
   vkCmdPipelineBarrier2(cmd, &dep);
 }
 
-std::vector<VkBufferImageCopy> raw_copy_regions(const ResourceDesc& d) {
-  const FormatInfo f = *format_info(d.format);
-  std::vector<VkBufferImageCopy> regions;
-  for (uint32_t a = 0; a < aspect_count(f); ++a)
-    for (uint32_t m = 0; m < d.extent.mips; ++m) {
-      VkBufferImageCopy region{};
-      region.bufferOffset = raw_subresource_offset(f, d.extent, a, m, 0);
-      region.imageSubresource = {raw_aspect(d.format, a), m, 0, d.extent.layers};
-      region.imageExtent = {mip_size(d.extent.width, m), mip_size(d.extent.height, m), mip_size(d.extent.depth, m)};
-      regions.push_back(region);
-    }
-  return regions;
-}
-
-// Creates the image or buffer of `r.desc`: with its own memory, or unbound for FrameMemory.
-void create(GpuDevice& gpu, const std::string& name, PhysicalResource& r, VkImageUsageFlags usage, bool bound) {
-  const ResourceDesc& d = r.desc;
-  if (d.is_buffer) {
-    const VkBufferUsageFlags buffer_usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
-                                            VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                                            VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    const uint64_t size = std::max<uint64_t>(d.buffer_size, 16);
-    r.buffer = bound ? gpu.create_buffer(size, buffer_usage, false, name)
-                     : gpu.create_unbound_buffer(size, buffer_usage, name);
-    return;
-  }
-  auto info = vk_struct<VkImageCreateInfo>(VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO);
-  info.imageType = d.extent.depth > 1 ? VK_IMAGE_TYPE_3D : VK_IMAGE_TYPE_2D;
-  if (d.cube) info.flags |= VK_IMAGE_CREATE_CUBE_COMPATIBLE_BIT;
-  info.format = d.format;
-  info.extent = {d.extent.width, d.extent.height, d.extent.depth};
-  info.mipLevels = d.extent.mips;
-  info.arrayLayers = d.extent.layers;
-  info.samples = VK_SAMPLE_COUNT_1_BIT;
-  info.tiling = VK_IMAGE_TILING_OPTIMAL;
-  info.usage = usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-  // Sampling depth uses DEPTH_STENCIL_READ_ONLY_OPTIMAL, which needs attachment usage.
-  if (format_info(d.format)->is_depth) info.usage |= VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
-  r.image = bound ? gpu.create_image(info, name) : gpu.create_unbound_image(info, name);
-}
-
-Subresources whole(const ResourceDesc& d) { return {0, d.extent.mips, 0, d.extent.layers}; }
-
-// The contents a resource has when nothing computed it: its declared clear value (zero for a
-// buffer), here for `range`. It must be in the transfer-destination state.
-// A buffer is filled with zeros whatever `value` says: its only clear.
 void clear_to(VkCommandBuffer cmd, const PhysicalResource& r, const Subresources& range, const VkClearValue& value) {
   if (r.desc.is_buffer) {
     vkCmdFillBuffer(cmd, r.buffer.buffer, 0, VK_WHOLE_SIZE, 0);
@@ -146,39 +173,6 @@ void clear_to(VkCommandBuffer cmd, const PhysicalResource& r, const Subresources
   else
     vkCmdClearColorImage(cmd, r.image.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value.color, 1, &vk_range);
 }
-
-// Every mip, layer and aspect of `from` into `to` (same description), both in transfer states.
-void copy_whole(VkCommandBuffer cmd, const PhysicalResource& from, const PhysicalResource& to) {
-  const ResourceDesc& d = from.desc;
-  if (d.is_buffer) {
-    const VkBufferCopy copy{0, 0, d.buffer_size};
-    vkCmdCopyBuffer(cmd, from.buffer.buffer, to.buffer.buffer, 1, &copy);
-    return;
-  }
-  std::vector<VkImageCopy> regions;
-  for (uint32_t a = 0; a < aspect_count(*format_info(d.format)); ++a)
-    for (uint32_t m = 0; m < d.extent.mips; ++m) {
-      VkImageCopy region{};
-      region.srcSubresource = region.dstSubresource = {raw_aspect(d.format, a), m, 0, d.extent.layers};
-      region.extent = {mip_size(d.extent.width, m), mip_size(d.extent.height, m), mip_size(d.extent.depth, m)};
-      regions.push_back(region);
-    }
-  vkCmdCopyImage(cmd, from.image.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, to.image.image,
-                 VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, uint32_t(regions.size()), regions.data());
-}
-
-bool same_shape(const ResourceDesc& a, const ResourceDesc& b) {
-  const ImageExtent &x = a.extent, &y = b.extent;
-  return a.is_buffer == b.is_buffer && a.format == b.format && a.buffer_size == b.buffer_size && x.width == y.width &&
-         x.height == y.height && x.depth == y.depth && x.mips == y.mips && x.layers == y.layers;
-}
-
-struct Staging {
-  GpuBuffer buffer;
-  int version;
-};
-
-}  // namespace
 
 const VersionData* Execution::final_version(const std::string& resource) const {
   for (auto it = versions.rbegin(); it != versions.rend(); ++it)

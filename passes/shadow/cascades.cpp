@@ -10,9 +10,9 @@
 // it. Skipped with no sun above the horizon.
 
 #include "passes/core/context.h"
-#include "passes/frame/draw_scene.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
+#include "passes/shadow/caster_draw.h"
 #include "passes/shadow/shadow_layout.h"
 
 namespace nightcap {
@@ -45,14 +45,10 @@ PassDecl shadow_cascades_pass() {
           ctx.copy_layer("shadow.cascades_static", cascade, "shadow.cascades", cascade);
           if (stats.moving_draws[cascade] == 0) continue;
           ctx.begin_rendering({}, "shadow.cascades", 0, cascade);
-          ctx.bind_pipeline();
-          std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.cascades");
-          bindings.push_back(Binding::uniform(ctx.slot("shadow.cascade_data"), "shadow.cascade_data"));
-          ctx.push(bindings);
-          ctx.push_constants(cascade);
-          draw_scene(ctx, "draws.shadow.cascades", [](uint32_t, const GpuMaterial&) {},
-                     {stats.first_draw[cascade] + stats.draws[cascade] - stats.moving_draws[cascade],
-                      stats.moving_draws[cascade]});
+          bind_casters(ctx, "draws.shadow.cascades", "shadow.cascade_data", cascade);
+          draw_casters(ctx, "draws.shadow.cascades",
+                       {stats.first_draw[cascade] + stats.draws[cascade] - stats.moving_draws[cascade],
+                        stats.moving_draws[cascade]});
           ctx.end_rendering();
         }
       });

@@ -6,19 +6,14 @@
 // test keeps the least depth whatever the order of draws, so the sum is the map drawn in one go, bit for bit. Skipped
 // with no sun above the horizon.
 #include "passes/core/context.h"
-#include "passes/frame/draw_scene.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
+#include "passes/shadow/caster_draw.h"
 #include "passes/shadow/shadow_layout.h"
 
 namespace nightcap {
 
 PassDecl shadow_cascades_static_pass() {
-  ImageDecl map{VK_FORMAT_D32_SFLOAT, ResourceKind::lookup_table};
-  map.size.mode = SizeRule::Mode::square_param;
-  map.size.param = "resolution";
-  map.layers = kShadowCascades;
-  map.clear.depthStencil = {1.0f, 0};
   return PassDecl("shadow.cascades_static", PassType::graphics)
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
@@ -28,7 +23,7 @@ PassDecl shadow_cascades_static_pass() {
       .read("scene.geometry", Use::index_buffer)
       .read("scene.materials", Use::host)
       .read("shadow.cull_stats", Use::host)
-      .write("shadow.cascades_static", Use::depth_attachment, map)
+      .write("shadow.cascades_static", Use::depth_attachment, shadow_depth_array(kShadowCascades))
       .param("resolution", kShadowResolution, 64, 4096,
              "texels per side of each cascade (shadow.cascades' too): shadow.cull.resolution's")
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
@@ -50,13 +45,9 @@ PassDecl shadow_cascades_static_pass() {
             continue;
           }
           ctx.begin_rendering({}, "shadow.cascades_static", 0, cascade);
-          ctx.bind_pipeline();
-          std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.cascades");
-          bindings.push_back(Binding::uniform(ctx.slot("shadow.cascade_data"), "shadow.cascade_data"));
-          ctx.push(bindings);
-          ctx.push_constants(cascade);
-          draw_scene(ctx, "draws.shadow.cascades", [](uint32_t, const GpuMaterial&) {},
-                     {stats.first_draw[cascade], stats.draws[cascade] - stats.moving_draws[cascade]});
+          bind_casters(ctx, "draws.shadow.cascades", "shadow.cascade_data", cascade);
+          draw_casters(ctx, "draws.shadow.cascades",
+                       {stats.first_draw[cascade], stats.draws[cascade] - stats.moving_draws[cascade]});
           ctx.end_rendering();
         }
       });

@@ -25,4 +25,26 @@ GpuDraw caster_draw(uint32_t instance, const InstanceRecord& record, const glm::
   return d;
 }
 
+ImageDecl shadow_depth_array(uint32_t layers) {
+  ImageDecl map{VK_FORMAT_D32_SFLOAT, ResourceKind::lookup_table};
+  map.size.mode = SizeRule::Mode::square_param;
+  map.size.param = "resolution";
+  map.layers = layers;
+  map.clear.depthStencil = {1.0f, 0};
+  return map;
+}
+
+void bind_casters(PassContext& ctx, const std::string& draws, const std::string& projections, uint32_t layer) {
+  ctx.bind_pipeline();
+  std::vector<Binding> bindings = geometry_bindings(ctx, draws);
+  bindings.push_back(Binding::uniform(ctx.slot(projections), projections));
+  ctx.push(bindings);
+  ctx.push_constants(layer);
+}
+
+void draw_casters(PassContext& ctx, const std::string& draws, DrawRange range) {
+  draw_scene(
+      ctx, draws, [](uint32_t, const GpuMaterial&) {}, range);
+}
+
 }  // namespace nightcap

@@ -1,18 +1,35 @@
-// The draw record of a shadow caster, as shadow.cull, shadow.distant_plan and shadow.local_plan
-// list them: a shadow map holds no motion, so the previous model is the model.
+// Shadow casters: their draw record, as shadow.cull, shadow.distant_plan and shadow.local_plan
+// list them, and what the shadow map passes (cascades, distant levels, spot light maps) share to
+// draw them.
 #pragma once
 
 #include <glm/glm.hpp>
 
 #include <cstdint>
 
+#include <string>
+
+#include "passes/core/context.h"
+#include "passes/frame/draw_scene.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/scene_resources.h"
 
 namespace nightcap {
 
-// `relative_model`: the instance's model matrix relative to the camera, as every draw list.
+// A shadow map holds no motion, so the previous model is the model. `relative_model`: the
+// instance's model matrix relative to the camera, as every draw list.
 GpuDraw caster_draw(uint32_t instance, const InstanceRecord& record, const glm::dmat4& relative_model,
                     const MeshRecord& mesh);
+
+// A shadow map pass's output: `layers` square D32 layers of its `resolution` parameter's side,
+// cleared to 1 (no caster; forward depth, LESS).
+ImageDecl shadow_depth_array(uint32_t layers);
+
+// Binds the pass's declared pipeline with geometry.glsl's bindings for `draws`, the uniform
+// buffer `projections` (the maps' matrices) and `layer` as the push constant that picks one.
+void bind_casters(PassContext& ctx, const std::string& draws, const std::string& projections, uint32_t layer);
+
+// Draws `range` of `draws` with what bind_casters bound: depth only, no material.
+void draw_casters(PassContext& ctx, const std::string& draws, DrawRange range);
 
 }  // namespace nightcap

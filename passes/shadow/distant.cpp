@@ -17,21 +17,14 @@
 // Not done: shadow.topdown (frame.md may merge it with the last level) does not exist yet, so
 // nothing shares the last level.
 #include "passes/core/context.h"
-#include "passes/frame/draw_scene.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
+#include "passes/shadow/caster_draw.h"
 #include "passes/shadow/shadow_layout.h"
 
 namespace nightcap {
 
 PassDecl shadow_distant_pass() {
-  ImageDecl levels{VK_FORMAT_D32_SFLOAT, ResourceKind::lookup_table};
-  levels.size.mode = SizeRule::Mode::square_param;
-  levels.size.param = "resolution";
-  levels.layers = kDistantLevels;
-  levels.clear.depthStencil = {1.0f, 0};
-  ImageDecl occluders = levels;
-  occluders.layers = 1;
   return PassDecl("shadow.distant", PassType::graphics)
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
@@ -41,9 +34,9 @@ PassDecl shadow_distant_pass() {
       .read("scene.geometry", Use::index_buffer)
       .read("scene.materials", Use::host)
       .read("shadow.distant_plan", Use::host)
-      .write("shadow.distant", Use::depth_attachment, levels)
+      .write("shadow.distant", Use::depth_attachment, shadow_depth_array(kDistantLevels))
       .read_previous("shadow.distant_occluders", Use::sampled)
-      .write("shadow.distant_occluders", Use::depth_attachment, occluders)
+      .write("shadow.distant_occluders", Use::depth_attachment, shadow_depth_array(1))
       .param("resolution", kDistantResolution, 64, 4096,
              "texels per side of each level: shadow.distant_plan.resolution's")
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
@@ -75,11 +68,7 @@ PassDecl shadow_distant_pass() {
                            data.refresh[level].y);
           if (plan.refreshed[level] == 0) continue;
           ctx.begin_rendering({}, "shadow.distant", 0, level);
-          ctx.bind_pipeline();
-          std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.distant");
-          bindings.push_back(Binding::uniform(ctx.slot("shadow.distant_data"), "shadow.distant_data"));
-          ctx.push(bindings);
-          ctx.push_constants(level);
+          bind_casters(ctx, "draws.shadow.distant", "shadow.distant_data", level);
           for (uint32_t t = 0; t < tiles * tiles; ++t) {
             if (!(plan.refreshed[level] >> t & 1u)) continue;
             const uint32_t unit = level * tiles * tiles + t;
@@ -87,8 +76,7 @@ PassDecl shadow_distant_pass() {
             const VkClearRect rect{scissor, 0, 1};
             vkCmdClearAttachments(ctx.cmd(), 1, &kNoOccluder, 1, &rect);
             vkCmdSetScissor(ctx.cmd(), 0, 1, &scissor);
-            draw_scene(ctx, "draws.shadow.distant", [](uint32_t, const GpuMaterial&) {},
-                       {plan.unit_first_draw[unit], plan.unit_draws[unit]});
+            draw_casters(ctx, "draws.shadow.distant", {plan.unit_first_draw[unit], plan.unit_draws[unit]});
           }
           ctx.end_rendering();
         }
@@ -98,19 +86,14 @@ PassDecl shadow_distant_pass() {
                          data.refresh[0].y);
         if (plan.refreshed[0] == 0) return;
         ctx.begin_rendering({}, "shadow.distant_occluders", 0, 0);
-        ctx.bind_pipeline();
-        std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.distant");
-        bindings.push_back(Binding::uniform(ctx.slot("shadow.distant_data"), "shadow.distant_data"));
-        ctx.push(bindings);
-        ctx.push_constants(uint32_t(0));
+        bind_casters(ctx, "draws.shadow.distant", "shadow.distant_data", 0);
         for (uint32_t t = 0; t < tiles * tiles; ++t) {
           if (!(plan.refreshed[0] >> t & 1u)) continue;
           const VkRect2D scissor = tile_rect(t);
           const VkClearRect rect{scissor, 0, 1};
           vkCmdClearAttachments(ctx.cmd(), 1, &kNoOccluder, 1, &rect);
           vkCmdSetScissor(ctx.cmd(), 0, 1, &scissor);
-          draw_scene(ctx, "draws.shadow.distant", [](uint32_t, const GpuMaterial&) {},
-                     {plan.occluder_first_draw[t], plan.occluder_draws[t]});
+          draw_casters(ctx, "draws.shadow.distant", {plan.occluder_first_draw[t], plan.occluder_draws[t]});
         }
         ctx.end_rendering();
       });

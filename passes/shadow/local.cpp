@@ -9,19 +9,18 @@
 // shadow.local_moments turns the depth into the moments lighting.tiled filters. Skipped with no
 // spot light in the scene; a frame whose spot lights are all out of view draws nothing.
 #include "passes/core/context.h"
-#include "passes/frame/draw_scene.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
+#include "passes/shadow/caster_draw.h"
 #include "passes/shadow/local_layout.h"
 
 namespace nightcap {
 
 PassDecl shadow_local_pass() {
-  ImageDecl map{VK_FORMAT_D32_SFLOAT, ResourceKind::lookup_table};
-  map.size.mode = SizeRule::Mode::square_param;
-  map.size.param = "resolution";
-  map.layers = kLocalShadowSlices;
-  map.clear.depthStencil = {1.0f, 0};
+  // Sized like the cache slots, so the resolution is set on shadow.local_static alone.
+  ImageDecl map = shadow_depth_array(kLocalShadowSlices);
+  map.size.mode = SizeRule::Mode::like;
+  map.size.like = "shadow.local_static";
   return PassDecl("shadow.local", PassType::graphics)
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
@@ -32,8 +31,6 @@ PassDecl shadow_local_pass() {
       .read("shadow.local_plan", Use::host)
       .read("shadow.local_static", Use::sampled)
       .write("shadow.local", Use::depth_attachment, map)
-      .param("resolution", kLocalShadowResolution, 64, 2048,
-             "texels per side of each map: shadow.local_static's (checked)")
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
       .needs("spot_lights")
@@ -41,10 +38,6 @@ PassDecl shadow_local_pass() {
       .shader("shadow/local.vert")
       .run([](PassContext& ctx) {
         const auto plan = host_records<LocalShadowPlan>(ctx.host("shadow.local_plan")).at(0);
-        if (ctx.desc("shadow.local_static").extent.width != ctx.desc("shadow.local").extent.width)
-          throw GraphError("shadow.local: its resolution (" + std::to_string(ctx.desc("shadow.local").extent.width) +
-                           ") is not shadow.local_static's (" +
-                           std::to_string(ctx.desc("shadow.local_static").extent.width) + "): set both alike");
         for (uint32_t layer = 0; layer < kLocalShadowSlices; ++layer) {
           // A layer without a map is only cleared (1: nothing).
           if (layer >= plan.maps) {
@@ -59,14 +52,10 @@ PassDecl shadow_local_pass() {
           ctx.copy_layer("shadow.local_static", slot, "shadow.local", layer);
           if (plan.slice_moving_draws[layer] == 0) continue;
           ctx.begin_rendering({}, "shadow.local", 0, layer);
-          ctx.bind_pipeline();
-          std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.local");
-          bindings.push_back(Binding::uniform(ctx.slot("shadow.local_views"), "shadow.local_views"));
-          ctx.push(bindings);
-          ctx.push_constants(slot);
-          draw_scene(ctx, "draws.shadow.local", [](uint32_t, const GpuMaterial&) {},
-                     {plan.slice_first_draw[layer] + plan.slice_draws[layer] - plan.slice_moving_draws[layer],
-                      plan.slice_moving_draws[layer]});
+          bind_casters(ctx, "draws.shadow.local", "shadow.local_views", slot);
+          draw_casters(ctx, "draws.shadow.local",
+                       {plan.slice_first_draw[layer] + plan.slice_draws[layer] - plan.slice_moving_draws[layer],
+                        plan.slice_moving_draws[layer]});
           ctx.end_rendering();
         }
       });

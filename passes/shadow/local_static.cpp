@@ -7,19 +7,14 @@
 // the moving casters over it. The depth test keeps the least depth whatever the order of draws, so the sum is the map
 // drawn in one go, bit for bit. Skipped with no spot light in the scene.
 #include "passes/core/context.h"
-#include "passes/frame/draw_scene.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
+#include "passes/shadow/caster_draw.h"
 #include "passes/shadow/local_layout.h"
 
 namespace nightcap {
 
 PassDecl shadow_local_static_pass() {
-  ImageDecl map{VK_FORMAT_D32_SFLOAT, ResourceKind::lookup_table};
-  map.size.mode = SizeRule::Mode::square_param;
-  map.size.param = "resolution";
-  map.layers = kLocalShadowSlices;
-  map.clear.depthStencil = {1.0f, 0};
   return PassDecl("shadow.local_static", PassType::graphics)
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
@@ -29,8 +24,9 @@ PassDecl shadow_local_static_pass() {
       .read("scene.geometry", Use::index_buffer)
       .read("scene.materials", Use::host)
       .read("shadow.local_plan", Use::host)
-      .write("shadow.local_static", Use::depth_attachment, map)
-      .param("resolution", kLocalShadowResolution, 64, 2048, "texels per side of each slot: shadow.local's")
+      .write("shadow.local_static", Use::depth_attachment, shadow_depth_array(kLocalShadowSlices))
+      .param("resolution", kLocalShadowResolution, 64, 2048,
+             "texels per side of each slot and of each map (shadow.local is sized like it)")
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
       .needs("spot_lights")
@@ -51,13 +47,8 @@ PassDecl shadow_local_static_pass() {
             for (uint32_t map = 0; map < plan.maps; ++map) {
               const uint32_t statics = plan.slice_draws[map] - plan.slice_moving_draws[map];
               if (plan.slice_slot[map] != slot || statics == 0) continue;
-              ctx.bind_pipeline();
-              std::vector<Binding> bindings = geometry_bindings(ctx, "draws.shadow.local");
-              bindings.push_back(Binding::uniform(ctx.slot("shadow.local_views"), "shadow.local_views"));
-              ctx.push(bindings);
-              ctx.push_constants(slot);
-              draw_scene(ctx, "draws.shadow.local", [](uint32_t, const GpuMaterial&) {},
-                         {plan.slice_first_draw[map], statics});
+              bind_casters(ctx, "draws.shadow.local", "shadow.local_views", slot);
+              draw_casters(ctx, "draws.shadow.local", {plan.slice_first_draw[map], statics});
             }
           }
           ctx.end_rendering();

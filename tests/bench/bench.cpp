@@ -2110,7 +2110,8 @@ void bench_local(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
     const nc::RenderedFrame without = open.render_frame(0, true);
     const nc::RecordedPass lit = nc::recorded_pass(with, "lighting.tiled");
     const nc::RecordedPass unlit = nc::recorded_pass(without, "lighting.tiled");
-    const double resolution = params["shadow.local"].count("resolution") ? params["shadow.local"]["resolution"] : 512;
+    const double resolution =
+        params["shadow.local_static"].count("resolution") ? params["shadow.local_static"]["resolution"] : 512;
     const double blur =
         params["shadow.local_moments"].count("blur_radius") ? params["shadow.local_moments"]["blur_radius"] : 1;
     return ref::compare_local_shadow(scene, eye, lit.inputs, lit.outputs.at("lighting.diffuse"),
@@ -2148,7 +2149,6 @@ void bench_local(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
   for (const auto& [resolution, blur, vsm] : rows) {
     std::map<std::string, double> pass_ms;
     std::map<std::string, nc::ParamValues> params{{"shadow.local_static", {{"resolution", resolution}}},
-                                                  {"shadow.local", {{"resolution", resolution}}},
                                                   {"shadow.local_moments", {{"blur_radius", blur}}}};
     if (vsm) params["shadow.local_plan"]["moments"] = 2;
     const ref::LocalComparison c = compare(ref::spot_boxes_scene(), ref::kSpotBoxesEye, params, &pass_ms);

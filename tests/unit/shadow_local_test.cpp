@@ -128,7 +128,7 @@ class LocalShadows : public GpuTest {
     }
     return reference::compare_local_shadow(
         scene, eye, shadowed.lighting.inputs, shadowed.lighting.outputs.at("lighting.diffuse"),
-        open.lighting.outputs.at("lighting.diffuse"), shadow_local_pass().default_params().at("resolution"),
+        open.lighting.outputs.at("lighting.diffuse"), shadow_local_static_pass().default_params().at("resolution"),
         shadow_local_moments_pass().default_params().at("blur_radius"), 2);
   }
 
