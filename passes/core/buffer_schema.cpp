@@ -61,10 +61,10 @@ BufferSchema schema_from_json(const nlohmann::json& json) {
     field.name = f.at("name").get<std::string>();
     field.offset = f.at("offset").get<uint32_t>();
     const std::string type = f.at("type").get<std::string>();
-    // Every name type_name() can give, for counts up to 64: a schema is a handful of fields.
+    // Every name type_name() can give, for counts up to 1024 (a record's per-tile arrays).
     bool known = false;
     for (Scalar s : {Scalar::u32, Scalar::i32, Scalar::f32, Scalar::f64})
-      for (uint32_t count = 1; count <= 64 && !known; ++count)
+      for (uint32_t count = 1; count <= 1024 && !known; ++count)
         if (type_name({"", s, count, 0}) == type) {
           field.scalar = s;
           field.count = count;

@@ -7,8 +7,9 @@
 // projection along the sun around its slice's bounding sphere, whose radius depends on the
 // camera's lens alone, so the map's footprint does not change as the camera turns; its centre is
 // snapped to whole texels in world (not camera-relative) light space, so a moving camera does
-// not make the shadow's edges crawl. Light depth spans from the scene's side nearest the sun to
-// the slice's far side, whatever is culled, so culling changes no depth the map stores.
+// not make the shadow's edges crawl. Light depth spans the whole scene's along the sun (its
+// static box and the moving instances), the same for every cascade, whatever is culled, so
+// culling changes no depth the map stores.
 //
 // Casters are the opaque instances, static and moving, at the level of detail the main view
 // draws. A caster is kept for a cascade when its box meets the slice extruded toward the sun
@@ -27,21 +28,35 @@
 // the baked hours around this one is dropped (passes/scene/time_of_day.cpp says why that changes
 // no texel of the map at a baked hour).
 //
-// Caching across frames (`cache`, [004 §2]): each cascade's draws list its static casters, then
-// its moving ones. shadow.cascades_static keeps the static casters' depth as history and
-// shadow.cascades draws the moving ones over it each frame. A cascade keeps the previous frame's
-// static depth when this pass, recomputing the previous frame's cascade from frame.camera's
-// previous_world (and the moving instances' place a frame earlier, for the light's near plane),
-// gets the same eye, projection and culling volume, bit for bit, and the history is valid (not
-// frame 0, not a cut): its static casters are then not even listed. With the cache on, static
-// casters are culled by the volume alone, since a kept depth must not depend on what hides it
-// from one frame's view. What each cascade did and why is ShadowCullStats::static_source.
-// The pass cannot see a history reset the graph makes for a resize; a renderer keeps its size
-// and the cascades' resolution over a run.
+// Caching across frames (`cache`, [004 §2]): each cascade's draws list the static casters of
+// its redrawn tiles, then its moving casters. shadow.cascades_static keeps the static casters'
+// depth as history and shadow.cascades draws the moving ones over it each frame. For a layer to
+// carry over as the camera moves, it must depend on nothing but where it lies: every cascade
+// spans the same light depth (the scene's, LightRange), its side depends on the lens alone and
+// its centre moves by whole texels, so the previous frame's texels are this frame's, shifted
+// (shadow.cascades_static copies them). The static layer is cut into `tiles`² tiles, and a tile
+// holds the depth of every static caster across the sun from it, at the level the view draws
+// (not only those in the slice's volume, which moves with the view; a caster outside it changes
+// no visibility in the slice: it shadows no receiver there, or lies beyond them from the sun).
+// This pass reads its own previous record (history: empty on frame 0 and after a cut). The
+// texels a move uncovers (a strip of columns and one of rows, a few texels wide) are drawn each
+// frame under their own scissors: a tile that missed nothing else is then complete. A tile is
+// stale when some texel of it came from a tile that was not complete, or when a static caster
+// over it changed its level of detail, or its drawn-or-not, since a frame earlier; it is drawn
+// again whole. Units (a cascade's strips, a tile) are redrawn as many as fit in
+// `budget_triangles`, those the view needs first (the tiles the slice covers, grown by the
+// resolve's margin), finest cascade first; the rest wait (`pending`), and shadow.sun_resolve
+// reads no texel of a tile that is not complete: a pixel there falls back to the next cascade
+// that holds its filter, or the distant levels. A reset (no history, the layers' frame changed:
+// the sun, the light depth's range, the lens, a parameter, the hour) draws every static layer
+// whole, whatever the budget. A still camera draws no static caster after frame 0. With `cache`
+// 0 every static layer is drawn whole each frame, culled by the volume and the view's occluders
+// as the moving casters are. Why a frame reset is ShadowCullStats::reset.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 #include "passes/core/context.h"
 #include "passes/cull/hierarchy.h"
@@ -52,11 +67,13 @@
 #include "passes/frame/scene_resources.h"
 #include "passes/scene/time_of_day.h"
 #include "passes/shadow/caster_draw.h"
+#include "passes/shadow/light_tiles.h"
 #include "passes/shadow/shadow_layout.h"
 
 namespace nightcap {
 namespace {
 
+using glm::dvec2;
 using glm::dvec3;
 
 constexpr uint32_t kMaxPlanes = 8;
@@ -261,66 +278,129 @@ class ShadowCuller {
       return;
     }
     const uint32_t resolution = uint32_t(ctx_.param("resolution"));
+    const uint32_t tiles = uint32_t(ctx_.param("tiles"));
     if (resolution % 2 != 0) throw GraphError("shadow.cull: resolution must be even");
-    // Light axes: any basis around the sun's direction, fixed for a given sun.
-    const dvec3 helper = std::abs(travel_.y) < 0.99 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
-    axis_x_ = glm::normalize(glm::cross(helper, travel_));
-    axis_y_ = glm::cross(travel_, axis_x_);
-    const double near_light = scene_light_near(eye_, camera_.time, &bottom_);
+    if (resolution % tiles != 0) throw GraphError("shadow.cull: tiles must divide the resolution");
+    axes_ = LightAxes::of_sun(travel_);
+    const LightRange range = light_range();
+    const bool cache = ctx_.param("cache") != 0.0;
+    const std::array<double, kShadowCascades + 1> splits = split_distances();
+    std::array<Cascade, kShadowCascades> cascades;
+    for (uint32_t k = 0; k < kShadowCascades; ++k)
+      cascades[k] = cascade(splits[k], splits[k + 1], resolution, tiles, range);
+
+    stats_.tiles_per_side = tiles;
+    stats_.resolution = resolution;
+    stats_.budget_triangles = uint32_t(ctx_.param("budget_triangles"));
+    const float key[12] = {float(travel_.x),
+                           float(travel_.y),
+                           float(travel_.z),
+                           float(range.near),
+                           float(range.depth),
+                           float(cascades[0].map.texel),
+                           float(cascades[1].map.texel),
+                           float(cascades[2].map.texel),
+                           float(cascades[3].map.texel),
+                           float(resolution),
+                           float(tiles),
+                           float(tod_bits_)};
+    std::copy(std::begin(key), std::end(key), stats_.frame_key);
+    const ShadowCullStats* before = previous_record();
+    CascadeReset reset = CascadeReset::none;
+    if (!cache)
+      reset = CascadeReset::cache_off;
+    else if (!before)
+      reset = CascadeReset::no_history;
+    else if (std::memcmp(before->frame_key, stats_.frame_key, sizeof(key)) != 0)
+      reset = CascadeReset::frame_changed;
+    stats_.reset = uint32_t(reset);
+
+    // The static layers' tiles: stale where the previous frame's layer holds nothing for them
+    // (moved off it, not complete there) or where a static caster changed its level of detail.
+    const std::vector<LightRect> changed =
+        reset == CascadeReset::none ? level_changes(cascades) : std::vector<LightRect>{};
+    std::array<uint64_t, kShadowCascades> stale{}, partial{}, needed{}, refreshed{};
+    for (uint32_t k = 0; k < kShadowCascades; ++k) {
+      Cascade& c = cascades[k];
+      stats_.centre[2 * k] = c.centre.x;
+      stats_.centre[2 * k + 1] = c.centre.y;
+      const uint64_t all = c.map.all();
+      if (reset != CascadeReset::none) {
+        stale[k] = all;
+      } else {
+        c.shift = c.centre - glm::ivec2(before->centre[2 * k], before->centre[2 * k + 1]);
+        stats_.shift[2 * k] = c.shift.x;
+        stats_.shift[2 * k + 1] = c.shift.y;
+        const TilesAfterMove moved =
+            tiles_after_move(ShadowCullStats::mask(before->complete, k), c.shift, tiles, resolution);
+        uint64_t whole = moved.stale;
+        for (const LightRect& r : changed) whole |= c.map.meeting(r);
+        // A tile that missed only what the move uncovered is complete once the strips are drawn.
+        partial[k] = moved.uncovered & ~whole;
+        stale[k] = whole | moved.uncovered;
+      }
+      needed[k] = reset == CascadeReset::cache_off ? all : c.map.meeting(c.footprint);
+    }
+
+    // A reset draws each static layer whole: with the cache off, the casters its volume and the
+    // view keep; else every one across the sun from its map.
+    std::array<std::vector<GpuDraw>, kShadowCascades> statics;
+    if (reset == CascadeReset::none) {
+      const Refresh done = refresh(cascades, stale, partial, needed);
+      refreshed = done.tiles;
+      stats_.strips = done.strips;
+    } else if (reset == CascadeReset::cache_off) {
+      for (uint32_t k = 0; k < kShadowCascades; ++k) casters(cascades[k], k, true, statics[k]);
+    } else {
+      whole_layers(cascades, statics);
+    }
+    if (reset != CascadeReset::none)
+      for (uint32_t k = 0; k < kShadowCascades; ++k) {
+        refreshed[k] = cascades[k].map.all();
+        sort_for_batching(statics[k]);
+        for (const GpuDraw& d : statics[k]) stats_.static_triangles += d.index_count / 3;
+      }
+
     GpuShadowCascades data{};
     data.light_direction = glm::vec4(glm::vec3(travel_), float(resolution));
-    const std::array<double, kShadowCascades + 1> splits = split_distances();
-    // The previous frame's cascades, recomputed from its camera and the same sun (the scene's
-    // first directional light, fixed over a run): a cascade whose projection and culling volume
-    // come out the same bits keeps its static depth. Any difference, however small, redraws.
-    const bool cache = ctx_.param("cache") != 0.0;
-    const bool history = camera_.frame_index > 0 && camera_.cut == 0;
-    glm::dmat4 previous_world;
-    std::memcpy(&previous_world[0][0], camera_.previous_world, sizeof(camera_.previous_world));
-    const dvec3 previous_eye(previous_world[3]);
-    const double previous_near =
-        cache && history ? scene_light_near(previous_eye, camera_.time - camera_.time_step, nullptr) : 0.0;
     std::vector<GpuDraw> all;
     for (uint32_t k = 0; k < kShadowCascades; ++k) {
-      const Cascade now = cascade(world_, eye_, near_light, splits[k], splits[k + 1], resolution);
-      data.light_from_world[k] = now.light_from_world;
+      const Cascade& c = cascades[k];
+      data.light_from_world[k] = c.light_from_world;
       data.splits[k] = float(splits[k + 1]);
-      data.texel_metres[k] = float(now.texel);
-      data.depth_metres[k] = float(now.depth);
-      ShadowStaticSource source = ShadowStaticSource::redrawn_cache_off;
-      if (cache && !history) {
-        source = ShadowStaticSource::redrawn_reset;
-      } else if (cache) {
-        const Cascade before =
-            cascade(previous_world, previous_eye, previous_near, splits[k], splits[k + 1], resolution);
-        const bool same = previous_eye == eye_ && before.light_from_world == now.light_from_world &&
-                          before.depth == now.depth && before.volume == now.volume;
-        source = same ? ShadowStaticSource::reused : ShadowStaticSource::redrawn_changed;
-      }
-      stats_.static_source[k] = uint32_t(source);
-      stats_.planes[k] = uint32_t(now.volume.planes.size());
+      data.texel_metres[k] = float(c.map.texel);
+      data.depth_metres[k] = float(range.depth);
+      stats_.planes[k] = uint32_t(c.volume.planes.size());
       stats_.first_draw[k] = uint32_t(all.size());
-      // Cached static depth must not depend on what hides it from this frame's view (the view's
-      // occluders include moving ones), so with the cache on only the volume culls static casters.
-      const CasterSet set{.statics = source != ShadowStaticSource::reused,
-                          .static_occlusion = !cache,
-                          .far = now.far_light - glm::dot(eye_, travel_),
-                          .margin = now.margin,
-                          .depth_margin = now.depth_margin,
-                          .cascade = k};
-      std::vector<GpuDraw> statics, moving;
-      casters(now.volume, set, statics, moving);
-      for (std::vector<GpuDraw>* list : {&statics, &moving}) {
-        std::sort(list->begin(), list->end(), [](const GpuDraw& a, const GpuDraw& b) {
-          if (a.material != b.material) return a.material < b.material;
-          if (a.first_index != b.first_index) return a.first_index < b.first_index;
-          return a.instance < b.instance;
-        });
-        for (const GpuDraw& d : *list) stats_.triangles[k] += d.index_count / 3;
-        all.insert(all.end(), list->begin(), list->end());
+      std::vector<GpuDraw> moving;
+      casters(c, k, false, moving);
+      sort_for_batching(moving);
+      if (reset != CascadeReset::none) {
+        all.insert(all.end(), statics[k].begin(), statics[k].end());
+      } else {
+        if (stats_.strips >> k & 1u) {
+          stats_.strip_first_draw[k] = uint32_t(all.size());
+          for (const std::vector<GpuDraw>& strip : strips_[k]) all.insert(all.end(), strip.begin(), strip.end());
+        }
+        for (uint32_t t = 0; t < tiles * tiles; ++t) {
+          if (!(refreshed[k] >> t & 1u)) continue;
+          const uint32_t unit = k * tiles * tiles + t;
+          stats_.unit_first_draw[unit] = uint32_t(all.size());
+          all.insert(all.end(), units_[unit].begin(), units_[unit].end());
+        }
       }
-      stats_.draws[k] = uint32_t(statics.size() + moving.size());
+      all.insert(all.end(), moving.begin(), moving.end());
+      for (uint32_t d = stats_.first_draw[k]; d < all.size(); ++d) stats_.triangles[k] += all[d].index_count / 3;
+      stats_.draws[k] = uint32_t(all.size()) - stats_.first_draw[k];
       stats_.moving_draws[k] = uint32_t(moving.size());
+      const uint64_t complete =
+          (c.map.all() & ~stale[k]) | refreshed[k] | (stats_.strips >> k & 1u ? partial[k] : uint64_t(0));
+      ShadowCullStats::set_mask(stats_.stale, k, stale[k]);
+      ShadowCullStats::set_mask(stats_.needed, k, needed[k]);
+      ShadowCullStats::set_mask(stats_.refreshed, k, refreshed[k]);
+      ShadowCullStats::set_mask(stats_.complete, k, complete);
+      ShadowCullStats::set_mask(stats_.partial, k, partial[k]);
+      data.tiles[k] = glm::uvec4(uint32_t(complete), uint32_t(complete >> 32), tiles, 0u);
     }
     store("shadow.cascade_data", &data, sizeof(data));
     store("shadow.cull_stats", &stats_, sizeof(stats_));
@@ -328,45 +408,229 @@ class ShadowCuller {
   }
 
  private:
+  // The light depth every cascade spans: from the scene's side nearest the sun to its far side,
+  // rounded outward to 16 m so that moving instances inside the static scene's box never move it.
+  struct LightRange {
+    double near, depth;
+  };
+
   struct Cascade {
     glm::mat4 light_from_world;
-    double texel, depth, far_light, margin, depth_margin;
+    TiledMap map;
+    glm::ivec2 centre;    // in whole texels of world light space
+    glm::ivec2 shift{0};  // the previous frame's texel under this frame's (0, 0)
+    LightRect footprint;  // the slice across the sun, grown by the margin: what the view needs of the map
+    double far_light, margin, depth_margin;
     Volume volume;
   };
 
-  // The cascade over view depths [a, b] of a camera at `world` (eye: its position), with the
-  // scene's nearest light depth `near_light`.
-  Cascade cascade(const glm::dmat4& world, const dvec3& eye, double near_light, double a, double b,
-                  uint32_t resolution) const {
-    const Corners corners = slice_corners(world, a, b);
+  // The cascade over view depths [a, b].
+  Cascade cascade(double a, double b, uint32_t resolution, uint32_t tiles, const LightRange& range) const {
+    const Corners corners = slice_corners(world_, a, b);
     dvec3 centre(0.0);
     for (const dvec3& p : corners) centre += p / 8.0;
     double radius = 0.0;
     for (const dvec3& p : corners) radius = std::max(radius, glm::length(p - centre));
     radius = std::ceil(radius * 16.0) / 16.0;  // the same for every view through this lens
     Cascade c;
-    c.texel = 2.0 * radius / resolution;
+    const double texel = 2.0 * radius / resolution;
     // Snapped in world light space: the map's texel grid stays put as the camera moves.
-    const dvec3 centre_world = centre + eye;
-    const double u = std::floor(glm::dot(centre_world, axis_x_) / c.texel) * c.texel;
-    const double v = std::floor(glm::dot(centre_world, axis_y_) / c.texel) * c.texel;
+    const dvec3 centre_world = centre + eye_;
+    c.centre = glm::ivec2(glm::floor(axes_.across(centre_world) / texel));
+    const dvec2 snapped = dvec2(c.centre) * texel;
+    c.map = TiledMap{snapped - radius, texel, resolution, tiles};
     c.far_light = glm::dot(centre_world, travel_) + radius + 1.0;
-    const double near = std::min(near_light, c.far_light - 2.0 * radius - 2.0);
-    c.depth = c.far_light - near;
     // camera-relative p → ((p + eye)·x − u) / r, ((p + eye)·y − v) / r, ((p + eye)·t − near) / depth.
     glm::dmat4 m(0.0);
     for (int i = 0; i < 3; ++i) {
-      m[i][0] = axis_x_[i] / radius;
-      m[i][1] = axis_y_[i] / radius;
-      m[i][2] = travel_[i] / c.depth;
+      m[i][0] = axes_.x[i] / radius;
+      m[i][1] = axes_.y[i] / radius;
+      m[i][2] = travel_[i] / range.depth;
     }
-    m[3] = glm::dvec4((glm::dot(eye, axis_x_) - u) / radius, (glm::dot(eye, axis_y_) - v) / radius,
-                      (glm::dot(eye, travel_) - near) / c.depth, 1.0);
+    const dvec2 eye_across = axes_.across(eye_);
+    m[3] = glm::dvec4((eye_across.x - snapped.x) / radius, (eye_across.y - snapped.y) / radius,
+                      (glm::dot(eye_, travel_) - range.near) / range.depth, 1.0);
     c.light_from_world = glm::mat4(m);
-    c.margin = ctx_.param("margin_texels") * c.texel;
+    c.margin = ctx_.param("margin_texels") * texel;
     c.depth_margin = ctx_.param("receiver_slope") * c.margin;
     c.volume = extruded_slice(corners, -travel_, c.margin, c.depth_margin);
+    for (const dvec3& p : corners) c.footprint.grow(axes_.across(p + eye_));
+    c.footprint.lo -= c.margin + texel;
+    c.footprint.hi += c.margin + texel;
     return c;
+  }
+
+  // The previous frame's record, or null when there is none to keep (frame 0, a cut, a frame
+  // without cascades).
+  const ShadowCullStats* previous_record() {
+    const std::span<const uint8_t> bytes = ctx_.host(previous("shadow.cull_stats"));
+    if (bytes.size() != sizeof(ShadowCullStats)) return nullptr;
+    std::memcpy(&previous_, bytes.data(), sizeof(ShadowCullStats));
+    return &previous_;
+  }
+
+  // Across the sun, the boxes of the static casters within the cascades' maps that a frame ago
+  // were drawn at another level of detail or not at all (both levels' boxes): their tiles hold
+  // the other level's depth. Also counts them (level_changes).
+  std::vector<LightRect> level_changes(const std::array<Cascade, kShadowCascades>& cascades) {
+    glm::dmat4 previous_world;
+    std::memcpy(&previous_world[0][0], camera_.previous_world, sizeof(camera_.previous_world));
+    const dvec3 previous_eye(previous_world[3]);
+    std::vector<LightRect> maps;
+    for (const Cascade& c : cascades) maps.push_back(c.map.whole());
+    std::vector<LightRect> changed;
+    visit_static_across_sun(hierarchy_, axes_, maps, [&](uint32_t index) {
+      const MeshRecord* now = drawn_mesh(index, model_of(index, eye_, camera_.time));
+      const MeshRecord* then = drawn_mesh(index, model_of(index, previous_eye, camera_.time - camera_.time_step));
+      if (now == then) return;
+      ++stats_.level_changes;
+      LightRect r;
+      for (const MeshRecord* mesh : {now, then}) {
+        if (!mesh) continue;
+        const Box box = box_of(model_of(index, eye_, camera_.time), *mesh);
+        const LightRect across = across_sun(axes_, box.min + eye_, box.max + eye_);
+        r.grow(across.lo);
+        r.grow(across.hi);
+      }
+      changed.push_back(r);
+    });
+    return changed;
+  }
+
+  // Whether a static caster across the sun from one of cascade k's areas is drawn there: not
+  // when it lies behind the sun's occluders or the time of day hides it (neither changes a
+  // texel, see above). `first`: the first of the cascade's areas it meets, to count it once.
+  bool keeps_static(uint32_t index, const Box& box, const MeshRecord& mesh, uint32_t k, bool first) {
+    const uint32_t triangles = mesh.index_count / 3;
+    if (first) ++stats_.casters_tested[k];
+    if (light_occluders_.hides(box)) {
+      if (first) ++stats_.casters_light_hidden[k];
+      stats_.light_hidden_triangles[k] += triangles;
+      if (culling_) return false;
+    }
+    if (!tod_visible_.empty() && !(tod_visible_[index] & tod_bits_)) {
+      if (first) ++stats_.casters_tod_dropped[k];
+      stats_.tod_triangles_saved[k] += triangles;
+      return false;
+    }
+    return true;
+  }
+
+  // Each static layer after a reset: every static caster across the sun from its map.
+  void whole_layers(const std::array<Cascade, kShadowCascades>& cascades,
+                    std::array<std::vector<GpuDraw>, kShadowCascades>& statics) {
+    std::vector<LightRect> maps;
+    for (const Cascade& c : cascades) maps.push_back(c.map.whole());
+    visit_static_across_sun(hierarchy_, axes_, maps, [&](uint32_t index) {
+      Box box;
+      const MeshRecord* mesh = nullptr;
+      if (!world_box(index, box, &mesh, eye_, camera_.time)) return;
+      const LightRect across = across_sun(axes_, box.min + eye_, box.max + eye_);
+      for (uint32_t k = 0; k < kShadowCascades; ++k)
+        if (across.meets(maps[k]) && keeps_static(index, box, *mesh, k, true))
+          statics[k].push_back(draw_of(index, *mesh));
+    });
+  }
+
+  // What to redraw this frame: each cascade's strips, when a tile misses only the texels they
+  // hold, and its stale tiles; the units the view needs first (finest cascade first), then the
+  // others, while their triangles fit the budget (the first even when it alone is over). Their
+  // draws are left in units_ and strips_.
+  struct Refresh {
+    std::array<uint64_t, kShadowCascades> tiles{};
+    uint32_t strips = 0;  // bit k: cascade k's strips
+  };
+  Refresh refresh(const std::array<Cascade, kShadowCascades>& cascades,
+                  const std::array<uint64_t, kShadowCascades>& stale,
+                  const std::array<uint64_t, kShadowCascades>& partial,
+                  const std::array<uint64_t, kShadowCascades>& needed) {
+    const uint32_t per_cascade = cascades[0].map.tiles * cascades[0].map.tiles;
+    // Rectangles to gather casters for, with the unit they are scheduled in (a tile, or both
+    // strips of cascade k: kCascadeUnits + k) and their draws' list.
+    struct Area {
+      uint32_t unit;
+      std::vector<GpuDraw>* list;
+      LightRect rect;
+    };
+    units_.assign(kCascadeUnits, {});
+    strips_ = {};
+    std::vector<Area> areas;
+    std::vector<uint32_t> order[2];  // the units the view needs, and the others
+    for (uint32_t k = 0; k < kShadowCascades; ++k) {
+      const TiledMap& map = cascades[k].map;
+      if (partial[k]) {
+        const UncoveredStrips strips = uncovered_strips(map.resolution, cascades[k].shift);
+        order[(partial[k] & needed[k]) ? 0 : 1].push_back(kCascadeUnits + k);
+        if (!strips.columns.empty()) areas.push_back({kCascadeUnits + k, &strips_[k][0], map.texels(strips.columns)});
+        if (!strips.rows.empty()) areas.push_back({kCascadeUnits + k, &strips_[k][1], map.texels(strips.rows)});
+      }
+      for (uint32_t t = 0; t < per_cascade; ++t)
+        if ((stale[k] & ~partial[k]) >> t & 1u) {
+          order[(needed[k] >> t & 1u) ? 0 : 1].push_back(k * per_cascade + t);
+          areas.push_back({k * per_cascade + t, &units_[k * per_cascade + t], map.tile(t)});
+        }
+    }
+    std::vector<uint32_t> triangles_of(kCascadeUnits + kShadowCascades, 0);
+    auto cascade_of = [&](uint32_t unit) { return unit >= kCascadeUnits ? unit - kCascadeUnits : unit / per_cascade; };
+    std::vector<LightRect> rects;
+    for (const Area& a : areas) rects.push_back(a.rect);
+    visit_static_across_sun(hierarchy_, axes_, rects, [&](uint32_t index) {
+      Box box;
+      const MeshRecord* mesh = nullptr;
+      if (!world_box(index, box, &mesh, eye_, camera_.time)) return;
+      const LightRect across = across_sun(axes_, box.min + eye_, box.max + eye_);
+      uint32_t met = 0;  // cascades whose areas it meets
+      std::optional<GpuDraw> draw;
+      for (const Area& a : areas) {
+        if (!across.meets(a.rect)) continue;
+        const uint32_t k = cascade_of(a.unit);
+        const bool first = !(met >> k & 1u);
+        met |= 1u << k;
+        if (!keeps_static(index, box, *mesh, k, first)) continue;
+        if (!draw) draw = draw_of(index, *mesh);
+        a.list->push_back(*draw);
+        triangles_of[a.unit] += mesh->index_count / 3;
+      }
+    });
+    Refresh done;
+    uint64_t filled = 0;
+    bool any = false;
+    for (const std::vector<uint32_t>& units : order)
+      for (uint32_t unit : units) {
+        const uint32_t k = cascade_of(unit), triangles = triangles_of[unit];
+        if (unit < kCascadeUnits)
+          stats_.unit_triangles[unit] = triangles;
+        else
+          stats_.strip_triangles[k] = triangles;
+        if (any && filled + triangles > stats_.budget_triangles) {
+          ++stats_.pending;
+          continue;
+        }
+        any = true;
+        filled += triangles;
+        if (triangles > stats_.budget_triangles) stats_.over_budget = 1;
+        if (unit >= kCascadeUnits) {
+          done.strips |= 1u << k;
+          for (uint32_t axis = 0; axis < 2; ++axis) {
+            sort_for_batching(strips_[k][axis]);
+            stats_.strip_draws[2 * k + axis] = uint32_t(strips_[k][axis].size());
+          }
+        } else {
+          done.tiles[k] |= uint64_t(1) << (unit % per_cascade);
+          sort_for_batching(units_[unit]);
+          stats_.unit_draws[unit] = uint32_t(units_[unit].size());
+        }
+      }
+    stats_.static_triangles = uint32_t(filled);
+    return done;
+  }
+
+  static void sort_for_batching(std::vector<GpuDraw>& list) {
+    std::sort(list.begin(), list.end(), [](const GpuDraw& a, const GpuDraw& b) {
+      if (a.material != b.material) return a.material < b.material;
+      if (a.first_index != b.first_index) return a.first_index < b.first_index;
+      return a.instance < b.instance;
+    });
   }
 
   void store(const char* name, const void* bytes, size_t size) {
@@ -400,16 +664,18 @@ class ShadowCuller {
     return c;
   }
 
-  // The least light depth (along the sun's travel, world) of anything in the scene: the
-  // hierarchy's root box and every moving instance where it is at `time`, the camera at `eye`
-  // (which picks the level drawn). Also sets *bottom to the scene's lowest point relative to it.
-  double scene_light_near(const dvec3& eye, double time, double* bottom) const {
-    double nearest = INFINITY;
+  // The light depth the cascades span (world, along the sun's travel): the hierarchy's root box
+  // and every moving instance where it is now, a metre to spare, rounded outward to 16 m. Also
+  // sets bottom_, the scene's lowest point relative to the camera.
+  LightRange light_range() {
+    double nearest = INFINITY, farthest = -INFINITY;
     auto take = [&](const dvec3& lo, const dvec3& hi) {
-      if (bottom) *bottom = std::min(*bottom, lo.y - eye.y);
-      for (int k = 0; k < 8; ++k)
-        nearest =
-            std::min(nearest, glm::dot(dvec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z), travel_));
+      bottom_ = std::min(bottom_, lo.y - eye_.y);
+      for (int k = 0; k < 8; ++k) {
+        const double d = glm::dot(dvec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z), travel_);
+        nearest = std::min(nearest, d);
+        farthest = std::max(farthest, d);
+      }
     };
     if (!hierarchy_.static_order.empty()) {
       const HierarchyNode& root = hierarchy_.nodes[0];
@@ -418,9 +684,13 @@ class ShadowCuller {
     }
     for (uint32_t i : hierarchy_.moving) {
       Box box;
-      if (world_box(i, box, nullptr, eye, time)) take(box.min + eye, box.max + eye);
+      if (world_box(i, box, nullptr, eye_, camera_.time)) take(box.min + eye_, box.max + eye_);
     }
-    return std::isfinite(nearest) ? nearest - 1.0 : glm::dot(eye, travel_);
+    // Nothing to cast or receive: any range (around the eye).
+    if (!std::isfinite(nearest)) nearest = farthest = glm::dot(eye_, travel_);
+    constexpr double kStep = 16.0;
+    const double near = std::floor((nearest - 1.0) / kStep) * kStep;
+    return {near, std::ceil((farthest + 1.0) / kStep) * kStep - near};
   }
 
   // The instance's model matrix relative to a camera at `eye`, at `time`.
@@ -463,17 +733,22 @@ class ShadowCuller {
     const glm::dmat4 model = model_of(index, eye, time);
     const MeshRecord* mesh = drawn_mesh(index, model);
     if (!mesh) return false;
-    box.min = dvec3(INFINITY);
-    box.max = dvec3(-INFINITY);
+    box = box_of(model, *mesh);
+    if (drawn) *drawn = mesh;
+    return true;
+  }
+
+  // The box of `mesh` under `model`.
+  static Box box_of(const glm::dmat4& model, const MeshRecord& mesh) {
+    Box box{dvec3(INFINITY), dvec3(-INFINITY)};
     for (int k = 0; k < 8; ++k) {
-      const dvec3 p(model * glm::dvec4(k & 1 ? mesh->bounds_max[0] : mesh->bounds_min[0],
-                                       k & 2 ? mesh->bounds_max[1] : mesh->bounds_min[1],
-                                       k & 4 ? mesh->bounds_max[2] : mesh->bounds_min[2], 1.0));
+      const dvec3 p(model * glm::dvec4(k & 1 ? mesh.bounds_max[0] : mesh.bounds_min[0],
+                                       k & 2 ? mesh.bounds_max[1] : mesh.bounds_min[1],
+                                       k & 4 ? mesh.bounds_max[2] : mesh.bounds_min[2], 1.0));
       box.min = glm::min(box.min, p);
       box.max = glm::max(box.max, p);
     }
-    if (drawn) *drawn = mesh;
-    return true;
+    return box;
   }
 
   // Whether the camera-relative box's shadow, out to light depth `far` (camera-relative),
@@ -497,26 +772,19 @@ class ShadowCuller {
     return occlusion_.hidden(corners);
   }
 
-  // Which casters of a cascade to list, and its culling margins.
-  struct CasterSet {
-    bool statics;           // list static casters (not when the cascade keeps its static depth)
-    bool static_occlusion;  // drop static casters whose shadow the view's occluders hide
-    double far, margin, depth_margin;
-    uint32_t cascade;
-  };
-
-  void casters(const Volume& volume, const CasterSet& set, std::vector<GpuDraw>& statics,
-               std::vector<GpuDraw>& moving) {
-    const uint32_t cascade = set.cascade;
-    auto consider = [&](uint32_t i, bool occlusion, std::vector<GpuDraw>& out) {
+  // The cascade's static casters (through the hierarchy: a node outside the volume drops what it
+  // holds) or its moving ones, culled by its volume, the view's occluders and the sun's.
+  void casters(const Cascade& c, uint32_t cascade, bool statics, std::vector<GpuDraw>& out) {
+    const double far = c.far_light - glm::dot(eye_, travel_);
+    auto consider = [&](uint32_t i) {
       Box box;
       const MeshRecord* mesh = nullptr;
       if (!world_box(i, box, &mesh, eye_, camera_.time)) return;
       ++stats_.casters_tested[cascade];
-      if (volume.excludes(box.min, box.max)) {
+      if (c.volume.excludes(box.min, box.max)) {
         ++stats_.casters_culled[cascade];
         if (culling_) return;
-      } else if (occlusion && shadow_hidden(box, set.far, set.margin, set.depth_margin)) {
+      } else if (shadow_hidden(box, far, c.margin, c.depth_margin)) {
         ++stats_.casters_hidden[cascade];
         if (culling_) return;
       } else if (light_occluders_.hides(box)) {
@@ -531,35 +799,36 @@ class ShadowCuller {
       }
       out.push_back(draw_of(i, *mesh));
     };
-    // Static instances through the hierarchy: a node outside the volume drops what it holds.
+    if (!statics) {
+      for (uint32_t i : hierarchy_.moving) consider(i);
+      return;
+    }
     std::vector<uint32_t> stack;
-    if (set.statics && !hierarchy_.static_order.empty()) stack.push_back(0);
+    if (!hierarchy_.static_order.empty()) stack.push_back(0);
     while (!stack.empty()) {
       const HierarchyNode& node = hierarchy_.nodes[stack.back()];
       stack.pop_back();
       const dvec3 lo = dvec3(node.bounds_min[0], node.bounds_min[1], node.bounds_min[2]) - eye_;
       const dvec3 hi = dvec3(node.bounds_max[0], node.bounds_max[1], node.bounds_max[2]) - eye_;
-      if (culling_ && volume.excludes(lo, hi)) {
+      if (culling_ && c.volume.excludes(lo, hi)) {
         const uint32_t count = leaf_count(node);
         stats_.casters_tested[cascade] += count;
         stats_.casters_culled[cascade] += count;
         continue;
       }
-      if (culling_ && set.static_occlusion && shadow_hidden({lo, hi}, set.far, set.margin, set.depth_margin)) {
+      if (culling_ && shadow_hidden({lo, hi}, far, c.margin, c.depth_margin)) {
         const uint32_t count = leaf_count(node);
         stats_.casters_tested[cascade] += count;
         stats_.casters_hidden[cascade] += count;
         continue;
       }
       if (node.count > 0) {
-        for (uint32_t k = node.first; k < node.first + node.count; ++k)
-          consider(hierarchy_.static_order[k], set.static_occlusion, statics);
+        for (uint32_t k = node.first; k < node.first + node.count; ++k) consider(hierarchy_.static_order[k]);
       } else {
         stack.push_back(node.first + 1);
         stack.push_back(node.first);
       }
     }
-    for (uint32_t i : hierarchy_.moving) consider(i, true, moving);
   }
 
   uint32_t leaf_count(const HierarchyNode& node) const {
@@ -585,9 +854,13 @@ class ShadowCuller {
   uint16_t tod_bits_ = 0;                  // the baked hours that decide at this hour
   glm::dmat4 world_{1.0}, view_projection_{1.0};
   dvec3 eye_{0.0}, travel_{0.0};
-  dvec3 axis_x_{0.0}, axis_y_{0.0};  // the light's axes across the map
-  double bottom_ = INFINITY;         // the scene's lowest point, camera-relative
+  LightAxes axes_;
+  double bottom_ = INFINITY;  // the scene's lowest point, camera-relative
   ShadowCullStats stats_{};
+  ShadowCullStats previous_{};
+  std::vector<std::vector<GpuDraw>> units_;  // this frame's draws of each tile it considered
+  // And of each cascade's strips: the columns' and the rows' the move uncovered.
+  std::array<std::array<std::vector<GpuDraw>, 2>, kShadowCascades> strips_;
 };
 
 }  // namespace
@@ -604,6 +877,7 @@ PassDecl shadow_cull_pass() {
       .read("scene.tod", Use::host)
       .read("shadow.distant_data", Use::host)
       .read("shadow.distant_occluders", Use::host)
+      .read_previous("shadow.cull_stats", Use::host)
       .write("shadow.cascade_data", Use::host, BufferDecl{ResourceKind::buffer})
       .write("draws.shadow.cascades", Use::host, BufferDecl{ResourceKind::draw_list})
       .write("shadow.cull_stats", Use::host, BufferDecl{ResourceKind::buffer})
@@ -617,9 +891,14 @@ PassDecl shadow_cull_pass() {
              "texels each culling plane is pushed out: at least (shadow.sun_resolve.filter_radius + 1)·√2")
       .param("receiver_slope", 11.43, 0, 1000,
              "the steepest receiver slope culling allows for: at least shadow.sun_resolve.max_slope")
+      .param("tiles", 8, 1, kCascadeMaxTilesPerSide,
+             "tiles per side of a cascade: the unit of the static layers' refresh")
+      .param("budget_triangles", 500000, 0, 1e9,
+             "static triangles shadow.cascades_static draws per frame at most, after a reset (a unit above it is "
+             "drawn alone)")
       .param("cache", 1, 0, 1,
-             "1: a cascade whose projection and culling volume are the previous frame's keeps its static casters' "
-             "depth (shadow.cascades_static) and draws only the moving ones; 0: everything drawn each frame")
+             "1: the static layers (shadow.cascades_static) carry over from the previous frame and only the stale "
+             "tiles the view needs are redrawn; 0: every static layer drawn whole each frame")
       .param("light_occlusion", 1, 0, 1,
              "1: drop casters wholly behind shadow.distant_occluders from the sun; 0: not (culling=0 turns every "
              "test off)")

@@ -47,6 +47,7 @@
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/shadow/caster_draw.h"
+#include "passes/shadow/light_tiles.h"
 #include "passes/shadow/shadow_layout.h"
 
 namespace nightcap {
@@ -54,12 +55,6 @@ namespace {
 
 using glm::dvec2;
 using glm::dvec3;
-
-// A rectangle across the sun, in world light-space metres.
-struct Rect {
-  dvec2 lo{INFINITY}, hi{-INFINITY};
-  bool meets(const Rect& o) const { return lo.x <= o.hi.x && o.lo.x <= hi.x && lo.y <= o.hi.y && o.lo.y <= hi.y; }
-};
 
 struct Unit {
   uint32_t triangles = 0;
@@ -77,12 +72,12 @@ class DistantPlanner {
         meshes_(host_view<MeshRecord>(ctx.host("scene.meshes"))),
         materials_(host_records<GpuMaterial>(ctx.host("scene.materials"))),
         hierarchy_(Hierarchy::parse(ctx.host("scene.hierarchy"), instances_.size())) {
-    travel_ = glm::normalize(dvec3(glm::vec3(constants_.sun_direction)));
+    axes_ = LightAxes::of_sun(glm::normalize(dvec3(glm::vec3(constants_.sun_direction))));
   }
 
   void run() {
     // As shadow.cull: a replay of the skip runs the pass on the recorded inputs, and it writes nothing.
-    if (!(constants_.sun_direction.w > 0.0f && travel_.y < 0.0)) {
+    if (!(constants_.sun_direction.w > 0.0f && axes_.travel.y < 0.0)) {
       for (const char* name : {"shadow.distant_data", "draws.shadow.distant", "shadow.distant_plan"})
         store(name, nullptr, 0);
       return;
@@ -91,13 +86,8 @@ class DistantPlanner {
     const uint32_t tiles = uint32_t(ctx_.param("tiles"));
     if (resolution % 8 != 0) throw GraphError("shadow.distant_plan: resolution must be a multiple of 8");
     if (resolution % tiles != 0) throw GraphError("shadow.distant_plan: tiles must divide the resolution");
-    // The same basis as shadow.cull's: any basis around the sun, fixed for a given sun.
-    const dvec3 helper = std::abs(travel_.y) < 0.99 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
-    axis_x_ = glm::normalize(glm::cross(helper, travel_));
-    axis_y_ = glm::cross(travel_, axis_x_);
-
     // The static scene in light space (a box around the eye when there is none).
-    Rect map;
+    LightRect map;
     double near = INFINITY, far = -INFINITY;
     dvec3 lo = dvec3(eye()) - 1.0, hi = dvec3(eye()) + 1.0;
     if (!hierarchy_.static_order.empty()) {
@@ -107,9 +97,9 @@ class DistantPlanner {
     }
     for (int k = 0; k < 8; ++k) {
       const dvec3 p(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
-      grow(map, p);
-      near = std::min(near, glm::dot(p, travel_));
-      far = std::max(far, glm::dot(p, travel_));
+      map.grow(axes_.across(p));
+      near = std::min(near, glm::dot(p, axes_.travel));
+      far = std::max(far, glm::dot(p, axes_.travel));
     }
     near -= 1.0;
     const double depth = far + 1.0 - near;
@@ -123,8 +113,8 @@ class DistantPlanner {
     plan.resolution = resolution;
     plan.budget_triangles = uint32_t(ctx_.param("budget_triangles"));
     plan.units = kDistantLevels * tiles * tiles;
-    const float key[6] = {float(travel_.x), float(travel_.y), float(travel_.z),
-                          float(side0),     float(near),      float(depth)};
+    const float key[6] = {float(axes_.travel.x), float(axes_.travel.y), float(axes_.travel.z),
+                          float(side0),          float(near),           float(depth)};
     std::copy(std::begin(key), std::end(key), plan.frame_key);
     const DistantPlan* before = previous_plan();
     if (ctx_.param("cache") == 0.0)
@@ -136,14 +126,14 @@ class DistantPlanner {
       plan.reset = uint32_t(DistantReset::levels_changed);
 
     GpuDistantLevels data{};
-    data.light_direction = glm::vec4(glm::vec3(travel_), float(resolution));
+    data.light_direction = glm::vec4(glm::vec3(axes_.travel), float(resolution));
     const dvec3 eye_now = eye();
     const dvec2 map_centre = 0.5 * (map.lo + map.hi);
-    std::vector<Rect> tile_rects;
+    std::vector<LightRect> tile_rects;
     for (uint32_t k = 0; k < kDistantLevels; ++k) {
       const double side = side0 * std::pow(4.0, k), texel = side / resolution;
       const bool last = k + 1 == kDistantLevels;
-      const dvec2 wanted = last ? map_centre : dvec2(glm::dot(eye_now, axis_x_), glm::dot(eye_now, axis_y_));
+      const dvec2 wanted = last ? map_centre : axes_.across(eye_now);
       const double step = last ? texel : side / 8.0;
       const dvec2 centre = glm::floor(wanted / step) * step;
       // Whole texels: the centre is a multiple of a texel (an eighth of a side is resolution / 8 of them).
@@ -154,29 +144,29 @@ class DistantPlanner {
       const glm::ivec2 shift =
           plan.reset ? glm::ivec2(0) : centre_texels - glm::ivec2(before->centre[2 * k], before->centre[2 * k + 1]);
       data.refresh[k] = glm::ivec4(shift.x, shift.y, 0, int(tiles));
-      plan.stale[k] = plan.reset ? all_tiles(tiles) : stale_after_move(before->complete[k], shift, tiles, resolution);
+      if (plan.reset) {
+        plan.stale[k] = all_tiles(tiles);
+      } else {
+        const TilesAfterMove moved = tiles_after_move(before->complete[k], shift, tiles, resolution);
+        plan.stale[k] = uint32_t(moved.stale | moved.uncovered);
+      }
       // camera-relative p → ((p + eye)·x − cx) / (side / 2), ((p + eye)·y − cy) / (side / 2), ((p + eye)·t − near) /
       // depth.
       const double half = 0.5 * side;
       glm::dmat4 m(0.0);
       for (int c = 0; c < 3; ++c) {
-        m[c][0] = axis_x_[c] / half;
-        m[c][1] = axis_y_[c] / half;
-        m[c][2] = travel_[c] / depth;
+        m[c][0] = axes_.x[c] / half;
+        m[c][1] = axes_.y[c] / half;
+        m[c][2] = axes_.travel[c] / depth;
       }
-      m[3] = glm::dvec4((glm::dot(eye_now, axis_x_) - centre.x) / half, (glm::dot(eye_now, axis_y_) - centre.y) / half,
-                        (glm::dot(eye_now, travel_) - near) / depth, 1.0);
+      const dvec2 eye_across = axes_.across(eye_now);
+      m[3] = glm::dvec4((eye_across.x - centre.x) / half, (eye_across.y - centre.y) / half,
+                        (glm::dot(eye_now, axes_.travel) - near) / depth, 1.0);
       data.light_from_world[k] = glm::mat4(m);
       data.texel_metres[k] = float(texel);
       data.depth_metres[k] = float(depth);
-      const double tile_side = side / tiles;
-      for (uint32_t ty = 0; ty < tiles; ++ty)
-        for (uint32_t tx = 0; tx < tiles; ++tx) {
-          Rect r;
-          r.lo = centre - half + dvec2(tx, ty) * tile_side - texel;
-          r.hi = r.lo + tile_side + 2.0 * texel;
-          tile_rects.push_back(r);
-        }
+      const TiledMap grid{centre - half, texel, resolution, tiles};
+      for (uint32_t t = 0; t < tiles * tiles; ++t) tile_rects.push_back(grid.tile(t));
     }
 
     // Every unit's triangles, for the schedule; the draws of this frame's units only (a draw
@@ -200,7 +190,7 @@ class DistantPlanner {
       due.push_back(u);
       filled += units[u].triangles;
     }
-    std::vector<Rect> due_rects;
+    std::vector<LightRect> due_rects;
     for (uint32_t u : due) due_rects.push_back(tile_rects[u]);
     walk(due_rects, [&](size_t t, uint32_t index, const glm::dmat4& model, const MeshRecord& mesh) {
       Unit& unit = units[due[t]];
@@ -261,38 +251,7 @@ class DistantPlanner {
     return &previous_;
   }
 
-  // The tiles of a level that moved by `shift` texels (this frame's texel t covers the previous
-  // frame's t + shift) that are stale: some texel of theirs was not covered by a complete tile.
-  static uint32_t stale_after_move(uint32_t complete_before, glm::ivec2 shift, uint32_t tiles, uint32_t resolution) {
-    const int side = int(resolution / tiles);
-    uint32_t stale = 0;
-    for (uint32_t ty = 0; ty < tiles; ++ty)
-      for (uint32_t tx = 0; tx < tiles; ++tx) {
-        // The previous frame's texels under this tile: [lo, lo + side) on each axis.
-        const glm::ivec2 lo = glm::ivec2(int(tx), int(ty)) * side + shift, hi = lo + side - 1;
-        bool complete = glm::all(glm::greaterThanEqual(lo, glm::ivec2(0))) &&
-                        glm::all(glm::lessThan(hi, glm::ivec2(int(resolution))));
-        for (int y = lo.y / side; complete && y <= hi.y / side; ++y)
-          for (int x = lo.x / side; complete && x <= hi.x / side; ++x)
-            complete = (complete_before >> (y * int(tiles) + x) & 1u) != 0;
-        if (!complete) stale |= 1u << (ty * tiles + tx);
-      }
-    return stale;
-  }
-
   dvec3 eye() const { return dvec3(camera_.world[12], camera_.world[13], camera_.world[14]); }
-
-  void grow(Rect& r, const dvec3& p) const {
-    const dvec2 at(glm::dot(p, axis_x_), glm::dot(p, axis_y_));
-    r.lo = glm::min(r.lo, at);
-    r.hi = glm::max(r.hi, at);
-  }
-
-  Rect across_sun(const dvec3& lo, const dvec3& hi) const {
-    Rect r;
-    for (int k = 0; k < 8; ++k) grow(r, dvec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z));
-    return r;
-  }
 
   void store(const char* name, const void* bytes, size_t size) {
     auto& out = ctx_.output(name);
@@ -329,34 +288,19 @@ class DistantPlanner {
   // Every static caster whose box, across the sun, meets one of `tiles`, through the hierarchy:
   // visit(tile, instance, model, mesh) for each tile it meets.
   template <typename Visit>
-  void walk(const std::vector<Rect>& tiles, Visit visit) const {
-    std::vector<uint32_t> stack;
-    if (!hierarchy_.static_order.empty() && !tiles.empty()) stack.push_back(0);
-    while (!stack.empty()) {
-      const HierarchyNode& node = hierarchy_.nodes[stack.back()];
-      stack.pop_back();
-      const Rect r = across_sun(dvec3(node.bounds_min[0], node.bounds_min[1], node.bounds_min[2]),
-                                dvec3(node.bounds_max[0], node.bounds_max[1], node.bounds_max[2]));
-      if (std::none_of(tiles.begin(), tiles.end(), [&](const Rect& t) { return r.meets(t); })) continue;
-      if (node.count == 0) {
-        stack.push_back(node.first + 1);
-        stack.push_back(node.first);
-        continue;
-      }
-      for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-        const uint32_t index = hierarchy_.static_order[k];
-        const glm::dmat4 model = model_of(index);
-        const MeshRecord* mesh = caster_mesh(index, model);
-        if (!mesh) continue;
-        Rect box;
-        for (int c = 0; c < 8; ++c)
-          grow(box, dvec3(model * glm::dvec4(c & 1 ? mesh->bounds_max[0] : mesh->bounds_min[0],
-                                             c & 2 ? mesh->bounds_max[1] : mesh->bounds_min[1],
-                                             c & 4 ? mesh->bounds_max[2] : mesh->bounds_min[2], 1.0)));
-        for (size_t t = 0; t < tiles.size(); ++t)
-          if (box.meets(tiles[t])) visit(t, index, model, *mesh);
-      }
-    }
+  void walk(const std::vector<LightRect>& tiles, Visit visit) const {
+    visit_static_across_sun(hierarchy_, axes_, tiles, [&](uint32_t index) {
+      const glm::dmat4 model = model_of(index);
+      const MeshRecord* mesh = caster_mesh(index, model);
+      if (!mesh) return;
+      LightRect box;
+      for (int c = 0; c < 8; ++c)
+        box.grow(axes_.across(dvec3(model * glm::dvec4(c & 1 ? mesh->bounds_max[0] : mesh->bounds_min[0],
+                                                       c & 2 ? mesh->bounds_max[1] : mesh->bounds_min[1],
+                                                       c & 4 ? mesh->bounds_max[2] : mesh->bounds_min[2], 1.0))));
+      for (size_t t = 0; t < tiles.size(); ++t)
+        if (box.meets(tiles[t])) visit(t, index, model, *mesh);
+    });
   }
 
   GpuDraw draw_of(uint32_t index, const glm::dmat4& world_model, const MeshRecord& mesh) const {
@@ -372,7 +316,7 @@ class DistantPlanner {
   std::span<const MeshRecord> meshes_;
   std::vector<GpuMaterial> materials_;
   Hierarchy hierarchy_;
-  dvec3 travel_{0.0}, axis_x_{0.0}, axis_y_{0.0};
+  LightAxes axes_;
   DistantPlan previous_{};
 };
 

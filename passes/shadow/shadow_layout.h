@@ -19,6 +19,9 @@ constexpr uint32_t kShadowCascades = 4;
 // Texels per side of each cascade by default (shadow.cull.resolution and
 // shadow.cascades_static.resolution, which must agree: shadow.cascades_static checks).
 constexpr uint32_t kShadowResolution = 1024;
+// Tiles per side of a cascade at most: a cascade's tiles are one 64-bit mask (two 32-bit words).
+constexpr uint32_t kCascadeMaxTilesPerSide = 8;
+constexpr uint32_t kCascadeUnits = kShadowCascades * kCascadeMaxTilesPerSide * kCascadeMaxTilesPerSide;
 
 // Mirrored by passes/shadow/cascades.vert and sun_resolve.comp (std140).
 struct GpuShadowCascades {
@@ -29,11 +32,28 @@ struct GpuShadowCascades {
   glm::vec4 texel_metres;     // a texel's side in metres, per cascade
   glm::vec4 depth_metres;     // metres of light depth that z's [0, 1] spans, per cascade
   glm::vec4 light_direction;  // xyz: the way sunlight travels; w: the map's resolution in texels
+  // Per cascade: x, y, the tiles (bit ty·tiles + tx, low word then high) that hold their casters'
+  // depth this frame; z, tiles per side. The resolve reads no other tile.
+  glm::uvec4 tiles[kShadowCascades];
 };
-static_assert(sizeof(GpuShadowCascades) == 4 * 64 + 4 * 16);
+static_assert(sizeof(GpuShadowCascades) == 4 * 64 + 4 * 16 + 4 * 16);
 
+// Why shadow.cull redraws the cascades' static layers without what the previous frame held
+// (ShadowCullStats::reset).
+enum class CascadeReset : uint32_t {
+  none = 0,           // the layers carry over; the uncovered strips and stale tiles are redrawn, within the budget
+  no_history = 1,     // frame 0, a camera cut, or a previous frame without cascades
+  frame_changed = 2,  // the sun, the light depth's range, the lens's cascades or a parameter moved the layers' frame
+  cache_off = 3,      // `cache` 0: every static layer drawn whole each frame (culled by its volume and the view)
+  // After any reset the static layers are drawn whole, whatever the budget.
+};
+
+// What shadow.cull decided this frame: what it culled, the draws of each cascade and the static
+// layers' refresh, as the capture records it; the next frame's shadow.cull reads it back as its
+// history. A unit is one tile of one cascade, numbered cascade · tiles² + ty · tiles + tx; a
+// cascade's tile masks are 64 bits, words 2k (low) and 2k + 1 (high).
 struct ShadowCullStats {
-  uint32_t casters_tested[kShadowCascades];  // opaque instances looked at, and every instance of a culled node
+  uint32_t casters_tested[kShadowCascades];  // instances looked at, and every instance of a culled node
   uint32_t casters_culled[kShadowCascades];  // outside the cascade's volume (kept when culling=0)
   uint32_t casters_hidden[kShadowCascades];  // inside it, but their shadow hidden from the view (kept when culling=0)
   uint32_t draws[kShadowCascades];           // records of draws.shadow.cascades for each cascade
@@ -44,24 +64,57 @@ struct ShadowCullStats {
   // shadow at this hour, and the triangles they would have drawn.
   uint32_t casters_tod_dropped[kShadowCascades];
   uint32_t tod_triangles_saved[kShadowCascades];
-  // Each cascade's range of draws lists its static casters first, then these many moving ones.
+  // Each cascade's range of draws lists the static casters of its redrawn tiles first (tile by
+  // tile; with the cache off, of the whole layer), then these many moving ones.
   uint32_t moving_draws[kShadowCascades];
-  // Where each cascade's static depth (shadow.cascades_static) comes from: a ShadowStaticSource.
-  uint32_t static_source[kShadowCascades];
   // Casters that passed the volume and the view's occluders but lie wholly behind
   // shadow.distant_occluders from the sun (kept when culling=0), and their triangles.
   uint32_t casters_light_hidden[kShadowCascades];
   uint32_t light_hidden_triangles[kShadowCascades];
-};
-static_assert(sizeof(ShadowCullStats) == 13 * 16);
+  uint32_t reset;  // CascadeReset
+  uint32_t tiles_per_side;
+  uint32_t budget_triangles;  // static triangles drawn per frame at most (a unit above it is drawn alone)
+  uint32_t over_budget;       // 1 when a unit drawn this frame alone exceeds the budget
+  uint32_t pending;           // units (a tile, or a cascade's strips) still stale after this frame
+  uint32_t static_triangles;  // static triangles drawn this frame
+  uint32_t level_changes;     // static casters drawn at another level of detail, or not at all, than a frame earlier
+  uint32_t resolution;
+  // Each cascade's centre in whole texels of world light space: where the next frame's layers
+  // find what this one holds; and the texel of the previous frame's layer that this frame's
+  // texel (0, 0) covers (the layer moved with the camera by whole texels).
+  int32_t centre[2 * kShadowCascades];
+  int32_t shift[2 * kShadowCascades];
+  uint32_t stale[2 * kShadowCascades];  // tiles that did not hold their casters' depth before this frame
+  uint32_t
+      needed[2 * kShadowCascades];  // tiles the cascade's slice (grown by the filter's margin) covers: redrawn first
+  uint32_t refreshed[2 * kShadowCascades];  // tiles redrawn this frame
+  uint32_t complete[2 * kShadowCascades];   // tiles that hold their casters' depth after it
+  // Stale tiles that missed only the texels the move uncovered: complete again once the
+  // cascade's strips (those texels: uncovered_strips in passes/shadow/light_tiles.h) are drawn.
+  uint32_t partial[2 * kShadowCascades];
+  uint32_t strips;  // bit k: cascade k's strips drawn this frame
+  uint32_t strip_first_draw[kShadowCascades];
+  uint32_t strip_draws[2 * kShadowCascades];  // per cascade, the columns' draws, then the rows'
+  uint32_t strip_triangles[kShadowCascades];  // of the cascade's strips, drawn this frame or not
+  // The layers' frame (the sun's direction, the light depth's start and span, each cascade's
+  // side, the resolution, the tiles, the time of day's hours): history is kept only while it is
+  // the same, bit for bit.
+  float frame_key[12];
+  uint32_t unit_first_draw[kCascadeUnits];  // this frame's draws.shadow.cascades range of a redrawn unit
+  uint32_t unit_draws[kCascadeUnits];
+  uint32_t unit_triangles[kCascadeUnits];  // of a stale tile, redrawn this frame or not
 
-// Why a cascade's static depth was reused or redrawn this frame (ShadowCullStats::static_source).
-enum class ShadowStaticSource : uint32_t {
-  reused = 0,             // the previous frame's, the projection and culling volume unchanged
-  redrawn_cache_off = 1,  // shadow.cull.cache is 0
-  redrawn_reset = 2,      // no history: frame 0 or a camera cut
-  redrawn_changed = 3,    // the projection or culling volume differs from the previous frame's
+  static uint64_t mask(const uint32_t (&words)[2 * kShadowCascades], uint32_t cascade) {
+    return uint64_t(words[2 * cascade]) | uint64_t(words[2 * cascade + 1]) << 32;
+  }
+  static void set_mask(uint32_t (&words)[2 * kShadowCascades], uint32_t cascade, uint64_t bits) {
+    words[2 * cascade] = uint32_t(bits);
+    words[2 * cascade + 1] = uint32_t(bits >> 32);
+  }
 };
+static_assert(sizeof(ShadowCullStats) == (12 * kShadowCascades + 8 + 2 * 2 * kShadowCascades + 5 * 2 * kShadowCascades +
+                                          1 + 4 * kShadowCascades + 12 + 3 * kCascadeUnits) *
+                                             4);
 
 inline BufferSchema shadow_cascades_schema() {
   using S = GpuShadowCascades;
@@ -70,7 +123,8 @@ inline BufferSchema shadow_cascades_schema() {
       .field("splits", &S::splits)
       .field("texel_metres", &S::texel_metres)
       .field("depth_metres", &S::depth_metres)
-      .field("light_direction", &S::light_direction);
+      .field("light_direction", &S::light_direction)
+      .field("tiles", &S::tiles);
 }
 
 inline BufferSchema shadow_cull_stats_schema() {
@@ -86,9 +140,31 @@ inline BufferSchema shadow_cull_stats_schema() {
       .field("casters_tod_dropped", &S::casters_tod_dropped)
       .field("tod_triangles_saved", &S::tod_triangles_saved)
       .field("moving_draws", &S::moving_draws)
-      .field("static_source", &S::static_source)
       .field("casters_light_hidden", &S::casters_light_hidden)
-      .field("light_hidden_triangles", &S::light_hidden_triangles);
+      .field("light_hidden_triangles", &S::light_hidden_triangles)
+      .field("reset", &S::reset)
+      .field("tiles_per_side", &S::tiles_per_side)
+      .field("budget_triangles", &S::budget_triangles)
+      .field("over_budget", &S::over_budget)
+      .field("pending", &S::pending)
+      .field("static_triangles", &S::static_triangles)
+      .field("level_changes", &S::level_changes)
+      .field("resolution", &S::resolution)
+      .field("centre", &S::centre)
+      .field("shift", &S::shift)
+      .field("stale", &S::stale)
+      .field("needed", &S::needed)
+      .field("refreshed", &S::refreshed)
+      .field("complete", &S::complete)
+      .field("partial", &S::partial)
+      .field("strips", &S::strips)
+      .field("strip_first_draw", &S::strip_first_draw)
+      .field("strip_draws", &S::strip_draws)
+      .field("strip_triangles", &S::strip_triangles)
+      .field("frame_key", &S::frame_key)
+      .field("unit_first_draw", &S::unit_first_draw)
+      .field("unit_draws", &S::unit_draws)
+      .field("unit_triangles", &S::unit_triangles);
 }
 
 constexpr uint32_t kDistantLevels = 4;

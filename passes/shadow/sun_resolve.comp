@@ -1,8 +1,11 @@
 #version 460
 // shadow.sun_resolve: the sun's visibility at each pixel from shadow.cascades. The cascade is
-// chosen by the pixel's view depth alone (interval-based selection [004 §2.2]); beyond the last
-// split the pixel falls back to shadow.distant: the finest level whose map holds the filter's
-// texels around it (none: unshadowed), with the same filter and biases. Visibility is the share
+// chosen by the pixel's view depth (interval-based selection [004 §2.2]), unless a tile its
+// filter reads there is not complete (shadow.cull refreshes the static layers a few tiles a
+// frame): then the next cascade that holds the filter's texels, with a texel to spare, and whose
+// tiles there are complete. Beyond the last split, or with no such cascade, the pixel falls back
+// to shadow.distant: the finest level whose map holds the filter's texels around it (none:
+// unshadowed), with the same filter and biases. Visibility is the share
 // of a (2·FILTER_RADIUS + 1)² block of texels around the pixel's light-space point whose stored
 // depth is not nearer the sun than the receiver. The receiver's depth is carried to each texel's
 // centre along its own plane (from gbuffer.normal): a receiver-plane bias, so a plane lit at a
@@ -22,6 +25,7 @@ layout(std140, set = 0, binding = 1) uniform CascadeBlock {
   vec4 texel_metres;
   vec4 depth_metres;
   vec4 light_direction;
+  uvec4 cascade_tiles[4];  // xy: the complete tiles' mask (low, high); z: tiles per side
 };
 layout(set = 0, binding = 2) uniform sampler2D depth_map;
 layout(set = 0, binding = 3) uniform sampler2D normal_map;
@@ -80,6 +84,26 @@ bool tap_lit(Receiver r, ivec2 texel, float stored, int last) {
 
 const int kSide = 2 * FILTER_RADIUS + 1;
 
+// Whether cascade k can shadow the point: every tile holding a texel its filter reads is complete
+// and, when k is not the pixel's own cascade, those texels lie inside the map with one to spare.
+bool cascade_holds(int k, vec3 position, bool own) {
+  int resolution = int(light_direction.w);
+  vec2 clip = (light_from_world[k] * vec4(position, 1.0)).xy;
+  ivec2 base = ivec2(floor((clip * 0.5 + 0.5) * float(resolution)));
+  ivec2 lo = base - FILTER_RADIUS, hi = base + FILTER_RADIUS;
+  if (!own && (any(lessThan(lo, ivec2(1))) || any(greaterThan(hi, ivec2(resolution - 2))))) return false;
+  uvec4 tiles = cascade_tiles[k];
+  int side = resolution / int(tiles.z);
+  ivec2 first = clamp(lo, ivec2(0), ivec2(resolution - 1)) / side, last = clamp(hi, ivec2(0), ivec2(resolution - 1)) / side;
+  for (int y = first.y; y <= last.y; ++y)
+    for (int x = first.x; x <= last.x; ++x) {
+      int bit = y * int(tiles.z) + x;
+      uint word = bit < 32 ? tiles.x : tiles.y;
+      if ((word >> uint(bit & 31) & 1u) == 0u) return false;
+    }
+  return true;
+}
+
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, ivec2(frame.viewport.xy)))) return;
@@ -101,15 +125,19 @@ void main() {
     vec2 clip = (distant_from_world[k] * vec4(position, 1.0)).xy;
     if (all(lessThanEqual(abs(clip), vec2(1.0 - reach)))) level = k;
   }
-  bool in_cascades = depth > 0.0 && view_depth <= splits.w;
+  int chosen = 4;
+  if (depth > 0.0 && view_depth <= splits.w)
+    for (int k = int(cascade); k < 4 && chosen == 4; ++k)
+      if (cascade_holds(k, position, k == int(cascade))) chosen = k;
+  bool in_cascades = chosen < 4;
   bool in_distant = depth > 0.0 && !in_cascades && level < 4;
   ShadowMap map;
   if (in_distant) {
     map = ShadowMap(level, distant_from_world[level], distant_texel_metres[level], distant_depth_metres[level],
                     distant_resolution);
   } else {
-    map = ShadowMap(int(cascade), light_from_world[cascade], texel_metres[cascade], depth_metres[cascade],
-                    light_direction.w);
+    int k = min(chosen, 3);
+    map = ShadowMap(k, light_from_world[k], texel_metres[k], depth_metres[k], light_direction.w);
   }
   Receiver r = receiver_in(map, position, n);
   ivec2 base = ivec2(floor(r.at));

@@ -2255,6 +2255,9 @@ constexpr const char* kShadowCaches[] = {"shadow.cull", "shadow.distant_plan", "
 //  - shadow_cache.cascades_ratio: the same over the cascades' passes (shadow.cull,
 //    shadow.cascades_static, shadow.cascades)
 //  - the same with 8 spot lights: static_cached_vs_uncached_ratio_spots, shadow_cache_spots.*
+//  - the same for the street driving (the cascades' static layers move and redraw the tiles they
+//    uncover, the distant levels likewise): shadow_cache_drive.*, and its cascades' ratio as
+//    cascades_drive_cached_vs_uncached_ratio
 void bench_shadow_cache(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) {
   nc::RenderSettings settings;
   settings.width = width;
@@ -2265,7 +2268,18 @@ void bench_shadow_cache(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int
   nc::add_default_lighting(street);
   nc::Scene spots = street;
   add_spots_in_view(spots, width, height, 8);
-  for (const auto& [scene, suffix] : {std::pair{&street, std::string()}, std::pair{&spots, std::string("_spots")}}) {
+  struct Case {
+    const nc::Scene* scene;
+    std::string suffix;
+    nc::CameraPath::Motion motion;
+  };
+  for (const Case& c :
+       {Case{&street, "", nc::CameraPath::Motion::still}, Case{&spots, "_spots", nc::CameraPath::Motion::still},
+        Case{&street, "_drive", nc::CameraPath::Motion::drive}}) {
+    const nc::Scene* scene = c.scene;
+    const std::string& suffix = c.suffix;
+    const bool still = c.motion == nc::CameraPath::Motion::still;
+    settings.path.motion = c.motion;
     // Each repeat renders frames 0 to 3 with a fresh renderer (no history), the cache on and then
     // off, so that the machine's load falls on both alike.
     std::map<std::string, std::vector<double>> runs[2];
@@ -2287,8 +2301,9 @@ void bench_shadow_cache(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int
     for (auto& [name, times] : runs[1]) on[name] = median(times);
     for (auto& [name, times] : runs[0]) off[name] = median(times);
     double on_sum = 0, off_sum = 0, on_cascades = 0, off_cascades = 0;
-    table() << "\n## shadows across frames: 2 km map, street shot" << (suffix.empty() ? "" : ", 8 spot lights")
-            << ", still camera (" << width << "x" << height << "), frame 3, ms, median of " << repeats << "\n"
+    table() << "\n## shadows across frames: 2 km map, street shot" << (suffix == "_spots" ? ", 8 spot lights" : "")
+            << (still ? ", still camera (" : ", driving (") << width << "x" << height << "), frame 3, ms, median of "
+            << repeats << "\n"
             << std::left << std::setw(26) << "pass" << std::right << std::setw(12) << "cache on" << std::setw(12)
             << "cache off\n";
     const std::string prefix = "shadow_cache" + suffix;
@@ -2313,7 +2328,80 @@ void bench_shadow_cache(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int
     figure(prefix + ".cascades_ratio", cascades_ratio);
     figure(prefix + ".on_ms", on_sum);
     figure(prefix + ".off_ms", off_sum);
-    figure("static_cached_vs_uncached_ratio" + suffix, ratio);
+    if (still)
+      figure("static_cached_vs_uncached_ratio" + suffix, ratio);
+    else
+      figure("cascades_drive_cached_vs_uncached_ratio", cascades_ratio);
+  }
+}
+
+// The cascades' static refresh while driving, time against error over shadow.cull's budget: the
+// 2 km map's street shot at --size, 24 frames with a fresh renderer per budget. Per budget: the
+// median over frames 1–23 of shadow.cull + shadow.cascades_static (ms) and of the static
+// triangles drawn, the most tiles pending after a frame, and the error: the share of shadow.sun's
+// pixels at frame 23 that differ from a render with the cache off (pending tiles make pixels fall
+// back to coarser maps).
+//  - shadow.cascades_budget<B>.{ms, triangles, pending_max, sun_differs}
+void bench_cascade_budget(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.path.motion = nc::CameraPath::Motion::drive;
+  settings.sinks = {"shadow.sun"};
+  nc::Scene street = nc::build_map({1, 2.0, nc::Shot::street});
+  nc::add_default_lighting(street);
+  constexpr uint32_t kFrames = 24;
+  auto sun_of = [](const nc::RenderedFrame& frame) {
+    for (const nc::VersionData& v : frame.execution.versions)
+      if (v.resource == "shadow.sun" && v.bytes) return *v.bytes;
+    return std::vector<uint8_t>();
+  };
+  std::vector<uint8_t> reference;
+  {
+    settings.params["shadow.cull"]["cache"] = 0;
+    nc::Renderer renderer(gpu, street, settings);
+    for (uint32_t i = 0; i < kFrames; ++i) {
+      const nc::RenderedFrame frame = renderer.render_frame(i, i + 1 == kFrames);
+      if (i + 1 == kFrames) reference = sun_of(frame);
+    }
+    settings.params["shadow.cull"]["cache"] = 1;
+  }
+  table() << "\n## cascades' static refresh while driving: 2 km map, street shot (" << width << "x" << height
+          << "), frames 1-" << kFrames - 1 << "\n"
+          << std::left << std::setw(12) << "budget" << std::right << std::setw(12) << "ms" << std::setw(12)
+          << "triangles" << std::setw(14) << "pending max" << std::setw(22) << "shadow.sun differs\n";
+  for (const uint32_t budget : {10000u, 30000u, 100000u, 500000u}) {
+    settings.params["shadow.cull"]["budget_triangles"] = budget;
+    nc::Renderer renderer(gpu, street, settings);
+    std::vector<double> ms, triangles;
+    uint32_t pending_max = 0;
+    double differs = 0.0;
+    for (uint32_t i = 0; i < kFrames; ++i) {
+      const bool last = i + 1 == kFrames;
+      const nc::RenderedFrame frame = renderer.render_frame(i, true);
+      if (i == 0) continue;
+      ms.push_back(frame_pass_ms(frame, "shadow.cull") + frame_pass_ms(frame, "shadow.cascades_static"));
+      for (const nc::VersionData& v : frame.execution.versions)
+        if (v.resource == "shadow.cull_stats" && v.bytes && v.bytes->size() == sizeof(nc::ShadowCullStats)) {
+          nc::ShadowCullStats stats;
+          std::memcpy(&stats, v.bytes->data(), sizeof stats);
+          triangles.push_back(stats.static_triangles);
+          pending_max = std::max(pending_max, stats.pending);
+        }
+      if (!last) continue;
+      const std::vector<uint8_t> sun = sun_of(frame);
+      size_t count = 0;
+      for (size_t p = 0; p < sun.size() && sun.size() == reference.size(); p += 2) count += sun[p] != reference[p];
+      differs = sun.empty() ? 0.0 : double(count) / double(sun.size() / 2);
+    }
+    const std::string name = "shadow.cascades_budget" + std::to_string(budget);
+    table() << std::left << std::setw(12) << budget << std::right << std::fixed << std::setprecision(3) << std::setw(12)
+            << median(ms) << std::setw(12) << std::setprecision(0) << median(triangles) << std::setw(14) << pending_max
+            << std::setw(21) << std::setprecision(5) << differs << std::defaultfloat << "\n";
+    figure(name + ".ms", median(ms));
+    figure(name + ".triangles", median(triangles));
+    figure(name + ".pending_max", pending_max);
+    figure(name + ".sun_differs", differs);
   }
 }
 
@@ -2495,7 +2583,10 @@ int main(int argc, char** argv) {
     if (wanted("shadows")) bench_shadows(gpu, width, height, int(repeats));
     if (wanted("tod")) bench_tod(gpu, width, height, int(repeats));
     if (wanted("distant")) bench_distant(gpu, width, height);
-    if (wanted("shadow_cache")) bench_shadow_cache(gpu, width, height, int(repeats));
+    if (wanted("shadow_cache")) {
+      bench_shadow_cache(gpu, width, height, int(repeats));
+      bench_cascade_budget(gpu, width, height);
+    }
     if (wanted("local")) bench_local(gpu, width, height, int(repeats));
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {

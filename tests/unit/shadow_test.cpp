@@ -11,13 +11,18 @@
 // a failure);
 // - culling (shadow.cull.culling on and off) leaves shadow.sun bit-identical;
 // - caching (shadow.cull.cache on and off) leaves shadow.sun bit-identical over frames 0-4 of a
-//   still camera (vehicles moving) and of a driving one, a still camera keeping every cascade's
-//   static depth from frame 1 on; each shadow pass of frame 3 replays from its record;
+//   still camera (vehicles moving), which redraws no static tile from frame 1 on, and the same
+//   at ≥ 99.9% of the pixels of a driving one; each shadow pass of frame 3 replays from its
+//   record;
+// - driving: the static layers' complete tiles hold a fresh render's depth within 1 mm at
+//   ≥ 99.9% of their texels; with a small budget each frame's static draws stay within it, tiles
+//   wait, and the shadow (falling back to coarser maps there) still agrees with the ray cast;
 // - stress (the sun at the horizon, straight down, a caster around the camera, the map's far
 //   corner): every float output finite, and each shadow pass run again on its recorded inputs
 //   writes the same bytes (what replay --verify checks).
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -322,24 +327,41 @@ TEST_F(Shadows, CachingChangesNoShadowAcrossFrames) {
     uint32_t moving = 0;
     for (uint32_t i = 0; i < on.size(); ++i) {
       ASSERT_TRUE(on[i].view && off[i].view);
-      std::printf("%s, frame %u: static depth per cascade (0 kept, 2 reset, 3 changed):", still ? "still" : "driving",
-                  i);
+      const ShadowCullStats& stats = on[i].stats;
+      std::printf(
+          "%s, frame %u: reset %u, %u static triangles, %u level changes; per cascade shift, strips, tiles "
+          "redrawn:",
+          still ? "still" : "driving", i, stats.reset, stats.static_triangles, stats.level_changes);
+      uint64_t refreshed = stats.strips;
       for (uint32_t k = 0; k < kShadowCascades; ++k) {
-        std::printf(" %u (%u of %u draws moving)", on[i].stats.static_source[k], on[i].stats.moving_draws[k],
-                    on[i].stats.draws[k]);
-        moving += on[i].stats.moving_draws[k];
-        EXPECT_EQ(off[i].stats.static_source[k], uint32_t(ShadowStaticSource::redrawn_cache_off));
-        const ShadowStaticSource want = i == 0  ? ShadowStaticSource::redrawn_reset
-                                        : still ? ShadowStaticSource::reused
-                                                : ShadowStaticSource::redrawn_changed;
-        EXPECT_EQ(on[i].stats.static_source[k], uint32_t(want)) << "frame " << i << ", cascade " << k;
+        std::printf(" (%d, %d) %u %d", stats.shift[2 * k], stats.shift[2 * k + 1], stats.strips >> k & 1u,
+                    std::popcount(ShadowCullStats::mask(stats.refreshed, k)));
+        refreshed |= ShadowCullStats::mask(stats.refreshed, k);
+        moving += stats.moving_draws[k];
       }
-      std::printf("\n");
+      EXPECT_EQ(off[i].stats.reset, uint32_t(CascadeReset::cache_off));
+      EXPECT_EQ(stats.reset, uint32_t(i == 0 ? CascadeReset::no_history : CascadeReset::none)) << "frame " << i;
+      EXPECT_EQ(stats.pending, 0u) << "frame " << i << ": the default budget keeps up";
+      if (i > 0) {
+        EXPECT_EQ(refreshed != 0, !still) << "frame " << i << ": only a moving camera redraws static tiles";
+      }
       EXPECT_EQ(on[i].non_finite, "");
-      // shadow.cascades itself may differ: with the cache on, static casters whose shadow the
-      // view hides are drawn (culling says why that changes no shadow).
-      EXPECT_TRUE(*on[i].resolve.outputs.at("shadow.sun").bytes == *off[i].resolve.outputs.at("shadow.sun").bytes)
-          << "frame " << i << ": shadow.sun differs with the cache off";
+      // shadow.cascades itself differs: with the cache on, a tile holds every static caster across
+      // the sun from it, not only those the slice's volume and the view keep (cull.cpp says why
+      // that changes no shadow). A still camera's shadow is the same bytes; a driving one's
+      // layers hold texels drawn in earlier frames, from another eye: the camera-relative
+      // vertices round differently, so a texel's depth may differ in its last bits, or a
+      // triangle's edge cover a texel more or less.
+      const std::vector<uint8_t>& a = *on[i].resolve.outputs.at("shadow.sun").bytes;
+      const std::vector<uint8_t>& b = *off[i].resolve.outputs.at("shadow.sun").bytes;
+      ASSERT_EQ(a.size(), b.size());
+      size_t differing = 0;
+      for (size_t p = 0; p < a.size(); p += 2) differing += a[p] != b[p];
+      std::printf("; %zu of %zu pixels differ from the cache off\n", differing, a.size() / 2);
+      if (still)
+        EXPECT_EQ(differing, 0u) << "frame " << i << ": shadow.sun differs with the cache off";
+      else
+        EXPECT_LE(differing, a.size() / 2 / 1000) << "frame " << i << ": more than 0.1% of shadow.sun differs";
     }
     EXPECT_GT(moving, 0u) << "the test needs moving casters over the kept static depth";
     if (still) {
@@ -350,6 +372,123 @@ TEST_F(Shadows, CachingChangesNoShadowAcrossFrames) {
     }
     expect_replays(on[3], {{"shadow.cull", {{"light_occlusion", 0}}}});
   }
+}
+
+// Driving, the static layers' complete tiles (carried over and moved, or redrawn) hold what a
+// renderer starting at that frame, with no history, draws there: at every texel the same depth
+// within 1 mm, except where a triangle's edge covers a texel in one and not the other (at most
+// 0.1% of the texels compared). On the street, and on a plane where a caster switches to its
+// finer level of detail as the camera drives toward it (its tiles must be redrawn).
+TEST_F(Shadows, DrivingKeepsTheStaticLayersAsAFreshRenderDrawsThem) {
+  Scene street = build_map({1, 2.0, Shot::street});
+  add_default_lighting(street);
+  // A wall 4 m wide whose coarser level is a pole 6 m tall, beyond 9.5 m from the camera: the
+  // camera starts 10.2 m from it and drives 0.23 m a frame toward it.
+  Scene levels = plane_scene({}, {0.5f, -1.0f, 0.3f}, {0.0, 3.0, 8.0}, {0.0, 0.0, -4.0});
+  {
+    scene_kit::Builder build(levels);
+    const uint32_t grey = build.material(scene_kit::plain("wall", {0.5f, 0.5f, 0.5f}, 0.0f, 0.8f, stencil::plain));
+    const uint32_t wall = build.box(glm::vec3(2.0f, 1.0f, 0.1f), grey, 1.0f, true, true);
+    const uint32_t pole = build.box(glm::vec3(0.1f, 3.0f, 0.1f), grey, 1.0f, true, true);
+    levels.primitives[wall].coarser = int32_t(pole);
+    levels.primitives[wall].lod_distance = 9.5f;
+    build.place(wall, {0.0, 1.0, -2.0});
+  }
+  constexpr uint32_t kLast = 7;
+  for (const auto& [name, scene] : {std::pair{"street", &street}, std::pair{"a caster changing its level", &levels}}) {
+    SCOPED_TRACE(name);
+    const std::vector<Frame> driven = render_frames(*scene, CameraPath::Motion::drive, kLast + 1, {});
+    RenderSettings settings;
+    settings.width = 320;
+    settings.height = 180;
+    settings.path.motion = CameraPath::Motion::drive;
+    settings.sinks = {"shadow.sun"};
+    Renderer renderer(*gpu_, *scene, settings);
+    const Frame fresh = frame_of(renderer.render_frame(kLast, true), 320, 180);
+    ASSERT_EQ(fresh.stats.reset, uint32_t(CascadeReset::no_history));
+    const Frame& carried = driven[kLast];
+    ASSERT_EQ(carried.stats.reset, uint32_t(CascadeReset::none));
+    uint32_t redrawn = 0, level_changes = 0;
+    for (uint32_t i = 1; i <= kLast; ++i) {
+      level_changes += driven[i].stats.level_changes;
+      redrawn += std::popcount(driven[i].stats.strips);
+      for (uint32_t k = 0; k < kShadowCascades; ++k)
+        redrawn += std::popcount(ShadowCullStats::mask(driven[i].stats.refreshed, k));
+    }
+    std::printf("%s: %u units (strips, tiles) redrawn over frames 1-%u, %u level changes\n", name, redrawn, kLast,
+                level_changes);
+    EXPECT_GT(redrawn, 0u) << "the drive must move the layers";
+    if (scene == &levels) {
+      EXPECT_EQ(level_changes, 1u) << "the wall must change its level during the drive";
+    }
+
+    const std::vector<uint8_t>& a = *carried.statics.outputs.at("shadow.cascades_static").bytes;
+    const std::vector<uint8_t>& b = *fresh.statics.outputs.at("shadow.cascades_static").bytes;
+    ASSERT_EQ(a.size(), b.size());
+    const uint32_t n = carried.stats.resolution, tiles = carried.stats.tiles_per_side, side = n / tiles;
+    ASSERT_EQ(a.size(), size_t(n) * n * kShadowCascades * sizeof(float));
+    for (uint32_t k = 0; k < kShadowCascades; ++k) {
+      const uint64_t both =
+          ShadowCullStats::mask(carried.stats.complete, k) & ShadowCullStats::mask(fresh.stats.complete, k);
+      const double metres = carried.view->cascades.depth_metres[k];
+      EXPECT_EQ(metres, fresh.view->cascades.depth_metres[k]);
+      size_t compared = 0, off = 0;
+      double largest = 0.0;
+      for (uint32_t y = 0; y < n; ++y)
+        for (uint32_t x = 0; x < n; ++x) {
+          if (!(both >> ((y / side) * tiles + x / side) & 1u)) continue;
+          float p, q;
+          const size_t at = (size_t(k) * n * n + size_t(y) * n + x) * sizeof(float);
+          std::memcpy(&p, a.data() + at, sizeof p);
+          std::memcpy(&q, b.data() + at, sizeof q);
+          ++compared;
+          const double error = std::abs(double(p) - double(q)) * metres;
+          if (error > 1e-3)
+            ++off;
+          else
+            largest = std::max(largest, error);
+        }
+      std::printf(
+          "  cascade %u: %zu texels of %d complete tiles compared, %zu differ by more than 1 mm, the others "
+          "by %.2e m at most\n",
+          k, compared, std::popcount(both), off, largest);
+      EXPECT_GT(compared, size_t(side) * side) << "cascade " << k;
+      EXPECT_LE(off, compared / 1000) << "cascade " << k;
+    }
+  }
+}
+
+// With a budget below what the driving camera uncovers, stale tiles wait over frames: each
+// frame's static draws stay within it (or one unit above it, alone), tiles are pending, and the
+// pixels whose own cascade is not complete there fall back to a coarser map: the shadow still
+// agrees with the ray cast as accuracy.md asks (≥ 99%).
+TEST_F(Shadows, CascadesRefreshWithinTheBudgetWhileDriving) {
+  Scene street = build_map({1, 2.0, Shot::street});
+  add_default_lighting(street);
+  constexpr uint32_t kBudget = 20000, kFrames = 8;
+  const std::vector<Frame> frames =
+      render_frames(street, CameraPath::Motion::drive, kFrames, {{"shadow.cull", {{"budget_triangles", kBudget}}}});
+  uint32_t most_pending = 0, worst = 0;
+  for (uint32_t i = 0; i < kFrames; ++i) {
+    const ShadowCullStats& stats = frames[i].stats;
+    uint32_t units = std::popcount(stats.strips);
+    for (uint32_t k = 0; k < kShadowCascades; ++k) units += std::popcount(ShadowCullStats::mask(stats.refreshed, k));
+    std::printf("frame %u: %u units redrawn (%d strips), %u static triangles, %u pending, over budget %u\n", i, units,
+                std::popcount(stats.strips), stats.static_triangles, stats.pending, stats.over_budget);
+    EXPECT_EQ(frames[i].non_finite, "");
+    if (i == 0) continue;
+    EXPECT_TRUE(stats.static_triangles <= kBudget || (stats.over_budget && units == 1)) << "frame " << i;
+    if (stats.pending > most_pending) most_pending = stats.pending, worst = i;
+  }
+  ASSERT_GT(most_pending, 0u) << "the budget must leave tiles waiting for the test to mean something";
+  RenderSettings settings;
+  settings.width = 320;
+  settings.height = 180;
+  settings.path.motion = CameraPath::Motion::drive;
+  Frame f = frames[worst];
+  f.eye = dvec3(frame_camera(base_camera(street, settings), street, settings.path, worst).world[3]);
+  expect_agreement("driving, the frame with the most tiles pending", street, f, 2);
+  expect_replays(f, {{"shadow.cull", {{"budget_triangles", kBudget}}}});
 }
 
 TEST_F(Shadows, StressStaysFiniteAndReplaysIdentically) {
