@@ -268,9 +268,18 @@ nlohmann::ordered_json decode_buffer_element(const BufferSchema& schema, std::sp
                                              uint64_t element) {
   nlohmann::ordered_json fields = nlohmann::ordered_json::object();
   for (const SchemaField& field : schema.fields) {
-    std::vector<double> values;
-    for (uint32_t c = 0; c < field.count; ++c) values.push_back(read_component(raw, schema.stride, element, field, c));
-    fields[field.name] = field.count == 1 ? nlohmann::ordered_json(values[0]) : nlohmann::ordered_json(values);
+    // Integers as integers: a 32-bit mask read as a double would print rounded.
+    nlohmann::ordered_json values = nlohmann::ordered_json::array();
+    for (uint32_t c = 0; c < field.count; ++c) {
+      const double v = read_component(raw, schema.stride, element, field, c);
+      if (field.scalar == Scalar::u32)
+        values.push_back(uint64_t(v));
+      else if (field.scalar == Scalar::i32)
+        values.push_back(int64_t(v));
+      else
+        values.push_back(v);
+    }
+    fields[field.name] = field.count == 1 ? values[0] : values;
   }
   return fields;
 }
