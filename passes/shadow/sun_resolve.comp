@@ -17,6 +17,9 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(constant_id = 0) const int FILTER_RADIUS = 1;
+// 0 when every cascade's every tile is complete (shadow.sun_resolve.cpp reads shadow.cull_stats):
+// the search for a cascade that holds a pixel is then compiled out.
+layout(constant_id = 1) const int CHECK_TILES = 1;
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
 layout(std140, set = 0, binding = 1) uniform CascadeBlock {
@@ -86,13 +89,22 @@ const int kSide = 2 * FILTER_RADIUS + 1;
 
 // Whether cascade k can shadow the point: every tile holding a texel its filter reads is complete
 // and, when k is not the pixel's own cascade, those texels lie inside the map with one to spare.
+// Whether every tile of cascade k is complete (a still camera, or a refresh that kept up).
+bool cascade_complete(uint k) {
+  uvec4 tiles = cascade_tiles[k];
+  int count = int(tiles.z * tiles.z);
+  uvec2 every = uvec2(count >= 32 ? ~0u : (1u << count) - 1u,
+                      count >= 64 ? ~0u : count > 32 ? (1u << (count - 32)) - 1u : 0u);
+  return tiles.xy == every;
+}
+
 bool cascade_holds(int k, vec3 position, bool own) {
+  uvec4 tiles = cascade_tiles[k];
   int resolution = int(light_direction.w);
   vec2 clip = (light_from_world[k] * vec4(position, 1.0)).xy;
   ivec2 base = ivec2(floor((clip * 0.5 + 0.5) * float(resolution)));
   ivec2 lo = base - FILTER_RADIUS, hi = base + FILTER_RADIUS;
   if (!own && (any(lessThan(lo, ivec2(1))) || any(greaterThan(hi, ivec2(resolution - 2))))) return false;
-  uvec4 tiles = cascade_tiles[k];
   int side = resolution / int(tiles.z);
   ivec2 first = clamp(lo, ivec2(0), ivec2(resolution - 1)) / side, last = clamp(hi, ivec2(0), ivec2(resolution - 1)) / side;
   for (int y = first.y; y <= last.y; ++y)
@@ -125,9 +137,13 @@ void main() {
     vec2 clip = (distant_from_world[k] * vec4(position, 1.0)).xy;
     if (all(lessThanEqual(abs(clip), vec2(1.0 - reach)))) level = k;
   }
-  int chosen = 4;
-  if (depth > 0.0 && view_depth <= splits.w)
-    for (int k = int(cascade); k < 4 && chosen == 4; ++k)
+  // The pixel's own cascade when it is complete; else a search that only the pixels needing it
+  // enter (a loop, which lavapipe runs once when no lane of a row enters it; an if it would run
+  // whole), and that is not compiled at all when every cascade is complete.
+  bool in_range = depth > 0.0 && view_depth <= splits.w;
+  int chosen = in_range && (CHECK_TILES == 0 || cascade_complete(cascade)) ? int(cascade) : 4;
+  if (CHECK_TILES != 0)
+    for (int k = in_range && chosen == 4 ? int(cascade) : 4; k < 4 && chosen == 4; ++k)
       if (cascade_holds(k, position, k == int(cascade))) chosen = k;
   bool in_cascades = chosen < 4;
   bool in_distant = depth > 0.0 && !in_cascades && level < 4;

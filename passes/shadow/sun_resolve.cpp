@@ -3,12 +3,18 @@
 // sun_resolve.comp says how: shadow.cascades up to the last split, shadow.distant's levels beyond
 // it (level 0 is the occluder there, the coarser ones further out). The filter's size is a
 // specialization constant, so each size is a pipeline whose block of taps is fixed (style:
-// variants are specialization constants).
+// variants are specialization constants); so is whether a cascade has a tile still waiting for
+// its refresh (shadow.cull_stats says), which a frame whose cascades are whole need not test.
 // Skipped with no sun above the horizon, and where nothing was drawn (scene.depth cleared): shadow.sun
 // is then cleared to 1 (unshadowed), what lighting.tiled reads and, for the sky, what it computes. `enabled=0` skips it
 // too (the lighting tests compare unshadowed sun light).
+#include <algorithm>
+
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
+#include "passes/frame/scene_resources.h"
+#include "passes/shadow/light_tiles.h"
+#include "passes/shadow/shadow_layout.h"
 
 namespace nightcap {
 
@@ -31,6 +37,7 @@ PassDecl shadow_sun_resolve_pass() {
       .read("shadow.cascades", Use::sampled)
       .read("shadow.distant_data", Use::uniform_buffer)
       .read("shadow.distant", Use::sampled)
+      .read("shadow.cull_stats", Use::host)
       .write("shadow.sun", Use::storage_write, sun)
       .param("filter_radius", 1, 0, 3, "the filter takes (2r + 1)² texels around the pixel's point (0: one)")
       .param("depth_bias", 0.5, 0, 16, "texels of light depth a receiver may lie behind the map and stay lit")
@@ -45,7 +52,17 @@ PassDecl shadow_sun_resolve_pass() {
         const ImageExtent size = ctx.desc("shadow.sun").extent;
         const ResolveConstants constants{float(ctx.param("depth_bias")), float(ctx.param("max_slope"))};
         const VkSampler nearest = ctx.nearest_clamp();
-        ctx.bind_pipeline({int32_t(ctx.param("filter_radius"))});
+        int32_t check_tiles = 1;
+        const std::span<const uint8_t> record = ctx.host("shadow.cull_stats");
+        if (record.size() == sizeof(ShadowCullStats)) {
+          const auto stats = host_records<ShadowCullStats>(record).at(0);
+          check_tiles = 0;
+          for (uint32_t k = 0; k < kShadowCascades; ++k)
+            if (ShadowCullStats::mask(stats.complete, k) !=
+                TiledMap{{}, 0.0, stats.resolution, std::max(stats.tiles_per_side, 1u)}.all())
+              check_tiles = 1;
+        }
+        ctx.bind_pipeline({int32_t(ctx.param("filter_radius")), check_tiles});
         ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
                   Binding::uniform(ctx.slot("shadow.cascade_data"), "shadow.cascade_data"),
                   Binding::texture(ctx.slot("scene.depth"), "scene.depth", nearest, ViewAspect::depth),
