@@ -86,12 +86,6 @@ struct Plane {
 
 struct Volume {
   std::vector<Plane> planes;
-  bool operator==(const Volume& other) const {
-    if (planes.size() != other.planes.size()) return false;
-    for (size_t i = 0; i < planes.size(); ++i)
-      if (planes[i].normal != other.planes[i].normal || planes[i].offset != other.planes[i].offset) return false;
-    return true;
-  }
   // Outside when the box lies wholly outside one plane.
   bool excludes(const dvec3& lo, const dvec3& hi) const {
     for (const Plane& p : planes) {
