@@ -45,7 +45,8 @@
 // over it changed its level of detail, or its drawn-or-not, since a frame earlier; it is drawn
 // again whole. Units (a cascade's strips, a tile) are redrawn as many as fit in
 // `budget_triangles`, those the view needs first (the tiles the slice covers, grown by the
-// resolve's margin), finest cascade first; the rest wait (`pending`), and shadow.sun_resolve
+// resolve's margin; strips before tiles), tiles that waited longest first, else finest cascade
+// first; the rest wait (`pending`, `unit_waiting`), and shadow.sun_resolve
 // reads no texel of a tile that is not complete: a pixel there falls back to the next cascade
 // that holds its filter, or the distant levels. A reset (no history, the layers' frame changed:
 // the sun, the light depth's range, the lens, a parameter, the hour) draws every static layer
@@ -332,6 +333,21 @@ class ShadowCuller {
         // A tile that missed only what the move uncovered is complete once the strips are drawn.
         partial[k] = moved.uncovered & ~whole;
         stale[k] = whole | moved.uncovered;
+        // How long each stale tile has waited: one more frame than the tile its centre came from,
+        // when that one was waiting too.
+        const uint64_t complete_before = ShadowCullStats::mask(before->complete, k);
+        const int32_t side = int32_t(resolution / tiles);
+        for (uint32_t t = 0; t < tiles * tiles; ++t) {
+          if (!(stale[k] >> t & 1u)) continue;
+          const TexelRect r = c.map.tile_texels(t);
+          const glm::ivec2 from = (glm::ivec2(r.x0, r.y0) + side / 2 + c.shift);
+          if (glm::any(glm::lessThan(from, glm::ivec2(0))) ||
+              glm::any(glm::greaterThanEqual(from, glm::ivec2(int32_t(resolution)))))
+            continue;
+          const uint32_t source = uint32_t(from.y / side) * tiles + uint32_t(from.x / side);
+          if (!(complete_before >> source & 1u))
+            stats_.unit_waiting[k * tiles * tiles + t] = before->unit_waiting[k * tiles * tiles + source] + 1;
+        }
       }
       needed[k] = reset == CascadeReset::cache_off ? all : c.map.meeting(c.footprint);
     }
@@ -527,9 +543,10 @@ class ShadowCuller {
   }
 
   // What to redraw this frame: each cascade's strips, when a tile misses only the texels they
-  // hold, and its stale tiles; the units the view needs first (finest cascade first), then the
-  // others, while their triangles fit the budget (the first even when it alone is over). Their
-  // draws are left in units_ and strips_.
+  // hold, and its stale tiles; the strips the view needs first (they keep their tiles complete
+  // for a fraction of a tile's cost), then the tiles it needs, then the others, tiles that have
+  // waited longest first (else finest cascade first), while their triangles fit the budget (the
+  // first even when it alone is over). Their draws are left in units_ and strips_.
   struct Refresh {
     std::array<uint64_t, kShadowCascades> tiles{};
     uint32_t strips = 0;  // bit k: cascade k's strips
@@ -549,21 +566,26 @@ class ShadowCuller {
     units_.assign(kCascadeUnits, {});
     strips_ = {};
     std::vector<Area> areas;
-    std::vector<uint32_t> order[2];  // the units the view needs, and the others
+    // The needed strips, the needed tiles, then the others; tiles longest waiting first.
+    std::vector<uint32_t> order[3];
     for (uint32_t k = 0; k < kShadowCascades; ++k) {
       const TiledMap& map = cascades[k].map;
       if (partial[k]) {
         const UncoveredStrips strips = uncovered_strips(map.resolution, cascades[k].shift);
-        order[(partial[k] & needed[k]) ? 0 : 1].push_back(kCascadeUnits + k);
+        order[(partial[k] & needed[k]) ? 0 : 2].push_back(kCascadeUnits + k);
         if (!strips.columns.empty()) areas.push_back({kCascadeUnits + k, &strips_[k][0], map.texels(strips.columns)});
         if (!strips.rows.empty()) areas.push_back({kCascadeUnits + k, &strips_[k][1], map.texels(strips.rows)});
       }
       for (uint32_t t = 0; t < per_cascade; ++t)
         if ((stale[k] & ~partial[k]) >> t & 1u) {
-          order[(needed[k] >> t & 1u) ? 0 : 1].push_back(k * per_cascade + t);
+          order[(needed[k] >> t & 1u) ? 1 : 2].push_back(k * per_cascade + t);
           areas.push_back({k * per_cascade + t, &units_[k * per_cascade + t], map.tile(t)});
         }
     }
+    for (std::vector<uint32_t>& units : order)
+      std::stable_sort(units.begin(), units.end(), [&](uint32_t a, uint32_t b) {
+        return (a < kCascadeUnits ? stats_.unit_waiting[a] : 0) > (b < kCascadeUnits ? stats_.unit_waiting[b] : 0);
+      });
     std::vector<uint32_t> triangles_of(kCascadeUnits + kShadowCascades, 0);
     auto cascade_of = [&](uint32_t unit) { return unit >= kCascadeUnits ? unit - kCascadeUnits : unit / per_cascade; };
     std::vector<LightRect> rects;

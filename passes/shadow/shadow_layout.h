@@ -103,6 +103,7 @@ struct ShadowCullStats {
   uint32_t unit_first_draw[kCascadeUnits];  // this frame's draws.shadow.cascades range of a redrawn unit
   uint32_t unit_draws[kCascadeUnits];
   uint32_t unit_triangles[kCascadeUnits];  // of a stale tile, redrawn this frame or not
+  uint32_t unit_waiting[kCascadeUnits];    // of a stale tile, the frames it has waited for its redraw
 
   static uint64_t mask(const uint32_t (&words)[2 * kShadowCascades], uint32_t cascade) {
     return uint64_t(words[2 * cascade]) | uint64_t(words[2 * cascade + 1]) << 32;
@@ -113,7 +114,7 @@ struct ShadowCullStats {
   }
 };
 static_assert(sizeof(ShadowCullStats) == (12 * kShadowCascades + 8 + 2 * 2 * kShadowCascades + 5 * 2 * kShadowCascades +
-                                          1 + 4 * kShadowCascades + 12 + 3 * kCascadeUnits) *
+                                          1 + 4 * kShadowCascades + 12 + 4 * kCascadeUnits) *
                                              4);
 
 inline BufferSchema shadow_cascades_schema() {
@@ -164,7 +165,8 @@ inline BufferSchema shadow_cull_stats_schema() {
       .field("frame_key", &S::frame_key)
       .field("unit_first_draw", &S::unit_first_draw)
       .field("unit_draws", &S::unit_draws)
-      .field("unit_triangles", &S::unit_triangles);
+      .field("unit_triangles", &S::unit_triangles)
+      .field("unit_waiting", &S::unit_waiting);
 }
 
 constexpr uint32_t kDistantLevels = 4;

@@ -22,6 +22,7 @@
 //   writes the same bytes (what replay --verify checks).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdio>
@@ -468,19 +469,32 @@ TEST_F(Shadows, CascadesRefreshWithinTheBudgetWhileDriving) {
   constexpr uint32_t kBudget = 20000, kFrames = 8;
   const std::vector<Frame> frames =
       render_frames(street, CameraPath::Motion::drive, kFrames, {{"shadow.cull", {{"budget_triangles", kBudget}}}});
-  uint32_t most_pending = 0, worst = 0;
+  uint32_t most_pending = 0, worst = 0, longest = 0;
+  std::array<uint32_t, kShadowCascades> tiles_redrawn{};
   for (uint32_t i = 0; i < kFrames; ++i) {
     const ShadowCullStats& stats = frames[i].stats;
-    uint32_t units = std::popcount(stats.strips);
-    for (uint32_t k = 0; k < kShadowCascades; ++k) units += std::popcount(ShadowCullStats::mask(stats.refreshed, k));
-    std::printf("frame %u: %u units redrawn (%d strips), %u static triangles, %u pending, over budget %u\n", i, units,
-                std::popcount(stats.strips), stats.static_triangles, stats.pending, stats.over_budget);
+    uint32_t units = std::popcount(stats.strips), waited = 0;
+    for (uint32_t k = 0; k < kShadowCascades; ++k) {
+      const uint32_t tiles = std::popcount(ShadowCullStats::mask(stats.refreshed, k));
+      units += tiles;
+      if (i > 0) tiles_redrawn[k] += tiles;
+    }
+    for (uint32_t u = 0; u < kCascadeUnits; ++u) waited = std::max(waited, stats.unit_waiting[u]);
+    std::printf(
+        "frame %u: %u units redrawn (%d strips), %u static triangles, %u pending, the longest wait %u "
+        "frames, over budget %u\n",
+        i, units, std::popcount(stats.strips), stats.static_triangles, stats.pending, waited, stats.over_budget);
     EXPECT_EQ(frames[i].non_finite, "");
+    EXPECT_LT(waited, std::max(i, 1u)) << "frame " << i << ": no tile waits from before the reset";
+    longest = std::max(longest, waited);
     if (i == 0) continue;
     EXPECT_TRUE(stats.static_triangles <= kBudget || (stats.over_budget && units == 1)) << "frame " << i;
     if (stats.pending > most_pending) most_pending = stats.pending, worst = i;
   }
   ASSERT_GT(most_pending, 0u) << "the budget must leave tiles waiting for the test to mean something";
+  EXPECT_GT(longest, 0u) << "tiles left waiting must count the frames";
+  std::printf("tiles redrawn over frames 1-%u per cascade: %u, %u, %u, %u\n", kFrames - 1, tiles_redrawn[0],
+              tiles_redrawn[1], tiles_redrawn[2], tiles_redrawn[3]);
   RenderSettings settings;
   settings.width = 320;
   settings.height = 180;
