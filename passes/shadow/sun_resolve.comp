@@ -87,8 +87,6 @@ bool tap_lit(Receiver r, ivec2 texel, float stored, int last) {
 
 const int kSide = 2 * FILTER_RADIUS + 1;
 
-// Whether cascade k can shadow the point: every tile holding a texel its filter reads is complete
-// and, when k is not the pixel's own cascade, those texels lie inside the map with one to spare.
 // Whether every tile of cascade k is complete (a still camera, or a refresh that kept up).
 bool cascade_complete(uint k) {
   uvec4 tiles = cascade_tiles[k];
@@ -98,6 +96,8 @@ bool cascade_complete(uint k) {
   return tiles.xy == every;
 }
 
+// Whether cascade k can shadow the point: every tile holding a texel its filter reads is complete
+// and, when k is not the pixel's own cascade, those texels lie inside the map with one to spare.
 bool cascade_holds(int k, vec3 position, bool own) {
   uvec4 tiles = cascade_tiles[k];
   int resolution = int(light_direction.w);
