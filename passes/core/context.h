@@ -4,6 +4,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include <cstring>
 #include <functional>
 #include <map>
 #include <memory>
@@ -75,6 +76,14 @@ class PassContext {
 
   // CPU passes fill their outputs here.
   std::vector<uint8_t>& output(const std::string& resource);
+  // A CPU pass's output set to the bytes of `records` (none: empty).
+  template <typename Record>
+  void store(const std::string& resource, std::span<const Record> records) {
+    static_assert(std::is_trivially_copyable_v<Record>);
+    std::vector<uint8_t>& out = output(resource);
+    out.resize(records.size_bytes());
+    if (!records.empty()) std::memcpy(out.data(), records.data(), records.size_bytes());
+  }
 
   // GPU passes.
   VkCommandBuffer cmd() const;

@@ -474,11 +474,11 @@ class Culler {
     for (const GpuDraw& d : prepass) stats_.triangles_prepass += d.index_count / 3;
     for (const GpuDraw& d : gbuffer) stats_.triangles_gbuffer += d.index_count / 3;
     for (const GpuDraw& d : dynamic) stats_.triangles_dynamic += d.index_count / 3;
-    store("draws.depth.prepass", prepass);
-    store("draws.gbuffer.opaque", gbuffer);
-    store("draws.gbuffer.dynamic", dynamic);
-    store("draws.decals.mesh", decals);
-    store("draws.decals.projected", projected_);
+    ctx_.store<GpuDraw>("draws.depth.prepass", prepass);
+    ctx_.store<GpuDraw>("draws.gbuffer.opaque", gbuffer);
+    ctx_.store<GpuDraw>("draws.gbuffer.dynamic", dynamic);
+    ctx_.store<GpuDraw>("draws.decals.mesh", decals);
+    ctx_.store<GpuDecal>("draws.decals.projected", projected_);
     stats_.decals_mesh = uint32_t(decals.size());
     stats_.decals_projected = uint32_t(projected_.size());
     auto& stats = ctx_.output("cull.stats");
@@ -495,13 +495,6 @@ class Culler {
     uint32_t count = 0;
     for (size_t i = 0; i < draws.size(); ++i) count += i == 0 || !same_batch(draws[i - 1], draws[i]);
     return count;
-  }
-
-  template <typename Record>
-  void store(const char* name, const std::vector<Record>& records) {
-    auto& out = ctx_.output(name);
-    out.resize(records.size() * sizeof(Record));
-    if (!records.empty()) std::memcpy(out.data(), records.data(), out.size());
   }
 
   PassContext& ctx_;

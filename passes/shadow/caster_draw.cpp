@@ -1,5 +1,6 @@
 #include "passes/shadow/caster_draw.h"
 
+#include <algorithm>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "passes/frame/vertex_streams.h"
@@ -23,6 +24,14 @@ GpuDraw caster_draw(uint32_t instance, const InstanceRecord& record, const glm::
   d.position_origin = glm::vec4(lo, 0.0f);
   d.position_step = glm::vec4(position_step(lo, hi), 0.0f);
   return d;
+}
+
+void sort_for_batching(std::vector<GpuDraw>& draws) {
+  std::sort(draws.begin(), draws.end(), [](const GpuDraw& a, const GpuDraw& b) {
+    if (a.material != b.material) return a.material < b.material;
+    if (a.first_index != b.first_index) return a.first_index < b.first_index;
+    return a.instance < b.instance;
+  });
 }
 
 ImageDecl shadow_depth_array(uint32_t layers) {

@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include <string>
+#include <vector>
 
 #include "passes/core/context.h"
 #include "passes/frame/draw_scene.h"
@@ -20,6 +21,10 @@ namespace nightcap {
 // instance's model matrix relative to the camera, as every draw list.
 GpuDraw caster_draw(uint32_t instance, const InstanceRecord& record, const glm::dmat4& relative_model,
                     const MeshRecord& mesh);
+
+// The order the shadow plans list draws in: by material, then mesh, then instance, so draws of
+// one mesh follow each other and a list does not depend on the order a walk found its casters.
+void sort_for_batching(std::vector<GpuDraw>& draws);
 
 // A shadow map pass's output: `layers` square D32 layers of its `resolution` parameter's side,
 // cleared to 1 (no caster; forward depth, LESS).

@@ -269,7 +269,7 @@ class ShadowCuller {
     // writes nothing either.
     if (!(constants_.sun_direction.w > 0.0f && travel_.y < 0.0)) {
       for (const char* name : {"shadow.cascade_data", "draws.shadow.cascades", "shadow.cull_stats"})
-        store(name, nullptr, 0);
+        ctx_.store<uint8_t>(name, {});
       return;
     }
     const uint32_t resolution = uint32_t(ctx_.param("resolution"));
@@ -326,8 +326,8 @@ class ShadowCuller {
         c.shift = c.centre - glm::ivec2(before->centre[2 * k], before->centre[2 * k + 1]);
         stats_.shift[2 * k] = c.shift.x;
         stats_.shift[2 * k + 1] = c.shift.y;
-        const TilesAfterMove moved =
-            tiles_after_move(ShadowCullStats::mask(before->complete, k), c.shift, tiles, resolution);
+        const uint64_t complete_before = ShadowCullStats::mask(before->complete, k);
+        const TilesAfterMove moved = tiles_after_move(complete_before, c.shift, tiles, resolution);
         uint64_t whole = moved.stale;
         for (const LightRect& r : changed) whole |= c.map.meeting(r);
         // A tile that missed only what the move uncovered is complete once the strips are drawn.
@@ -335,12 +335,11 @@ class ShadowCuller {
         stale[k] = whole | moved.uncovered;
         // How long each stale tile has waited: one more frame than the tile its centre came from,
         // when that one was waiting too.
-        const uint64_t complete_before = ShadowCullStats::mask(before->complete, k);
         const int32_t side = int32_t(resolution / tiles);
         for (uint32_t t = 0; t < tiles * tiles; ++t) {
           if (!(stale[k] >> t & 1u)) continue;
           const TexelRect r = c.map.tile_texels(t);
-          const glm::ivec2 from = (glm::ivec2(r.x0, r.y0) + side / 2 + c.shift);
+          const glm::ivec2 from = glm::ivec2(r.x0, r.y0) + side / 2 + c.shift;
           if (glm::any(glm::lessThan(from, glm::ivec2(0))) ||
               glm::any(glm::greaterThanEqual(from, glm::ivec2(int32_t(resolution)))))
             continue;
@@ -412,9 +411,9 @@ class ShadowCuller {
       ShadowCullStats::set_mask(stats_.partial, k, partial[k]);
       data.tiles[k] = glm::uvec4(uint32_t(complete), uint32_t(complete >> 32), tiles, 0u);
     }
-    store("shadow.cascade_data", &data, sizeof(data));
-    store("shadow.cull_stats", &stats_, sizeof(stats_));
-    store("draws.shadow.cascades", all.data(), all.size() * sizeof(GpuDraw));
+    ctx_.store<GpuShadowCascades>("shadow.cascade_data", {&data, 1});
+    ctx_.store<ShadowCullStats>("shadow.cull_stats", {&stats_, 1});
+    ctx_.store<GpuDraw>("draws.shadow.cascades", all);
   }
 
  private:
@@ -490,14 +489,15 @@ class ShadowCuller {
     for (const Cascade& c : cascades) maps.push_back(c.map.whole());
     std::vector<LightRect> changed;
     visit_static_across_sun(hierarchy_, axes_, maps, [&](uint32_t index) {
-      const MeshRecord* now = drawn_mesh(index, model_of(index, eye_, camera_.time));
+      const glm::dmat4 model = model_of(index, eye_, camera_.time);
+      const MeshRecord* now = drawn_mesh(index, model);
       const MeshRecord* then = drawn_mesh(index, model_of(index, previous_eye, camera_.time - camera_.time_step));
       if (now == then) return;
       ++stats_.level_changes;
       LightRect r;
       for (const MeshRecord* mesh : {now, then}) {
         if (!mesh) continue;
-        const Box box = box_of(model_of(index, eye_, camera_.time), *mesh);
+        const Box box = box_of(model, *mesh);
         const LightRect across = across_sun(axes_, box.min + eye_, box.max + eye_);
         r.grow(across.lo);
         r.grow(across.hi);
@@ -639,20 +639,6 @@ class ShadowCuller {
       }
     stats_.static_triangles = uint32_t(filled);
     return done;
-  }
-
-  static void sort_for_batching(std::vector<GpuDraw>& list) {
-    std::sort(list.begin(), list.end(), [](const GpuDraw& a, const GpuDraw& b) {
-      if (a.material != b.material) return a.material < b.material;
-      if (a.first_index != b.first_index) return a.first_index < b.first_index;
-      return a.instance < b.instance;
-    });
-  }
-
-  void store(const char* name, const void* bytes, size_t size) {
-    auto& out = ctx_.output(name);
-    out.resize(size);
-    if (size) std::memcpy(out.data(), bytes, size);
   }
 
   std::array<double, kShadowCascades + 1> split_distances() const {

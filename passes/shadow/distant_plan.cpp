@@ -79,7 +79,7 @@ class DistantPlanner {
     // As shadow.cull: a replay of the skip runs the pass on the recorded inputs, and it writes nothing.
     if (!(constants_.sun_direction.w > 0.0f && axes_.travel.y < 0.0)) {
       for (const char* name : {"shadow.distant_data", "draws.shadow.distant", "shadow.distant_plan"})
-        store(name, nullptr, 0);
+        ctx_.store<uint8_t>(name, {});
       return;
     }
     const uint32_t resolution = uint32_t(ctx_.param("resolution"));
@@ -203,15 +203,9 @@ class DistantPlanner {
         if (occluder.index_count > 0) unit.occluders.push_back(occluder);
       }
     });
-    // Sorted for batching and so the list does not depend on the hierarchy's walk.
-    auto batched = [](const GpuDraw& a, const GpuDraw& b) {
-      if (a.material != b.material) return a.material < b.material;
-      if (a.first_index != b.first_index) return a.first_index < b.first_index;
-      return a.instance < b.instance;
-    };
     for (uint32_t u : due) {
-      std::sort(units[u].draws.begin(), units[u].draws.end(), batched);
-      std::sort(units[u].occluders.begin(), units[u].occluders.end(), batched);
+      sort_for_batching(units[u].draws);
+      sort_for_batching(units[u].occluders);
     }
     std::vector<GpuDraw> all;
     for (uint32_t u = 0; u < units.size(); ++u) plan.unit_triangles[u] = units[u].triangles;
@@ -234,9 +228,9 @@ class DistantPlanner {
     for (uint32_t u : due)
       if (units[u].triangles > plan.budget_triangles) plan.over_budget = 1;
     for (uint32_t k = 0; k < kDistantLevels; ++k) data.refresh[k].z = int(plan.refreshed[k]);
-    store("shadow.distant_data", &data, sizeof(data));
-    store("shadow.distant_plan", &plan, sizeof(plan));
-    store("draws.shadow.distant", all.data(), all.size() * sizeof(GpuDraw));
+    ctx_.store<GpuDistantLevels>("shadow.distant_data", {&data, 1});
+    ctx_.store<DistantPlan>("shadow.distant_plan", {&plan, 1});
+    ctx_.store<GpuDraw>("draws.shadow.distant", all);
   }
 
  private:
@@ -252,12 +246,6 @@ class DistantPlanner {
   }
 
   dvec3 eye() const { return dvec3(camera_.world[12], camera_.world[13], camera_.world[14]); }
-
-  void store(const char* name, const void* bytes, size_t size) {
-    auto& out = ctx_.output(name);
-    out.resize(size);
-    if (size) std::memcpy(out.data(), bytes, size);
-  }
 
   const MeshRecord* mesh_at(uint32_t index) const {
     if (index >= meshes_.size())

@@ -202,11 +202,7 @@ class LocalPlanner {
       std::vector<GpuDraw> statics, moving;
       casters(origin - far, origin + far, state != LocalSlotState::reused, origin, statics, moving);
       for (std::vector<GpuDraw>* list : {&statics, &moving}) {
-        std::sort(list->begin(), list->end(), [](const GpuDraw& a, const GpuDraw& b) {
-          if (a.material != b.material) return a.material < b.material;
-          if (a.first_index != b.first_index) return a.first_index < b.first_index;
-          return a.instance < b.instance;
-        });
+        sort_for_batching(*list);
         for (const GpuDraw& d : *list) plan.slice_triangles[map] += d.index_count / 3;
         all.insert(all.end(), list->begin(), list->end());
       }
@@ -275,11 +271,11 @@ class LocalPlanner {
       plan.moments_dirty[map] = moving_footprint(l, dvec3(record.position[0], record.position[1], record.position[2]),
                                                  near, double(l.color_range.w));
     }
-    store("shadow.local_data", &data, sizeof(data));
-    store("shadow.local_views", &views, sizeof(views));
-    store("shadow.local_slots", slots.data(), slots.size() * sizeof(int32_t));
-    store("shadow.local_plan", &plan, sizeof(plan));
-    store("draws.shadow.local", all.data(), all.size() * sizeof(GpuDraw));
+    ctx_.store<GpuLocalShadows>("shadow.local_data", {&data, 1});
+    ctx_.store<GpuLocalShadowViews>("shadow.local_views", {&views, 1});
+    ctx_.store<int32_t>("shadow.local_slots", slots);
+    ctx_.store<LocalShadowPlan>("shadow.local_plan", {&plan, 1});
+    ctx_.store<GpuDraw>("draws.shadow.local", all);
   }
 
  private:
@@ -329,12 +325,6 @@ class LocalPlanner {
     m[3] = glm::dvec4(-glm::dot(position, right) * scale, -glm::dot(position, up) * scale,
                       -glm::dot(position, forward) * a + b, -glm::dot(position, forward));
     return m;
-  }
-
-  void store(const char* name, const void* bytes, size_t size) {
-    auto& out = ctx_.output(name);
-    out.resize(size);
-    if (size) std::memcpy(out.data(), bytes, size);
   }
 
   const MeshRecord* caster_mesh(uint32_t index) const {
