@@ -275,7 +275,9 @@ class ShadowCuller {
     const uint32_t resolution = uint32_t(ctx_.param("resolution"));
     const uint32_t tiles = uint32_t(ctx_.param("tiles"));
     if (resolution % 2 != 0) throw GraphError("shadow.cull: resolution must be even");
-    if (resolution % tiles != 0) throw GraphError("shadow.cull: tiles must divide the resolution");
+    if (resolution % tiles != 0)
+      throw GraphError("shadow.cull: tiles (" + std::to_string(tiles) + ") must divide the resolution (" +
+                       std::to_string(resolution) + ")");
     axes_ = LightAxes::of_sun(travel_);
     const LightRange range = light_range();
     const bool cache = ctx_.param("cache") != 0.0;
