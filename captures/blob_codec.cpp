@@ -1,17 +1,17 @@
 #include "captures/blob_codec.h"
 
+#include <IlmThreadPool.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
-#include <ImfInputPart.h>
 #include <ImfIntAttribute.h>
-#include <ImfMultiPartInputFile.h>
 #include <ImfMultiPartOutputFile.h>
 #include <ImfOutputPart.h>
 #include <ImfPartType.h>
 #include <ImfStringAttribute.h>
 #include <ImfThreading.h>
 #include <half.h>
+#include <openexr.h>
 #include <zstd.h>
 
 #include <algorithm>
@@ -19,12 +19,16 @@
 #include <bit>
 #include <climits>
 #include <cstring>
+#include <exception>
 #include <fstream>
+#include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <tuple>
 
 #include "captures/exr_headers.h"
+#include "captures/exr_zip.h"
 
 namespace nightcap {
 namespace {
@@ -185,14 +189,19 @@ std::vector<uint8_t>& widening_scratch() {
   return scratch;
 }
 
+// Where a part's samples are read or written: the raw bytes themselves when EXR samples are as
+// wide as the raw codes, else `widened`.
+uint8_t* sample_memory(PartPixels& pixels, const Layout& layout, const Part& part, uint8_t* raw) {
+  const size_t sample = sample_bytes(layout.type);
+  if (layout.raw_bytes == sample) return raw;
+  pixels.codes = uint64_t(part.width) * part.rows * layout.channels.size();
+  if (pixels.widened.size() < pixels.codes * sample) pixels.widened.resize(pixels.codes * sample);
+  return pixels.widened.data();
+}
+
 void bind(PartPixels& pixels, const Layout& layout, const Part& part, const Imath::Box2i& window, uint8_t* raw) {
   const size_t sample = sample_bytes(layout.type), texel = sample * layout.channels.size();
-  char* base = reinterpret_cast<char*>(raw);
-  if (layout.raw_bytes != sample) {
-    pixels.codes = uint64_t(part.width) * part.rows * layout.channels.size();
-    if (pixels.widened.size() < pixels.codes * sample) pixels.widened.resize(pixels.codes * sample);
-    base = reinterpret_cast<char*>(pixels.widened.data());
-  }
+  char* base = reinterpret_cast<char*>(sample_memory(pixels, layout, part, raw));
   for (size_t c = 0; c < layout.channels.size(); ++c)
     pixels.frame_buffer.insert(layout.channels[c], Imf::Slice::Make(layout.type, base + c * sample, window, texel,
                                                                     texel * size_t(part.width)));
@@ -248,37 +257,175 @@ Imf::Header header_of(const FormatInfo& format, const ImageExtent& extent, const
   return header;
 }
 
-// Why a part does not hold what `part` of this format and extent should, or "" if it does.
-std::string mismatch(const Imf::Header& header, const FormatInfo& format, const ImageExtent& extent, const Part& part,
-                     const Layout& layout) {
-  if (header.hasName() && header.name() != part.name) return "is named '" + header.name() + "'";
-  if ((header.hasType() && header.type() != Imf::SCANLINEIMAGE) || header.hasTileDescription())
+// Reading goes through OpenEXR's core (C) library, which lets a part's chunks be decoded on
+// several threads and ZIP chunks be inflated by libdeflate (captures/exr_zip.h). An open file,
+// whose errors land in `error` instead of on stderr.
+struct ExrReader {
+  explicit ExrReader(const std::filesystem::path& file) : file(file) {
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = &ExrReader::record_error;
+    init.user_data = this;
+    // A damaged offset table is an error, not something to search the file for chunks around.
+    init.flags = EXR_CONTEXT_FLAG_STRICT_HEADER | EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
+    if (exr_start_read(&context, file.c_str(), &init) != EXR_ERR_SUCCESS) fail("unreadable OpenEXR");
+  }
+  ~ExrReader() { exr_finish(&context); }
+  ExrReader(const ExrReader&) = delete;
+  ExrReader& operator=(const ExrReader&) = delete;
+
+  [[noreturn]] void fail(const std::string& what) const {
+    const std::lock_guard lock(error_mutex);
+    nightcap::fail(file, what + (error.empty() ? "" : ": " + error));
+  }
+
+  static void record_error(exr_const_context_t context, exr_result_t code, const char* message) {
+    void* user = nullptr;
+    if (exr_get_user_data(context, &user) != EXR_ERR_SUCCESS || !user) return;
+    auto& reader = *static_cast<ExrReader*>(user);
+    const std::lock_guard lock(reader.error_mutex);
+    if (reader.error.empty()) reader.error = message ? message : exr_get_default_error_message(code);
+  }
+
+  std::filesystem::path file;
+  exr_context_t context = nullptr;
+  mutable std::mutex error_mutex;
+  std::string error;  // the first error OpenEXR reported
+};
+
+exr_pixel_type_t exr_pixel_type(Imf::PixelType type) {
+  return type == Imf::HALF ? EXR_PIXEL_HALF : type == Imf::FLOAT ? EXR_PIXEL_FLOAT : EXR_PIXEL_UINT;
+}
+
+// Why part `index` does not hold what `part` of this format and extent should, or "" if it does.
+std::string mismatch(exr_const_context_t context, int index, const FormatInfo& format, const ImageExtent& extent,
+                     const Part& part, const Layout& layout) {
+  const char* name = nullptr;
+  if (exr_get_name(context, index, &name) == EXR_ERR_SUCCESS && name && part.name != name)
+    return "is named '" + std::string(name) + "'";
+  exr_storage_t storage;
+  if (exr_get_storage(context, index, &storage) != EXR_ERR_SUCCESS || storage != EXR_STORAGE_SCANLINE)
     return "is not a scanline image";
-  const auto* stored_format = header.findTypedAttribute<Imf::StringAttribute>("nightcap.format");
-  if (!stored_format) return "does not record its format";
-  if (stored_format->value() != format.name)
-    return "holds " + stored_format->value() + ", not " + std::string(format.name);
+  const char* stored_format = nullptr;
+  int32_t length = 0;
+  if (exr_attr_get_string(context, index, "nightcap.format", &length, &stored_format) != EXR_ERR_SUCCESS)
+    return "does not record its format";
+  if (std::string_view(stored_format, size_t(length)) != format.name)
+    return "holds " + std::string(stored_format, size_t(length)) + ", not " + std::string(format.name);
   ImageExtent stored;
-  for (const auto& [name, member] : kExtentAttributes) {
-    const auto* value = header.findTypedAttribute<Imf::IntAttribute>(name);
-    if (!value) return std::string("does not record ") + name;
-    stored.*member = uint32_t(value->value());
+  for (const auto& [attribute, member] : kExtentAttributes) {
+    int32_t value = 0;
+    if (exr_attr_get_int(context, index, attribute, &value) != EXR_ERR_SUCCESS)
+      return std::string("does not record ") + attribute;
+    stored.*member = uint32_t(value);
   }
   if (std::tie(stored.width, stored.height, stored.depth, stored.mips, stored.layers) !=
       std::tie(extent.width, extent.height, extent.depth, extent.mips, extent.layers))
     return "holds an image of " + describe(stored) + ", not " + describe(extent);
-  const Imath::Box2i& window = header.dataWindow();
-  if (int64_t(window.max.x) - window.min.x + 1 != part.width || int64_t(window.max.y) - window.min.y + 1 != part.rows)
+  exr_attr_box2i_t window;
+  if (exr_get_data_window(context, index, &window) != EXR_ERR_SUCCESS ||
+      int64_t(window.max.x) - window.min.x + 1 != part.width || int64_t(window.max.y) - window.min.y + 1 != part.rows)
     return "has a data window of the wrong size";
-  size_t channels = 0;
-  for (auto it = header.channels().begin(); it != header.channels().end(); ++it, ++channels) {
-    const auto expected = std::find(layout.channels.begin(), layout.channels.end(), it.name());
-    if (expected == layout.channels.end()) return std::string("has an unexpected channel ") + it.name();
-    if (it.channel().type != layout.type || it.channel().xSampling != 1 || it.channel().ySampling != 1)
-      return std::string("has channel ") + it.name() + " of the wrong type or sampling";
+  const exr_attr_chlist_t* channels = nullptr;
+  if (exr_get_channels(context, index, &channels) != EXR_ERR_SUCCESS || !channels) return "lacks channels";
+  for (int c = 0; c < channels->num_channels; ++c) {
+    const exr_attr_chlist_entry_t& channel = channels->entries[c];
+    const std::string channel_name(channel.name.str, size_t(std::max(channel.name.length, 0)));
+    if (std::find(layout.channels.begin(), layout.channels.end(), channel_name) == layout.channels.end())
+      return "has an unexpected channel " + channel_name;
+    if (channel.pixel_type != exr_pixel_type(layout.type) || channel.x_sampling != 1 || channel.y_sampling != 1)
+      return "has channel " + channel_name + " of the wrong type or sampling";
   }
-  if (channels != layout.channels.size()) return "lacks channels";
+  if (size_t(channels->num_channels) != layout.channels.size()) return "lacks channels";
   return "";
+}
+
+// Decodes chunks [first, end) of part `index` into `base` (the part's samples, interleaved as
+// in the raw layout); the context is shared, the pipeline this call's own.
+void decode_chunks(const ExrReader& reader, int index, const Layout& layout, const Part& part,
+                   const exr_attr_box2i_t& window, int32_t rows_per_chunk, int32_t first, int32_t end, uint8_t* base) {
+  const size_t sample = sample_bytes(layout.type), texel = sample * layout.channels.size(),
+               row = texel * size_t(part.width);
+  exr_compression_t compression;
+  if (exr_get_compression(reader.context, index, &compression) != EXR_ERR_SUCCESS) reader.fail("has no compression");
+  const bool zip = compression == EXR_COMPRESSION_ZIP || compression == EXR_COMPRESSION_ZIPS;
+  exr_decode_pipeline_t pipeline{};
+  struct Destroy {
+    const ExrReader& reader;
+    exr_decode_pipeline_t& pipeline;
+    ~Destroy() { exr_decoding_destroy(reader.context, &pipeline); }
+  } destroy{reader, pipeline};
+  for (int32_t chunk = first; chunk < end; ++chunk) {
+    const int y = window.min.y + chunk * rows_per_chunk;
+    auto fail_at = [&](const char* problem) {
+      reader.fail("part " + std::to_string(index) + " (" + part.name + ") rows from " + std::to_string(y) + ": " +
+                  problem);
+    };
+    exr_chunk_info_t info;
+    if (exr_read_scanline_chunk_info(reader.context, index, y, &info) != EXR_ERR_SUCCESS) fail_at("no chunk");
+    if (info.start_y < window.min.y || int64_t(info.start_y) + info.height > int64_t(window.max.y) + 1)
+      fail_at("a chunk outside the data window");
+    const exr_result_t started = chunk == first ? exr_decoding_initialize(reader.context, index, &info, &pipeline)
+                                                : exr_decoding_update(reader.context, index, &info, &pipeline);
+    if (started != EXR_ERR_SUCCESS) fail_at("undecodable chunk");
+    for (int16_t c = 0; c < pipeline.channel_count; ++c) {
+      exr_coding_channel_info_t& channel = pipeline.channels[c];
+      const size_t slot = size_t(std::find(layout.channels.begin(), layout.channels.end(), channel.channel_name) -
+                                 layout.channels.begin());
+      channel.decode_to_ptr = base + size_t(info.start_y - window.min.y) * row + slot * sample;
+      channel.user_pixel_stride = int32_t(texel);
+      channel.user_line_stride = int32_t(row);
+      channel.user_bytes_per_element = int8_t(sample);
+      channel.user_data_type = uint16_t(exr_pixel_type(layout.type));
+    }
+    if (chunk == first && exr_decoding_choose_default_routines(reader.context, index, &pipeline) != EXR_ERR_SUCCESS)
+      fail_at("undecodable chunk");
+    if (zip) pipeline.decompress_fn = &inflate_zip_chunk;
+    if (exr_decoding_run(reader.context, index, &pipeline) != EXR_ERR_SUCCESS) fail_at("damaged chunk");
+  }
+}
+
+// A part's chunks, split among OpenEXR's pool when the part is large.
+void read_part(const ExrReader& reader, int index, const Layout& layout, const Part& part, uint8_t* base) {
+  exr_attr_box2i_t window;
+  int32_t rows_per_chunk = 0;
+  if (exr_get_data_window(reader.context, index, &window) != EXR_ERR_SUCCESS ||
+      exr_get_scanlines_per_chunk(reader.context, index, &rows_per_chunk) != EXR_ERR_SUCCESS || rows_per_chunk <= 0)
+    reader.fail("part " + std::to_string(index) + " (" + part.name + ") has no chunk layout");
+  const int32_t chunks = (part.rows + rows_per_chunk - 1) / rows_per_chunk;
+  const uint64_t bytes =
+      uint64_t(part.width) * uint64_t(part.rows) * sample_bytes(layout.type) * layout.channels.size();
+  const int threads = std::min(exr_threads(bytes, -1), int(chunks));
+  if (threads <= 1) {
+    decode_chunks(reader, index, layout, part, window, rows_per_chunk, 0, chunks, base);
+    return;
+  }
+  // The pool deletes a task once it has run; each reports its failure into `failures`.
+  struct Slice : IlmThread::Task {
+    Slice(IlmThread::TaskGroup* group, std::function<void()> work, std::exception_ptr& failure)
+        : Task(group), work(std::move(work)), failure(failure) {}
+    void execute() override {
+      try {
+        work();
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    }
+    std::function<void()> work;
+    std::exception_ptr& failure;
+  };
+  std::vector<std::exception_ptr> failures(static_cast<size_t>(threads));
+  {
+    IlmThread::TaskGroup group;  // waits for its tasks as it goes
+    for (int t = 0; t < threads; ++t) {
+      const int32_t first = chunks * t / threads, end = chunks * (t + 1) / threads;
+      IlmThread::ThreadPool::addGlobalTask(new Slice(
+          &group,
+          [&, first, end] { decode_chunks(reader, index, layout, part, window, rows_per_chunk, first, end, base); },
+          failures[size_t(t)]));
+    }
+  }
+  for (const std::exception_ptr& failure : failures)
+    if (failure) std::rethrow_exception(failure);
 }
 
 bool has_zip_level(ExrCompression compression) {
@@ -348,31 +495,23 @@ std::vector<uint8_t> read_image_blob(const std::filesystem::path& file, const Fo
   for (const Part& part : parts) expected.push_back({part.width, part.rows});
   check_exr_headers(file, expected);
   std::vector<uint8_t> raw(raw_image_bytes(format, extent));
-  try {
-    Imf::MultiPartInputFile in(file.c_str(), exr_threads(raw.size(), -1));
-    if (size_t(in.parts()) != parts.size())
-      fail(file, "has " + std::to_string(in.parts()) + " parts, expected " + std::to_string(parts.size()) + " for " +
-                     std::string(format.name) + " " + describe(extent));
-    for (size_t p = 0; p < parts.size(); ++p) {
-      const Part& part = parts[p];
-      const Imf::Header& header = in.header(int(p));
-      const Layout layout = layout_of(format, part.aspect);
-      if (const std::string problem = mismatch(header, format, extent, part, layout); !problem.empty())
-        fail(file, "part " + std::to_string(p) + " (" + part.name + ") " + problem);
-      uint8_t* codes = raw.data() + part.offset;
-      PartPixels pixels(widening_scratch());
-      bind(pixels, layout, part, header.dataWindow(), codes);
-      Imf::InputPart input(in, int(p));
-      input.setFrameBuffer(pixels.frame_buffer);
-      input.readPixels(header.dataWindow().min.y, header.dataWindow().max.y);
-      if (pixels.codes && !narrow(pixels, layout, codes))
-        fail(file, "part " + std::to_string(p) + " (" + part.name + ") holds a sample that is no code of " +
-                       std::string(format.name));
-    }
-  } catch (const CaptureError&) {
-    throw;
-  } catch (const std::exception& e) {
-    fail(file, std::string("unreadable OpenEXR: ") + e.what());
+  const ExrReader reader(file);
+  int count = 0;
+  if (exr_get_count(reader.context, &count) != EXR_ERR_SUCCESS || size_t(count) != parts.size())
+    fail(file, "has " + std::to_string(count) + " parts, expected " + std::to_string(parts.size()) + " for " +
+                   std::string(format.name) + " " + describe(extent));
+  for (size_t p = 0; p < parts.size(); ++p) {
+    const Part& part = parts[p];
+    const Layout layout = layout_of(format, part.aspect);
+    if (const std::string problem = mismatch(reader.context, int(p), format, extent, part, layout); !problem.empty())
+      fail(file, "part " + std::to_string(p) + " (" + part.name + ") " + problem);
+    uint8_t* codes = raw.data() + part.offset;
+    PartPixels pixels(widening_scratch());
+    uint8_t* samples = sample_memory(pixels, layout, part, codes);
+    read_part(reader, int(p), layout, part, samples);
+    if (pixels.codes && !narrow(pixels, layout, codes))
+      fail(file, "part " + std::to_string(p) + " (" + part.name + ") holds a sample that is no code of " +
+                     std::string(format.name));
   }
   return raw;
 }

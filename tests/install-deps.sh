@@ -8,7 +8,7 @@ packages=(
   glslang-tools glslang-dev
   libopenimageio-dev openimageio-tools libopenexr-dev
   libglm-dev libtinygltf-dev nlohmann-json3-dev libcli11-dev
-  libzstd-dev libxxhash-dev zlib1g-dev libgtest-dev renderdoccmd python3-renderdoc
+  libzstd-dev libxxhash-dev zlib1g-dev libdeflate-dev libgtest-dev renderdoccmd python3-renderdoc
   graphviz chromium spirv-tools libedit-dev
   clang-14 libfuzzer-14-dev libclang-rt-14-dev
 )
