@@ -5,41 +5,58 @@
 #include <cstring>
 #include <memory>
 
+#include "inspect/simd.h"
+
 namespace nightcap {
 namespace {
 
-// Every half's float, computed once: a table read per channel instead of decode_texel's switch
-// and bit work per texel (most of a diff's float outputs are half).
-const std::array<float, 65536>& half_table() {
-  static const std::unique_ptr<std::array<float, 65536>> table = [] {
-    auto t = std::make_unique<std::array<float, 65536>>();
-    for (uint32_t h = 0; h < 65536; ++h) (*t)[h] = half_to_float(uint16_t(h));
-    return t;
-  }();
-  return *table;
+// Halves to floats, eight at a time (inspect/simd.h): the half's magnitude bits shifted into a
+// float's place read as a float 2^-112 times too small (subnormals included), so one multiply
+// rebiases it; what comes out at 2^16 or more was infinity or NaN and gets the float's all-ones
+// exponent, keeping the NaN's payload. Every half gives half_to_float's value (a NaN a NaN).
+NIGHTCAP_AVX2_CLONE void halves_to_floats(const uint8_t* halves, float* out, uint64_t n) {
+  using simd::Floats8, simd::Halves8, simd::Words8;
+  uint64_t i = 0;
+  for (; i + 8 <= n; i += 8) {
+    Halves8 h;
+    std::memcpy(&h, halves + 2 * i, sizeof h);
+    const Words8 bits = __builtin_convertvector(h, Words8);
+    // A cast between vector types of one size keeps the bits.
+    const Floats8 magnitude = (Floats8)((bits & 0x7fffu) << 13) * 0x1p112f;
+    Words8 value = (Words8)magnitude;
+    value |= (Words8)(magnitude >= 65536.0f) & (255u << 23);
+    value |= (bits & 0x8000u) << 16;
+    std::memcpy(out + i, &value, sizeof value);
+  }
+  for (; i < n; ++i) {
+    uint16_t h;
+    std::memcpy(&h, halves + 2 * i, 2);
+    out[i] = half_to_float(h);
+  }
 }
 
-void decode_plane(const FormatInfo& f, uint32_t aspect, std::span<const uint8_t> plane, float* out) {
+}  // namespace
+
+void decode_values(const FormatInfo& f, uint32_t aspect, std::span<const uint8_t> plane, float* out) {
   const uint32_t channels = aspect_channels(f, aspect);
   const uint64_t texels = plane.size() / aspect_texel_bytes(f, aspect);
   if (aspect == 0 && f.encoding == ChannelEncoding::sfloat16) {
-    const std::array<float, 65536>& table = half_table();
-    for (uint64_t i = 0; i < texels * channels; ++i) {
-      uint16_t h;
-      std::memcpy(&h, plane.data() + 2 * i, 2);
-      out[i] = table[h];
-    }
+    halves_to_floats(plane.data(), out, texels * channels);
     return;
   }
   if (aspect == 0 && (f.encoding == ChannelEncoding::unorm8 || f.encoding == ChannelEncoding::srgb8)) {
     // A byte per channel: decode_texel's rules (sRGB colour, linear alpha) applied once per code
-    // and channel, then looked up.
-    std::array<std::array<float, 256>, 4> table;
-    for (uint32_t code = 0; code < 256; ++code) {
-      const std::array<uint8_t, 4> texel{uint8_t(code), uint8_t(code), uint8_t(code), uint8_t(code)};
-      float values[4];
-      decode_texel(f, aspect, texel, 0, values);
-      for (uint32_t c = 0; c < channels; ++c) table[c][code] = values[c];
+    // and channel, then looked up; the table is kept for the next call on the same format.
+    thread_local VkFormat tabled = VK_FORMAT_UNDEFINED;
+    thread_local std::array<std::array<float, 256>, 4> table;
+    if (tabled != f.vk) {
+      for (uint32_t code = 0; code < 256; ++code) {
+        const std::array<uint8_t, 4> texel{uint8_t(code), uint8_t(code), uint8_t(code), uint8_t(code)};
+        float values[4];
+        decode_texel(f, aspect, texel, 0, values);
+        for (uint32_t c = 0; c < channels; ++c) table[c][code] = values[c];
+      }
+      tabled = f.vk;
     }
     for (uint64_t t = 0; t < texels; ++t)
       for (uint32_t c = 0; c < channels; ++c) out[t * channels + c] = table[c][plane[t * channels + c]];
@@ -51,8 +68,6 @@ void decode_plane(const FormatInfo& f, uint32_t aspect, std::span<const uint8_t>
   }
   for (uint64_t t = 0; t < texels; ++t) decode_texel(f, aspect, plane, t, out + t * channels);
 }
-
-}  // namespace
 
 DecodedImage::DecodedImage(const ResourceRecord& record, std::span<const uint8_t> raw)
     : format_(*format_info(record.format)), extent_(record.extent) {
@@ -67,7 +82,7 @@ DecodedImage::DecodedImage(const ResourceRecord& record, std::span<const uint8_t
   for (uint32_t aspect = 0; aspect < aspects; ++aspect) {
     const uint64_t begin = raw_subresource_offset(format_, extent_, aspect, 0, 0);
     const uint64_t end = raw_subresource_offset(format_, extent_, aspect + 1, 0, 0);
-    decode_plane(format_, aspect, raw.subspan(begin, end - begin), values_.data() + aspect_begin_[aspect]);
+    decode_values(format_, aspect, raw.subspan(begin, end - begin), values_.data() + aspect_begin_[aspect]);
   }
 }
 
@@ -95,6 +110,23 @@ ResourcePair::ResourcePair(const ResourceRecord& a, std::span<const uint8_t> a_r
 
 bool ResourcePair::same_bytes() const {
   return a_raw.size() == b_raw.size() && std::equal(a_raw.begin(), a_raw.end(), b_raw.begin());
+}
+
+void ResourcePair::for_each_block(uint32_t aspect,
+                                  const std::function<void(const float*, const float*, uint64_t)>& visit) const {
+  const FormatInfo format = *format_info(a.format);
+  const uint64_t begin = raw_subresource_offset(format, a.extent, aspect, 0, 0);
+  const uint64_t end = raw_subresource_offset(format, a.extent, aspect + 1, 0, 0);
+  const uint64_t texel_bytes = aspect_texel_bytes(format, aspect), channels = aspect_channels(format, aspect);
+  thread_local std::vector<float> values_a, values_b;
+  values_a.resize(kBlockTexels * channels);
+  values_b.resize(kBlockTexels * channels);
+  for (uint64_t at = begin; at < end; at += kBlockTexels * texel_bytes) {
+    const uint64_t bytes = std::min(end - at, kBlockTexels * texel_bytes);
+    decode_values(format, aspect, a_raw.subspan(at, bytes), values_a.data());
+    decode_values(format, aspect, b_raw.subspan(at, bytes), values_b.data());
+    visit(values_a.data(), values_b.data(), bytes / texel_bytes);
+  }
 }
 
 const DecodedImage& ResourcePair::a_values() const {

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -31,6 +32,9 @@ class DecodedImage {
   std::vector<float> values_;
 };
 
+// Texels of an image aspect (raw layout, whole texels) decoded to floats as DecodedImage holds them.
+void decode_values(const FormatInfo& format, uint32_t aspect, std::span<const uint8_t> texels, float* out);
+
 // Two versions of one resource, as a diff compares them: records, raw bytes, and for images of
 // the same shape their decoded values, decoded on first use and shared by every metric.
 class ResourcePair {
@@ -48,6 +52,13 @@ class ResourcePair {
   // Images of the same shape only.
   const DecodedImage& a_values() const;
   const DecodedImage& b_values() const;
+  // For a metric that reads each value once, in order: visit(a, b, texels) gets one aspect's
+  // values (aspect_channels floats per texel) of the next run of at most kBlockTexels texels of
+  // both images, decoded then. The values stay in cache between decoding and use, and no decoded
+  // copy of either whole image is made (a 1280x720 RGBA image's is 14 MiB). Images of the same
+  // shape only.
+  static constexpr uint64_t kBlockTexels = 1024;
+  void for_each_block(uint32_t aspect, const std::function<void(const float*, const float*, uint64_t)>& visit) const;
 
  private:
   bool same_shape_ = false;

@@ -8,6 +8,8 @@
 #include <string>
 #include <thread>
 
+#include "inspect/simd.h"
+
 namespace nightcap {
 namespace {
 
@@ -149,20 +151,9 @@ struct Kernel {
   int radius() const { return int(taps.size() / 2); }
 };
 
-// Eight floats as one value: GCC and Clang compile its arithmetic to SIMD instructions (two SSE
-// registers, or one AVX register in the AVX2 clone below), which they would not do for the plain
-// loops at -O2.
-using Lanes = float __attribute__((vector_size(32)));
+// The filters are most of FLIP's time: eight pixels at a time (inspect/simd.h).
+using Lanes = simd::Floats8;
 constexpr uint32_t kLanes = sizeof(Lanes) / sizeof(float);
-
-// The filters are most of FLIP's time: where the CPU has AVX2 (chosen when the program loads),
-// a clone compiled for it takes eight lanes at once. AVX2 without FMA: both clones do the same
-// operations in the same order, so their results are the same bits.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define NIGHTCAP_AVX2_CLONE __attribute__((target_clones("avx2", "default")))
-#else
-#define NIGHTCAP_AVX2_CLONE
-#endif
 
 // dst[x] = Σ_k taps[k] · sources[k][x] for x in [0, n), or Σ_k taps[k] · (sources[k][x] −
 // centre[x]) for a zero-sum kernel; added to what dst holds where `add`.

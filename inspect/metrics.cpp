@@ -3,11 +3,14 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <iomanip>
 #include <sstream>
 #include <vector>
+
+#include "inspect/simd.h"
 
 namespace nightcap {
 namespace {
@@ -119,6 +122,165 @@ void compare_buffers(std::span<const uint8_t> a, std::span<const uint8_t> b, Res
   r.psnr = r.rmse > 0 ? 20.0 * std::log10(1.0 / r.rmse) : INFINITY;
 }
 
+// What compare_resource sums over an image's texels, block by block.
+struct ImageTally {
+  double peak = 0.0;  // largest |a| of a float image (PSNR's peak), else 1
+  double max_abs = 0.0, sum_squares = 0.0, angle_sum = 0.0;
+  uint64_t values = 0, texels = 0, differing = 0, over = 0;
+};
+
+// Four values at a time, as doubles (inspect/simd.h); a comparison of two gives all bits set in
+// the lanes where it holds.
+using simd::Doubles4;
+using simd::Floats4;
+using DoubleMasks = int64_t __attribute__((vector_size(32)));
+
+// Four values of a and of b from `at`, as doubles.
+#define NIGHTCAP_LOAD_FOUR(a, b, at, x, y)  \
+  Floats4 x##_floats, y##_floats;           \
+  std::memcpy(&x##_floats, (a) + (at), 16); \
+  std::memcpy(&y##_floats, (b) + (at), 16); \
+  const Doubles4 x = __builtin_convertvector(x##_floats, Doubles4), y = __builtin_convertvector(y##_floats, Doubles4)
+
+// A block of finite values, four at a time: the same sums and counts as tally_any, the sum of
+// squares in four lanes added at the end. False, `t` untouched, where a value of either side is
+// NaN or infinite (its difference then is too: d − d is not 0).
+NIGHTCAP_AVX2_CLONE bool tally_finite(const float* a, const float* b, uint64_t texels, uint32_t channels, bool relative,
+                                      double fixed, ImageTally& t) {
+  const uint64_t n = texels * channels;
+  // Per value: differs, and over the threshold; a texel counts where any of its channels does.
+  // An RGBA texel is one vector, whose lanes are summed at once.
+  std::array<int8_t, ResourcePair::kBlockTexels * 4> differs, over;
+  uint64_t rgba_differing = 0, rgba_over = 0;
+  Doubles4 peak = Doubles4{} + t.peak, largest{}, squares{};
+  DoubleMasks not_finite{};
+  uint64_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    NIGHTCAP_LOAD_FOUR(a, b, i, x, y);
+    const Doubles4 d = x > y ? x - y : y - x, ax = x < 0 ? -x : x;
+    not_finite |= d - d != 0;
+    if (relative) peak = ax > peak ? ax : peak;
+    largest = d > largest ? d : largest;
+    squares += d * d;
+    const Doubles4 threshold = relative ? 1e-3 * (ax > 1.0 ? ax : Doubles4{} + 1.0) : Doubles4{} + fixed;
+    const DoubleMasks is_over = d > threshold, is_different = d != 0;
+    if (channels == 4) {
+      rgba_differing += (is_different[0] | is_different[1] | is_different[2] | is_different[3]) != 0;
+      rgba_over += (is_over[0] | is_over[1] | is_over[2] | is_over[3]) != 0;
+      continue;
+    }
+    for (int lane = 0; lane < 4; ++lane) {
+      differs[i + lane] = int8_t(is_different[lane]);
+      over[i + lane] = int8_t(is_over[lane]);
+    }
+  }
+  if ((not_finite[0] | not_finite[1] | not_finite[2] | not_finite[3]) != 0) return false;
+  double peak_rest = 0.0, largest_rest = 0.0, squares_rest = 0.0;
+  for (; i < n; ++i) {
+    const double x = a[i], d = std::abs(x - b[i]);
+    if (!std::isfinite(d)) return false;
+    if (relative) peak_rest = std::max(peak_rest, std::abs(x));
+    largest_rest = std::max(largest_rest, d);
+    squares_rest += d * d;
+    differs[i] = d != 0 ? -1 : 0;
+    over[i] = d > (relative ? 1e-3 * std::max(1.0, std::abs(x)) : fixed) ? -1 : 0;
+  }
+  t.peak = std::max({t.peak, peak[0], peak[1], peak[2], peak[3], peak_rest});
+  t.max_abs = std::max({t.max_abs, largest[0], largest[1], largest[2], largest[3], largest_rest});
+  t.sum_squares += squares[0] + squares[1] + squares[2] + squares[3] + squares_rest;
+  if (channels == 4) {
+    t.differing += rgba_differing;
+    t.over += rgba_over;
+  } else
+    for (uint64_t texel = 0; texel < texels; ++texel) {
+      int8_t texel_differs = 0, texel_over = 0;
+      for (uint32_t c = 0; c < channels; ++c) {
+        texel_differs |= differs[texel * channels + c];
+        texel_over |= over[texel * channels + c];
+      }
+      t.differing += texel_differs != 0;
+      t.over += texel_over != 0;
+    }
+  t.values += n;
+  t.texels += texels;
+  return true;
+}
+
+// Any block, a texel at a time: NaN and infinity counted in `r` (NaN on both sides agrees, so
+// does the same infinity), normals' angles summed where `angles`.
+void tally_any(const float* a, const float* b, uint64_t texels, uint32_t channels, bool relative, double fixed,
+               bool angles, ImageTally& t, ResourceComparison& r) {
+  for (uint64_t texel = 0; texel < texels; ++texel) {
+    const float* va = a + texel * channels;
+    const float* vb = b + texel * channels;
+    bool texel_over = false, texel_differs = false;
+    for (uint32_t c = 0; c < channels; ++c) {
+      const float x = va[c], y = vb[c];
+      if (std::isfinite(x) && std::isfinite(y)) [[likely]] {
+        const double d = std::abs(double(x) - y);
+        if (relative) t.peak = std::max(t.peak, double(std::abs(x)));
+        ++t.values;
+        if (d == 0) continue;
+        texel_differs = true;
+        texel_over |= d > (relative ? 1e-3 * std::max(1.0, double(std::abs(x))) : fixed);
+        t.max_abs = std::max(t.max_abs, d);
+        t.sum_squares += d * d;
+        continue;
+      }
+      const bool nan_a = std::isnan(x), nan_b = std::isnan(y);
+      r.nan_a += nan_a;
+      r.nan_b += nan_b;
+      r.inf_a += std::isinf(x);
+      r.inf_b += std::isinf(y);
+      if (relative && std::isfinite(x)) t.peak = std::max(t.peak, double(std::abs(x)));
+      if (nan_a && nan_b) continue;      // NaN in the same place is agreement, not a difference
+      if (!nan_a && !nan_b && x == y) {  // the same infinity
+        ++t.values;
+        continue;
+      }
+      texel_differs = texel_over = true;
+      r.max_abs = INFINITY;
+      ++t.values;
+    }
+    if (angles) {
+      const double angle = stored_normal_angle_deg(va, vb);
+      if (std::isfinite(angle)) {
+        r.angular_max_deg = std::max(r.angular_max_deg, angle);
+        t.angle_sum += angle;
+      }
+    }
+    t.differing += texel_differs;
+    t.over += texel_over;
+    ++t.texels;
+  }
+}
+
+// The largest |b - a| / (absolute + relative |a|) of a float contract over a block (0 where the
+// values are equal; infinite where the bound is 0 and they are not) into `worst`; false, `worst`
+// untouched, where a value is NaN or infinite.
+NIGHTCAP_AVX2_CLONE bool worst_departure_finite(const float* a, const float* b, uint64_t n,
+                                                const ComparisonContract& contract, double& worst) {
+  Doubles4 largest{};
+  DoubleMasks not_finite{};
+  uint64_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    NIGHTCAP_LOAD_FOUR(a, b, i, x, y);
+    const Doubles4 d = x > y ? x - y : y - x, allowed = contract.absolute + contract.relative * (x < 0 ? -x : x);
+    not_finite |= d - d != 0;
+    const Doubles4 departure = d == 0 ? Doubles4{} : allowed > 0 ? d / allowed : Doubles4{} + INFINITY;
+    largest = departure > largest ? departure : largest;
+  }
+  if ((not_finite[0] | not_finite[1] | not_finite[2] | not_finite[3]) != 0) return false;
+  double rest = 0.0;
+  for (; i < n; ++i) {
+    const double d = std::abs(double(a[i]) - b[i]), allowed = contract.absolute + contract.relative * std::abs(a[i]);
+    if (!std::isfinite(d)) return false;
+    rest = std::max(rest, d == 0 ? 0.0 : allowed > 0 ? d / allowed : INFINITY);
+  }
+  worst = std::max({worst, largest[0], largest[1], largest[2], largest[3], rest});
+  return true;
+}
+
 }  // namespace
 
 double stored_normal_angle_deg(const float* a, const float* b) {
@@ -163,63 +325,23 @@ ResourceComparison compare_resource(const ResourcePair& pair) {
              : is_integer(f, 0) ? "integer (exact)"
              : is_float(f)      ? "float"
                                 : "unorm";
-  double peak = is_float(f) ? 1e-6 : 1.0;
-  double sum_squares = 0, angle_sum = 0;
-  uint64_t values = 0, texels_total = 0, over = 0;
+  ImageTally tally;
+  tally.peak = is_float(f) ? 1e-6 : 1.0;
   for (uint32_t aspect = 0; aspect < aspect_count(f); ++aspect) {
     const uint32_t channels = aspect_channels(f, aspect);
-    const std::span<const float> plane_a = pair.a_values().aspect(aspect), plane_b = pair.b_values().aspect(aspect);
-    const uint64_t texels = plane_a.size() / channels;
-    const bool relative = is_float(f) && aspect == 0;
+    const bool relative = is_float(f) && aspect == 0, angles = normal && aspect == 0;
     const double fixed = fixed_threshold(f, aspect);
-    for (uint64_t t = 0; t < texels; ++t) {
-      const float* va = plane_a.data() + t * channels;
-      const float* vb = plane_b.data() + t * channels;
-      bool texel_over = false, texel_differs = false;
-      for (uint32_t c = 0; c < channels; ++c) {
-        const float x = va[c], y = vb[c];
-        if (std::isfinite(x) && std::isfinite(y)) [[likely]] {
-          const double d = std::abs(double(x) - y);
-          if (relative) peak = std::max(peak, double(std::abs(x)));
-          ++values;
-          if (d == 0) continue;
-          texel_differs = true;
-          texel_over |= d > (relative ? 1e-3 * std::max(1.0, double(std::abs(x))) : fixed);
-          r.max_abs = std::max(r.max_abs, d);
-          sum_squares += d * d;
-          continue;
-        }
-        const bool nan_a = std::isnan(x), nan_b = std::isnan(y);
-        r.nan_a += nan_a;
-        r.nan_b += nan_b;
-        r.inf_a += std::isinf(x);
-        r.inf_b += std::isinf(y);
-        if (relative && std::isfinite(x)) peak = std::max(peak, double(std::abs(x)));
-        if (nan_a && nan_b) continue;      // NaN in the same place is agreement, not a difference
-        if (!nan_a && !nan_b && x == y) {  // the same infinity
-          ++values;
-          continue;
-        }
-        texel_differs = texel_over = true;
-        r.max_abs = INFINITY;
-        ++values;
-      }
-      if (normal && aspect == 0) {
-        const double angle = stored_normal_angle_deg(va, vb);
-        if (std::isfinite(angle)) {
-          r.angular_max_deg = std::max(r.angular_max_deg, angle);
-          angle_sum += angle;
-        }
-      }
-      r.differing += texel_differs;
-      over += texel_over;
-      ++texels_total;
-    }
+    pair.for_each_block(aspect, [&](const float* va, const float* vb, uint64_t texels) {
+      if (angles || !tally_finite(va, vb, texels, channels, relative, fixed, tally))
+        tally_any(va, vb, texels, channels, relative, fixed, angles, tally, r);
+    });
   }
-  r.rmse = values ? std::sqrt(sum_squares / values) : 0.0;
-  r.psnr = r.rmse > 0 ? 20.0 * std::log10(peak / r.rmse) : INFINITY;
-  r.over_threshold_share = texels_total ? double(over) / texels_total : 0.0;
-  r.angular_mean_deg = normal && texels_total ? angle_sum / texels_total : 0.0;
+  r.max_abs = std::max(r.max_abs, tally.max_abs);
+  r.differing = tally.differing;
+  r.rmse = tally.values ? std::sqrt(tally.sum_squares / tally.values) : 0.0;
+  r.psnr = r.rmse > 0 ? 20.0 * std::log10(tally.peak / r.rmse) : INFINITY;
+  r.over_threshold_share = tally.texels ? double(tally.over) / tally.texels : 0.0;
+  r.angular_mean_deg = normal && tally.texels ? tally.angle_sum / tally.texels : 0.0;
   return r;
 }
 
@@ -318,24 +440,29 @@ ContractCheck check_contract(const ComparisonContract& contract, const ResourceP
       }
       for (uint32_t aspect = 0; aspect < aspect_count(f); ++aspect) {
         const uint32_t channels = aspect_channels(f, aspect);
-        const std::span<const float> va = pair.a_values().aspect(aspect), vb = pair.b_values().aspect(aspect);
-        for (size_t i = 0; i < va.size(); ++i) {
-          if (va[i] == vb[i] || (std::isnan(va[i]) && std::isnan(vb[i]))) continue;  // departs by 0
-          const double d = std::abs(double(va[i]) - double(vb[i]));
-          double departure;
-          if (aspect == 1)  // stencil: exact under every contract
-            departure = INFINITY;
-          else if (contract.kind == Kind::unorm_codes)
-            departure = code_steps(f, uint32_t(i % channels), va[i], vb[i]);
-          else if (contract.kind == Kind::linear_depth)
-            departure = va[i] != 0 ? d / std::abs(double(va[i])) : INFINITY;
-          else {
-            const double allowed = contract.absolute + contract.relative * std::abs(double(va[i]));
-            departure = allowed > 0 ? d / allowed : INFINITY;
+        pair.for_each_block(aspect, [&](const float* va, const float* vb, uint64_t texels) {
+          const uint64_t n = texels * channels;
+          if (aspect == 0 && contract.kind == Kind::float_values &&
+              worst_departure_finite(va, vb, n, contract, check.worst))
+            return;
+          for (uint64_t i = 0; i < n; ++i) {
+            if (va[i] == vb[i] || (std::isnan(va[i]) && std::isnan(vb[i]))) continue;  // departs by 0
+            const double d = std::abs(double(va[i]) - double(vb[i]));
+            double departure;
+            if (aspect == 1)  // stencil: exact under every contract
+              departure = INFINITY;
+            else if (contract.kind == Kind::unorm_codes)
+              departure = code_steps(f, uint32_t(i % channels), va[i], vb[i]);
+            else if (contract.kind == Kind::linear_depth)
+              departure = va[i] != 0 ? d / std::abs(double(va[i])) : INFINITY;
+            else {
+              const double allowed = contract.absolute + contract.relative * std::abs(double(va[i]));
+              departure = allowed > 0 ? d / allowed : INFINITY;
+            }
+            if (std::isnan(departure)) departure = INFINITY;
+            check.worst = std::max(check.worst, departure);
           }
-          if (std::isnan(departure)) departure = INFINITY;
-          check.worst = std::max(check.worst, departure);
-        }
+        });
       }
       break;
     }

@@ -1,9 +1,13 @@
 // Diff metrics on inputs whose answers are known in closed form.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
+#include <random>
 
+#include "inspect/decoded_image.h"
 #include "inspect/metrics.h"
 #include "tests/unit/image_record.h"
 
@@ -24,6 +28,99 @@ TEST(DiffMetrics, FloatErrorsAreExact) {
   EXPECT_DOUBLE_EQ(c.over_threshold_share, 0.5);
   EXPECT_EQ(c.differing, 2u);
   EXPECT_EQ(c.metric, "float");
+}
+
+TEST(DiffMetrics, EveryHalfDecodesAsHalfToFloat) {
+  // The diff decodes half images eight values at a time with bit arithmetic, not half_to_float.
+  const FormatInfo format = *format_info(VK_FORMAT_R16_SFLOAT);
+  std::vector<uint8_t> halves(65536 * 2);
+  for (uint32_t h = 0; h < 65536; ++h) std::memcpy(&halves[2 * h], &h, 2);
+  std::vector<float> values(65536);
+  decode_values(format, 0, halves, values.data());
+  for (uint32_t h = 0; h < 65536; ++h) {
+    const float expected = half_to_float(uint16_t(h));
+    if (std::isnan(expected))
+      EXPECT_TRUE(std::isnan(values[h])) << std::hex << h;
+    else
+      EXPECT_EQ(std::bit_cast<uint32_t>(values[h]), std::bit_cast<uint32_t>(expected)) << std::hex << h;
+  }
+}
+
+TEST(DiffMetrics, LargeHalfImagesMatchAPlainDoubleReckoning) {
+  // 1500x3 RGBA: five blocks of the block-at-a-time comparison, the last partial; one block holds
+  // a NaN and an infinity (the exact path), the others only finite values (the four-lane path).
+  const uint32_t width = 1500, height = 3, values = width * height * 4;
+  const ResourceRecord r = image_record(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> value(-40.0f, 40.0f), change(-0.05f, 0.05f);
+  std::vector<uint16_t> a(values), b(values);
+  for (uint32_t i = 0; i < values; ++i) {
+    a[i] = float_to_half(value(rng));
+    // A quarter of the values stay equal; the rest move, some by more than the 1e-3 threshold.
+    b[i] = i % 4 == 0 ? a[i] : float_to_half(half_to_float(a[i]) * (1.0f + change(rng)));
+  }
+  a[2500 * 4 + 1] = b[2500 * 4 + 1] = 0x7e00;  // NaN on both sides: agreement
+  b[2600 * 4 + 2] = 0x7c00;                    // infinity in b only
+  auto bytes = [](const std::vector<uint16_t>& h) {
+    std::vector<uint8_t> out(h.size() * 2);
+    std::memcpy(out.data(), h.data(), out.size());
+    return out;
+  };
+  const ResourceComparison c = compare_resource(r, bytes(a), r, bytes(b));
+  const auto contract = ComparisonContract::floats(1e-4, 2e-3, "test");
+  const ContractCheck check = check_contract(contract, r, bytes(a), r, bytes(b));
+
+  double max_abs = 0, squares = 0, peak = 1e-6, worst = 0;
+  uint64_t counted = 0, differing = 0, over = 0;
+  for (uint32_t t = 0; t < width * height; ++t) {
+    bool texel_differs = false, texel_over = false;
+    for (uint32_t ch = 0; ch < 4; ++ch) {
+      const double x = half_to_float(a[t * 4 + ch]), y = half_to_float(b[t * 4 + ch]);
+      if (std::isnan(x) && std::isnan(y)) continue;
+      if (!std::isfinite(y)) {
+        texel_differs = texel_over = true;
+        worst = INFINITY;
+        peak = std::max(peak, std::abs(x));
+        ++counted;
+        continue;
+      }
+      const double d = std::abs(x - y);
+      peak = std::max(peak, std::abs(x));
+      ++counted;
+      squares += d * d;
+      max_abs = std::max(max_abs, d);
+      texel_differs |= d != 0;
+      texel_over |= d > 1e-3 * std::max(1.0, std::abs(x));
+      if (d != 0) worst = std::max(worst, d / (1e-4 + 2e-3 * std::abs(x)));
+    }
+    differing += texel_differs;
+    over += texel_over;
+  }
+  EXPECT_TRUE(std::isinf(c.max_abs));  // the infinity
+  EXPECT_EQ(c.nan_a, 1u);
+  EXPECT_EQ(c.nan_b, 1u);
+  EXPECT_EQ(c.inf_b, 1u);
+  EXPECT_EQ(c.differing, differing);
+  EXPECT_DOUBLE_EQ(c.over_threshold_share, double(over) / (width * height));
+  EXPECT_NEAR(c.rmse, std::sqrt(squares / counted), 1e-12 * std::sqrt(squares / counted));
+  EXPECT_NEAR(c.psnr, 20.0 * std::log10(peak / std::sqrt(squares / counted)), 1e-9);
+  EXPECT_TRUE(std::isinf(check.worst));
+  EXPECT_FALSE(check.holds);
+
+  // Without the infinity, max abs and the contract's worst departure are finite and exact.
+  b[2600 * 4 + 2] = a[2600 * 4 + 2];
+  const ResourceComparison finite = compare_resource(r, bytes(a), r, bytes(b));
+  const ContractCheck finite_check = check_contract(contract, r, bytes(a), r, bytes(b));
+  double finite_max = 0, finite_worst = 0;
+  for (uint32_t i = 0; i < values; ++i) {
+    const double x = half_to_float(a[i]), y = half_to_float(b[i]);
+    if (std::isnan(x)) continue;
+    finite_max = std::max(finite_max, std::abs(x - y));
+    if (x != y) finite_worst = std::max(finite_worst, std::abs(x - y) / (1e-4 + 2e-3 * std::abs(x)));
+  }
+  EXPECT_EQ(finite.max_abs, finite_max);
+  EXPECT_EQ(finite_check.worst, finite_worst);
+  EXPECT_EQ(finite_check.holds, finite_worst <= 1.0);
 }
 
 TEST(DiffMetrics, IdenticalInputsHaveInfinitePsnr) {

@@ -1,0 +1,27 @@
+// Loops that the diff runs over every value of an image, written for SIMD. GCC and Clang compile
+// arithmetic on these vector types to SIMD instructions, which they would not do for the plain
+// loops at -O2; where the CPU has AVX2 (chosen when the program loads) a function marked
+// NIGHTCAP_AVX2_CLONE runs a clone compiled for it. AVX2 without FMA: both clones do the same
+// operations in the same order, so their results are the same bits.
+//
+// Values of these types are passed only inside one function: a helper taking or returning one
+// would have a different calling convention in each clone.
+#pragma once
+
+#include <cstdint>
+
+namespace nightcap::simd {
+
+using Floats8 = float __attribute__((vector_size(32)));
+using Floats4 = float __attribute__((vector_size(16)));
+using Doubles4 = double __attribute__((vector_size(32)));
+using Words8 = uint32_t __attribute__((vector_size(32)));
+using Halves8 = uint16_t __attribute__((vector_size(16)));
+
+}  // namespace nightcap::simd
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define NIGHTCAP_AVX2_CLONE __attribute__((target_clones("avx2", "default")))
+#else
+#define NIGHTCAP_AVX2_CLONE
+#endif
