@@ -569,7 +569,7 @@ int main(int argc, char** argv) {
   // The commands load image blobs of several MB one after another. By default glibc maps each
   // such buffer on its own and unmaps it when freed, so every load faults its pages in anew (a
   // quarter of a diff's time); kept in the heap, freed buffers are reused.
-  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
   CLI::App app{
       "nightcap: render-capture analysis and replay.\n"
