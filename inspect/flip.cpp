@@ -121,6 +121,63 @@ void lab_hunt(const float xyz[3], const ColourSpace& space, float out[3]) {
   out[2] = 0.01f * lightness * 200.0f * (f[1] - f[2]);
 }
 
+// Pixels [begin, end) of the filtered opponent planes (Y/Y_n, a, b), in place: back to linear RGB,
+// clamped to what the display shows, then to Hunt-adjusted L*a*b*. Eight pixels at a time, with
+// the same operations in the same order as the scalar helpers (so the same bits): the multiplies
+// of `multiply`, std::clamp's comparisons, lab_hunt's branch as a select of both sides.
+NIGHTCAP_AVX2_CLONE void clamped_hunt_lab(float* lightness, float* a, float* b, size_t begin, size_t end,
+                                          const ColourSpace& space) {
+  using Lanes = simd::Floats8;
+  using Words = simd::Words8;
+  constexpr float delta = 6.0f / 29.0f;
+  size_t i = begin;
+  for (; i + 8 <= end; i += 8) {
+    Lanes ny, pa, pb;
+    std::memcpy(&ny, lightness + i, sizeof ny);
+    std::memcpy(&pa, a + i, sizeof pa);
+    std::memcpy(&pb, b + i, sizeof pb);
+    const Lanes xyz[3] = {(ny + pa / 500.0f) * space.white[0], ny * space.white[1],
+                          (ny - pb / 200.0f) * space.white[2]};
+    Lanes linear[3], clamped[3], f[3];
+    for (int r = 0; r < 3; ++r) {
+      const Lanes c = space.to_rgb[r][0] * xyz[0] + space.to_rgb[r][1] * xyz[1] + space.to_rgb[r][2] * xyz[2];
+      linear[r] = c < 0.0f ? Lanes{} : (1.0f < c ? Lanes{} + 1.0f : c);
+    }
+    for (int r = 0; r < 3; ++r)
+      clamped[r] = space.to_xyz[r][0] * linear[0] + space.to_xyz[r][1] * linear[1] + space.to_xyz[r][2] * linear[2];
+    for (int c = 0; c < 3; ++c) {
+      const Lanes t = clamped[c] * space.inverse_white[c];
+      // cube_root's guess and Halley steps.
+      Lanes y = (Lanes)((Words)t / 3u + 709921077u);
+      for (int step = 0; step < 2; ++step) {
+        const Lanes cube = y * y * y;
+        y *= (cube + 2.0f * t) / (2.0f * cube + t);
+      }
+      f[c] = t > delta * delta * delta ? y - 4.0f / 29.0f : t / (3.0f * delta * delta);
+    }
+    const Lanes l = 116.0f * f[1];
+    const Lanes out_a = 0.01f * l * 500.0f * (f[0] - f[1]), out_b = 0.01f * l * 200.0f * (f[1] - f[2]);
+    std::memcpy(lightness + i, &l, sizeof l);
+    std::memcpy(a + i, &out_a, sizeof out_a);
+    std::memcpy(b + i, &out_b, sizeof out_b);
+  }
+  for (; i < end; ++i) {
+    const float ny = lightness[i];
+    const float normalised[3] = {ny + a[i] / 500.0f, ny, ny - b[i] / 200.0f};
+    const float xyz[3] = {normalised[0] * space.white[0], normalised[1] * space.white[1],
+                          normalised[2] * space.white[2]};
+    float linear[3];
+    multiply(space.to_rgb, xyz, linear);
+    for (float& c : linear) c = std::clamp(c, 0.0f, 1.0f);
+    float clamped_xyz[3], lab[3];
+    multiply(space.to_xyz, linear, clamped_xyz);
+    lab_hunt(clamped_xyz, space, lab);
+    lightness[i] = lab[0];
+    a[i] = lab[1];
+    b[i] = lab[2];
+  }
+}
+
 // Runs `rows_of(begin, end)` over [0, rows) split into contiguous bands, one per thread.
 template <typename Rows>
 void parallel_rows(uint32_t rows, unsigned threads, const Rows& rows_of) {
@@ -332,7 +389,8 @@ void filter(const Plane& in, const std::vector<SeparableTerm>& kernel, Plane& pa
   }
 }
 
-// `rgb` is linear RGB, `channels` floats per pixel, already clamped to what the display shows.
+// `rgb` is linear RGB, `channels` floats per pixel (alpha, if any, ignored), clamped here to what
+// the display shows.
 void perceive(std::span<const float> rgb, uint32_t channels, const Filters& filters, Scratch& s, Perceived& out,
               unsigned threads) {
   const ColourSpace& space = colour_space();
@@ -345,8 +403,11 @@ void perceive(std::span<const float> rgb, uint32_t channels, const Filters& filt
     for (uint32_t y = begin; y < end; ++y)
       for (uint32_t x = 0; x < w; ++x) {
         const size_t i = size_t(y) * w + x;
+        const float displayed[3] = {std::clamp(rgb[i * channels], 0.0f, 1.0f),
+                                    std::clamp(rgb[i * channels + 1], 0.0f, 1.0f),
+                                    std::clamp(rgb[i * channels + 2], 0.0f, 1.0f)};
         float xyz[3];
-        multiply(space.to_xyz, &rgb[i * channels], xyz);
+        multiply(space.to_xyz, displayed, xyz);
         const float nx = xyz[0] * space.inverse_white[0], ny = xyz[1] * space.inverse_white[1],
                     nz = xyz[2] * space.inverse_white[2];
         s.opponent[0].values[i] = ny;
@@ -361,21 +422,8 @@ void perceive(std::span<const float> rgb, uint32_t channels, const Filters& filt
   // Back to linear RGB to clamp what the filters pushed out of the displayable gamut, then on to
   // Hunt-adjusted L*a*b*, in place.
   parallel_rows(h, threads, [&](uint32_t begin, uint32_t end) {
-    for (size_t i = size_t(begin) * w; i < size_t(end) * w; ++i) {
-      const float ny = out.lightness.values[i];
-      const float normalised[3] = {ny + out.a.values[i] / 500.0f, ny, ny - out.b.values[i] / 200.0f};
-      const float xyz[3] = {normalised[0] * space.white[0], normalised[1] * space.white[1],
-                            normalised[2] * space.white[2]};
-      float linear[3];
-      multiply(space.to_rgb, xyz, linear);
-      for (float& c : linear) c = std::clamp(c, 0.0f, 1.0f);
-      float clamped_xyz[3], lab[3];
-      multiply(space.to_xyz, linear, clamped_xyz);
-      lab_hunt(clamped_xyz, space, lab);
-      out.lightness.values[i] = lab[0];
-      out.a.values[i] = lab[1];
-      out.b.values[i] = lab[2];
-    }
+    clamped_hunt_lab(out.lightness.values.data(), out.a.values.data(), out.b.values.data(), size_t(begin) * w,
+                     size_t(end) * w, space);
   });
 
   const FeatureKernels& k = filters.features;
@@ -421,11 +469,12 @@ class LdrFlip {
                 csf_kernel(kCsfBlueYellow, radius, ppd), feature_kernels(ppd)};
   }
 
-  // error[i] = FLIP of pixel i; colour and feature receive ΔE_c and ΔE_f where not null.
-  void run(std::span<const float> reference, std::span<const float> test, uint32_t channels, float* error,
-           float* colour, float* feature) {
-    perceive(reference, channels, filters_, scratch_, reference_, threads_);
-    perceive(test, channels, filters_, scratch_, test_, threads_);
+  // error[i] = FLIP of pixel i; colour and feature receive ΔE_c and ΔE_f where not null. Each
+  // image's texels are linear RGB or RGBA, `channels` floats per pixel.
+  void run(std::span<const float> reference, uint32_t reference_channels, std::span<const float> test,
+           uint32_t test_channels, float* error, float* colour, float* feature) {
+    perceive(reference, reference_channels, filters_, scratch_, reference_, threads_);
+    perceive(test, test_channels, filters_, scratch_, test_, threads_);
     const float max_distance = colour_space().max_distance;
     const uint32_t w = reference_.edges.width;
     parallel_rows(reference_.edges.height, threads_, [&](uint32_t begin, uint32_t end) {
@@ -449,14 +498,6 @@ class LdrFlip {
   Scratch scratch_;
   Perceived reference_, test_;
 };
-
-// RGB clamped to [0, 1], alpha dropped.
-std::vector<float> displayed(const FlipImage& image) {
-  std::vector<float> rgb(size_t(image.width) * image.height * 3);
-  for (size_t p = 0; p < rgb.size() / 3; ++p)
-    for (int c = 0; c < 3; ++c) rgb[p * 3 + c] = std::clamp(image.texels[p * image.channels + c], 0.0f, 1.0f);
-  return rgb;
-}
 
 void summarise(FlipResult& result, float threshold) {
   const std::vector<float>& e = result.error;
@@ -515,7 +556,7 @@ FlipResult flip_ldr(const FlipImage& reference, const FlipImage& test, const Fli
     result.feature_error.resize(pixels);
   }
   LdrFlip flip(reference.width, reference.height, options);
-  flip.run(displayed(reference), displayed(test), 3, result.error.data(),
+  flip.run(reference.texels, reference.channels, test.texels, test.channels, result.error.data(),
            options.keep_components ? result.colour_error.data() : nullptr,
            options.keep_components ? result.feature_error.data() : nullptr);
   summarise(result, options.threshold);
@@ -577,7 +618,7 @@ FlipResult flip_hdr(const FlipImage& reference, const FlipImage& test, const Fli
             float(aces(scale * std::max(0.0f, reference.texels[p * reference.channels + c])));
         tone_mapped_test[p * 3 + c] = float(aces(scale * std::max(0.0f, test.texels[p * test.channels + c])));
       }
-    flip.run(tone_mapped_reference, tone_mapped_test, 3, error.data(), nullptr, nullptr);
+    flip.run(tone_mapped_reference, 3, tone_mapped_test, 3, error.data(), nullptr, nullptr);
     for (size_t p = 0; p < pixels; ++p) result.error[p] = std::max(result.error[p], error[p]);
   }
   summarise(result, options.threshold);
