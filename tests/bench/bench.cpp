@@ -18,6 +18,10 @@
 //    error of lighting.tiled against lighting.deferred;
 //  - LTC tube and sphere lights (ltc): error against the integral of GGX by table size,
 //    roughness and view angle, fit time, and the CPU time of one light.
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputPart.h>
+#include <ImfMultiPartInputFile.h>
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -38,6 +42,7 @@
 #include <random>
 #include <thread>
 
+#include "captures/blob_codec.h"
 #include "captures/capture.h"
 #include "passes/core/isolated.h"
 #include "passes/cull/cull_stats.h"
@@ -367,6 +372,55 @@ void bench_startup(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   fs::remove_all(dir);
 }
 
+// Reading one 1280x720 RGBA16F blob of a capture (lighting.tiled's diffuse light, ZIP), median
+// of 9 after a warm-up: nightcap's reader (OpenEXR's core library, libdeflate, a part's chunks
+// split among threads) against OpenEXR's C++ library reading the same file on one thread and on
+// as many as nightcap uses.
+//  - blob_read_ms, blob_read_openexr_ms, blob_read_openexr_threads_ms.
+void bench_blob_read(const nc::Capture& capture, const nc::FrameRecord& frame) {
+  const nc::ResourceRecord* record = nullptr;
+  for (const nc::PassRecord& p : frame.passes)
+    for (const nc::ResourceRecord& r : p.outputs)
+      if (!record && r.resource == "lighting.diffuse") record = &r;
+  if (!record || record->format != VK_FORMAT_R16G16B16A16_SFLOAT)
+    throw std::runtime_error("the city capture has no RGBA16F lighting.diffuse");
+  const fs::path file = capture.blob_file(record->blob);
+  auto timed = [](const std::function<void()>& read) {
+    read();
+    std::vector<double> ms;
+    for (int i = 0; i < 9; ++i) {
+      const auto start = std::chrono::steady_clock::now();
+      read();
+      ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
+    return median(ms);
+  };
+  const nc::FormatInfo format = *nc::format_info(record->format);
+  const double nightcap = timed([&] { nc::read_image_blob(file, format, record->extent); });
+  std::vector<uint16_t> texels(size_t(record->extent.width) * record->extent.height * 4);
+  auto openexr = [&](int threads) {
+    Imf::MultiPartInputFile in(file.c_str(), threads);
+    Imf::InputPart part(in, 0);
+    const Imath::Box2i window = in.header(0).dataWindow();
+    Imf::FrameBuffer frame_buffer;
+    const char* names[] = {"R", "G", "B", "A"};
+    for (int c = 0; c < 4; ++c)
+      frame_buffer.insert(names[c],
+                          Imf::Slice::Make(Imf::HALF, texels.data() + c, window, 8, 8 * size_t(record->extent.width)));
+    part.setFrameBuffer(frame_buffer);
+    part.readPixels(window.min.y, window.max.y);
+  };
+  const int threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  const double openexr_one = timed([&] { openexr(0); });
+  const double openexr_threads = timed([&] { openexr(threads); });
+  table() << std::fixed << std::setprecision(1) << "  reading one 1280x720 RGBA16F ZIP blob: nightcap " << nightcap
+          << " ms, OpenEXR's C++ library " << openexr_one << " ms on one thread, " << openexr_threads << " ms on "
+          << threads << "\n";
+  figure("blob_read_ms", nightcap);
+  figure("blob_read_openexr_ms", openexr_one);
+  figure("blob_read_openexr_threads_ms", openexr_threads);
+}
+
 // `nightcap diff` of two city captures that differ in lighting.tiled's intensity, so every
 // output from lighting down differs, against OpenImageIO's idiff over the same image pairs (the
 // blobs are EXR files idiff reads). Medians of 5 runs after one that warms the file cache.
@@ -420,6 +474,7 @@ void bench_diff(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   figure("diff_itself_ms", diff_itself);
   figure("diff_idiff_pairs_ms", idiff_total);
   figure("diff_vs_idiff_ratio", idiff_per_image / nightcap_per_image);
+  bench_blob_read(ca, fa);
   fs::remove_all(dir);
 }
 
