@@ -269,22 +269,30 @@ CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions&
 }
 
 void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
+  // The name columns as wide as their longest entry and two spaces.
+  size_t pass_width = 6, resource_width = 10;
+  for (const FrameDiff& frame : diff.frames)
+    for (const PassDiff& p : frame.passes) {
+      pass_width = std::max(pass_width, p.name.size() + 2);
+      for (const OutputDiff& o : p.outputs) resource_width = std::max(resource_width, o.resource.size() + 2);
+    }
+  const int pass_column = int(pass_width), resource_column = int(resource_width);
   for (const FrameDiff& frame : diff.frames) {
     out << "frame " << frame.index << "\n";
-    out << std::left << std::setw(22) << "  pass" << std::setw(22) << "resource" << std::setw(11) << "status"
-        << std::right << std::setw(11) << "max abs" << std::setw(11) << "RMSE" << std::setw(9) << "PSNR" << std::setw(8)
-        << ">thr %" << std::setw(12) << "NaN/Inf"
+    out << "  " << std::left << std::setw(pass_column) << "pass" << std::setw(resource_column) << "resource"
+        << std::setw(11) << "status" << std::right << std::setw(11) << "max abs" << std::setw(11) << "RMSE"
+        << std::setw(9) << "PSNR" << std::setw(8) << ">thr %" << std::setw(12) << "NaN/Inf"
         << "\n";
     for (const PassDiff& p : frame.passes) {
       if (p.outputs.empty() || (p.status != PassStatus::origin && p.status != PassStatus::inherited)) {
-        out << "  " << std::left << std::setw(20) << p.name << std::setw(22) << "" << status_name(p.status, diff.golden)
-            << "\n";
+        out << "  " << std::left << std::setw(pass_column) << p.name << std::setw(resource_column) << ""
+            << status_name(p.status, diff.golden) << "\n";
         continue;
       }
       for (const OutputDiff& o : p.outputs) {
         const ResourceComparison& c = o.comparison;
-        out << "  " << std::left << std::setw(20) << p.name << std::setw(22) << o.resource << std::setw(11)
-            << (c.identical ? "identical" : status_name(p.status, diff.golden));
+        out << "  " << std::left << std::setw(pass_column) << p.name << std::setw(resource_column) << o.resource
+            << std::setw(11) << (c.identical ? "identical" : status_name(p.status, diff.golden));
         if (!c.identical && c.comparable)
           out << std::right << std::setw(11) << number(c.max_abs) << std::setw(11) << number(c.rmse) << std::setw(9)
               << number(c.psnr, 3) << std::setw(8) << number(100.0 * c.over_threshold_share, 3) << std::setw(12)
@@ -302,7 +310,8 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
         if (!c.first_difference.empty()) out << "  first at " << c.first_difference;
         out << "\n";
       }
-      if (p.isolation) out << "  " << std::left << std::setw(20) << p.name << isolation_summary(*p.isolation) << "\n";
+      if (p.isolation)
+        out << "  " << std::left << std::setw(pass_column) << p.name << isolation_summary(*p.isolation) << "\n";
     }
   }
   for (const std::string& note : diff.notes) out << "note: " << note << "\n";
