@@ -123,9 +123,9 @@ std::vector<Part> parts_of(const std::filesystem::path& file, const FormatInfo& 
   return parts;
 }
 
-// Compression runs on OpenEXR's pool, split by blocks of scanlines. Small images (most mips,
-// 1x1 parameters) stay on the calling thread: handing their few blocks to the pool costs more
-// than it saves.
+// Compressing and decompressing run on OpenEXR's pool, split by blocks of scanlines. Small
+// images (most mips, 1x1 parameters) stay on the calling thread: handing their few blocks to the
+// pool costs more than it saves.
 int exr_threads(uint64_t raw_bytes, int requested) {
   static std::once_flag once;
   std::call_once(once, [] { Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency()))); });
