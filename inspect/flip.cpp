@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -190,14 +191,6 @@ void parallel_rows(uint32_t rows, unsigned threads, const Rows& rows_of) {
   for (std::thread& w : workers) w.join();
 }
 
-struct Plane {
-  uint32_t width = 0, height = 0;
-  std::vector<float> values;
-  Plane(uint32_t w, uint32_t h) : width(w), height(h), values(size_t(w) * h) {}
-  float* row(uint32_t y) { return values.data() + size_t(y) * width; }
-  const float* row(uint32_t y) const { return values.data() + size_t(y) * width; }
-};
-
 // A 1D kernel of 2·radius + 1 taps, centre at index radius. A zero-sum kernel (a derivative of
 // a Gaussian) is applied to differences from the centre pixel: the same sum in exact arithmetic,
 // but exactly 0 on flat regions, where rounding would otherwise leave ~1e-8 that the feature
@@ -235,34 +228,6 @@ NIGHTCAP_AVX2_CLONE void weighted_sum(const Kernel& kernel, const float* const* 
     for (size_t k = 0; k < taps; ++k) sum += kernel.taps[k] * (sources[k][x] - origin);
     dst[x] = sum;
   }
-}
-
-// out = in convolved along rows with `kernel`, edges clamped.
-void filter_rows(const Plane& in, const Kernel& kernel, Plane& out, unsigned threads) {
-  const int r = kernel.radius();
-  const uint32_t w = in.width;
-  parallel_rows(in.height, threads, [&](uint32_t begin, uint32_t end) {
-    std::vector<float> padded(w + 2 * r);
-    std::vector<const float*> sources(kernel.taps.size());
-    for (size_t k = 0; k < sources.size(); ++k) sources[k] = padded.data() + k;
-    for (uint32_t y = begin; y < end; ++y) {
-      const float* src = in.row(y);
-      std::fill(padded.begin(), padded.begin() + r, src[0]);
-      std::copy(src, src + w, padded.begin() + r);
-      std::fill(padded.begin() + r + w, padded.end(), src[w - 1]);
-      weighted_sum(kernel, sources.data(), padded.data() + r, out.row(y), w, false);
-    }
-  });
-}
-
-// Row y of `in` convolved along columns with `kernel`, edges clamped, into `dst` (added to what
-// it holds where `add`). `sources` has room for a pointer per tap.
-void filter_column_row(const Plane& in, const Kernel& kernel, uint32_t y, float* dst, bool add,
-                       std::vector<const float*>& sources) {
-  const int r = kernel.radius();
-  sources.resize(kernel.taps.size());
-  for (int k = 0; k <= 2 * r; ++k) sources[k] = in.row(uint32_t(std::clamp(int(y) + k - r, 0, int(in.height) - 1)));
-  weighted_sum(kernel, sources.data(), in.row(y), dst, in.width, add);
 }
 
 // A separable 2D kernel as a sum of products horizontal(x) · vertical(y).
@@ -361,94 +326,159 @@ unsigned thread_count(const FlipOptions& options) {
   return options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
 }
 
-// What each image contributes to the comparison: its colour after the CSFs in Hunt-adjusted
-// L*a*b*, and the magnitudes of its edges and points.
-struct Perceived {
-  Plane lightness, a, b, edges, points;
-  Perceived(uint32_t w, uint32_t h) : lightness(w, h), a(w, h), b(w, h), edges(w, h), points(w, h) {}
-};
-
 struct Filters {
   std::vector<SeparableTerm> achromatic, red_green, blue_yellow;
   FeatureKernels features;
-};
-
-// Intermediate planes, allocated once for both images.
-struct Scratch {
-  Plane opponent[3], pass[3];
-  Scratch(uint32_t w, uint32_t h) : opponent{{w, h}, {w, h}, {w, h}}, pass{{w, h}, {w, h}, {w, h}} {}
-};
-
-void filter(const Plane& in, const std::vector<SeparableTerm>& kernel, Plane& pass, Plane& out, unsigned threads) {
-  for (size_t t = 0; t < kernel.size(); ++t) {
-    filter_rows(in, kernel[t].horizontal, pass, threads);
-    parallel_rows(in.height, threads, [&](uint32_t begin, uint32_t end) {
-      std::vector<const float*> sources;
-      for (uint32_t y = begin; y < end; ++y) filter_column_row(pass, kernel[t].vertical, y, out.row(y), t > 0, sources);
-    });
+  // The widest kernel's radius: how far the filters reach, along a row and up and down.
+  int reach() const {
+    int widest = std::max({features.gaussian.radius(), features.edge.radius(), features.point.radius()});
+    for (const auto* csf : {&achromatic, &red_green, &blue_yellow})
+      for (const SeparableTerm& t : *csf) widest = std::max({widest, t.horizontal.radius(), t.vertical.radius()});
+    return widest;
   }
-}
+};
 
-// `rgb` is linear RGB, `channels` floats per pixel (alpha, if any, ignored), clamped here to what
-// the display shows.
-void perceive(std::span<const float> rgb, uint32_t channels, const Filters& filters, Scratch& s, Perceived& out,
-              unsigned threads) {
-  const ColourSpace& space = colour_space();
-  const uint32_t w = out.edges.width, h = out.edges.height;
-  // To the opponent space YyCxCz: L*a*b* without the cube root, linear in XYZ so that filtering
-  // it is filtering light. Its achromatic channel is kept as Y/Y_n = (Yy + 16) / 116, which the
-  // normalised CSF filters the same way: in float, Yy's offset of −16 would drown the faint light
-  // a bright pixel spreads over dark neighbours, which q_c = 0.7 then makes visible (~1e-4).
-  parallel_rows(h, threads, [&](uint32_t begin, uint32_t end) {
-    for (uint32_t y = begin; y < end; ++y)
-      for (uint32_t x = 0; x < w; ++x) {
-        const size_t i = size_t(y) * w + x;
-        const float displayed[3] = {std::clamp(rgb[i * channels], 0.0f, 1.0f),
-                                    std::clamp(rgb[i * channels + 1], 0.0f, 1.0f),
-                                    std::clamp(rgb[i * channels + 2], 0.0f, 1.0f)};
-        float xyz[3];
-        multiply(space.to_xyz, displayed, xyz);
-        const float nx = xyz[0] * space.inverse_white[0], ny = xyz[1] * space.inverse_white[1],
-                    nz = xyz[2] * space.inverse_white[2];
-        s.opponent[0].values[i] = ny;
-        s.opponent[1].values[i] = 500.0f * (nx - ny);
-        s.opponent[2].values[i] = 200.0f * (ny - nz);
-      }
-  });
+// A plane's rows filtered along the row, kept only while a column filter can reach them: row y
+// in slot y mod (2·reach + 1), so the slots hold every row within reach of the one perceived.
+class RowRing {
+ public:
+  RowRing(uint32_t width, int reach)
+      : width_(width), slots_(2 * uint32_t(reach) + 1), values_(size_t(width) * slots_) {}
+  float* row(uint32_t y) { return values_.data() + size_t(y % slots_) * width_; }
+  const float* row(uint32_t y) const { return values_.data() + size_t(y % slots_) * width_; }
 
-  filter(s.opponent[0], filters.achromatic, s.pass[0], out.lightness, threads);
-  filter(s.opponent[1], filters.red_green, s.pass[0], out.a, threads);
-  filter(s.opponent[2], filters.blue_yellow, s.pass[0], out.b, threads);
-  // Back to linear RGB to clamp what the filters pushed out of the displayable gamut, then on to
-  // Hunt-adjusted L*a*b*, in place.
-  parallel_rows(h, threads, [&](uint32_t begin, uint32_t end) {
-    clamped_hunt_lab(out.lightness.values.data(), out.a.values.data(), out.b.values.data(), size_t(begin) * w,
-                     size_t(end) * w, space);
-  });
+ private:
+  uint32_t width_, slots_;
+  std::vector<float> values_;
+};
 
-  const FeatureKernels& k = filters.features;
-  Plane &smoothed = s.pass[0], &slope = s.pass[1], &curvature = s.pass[2];
-  // The feature pipeline's input is the same normalised achromatic channel, unfiltered.
-  filter_rows(s.opponent[0], k.gaussian, smoothed, threads);
-  filter_rows(s.opponent[0], k.edge, slope, threads);
-  filter_rows(s.opponent[0], k.point, curvature, threads);
-  parallel_rows(h, threads, [&](uint32_t begin, uint32_t end) {
-    std::vector<float> edge_x(w), edge_y(w), point_x(w), point_y(w);
-    std::vector<const float*> sources;
-    for (uint32_t y = begin; y < end; ++y) {
-      filter_column_row(slope, k.gaussian, y, edge_x.data(), false, sources);
-      filter_column_row(smoothed, k.edge, y, edge_y.data(), false, sources);
-      filter_column_row(curvature, k.gaussian, y, point_x.data(), false, sources);
-      filter_column_row(smoothed, k.point, y, point_y.data(), false, sources);
-      float* edges = out.edges.row(y);
-      float* points = out.points.row(y);
-      for (uint32_t x = 0; x < w; ++x) {
-        edges[x] = std::sqrt(edge_x[x] * edge_x[x] + edge_y[x] * edge_y[x]);
-        points[x] = std::sqrt(point_x[x] * point_x[x] + point_y[x] * point_y[x]);
-      }
+// One image as the observer perceives it, a row at a time down a band of rows. Each source row is
+// converted and filtered along the row once, into rings that the column filters read; the whole
+// pipeline's working set is a few dozen rows, where whole planes (sixteen of them for a pair)
+// cost more in page faults and cache misses than in arithmetic. The filters' edges are clamped.
+class Perception {
+ public:
+  // `rgb` is linear RGB, `channels` floats per pixel (alpha, if any, ignored), clamped here to
+  // what the display shows.
+  Perception(const Filters& filters, std::span<const float> rgb, uint32_t channels, uint32_t width, uint32_t height)
+      : filters_(filters),
+        rgb_(rgb),
+        channels_(channels),
+        width_(width),
+        height_(height),
+        reach_(filters.reach()),
+        smoothed_(width, reach_),
+        slope_(width, reach_),
+        curvature_(width, reach_),
+        lightness(width),
+        a(width),
+        b(width),
+        edges(width),
+        points(width) {
+    for (int c = 0; c < 3; ++c) {
+      opponent_[c].resize(width + 2 * size_t(reach_));
+      for (size_t t = 0; t < csf(c).size(); ++t) colour_rings_[c].emplace_back(width, reach_);
     }
-  });
-}
+    for (std::vector<float>* row : {&edge_x_, &edge_y_, &point_x_, &point_y_}) row->resize(width);
+  }
+
+  // Makes row y ready in the rows below. Rows come in increasing order.
+  void perceive(uint32_t y) {
+    if (!next_) next_ = uint32_t(std::max(0, int(y) - reach_));
+    for (const uint32_t last = std::min(height_ - 1, y + uint32_t(reach_)); *next_ <= last; ++*next_)
+      filter_along(*next_);
+    float* colour[3] = {lightness.data(), a.data(), b.data()};
+    for (int c = 0; c < 3; ++c)
+      for (size_t t = 0; t < csf(c).size(); ++t)
+        filter_column(colour_rings_[c][t], csf(c)[t].vertical, y, colour[c], t > 0);
+    // Back to linear RGB to clamp what the filters pushed out of the displayable gamut, then on
+    // to Hunt-adjusted L*a*b*, in place.
+    clamped_hunt_lab(lightness.data(), a.data(), b.data(), 0, width_, colour_space());
+
+    const FeatureKernels& k = filters_.features;
+    filter_column(slope_, k.gaussian, y, edge_x_.data(), false);
+    filter_column(smoothed_, k.edge, y, edge_y_.data(), false);
+    filter_column(curvature_, k.gaussian, y, point_x_.data(), false);
+    filter_column(smoothed_, k.point, y, point_y_.data(), false);
+    for (uint32_t x = 0; x < width_; ++x) {
+      edges[x] = std::sqrt(edge_x_[x] * edge_x_[x] + edge_y_[x] * edge_y_[x]);
+      points[x] = std::sqrt(point_x_[x] * point_x_[x] + point_y_[x] * point_y_[x]);
+    }
+  }
+
+ private:
+  const std::vector<SeparableTerm>& csf(int channel) const {
+    return channel == 0 ? filters_.achromatic : channel == 1 ? filters_.red_green : filters_.blue_yellow;
+  }
+
+  // Source row y to the opponent space, then along the row through each filter into the rings.
+  void filter_along(uint32_t y) {
+    const ColourSpace& space = colour_space();
+    // The opponent space YyCxCz: L*a*b* without the cube root, linear in XYZ so that filtering it
+    // is filtering light. Its achromatic channel is kept as Y/Y_n = (Yy + 16) / 116, which the
+    // normalised CSF filters the same way: in float, Yy's offset of −16 would drown the faint
+    // light a bright pixel spreads over dark neighbours, which q_c = 0.7 then makes visible
+    // (~1e-4).
+    float* opponent[3] = {opponent_[0].data() + reach_, opponent_[1].data() + reach_, opponent_[2].data() + reach_};
+    const float* source = rgb_.data() + size_t(y) * width_ * channels_;
+    for (uint32_t x = 0; x < width_; ++x) {
+      const float* texel = source + size_t(x) * channels_;
+      const float displayed[3] = {std::clamp(texel[0], 0.0f, 1.0f), std::clamp(texel[1], 0.0f, 1.0f),
+                                  std::clamp(texel[2], 0.0f, 1.0f)};
+      float xyz[3];
+      multiply(space.to_xyz, displayed, xyz);
+      const float nx = xyz[0] * space.inverse_white[0], ny = xyz[1] * space.inverse_white[1],
+                  nz = xyz[2] * space.inverse_white[2];
+      opponent[0][x] = ny;
+      opponent[1][x] = 500.0f * (nx - ny);
+      opponent[2][x] = 200.0f * (ny - nz);
+    }
+    for (int c = 0; c < 3; ++c) {
+      std::fill_n(opponent_[c].begin(), reach_, opponent[c][0]);
+      std::fill_n(opponent_[c].end() - reach_, reach_, opponent[c][width_ - 1]);
+      for (size_t t = 0; t < csf(c).size(); ++t)
+        filter_row(opponent_[c], csf(c)[t].horizontal, colour_rings_[c][t].row(y));
+    }
+    // The feature pipeline's input is the same normalised achromatic channel, unfiltered.
+    const FeatureKernels& k = filters_.features;
+    filter_row(opponent_[0], k.gaussian, smoothed_.row(y));
+    filter_row(opponent_[0], k.edge, slope_.row(y));
+    filter_row(opponent_[0], k.point, curvature_.row(y));
+  }
+
+  // `padded` (a row with reach_ copies of its end values either side) convolved with `kernel`.
+  void filter_row(const std::vector<float>& padded, const Kernel& kernel, float* dst) {
+    const int r = kernel.radius();
+    sources_.resize(kernel.taps.size());
+    for (int k = 0; k <= 2 * r; ++k) sources_[k] = padded.data() + (reach_ - r + k);
+    weighted_sum(kernel, sources_.data(), padded.data() + reach_, dst, width_, false);
+  }
+
+  // Row y of the plane whose rows `ring` holds, convolved down the columns with `kernel`, into
+  // `dst` (added to what it holds where `add`).
+  void filter_column(const RowRing& ring, const Kernel& kernel, uint32_t y, float* dst, bool add) {
+    const int r = kernel.radius();
+    sources_.resize(kernel.taps.size());
+    for (int k = 0; k <= 2 * r; ++k) sources_[k] = ring.row(uint32_t(std::clamp(int(y) + k - r, 0, int(height_) - 1)));
+    weighted_sum(kernel, sources_.data(), ring.row(y), dst, width_, add);
+  }
+
+  const Filters& filters_;
+  std::span<const float> rgb_;
+  uint32_t channels_, width_, height_;
+  int reach_;
+  std::optional<uint32_t> next_;  // the next source row to filter along
+  std::vector<float> opponent_[3];
+  std::vector<RowRing> colour_rings_[3];  // one per CSF term
+  RowRing smoothed_, slope_, curvature_;  // the achromatic channel through the feature kernels
+  std::vector<float> edge_x_, edge_y_, point_x_, point_y_;
+  std::vector<const float*> sources_;
+
+ public:
+  // Row y after perceive(y): colour after the CSFs in Hunt-adjusted L*a*b*, and the magnitudes
+  // of its edges and points.
+  std::vector<float> lightness, a, b, edges, points;
+};
 
 // The remap of HyAB^q_c to [0, 1]: the lower p_c of c_max to [0, p_t], the rest to [p_t, 1],
 // so that small differences spread over most of the scale.
@@ -458,11 +488,11 @@ float colour_error(float distance_to_the_qc, float max_distance) {
   return float(kRemapBreakValue) + (distance_to_the_qc - knee) / (max_distance - knee) * float(1.0 - kRemapBreakValue);
 }
 
-// LDR-FLIP's error map of two checked, clamped images, written into `result`.
+// LDR-FLIP's error map of two checked, clamped images, written into `result`. Each thread takes
+// a band of rows and perceives both images down it, side by side.
 class LdrFlip {
  public:
-  LdrFlip(uint32_t w, uint32_t h, const FlipOptions& options)
-      : threads_(thread_count(options)), scratch_(w, h), reference_(w, h), test_(w, h) {
+  LdrFlip(uint32_t w, uint32_t h, const FlipOptions& options) : threads_(thread_count(options)), width_(w), height_(h) {
     const double ppd = options.pixels_per_degree;
     const int radius = csf_radius(ppd);
     filters_ = {csf_kernel(kCsfAchromatic, radius, ppd), csf_kernel(kCsfRedGreen, radius, ppd),
@@ -472,31 +502,34 @@ class LdrFlip {
   // error[i] = FLIP of pixel i; colour and feature receive ΔE_c and ΔE_f where not null. Each
   // image's texels are linear RGB or RGBA, `channels` floats per pixel.
   void run(std::span<const float> reference, uint32_t reference_channels, std::span<const float> test,
-           uint32_t test_channels, float* error, float* colour, float* feature) {
-    perceive(reference, reference_channels, filters_, scratch_, reference_, threads_);
-    perceive(test, test_channels, filters_, scratch_, test_, threads_);
+           uint32_t test_channels, float* error, float* colour, float* feature) const {
     const float max_distance = colour_space().max_distance;
-    const uint32_t w = reference_.edges.width;
-    parallel_rows(reference_.edges.height, threads_, [&](uint32_t begin, uint32_t end) {
-      for (size_t i = size_t(begin) * w; i < size_t(end) * w; ++i) {
-        const float r[3] = {reference_.lightness.values[i], reference_.a.values[i], reference_.b.values[i]};
-        const float t[3] = {test_.lightness.values[i], test_.a.values[i], test_.b.values[i]};
-        const float delta_c = colour_error(std::pow(hyab(r, t), float(kColourExponent)), max_distance);
-        const float feature_difference = std::max(std::abs(reference_.edges.values[i] - test_.edges.values[i]),
-                                                  std::abs(reference_.points.values[i] - test_.points.values[i]));
-        const float delta_f = std::sqrt(feature_difference / std::numbers::sqrt2_v<float>);
-        error[i] = std::pow(delta_c, 1.0f - delta_f);
-        if (colour) colour[i] = delta_c;
-        if (feature) feature[i] = delta_f;
+    parallel_rows(height_, threads_, [&](uint32_t begin, uint32_t end) {
+      Perception seen_reference(filters_, reference, reference_channels, width_, height_),
+          seen_test(filters_, test, test_channels, width_, height_);
+      for (uint32_t y = begin; y < end; ++y) {
+        seen_reference.perceive(y);
+        seen_test.perceive(y);
+        const size_t row = size_t(y) * width_;
+        for (uint32_t x = 0; x < width_; ++x) {
+          const float r[3] = {seen_reference.lightness[x], seen_reference.a[x], seen_reference.b[x]};
+          const float t[3] = {seen_test.lightness[x], seen_test.a[x], seen_test.b[x]};
+          const float delta_c = colour_error(std::pow(hyab(r, t), float(kColourExponent)), max_distance);
+          const float feature_difference = std::max(std::abs(seen_reference.edges[x] - seen_test.edges[x]),
+                                                    std::abs(seen_reference.points[x] - seen_test.points[x]));
+          const float delta_f = std::sqrt(feature_difference / std::numbers::sqrt2_v<float>);
+          error[row + x] = std::pow(delta_c, 1.0f - delta_f);
+          if (colour) colour[row + x] = delta_c;
+          if (feature) feature[row + x] = delta_f;
+        }
       }
     });
   }
 
  private:
   unsigned threads_;
+  uint32_t width_, height_;
   Filters filters_;
-  Scratch scratch_;
-  Perceived reference_, test_;
 };
 
 void summarise(FlipResult& result, float threshold) {
