@@ -4,7 +4,9 @@
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
+#include <ImfInputPart.h>
 #include <ImfIntAttribute.h>
+#include <ImfMultiPartInputFile.h>
 #include <ImfMultiPartOutputFile.h>
 #include <ImfOutputPart.h>
 #include <ImfPartType.h>
@@ -24,6 +26,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <tuple>
 
@@ -500,6 +503,7 @@ std::vector<uint8_t> read_image_blob(const std::filesystem::path& file, const Fo
   if (exr_get_count(reader.context, &count) != EXR_ERR_SUCCESS || size_t(count) != parts.size())
     fail(file, "has " + std::to_string(count) + " parts, expected " + std::to_string(parts.size()) + " for " +
                    std::string(format.name) + " " + describe(extent));
+  std::optional<Imf::MultiPartInputFile> piz_reader;
   for (size_t p = 0; p < parts.size(); ++p) {
     const Part& part = parts[p];
     const Layout layout = layout_of(format, part.aspect);
@@ -507,8 +511,25 @@ std::vector<uint8_t> read_image_blob(const std::filesystem::path& file, const Fo
       fail(file, "part " + std::to_string(p) + " (" + part.name + ") " + problem);
     uint8_t* codes = raw.data() + part.offset;
     PartPixels pixels(widening_scratch());
-    uint8_t* samples = sample_memory(pixels, layout, part, codes);
-    read_part(reader, int(p), layout, part, samples);
+    exr_compression_t compression;
+    if (exr_get_compression(reader.context, int(p), &compression) != EXR_ERR_SUCCESS)
+      reader.fail("part " + std::to_string(p) + " (" + part.name + ") has no compression");
+    if (compression == EXR_COMPRESSION_PIZ) {
+      // The C++ library's Huffman decoder (FastHufDecoder) reads PIZ in half the time of the core
+      // library's in OpenEXR 3.1 (a 1280x720 sRGB8 image: 10 ms against 20 on one thread).
+      try {
+        if (!piz_reader) piz_reader.emplace(file.c_str(), exr_threads(raw.size(), -1));
+        const Imath::Box2i window = piz_reader->header(int(p)).dataWindow();
+        bind(pixels, layout, part, window, codes);
+        Imf::InputPart input(*piz_reader, int(p));
+        input.setFrameBuffer(pixels.frame_buffer);
+        input.readPixels(window.min.y, window.max.y);
+      } catch (const std::exception& e) {
+        fail(file, "part " + std::to_string(p) + " (" + part.name + ") unreadable: " + e.what());
+      }
+    } else {
+      read_part(reader, int(p), layout, part, sample_memory(pixels, layout, part, codes));
+    }
     if (pixels.codes && !narrow(pixels, layout, codes))
       fail(file, "part " + std::to_string(p) + " (" + part.name + ") holds a sample that is no code of " +
                      std::string(format.name));
