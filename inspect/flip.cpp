@@ -322,6 +322,14 @@ void check_pair(const FlipImage& reference, const FlipImage& test) {
     throw std::invalid_argument("flip: the images differ in size");
 }
 
+// A checked image's rows, copied out as FLIP reads them.
+FlipRows rows_of(const FlipImage& image) {
+  return {image.width, image.height, image.channels, [&image](uint32_t y, float* out) {
+            const size_t row = size_t(image.width) * image.channels;
+            std::copy_n(image.texels.data() + y * row, row, out);
+          }};
+}
+
 unsigned thread_count(const FlipOptions& options) {
   return options.threads ? options.threads : std::max(1u, std::thread::hardware_concurrency());
 }
@@ -358,28 +366,27 @@ class RowRing {
 // cost more in page faults and cache misses than in arithmetic. The filters' edges are clamped.
 class Perception {
  public:
-  // `rgb` is linear RGB, `channels` floats per pixel (alpha, if any, ignored), clamped here to
-  // what the display shows.
-  Perception(const Filters& filters, std::span<const float> rgb, uint32_t channels, uint32_t width, uint32_t height)
+  // The image's values are clamped here to what the display shows.
+  Perception(const Filters& filters, const FlipRows& image)
       : filters_(filters),
-        rgb_(rgb),
-        channels_(channels),
-        width_(width),
-        height_(height),
+        image_(image),
+        width_(image.width),
+        height_(image.height),
         reach_(filters.reach()),
-        smoothed_(width, reach_),
-        slope_(width, reach_),
-        curvature_(width, reach_),
-        lightness(width),
-        a(width),
-        b(width),
-        edges(width),
-        points(width) {
+        source_(size_t(width_) * image.channels),
+        smoothed_(width_, reach_),
+        slope_(width_, reach_),
+        curvature_(width_, reach_),
+        lightness(width_),
+        a(width_),
+        b(width_),
+        edges(width_),
+        points(width_) {
     for (int c = 0; c < 3; ++c) {
-      opponent_[c].resize(width + 2 * size_t(reach_));
-      for (size_t t = 0; t < csf(c).size(); ++t) colour_rings_[c].emplace_back(width, reach_);
+      opponent_[c].resize(width_ + 2 * size_t(reach_));
+      for (size_t t = 0; t < csf(c).size(); ++t) colour_rings_[c].emplace_back(width_, reach_);
     }
-    for (std::vector<float>* row : {&edge_x_, &edge_y_, &point_x_, &point_y_}) row->resize(width);
+    for (std::vector<float>* row : {&edge_x_, &edge_y_, &point_x_, &point_y_}) row->resize(width_);
   }
 
   // Makes row y ready in the rows below. Rows come in increasing order.
@@ -420,9 +427,9 @@ class Perception {
     // light a bright pixel spreads over dark neighbours, which q_c = 0.7 then makes visible
     // (~1e-4).
     float* opponent[3] = {opponent_[0].data() + reach_, opponent_[1].data() + reach_, opponent_[2].data() + reach_};
-    const float* source = rgb_.data() + size_t(y) * width_ * channels_;
+    image_.row(y, source_.data());
     for (uint32_t x = 0; x < width_; ++x) {
-      const float* texel = source + size_t(x) * channels_;
+      const float* texel = source_.data() + size_t(x) * image_.channels;
       const float displayed[3] = {std::clamp(texel[0], 0.0f, 1.0f), std::clamp(texel[1], 0.0f, 1.0f),
                                   std::clamp(texel[2], 0.0f, 1.0f)};
       float xyz[3];
@@ -464,10 +471,11 @@ class Perception {
   }
 
   const Filters& filters_;
-  std::span<const float> rgb_;
-  uint32_t channels_, width_, height_;
+  const FlipRows& image_;
+  uint32_t width_, height_;
   int reach_;
   std::optional<uint32_t> next_;  // the next source row to filter along
+  std::vector<float> source_;     // the row image_ gave
   std::vector<float> opponent_[3];
   std::vector<RowRing> colour_rings_[3];  // one per CSF term
   RowRing smoothed_, slope_, curvature_;  // the achromatic channel through the feature kernels
@@ -499,14 +507,11 @@ class LdrFlip {
                 csf_kernel(kCsfBlueYellow, radius, ppd), feature_kernels(ppd)};
   }
 
-  // error[i] = FLIP of pixel i; colour and feature receive ΔE_c and ΔE_f where not null. Each
-  // image's texels are linear RGB or RGBA, `channels` floats per pixel.
-  void run(std::span<const float> reference, uint32_t reference_channels, std::span<const float> test,
-           uint32_t test_channels, float* error, float* colour, float* feature) const {
+  // error[i] = FLIP of pixel i; colour and feature receive ΔE_c and ΔE_f where not null.
+  void run(const FlipRows& reference, const FlipRows& test, float* error, float* colour, float* feature) const {
     const float max_distance = colour_space().max_distance;
     parallel_rows(height_, threads_, [&](uint32_t begin, uint32_t end) {
-      Perception seen_reference(filters_, reference, reference_channels, width_, height_),
-          seen_test(filters_, test, test_channels, width_, height_);
+      Perception seen_reference(filters_, reference), seen_test(filters_, test);
       for (uint32_t y = begin; y < end; ++y) {
         seen_reference.perceive(y);
         seen_test.perceive(y);
@@ -578,6 +583,15 @@ double aces_inverse(double tone) {
 
 FlipResult flip_ldr(const FlipImage& reference, const FlipImage& test, const FlipOptions& options) {
   check_pair(reference, test);
+  return flip_ldr(rows_of(reference), rows_of(test), options);
+}
+
+FlipResult flip_ldr(const FlipRows& reference, const FlipRows& test, const FlipOptions& options) {
+  for (const FlipRows* image : {&reference, &test})
+    if ((image->channels != 3 && image->channels != 4) || !image->row)
+      throw std::invalid_argument("flip: an image by rows needs 3 or 4 channels and a row function");
+  if (reference.width != test.width || reference.height != test.height)
+    throw std::invalid_argument("flip: the images differ in size");
   FlipResult result;
   result.width = reference.width;
   result.height = reference.height;
@@ -589,8 +603,7 @@ FlipResult flip_ldr(const FlipImage& reference, const FlipImage& test, const Fli
     result.feature_error.resize(pixels);
   }
   LdrFlip flip(reference.width, reference.height, options);
-  flip.run(reference.texels, reference.channels, test.texels, test.channels, result.error.data(),
-           options.keep_components ? result.colour_error.data() : nullptr,
+  flip.run(reference, test, result.error.data(), options.keep_components ? result.colour_error.data() : nullptr,
            options.keep_components ? result.feature_error.data() : nullptr);
   summarise(result, options.threshold);
   return result;
@@ -641,17 +654,20 @@ FlipResult flip_hdr(const FlipImage& reference, const FlipImage& test, const Fli
   if (pixels == 0) return result;
   result.error.assign(pixels, 0.0f);
   LdrFlip flip(reference.width, reference.height, options);
-  std::vector<float> tone_mapped_reference(pixels * 3), tone_mapped_test(pixels * 3), error(pixels);
+  std::vector<float> error(pixels);
   for (uint32_t e = 0; e < range.count; ++e) {
     const double exposure = range.start + e * (range.stop - range.start) / std::max(1u, range.count - 1);
     const double scale = std::exp2(exposure);
-    for (size_t p = 0; p < pixels; ++p)
-      for (int c = 0; c < 3; ++c) {
-        tone_mapped_reference[p * 3 + c] =
-            float(aces(scale * std::max(0.0f, reference.texels[p * reference.channels + c])));
-        tone_mapped_test[p * 3 + c] = float(aces(scale * std::max(0.0f, test.texels[p * test.channels + c])));
-      }
-    flip.run(tone_mapped_reference, 3, tone_mapped_test, 3, error.data(), nullptr, nullptr);
+    // Each image tone-mapped at this exposure, row by row as LDR-FLIP reads it.
+    auto tone_mapped = [&](const FlipImage& image) {
+      return FlipRows{image.width, image.height, 3, [&image, scale](uint32_t y, float* out) {
+                        const float* texels = image.texels.data() + size_t(y) * image.width * image.channels;
+                        for (uint32_t x = 0; x < image.width; ++x)
+                          for (uint32_t c = 0; c < 3; ++c)
+                            out[x * 3 + c] = float(aces(scale * std::max(0.0f, texels[x * image.channels + c])));
+                      }};
+    };
+    flip.run(tone_mapped(reference), tone_mapped(test), error.data(), nullptr, nullptr);
     for (size_t p = 0; p < pixels; ++p) result.error[p] = std::max(result.error[p], error[p]);
   }
   summarise(result, options.threshold);

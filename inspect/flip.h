@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <numbers>
 #include <optional>
 #include <span>
@@ -32,6 +33,16 @@ struct FlipImage {
   std::span<const float> texels;  // width · height · channels, rows top to bottom
 };
 
+// An image handed over a row at a time, for callers that do not hold its floats whole (a
+// displayed image decodes from a byte per channel as FLIP reads it). `row` writes row y's
+// width · channels linear values, every one finite, to `out`; FLIP calls it from several
+// threads, each row once, in increasing order within a band of rows.
+struct FlipRows {
+  uint32_t width = 0, height = 0;
+  uint32_t channels = 3;  // 3 (RGB) or 4 (RGBA, alpha ignored)
+  std::function<void(uint32_t y, float* out)> row;
+};
+
 struct FlipOptions {
   double pixels_per_degree = kFlipDefaultPixelsPerDegree;
   // over_threshold_share counts the pixels whose error exceeds this.
@@ -52,6 +63,8 @@ struct FlipResult {
 };
 
 FlipResult flip_ldr(const FlipImage& reference, const FlipImage& test, const FlipOptions& options = {});
+// The same for images given by rows: their values are not checked (the caller vouches for them).
+FlipResult flip_ldr(const FlipRows& reference, const FlipRows& test, const FlipOptions& options = {});
 
 // The exposures (log2 scale factors on radiance) at which HDR-FLIP compares the tone-mapped
 // images.

@@ -355,11 +355,17 @@ FlipResult flip_displayed(const ResourceRecord& a, std::span<const uint8_t> a_ra
 }
 
 FlipResult flip_displayed(const ResourcePair& pair) {
-  // sRGB codes decode to linear values, what FLIP takes; alpha is ignored.
+  // sRGB codes decode to linear values, what FLIP takes, a row at a time as it reads them (no
+  // decoded copy of either image); alpha is ignored. Codes decode to finite values.
   const ImageExtent& extent = pair.a.extent;
-  const uint32_t channels = format_info(pair.a.format)->channels;
-  return flip_ldr({extent.width, extent.height, channels, pair.a_values().subresource(0, 0, 0)},
-                  {extent.width, extent.height, channels, pair.b_values().subresource(0, 0, 0)});
+  const FormatInfo format = *format_info(pair.a.format);
+  const uint64_t row_bytes = uint64_t(extent.width) * format.texel_bytes;
+  auto rows = [&](std::span<const uint8_t> raw) {
+    return FlipRows{extent.width, extent.height, format.channels, [&format, raw, row_bytes](uint32_t y, float* out) {
+                      decode_values(format, 0, raw.subspan(y * row_bytes, row_bytes), out);
+                    }};
+  };
+  return flip_ldr(rows(pair.a_raw), rows(pair.b_raw));
 }
 
 ContractCheck check_contract(const ComparisonContract& contract, const ResourceRecord& a,
