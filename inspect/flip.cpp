@@ -488,12 +488,101 @@ class Perception {
   std::vector<float> lightness, a, b, edges, points;
 };
 
-// The remap of HyAB^q_c to [0, 1]: the lower p_c of c_max to [0, p_t], the rest to [p_t, 1],
-// so that small differences spread over most of the scale.
-float colour_error(float distance_to_the_qc, float max_distance) {
+// Lane-wise helpers of pixel_errors, inlined into each of its clones (inspect/simd.h).
+using Words = simd::Words8;
+using SignedWords = int32_t __attribute__((vector_size(32)));
+
+// log2 of positive finite lanes: x = m · 2^e with m in [√½, √2), ln m = 2 atanh(s) with s = (m − 1)
+// / (m + 1), |s| < 0.172, summed to s^9 (the next term is below 3e-9 of the first).
+[[gnu::always_inline]] inline void log2_lanes(const Lanes& positive, Lanes& log2) {
+  const SignedWords subnormal = positive < 0x1p-126f;
+  const Lanes x = subnormal ? positive * 0x1p23f : positive;
+  const Words bits = (Words)x;
+  SignedWords exponent = (SignedWords)(bits >> 23) - 127 - (subnormal & 23);
+  Lanes m = (Lanes)((bits & 0x7fffffu) | 0x3f800000u);
+  const SignedWords halve = m > std::numbers::sqrt2_v<float>;
+  m = halve ? m * 0.5f : m;
+  exponent -= halve;  // halve is −1 where true
+  const Lanes s = (m - 1.0f) / (m + 1.0f), s2 = s * s;
+  const Lanes ln_m = s * (2.0f + s2 * (2.0f / 3.0f + s2 * (2.0f / 5.0f + s2 * (2.0f / 7.0f + s2 * (2.0f / 9.0f)))));
+  log2 = __builtin_convertvector(exponent, Lanes) + ln_m * std::numbers::log2e_v<float>;
+}
+
+// 2^y for lanes in [−150, 128]: y = n + f with n whole and |f| ≤ ½, 2^f = e^(f ln 2) by its Taylor
+// series to degree 7 (relative error below 1e-8), times 2^n as two powers of two so that results
+// below 2^−126 come out subnormal instead of wrong.
+[[gnu::always_inline]] inline void exp2_lanes(const Lanes& exponent, Lanes& power_of_two) {
+  const Lanes y = exponent < -150.0f ? Lanes{} - 150.0f : exponent;
+  const Lanes whole = (y + 0x1.8p23f) - 0x1.8p23f;  // rounded to the nearest integer
+  const Lanes z = (y - whole) * std::numbers::ln2_v<float>;
+  const Lanes power =
+      1.0f +
+      z * (1.0f + z * (0.5f + z * (1.0f / 6 + z * (1.0f / 24 + z * (1.0f / 120 + z * (1.0f / 720 + z / 5040))))));
+  const SignedWords n = __builtin_convertvector(whole, SignedWords), first = n >> 1, second = n - first;
+  power_of_two = power * (Lanes)((Words)(first + 127) << 23) * (Lanes)((Words)(second + 127) << 23);
+}
+
+// base^exponent for base ≥ 0 and exponent in [0, 1], as std::pow: 0^0 = 1, 0^e = 0.
+[[gnu::always_inline]] inline void pow_lanes(const Lanes& base, const Lanes& exponent, Lanes& power) {
+  Lanes log2_base, raised;
+  log2_lanes(base == 0.0f ? Lanes{} + 1.0f : base, log2_base);
+  exp2_lanes(exponent * log2_base, raised);
+  power = base == 0.0f ? (exponent == 0.0f ? Lanes{} + 1.0f : Lanes{}) : raised;
+}
+
+// Vector arguments are passed by reference: by value, the two clones' calling conventions would
+// differ (GCC's -Wpsabi), even inlined.
+[[gnu::always_inline]] inline void sqrt_lanes(Lanes& x) {
+  for (uint32_t lane = 0; lane < kLanes; ++lane) x[lane] = std::sqrt(x[lane]);
+}
+
+// FLIP of one row's pixels from both images' perceptions, eight at a time: colour error ΔE_c
+// from HyAB^q_c remapped to [0, 1] (the lower p_c of c_max to [0, p_t], the rest to [p_t, 1], so
+// that small differences spread over most of the scale), feature error ΔE_f, and
+// ΔE_c^(1 − ΔE_f). The last pixels that do not fill eight lanes run padded through the same
+// lanes, so a pixel's value does not depend on where in the row it is.
+NIGHTCAP_AVX2_CLONE void pixel_errors(const Perception& r, const Perception& t, uint32_t width, float max_distance,
+                                      float* error, float* colour, float* feature) {
   const float knee = float(kRemapBreakShare) * max_distance;
-  if (distance_to_the_qc < knee) return float(kRemapBreakValue) / knee * distance_to_the_qc;
-  return float(kRemapBreakValue) + (distance_to_the_qc - knee) / (max_distance - knee) * float(1.0 - kRemapBreakValue);
+  const std::vector<float>* planes[10] = {&r.lightness, &r.a, &r.b, &r.edges, &r.points,
+                                          &t.lightness, &t.a, &t.b, &t.edges, &t.points};
+  float padded[10][kLanes], padded_out[3][kLanes];
+  for (uint32_t x = 0; x < width; x += kLanes) {
+    const uint32_t n = std::min(kLanes, width - x);
+    const float* in[10];
+    float* out[3] = {error + x, colour ? colour + x : nullptr, feature ? feature + x : nullptr};
+    for (int p = 0; p < 10; ++p) in[p] = planes[p]->data() + x;
+    if (n < kLanes) {
+      for (int p = 0; p < 10; ++p) {
+        std::fill(std::copy_n(in[p], n, padded[p]), padded[p] + kLanes, 0.0f);
+        in[p] = padded[p];
+      }
+      for (int o = 0; o < 3; ++o) out[o] = out[o] ? padded_out[o] : nullptr;
+    }
+    Lanes v[10];
+    for (int p = 0; p < 10; ++p) std::memcpy(&v[p], in[p], sizeof(Lanes));
+    const Lanes dl = v[0] - v[5], da = v[1] - v[6], db = v[2] - v[7];
+    Lanes chroma = da * da + db * db, distance;
+    sqrt_lanes(chroma);
+    pow_lanes((dl < 0.0f ? -dl : dl) + chroma, Lanes{} + float(kColourExponent), distance);  // HyAB^q_c
+    const Lanes delta_c = distance < knee ? float(kRemapBreakValue) / knee * distance
+                                          : float(kRemapBreakValue) + (distance - knee) / (max_distance - knee) *
+                                                                          float(1.0 - kRemapBreakValue);
+    const Lanes edge = v[3] - v[8], point = v[4] - v[9];
+    const Lanes edge_difference = edge < 0.0f ? -edge : edge, point_difference = point < 0.0f ? -point : point;
+    const Lanes feature_difference = edge_difference > point_difference ? edge_difference : point_difference;
+    Lanes delta_f = feature_difference / std::numbers::sqrt2_v<float>, e;
+    sqrt_lanes(delta_f);
+    pow_lanes(delta_c, 1.0f - delta_f, e);
+    std::memcpy(out[0], &e, sizeof e);
+    if (out[1]) std::memcpy(out[1], &delta_c, sizeof delta_c);
+    if (out[2]) std::memcpy(out[2], &delta_f, sizeof delta_f);
+    if (n < kLanes) {
+      std::copy_n(padded_out[0], n, error + x);
+      if (colour) std::copy_n(padded_out[1], n, colour + x);
+      if (feature) std::copy_n(padded_out[2], n, feature + x);
+    }
+  }
 }
 
 // LDR-FLIP's error map of two checked, clamped images, written into `result`. Each thread takes
@@ -516,17 +605,8 @@ class LdrFlip {
         seen_reference.perceive(y);
         seen_test.perceive(y);
         const size_t row = size_t(y) * width_;
-        for (uint32_t x = 0; x < width_; ++x) {
-          const float r[3] = {seen_reference.lightness[x], seen_reference.a[x], seen_reference.b[x]};
-          const float t[3] = {seen_test.lightness[x], seen_test.a[x], seen_test.b[x]};
-          const float delta_c = colour_error(std::pow(hyab(r, t), float(kColourExponent)), max_distance);
-          const float feature_difference = std::max(std::abs(seen_reference.edges[x] - seen_test.edges[x]),
-                                                    std::abs(seen_reference.points[x] - seen_test.points[x]));
-          const float delta_f = std::sqrt(feature_difference / std::numbers::sqrt2_v<float>);
-          error[row + x] = std::pow(delta_c, 1.0f - delta_f);
-          if (colour) colour[row + x] = delta_c;
-          if (feature) feature[row + x] = delta_f;
-        }
+        pixel_errors(seen_reference, seen_test, width_, max_distance, error + row, colour ? colour + row : nullptr,
+                     feature ? feature + row : nullptr);
       }
     });
   }
