@@ -45,9 +45,10 @@ std::string buffer_blob_extension();
 void write_image_blob(const std::filesystem::path& file, const FormatInfo& format, const ImageExtent& extent,
                       std::span<const uint8_t> raw, ImageEncoding encoding, int threads = -1);
 // Throws CaptureError (naming `file`) when the file is unreadable, truncated, or its parts
-// do not match the format and extent.
+// do not match the format and extent. `threads`: OpenEXR threads decoding this file, as for
+// write_image_blob (0 for a caller that already keeps every core busy).
 std::vector<uint8_t> read_image_blob(const std::filesystem::path& file, const FormatInfo& format,
-                                     const ImageExtent& extent);
+                                     const ImageExtent& extent, int threads = -1);
 
 void write_buffer_blob(const std::filesystem::path& file, std::span<const uint8_t> raw, int zstd_level);
 std::vector<uint8_t> read_buffer_blob(const std::filesystem::path& file, uint64_t expected_size);

@@ -642,9 +642,10 @@ fs::path Capture::blob_file(const std::string& blob) const {
   return real;
 }
 
-std::vector<uint8_t> read_resource_blob(const fs::path& file, const ResourceRecord& record) {
-  std::vector<uint8_t> raw = record.is_buffer ? read_buffer_blob(file, record.buffer_size)
-                                              : read_image_blob(file, *format_info(record.format), record.extent);
+std::vector<uint8_t> read_resource_blob(const fs::path& file, const ResourceRecord& record, int threads) {
+  std::vector<uint8_t> raw = record.is_buffer
+                                 ? read_buffer_blob(file, record.buffer_size)
+                                 : read_image_blob(file, *format_info(record.format), record.extent, threads);
   if (content_hash(raw) != record.hash)
     throw CaptureError(file.string() + ": content does not match its hash " + record.hash + " (corrupt capture)");
   return raw;
@@ -657,8 +658,8 @@ std::vector<uint8_t> read_file_blob(const fs::path& file, const std::string& has
   return bytes;
 }
 
-std::vector<uint8_t> Capture::load(const ResourceRecord& record) const {
-  return read_resource_blob(blob_file(record.blob), record);
+std::vector<uint8_t> Capture::load(const ResourceRecord& record, int threads) const {
+  return read_resource_blob(blob_file(record.blob), record, threads);
 }
 
 std::string Capture::load_shader_source(const ShaderRecord& record) const {

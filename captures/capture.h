@@ -133,7 +133,8 @@ CaptureManifest manifest_from_json(const nlohmann::json& json, const std::string
 
 // A blob file read and checked against the hash its record states: a resource decoded to its raw
 // bytes, a shader or its source as the bytes of the file. Throw CaptureError naming `file`.
-std::vector<uint8_t> read_resource_blob(const std::filesystem::path& file, const ResourceRecord& record);
+std::vector<uint8_t> read_resource_blob(const std::filesystem::path& file, const ResourceRecord& record,
+                                        int threads = -1);
 std::vector<uint8_t> read_file_blob(const std::filesystem::path& file, const std::string& hash);
 
 // Removes `<target>.tmp-<pid>` and `<target>.old-<pid>` folders whose process is gone (a killed
@@ -201,7 +202,8 @@ class Capture {
 
   // Blobs are read only through these, when a command needs them, and each one's content hash is
   // checked as it is read. They throw CaptureError naming the blob file.
-  std::vector<uint8_t> load(const ResourceRecord& record) const;  // decoded to its raw bytes
+  // Decoded to its raw bytes; `threads` as read_image_blob's.
+  std::vector<uint8_t> load(const ResourceRecord& record, int threads = -1) const;
   std::vector<uint32_t> load_shader(const ShaderRecord& record) const;
   std::string load_shader_source(const ShaderRecord& record) const;  // the GLSL of the SPIR-V
   // The file of a blob path, refused (CaptureError) when it resolves outside blob_root(), a

@@ -123,12 +123,28 @@ PassDiff diff_pass(const FrameRecord& frame_a, const PassRecord& a, const PassRe
   return d;
 }
 
-void measure(const Capture& ca, const Capture& cb, const PendingOutput& p, const DiffOptions& options) {
+// `cores_busy`: the other cores measure other outputs, so this one's decoding and FLIP run on the
+// calling thread (splitting them would only add hand-overs).
+void measure(const Capture& ca, const Capture& cb, const PendingOutput& p, const DiffOptions& options,
+             bool cores_busy) {
   OutputDiff& o = *p.diff;
-  const std::vector<uint8_t> raw_a = ca.load(*p.a), raw_b = cb.load(*p.b);
+  const int threads = cores_busy ? 0 : -1;
+  const std::vector<uint8_t> raw_a = ca.load(*p.a, threads), raw_b = cb.load(*p.b, threads);
   const ResourcePair pair(*p.a, raw_a, *p.b, raw_b);
-  o.comparison = compare_resource(pair);
-  if (o.comparison.comparable && displayed_colour(*p.a)) o.flip = flip_displayed(pair);
+  const bool by_contract = !p.rule && !p.by_tolerance;
+  if (by_contract) {
+    MeasuredResource measured = measure_resource(p.a->contract, pair);
+    o.comparison = std::move(measured.comparison);
+    o.contract = std::move(measured.contract);
+    o.beyond = !o.contract.holds;
+  } else {
+    o.comparison = compare_resource(pair);
+  }
+  if (o.comparison.comparable && displayed_colour(*p.a)) {
+    FlipOptions flip;
+    flip.threads = cores_busy ? 1 : 0;
+    o.flip = flip_displayed(pair, flip);
+  }
   if (p.rule) {
     o.threshold = o.comparison.comparable
                       ? check_threshold(*p.rule, *p.frame_a, pair,
@@ -137,9 +153,6 @@ void measure(const Capture& ca, const Capture& cb, const PendingOutput& p, const
     o.beyond = !o.threshold->holds;
   } else if (p.by_tolerance) {
     o.beyond = !o.comparison.comparable || !(o.comparison.max_abs <= *options.tolerance);
-  } else {
-    o.contract = check_contract(p.a->contract, pair, o.comparison);
-    o.beyond = !o.contract.holds;
   }
   if (options.on_measured) options.on_measured(*p.frame_a, *p.pass, o, pair);
 }
@@ -156,7 +169,8 @@ void measure_all(const Capture& ca, const Capture& cb, const std::vector<Pending
   std::vector<const PendingOutput*> order;
   for (const PendingOutput& p : pending) order.push_back(&p);
   std::stable_sort(order.begin(), order.end(), [&](auto* x, auto* y) { return cost(*x) > cost(*y); });
-  for_each_on_cores(order.size(), [&](size_t i) { measure(ca, cb, *order[i], options); });
+  const bool cores_busy = order.size() > 1;
+  for_each_on_cores(order.size(), [&](size_t i) { measure(ca, cb, *order[i], options, cores_busy); });
 }
 
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }

@@ -143,16 +143,18 @@ using DoubleMasks = int64_t __attribute__((vector_size(32)));
   const Doubles4 x = __builtin_convertvector(x##_floats, Doubles4), y = __builtin_convertvector(y##_floats, Doubles4)
 
 // A block of finite values, four at a time: the same sums and counts as tally_any, the sum of
-// squares in four lanes added at the end. False, `t` untouched, where a value of either side is
-// NaN or infinite (its difference then is too: d − d is not 0).
+// squares in four lanes added at the end; with `departs` (a float contract), also its largest
+// departure into `worst` as worst_departure_finite measures it, in the same pass. False, `t` and
+// `worst` untouched, where a value of either side is NaN or infinite (its difference then is
+// too: d − d is not 0).
 NIGHTCAP_AVX2_CLONE bool tally_finite(const float* a, const float* b, uint64_t texels, uint32_t channels, bool relative,
-                                      double fixed, ImageTally& t) {
+                                      double fixed, const ComparisonContract* departs, ImageTally& t, double& worst) {
   const uint64_t n = texels * channels;
   // Per value: differs, and over the threshold; a texel counts where any of its channels does.
   // An RGBA texel is one vector, whose lanes are summed at once.
   std::array<int8_t, ResourcePair::kBlockTexels * 4> differs, over;
   uint64_t rgba_differing = 0, rgba_over = 0;
-  Doubles4 peak = Doubles4{} + t.peak, largest{}, squares{};
+  Doubles4 peak = Doubles4{} + t.peak, largest{}, squares{}, departure_largest{};
   DoubleMasks not_finite{};
   uint64_t i = 0;
   for (; i + 4 <= n; i += 4) {
@@ -162,6 +164,11 @@ NIGHTCAP_AVX2_CLONE bool tally_finite(const float* a, const float* b, uint64_t t
     if (relative) peak = ax > peak ? ax : peak;
     largest = d > largest ? d : largest;
     squares += d * d;
+    if (departs) {
+      const Doubles4 allowed = departs->absolute + departs->relative * ax;
+      const Doubles4 departure = d == 0 ? Doubles4{} : allowed > 0 ? d / allowed : Doubles4{} + INFINITY;
+      departure_largest = departure > departure_largest ? departure : departure_largest;
+    }
     const Doubles4 threshold = relative ? 1e-3 * (ax > 1.0 ? ax : Doubles4{} + 1.0) : Doubles4{} + fixed;
     const DoubleMasks is_over = d > threshold, is_different = d != 0;
     if (channels == 4) {
@@ -175,19 +182,26 @@ NIGHTCAP_AVX2_CLONE bool tally_finite(const float* a, const float* b, uint64_t t
     }
   }
   if ((not_finite[0] | not_finite[1] | not_finite[2] | not_finite[3]) != 0) return false;
-  double peak_rest = 0.0, largest_rest = 0.0, squares_rest = 0.0;
+  double peak_rest = 0.0, largest_rest = 0.0, squares_rest = 0.0, departure_rest = 0.0;
   for (; i < n; ++i) {
     const double x = a[i], d = std::abs(x - b[i]);
     if (!std::isfinite(d)) return false;
     if (relative) peak_rest = std::max(peak_rest, std::abs(x));
     largest_rest = std::max(largest_rest, d);
     squares_rest += d * d;
+    if (departs) {
+      const double allowed = departs->absolute + departs->relative * std::abs(x);
+      departure_rest = std::max(departure_rest, d == 0 ? 0.0 : allowed > 0 ? d / allowed : INFINITY);
+    }
     differs[i] = d != 0 ? -1 : 0;
     over[i] = d > (relative ? 1e-3 * std::max(1.0, std::abs(x)) : fixed) ? -1 : 0;
   }
   t.peak = std::max({t.peak, peak[0], peak[1], peak[2], peak[3], peak_rest});
   t.max_abs = std::max({t.max_abs, largest[0], largest[1], largest[2], largest[3], largest_rest});
   t.sum_squares += squares[0] + squares[1] + squares[2] + squares[3] + squares_rest;
+  if (departs)
+    worst = std::max({worst, departure_largest[0], departure_largest[1], departure_largest[2], departure_largest[3],
+                      departure_rest});
   if (channels == 4) {
     t.differing += rgba_differing;
     t.over += rgba_over;
@@ -299,7 +313,78 @@ ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uin
   return compare_resource(ResourcePair(a, a_raw, b, b_raw));
 }
 
-ResourceComparison compare_resource(const ResourcePair& pair) {
+bool displayed_colour(const ResourceRecord& r) {
+  return !r.is_buffer && r.kind == ResourceKind::colour && format_info(r.format)->encoding == ChannelEncoding::srgb8 &&
+         format_info(r.format)->channels >= 3;
+}
+
+FlipResult flip_displayed(const ResourceRecord& a, std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw) {
+  return flip_displayed(ResourcePair(a, a_raw, a, b_raw));
+}
+
+FlipResult flip_displayed(const ResourcePair& pair, const FlipOptions& options) {
+  // sRGB codes decode to linear values, what FLIP takes, a row at a time as it reads them (no
+  // decoded copy of either image); alpha is ignored. Codes decode to finite values.
+  const ImageExtent& extent = pair.a.extent;
+  const FormatInfo format = *format_info(pair.a.format);
+  const uint64_t row_bytes = uint64_t(extent.width) * format.texel_bytes;
+  auto rows = [&](std::span<const uint8_t> raw) {
+    return FlipRows{extent.width, extent.height, format.channels, [&format, raw, row_bytes](uint32_t y, float* out) {
+                      decode_values(format, 0, raw.subspan(y * row_bytes, row_bytes), out);
+                    }};
+  };
+  return flip_ldr(rows(pair.a_raw), rows(pair.b_raw), options);
+}
+
+ContractCheck check_contract(const ComparisonContract& contract, const ResourceRecord& a,
+                             std::span<const uint8_t> a_raw, const ResourceRecord& b, std::span<const uint8_t> b_raw) {
+  const ResourcePair pair(a, a_raw, b, b_raw);
+  return check_contract(contract, pair, compare_resource(pair));
+}
+
+namespace {
+
+using Kind = ComparisonContract::Kind;
+
+// The largest departure of a block of decoded values from a float, codes or depth contract into
+// `worst`.
+void depart_block(const ComparisonContract& contract, const FormatInfo& f, uint32_t aspect, const float* va,
+                  const float* vb, uint64_t texels, double& worst) {
+  const uint32_t channels = aspect_channels(f, aspect);
+  const uint64_t n = texels * channels;
+  if (aspect == 0 && contract.kind == Kind::float_values && worst_departure_finite(va, vb, n, contract, worst)) return;
+  for (uint64_t i = 0; i < n; ++i) {
+    if (va[i] == vb[i] || (std::isnan(va[i]) && std::isnan(vb[i]))) continue;  // departs by 0
+    const double d = std::abs(double(va[i]) - double(vb[i]));
+    double departure;
+    if (aspect == 1)  // stencil: exact under every contract
+      departure = INFINITY;
+    else if (contract.kind == Kind::unorm_codes)
+      departure = code_steps(f, uint32_t(i % channels), va[i], vb[i]);
+    else if (contract.kind == Kind::linear_depth)
+      departure = va[i] != 0 ? d / std::abs(double(va[i])) : INFINITY;
+    else {
+      const double allowed = contract.absolute + contract.relative * std::abs(double(va[i]));
+      departure = allowed > 0 ? d / allowed : INFINITY;
+    }
+    if (std::isnan(departure)) departure = INFINITY;
+    worst = std::max(worst, departure);
+  }
+}
+
+// Whether check_contract measures an image by its decoded values, block by block: a float, codes
+// (wider than a byte) or depth contract.
+bool departs_by_blocks(const ComparisonContract& contract, const ResourceRecord& a) {
+  if (a.is_buffer) return false;
+  const ChannelEncoding e = format_info(a.format)->encoding;
+  return contract.kind == Kind::float_values || contract.kind == Kind::linear_depth ||
+         (contract.kind == Kind::unorm_codes && e != ChannelEncoding::unorm8 && e != ChannelEncoding::srgb8);
+}
+
+// compare_resource, and where `departs` is given (a contract that measures values: departs_by_blocks)
+// its largest departure into `worst`, from the same decoded blocks and, for a float contract over
+// finite values, in the same pass.
+ResourceComparison compare_with(const ResourcePair& pair, const ComparisonContract* departs, double& worst) {
   const ResourceRecord& a = pair.a;
   ResourceComparison r;
   r.identical = pair.same_bytes();
@@ -331,9 +416,11 @@ ResourceComparison compare_resource(const ResourcePair& pair) {
     const uint32_t channels = aspect_channels(f, aspect);
     const bool relative = is_float(f) && aspect == 0, angles = normal && aspect == 0;
     const double fixed = fixed_threshold(f, aspect);
+    const ComparisonContract* fused = departs && aspect == 0 && departs->kind == Kind::float_values ? departs : nullptr;
     pair.for_each_block(aspect, [&](const float* va, const float* vb, uint64_t texels) {
-      if (angles || !tally_finite(va, vb, texels, channels, relative, fixed, tally))
-        tally_any(va, vb, texels, channels, relative, fixed, angles, tally, r);
+      const bool tallied = !angles && tally_finite(va, vb, texels, channels, relative, fixed, fused, tally, worst);
+      if (!tallied) tally_any(va, vb, texels, channels, relative, fixed, angles, tally, r);
+      if (departs && !(tallied && fused)) depart_block(*departs, f, aspect, va, vb, texels, worst);
     });
   }
   r.max_abs = std::max(r.max_abs, tally.max_abs);
@@ -345,38 +432,9 @@ ResourceComparison compare_resource(const ResourcePair& pair) {
   return r;
 }
 
-bool displayed_colour(const ResourceRecord& r) {
-  return !r.is_buffer && r.kind == ResourceKind::colour && format_info(r.format)->encoding == ChannelEncoding::srgb8 &&
-         format_info(r.format)->channels >= 3;
-}
-
-FlipResult flip_displayed(const ResourceRecord& a, std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw) {
-  return flip_displayed(ResourcePair(a, a_raw, a, b_raw));
-}
-
-FlipResult flip_displayed(const ResourcePair& pair) {
-  // sRGB codes decode to linear values, what FLIP takes, a row at a time as it reads them (no
-  // decoded copy of either image); alpha is ignored. Codes decode to finite values.
-  const ImageExtent& extent = pair.a.extent;
-  const FormatInfo format = *format_info(pair.a.format);
-  const uint64_t row_bytes = uint64_t(extent.width) * format.texel_bytes;
-  auto rows = [&](std::span<const uint8_t> raw) {
-    return FlipRows{extent.width, extent.height, format.channels, [&format, raw, row_bytes](uint32_t y, float* out) {
-                      decode_values(format, 0, raw.subspan(y * row_bytes, row_bytes), out);
-                    }};
-  };
-  return flip_ldr(rows(pair.a_raw), rows(pair.b_raw));
-}
-
-ContractCheck check_contract(const ComparisonContract& contract, const ResourceRecord& a,
-                             std::span<const uint8_t> a_raw, const ResourceRecord& b, std::span<const uint8_t> b_raw) {
-  const ResourcePair pair(a, a_raw, b, b_raw);
-  return check_contract(contract, pair, compare_resource(pair));
-}
-
-ContractCheck check_contract(const ComparisonContract& contract, const ResourcePair& pair,
-                             const ResourceComparison& shape) {
-  using Kind = ComparisonContract::Kind;
+// check_contract, with the worst departure already measured where `walked_worst` is given.
+ContractCheck check_contract_with(const ComparisonContract& contract, const ResourcePair& pair,
+                                  const ResourceComparison& shape, const double* walked_worst) {
   const ResourceRecord& a = pair.a;
   const std::span<const uint8_t> a_raw = pair.a_raw, b_raw = pair.b_raw;
   ContractCheck check;
@@ -444,37 +502,44 @@ ContractCheck check_contract(const ComparisonContract& contract, const ResourceP
           check.worst = std::max(check.worst, double(std::abs(int(a_raw[i]) - int(b_raw[i]))));
         break;
       }
-      for (uint32_t aspect = 0; aspect < aspect_count(f); ++aspect) {
-        const uint32_t channels = aspect_channels(f, aspect);
-        pair.for_each_block(aspect, [&](const float* va, const float* vb, uint64_t texels) {
-          const uint64_t n = texels * channels;
-          if (aspect == 0 && contract.kind == Kind::float_values &&
-              worst_departure_finite(va, vb, n, contract, check.worst))
-            return;
-          for (uint64_t i = 0; i < n; ++i) {
-            if (va[i] == vb[i] || (std::isnan(va[i]) && std::isnan(vb[i]))) continue;  // departs by 0
-            const double d = std::abs(double(va[i]) - double(vb[i]));
-            double departure;
-            if (aspect == 1)  // stencil: exact under every contract
-              departure = INFINITY;
-            else if (contract.kind == Kind::unorm_codes)
-              departure = code_steps(f, uint32_t(i % channels), va[i], vb[i]);
-            else if (contract.kind == Kind::linear_depth)
-              departure = va[i] != 0 ? d / std::abs(double(va[i])) : INFINITY;
-            else {
-              const double allowed = contract.absolute + contract.relative * std::abs(double(va[i]));
-              departure = allowed > 0 ? d / allowed : INFINITY;
-            }
-            if (std::isnan(departure)) departure = INFINITY;
-            check.worst = std::max(check.worst, departure);
-          }
-        });
+      if (walked_worst) {
+        check.worst = *walked_worst;
+        break;
       }
+      for (uint32_t aspect = 0; aspect < aspect_count(f); ++aspect)
+        pair.for_each_block(aspect, [&](const float* va, const float* vb, uint64_t texels) {
+          depart_block(contract, f, aspect, va, vb, texels, check.worst);
+        });
       break;
     }
   }
   check.holds = same_bytes || (contract.kind != Kind::exact && check.worst <= check.bound);
   return check;
+}
+
+}  // namespace
+
+ResourceComparison compare_resource(const ResourcePair& pair) {
+  double unused = 0.0;
+  return compare_with(pair, nullptr, unused);
+}
+
+ContractCheck check_contract(const ComparisonContract& contract, const ResourcePair& pair,
+                             const ResourceComparison& shape) {
+  return check_contract_with(contract, pair, shape, nullptr);
+}
+
+MeasuredResource measure_resource(const ComparisonContract& contract, const ResourcePair& pair) {
+  MeasuredResource m;
+  if (!departs_by_blocks(contract, pair.a) || !pair.same_shape()) {
+    m.comparison = compare_resource(pair);
+    m.contract = check_contract(contract, pair, m.comparison);
+    return m;
+  }
+  double worst = 0.0;
+  m.comparison = compare_with(pair, &contract, worst);
+  m.contract = check_contract_with(contract, pair, m.comparison, &worst);
+  return m;
 }
 
 }  // namespace nightcap

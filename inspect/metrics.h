@@ -48,7 +48,7 @@ bool displayed_colour(const ResourceRecord& r);
 // LDR-FLIP between mip 0, layer 0 of two displayed-colour images of the same shape, `a` the
 // reference; the error map is per texel of that subimage.
 FlipResult flip_displayed(const ResourceRecord& a, std::span<const uint8_t> a_raw, std::span<const uint8_t> b_raw);
-FlipResult flip_displayed(const ResourcePair& pair);
+FlipResult flip_displayed(const ResourcePair& pair, const FlipOptions& options = {});
 
 // How far `b` is from `a` in the terms of a's comparison contract.
 struct ContractCheck {
@@ -65,5 +65,13 @@ ContractCheck check_contract(const ComparisonContract& contract, const ResourceR
 // The same, reusing compare_resource(pair) that the caller already has.
 ContractCheck check_contract(const ComparisonContract& contract, const ResourcePair& pair,
                              const ResourceComparison& shape);
+
+// compare_resource(pair) and check_contract against `contract`, from one decoding of the pair's
+// values where the contract measures them (the diff's common case: each image is read once).
+struct MeasuredResource {
+  ResourceComparison comparison;
+  ContractCheck contract;
+};
+MeasuredResource measure_resource(const ComparisonContract& contract, const ResourcePair& pair);
 
 }  // namespace nightcap

@@ -123,6 +123,75 @@ TEST(DiffMetrics, LargeHalfImagesMatchAPlainDoubleReckoning) {
   EXPECT_EQ(finite_check.holds, finite_worst <= 1.0);
 }
 
+// The diff measures an output and its contract from one decoding (and, for floats, one pass):
+// the figures must be those of the two separate measures, to the bit.
+void expect_measured_as_apart(const ComparisonContract& contract, const ResourceRecord& r,
+                              const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  const ResourcePair pair(r, a, r, b);
+  const ResourceComparison apart = compare_resource(pair);
+  const ContractCheck apart_check = check_contract(contract, pair, apart);
+  const MeasuredResource together = measure_resource(contract, pair);
+  const auto same = [](double x, double y) { return std::bit_cast<uint64_t>(x) == std::bit_cast<uint64_t>(y); };
+  EXPECT_TRUE(same(together.comparison.max_abs, apart.max_abs)) << together.comparison.max_abs << " " << apart.max_abs;
+  EXPECT_TRUE(same(together.comparison.rmse, apart.rmse));
+  EXPECT_TRUE(same(together.comparison.psnr, apart.psnr));
+  EXPECT_TRUE(same(together.comparison.over_threshold_share, apart.over_threshold_share));
+  EXPECT_EQ(together.comparison.differing, apart.differing);
+  EXPECT_EQ(together.comparison.nan_a, apart.nan_a);
+  EXPECT_EQ(together.comparison.nan_b, apart.nan_b);
+  EXPECT_EQ(together.comparison.inf_a, apart.inf_a);
+  EXPECT_EQ(together.comparison.inf_b, apart.inf_b);
+  EXPECT_TRUE(same(together.contract.worst, apart_check.worst)) << together.contract.worst << " " << apart_check.worst;
+  EXPECT_EQ(together.contract.holds, apart_check.holds);
+  EXPECT_TRUE(same(together.contract.bound, apart_check.bound));
+  EXPECT_EQ(together.contract.measure, apart_check.measure);
+}
+
+TEST(DiffMetrics, MeasuredTogetherAsApart) {
+  // Float, codes and depth contracts over blocks of finite values (the four-lane path) and over
+  // blocks holding NaN or an infinity (the exact path).
+  const uint32_t width = 1500, height = 3;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> value(-40.0f, 40.0f), change(-0.01f, 0.01f);
+  const ResourceRecord half = image_record(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height);
+  std::vector<uint16_t> a(width * height * 4), b(a.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    a[i] = float_to_half(value(rng));
+    b[i] = i % 3 == 0 ? a[i] : float_to_half(half_to_float(a[i]) * (1.0f + change(rng)));
+  }
+  auto bytes = [](const auto& values) {
+    std::vector<uint8_t> out(values.size() * sizeof(values[0]));
+    std::memcpy(out.data(), values.data(), out.size());
+    return out;
+  };
+  for (const ComparisonContract& contract :
+       {ComparisonContract::floats(1e-4, 2e-3, "test"), ComparisonContract::floats(0.0, 0.0, "test")}) {
+    expect_measured_as_apart(contract, half, bytes(a), bytes(b));
+    std::vector<uint16_t> with_nan = b;
+    with_nan[2500 * 4 + 1] = 0x7e00;
+    with_nan[10] = 0x7c00;
+    expect_measured_as_apart(contract, half, bytes(a), bytes(with_nan));
+  }
+
+  const ResourceRecord unorm = image_record(VK_FORMAT_R16_UNORM, ResourceKind::lookup_table, width, height);
+  std::vector<uint16_t> codes_a(width * height), codes_b(codes_a.size());
+  for (size_t i = 0; i < codes_a.size(); ++i) {
+    codes_a[i] = uint16_t(rng());
+    codes_b[i] = uint16_t(codes_a[i] + (i % 5 == 0 ? rng() % 3 : 0));
+  }
+  expect_measured_as_apart(ComparisonContract::codes(1, "test"), unorm, bytes(codes_a), bytes(codes_b));
+
+  const ResourceRecord depth = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::linear_depth, width, height);
+  std::vector<float> near(width * height), far(near.size());
+  for (size_t i = 0; i < near.size(); ++i) {
+    near[i] = 0.5f + float(i % 97);
+    far[i] = i % 7 == 0 ? near[i] * 1.0004f : near[i];
+  }
+  expect_measured_as_apart(ComparisonContract::depth(5e-4, "test"), depth, bytes(near), bytes(far));
+  far[17] = NAN;
+  expect_measured_as_apart(ComparisonContract::depth(5e-4, "test"), depth, bytes(near), bytes(far));
+}
+
 TEST(DiffMetrics, IdenticalInputsHaveInfinitePsnr) {
   const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 2, 1);
   const auto a = floats({1.0f, -7.0f});
