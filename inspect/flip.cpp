@@ -205,29 +205,48 @@ struct Kernel {
 using Lanes = simd::Floats8;
 constexpr uint32_t kLanes = sizeof(Lanes) / sizeof(float);
 
-// dst[x] = Σ_k taps[k] · sources[k][x] for x in [0, n), or Σ_k taps[k] · (sources[k][x] −
-// centre[x]) for a zero-sum kernel; added to what dst holds where `add`.
-NIGHTCAP_AVX2_CLONE void weighted_sum(const Kernel& kernel, const float* const* sources, const float* centre,
-                                      float* dst, uint32_t n, bool add) {
-  const size_t taps = kernel.taps.size();
-  uint32_t x = 0;
-  // Pixels outside, taps inside: each block of pixels sums in a register.
-  for (; x + kLanes <= n; x += kLanes) {
-    Lanes sum{}, origin{}, source;
-    if (add) std::memcpy(&sum, dst + x, sizeof sum);
-    if (kernel.zero_sum) std::memcpy(&origin, centre + x, sizeof origin);
-    for (size_t k = 0; k < taps; ++k) {
-      std::memcpy(&source, sources[k] + x, sizeof source);
+// dst[x..x+lanes) = Σ_k taps[k] · sources[k][x..], or Σ_k taps[k] · (sources[k][x..] − centre[x..])
+// for a zero-sum kernel; added to what dst holds where `add`. The block sums in registers.
+template <typename Vector, bool kZeroSum>
+[[gnu::always_inline]] inline void weighted_block(const Kernel& kernel, const float* const* sources,
+                                                  const float* centre, float* dst, uint32_t x, bool add) {
+  Vector sum{}, origin{}, source;
+  if (add) std::memcpy(&sum, dst + x, sizeof sum);
+  if constexpr (kZeroSum) std::memcpy(&origin, centre + x, sizeof origin);
+  for (size_t k = 0; k < kernel.taps.size(); ++k) {
+    std::memcpy(&source, sources[k] + x, sizeof source);
+    if constexpr (kZeroSum)
       sum += kernel.taps[k] * (source - origin);
-    }
-    std::memcpy(dst + x, &sum, sizeof sum);
+    else
+      sum += kernel.taps[k] * source;
   }
+  std::memcpy(dst + x, &sum, sizeof sum);
+}
+
+template <bool kZeroSum>
+[[gnu::always_inline]] inline void weighted_row(const Kernel& kernel, const float* const* sources, const float* centre,
+                                                float* dst, uint32_t n, bool add) {
+  uint32_t x = 0;
+  for (; x + 2 * kLanes <= n; x += 2 * kLanes)
+    weighted_block<simd::Floats16, kZeroSum>(kernel, sources, centre, dst, x, add);
+  for (; x + kLanes <= n; x += kLanes) weighted_block<Lanes, kZeroSum>(kernel, sources, centre, dst, x, add);
   for (; x < n; ++x) {
     float sum = add ? dst[x] : 0.0f;
-    const float origin = kernel.zero_sum ? centre[x] : 0.0f;
-    for (size_t k = 0; k < taps; ++k) sum += kernel.taps[k] * (sources[k][x] - origin);
+    for (size_t k = 0; k < kernel.taps.size(); ++k)
+      sum += kernel.taps[k] * (kZeroSum ? sources[k][x] - centre[x] : sources[k][x]);
     dst[x] = sum;
   }
+}
+
+// dst[x] = Σ_k taps[k] · sources[k][x] for x in [0, n), or Σ_k taps[k] · (sources[k][x] −
+// centre[x]) for a zero-sum kernel; added to what dst holds where `add`. Sixteen pixels at a time
+// (one AVX-512 register, two AVX2 ones), each pixel's sum the same operations whatever the width.
+NIGHTCAP_SIMD_CLONES void weighted_sum(const Kernel& kernel, const float* const* sources, const float* centre,
+                                       float* dst, uint32_t n, bool add) {
+  if (kernel.zero_sum)
+    weighted_row<true>(kernel, sources, centre, dst, n, add);
+  else
+    weighted_row<false>(kernel, sources, centre, dst, n, add);
 }
 
 // A separable 2D kernel as a sum of products horizontal(x) · vertical(y).

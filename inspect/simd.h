@@ -12,6 +12,7 @@
 
 namespace nightcap::simd {
 
+using Floats16 = float __attribute__((vector_size(64)));
 using Floats8 = float __attribute__((vector_size(32)));
 using Floats4 = float __attribute__((vector_size(16)));
 using Doubles4 = double __attribute__((vector_size(32)));
@@ -22,6 +23,8 @@ using Halves8 = uint16_t __attribute__((vector_size(16)));
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define NIGHTCAP_AVX2_CLONE __attribute__((target_clones("avx2", "default")))
+#define NIGHTCAP_SIMD_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
 #else
 #define NIGHTCAP_AVX2_CLONE
+#define NIGHTCAP_SIMD_CLONES
 #endif
