@@ -57,6 +57,17 @@ void decode_values(const FormatInfo& f, uint32_t aspect, std::span<const uint8_t
       }
       tabled = f.vk;
     }
+    if (channels == 4) {  // RGBA: the loop over channels unrolled (FLIP decodes displayed images so)
+      for (uint64_t t = 0; t < texels; ++t) {
+        const uint8_t* code = plane.data() + 4 * t;
+        float* value = out + 4 * t;
+        value[0] = table[0][code[0]];
+        value[1] = table[1][code[1]];
+        value[2] = table[2][code[2]];
+        value[3] = table[3][code[3]];
+      }
+      return;
+    }
     for (uint64_t t = 0; t < texels; ++t)
       for (uint32_t c = 0; c < channels; ++c) out[t * channels + c] = table[c][plane[t * channels + c]];
     return;
