@@ -499,7 +499,7 @@ void CaptureWriter::encode(const ResourceRecord& record, const std::shared_ptr<c
     write_buffer_blob(file, *raw, options_.zstd_level);
   else
     write_image_blob(file, *format_info(record.format), record.extent, *raw,
-                     options_.images.value_or(image_encoding_for(record.kind)), 0);
+                     options_.images.value_or(image_encoding_for(record.kind, *format_info(record.format))), 0);
   const uint64_t size = fs::file_size(file);
   std::lock_guard lock(mutex_);
   bytes_written_ += size;

@@ -15,20 +15,25 @@ namespace nightcap {
 //   normal A2B10G10R10   ZIP 0.019, PIZ 0.040
 //   material RGBA8       ZIP 0.042, PIZ 0.034
 //   lookup_table R8      PIZ 0.84, ZIP 0.87
+// Lookup tables of wider channels, measured later (2026-11-27, the city block's frame, sizes in
+// bytes): shadow depth D32 PIZ 10.5 M, ZIP 4.6 M; 4-moment shadow maps RGBA16 UNORM PIZ 1.9 M,
+// ZIP 0.48 M; LTC tables RGBA32F/RG32F ZIP 2% smaller. PIZ's wavelet works on 16-bit words, which
+// splits a float or a 16-bit code it cannot predict.
 // stencil and mask (R8_UINT) were not measured: they take lookup_table's choice, the other
 // 8-bit integer image.
 // light_clusters (R32G32_UINT offsets and counts, 3D) was not measured: mostly zero counts and
 // offsets rising by small steps, smooth content, so ZIP.
 // Noisy, dithered or 8-bit-per-channel content compresses best with PIZ's wavelet; smooth
 // content and float depth with ZIP, whose higher levels cost more time than they save bytes.
-ImageEncoding image_encoding_for(ResourceKind kind) {
+ImageEncoding image_encoding_for(ResourceKind kind, const FormatInfo& format) {
   constexpr ImageEncoding piz{ExrCompression::piz, 1};
   constexpr ImageEncoding zip{ExrCompression::zip, 1};
   switch (kind) {
+    case ResourceKind::lookup_table:
+      return format.texel_bytes / format.channels == 1 ? piz : zip;
     case ResourceKind::colour:
     case ResourceKind::packed_normal:
     case ResourceKind::motion:
-    case ResourceKind::lookup_table:
     case ResourceKind::stencil:
     case ResourceKind::mask:
       return piz;

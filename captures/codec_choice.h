@@ -1,4 +1,4 @@
-// Which OpenEXR codec an image blob gets, by the kind of data it holds.
+// Which OpenEXR codec an image blob gets, by the kind of data it holds and its format.
 #pragma once
 
 #include "captures/blob_codec.h"
@@ -6,6 +6,6 @@
 
 namespace nightcap {
 
-ImageEncoding image_encoding_for(ResourceKind kind);
+ImageEncoding image_encoding_for(ResourceKind kind, const FormatInfo& format);
 
 }  // namespace nightcap

@@ -24,6 +24,7 @@
 #include <random>
 
 #include "captures/blob_codec.h"
+#include "captures/codec_choice.h"
 
 namespace nightcap {
 namespace {
@@ -381,6 +382,19 @@ TEST(BufferBlob, WrongSizeOrDamageIsRejected) {
   write_bytes(file, frame);
   damage(
       file, [&] { return read_buffer_blob(file, raw.size()); }, raw.size());
+}
+
+TEST(CodecChoice, LookupTablesOfBytesTakePizAndWiderOnesZip) {
+  // PIZ predicts 16-bit words: a byte code's HALF sample is one, a float or 16-bit code is not.
+  auto codec = [](VkFormat format) {
+    return image_encoding_for(ResourceKind::lookup_table, *format_info(format)).compression;
+  };
+  EXPECT_EQ(codec(VK_FORMAT_R8_UINT), ExrCompression::piz);
+  EXPECT_EQ(codec(VK_FORMAT_D32_SFLOAT), ExrCompression::zip);
+  EXPECT_EQ(codec(VK_FORMAT_R16G16B16A16_UNORM), ExrCompression::zip);
+  EXPECT_EQ(codec(VK_FORMAT_R32G32B32A32_SFLOAT), ExrCompression::zip);
+  EXPECT_EQ(image_encoding_for(ResourceKind::colour, *format_info(VK_FORMAT_R8G8B8A8_SRGB)).compression,
+            ExrCompression::piz);
 }
 
 }  // namespace
