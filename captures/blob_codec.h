@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "captures/decoded_parts.h"
 #include "passes/core/format.h"
 
 namespace nightcap {
@@ -47,8 +48,12 @@ void write_image_blob(const std::filesystem::path& file, const FormatInfo& forma
 // Throws CaptureError (naming `file`) when the file is unreadable, truncated, or its parts
 // do not match the format and extent. `threads`: OpenEXR threads decoding this file, as for
 // write_image_blob (0 for a caller that already keeps every core busy).
+// `decoded_parts`: where parts of this blob that other blobs share are found, and kept.
 std::vector<uint8_t> read_image_blob(const std::filesystem::path& file, const FormatInfo& format,
-                                     const ImageExtent& extent, int threads = -1);
+                                     const ImageExtent& extent, int threads = -1,
+                                     DecodedParts* decoded_parts = nullptr);
+// The smallest part that read_image_blob looks for in, and keeps in, DecodedParts.
+constexpr uint64_t kSharedPartBytes = 256u << 10;
 
 void write_buffer_blob(const std::filesystem::path& file, std::span<const uint8_t> raw, int zstd_level);
 std::vector<uint8_t> read_buffer_blob(const std::filesystem::path& file, uint64_t expected_size);

@@ -642,10 +642,11 @@ fs::path Capture::blob_file(const std::string& blob) const {
   return real;
 }
 
-std::vector<uint8_t> read_resource_blob(const fs::path& file, const ResourceRecord& record, int threads) {
-  std::vector<uint8_t> raw = record.is_buffer
-                                 ? read_buffer_blob(file, record.buffer_size)
-                                 : read_image_blob(file, *format_info(record.format), record.extent, threads);
+std::vector<uint8_t> read_resource_blob(const fs::path& file, const ResourceRecord& record, int threads,
+                                        DecodedParts* decoded_parts) {
+  std::vector<uint8_t> raw =
+      record.is_buffer ? read_buffer_blob(file, record.buffer_size)
+                       : read_image_blob(file, *format_info(record.format), record.extent, threads, decoded_parts);
   if (content_hash(raw) != record.hash)
     throw CaptureError(file.string() + ": content does not match its hash " + record.hash + " (corrupt capture)");
   return raw;
@@ -659,7 +660,7 @@ std::vector<uint8_t> read_file_blob(const fs::path& file, const std::string& has
 }
 
 std::vector<uint8_t> Capture::load(const ResourceRecord& record, int threads) const {
-  return read_resource_blob(blob_file(record.blob), record, threads);
+  return read_resource_blob(blob_file(record.blob), record, threads, decoded_parts_.get());
 }
 
 std::string Capture::load_shader_source(const ShaderRecord& record) const {

@@ -134,7 +134,7 @@ CaptureManifest manifest_from_json(const nlohmann::json& json, const std::string
 // A blob file read and checked against the hash its record states: a resource decoded to its raw
 // bytes, a shader or its source as the bytes of the file. Throw CaptureError naming `file`.
 std::vector<uint8_t> read_resource_blob(const std::filesystem::path& file, const ResourceRecord& record,
-                                        int threads = -1);
+                                        int threads = -1, DecodedParts* decoded_parts = nullptr);
 std::vector<uint8_t> read_file_blob(const std::filesystem::path& file, const std::string& hash);
 
 // Removes `<target>.tmp-<pid>` and `<target>.old-<pid>` folders whose process is gone (a killed
@@ -189,6 +189,9 @@ class CaptureWriter {
   std::vector<std::thread> workers_;
 };
 
+// What one opened capture keeps of its decoded shared parts (DecodedParts), at most.
+constexpr uint64_t kDecodedPartsBudget = 64u << 20;
+
 class Capture {
  public:
   // Reads and validates the manifest, and nothing else. Throws CaptureError naming the file.
@@ -212,6 +215,9 @@ class Capture {
 
  private:
   std::filesystem::path folder_, blob_root_;
+  // Parts that several of its image blobs share, decoded once (the resources that passes write a
+  // level or a layer at a time).
+  std::shared_ptr<DecodedParts> decoded_parts_ = std::make_shared<DecodedParts>(kDecodedPartsBudget);
   CaptureManifest manifest_;
 };
 

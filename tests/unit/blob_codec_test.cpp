@@ -397,5 +397,54 @@ TEST(CodecChoice, LookupTablesOfBytesTakePizAndWiderOnesZip) {
             ExrCompression::piz);
 }
 
+TEST(DecodedParts, ASharedPartIsDecodedOnceAndDamageIsNotHidden) {
+  // Two records of a mip chain that differ only in mip 1, as after two passes of a bloom chain:
+  // reading the second through the cache copies mip 0 instead of decoding it again.
+  BlobDir dir;
+  const FormatInfo format = *format_info(VK_FORMAT_R16G16B16A16_SFLOAT);
+  const ImageExtent extent{512, 128, 1, 3, 1};  // mip 0: 512 KiB, a shared part; mips 1, 2 too small
+  std::vector<uint8_t> first = smooth_raw(format, extent, 1), second = first;
+  const uint64_t mip1 = raw_subresource_offset(format, extent, 0, 1, 0);
+  for (uint64_t i = mip1; i < mip1 + 4096; ++i) second[i] ^= 0x11;
+  for (const ImageEncoding encoding : {ImageEncoding{ExrCompression::zip, 1}, ImageEncoding{ExrCompression::piz}}) {
+    SCOPED_TRACE(image_encoding_name(encoding));
+    write_image_blob(dir / "first.exr", format, extent, first, encoding);
+    write_image_blob(dir / "second.exr", format, extent, second, encoding);
+    DecodedParts parts(64u << 20);
+    EXPECT_EQ(read_image_blob(dir / "first.exr", format, extent, -1, &parts), first);
+    EXPECT_EQ(parts.hits(), 0u);
+    EXPECT_EQ(read_image_blob(dir / "second.exr", format, extent, -1, &parts), second);
+    EXPECT_EQ(parts.hits(), 1u);
+    EXPECT_EQ(read_image_blob(dir / "first.exr", format, extent, -1, &parts), first);
+    EXPECT_EQ(parts.hits(), 2u);
+
+    // A flipped byte in the second file's mip 0 changes its digest: decoded, not found, it
+    // fails as damage (or decodes to other bytes, which the capture's hash check refuses).
+    std::vector<uint8_t> bytes = file_bytes(dir / "second.exr");
+    bytes[bytes.size() / 4] ^= 0x40;
+    write_bytes(dir / "damaged.exr", bytes);
+    try {
+      EXPECT_NE(read_image_blob(dir / "damaged.exr", format, extent, -1, &parts), second);
+    } catch (const CaptureError&) {
+    }
+    EXPECT_EQ(parts.hits(), 2u);
+  }
+}
+
+TEST(DecodedParts, KeepsNoMoreThanItsBudgetOldestDroppedFirst) {
+  DecodedParts parts(10);
+  const std::vector<uint8_t> six(6, 1), four(4, 2), five(5, 3);
+  parts.keep({1, 1}, six);
+  parts.keep({2, 2}, four);
+  ASSERT_TRUE(parts.find({1, 1}));
+  EXPECT_EQ(*parts.find({2, 2}), four);
+  parts.keep({3, 3}, five);  // 15 bytes: the oldest goes
+  EXPECT_FALSE(parts.find({1, 1}));
+  EXPECT_TRUE(parts.find({2, 2}));
+  EXPECT_TRUE(parts.find({3, 3}));
+  parts.keep({4, 4}, std::vector<uint8_t>(11));  // larger than the budget: not kept
+  EXPECT_FALSE(parts.find({4, 4}));
+}
+
 }  // namespace
 }  // namespace nightcap
