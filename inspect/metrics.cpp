@@ -142,6 +142,17 @@ using DoubleMasks = int64_t __attribute__((vector_size(32)));
   std::memcpy(&y##_floats, (b) + (at), 16); \
   const Doubles4 x = __builtin_convertvector(x##_floats, Doubles4), y = __builtin_convertvector(y##_floats, Doubles4)
 
+// |b − a| = d, for a value a of magnitude ax, as a share of what a float contract allows it: 0
+// where the values are equal, infinite where the bound is 0 and they are not. For a double and for
+// lanes of them, returned through `departure`: by value, the clones' calling conventions would
+// differ (GCC's -Wpsabi).
+template <typename Values>
+[[gnu::always_inline]] inline void float_departure(const ComparisonContract& contract, const Values& d,
+                                                   const Values& ax, Values& departure) {
+  const Values allowed = contract.absolute + contract.relative * ax;
+  departure = d == 0 ? Values{} : allowed > 0 ? d / allowed : Values{} + INFINITY;
+}
+
 // A block of finite values, four at a time: the same sums and counts as tally_any, the sum of
 // squares in four lanes added at the end; with `departs` (a float contract), also its largest
 // departure into `worst` as worst_departure_finite measures it, in the same pass. False, `t` and
@@ -165,8 +176,8 @@ NIGHTCAP_AVX2_CLONE bool tally_finite(const float* a, const float* b, uint64_t t
     largest = d > largest ? d : largest;
     squares += d * d;
     if (departs) {
-      const Doubles4 allowed = departs->absolute + departs->relative * ax;
-      const Doubles4 departure = d == 0 ? Doubles4{} : allowed > 0 ? d / allowed : Doubles4{} + INFINITY;
+      Doubles4 departure;
+      float_departure(*departs, d, ax, departure);
       departure_largest = departure > departure_largest ? departure : departure_largest;
     }
     const Doubles4 threshold = relative ? 1e-3 * (ax > 1.0 ? ax : Doubles4{} + 1.0) : Doubles4{} + fixed;
@@ -190,8 +201,9 @@ NIGHTCAP_AVX2_CLONE bool tally_finite(const float* a, const float* b, uint64_t t
     largest_rest = std::max(largest_rest, d);
     squares_rest += d * d;
     if (departs) {
-      const double allowed = departs->absolute + departs->relative * std::abs(x);
-      departure_rest = std::max(departure_rest, d == 0 ? 0.0 : allowed > 0 ? d / allowed : INFINITY);
+      double departure;
+      float_departure(*departs, d, std::abs(x), departure);
+      departure_rest = std::max(departure_rest, departure);
     }
     differs[i] = d != 0 ? -1 : 0;
     over[i] = d > (relative ? 1e-3 * std::max(1.0, std::abs(x)) : fixed) ? -1 : 0;
@@ -279,17 +291,20 @@ NIGHTCAP_AVX2_CLONE bool worst_departure_finite(const float* a, const float* b, 
   uint64_t i = 0;
   for (; i + 4 <= n; i += 4) {
     NIGHTCAP_LOAD_FOUR(a, b, i, x, y);
-    const Doubles4 d = x > y ? x - y : y - x, allowed = contract.absolute + contract.relative * (x < 0 ? -x : x);
+    const Doubles4 d = x > y ? x - y : y - x, ax = x < 0 ? -x : x;
     not_finite |= d - d != 0;
-    const Doubles4 departure = d == 0 ? Doubles4{} : allowed > 0 ? d / allowed : Doubles4{} + INFINITY;
+    Doubles4 departure;
+    float_departure(contract, d, ax, departure);
     largest = departure > largest ? departure : largest;
   }
   if ((not_finite[0] | not_finite[1] | not_finite[2] | not_finite[3]) != 0) return false;
   double rest = 0.0;
   for (; i < n; ++i) {
-    const double d = std::abs(double(a[i]) - b[i]), allowed = contract.absolute + contract.relative * std::abs(a[i]);
+    const double d = std::abs(double(a[i]) - b[i]);
     if (!std::isfinite(d)) return false;
-    rest = std::max(rest, d == 0 ? 0.0 : allowed > 0 ? d / allowed : INFINITY);
+    double departure;
+    float_departure(contract, d, std::abs(double(a[i])), departure);
+    rest = std::max(rest, departure);
   }
   worst = std::max({worst, largest[0], largest[1], largest[2], largest[3], rest});
   return true;
@@ -363,10 +378,8 @@ void depart_block(const ComparisonContract& contract, const FormatInfo& f, uint3
       departure = code_steps(f, uint32_t(i % channels), va[i], vb[i]);
     else if (contract.kind == Kind::linear_depth)
       departure = va[i] != 0 ? d / std::abs(double(va[i])) : INFINITY;
-    else {
-      const double allowed = contract.absolute + contract.relative * std::abs(double(va[i]));
-      departure = allowed > 0 ? d / allowed : INFINITY;
-    }
+    else
+      float_departure(contract, d, std::abs(double(va[i])), departure);
     if (std::isnan(departure)) departure = INFINITY;
     worst = std::max(worst, departure);
   }
@@ -478,8 +491,7 @@ ContractCheck check_contract_with(const ComparisonContract& contract, const Reso
         each_difference(*a.schema, a_raw, b_raw, [&](uint64_t, const SchemaField* f, uint32_t, double va, double vb) {
           double departure = INFINITY;  // integers and padding: exact
           if (is_float_field(f) && !(std::isnan(va) && std::isnan(vb))) {
-            const double allowed = contract.absolute + contract.relative * std::abs(va);
-            departure = va == vb ? 0.0 : allowed > 0 ? std::abs(va - vb) / allowed : INFINITY;
+            float_departure(contract, std::abs(va - vb), std::abs(va), departure);
             if (std::isnan(departure)) departure = INFINITY;
           } else if (is_float_field(f))
             departure = 0.0;  // NaN in both: agreement
