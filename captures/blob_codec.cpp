@@ -535,6 +535,14 @@ std::vector<uint8_t> read_image_blob(const std::filesystem::path& file, const Fo
     fail(file, "has " + std::to_string(count) + " parts, expected " + std::to_string(parts.size()) + " for " +
                    std::string(format.name) + " " + describe(extent));
   std::optional<Imf::MultiPartInputFile> piz_reader;
+  // Only a blob of several parts can share one with another blob (a blob of one part that decodes
+  // to the same bytes is the same blob); a small part decodes faster than it is found. A chunk
+  // that claims more bytes than the file has is left to the decoder to refuse.
+  std::optional<uint64_t> file_size;
+  if (decoded_parts && parts.size() > 1) {
+    std::error_code error;
+    if (const uint64_t size = std::filesystem::file_size(file, error); !error) file_size = size;
+  }
   for (size_t p = 0; p < parts.size(); ++p) {
     const Part& part = parts[p];
     const Layout layout = layout_of(format, part.aspect);
@@ -545,14 +553,10 @@ std::vector<uint8_t> read_image_blob(const std::filesystem::path& file, const Fo
     exr_compression_t compression;
     if (exr_get_compression(reader.context, int(p), &compression) != EXR_ERR_SUCCESS)
       reader.fail("part " + std::to_string(p) + " (" + part.name + ") has no compression");
-    // Only a blob of several parts can share one with another blob (a blob of one part that
-    // decodes to the same bytes is the same blob); a small part decodes faster than it is found.
     const uint64_t part_bytes = uint64_t(part.width) * uint64_t(part.rows) * aspect_texel_bytes(format, part.aspect);
     std::optional<DecodedParts::Digest> digest;
-    if (decoded_parts && parts.size() > 1 && part_bytes >= kSharedPartBytes) {
-      std::error_code error;
-      const uint64_t file_size = std::filesystem::file_size(file, error);
-      if (!error) digest = part_digest(reader, int(p), format, part, compression, file_size);
+    if (file_size && part_bytes >= kSharedPartBytes) {
+      digest = part_digest(reader, int(p), format, part, compression, *file_size);
       if (digest)
         if (const auto found = decoded_parts->find(*digest); found && found->size() == part_bytes) {
           std::memcpy(raw.data() + part.offset, found->data(), part_bytes);
