@@ -285,15 +285,21 @@ int run_program(std::vector<std::string> argv, const char* out, bool quiet) {
   return error == 0 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-// Median wall-clock milliseconds of ARGV over 5 runs after one that warms the file cache, output
-// discarded; a run whose exit status `accepted` refuses throws.
+// Wall-clock milliseconds of one run of ARGV, output discarded; a run whose exit status
+// `accepted` refuses throws.
+double timed_run_ms(const std::vector<std::string>& argv, const std::function<bool(int)>& accepted) {
+  const double start = now_ms();
+  const int code = run_program(argv, "/dev/null", true);
+  const double elapsed = now_ms() - start;
+  if (!accepted(code)) throw std::runtime_error(argv.front() + " " + argv.at(1) + " exited " + std::to_string(code));
+  return elapsed;
+}
+
+// Median wall-clock milliseconds of ARGV over 5 runs after one that warms the file cache.
 double warm_median_ms(const std::vector<std::string>& argv, const std::function<bool(int)>& accepted) {
   std::vector<double> runs;
   for (int r = 0; r < 6; ++r) {
-    const double start = now_ms();
-    const int code = run_program(argv, "/dev/null", true);
-    const double elapsed = now_ms() - start;
-    if (!accepted(code)) throw std::runtime_error(argv.front() + " " + argv.at(1) + " exited " + std::to_string(code));
+    const double elapsed = timed_run_ms(argv, accepted);
     if (r > 0) runs.push_back(elapsed);
   }
   return median(runs);
@@ -306,15 +312,8 @@ std::pair<double, double> alternating_medians_ms(const std::vector<std::string>&
                                                  const std::function<bool(int)>& accepted_x,
                                                  const std::function<bool(int)>& accepted_y, int runs) {
   std::vector<double> x_ms, y_ms;
-  auto timed = [](const std::vector<std::string>& argv, const std::function<bool(int)>& accepted) {
-    const double start = now_ms();
-    const int code = run_program(argv, "/dev/null", true);
-    const double elapsed = now_ms() - start;
-    if (!accepted(code)) throw std::runtime_error(argv.front() + " " + argv.at(1) + " exited " + std::to_string(code));
-    return elapsed;
-  };
   for (int r = 0; r <= runs; ++r) {
-    const double x_run = timed(x, accepted_x), y_run = timed(y, accepted_y);
+    const double x_run = timed_run_ms(x, accepted_x), y_run = timed_run_ms(y, accepted_y);
     if (r == 0) continue;
     x_ms.push_back(x_run);
     y_ms.push_back(y_run);
@@ -452,7 +451,7 @@ void bench_blob_read(const nc::Capture& capture, const nc::FrameRecord& frame) {
 //    start-up (idiff's on a 1x1 pair, nightcap's on a diff of a capture with itself, which
 //    reads both manifests and compares hashes). Each is timed in turn with its start-up, idiff's
 //    pair by pair: idiff's start-up is most of each of its runs, and measured apart from them it
-//    moved the ratio by a third from one run of the benchmark to the next.
+//    moved the ratio between 3.9 and 6.5 from one run of the benchmark to the next.
 void bench_diff(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   const fs::path dir = fs::temp_directory_path() / ("nightcap-bench-diff-" + std::to_string(getpid()));
   fs::remove_all(dir);
