@@ -1,6 +1,9 @@
 #include "passes/core/buffer_schema.h"
 
+#include <charconv>
 #include <cstring>
+#include <optional>
+#include <string_view>
 
 namespace nightcap {
 namespace {
@@ -29,7 +32,40 @@ double load(const uint8_t* at) {
   return double(value);
 }
 
+std::optional<Scalar> scalar_named(std::string_view name) {
+  for (Scalar s : {Scalar::u32, Scalar::i32, Scalar::f32, Scalar::f64})
+    if (name == scalar_name(s)) return s;
+  return std::nullopt;
+}
+
 }  // namespace
+
+// The scalar and count of `type` into `field`, where type_name() gives `type` for a count up to
+// 1024 (a record's per-tile arrays): parsed, then printed back, so that a name it would spell
+// otherwise ("f32[3]" for "vec3") is unknown.
+bool read_type(std::string_view type, SchemaField& field) {
+  std::optional<Scalar> scalar;
+  uint32_t count = 1;
+  if (type == "mat4") {
+    scalar = Scalar::f32;
+    count = 16;
+  } else if (const size_t open = type.find('['); open != type.npos && type.back() == ']') {
+    scalar = scalar_named(type.substr(0, open));
+    const std::string_view digits = type.substr(open + 1, type.size() - open - 2);
+    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), count);
+    if (error != std::errc() || end != digits.data() + digits.size()) return false;
+  } else if (const size_t vec = type.find("vec"); vec != type.npos && type.size() == vec + 4) {
+    const std::string_view prefix = type.substr(0, vec);
+    scalar = prefix == "u" ? Scalar::u32 : prefix == "i" ? Scalar::i32 : Scalar::f32;
+    count = uint32_t(type.back() - '0');
+  } else {
+    scalar = scalar_named(type);
+  }
+  if (!scalar || count < 1 || count > 1024 || type_name({"", *scalar, count, 0}) != type) return false;
+  field.scalar = *scalar;
+  field.count = count;
+  return true;
+}
 
 std::string type_name(const SchemaField& field) {
   if (field.count == 1) return scalar_name(field.scalar);
@@ -61,16 +97,8 @@ BufferSchema schema_from_json(const nlohmann::json& json) {
     field.name = f.at("name").get<std::string>();
     field.offset = f.at("offset").get<uint32_t>();
     const std::string type = f.at("type").get<std::string>();
-    // Every name type_name() can give, for counts up to 1024 (a record's per-tile arrays).
-    bool known = false;
-    for (Scalar s : {Scalar::u32, Scalar::i32, Scalar::f32, Scalar::f64})
-      for (uint32_t count = 1; count <= 1024 && !known; ++count)
-        if (type_name({"", s, count, 0}) == type) {
-          field.scalar = s;
-          field.count = count;
-          known = true;
-        }
-    if (!known) throw std::invalid_argument("field '" + field.name + "' has unknown type '" + type + "'");
+    if (!read_type(type, field))
+      throw std::invalid_argument("field '" + field.name + "' has unknown type '" + type + "'");
     if (uint64_t(field.offset) + field.bytes() > schema.stride)
       throw std::invalid_argument("field '" + field.name + "' ends past the stride");
     schema.fields.push_back(std::move(field));

@@ -9,6 +9,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -43,6 +44,9 @@ struct BufferSchema {
 
 // "u32", "f32", "vec3", "uvec4", "ivec2", "mat4", "f64[16]", …: one name per (scalar, count).
 std::string type_name(const SchemaField& field);
+// The scalar and count that `type`, one of type_name()'s names, stands for, into `field`; false
+// for any other name.
+bool read_type(std::string_view type, SchemaField& field);
 nlohmann::json to_json(const BufferSchema& schema);
 // Throws std::invalid_argument saying what is wrong: unknown type, a field past the stride.
 BufferSchema schema_from_json(const nlohmann::json& json);

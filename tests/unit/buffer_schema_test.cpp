@@ -69,6 +69,21 @@ TEST(BufferSchema, JsonRoundTripsAndRejectsWhatItCannotRead) {
                std::invalid_argument);
 }
 
+TEST(BufferSchema, EveryTypeNameReadsBackAndNoOther) {
+  for (Scalar s : {Scalar::u32, Scalar::i32, Scalar::f32, Scalar::f64})
+    for (uint32_t count = 1; count <= 1024; ++count) {
+      const std::string name = type_name({"", s, count, 0});
+      SchemaField read;
+      ASSERT_TRUE(read_type(name, read)) << name;
+      EXPECT_EQ(read.scalar, s) << name;
+      EXPECT_EQ(read.count, count) << name;
+    }
+  SchemaField read;
+  for (const char* other : {"", "f32[3]", "f32[016]", "f32[1025]", "f64[0]", "f32[]", "u32[4x]", "u32[+5]", "vec5",
+                            "vec1", "dvec3", "ivec", "mat3", "f16", "u32 ", "f64[16]]"})
+    EXPECT_FALSE(read_type(other, read)) << other;
+}
+
 class DrawListComparison : public ::testing::Test {
  protected:
   void SetUp() override {
