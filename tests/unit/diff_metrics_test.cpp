@@ -310,6 +310,27 @@ TEST(Contract, SrgbCodesAreCountedBeforeDecoding) {
       check_contract(ComparisonContract::codes(1, "test"), r, a, r, std::vector<uint8_t>{200, 22, 3, 255}).holds);
 }
 
+TEST(Contract, ByteCodesLargestStepWhereverItIs) {
+  // 9x5 RGBA8: 180 bytes, read 32 at a time and the last 20 one by one. Each step is found alone,
+  // wherever it lies, in either direction, and the largest of several wins.
+  const ResourceRecord r = image_record(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour, 9, 5);
+  const auto contract = ComparisonContract::codes(1, "test");
+  std::vector<uint8_t> a(180);
+  for (size_t i = 0; i < a.size(); ++i) a[i] = uint8_t(i * 37 % 200 + 20);
+  for (size_t at : {size_t(0), size_t(31), size_t(32), size_t(159), size_t(160), size_t(179)})
+    for (int step : {-17, 3, 235}) {
+      std::vector<uint8_t> b = a;
+      b[at] = uint8_t(std::clamp(int(a[at]) + step, 0, 255));
+      EXPECT_EQ(check_contract(contract, r, a, r, b).worst, std::abs(int(b[at]) - int(a[at]))) << at << " " << step;
+    }
+  std::vector<uint8_t> b = a;
+  b[5] = uint8_t(a[5] + 2);
+  b[170] = uint8_t(a[170] - 9);
+  b[64] = uint8_t(a[64] + 4);
+  EXPECT_EQ(check_contract(contract, r, a, r, b).worst, 9.0);
+  EXPECT_EQ(check_contract(contract, r, a, r, a).worst, 0.0);
+}
+
 TEST(Contract, AnglesOfNormals) {
   const ResourceRecord r = image_record(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::normal, 1, 1);
   auto word = [](int x, int y, int z) {
