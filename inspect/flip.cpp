@@ -127,7 +127,7 @@ void lab_hunt(const float xyz[3], const ColourSpace& space, float out[3]) {
 // the same operations in the same order as the scalar helpers (so the same bits): the multiplies
 // of `multiply`, std::clamp's comparisons, lab_hunt's branch as a select of both sides.
 NIGHTCAP_SIMD_CLONES void clamped_hunt_lab(float* lightness, float* a, float* b, size_t begin, size_t end,
-                                          const ColourSpace& space) {
+                                           const ColourSpace& space) {
   using Lanes = simd::Floats8;
   using Words = simd::Words8;
   constexpr float delta = 6.0f / 29.0f;
@@ -621,7 +621,7 @@ using SignedWords = int32_t __attribute__((vector_size(32)));
 // ΔE_c^(1 − ΔE_f). The last pixels that do not fill eight lanes run padded through the same
 // lanes, so a pixel's value does not depend on where in the row it is.
 NIGHTCAP_SIMD_CLONES void pixel_errors(const Perception& r, const Perception& t, uint32_t width, float max_distance,
-                                      float* error, float* colour, float* feature) {
+                                       float* error, float* colour, float* feature) {
   const float knee = float(kRemapBreakShare) * max_distance;
   const std::vector<float>* planes[10] = {&r.lightness, &r.a, &r.b, &r.edges, &r.points,
                                           &t.lightness, &t.a, &t.b, &t.edges, &t.points};
