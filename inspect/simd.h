@@ -1,8 +1,10 @@
 // Loops that the diff runs over every value of an image, written for SIMD. GCC and Clang compile
 // arithmetic on these vector types to SIMD instructions, which they would not do for the plain
 // loops at -O2; where the CPU has AVX2 (chosen when the program loads) a function marked
-// NIGHTCAP_AVX2_CLONE runs a clone compiled for it. AVX2 without FMA: both clones do the same
-// operations in the same order, so their results are the same bits.
+// NIGHTCAP_AVX2_CLONE runs a clone compiled for it, and one marked NIGHTCAP_SIMD_CLONES also has an
+// AVX-512 clone (wider registers, and twice as many of them). No clone fuses multiply-adds (the
+// build's -ffp-contract=off): every clone does the same operations in the same order, so their
+// results are the same bits.
 //
 // Values of these types are passed only inside one function: a helper taking or returning one
 // would have a different calling convention in each clone.
