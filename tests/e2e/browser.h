@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/under_ci.h"
+
 namespace nightcap::test {
 
 // Debian 12's package `chromium` (tests/install-deps.sh).
@@ -48,12 +50,8 @@ PageCheck check_page(const std::filesystem::path& html, const std::filesystem::p
 void screenshot_page(const std::filesystem::path& html, const std::filesystem::path& png, int width, int height,
                      const std::filesystem::path& scratch);
 
-// Chromium is installed by tests/install-deps.sh, so under CI its absence is a failure; elsewhere
-// the test is skipped.
-#define NIGHTCAP_REQUIRE_CHROMIUM()                                                                                 \
-  if (!std::filesystem::exists(::nightcap::test::kChromium)) {                                                      \
-    if (std::getenv("CI")) FAIL() << ::nightcap::test::kChromium.string() << " is missing (tests/install-deps.sh)"; \
-    GTEST_SKIP() << ::nightcap::test::kChromium.string() << " is not installed";                                    \
-  }
+// Chromium is installed by tests/install-deps.sh: see tests/under_ci.h.
+#define NIGHTCAP_REQUIRE_CHROMIUM() \
+  NIGHTCAP_REQUIRE_TOOL(std::filesystem::exists(::nightcap::test::kChromium), ::nightcap::test::kChromium.string())
 
 }  // namespace nightcap::test

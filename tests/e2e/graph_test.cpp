@@ -5,12 +5,12 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
-#include <optional>
 #include <regex>
 #include <set>
 #include <sstream>
 
 #include "tests/e2e/cli.h"
+#include "tests/under_ci.h"
 
 namespace nightcap::test {
 namespace {
@@ -104,14 +104,10 @@ void expect_frame_drawn(const Dot& dot, const nlohmann::json& frame) {
   }
 }
 
-// Graphviz's rendering of `dot_text` as SVG, or nothing when `dot` is not installed: a failure
-// under CI (CI=true), where tests/install-deps.sh has installed it, else the caller skips.
-std::optional<std::string> render_svg(const std::string& dot_text, const fs::path& dir) {
-  if (std::system("command -v dot >/dev/null 2>&1") != 0) {
-    const char* ci = std::getenv("CI");
-    if (ci && std::string(ci) == "true") ADD_FAILURE() << "Graphviz `dot` is not installed (tests/install-deps.sh)";
-    return std::nullopt;
-  }
+bool dot_installed() { return std::system("command -v dot >/dev/null 2>&1") == 0; }
+
+// Graphviz's rendering of `dot_text` as SVG; the caller has required `dot` (dot_installed).
+std::string render_svg(const std::string& dot_text, const fs::path& dir) {
   std::ofstream(dir / "graph.dot", std::ios::binary) << dot_text;
   const std::string command =
       "dot -Tsvg " + quote(dir / "graph.dot") + " -o " + quote(dir / "graph.svg") + " 2>" + quote(dir / "dot.err");
@@ -148,12 +144,14 @@ TEST(Graph, DotDrawsEveryPassAndResourceVersion) {
   std::stringstream text;
   text << file.rdbuf();
   EXPECT_EQ(text.str(), run_cli("graph --dot " + quote(capture)).out);
-  if (!render_svg(text.str(), dir)) GTEST_SKIP() << "Graphviz `dot` is not installed";
+  NIGHTCAP_REQUIRE_TOOL(dot_installed(), "Graphviz `dot`");
+  render_svg(text.str(), dir);
 }
 
 TEST(Graph, HistoryEdgesComeFromThePreviousFrameAndGoToTheNext) {
   const fs::path capture = shared_capture("walk-8", kWalk);
   const nlohmann::json manifest = read_json(capture / "manifest.json");
+  std::vector<std::string> drawn;  // each frame's DOT, rendered once all frames are checked
   for (const auto& [frame, origin] : std::vector<std::pair<int, std::string>>{
            {0, "initial value (no earlier frame)"}, {3, "from frame 2"}, {5, "initial value (camera cut)"}}) {
     const CliResult r = run_cli("graph --dot --frame " + std::to_string(frame) + " " + quote(capture));
@@ -173,8 +171,10 @@ TEST(Graph, HistoryEdgesComeFromThePreviousFrameAndGoToTheNext) {
     for (const auto& [from, to] : dot.edges)
       kept_from_exposure |= to == kept_node && dot.nodes.at(from).label.rfind("exposure.value\\n", 0) == 0;
     EXPECT_TRUE(kept_from_exposure);
-    if (!render_svg(r.out, scratch("svg-history"))) GTEST_SKIP() << "Graphviz `dot` is not installed";
+    drawn.push_back(r.out);
   }
+  NIGHTCAP_REQUIRE_TOOL(dot_installed(), "Graphviz `dot`");
+  for (size_t i = 0; i < drawn.size(); ++i) render_svg(drawn[i], scratch("svg-history-" + std::to_string(i)));
 }
 
 TEST(Graph, SkippedPassesAreDashedWithTheirReason) {
@@ -193,7 +193,8 @@ TEST(Graph, SkippedPassesAreDashedWithTheirReason) {
   ASSERT_EQ(r.code, 0) << r.err;
   expect_frame_drawn(parse_dot(r.out), manifest.at("frames")[0]);
   EXPECT_NE(r.out.find("normals.pack\\nskipped: culled: no pass consumes its outputs"), std::string::npos) << r.out;
-  if (!render_svg(r.out, scratch("svg"))) GTEST_SKIP() << "Graphviz `dot` is not installed";
+  NIGHTCAP_REQUIRE_TOOL(dot_installed(), "Graphviz `dot`");
+  render_svg(r.out, scratch("svg"));
 }
 
 TEST(Graph, HostileNamesAreEscaped) {
@@ -222,9 +223,8 @@ TEST(Graph, HostileNamesAreEscaped) {
   EXPECT_NE(r.out.find(R"(label="d\"<b>}{&amp;amp;\n)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(R"(skipped: a \"quoted\" \\back\\slash\nnew line <i>")"), std::string::npos) << r.out;
 
-  const std::optional<std::string> rendered = render_svg(r.out, scratch("svg"));
-  if (!rendered) GTEST_SKIP() << "Graphviz `dot` is not installed";
-  const std::string& svg = *rendered;
+  NIGHTCAP_REQUIRE_TOOL(dot_installed(), "Graphviz `dot`");
+  const std::string svg = render_svg(r.out, scratch("svg"));
   // Graphviz shows the names as text, exactly as recorded, and nothing of them becomes markup.
   EXPECT_EQ(svg.find("<script"), std::string::npos);
   EXPECT_EQ(svg.find("<b>"), std::string::npos);

@@ -16,22 +16,11 @@
 #include <sstream>
 
 #include "tests/e2e/cli.h"
+#include "tests/under_ci.h"
 
 namespace nightcap::test {
 namespace {
 namespace fs = std::filesystem;
-
-bool under_ci() {
-  const char* ci = std::getenv("CI");
-  return ci && std::string(ci) == "true";
-}
-
-// Fails under CI, where the install script provides the tool; skips elsewhere.
-#define REQUIRE_TOOL(available, what)                                                          \
-  if (!(available)) {                                                                          \
-    if (under_ci()) FAIL() << what << " is not installed (tests/install-deps.sh installs it)"; \
-    GTEST_SKIP() << what << " is not installed";                                               \
-  }
 
 // renderdoc_markers.py's output for the capture, one line per item; `mode` is empty or "--resources ".
 std::vector<std::string> inspect_capture(const fs::path& capture, const std::string& mode, const fs::path& out) {
@@ -48,7 +37,7 @@ TEST(RenderDoc, OneCaptureLabelledWithThePassesThatRanAndTheirImagesNamed) {
 #ifdef NIGHTCAP_SANITIZE_BUILD
   GTEST_SKIP() << "RenderDoc cannot inject into a sanitizer build (see the comment above)";
 #endif
-  REQUIRE_TOOL(std::system("command -v renderdoccmd >/dev/null 2>&1") == 0, "renderdoccmd");
+  NIGHTCAP_REQUIRE_TOOL(std::system("command -v renderdoccmd >/dev/null 2>&1") == 0, "renderdoccmd");
   const fs::path dir = scratch("rdc");
   const std::string command = "renderdoccmd capture -w -c " + quote(dir / "frame") + " " + NIGHTCAP_CLI +
                               " render --city-block --size 96x54 --frames 2 -o " + quote(dir / "capture") + " >" +
@@ -81,7 +70,8 @@ TEST(RenderDoc, OneCaptureLabelledWithThePassesThatRanAndTheirImagesNamed) {
   for (const char* image : {"gbuffer.normal", "scene.depth", "lighting.lit", "final.ldr"})
     ASSERT_TRUE(images.count(image)) << image << " is not among the manifest's images: the check below would miss it";
 
-  REQUIRE_TOOL(std::system("/usr/bin/python3 -c 'import renderdoc' >/dev/null 2>&1") == 0, "python3-renderdoc");
+  NIGHTCAP_REQUIRE_TOOL(std::system("/usr/bin/python3 -c 'import renderdoc' >/dev/null 2>&1") == 0,
+                        "python3-renderdoc");
   EXPECT_EQ(inspect_capture(captures[0], "", dir / "markers"), expected);
 
   std::set<std::string> named_textures;
