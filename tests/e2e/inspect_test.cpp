@@ -527,6 +527,17 @@ TEST_F(InspectTest, ClusterHeatMapShowsEachTilesLongestList) {
   EXPECT_NE(run.result.err.find("gbuffer.normal holds no light lists"), std::string::npos) << run.result.err;
   ASSERT_EQ(run.objects.size(), 2u) << run.result.err;
   EXPECT_EQ(run.objects[0]["longest"], top);
+  // --json's mean is over the tiles with a list (0 for a slice without any), of the lengths the map
+  // draws.
+  for (const auto& [object, lengths] : {std::pair{run.objects[0], longest}, {run.objects[1], at_slice}}) {
+    uint64_t sum = 0, tiles = 0;
+    for (uint32_t length : lengths) {
+      sum += length;
+      tiles += length > 0;
+    }
+    EXPECT_DOUBLE_EQ(object["mean"].get<double>(), tiles ? double(sum) / double(tiles) : 0.0) << object;
+    EXPECT_EQ(object["longest"], *std::max_element(lengths.begin(), lengths.end()));
+  }
   for (const auto& [file, lengths] : {std::pair{dir / "all.png", longest}, {dir / "slice.png", at_slice}}) {
     int width = 0, height = 0, channels = 0;
     const std::vector<float> pixels = read_image(file, width, height, channels);
