@@ -270,11 +270,15 @@ LongRender start_long_render(const fs::path& dir, const fs::path& logs) {
   return render;
 }
 
-TEST(BadInput, AnInterruptedRenderLeavesNothingBehind) {
+// SIGTERM (a service manager's stop) and SIGINT (Ctrl-C at a terminal) stop a render between
+// frames alike.
+class InterruptedRender : public ::testing::TestWithParam<int> {};
+
+TEST_P(InterruptedRender, LeavesNothingBehind) {
   const fs::path dir = scratch("out"), logs = scratch("logs");
   const LongRender render = start_long_render(dir, logs);
   ASSERT_FALSE(::testing::Test::HasFailure());
-  kill(render.pid, SIGTERM);
+  kill(render.pid, GetParam());
   int status = 0;
   waitpid(render.pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status)) << "render died of its signal instead of stopping";
@@ -284,6 +288,9 @@ TEST(BadInput, AnInterruptedRenderLeavesNothingBehind) {
   EXPECT_NE(message.find("interrupted: no capture written to " + (dir / "cap").string()), std::string::npos) << message;
   EXPECT_TRUE(entries(dir).empty());
 }
+
+INSTANTIATE_TEST_SUITE_P(BadInput, InterruptedRender, ::testing::Values(SIGTERM, SIGINT),
+                         [](const auto& info) { return std::string(info.param == SIGINT ? "SIGINT" : "SIGTERM"); });
 
 TEST(BadInput, AKilledRendersTemporaryIsRemovedByTheNextRender) {
   const fs::path dir = scratch("out"), logs = scratch("logs");
