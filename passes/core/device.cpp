@@ -53,21 +53,35 @@ void* load_renderdoc() {
   return api;
 }
 
+// What a vkEnumerate* call lists: the count, then the items, asked again while the list grew
+// between the two calls (VK_INCOMPLETE); any error throws.
+template <typename Item, typename Call>
+std::vector<Item> enumerate(const char* what, Call call) {
+  std::vector<Item> items;
+  VkResult result = VK_INCOMPLETE;
+  while (result == VK_INCOMPLETE) {
+    uint32_t count = 0;
+    vk_check(call(&count, nullptr), what);
+    items.resize(count);
+    result = call(&count, items.data());
+    items.resize(count);
+  }
+  vk_check(result, what);
+  return items;
+}
+
 bool has_layer(const char* name) {
-  uint32_t count = 0;
-  vkEnumerateInstanceLayerProperties(&count, nullptr);
-  std::vector<VkLayerProperties> layers(count);
-  vkEnumerateInstanceLayerProperties(&count, layers.data());
-  for (const auto& layer : layers)
+  for (const auto& layer :
+       enumerate<VkLayerProperties>("vkEnumerateInstanceLayerProperties", vkEnumerateInstanceLayerProperties))
     if (std::strcmp(layer.layerName, name) == 0) return true;
   return false;
 }
 
 bool has_instance_extension(const char* name) {
-  uint32_t count = 0;
-  vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr);
-  std::vector<VkExtensionProperties> extensions(count);
-  vkEnumerateInstanceExtensionProperties(nullptr, &count, extensions.data());
+  const auto extensions = enumerate<VkExtensionProperties>(
+      "vkEnumerateInstanceExtensionProperties", [](uint32_t* count, VkExtensionProperties* items) {
+        return vkEnumerateInstanceExtensionProperties(nullptr, count, items);
+      });
   for (const auto& e : extensions)
     if (std::strcmp(e.extensionName, name) == 0) return true;
   return false;
@@ -170,10 +184,9 @@ GpuDevice::GpuDevice(const Options& options) {
         vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
   }
 
-  uint32_t count = 0;
-  vkEnumeratePhysicalDevices(instance_, &count, nullptr);
-  std::vector<VkPhysicalDevice> physicals(count);
-  vkEnumeratePhysicalDevices(instance_, &count, physicals.data());
+  const auto physicals = enumerate<VkPhysicalDevice>(
+      "vkEnumeratePhysicalDevices",
+      [&](uint32_t* count, VkPhysicalDevice* items) { return vkEnumeratePhysicalDevices(instance_, count, items); });
   std::string available;
   for (VkPhysicalDevice candidate : physicals) {
     VkPhysicalDeviceProperties props;

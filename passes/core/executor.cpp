@@ -592,12 +592,16 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
                                              : std::make_shared<const std::vector<uint8_t>>());
   }
 
-  std::vector<uint64_t> stamps(query_info.queryCount, 0);
-  vkGetQueryPoolResults(gpu.device(), cleanup.queries, 0, query_info.queryCount, stamps.size() * 8, stamps.data(), 8,
-                        VK_QUERY_RESULT_64_BIT);
-  for (size_t i = 0; i < graph.passes.size(); ++i)
-    if (result.passes[i].gpu_ms)
-      result.passes[i].gpu_ms = double(stamps[2 * i + 1] - stamps[2 * i]) * gpu.timestamp_period_ns() / 1e6;
+  // Only a pass that ran wrote its two timestamps: asking for the pool's every query would answer
+  // VK_NOT_READY for the others, and waiting on them would never end.
+  for (size_t i = 0; i < graph.passes.size(); ++i) {
+    if (!result.passes[i].gpu_ms) continue;
+    uint64_t stamps[2] = {};
+    vk_check(vkGetQueryPoolResults(gpu.device(), cleanup.queries, static_cast<uint32_t>(2 * i), 2, sizeof stamps,
+                                   stamps, sizeof stamps[0], VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+             "vkGetQueryPoolResults");
+    result.passes[i].gpu_ms = double(stamps[1] - stamps[0]) * gpu.timestamp_period_ns() / 1e6;
+  }
   return result;
 }
 
