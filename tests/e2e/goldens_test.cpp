@@ -1,12 +1,16 @@
 // Every model of shared/data/gltf rendered with the camera views.json gives it, at the goldens'
 // resolution: the pixels it covers (scene.depth > 0) against each golden's silhouette
-// (alpha ≥ 128) reach intersection over union ≥ 0.97; no pass output holds NaN or Inf; every
+// (alpha ≥ 128) reach intersection over union ≥ 0.97 (≥ 0.92 against the consensus silhouette of
+// goldens that carry no alpha, LightsPunctualLamp's); no pass output holds NaN or Inf; every
 // pass replays bit-identically.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include "captures/capture.h"
 #include "tests/e2e/cli.h"
@@ -16,6 +20,11 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kData = NIGHTCAP_SHARED_DATA;
+// A pixel of the backdrop is grey within this many codes per channel pair, and darker than white.
+constexpr int kGreyCodes = 8;
+constexpr int kWhiteCode = 230;
+// Measured 0.938: the consensus loses the model's grey reflections along the lamp's arm.
+constexpr double kConsensusIou = 0.92;
 
 struct View {
   double theta = 0, phi = 90, radius = 1, x = 0, y = 0, z = 0;
@@ -54,6 +63,47 @@ std::vector<uint8_t> silhouette(const fs::path& png, uint32_t width, uint32_t he
   std::vector<uint8_t> mask(size_t(width) * height);
   for (size_t i = 0; i < mask.size(); ++i) mask[i] = pixels[i * spec.nchannels + spec.alpha_channel] >= 128;
   return mask;
+}
+
+// The golden's pixels as 8-bit RGB (alpha dropped), or empty when its size differs.
+std::vector<uint8_t> rgb(const fs::path& png, uint32_t width, uint32_t height) {
+  auto input = OIIO::ImageInput::open(png.string());
+  if (!input) return {};
+  const OIIO::ImageSpec spec = input->spec();
+  if (uint32_t(spec.width) != width || uint32_t(spec.height) != height || spec.nchannels < 3) return {};
+  std::vector<uint8_t> pixels(size_t(width) * height * 3);
+  input->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data());
+  return pixels;
+}
+
+// For goldens without alpha (LightsPunctualLamp's): every renderer draws the model before the same
+// smooth grey backdrop (R = G = B within a few codes), no brighter than light grey, while the
+// model's metal is tinted and its glass shade near white. A pixel is the model's where most
+// goldens show a tint or a white; one renderer's noise (filament's backdrop strays 6 codes from
+// grey) cannot decide alone.
+std::vector<uint8_t> consensus_silhouette(const std::vector<fs::path>& goldens, uint32_t width, uint32_t height) {
+  std::vector<uint32_t> votes(size_t(width) * height, 0);
+  for (const fs::path& png : goldens) {
+    const std::vector<uint8_t> pixels = rgb(png, width, height);
+    if (pixels.empty()) return {};
+    for (size_t i = 0; i < votes.size(); ++i) {
+      const int r = pixels[3 * i], g = pixels[3 * i + 1], b = pixels[3 * i + 2];
+      const bool tinted = std::max({std::abs(r - g), std::abs(g - b), std::abs(r - b)}) > kGreyCodes;
+      votes[i] += tinted || std::min({r, g, b}) >= kWhiteCode;
+    }
+  }
+  std::vector<uint8_t> mask(votes.size());
+  for (size_t i = 0; i < mask.size(); ++i) mask[i] = 2 * votes[i] > goldens.size();
+  return mask;
+}
+
+double intersection_over_union(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  uint64_t both = 0, either = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    both += a[i] && b[i];
+    either += a[i] || b[i];
+  }
+  return either ? double(both) / either : 1.0;
 }
 
 class Goldens : public ::testing::TestWithParam<std::string> {};
@@ -101,20 +151,24 @@ TEST_P(Goldens, SilhouettesMatchAndEveryPassIsFiniteAndReplays) {
   ASSERT_FALSE(covered.empty()) << "no scene.depth from gbuffer.opaque";
 
   int compared = 0;
+  std::vector<fs::path> without_alpha;
   for (const auto& entry : fs::directory_iterator(kData / "goldens" / model)) {
     const std::vector<uint8_t> golden = silhouette(entry.path(), v.width, v.height);
-    if (golden.empty()) continue;
-    uint64_t both = 0, either = 0;
-    for (size_t i = 0; i < golden.size(); ++i) {
-      both += golden[i] && covered[i];
-      either += golden[i] || covered[i];
+    if (golden.empty()) {
+      without_alpha.push_back(entry.path());
+      continue;
     }
-    const double iou = either ? double(both) / either : 1.0;
-    EXPECT_GE(iou, 0.97) << model << " vs " << entry.path().filename();
+    EXPECT_GE(intersection_over_union(golden, covered), 0.97) << model << " vs " << entry.path().filename();
     ++compared;
   }
-  if (model != "LightsPunctualLamp") {
-    EXPECT_GT(compared, 0) << "no golden with alpha for " << model;
+  if (compared == 0) {
+    ASSERT_GE(without_alpha.size(), 2u) << "no golden with alpha for " << model << ", and too few for a consensus";
+    const std::vector<uint8_t> consensus = consensus_silhouette(without_alpha, v.width, v.height);
+    ASSERT_FALSE(consensus.empty()) << model << ": goldens of another size";
+    const double iou = intersection_over_union(consensus, covered);
+    std::printf("%s: %zu goldens without alpha, consensus silhouette IoU %.4f\n", model.c_str(), without_alpha.size(),
+                iou);
+    EXPECT_GE(iou, kConsensusIou) << model;
   }
 
   const CliResult replayed = run_cli("replay --verify " + quote(capture_dir));
