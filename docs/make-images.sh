@@ -17,7 +17,7 @@ trap 'rm -rf "$work"' EXIT
 
 mkdir -p "$images"
 # Half size keeps the file small; the full frame is one command away.
-oiiotool "$work/map/final.png" --resize 640x360 -o "$images/frame.png"
+oiiotool --nosoftwareattrib "$work/map/final.png" --resize 640x360 -o "$images/frame.png"
 
 # The same flags as the tests' browser (tests/e2e/browser.cpp): headless, no sandbox (root in a
 # container), no GPU.
@@ -25,6 +25,6 @@ chromium --headless --no-sandbox --disable-gpu --no-first-run --hide-scrollbars 
   --user-data-dir="$work/chromium-profile" --window-size=1280,900 \
   --screenshot="$work/report.png" "file://$work/map-report/index.html" 2>"$work/chromium.log" ||
   { cat "$work/chromium.log" >&2; exit 2; }
-oiiotool "$work/report.png" --resize 960x675 -o "$images/report.png"
+oiiotool --nosoftwareattrib "$work/report.png" --resize 960x675 -o "$images/report.png"
 
 ls -l "$images"
