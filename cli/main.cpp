@@ -674,7 +674,7 @@ int main(int argc, char** argv) {
   store_option->needs(golden_option);
   diff->add_option("--thresholds", diff_flags.thresholds,
                    "JSON rules (glob on PASS/RESOURCE, metric, limit, allowed share, ignored rectangles) that replace "
-                   "the recorded contracts of the outputs they match (format: README, `diff`)");
+                   "the recorded contracts of the outputs they match (format: docs/commands/diff.md)");
   auto* tolerance_option = diff->add_option(
       "--tolerance", tolerance,
       "max abs difference accepted for float outputs no --thresholds rule matches, instead of their recorded "

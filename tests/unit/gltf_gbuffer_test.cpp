@@ -104,7 +104,7 @@ TEST_F(GltfGBuffer, BoxTexturedAlbedoIsTheTexel) {
   const Reference ref(path);
   const uint32_t w = 256, h = 256;
   const Camera camera = orbit_camera(30.0, 60.0, 2.2, glm::dvec3(0.0), 45.0);
-  // The README's convention: the eye at target + r·(sin φ sin θ, cos φ, sin φ cos θ).
+  // --orbit's convention (docs/commands/render.md): the eye at target + r·(sin φ sin θ, cos φ, sin φ cos θ).
   const double t = glm::radians(30.0), f = glm::radians(60.0);
   const glm::dvec3 eye = 2.2 * glm::dvec3(std::sin(f) * std::sin(t), std::cos(f), std::sin(f) * std::cos(t));
   EXPECT_LT(glm::length(glm::dvec3(camera.world[3]) - eye), 1e-12);
