@@ -8,8 +8,11 @@
 //
 // The paths' results are the same bits because each does the same IEEE operations in the same
 // order: the build's -ffp-contract=off keeps GCC from fusing a multiply and an add into one FMA
-// (one rounding instead of two), which it would do on the AVX2 and AVX-512 paths, whose targets
-// have FMA instructions, and not on the generic one, which has none.
+// (one rounding instead of two), which it does otherwise on the AVX-512 path (AVX-512F has FMA
+// instructions; GCC's "avx2" target has none, nor has the generic one): without it
+// SimdPaths.WeightedSum and SimdPaths.ClampedHuntLab fail. Where the inputs hold NaNs, a path may
+// return another NaN: x86 returns the first of two NaN operands, and the compiler may order a
+// commutative operation's operands differently on each path (FLIP rejects such inputs).
 //
 // Values of these vector types are passed only inside one body: a helper taking or returning one
 // by value would have a different calling convention on each path (GCC's -Wpsabi).
