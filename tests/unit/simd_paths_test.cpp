@@ -14,17 +14,14 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <iostream>
-#include <limits>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "inspect/simd_kernels.h"
-#include "passes/core/format.h"
 
 namespace nightcap {
 namespace {
@@ -106,22 +103,18 @@ std::vector<float> finite_floats(size_t n, uint32_t seed, float scale) {
 
 enum class Nans { same_bits, any_nan };
 
-template <typename T>
-::testing::AssertionResult same_bits(const std::vector<T>& expected, const std::vector<T>& actual,
+::testing::AssertionResult same_bits(const std::vector<float>& expected, const std::vector<float>& actual,
                                      Nans nans = Nans::same_bits) {
   if (expected.size() != actual.size()) return ::testing::AssertionFailure() << "sizes differ";
-  for (size_t i = 0; i < expected.size(); ++i)
-    if (std::memcmp(&expected[i], &actual[i], sizeof(T)) != 0) {
-      if constexpr (std::is_floating_point_v<T>)
-        if (nans == Nans::any_nan && std::isnan(expected[i]) && std::isnan(actual[i])) continue;
-      std::ostringstream what;
-      what << "first difference at " << i << ": generic " << std::hexfloat << +expected[i] << ", this path "
-           << +actual[i];
-      if constexpr (sizeof(T) == 4)
-        what << std::hex << " (bits 0x" << std::bit_cast<uint32_t>(expected[i]) << " vs 0x"
-             << std::bit_cast<uint32_t>(actual[i]) << ")";
-      return ::testing::AssertionFailure() << what.str();
-    }
+  for (size_t i = 0; i < expected.size(); ++i) {
+    const uint32_t expected_bits = std::bit_cast<uint32_t>(expected[i]),
+                   actual_bits = std::bit_cast<uint32_t>(actual[i]);
+    if (expected_bits == actual_bits || (nans == Nans::any_nan && std::isnan(expected[i]) && std::isnan(actual[i])))
+      continue;
+    return ::testing::AssertionFailure() << "first difference at " << i << ": generic " << std::hexfloat << expected[i]
+                                         << ", this path " << actual[i] << std::hex << " (bits 0x" << expected_bits
+                                         << " vs 0x" << actual_bits << ")";
+  }
   return ::testing::AssertionSuccess();
 }
 
