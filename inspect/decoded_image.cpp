@@ -4,7 +4,7 @@
 #include <array>
 #include <cstring>
 
-#include "inspect/simd.h"
+#include "inspect/simd_kernels.h"
 
 namespace nightcap {
 namespace {
@@ -13,7 +13,7 @@ namespace {
 // float's place read as a float 2^-112 times too small (subnormals included), so one multiply
 // rebiases it; what comes out at 2^16 or more was infinity or NaN and gets the float's all-ones
 // exponent, keeping the NaN's payload. Every half gives half_to_float's value (a NaN a NaN).
-NIGHTCAP_AVX2_CLONE void halves_to_floats(const uint8_t* halves, float* out, uint64_t n) {
+[[gnu::always_inline]] inline void halves_to_floats_body(const uint8_t* halves, float* out, uint64_t n) {
   using simd::Floats8, simd::Halves8, simd::Words8;
   uint64_t i = 0;
   for (; i + 8 <= n; i += 8) {
@@ -33,8 +33,12 @@ NIGHTCAP_AVX2_CLONE void halves_to_floats(const uint8_t* halves, float* out, uin
     out[i] = half_to_float(h);
   }
 }
+using HalvesToFloatsPaths = simd::Compiled<halves_to_floats_body, simd::Path::avx2>;
+constexpr auto& halves_to_floats = HalvesToFloatsPaths::dispatch;
 
 }  // namespace
+
+decode_kernels::Functions decode_kernels::compiled_for(simd::Path path) { return {HalvesToFloatsPaths::on(path)}; }
 
 void decode_values(const FormatInfo& f, uint32_t aspect, std::span<const uint8_t> plane, float* out) {
   const uint32_t channels = aspect_channels(f, aspect);

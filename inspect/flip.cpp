@@ -9,7 +9,7 @@
 #include <string>
 #include <thread>
 
-#include "inspect/simd.h"
+#include "inspect/simd_kernels.h"
 
 namespace nightcap {
 namespace {
@@ -46,12 +46,10 @@ constexpr double kRgbToXyz[3][3] = {
     {1425312.0 / 73733382.0, 8788810.0 / 73733382.0, 70074185.0 / 73733382.0},
 };
 
-struct ColourSpace {
-  float to_xyz[3][3], to_rgb[3][3];
-  float inverse_white[3];  // 1 / (X_n, Y_n, Z_n): the white is what RGB (1, 1, 1) maps to
-  float white[3];
-  float max_distance;  // c_max: green to blue, the farthest colours of the gamut, to the power q_c
-};
+using flip_kernels::colour_space;
+using flip_kernels::ColourSpace;
+using flip_kernels::Kernel;
+using flip_kernels::PerceivedRow;
 
 void lab_hunt(const float xyz[3], const ColourSpace& space, float out[3]);
 float hyab(const float a[3], const float b[3]) {
@@ -83,11 +81,6 @@ ColourSpace make_colour_space() {
   lab_hunt(blue_xyz, s, blue);
   s.max_distance = float(std::pow(double(hyab(green, blue)), kColourExponent));
   return s;
-}
-
-const ColourSpace& colour_space() {
-  static const ColourSpace space = make_colour_space();
-  return space;
 }
 
 void multiply(const float m[3][3], const float v[3], float out[3]) {
@@ -126,8 +119,8 @@ void lab_hunt(const float xyz[3], const ColourSpace& space, float out[3]) {
 // clamped to what the display shows, then to Hunt-adjusted L*a*b*. Eight pixels at a time, with
 // the same operations in the same order as the scalar helpers (so the same bits): the multiplies
 // of `multiply`, std::clamp's comparisons, lab_hunt's branch as a select of both sides.
-NIGHTCAP_SIMD_CLONES void clamped_hunt_lab(float* lightness, float* a, float* b, size_t begin, size_t end,
-                                           const ColourSpace& space) {
+[[gnu::always_inline]] inline void clamped_hunt_lab_body(float* lightness, float* a, float* b, size_t begin, size_t end,
+                                                         const ColourSpace& space) {
   using Lanes = simd::Floats8;
   using Words = simd::Words8;
   constexpr float delta = 6.0f / 29.0f;
@@ -178,6 +171,8 @@ NIGHTCAP_SIMD_CLONES void clamped_hunt_lab(float* lightness, float* a, float* b,
     b[i] = lab[2];
   }
 }
+using ClampedHuntLabPaths = simd::Compiled<clamped_hunt_lab_body>;
+constexpr auto& clamped_hunt_lab = ClampedHuntLabPaths::dispatch;
 
 // Runs `rows_of(begin, end)` over [0, rows) split into contiguous bands, one per thread.
 template <typename Rows>
@@ -190,16 +185,6 @@ void parallel_rows(uint32_t rows, unsigned threads, const Rows& rows_of) {
   rows_of(0u, uint32_t(rows / threads));
   for (std::thread& w : workers) w.join();
 }
-
-// A 1D kernel of 2·radius + 1 taps, centre at index radius. A zero-sum kernel (a derivative of
-// a Gaussian) is applied to differences from the centre pixel: the same sum in exact arithmetic,
-// but exactly 0 on flat regions, where rounding would otherwise leave ~1e-8 that the feature
-// pipeline's square root turns into a visible 1e-4.
-struct Kernel {
-  std::vector<float> taps;
-  bool zero_sum = false;
-  int radius() const { return int(taps.size() / 2); }
-};
 
 // The filters are most of FLIP's time: eight pixels at a time (inspect/simd.h).
 using Lanes = simd::Floats8;
@@ -289,23 +274,25 @@ template <bool kZeroSum>
 // centre[x]) for a zero-sum kernel; added to what dst holds where `add`. Sixty-four pixels at a
 // time, as four blocks of sixteen (one AVX-512 register, two AVX2 ones), then sixteen, eight and
 // one: each pixel's sum the same operations whatever the width.
-NIGHTCAP_SIMD_CLONES void weighted_sum(const Kernel& kernel, const float* const* sources, const float* centre,
-                                       float* dst, uint32_t n, bool add) {
+[[gnu::always_inline]] inline void weighted_sum_body(const Kernel& kernel, const float* const* sources,
+                                                     const float* centre, float* dst, uint32_t n, bool add) {
   if (kernel.zero_sum)
     weighted_row<true>(kernel, sources, centre, dst, n, add);
   else
     weighted_row<false>(kernel, sources, centre, dst, n, add);
 }
+using WeightedSumPaths = simd::Compiled<weighted_sum_body>;
+constexpr auto& weighted_sum = WeightedSumPaths::dispatch;
 
-// Vector arguments are passed by reference: by value, the two clones' calling conventions would
-// differ (GCC's -Wpsabi), even inlined.
+// Vector arguments are passed by reference: by value, the paths' calling conventions would differ
+// (GCC's -Wpsabi), even inlined.
 [[gnu::always_inline]] inline void sqrt_lanes(Lanes& x) {
   for (uint32_t lane = 0; lane < kLanes; ++lane) x[lane] = std::sqrt(x[lane]);
 }
 
 // out[x] = √(u[x]² + v[x]²) for x in [0, n), eight at a time: each operation rounded once, as
 // the scalar expression's are, so the same bits.
-NIGHTCAP_AVX2_CLONE void magnitudes(const float* u, const float* v, float* out, uint32_t n) {
+[[gnu::always_inline]] inline void magnitudes_body(const float* u, const float* v, float* out, uint32_t n) {
   uint32_t x = 0;
   for (; x + kLanes <= n; x += kLanes) {
     Lanes a, b;
@@ -317,6 +304,8 @@ NIGHTCAP_AVX2_CLONE void magnitudes(const float* u, const float* v, float* out, 
   }
   for (; x < n; ++x) out[x] = std::sqrt(u[x] * u[x] + v[x] * v[x]);
 }
+using MagnitudesPaths = simd::Compiled<magnitudes_body, simd::Path::avx2>;
+constexpr auto& magnitudes = MagnitudesPaths::dispatch;
 
 // A separable 2D kernel as a sum of products horizontal(x) · vertical(y).
 struct SeparableTerm {
@@ -572,9 +561,11 @@ class Perception {
   // Row y after perceive(y): colour after the CSFs in Hunt-adjusted L*a*b*, and the magnitudes
   // of its edges and points.
   std::vector<float> lightness, a, b, edges, points;
+
+  PerceivedRow row() const { return {lightness.data(), a.data(), b.data(), edges.data(), points.data()}; }
 };
 
-// Lane-wise helpers of pixel_errors, inlined into each of its clones (inspect/simd.h).
+// Lane-wise helpers of pixel_errors, inlined into each of its paths' functions (inspect/simd.h).
 using Words = simd::Words8;
 using SignedWords = int32_t __attribute__((vector_size(32)));
 
@@ -621,17 +612,16 @@ using SignedWords = int32_t __attribute__((vector_size(32)));
 // that small differences spread over most of the scale), feature error ΔE_f, and
 // ΔE_c^(1 − ΔE_f). The last pixels that do not fill eight lanes run padded through the same
 // lanes, so a pixel's value does not depend on where in the row it is.
-NIGHTCAP_SIMD_CLONES void pixel_errors(const Perception& r, const Perception& t, uint32_t width, float max_distance,
-                                       float* error, float* colour, float* feature) {
+[[gnu::always_inline]] inline void pixel_errors_body(const PerceivedRow& r, const PerceivedRow& t, uint32_t width,
+                                                     float max_distance, float* error, float* colour, float* feature) {
   const float knee = float(kRemapBreakShare) * max_distance;
-  const std::vector<float>* planes[10] = {&r.lightness, &r.a, &r.b, &r.edges, &r.points,
-                                          &t.lightness, &t.a, &t.b, &t.edges, &t.points};
+  const float* planes[10] = {r.lightness, r.a, r.b, r.edges, r.points, t.lightness, t.a, t.b, t.edges, t.points};
   float padded[10][kLanes], padded_out[3][kLanes];
   for (uint32_t x = 0; x < width; x += kLanes) {
     const uint32_t n = std::min(kLanes, width - x);
     const float* in[10];
     float* out[3] = {error + x, colour ? colour + x : nullptr, feature ? feature + x : nullptr};
-    for (int p = 0; p < 10; ++p) in[p] = planes[p]->data() + x;
+    for (int p = 0; p < 10; ++p) in[p] = planes[p] + x;
     if (n < kLanes) {
       for (int p = 0; p < 10; ++p) {
         std::fill(std::copy_n(in[p], n, padded[p]), padded[p] + kLanes, 0.0f);
@@ -664,6 +654,8 @@ NIGHTCAP_SIMD_CLONES void pixel_errors(const Perception& r, const Perception& t,
     }
   }
 }
+using PixelErrorsPaths = simd::Compiled<pixel_errors_body>;
+constexpr auto& pixel_errors = PixelErrorsPaths::dispatch;
 
 // LDR-FLIP's error map of two checked, clamped images, written into `result`. Each thread takes
 // a band of rows and perceives both images down it, side by side.
@@ -685,8 +677,8 @@ class LdrFlip {
         seen_reference.perceive(y);
         seen_test.perceive(y);
         const size_t row = size_t(y) * width_;
-        pixel_errors(seen_reference, seen_test, width_, max_distance, error + row, colour ? colour + row : nullptr,
-                     feature ? feature + row : nullptr);
+        pixel_errors(seen_reference.row(), seen_test.row(), width_, max_distance, error + row,
+                     colour ? colour + row : nullptr, feature ? feature + row : nullptr);
       }
     });
   }
@@ -740,6 +732,16 @@ double aces_inverse(double tone) {
 }
 
 }  // namespace
+
+const flip_kernels::ColourSpace& flip_kernels::colour_space() {
+  static const ColourSpace space = make_colour_space();
+  return space;
+}
+
+flip_kernels::Functions flip_kernels::compiled_for(simd::Path path) {
+  return {ClampedHuntLabPaths::on(path), WeightedSumPaths::on(path), MagnitudesPaths::on(path),
+          PixelErrorsPaths::on(path)};
+}
 
 FlipResult flip_ldr(const FlipImage& reference, const FlipImage& test, const FlipOptions& options) {
   check_pair(reference, test);

@@ -10,7 +10,7 @@
 #include <sstream>
 #include <vector>
 
-#include "inspect/simd.h"
+#include "inspect/simd_kernels.h"
 
 namespace nightcap {
 namespace {
@@ -122,12 +122,7 @@ void compare_buffers(std::span<const uint8_t> a, std::span<const uint8_t> b, Res
   r.psnr = r.rmse > 0 ? 20.0 * std::log10(1.0 / r.rmse) : INFINITY;
 }
 
-// What compare_resource sums over an image's texels, block by block.
-struct ImageTally {
-  double peak = 0.0;  // largest |a| of a float image (PSNR's peak), else 1
-  double max_abs = 0.0, sum_squares = 0.0, angle_sum = 0.0;
-  uint64_t values = 0, texels = 0, differing = 0, over = 0;
-};
+using metrics_kernels::ImageTally;
 
 // Four values at a time, as doubles (inspect/simd.h); a comparison of two gives all bits set in
 // the lanes where it holds.
@@ -144,7 +139,7 @@ using DoubleMasks = int64_t __attribute__((vector_size(32)));
 
 // |b − a| = d, for a value a of magnitude ax, as a share of what a float contract allows it: 0
 // where the values are equal, infinite where the bound is 0 and they are not. For a double and for
-// lanes of them, returned through `departure`: by value, the clones' calling conventions would
+// lanes of them, returned through `departure`: by value, the paths' calling conventions would
 // differ (GCC's -Wpsabi).
 template <typename Values>
 [[gnu::always_inline]] inline void float_departure(const ComparisonContract& contract, const Values& d,
@@ -158,8 +153,9 @@ template <typename Values>
 // departure into `worst` as worst_departure_finite measures it, in the same pass. False, `t` and
 // `worst` untouched, where a value of either side is NaN or infinite (its difference then is
 // too: d − d is not 0).
-NIGHTCAP_AVX2_CLONE bool tally_finite(const float* a, const float* b, uint64_t texels, uint32_t channels, bool relative,
-                                      double fixed, const ComparisonContract* departs, ImageTally& t, double& worst) {
+[[gnu::always_inline]] inline bool tally_finite_body(const float* a, const float* b, uint64_t texels, uint32_t channels,
+                                                     bool relative, double fixed, const ComparisonContract* departs,
+                                                     ImageTally& t, double& worst) {
   const uint64_t n = texels * channels;
   // Per value: differs, and over the threshold; a texel counts where any of its channels does.
   // An RGBA texel is one vector, whose lanes are summed at once.
@@ -231,6 +227,8 @@ NIGHTCAP_AVX2_CLONE bool tally_finite(const float* a, const float* b, uint64_t t
   t.texels += texels;
   return true;
 }
+using TallyFinitePaths = simd::Compiled<tally_finite_body, simd::Path::avx2>;
+constexpr auto& tally_finite = TallyFinitePaths::dispatch;
 
 // Any block, a texel at a time: NaN and infinity counted in `r` (NaN on both sides agrees, so
 // does the same infinity), normals' angles summed where `angles`.
@@ -284,8 +282,8 @@ void tally_any(const float* a, const float* b, uint64_t texels, uint32_t channel
 // The largest |b - a| / (absolute + relative |a|) of a float contract over a block (0 where the
 // values are equal; infinite where the bound is 0 and they are not) into `worst`; false, `worst`
 // untouched, where a value is NaN or infinite.
-NIGHTCAP_AVX2_CLONE bool worst_departure_finite(const float* a, const float* b, uint64_t n,
-                                                const ComparisonContract& contract, double& worst) {
+[[gnu::always_inline]] inline bool worst_departure_finite_body(const float* a, const float* b, uint64_t n,
+                                                               const ComparisonContract& contract, double& worst) {
   Doubles4 largest{};
   DoubleMasks not_finite{};
   uint64_t i = 0;
@@ -309,9 +307,11 @@ NIGHTCAP_AVX2_CLONE bool worst_departure_finite(const float* a, const float* b, 
   worst = std::max({worst, largest[0], largest[1], largest[2], largest[3], rest});
   return true;
 }
+using WorstDepartureFinitePaths = simd::Compiled<worst_departure_finite_body, simd::Path::avx2>;
+constexpr auto& worst_departure_finite = WorstDepartureFinitePaths::dispatch;
 
 // The largest |a[i] − b[i]| of two byte arrays, thirty-two at a time (inspect/simd.h).
-NIGHTCAP_AVX2_CLONE uint8_t largest_byte_difference(const uint8_t* a, const uint8_t* b, size_t n) {
+[[gnu::always_inline]] inline uint8_t largest_byte_difference_body(const uint8_t* a, const uint8_t* b, size_t n) {
   using Bytes32 = uint8_t __attribute__((vector_size(32)));
   Bytes32 largest{};
   size_t i = 0;
@@ -327,8 +327,14 @@ NIGHTCAP_AVX2_CLONE uint8_t largest_byte_difference(const uint8_t* a, const uint
   for (; i < n; ++i) result = std::max(result, uint8_t(a[i] > b[i] ? a[i] - b[i] : b[i] - a[i]));
   return result;
 }
+using LargestByteDifferencePaths = simd::Compiled<largest_byte_difference_body, simd::Path::avx2>;
+constexpr auto& largest_byte_difference = LargestByteDifferencePaths::dispatch;
 
 }  // namespace
+
+metrics_kernels::Functions metrics_kernels::compiled_for(simd::Path path) {
+  return {TallyFinitePaths::on(path), WorstDepartureFinitePaths::on(path), LargestByteDifferencePaths::on(path)};
+}
 
 double stored_normal_angle_deg(const float* a, const float* b) {
   const glm::dvec3 na = glm::dvec3(a[0], a[1], a[2]) * 2.0 - 1.0, nb = glm::dvec3(b[0], b[1], b[2]) * 2.0 - 1.0;
