@@ -106,13 +106,15 @@ const std::vector<CommandSpec>& specs() {
         "parameter PARAM or its shader of FILE's stage (.vert/.frag/.comp) replaced, and compare each output with "
         "the recorded one: the bytes, and the output's comparison contract"},
        {{"--set", 1}, {"--shader", 1}}},
-      {{"nan", "nan [--limit N]",
-        "where a NaN or Inf was born: walks the current frame's passes in order and names the first whose float "
-        "outputs hold NaN or Inf texels that the version it started from held finite (passes that carry one on are "
-        "not named), with how many, the first N (default 8) at their output pixels, and there the values of every "
-        "image input of the pass (mip 0, layer 0). It checks each pass's outputs: the capture records per pass, not "
-        "per draw"},
-       {{"--limit", 1}}},
+      {{"nan", "nan [--this-frame] [--limit N]",
+        "where NaNs and Infs were born: walks every recorded frame's passes in order (--this-frame: only the "
+        "current frame's) and names each pass that wrote a NaN or an Inf into a float output (colour, float depth, "
+        "buffer fields their schema declares f32/f64) while every input it read, the version it modified among "
+        "them, held finite values (passes that carry one on are not named), and each version no searched pass "
+        "wrote that holds one, where it is first read; with how many, the first N (default 8) texels at their "
+        "output pixels and there the values of every image input of the pass (mip 0, layer 0), or the first N "
+        "buffer elements and fields. It checks each pass's outputs: the capture records per pass, not per draw"},
+       {{"--this-frame", 0}, {"--limit", 1}}},
       {{"help", "help [COMMAND]", "the commands, or one command's usage"}, {}},
       {{"quit", "quit", "end the session"}, {}},
   };
@@ -808,18 +810,58 @@ class Runner {
 
   void nan_origin(const CommandSpec& spec, const Arguments& args) {
     expect_positionals(spec, args, 0, 0);
-    const FrameRecord& frame = session_.frame();
-    const std::optional<NanOrigin> origin = find_nan_origin(session_, option_index(args, "--limit", 8));
-    if (!origin) {
-      if (json_) return emit({{"frame", frame.index}, {"origin", nullptr}});
-      out_ << "frame " << frame.index << ": no pass wrote a NaN or an Inf\n";
+    const std::vector<FrameRecord>& frames = session_.capture().manifest().frames;
+    const std::optional<size_t> only_frame =
+        args.has("--this-frame") ? std::optional(session_.frame_position()) : std::nullopt;
+    const Capture& capture = session_.capture();
+    const std::vector<NanOrigin> origins = find_nan_origins(
+        frames, only_frame, [&](const ResourceRecord& r) { return capture.load(r); }, option_index(args, "--limit", 8));
+    ojson searched = ojson::array();
+    for (size_t f = only_frame.value_or(0); f < (only_frame ? *only_frame + 1 : frames.size()); ++f)
+      searched.push_back(frames[f].index);
+    ojson listed = ojson::array();
+    for (const NanOrigin& origin : origins) listed.push_back(origin_json(frames[origin.frame_position], origin));
+    const ojson first = listed.empty() ? ojson(nullptr) : listed[0];
+    if (json_) return emit({{"frames", searched}, {"origin", first}, {"origins", listed}});
+
+    const std::string scope = searched.size() == 1 ? "frame " + searched[0].dump()
+                                                   : "frames " + searched[0].dump() + "-" + searched.back().dump();
+    if (listed.empty()) {
+      out_ << scope << ": no pass wrote a NaN or an Inf\n";
       return;
     }
-    const PassRecord& pass = frame.passes[origin->pass_index];
-    ojson outputs = ojson::array();
-    for (const NonFiniteBirths& births : origin->outputs) {
+    out_ << scope << ": " << listed.size() << " origin(s) of a NaN or an Inf\n";
+    for (const ojson& o : listed) {
+      const std::string where = "frame " + o["frame"].dump() + ", " + o["pass"].get<std::string>() + " (pass " +
+                                std::to_string(o["index"].get<size_t>() + 1) + "/" + o["passes"].dump() + ")";
+      if (o["how"] == "born")
+        out_ << (&o == &listed[0] ? "the first NaN or Inf was written by " : "then one was written by ") << where
+             << "\n";
+      else
+        out_ << (&o == &listed[0] ? "the first NaN or Inf came in with an input no searched pass wrote, read by "
+                                  : "then one came in with an input no searched pass wrote, read by ")
+             << where << "\n";
+      for (const ojson& resource : o["resources"]) print_non_finite(resource);
+    }
+  }
+
+  ojson origin_json(const FrameRecord& frame, const NanOrigin& origin) {
+    const PassRecord& pass = frame.passes[origin.pass_index];
+    ojson resources = ojson::array();
+    for (const NonFiniteValues& found : origin.resources) {
+      const ResourceRecord& r = *found.resource;
+      ojson j = {{"resource", r.resource}, {"count", found.count}};
+      if (r.is_buffer) {
+        ojson fields = ojson::array();
+        for (const NonFiniteField& f : found.fields)
+          fields.push_back({{"element", f.element}, {"field", f.field}, {"value", number_or_name(f.value)}});
+        j["format"] = "buffer";
+        j["fields"] = fields;
+        resources.push_back(j);
+        continue;
+      }
       ojson texels = ojson::array();
-      for (const NonFiniteTexel& t : births.first) {
+      for (const NonFiniteTexel& t : found.texels) {
         ojson values = ojson::array(), inputs = ojson::array();
         for (double v : t.values) values.push_back(number_or_name(v));
         // A lookup table is indexed by what the pass computes, not laid over the screen.
@@ -827,33 +869,42 @@ class Runner {
           if (!in.is_buffer && in.kind != ResourceKind::lookup_table)
             inputs.push_back(reading_json(in, frame, t.pixel_x, t.pixel_y, {}));
         ojson texel = {{"pixel", {t.pixel_x, t.pixel_y}}, {"texel", {t.x, t.y}}, {"mip", t.mip}, {"layer", t.layer}};
-        if (births.resource->extent.depth > 1) texel["slice"] = t.slice;
+        if (r.extent.depth > 1) texel["slice"] = t.slice;
         texel["values"] = values;
         texel["inputs"] = inputs;
         texels.push_back(texel);
       }
-      outputs.push_back({{"resource", births.resource->resource},
-                         {"format", format_info(births.resource->format)->name},
-                         {"count", births.count},
-                         {"texels", texels}});
+      j["format"] = format_info(r.format)->name;
+      j["texels"] = texels;
+      resources.push_back(j);
     }
-    const ojson j = {{"frame", frame.index},
-                     {"origin", {{"pass", pass.name}, {"index", origin->pass_index}, {"outputs", outputs}}}};
-    if (json_) return emit(j);
-    out_ << "frame " << frame.index << ": the first NaN or Inf was written by " << pass.name << " (pass "
-         << origin->pass_index + 1 << "/" << frame.passes.size() << ")\n";
-    for (const ojson& output : outputs) {
-      out_ << "  " << output["resource"].get<std::string>() << " (" << output["format"].get<std::string>()
-           << "): " << output["count"] << " texel(s)\n";
-      for (const ojson& texel : output["texels"]) {
-        out_ << "    pixel " << brief(texel["pixel"]) << " texel " << brief(texel["texel"]) << " mip " << texel["mip"]
-             << " layer " << texel["layer"] << ": " << brief(texel["values"]) << "\n";
-        for (const ojson& in : texel["inputs"]) {
-          out_ << "      " << in["resource"].get<std::string>() << " texel " << brief(in["texel"]) << ": raw "
-               << brief(in["raw"]);
-          for (const auto& [name, value] : in["decoded"].items()) out_ << "; " << name << " " << brief(value);
-          out_ << "\n";
-        }
+    return {{"how", origin.how == NanOrigin::How::born ? "born" : "came_in"},
+            {"frame", frame.index},
+            {"pass", pass.name},
+            {"index", origin.pass_index},
+            {"passes", frame.passes.size()},
+            {"resources", resources}};
+  }
+
+  void print_non_finite(const ojson& resource) {
+    const bool buffer = resource.contains("fields");
+    out_ << "  " << resource["resource"].get<std::string>() << " (" << resource["format"].get<std::string>()
+         << "): " << resource["count"] << (buffer ? " field value(s)\n" : " texel(s)\n");
+    if (buffer) {
+      for (const ojson& f : resource["fields"])
+        out_ << "    element " << f["element"] << " " << f["field"].get<std::string>() << ": " << brief(f["value"])
+             << "\n";
+      return;
+    }
+    for (const ojson& texel : resource["texels"]) {
+      out_ << "    pixel " << brief(texel["pixel"]) << " texel " << brief(texel["texel"]) << " mip " << texel["mip"]
+           << " layer " << texel["layer"] << (texel.contains("slice") ? " slice " + texel["slice"].dump() : "") << ": "
+           << brief(texel["values"]) << "\n";
+      for (const ojson& in : texel["inputs"]) {
+        out_ << "      " << in["resource"].get<std::string>() << " texel " << brief(in["texel"]) << ": raw "
+             << brief(in["raw"]);
+        for (const auto& [name, value] : in["decoded"].items()) out_ << "; " << name << " " << brief(value);
+        out_ << "\n";
       }
     }
   }

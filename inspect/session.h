@@ -23,6 +23,7 @@ class InspectSession {
 
   const Capture& capture() const { return capture_; }
   const FrameRecord& frame() const { return capture_.manifest().frames[frame_position_]; }
+  size_t frame_position() const { return frame_position_; }  // in the manifest's frames
   const PassRecord& pass() const { return frame().passes[pass_index_]; }
   size_t pass_index() const { return pass_index_; }
 

@@ -41,8 +41,8 @@ struct FormatInfo {
 // Whether its channels are floating point and colour (SFLOAT, UFLOAT; not depth): the formats
 // that can hold a NaN.
 bool is_float_colour(const FormatInfo& format);
-// Whether it decodes to floating point: the float colour formats and D32_SFLOAT_S8_UINT (whose
-// stencil aspect is an integer).
+// Whether it decodes to floating point: the float colour formats, D32_SFLOAT and
+// D32_SFLOAT_S8_UINT (whose stencil aspect is an integer).
 bool is_float(const FormatInfo& format);
 // One texel of a float colour format whose every channel is a quiet NaN, as raw bytes.
 std::vector<uint8_t> quiet_nan_texel(const FormatInfo& format);

@@ -1,7 +1,9 @@
 // `render --inject-nan` and `inspect`'s `nan`: the manifest records the injection, `nan` names
 // the injected pass, resource and pixel (placed here by the scaling formula, not by inspect's
-// code) and not the passes that read the NaN after it, a clean capture has no origin, replay
-// writes the NaN again, and bad flags and hostile manifests are refused with one line.
+// code) and not the passes that read the NaN after it, searches every frame (an injection is
+// made in each) or the current one, a clean capture has no origin, replay writes the NaN again,
+// and bad flags and hostile manifests are refused with one line. The search's rules on frames
+// built by hand, float depth and buffer fields included: tests/unit/nan_origin_test.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,6 +23,7 @@ using nlohmann::json;
 const char* kInjected = "--city-block --size 320x180 --inject-nan lighting.tiled:100,50";
 // bloom.chain is half the output (160x90, with mips) and exposure.value 1x1.
 const char* kScaled = "--city-block --size 320x180 --inject-nan bloom.level0:101,51 --inject-nan exposure:300,170";
+const char* kTwoFrames = "--city-block --size 160x90 --frames 2 --inject-nan lighting.tiled:40,20";
 
 json inspect_json(const fs::path& capture, const std::string& command) {
   const Inspected run = inspect(capture, command + " --json");
@@ -59,10 +62,15 @@ TEST(NanOrigin, NamesTheInjectedPassPixelAndItsInputsThere) {
   const fs::path path = shared_capture("nan-deferred", kInjected);
   const json j = inspect_json(path, "nan");
   ASSERT_TRUE(j.at("origin").is_object()) << j;
+  EXPECT_EQ(j.at("frames"), json::array({0}));
+  ASSERT_EQ(j.at("origins").size(), 1u) << "the passes after it read the NaN: " << j;
   const json& origin = j.at("origin");
+  EXPECT_EQ(origin, j.at("origins")[0]);
+  EXPECT_EQ(origin.at("how"), "born");
+  EXPECT_EQ(origin.at("frame"), 0);
   EXPECT_EQ(origin.at("pass"), "lighting.tiled");
-  ASSERT_EQ(origin.at("outputs").size(), 1u) << "lighting.specular holds no NaN: " << origin;
-  const json& output = origin.at("outputs")[0];
+  ASSERT_EQ(origin.at("resources").size(), 1u) << "lighting.specular holds no NaN: " << origin;
+  const json& output = origin.at("resources")[0];
   EXPECT_EQ(output.at("resource"), "lighting.diffuse");
   EXPECT_EQ(output.at("count"), 1);
   ASSERT_EQ(output.at("texels").size(), 1u);
@@ -91,7 +99,9 @@ TEST(NanOrigin, NamesTheInjectedPassPixelAndItsInputsThere) {
 
   const CliResult text = run_cli("inspect " + quote(path) + " -c 'nan'");
   EXPECT_EQ(text.code, 0) << text.err;
-  EXPECT_NE(text.out.find("written by lighting.tiled"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("frame 0: 1 origin(s)"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("the first NaN or Inf was written by frame 0, lighting.tiled"), std::string::npos)
+      << text.out;
   EXPECT_NE(text.out.find("pixel (100, 50)"), std::string::npos) << text.out;
 }
 
@@ -110,6 +120,11 @@ TEST(NanOrigin, APassThatCarriesTheNanOnIsNotItsOrigin) {
   ASSERT_EQ(r.code, 0) << r.err;
   const json j = json::parse(r.out.substr(r.out.find('\n') + 1));
   EXPECT_EQ(j.at("origin").at("pass"), "bloom.level0") << "from any current pass";
+  // exposure's injection is the other origin: it reads bloom.chain's mip 5 and lighting.lit,
+  // which hold no NaN (bloom.chain's is in mip 0).
+  std::vector<std::string> origins;
+  for (const json& o : j.at("origins")) origins.push_back(o.at("pass"));
+  EXPECT_EQ(origins, (std::vector<std::string>{"bloom.level0", "exposure"})) << j;
 
   const Capture deferred = Capture::open(shared_capture("nan-deferred", kInjected));
   const std::vector<uint8_t> diffuse =
@@ -125,11 +140,40 @@ TEST(NanOrigin, ACleanCaptureHasNoOrigin) {
   EXPECT_NE(text.out.find("no pass wrote a NaN or an Inf"), std::string::npos) << text.out;
 }
 
+// An injection is made in every frame: each frame's lighting.tiled is an origin (its inputs in
+// frame 1 are finite again: lighting.composite's limit keeps the NaN out of every history).
+// `frame 1` and `--this-frame` search that frame alone.
+TEST(NanOrigin, EveryFrameIsSearchedOrTheCurrentOneAlone) {
+  const fs::path path = shared_capture("nan-two-frames", kTwoFrames);
+  const json all = inspect_json(path, "nan");
+  EXPECT_EQ(all.at("frames"), json::array({0, 1}));
+  ASSERT_EQ(all.at("origins").size(), 2u) << all;
+  for (int frame : {0, 1}) {
+    const json& origin = all.at("origins")[frame];
+    EXPECT_EQ(origin.at("frame"), frame);
+    EXPECT_EQ(origin.at("pass"), "lighting.tiled");
+    EXPECT_EQ(origin.at("resources").at(0).at("texels").at(0).at("pixel"), json::array({40, 20}));
+  }
+
+  const CliResult text = run_cli("inspect " + quote(path) + " -c 'nan'");
+  EXPECT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("frames 0-1: 2 origin(s)"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("then one was written by frame 1, lighting.tiled"), std::string::npos) << text.out;
+
+  const Inspected current = inspect(path, "frame 1 --json; nan --this-frame --json");
+  ASSERT_EQ(current.result.code, 0) << current.result.err;
+  const json& second = current.objects.at(1);
+  EXPECT_EQ(second.at("frames"), json::array({1}));
+  ASSERT_EQ(second.at("origins").size(), 1u) << second;
+  EXPECT_EQ(second.at("origin").at("frame"), 1);
+  EXPECT_EQ(second.at("origin").at("how"), "born");
+}
+
 TEST(NanOrigin, HalfResolutionOutputMapsThePixelToItsTexel) {
   const json j = inspect_json(shared_capture("nan-scaled", kScaled), "nan --limit 3");
   const json& origin = j.at("origin");
   EXPECT_EQ(origin.at("pass"), "bloom.level0");
-  const json& output = origin.at("outputs").at(0);
+  const json& output = origin.at("resources").at(0);
   EXPECT_EQ(output.at("resource"), "bloom.chain");
   EXPECT_EQ(output.at("count"), 1);
   const json& texel = output.at("texels").at(0);
