@@ -3,6 +3,7 @@
 // and the command exits 2, whether or not any other command would ever read that blob.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <map>
 #include <set>
 
@@ -124,8 +125,9 @@ TEST(Check, ACorruptBlobNoPassReadsIsNamedWhileReplayVerifies) {
   EXPECT_NE(text.out.find(": 1 bad"), std::string::npos) << text.out;
 }
 
-// An image and a buffer cut short (at several lengths), one removed, one buffer of another size:
-// each is named with its own problem, every other blob is sound.
+// An image and a buffer cut short (at several lengths), one removed, a buffer of another size, an
+// image of full length whose last bytes (compressed pixels) are garbage: each is named with its
+// own problem, every other blob is sound.
 TEST(Check, TruncatedMissingAndUndecodableBlobs) {
   const fs::path capture = copy_of_city("damaged");
   const Capture opened = Capture::open(capture);
@@ -133,7 +135,13 @@ TEST(Check, TruncatedMissingAndUndecodableBlobs) {
   const ResourceRecord& buffer = record_of(opened, "cull.main", "scene.geometry", false);
   const ResourceRecord& removed = record_of(opened, "tonemap", "final.ldr", true);
   const ResourceRecord& resized = record_of(opened, "cull.main", "scene.instances", false);
-  ASSERT_EQ((std::set<std::string>{image.blob, buffer.blob, removed.blob, resized.blob}).size(), 4u);
+  const ResourceRecord& garbled = record_of(opened, "lighting.tiled", "lighting.diffuse", true);
+  ASSERT_EQ((std::set<std::string>{image.blob, buffer.blob, removed.blob, resized.blob, garbled.blob}).size(), 5u);
+  {
+    std::fstream file(capture / garbled.blob, std::ios::binary | std::ios::in | std::ios::out);
+    file.seekp(-64, std::ios::end);
+    file << std::string(64, '\xff');
+  }
   const std::vector<uint8_t> longer(resized.raw_bytes() + 4, 0);
   write_buffer_blob(capture / resized.blob, longer, 3);
   fs::remove(capture / removed.blob);
@@ -148,7 +156,8 @@ TEST(Check, TruncatedMissingAndUndecodableBlobs) {
     EXPECT_EQ(problems, (std::map<std::string, std::string>{{image.blob, "truncated"},
                                                             {buffer.blob, "truncated"},
                                                             {removed.blob, "missing"},
-                                                            {resized.blob, "undecodable"}}))
+                                                            {resized.blob, "undecodable"},
+                                                            {garbled.blob, "undecodable"}}))
         << "kept " << kept << " of the image and the buffer: " << r.out;
   }
 }
