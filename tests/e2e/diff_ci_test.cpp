@@ -284,6 +284,22 @@ TEST(DiffCi, DifferentScenesNameTheFrameInputsThatDiffer) {
   for (const json& frame : same_scene.at("frames")) EXPECT_EQ(frame.at("inputs_differ"), json::array());
 }
 
+// One scene seen from another camera: frame.camera is the one input of each frame that differs
+// (frame 1's history comes from frame 0, which both captures hold, so it is not the frame's own).
+TEST(DiffCi, AnotherCameraNamesFrameCameraAlone) {
+  const fs::path a = shared_capture("city", kCity),
+                 b = shared_capture("city-orbit", std::string(kCity) + " --orbit 30,20,40");
+  const CliResult r = run_cli("diff --json " + quote(a) + " " + quote(b));
+  ASSERT_EQ(r.code, 1) << r.err;
+  const json diff = json::parse(r.out);
+  EXPECT_EQ(diff.at("first_divergence"), nullptr);
+  EXPECT_EQ(diff.at("input_divergence"), (json{{"frame", 0}, {"inputs", json::array({"frame.camera"})}}));
+  ASSERT_EQ(diff.at("frames").size(), 2u);
+  for (const json& frame : diff.at("frames")) EXPECT_EQ(frame.at("inputs_differ"), json::array({"frame.camera"}));
+  EXPECT_EQ(diff.at("settings_differ"), json::array({"orbit"}));
+  EXPECT_EQ(diff.at("scene_differ"), json::array());
+}
+
 TEST(DiffCi, OneFrameOfAMultiFramePair) {
   const fs::path a = shared_capture("city", kCity), b = shared_capture("city-light", kLight);
   const CliResult r = run_cli("diff --json --frame 1 " + quote(a) + " " + quote(b));
