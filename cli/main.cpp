@@ -1,4 +1,4 @@
-// nightcap: render a scene to a capture, list its passes, replay them, diff two captures (or a
+// nightcap: render a scene to a capture, list its passes, check every blob of it, replay them, diff two captures (or a
 // capture and a golden of a store), keep goldens, draw a frame's graph, step through a capture
 // pass by pass.
 // Exit codes: 0 success, 1 differences beyond tolerance, 2 bad input or failure.
@@ -19,6 +19,7 @@
 #include "captures/capture.h"
 #include "captures/golden_store.h"
 #include "cli/inspect_repl.h"
+#include "inspect/capture_check.h"
 #include "inspect/commands.h"
 #include "inspect/diff.h"
 #include "inspect/diff_results.h"
@@ -352,6 +353,36 @@ int run_replay(const std::string& path, uint32_t frame, const std::vector<std::s
   return verify && report.any_different() ? kExitDifferent : 0;
 }
 
+// Exit 0 when every blob the manifest names reads, decodes and matches its hash; 2 when any does
+// not, as for a manifest that cannot be read.
+int run_check(const std::string& path, bool json) {
+  const auto start = std::chrono::steady_clock::now();
+  const nc::Capture capture = nc::Capture::open(path);
+  const nc::CaptureCheck check = nc::check_capture(capture);
+  if (json) {
+    nlohmann::json out = nc::to_json(check);
+    out["capture"] = path;
+    std::cout << out.dump(1) << "\n";
+    return check.bad.empty() ? 0 : kExitBadInput;
+  }
+  constexpr size_t kReferencesShown = 3;
+  for (const nc::BadBlob& bad : check.bad) {
+    std::cout << bad.blob << ": " << nc::blob_problem_name(bad.check.problem) << "\n  " << bad.check.detail << "\n";
+    for (size_t i = 0; i < std::min(bad.references.size(), kReferencesShown); ++i)
+      std::cout << "  " << nc::describe(bad.references[i]) << "\n";
+    if (bad.references.size() > kReferencesShown)
+      std::cout << "  and " << bad.references.size() - kReferencesShown << " more\n";
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "checked " << check.blobs << " blobs (" << std::fixed << std::setprecision(1)
+            << check.bytes_on_disk / 1048576.0 << " MiB) in " << std::setprecision(2) << seconds << " s: ";
+  if (check.bad.empty())
+    std::cout << "every blob reads, decodes and matches its hash\n";
+  else
+    std::cout << check.bad.size() << " bad\n";
+  return check.bad.empty() ? 0 : kExitBadInput;
+}
+
 struct DiffFlags {
   std::string thresholds, junit;
   std::optional<double> tolerance;
@@ -643,6 +674,14 @@ int main(int argc, char** argv) {
   passes->add_option("capture", capture_path, "capture folder")->required();
   passes->add_flag("--json", json, "machine-readable output");
 
+  auto* check = app.add_subcommand(
+      "check",
+      "Read every blob of a capture, decode it and check its content hash (other commands read only the blobs they "
+      "need): name each bad blob, what is wrong (missing, refused, truncated, undecodable, hash_mismatch) and the "
+      "records that refer to it.\nExit codes: 0 every blob is sound, 2 a bad blob or an unreadable manifest.");
+  check->add_option("capture", capture_path, "capture folder")->required();
+  check->add_flag("--json", json, "machine-readable output");
+
   uint32_t frame = 0;
   auto* replay = app.add_subcommand("replay", "Re-execute passes of a capture from their recorded inputs");
   replay->add_option("capture", capture_path, "capture folder")->required();
@@ -761,6 +800,7 @@ int main(int argc, char** argv) {
     if (*render) code = run_render(r);
     if (*bake_tod) code = run_bake_tod(bake_seed, bake_size, bake_out);
     if (*passes) code = run_passes(capture_path, json);
+    if (*check) code = run_check(capture_path, json);
     if (*replay) code = run_replay(capture_path, frame, pass_names, sets, shaders, device, verify, chain, json);
     if (*diff) {
       if (tolerance_option->count()) diff_flags.tolerance = tolerance;

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <iomanip>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "inspect/parallel.h"
+#include "passes/core/history_name.h"
 
 namespace nightcap {
 namespace {
@@ -33,6 +35,61 @@ std::map<std::string, std::string> shader_hashes(const PassRecord& p) {
   std::map<std::string, std::string> out;
   for (const ShaderRecord& s : p.shaders) out[s.path] = s.hash;
   return out;
+}
+
+// The frame's own inputs by resource, with their hashes: what its passes read and none of them
+// writes. Only passes that ran in `other` (the other capture's frame) too count: what a pass run
+// by one capture alone reads is that pass's difference, reported as such. History counts only
+// with `history_is_own`: otherwise it is what the previous frame of both captures left, and
+// differs only where that frame differed.
+std::map<std::string, std::string> own_inputs(const FrameRecord& frame, const FrameRecord& other, bool history_is_own) {
+  std::set<std::string> written, ran_in_other;
+  for (const PassRecord& p : frame.passes)
+    for (const ResourceRecord& r : p.outputs) written.insert(r.resource);
+  for (const PassRecord& p : other.passes)
+    if (p.ran) ran_in_other.insert(p.name);
+  std::map<std::string, std::string> inputs;
+  for (const PassRecord& p : frame.passes)
+    if (p.ran && ran_in_other.count(p.name))
+      for (const ResourceRecord& r : p.inputs)
+        if (!written.count(r.resource) && (history_is_own || history_source(r.resource).empty()))
+          inputs.emplace(r.resource, r.hash);
+  return inputs;
+}
+
+std::vector<std::string> differing(const std::map<std::string, std::string>& a,
+                                   const std::map<std::string, std::string>& b) {
+  std::vector<std::string> names;
+  for (const auto& [name, hash] : a)
+    if (const auto found = b.find(name); found == b.end() || found->second != hash) names.push_back(name);
+  for (const auto& [name, hash] : b)
+    if (!a.count(name)) names.push_back(name);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// The keys whose values differ; "" when either side is not an object and they differ.
+std::vector<std::string> differing_keys(const nlohmann::json& a, const nlohmann::json& b) {
+  if (!a.is_object() || !b.is_object()) return a == b ? std::vector<std::string>{} : std::vector<std::string>{""};
+  std::set<std::string> keys;
+  for (const auto& [key, value] : a.items()) keys.insert(key);
+  for (const auto& [key, value] : b.items()) keys.insert(key);
+  std::vector<std::string> out;
+  for (const std::string& key : keys)
+    if (a.value(key, nlohmann::json()) != b.value(key, nlohmann::json())) out.push_back(key);
+  return out;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
+  return text;
+}
+
+const FrameDiff* first_with_inputs_differing(const CaptureDiff& diff) {
+  for (const FrameDiff& frame : diff.frames)
+    if (!frame.inputs_differ.empty()) return &frame;
+  return nullptr;
 }
 
 // Outputs `--tolerance` applies to: float colour values (not normals, depth or buffers).
@@ -246,6 +303,16 @@ CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions&
     }
     FrameDiff& frame = diff.frames.emplace_back();
     frame.index = fa.index;
+    auto has_previous = [&](const Capture& c) {
+      return std::any_of(c.manifest().frames.begin(), c.manifest().frames.end(),
+                         [&](const FrameRecord& f) { return f.index + 1 == fa.index; });
+    };
+    const bool history_is_own = fa.index == 0 || !has_previous(a) || !has_previous(b);
+    frame.inputs_differ = differing(own_inputs(fa, *fb, history_is_own), own_inputs(*fb, fa, history_is_own));
+    if (!frame.inputs_differ.empty()) {
+      diff.identical = false;
+      diff.beyond_tolerance = true;
+    }
     frame.passes.reserve(fa.passes.size() + fb->passes.size());
     for (const PassRecord& pa : fa.passes) {
       const PassRecord* pb = find(*fb, pa.name);
@@ -279,6 +346,8 @@ CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions&
       diff.beyond_tolerance = true;
     }
   }
+  diff.settings_differ = differing_keys(a.manifest().settings, b.manifest().settings);
+  diff.scene_differ = differing_keys(a.manifest().scene, b.manifest().scene);
   return diff;
 }
 
@@ -293,6 +362,7 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
   const int pass_column = int(pass_width), resource_column = int(resource_width);
   for (const FrameDiff& frame : diff.frames) {
     out << "frame " << frame.index << "\n";
+    if (!frame.inputs_differ.empty()) out << "  the frame's own inputs differ: " << joined(frame.inputs_differ) << "\n";
     out << "  " << std::left << std::setw(pass_column) << "pass" << std::setw(resource_column) << "resource"
         << std::setw(11) << "status" << std::right << std::setw(11) << "max abs" << std::setw(11) << "RMSE"
         << std::setw(9) << "PSNR" << std::setw(8) << ">thr %" << std::setw(12) << "NaN/Inf"
@@ -329,8 +399,14 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
     }
   }
   for (const std::string& note : diff.notes) out << "note: " << note << "\n";
+  if (!diff.settings_differ.empty()) out << "settings differ: " << joined(diff.settings_differ) << "\n";
+  if (!diff.scene_differ.empty()) out << "the scenes' descriptions differ: " << joined(diff.scene_differ) << "\n";
+  const FrameDiff* inputs_differ = first_with_inputs_differing(diff);
   if (diff.first_divergence)
     out << "first divergence: " << diff.first_divergence->second << " (frame " << diff.first_divergence->first << ")\n";
+  else if (inputs_differ)
+    out << "first divergence: the own inputs of frame " << inputs_differ->index << " ("
+        << joined(inputs_differ->inputs_differ) << "), before any pass: no pass differs with equal inputs\n";
   else
     out << (diff.identical ? "no differences\n" : "differences, but no pass where they start with equal inputs\n");
 }
@@ -404,13 +480,19 @@ nlohmann::json diff_to_json(const CaptureDiff& diff) {
       }
       passes.push_back(pass);
     }
-    frames.push_back({{"index", frame.index}, {"passes", passes}});
+    frames.push_back({{"index", frame.index}, {"inputs_differ", frame.inputs_differ}, {"passes", passes}});
   }
   nlohmann::json first = nullptr;
   if (diff.first_divergence) first = {{"frame", diff.first_divergence->first}, {"pass", diff.first_divergence->second}};
+  nlohmann::json input_divergence = nullptr;
+  if (const FrameDiff* frame = first_with_inputs_differing(diff))
+    input_divergence = {{"frame", frame->index}, {"inputs", frame->inputs_differ}};
   nlohmann::json out = {{"identical", diff.identical},
                         {"beyond_tolerance", diff.beyond_tolerance},
                         {"first_divergence", first},
+                        {"input_divergence", input_divergence},
+                        {"settings_differ", diff.settings_differ},
+                        {"scene_differ", diff.scene_differ},
                         {"notes", diff.notes},
                         {"frames", frames}};
   if (isolated) out["changed_passes"] = changed;

@@ -87,6 +87,12 @@ struct PassDiff {
 
 struct FrameDiff {
   uint32_t index = 0;
+  // The frame's own inputs that differ (or that one capture lacks): resources that the passes
+  // both captures ran read and no pass of the frame writes (the scene's buffers and textures,
+  // frame.camera), and history from a frame before that either capture lacks. Where they differ,
+  // passes downstream differ with unequal inputs, and none of them need be where the difference
+  // started.
+  std::vector<std::string> inputs_differ;
   std::vector<PassDiff> passes;
 };
 
@@ -96,13 +102,18 @@ struct CaptureDiff {
   bool identical = true;
   bool beyond_tolerance = false;
   std::vector<std::string> notes;  // frames present in one capture only, ...
-  bool golden = false;             // DiffOptions::golden
+  // The keys of the manifests' "settings" (the command line) and "scene" (its description) whose
+  // values differ: what likely made the frames' own inputs differ.
+  std::vector<std::string> settings_differ, scene_differ;
+  bool golden = false;  // DiffOptions::golden
 };
 
 // Throws CaptureError when a blob cannot be read or a capture lacks options.frame.
 CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions& options);
 void print_diff_table(std::ostream& out, const CaptureDiff& diff);
 // With --isolate's results, "changed_passes" lists the passes found changed themselves.
+// "input_divergence" names the first frame whose own inputs differ, and them ({"frame",
+// "inputs"}), or is null.
 nlohmann::json diff_to_json(const CaptureDiff& diff);
 
 }  // namespace nightcap

@@ -30,6 +30,20 @@ std::string measured(const OutputDiff& o) {
   return c.metric + " max abs " + number(c.max_abs);
 }
 
+std::string joined(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
+  return text;
+}
+
+// What differs of a frame's own inputs, and of the settings that likely made them differ.
+std::string frame_inputs_message(const CaptureDiff& diff, const FrameDiff& frame) {
+  std::string text = "the frame's own inputs differ: " + joined(frame.inputs_differ);
+  if (!diff.settings_differ.empty()) text += "; the captures' settings differ: " + joined(diff.settings_differ);
+  if (!diff.scene_differ.empty()) text += "; the scenes' descriptions differ: " + joined(diff.scene_differ);
+  return text;
+}
+
 }  // namespace
 
 std::vector<DiffCase> diff_cases(const CaptureDiff& diff) {
@@ -37,6 +51,8 @@ std::vector<DiffCase> diff_cases(const CaptureDiff& diff) {
   std::vector<DiffCase> cases;
   for (const FrameDiff& frame : diff.frames) {
     const std::string suite = "frame " + std::to_string(frame.index);
+    if (!frame.inputs_differ.empty())
+      cases.push_back({suite, "frame inputs", Outcome::failed, frame_inputs_message(diff, frame)});
     for (const PassDiff& p : frame.passes) {
       switch (p.status) {
         case PassStatus::skipped:

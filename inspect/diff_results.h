@@ -14,7 +14,9 @@ namespace nightcap {
 
 struct DiffCase {
   std::string suite;  // "frame K"
-  std::string name;   // "PASS/RESOURCE", "PASS" for a pass-level result, or "frame K"
+  // "PASS/RESOURCE", "PASS" for a pass-level result, "frame inputs" for a frame whose own inputs
+  // differ, or "frame K"
+  std::string name;
   enum class Outcome { passed, failed, skipped } outcome = Outcome::passed;
   std::string message;  // what it was held to and what was measured, or why it failed or was skipped
 };

@@ -309,7 +309,7 @@ TEST(BadInput, AKilledRendersTemporaryIsRemovedByTheNextRender) {
 
 TEST(Cli, EveryCommandHasHelp) {
   for (const char* command :
-       {"", "render ", "passes ", "replay ", "diff ", "golden ", "golden update ", "golden list "}) {
+       {"", "render ", "passes ", "check ", "replay ", "diff ", "golden ", "golden update ", "golden list "}) {
     const CliResult r = run_cli(std::string(command) + "--help");
     EXPECT_EQ(r.code, 0) << command;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << command << r.out;

@@ -1,8 +1,12 @@
 // `nightcap diff` as a CI gate: thresholds from a file (and where each came from), the last line
-// of counts, JUnit XML, exit codes, and one frame of a multi-frame pair.
+// of counts, JUnit XML (with --isolate's findings), exit codes, one frame of a multi-frame pair,
+// and two scenes, where the frames' own inputs differ and no pass is the origin.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstring>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <set>
 
@@ -88,24 +92,212 @@ TEST(DiffCi, ThresholdsFileHoldsWhatItMatchesAndSaysWhereFrom) {
   EXPECT_NE(plain.out.find("FLIP mean "), std::string::npos) << "the table shows FLIP of the displayed image";
 }
 
-TEST(DiffCi, JunitHasOneCasePerPassAndOutput) {
+struct JunitCase {
+  std::string suite, name, outcome, message;  // outcome: "passed", "failure" or "skipped"
+};
+
+// Text of an XML attribute or element as it was before escaping.
+std::string unescaped(const std::string& xml) {
+  std::string text;
+  for (size_t i = 0; i < xml.size(); ++i) {
+    bool entity = false;
+    for (const auto& [name, c] :
+         {std::pair{"&amp;", '&'}, {"&lt;", '<'}, {"&gt;", '>'}, {"&quot;", '"'}, {"&#39;", '\''}})
+      if (xml.compare(i, std::strlen(name), name) == 0) {
+        text += c;
+        i += std::strlen(name) - 1;
+        entity = true;
+        break;
+      }
+    if (!entity) text += xml[i];
+  }
+  return text;
+}
+
+// The test cases of a JUnit file nightcap wrote, in order, their names and messages unescaped.
+std::vector<JunitCase> junit_cases(const fs::path& file) {
+  const std::string xml = slurp(file);
+  const std::regex testcase(
+      R"re(<testcase classname="([^"]*)" name="([^"]*)">\n\s*(?:<system-out>([^<]*)</system-out>|<(failure|skipped) message="([^"]*)"/>))re");
+  std::vector<JunitCase> cases;
+  for (auto m = std::sregex_iterator(xml.begin(), xml.end(), testcase); m != std::sregex_iterator(); ++m) {
+    const std::smatch& c = *m;
+    cases.push_back({unescaped(c[1]), unescaped(c[2]), c[4].matched ? c[4].str() : "passed",
+                     unescaped(c[4].matched ? c[5].str() : c[3].str())});
+  }
+  EXPECT_EQ(cases.size(), count(xml, "<testcase ")) << "a test case the pattern does not read";
+  return cases;
+}
+
+// The cases a diff of two captures of the same frames and passes must have, from their manifests:
+// per frame, a pass skipped in both is one case, a pass that ran in both one per output of either.
+std::multiset<std::pair<std::string, std::string>> expected_cases(const fs::path& a, const fs::path& b) {
+  const json frames_a = read_json(a / "manifest.json").at("frames"),
+             frames_b = read_json(b / "manifest.json").at("frames");
+  EXPECT_EQ(frames_a.size(), frames_b.size());
+  std::multiset<std::pair<std::string, std::string>> cases;
+  for (size_t f = 0; f < frames_a.size() && f < frames_b.size(); ++f) {
+    const std::string suite = "frame " + std::to_string(frames_a[f].at("index").get<int>());
+    const json &passes_a = frames_a[f].at("passes"), &passes_b = frames_b[f].at("passes");
+    EXPECT_EQ(passes_a.size(), passes_b.size());
+    for (size_t p = 0; p < passes_a.size() && p < passes_b.size(); ++p) {
+      const std::string pass = passes_a[p].at("name");
+      EXPECT_EQ(passes_b[p].at("name"), pass);
+      EXPECT_EQ(passes_a[p].at("status"), passes_b[p].at("status")) << pass;
+      if (passes_a[p].at("status") == "skipped") {
+        cases.insert({suite, pass});
+        continue;
+      }
+      std::set<std::string> outputs;
+      for (const json* passes : {&passes_a, &passes_b})
+        for (const json& o : (*passes)[p].at("outputs")) outputs.insert(o.at("resource").get<std::string>());
+      for (const std::string& o : outputs) cases.insert({suite, pass + "/" + o});
+    }
+  }
+  return cases;
+}
+
+TEST(DiffCi, JunitHasOneCasePerPassAndOutputOfTheManifests) {
   const fs::path a = shared_capture("city", kCity), b = shared_capture("city-light", kLight);
   const fs::path dir = scratch("diff-junit");
   const CliResult r = run_cli("diff --junit " + quote(dir / "diff.xml") + " " + quote(a) + " " + quote(b));
   EXPECT_EQ(r.code, 1);
-  std::smatch counts;
-  const std::string line = last_line(r.out);
-  ASSERT_TRUE(std::regex_match(line, counts, std::regex("([0-9]+) passed, ([0-9]+) failed")));
-  const size_t passed = std::stoul(counts[1]), failed = std::stoul(counts[2]);
-  std::ifstream in(dir / "diff.xml");
-  const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string xml = slurp(dir / "diff.xml");
   EXPECT_EQ(xml.rfind("<?xml version=\"1.0\" encoding=\"UTF-8\"?>", 0), 0u);
-  EXPECT_EQ(count(xml, "<failure "), failed);
-  EXPECT_EQ(count(xml, "<testcase "), passed + failed + count(xml, "<skipped "));
+  const std::vector<JunitCase> cases = junit_cases(dir / "diff.xml");
+  std::multiset<std::pair<std::string, std::string>> written;
+  for (const JunitCase& c : cases) written.insert({c.suite, c.name});
+  EXPECT_EQ(written, expected_cases(a, b));
   EXPECT_EQ(count(xml, "<testsuite "), 2u) << "one suite per frame";
-  EXPECT_NE(xml.find("name=\"lighting.tiled/lighting.diffuse\""), std::string::npos);
-  EXPECT_NE(xml.find("name=\"gbuffer.opaque/gbuffer.normal\""), std::string::npos);
+  const auto stencil = std::find_if(cases.begin(), cases.end(), [](const JunitCase& c) {
+    return c.suite == "frame 0" && c.name == "motion.stencil";
+  });
+  ASSERT_NE(stencil, cases.end()) << "motion.stencil is skipped in frame 0 of both";
+  EXPECT_EQ(stencil->outcome, "skipped");
+  EXPECT_EQ(stencil->message, "skipped in both captures");
   EXPECT_FALSE(fs::exists(dir / "diff.xml.partial"));
+}
+
+// --isolate adds to each differing output's case what running B's pass on A's inputs found, and
+// changes no case and no outcome.
+TEST(DiffCi, IsolateResultsAreInTheJunitFile) {
+  const fs::path a = shared_capture("city", kCity),
+                 b = shared_capture("city-light-bloom", kLight + " --set tonemap.bloom=0.1");
+  const fs::path dir = scratch("diff-isolate-junit");
+  const CliResult plain =
+      run_cli("diff --frame 1 --junit " + quote(dir / "plain.xml") + " " + quote(a) + " " + quote(b));
+  ASSERT_EQ(plain.code, 1) << plain.err;
+  const CliResult isolated = run_cli("diff --json --isolate --frame 1 --junit " + quote(dir / "isolated.xml") + " " +
+                                     quote(a) + " " + quote(b));
+  ASSERT_EQ(isolated.code, 1) << isolated.err;
+  std::map<std::string, std::string> summaries;  // pass -> what its isolation found
+  std::map<std::string, bool> identical;         // PASS/RESOURCE -> identical
+  const json isolated_diff = json::parse(isolated.out);
+  for (const json& p : isolated_diff.at("frames").at(0).at("passes")) {
+    if (p.contains("isolation")) summaries[p.at("name")] = p.at("isolation").at("summary");
+    for (const json& o : p.at("outputs"))
+      identical[p.at("name").get<std::string>() + "/" + o.at("resource").get<std::string>()] = o.at("identical");
+  }
+  ASSERT_TRUE(summaries.count("tonemap") && summaries.count("bloom.level0")) << isolated.out;
+  const std::vector<JunitCase> before = junit_cases(dir / "plain.xml"), after = junit_cases(dir / "isolated.xml");
+  ASSERT_EQ(before.size(), after.size());
+  size_t with_isolation = 0;
+  for (size_t i = 0; i < before.size(); ++i) {
+    EXPECT_EQ(after[i].suite, before[i].suite);
+    EXPECT_EQ(after[i].name, before[i].name);
+    EXPECT_EQ(after[i].outcome, before[i].outcome) << after[i].name;
+    const std::string pass = after[i].name.substr(0, after[i].name.find('/'));
+    const bool differs = identical.count(after[i].name) && !identical.at(after[i].name);
+    const std::string added = summaries.count(pass) && differs ? "; " + summaries.at(pass) : "";
+    EXPECT_EQ(after[i].message, before[i].message + added) << after[i].name;
+    with_isolation += !added.empty();
+  }
+  EXPECT_GT(with_isolation, 0u);
+  const auto tonemap =
+      std::find_if(after.begin(), after.end(), [](const JunitCase& c) { return c.name == "tonemap/final.ldr"; });
+  ASSERT_NE(tonemap, after.end());
+  EXPECT_NE(tonemap->message.find("the pass itself changed"), std::string::npos) << tonemap->message;
+}
+
+// Two scenes: every pass differs with unequal inputs, so none is the origin. The diff names the
+// frame whose own inputs differ and which, with the settings that differ, in the JSON, the table
+// and the JUnit file.
+TEST(DiffCi, DifferentScenesNameTheFrameInputsThatDiffer) {
+  const fs::path a = shared_capture("city", kCity),
+                 b = shared_capture("city-seed-2", std::string(kCity) + " --scene-seed 2");
+  const fs::path dir = scratch("diff-scenes");
+  const CliResult r = run_cli("diff --json --junit " + quote(dir / "diff.xml") + " " + quote(a) + " " + quote(b));
+  ASSERT_EQ(r.code, 1) << r.err;
+  const json diff = json::parse(r.out);
+  EXPECT_EQ(diff.at("first_divergence"), nullptr);
+  // The reference, from the manifests: what frame 0's passes read that none of them writes, and
+  // whose hash differs (the two scenes run the same passes).
+  auto own_inputs = [](const fs::path& capture) {
+    const json passes = read_json(capture / "manifest.json").at("frames").at(0).at("passes");
+    std::set<std::string> written;
+    for (const json& p : passes)
+      for (const json& o : p.at("outputs")) written.insert(o.at("resource").get<std::string>());
+    std::map<std::string, std::string> inputs;
+    for (const json& p : passes)
+      if (p.at("status") == "ran")
+        for (const json& i : p.at("inputs"))
+          if (!written.count(i.at("resource").get<std::string>())) inputs[i.at("resource")] = i.at("hash");
+    return inputs;
+  };
+  for (const json& frame : diff.at("frames"))
+    for (const json& p : frame.at("passes"))
+      EXPECT_TRUE(p.at("status") == "inherited" || p.at("status") == "identical" || p.at("status") == "skipped")
+          << p.dump();
+  const auto inputs_a = own_inputs(a), inputs_b = own_inputs(b);
+  json expected = json::array();
+  for (const auto& [resource, hash] : inputs_a)
+    if (!inputs_b.count(resource) || inputs_b.at(resource) != hash) expected.push_back(resource);
+  EXPECT_EQ(inputs_a.size(), inputs_b.size());
+  EXPECT_NE(std::find(expected.begin(), expected.end(), "scene.instances"), expected.end()) << expected.dump();
+  EXPECT_EQ(diff.at("input_divergence"), (json{{"frame", 0}, {"inputs", expected}}));
+  EXPECT_EQ(diff.at("frames").at(0).at("inputs_differ"), expected);
+  EXPECT_EQ(diff.at("settings_differ"), json::array({"scene_seed"}));
+  const json& scene = diff.at("scene_differ");
+  EXPECT_NE(std::find(scene.begin(), scene.end(), "source"), scene.end()) << scene.dump();
+
+  bool named = false;
+  for (const JunitCase& c : junit_cases(dir / "diff.xml"))
+    if (c.suite == "frame 0" && c.name == "frame inputs") {
+      named = true;
+      EXPECT_EQ(c.outcome, "failure");
+      EXPECT_NE(c.message.find("scene.instances"), std::string::npos) << c.message;
+      EXPECT_NE(c.message.find("the captures' settings differ: scene_seed"), std::string::npos) << c.message;
+    }
+  EXPECT_TRUE(named) << slurp(dir / "diff.xml");
+
+  const CliResult table = run_cli("diff " + quote(a) + " " + quote(b));
+  EXPECT_EQ(table.code, 1);
+  EXPECT_NE(table.out.find("first divergence: the own inputs of frame 0 ("), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find("  the frame's own inputs differ: "), std::string::npos) << table.out;
+
+  // One scene with another lighting parameter: the frames' own inputs agree, and a pass is the origin.
+  const json same_scene =
+      json::parse(run_cli("diff --json " + quote(a) + " " + quote(shared_capture("city-light", kLight))).out);
+  EXPECT_EQ(same_scene.at("input_divergence"), nullptr);
+  EXPECT_EQ(same_scene.at("settings_differ"), json::array({"set"}));
+  EXPECT_EQ(same_scene.at("scene_differ"), json::array());
+  for (const json& frame : same_scene.at("frames")) EXPECT_EQ(frame.at("inputs_differ"), json::array());
+}
+
+// One scene seen from another camera: frame.camera is the one input of each frame that differs
+// (frame 1's history comes from frame 0, which both captures hold, so it is not the frame's own).
+TEST(DiffCi, AnotherCameraNamesFrameCameraAlone) {
+  const fs::path a = shared_capture("city", kCity),
+                 b = shared_capture("city-orbit", std::string(kCity) + " --orbit 30,20,40");
+  const CliResult r = run_cli("diff --json " + quote(a) + " " + quote(b));
+  ASSERT_EQ(r.code, 1) << r.err;
+  const json diff = json::parse(r.out);
+  EXPECT_EQ(diff.at("first_divergence"), nullptr);
+  EXPECT_EQ(diff.at("input_divergence"), (json{{"frame", 0}, {"inputs", json::array({"frame.camera"})}}));
+  ASSERT_EQ(diff.at("frames").size(), 2u);
+  for (const json& frame : diff.at("frames")) EXPECT_EQ(frame.at("inputs_differ"), json::array({"frame.camera"}));
+  EXPECT_EQ(diff.at("settings_differ"), json::array({"orbit"}));
+  EXPECT_EQ(diff.at("scene_differ"), json::array());
 }
 
 TEST(DiffCi, OneFrameOfAMultiFramePair) {

@@ -4,46 +4,13 @@
 // blobs, and the first one it reads is refused by name for its hash.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <set>
-
 #include "captures/capture.h"
 #include "tests/e2e/cli.h"
+#include "tests/e2e/damaged_capture.h"
 
 namespace nightcap::test {
 namespace {
 namespace fs = std::filesystem;
-
-void overwrite_with(const fs::path& file, char fill) {
-  const auto size = fs::file_size(file);
-  std::ofstream(file, std::ios::binary | std::ios::trunc) << std::string(size, fill);
-}
-
-// Resources get blobs that decode to other bytes of the same size, so only the hash can tell;
-// shader blobs keep their size (SPIR-V: a whole number of words) and lose their content.
-void damage_every_blob(const fs::path& folder) {
-  const Capture capture = Capture::open(folder);
-  std::set<std::string> done;
-  for (const FrameRecord& frame : capture.manifest().frames)
-    for (const PassRecord& pass : frame.passes) {
-      for (const auto* side : {&pass.inputs, &pass.outputs})
-        for (const ResourceRecord& r : *side) {
-          if (!done.insert(r.blob).second) continue;
-          std::vector<uint8_t> raw(r.raw_bytes(), 0);
-          if (!raw.empty()) raw[0] = 1;  // a low bit of the first texel's first channel: valid in any format
-          if (r.is_buffer)
-            write_buffer_blob(folder / r.blob, raw, 3);
-          else
-            write_image_blob(folder / r.blob, *format_info(r.format), r.extent, raw, {ExrCompression::zip});
-        }
-      for (const ShaderRecord& s : pass.shaders)
-        for (const std::string& blob : {s.blob, s.source_blob})
-          if (done.insert(blob).second) overwrite_with(folder / blob, 'x');
-    }
-  size_t files = 0;
-  for ([[maybe_unused]] const auto& entry : fs::directory_iterator(folder / "blobs")) ++files;
-  ASSERT_EQ(files, done.size()) << "a blob the manifest does not name";
-}
 
 TEST(LazyOpen, PassesGraphAndDiffReadNoBlob) {
   const fs::path intact = shared_capture("city-small", "--city-block --size 64x36");
