@@ -1,7 +1,8 @@
 // The inspect commands that look past one recorded value: `pick` (which draw covers a pixel),
 // `history` (a pixel through the frame) and `replay` (the current pass again, with overrides).
-// Each is checked against what this file computes from the capture's blobs: triangles projected
-// with the recorded camera, stencil and depth planes read by their byte layout.
+// Each is checked against what is computed here from the capture's blobs: the draws rasterised on
+// the CPU with the recorded camera (tests/reference/draw_raster_reference.h), stencil and depth
+// planes read by their byte layout.
 #include <gtest/gtest.h>
 
 #include <cmath>
