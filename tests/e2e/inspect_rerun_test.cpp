@@ -1,18 +1,21 @@
 // The inspect commands that look past one recorded value: `pick` (which draw covers a pixel),
 // `history` (a pixel through the frame) and `replay` (the current pass again, with overrides).
-// Each is checked against what this file computes from the capture's blobs: triangles projected
-// with the recorded camera, stencil and depth planes read by their byte layout.
+// Each is checked against what is computed here from the capture's blobs: the draws rasterised on
+// the CPU with the recorded camera (tests/reference/draw_raster_reference.h), stencil and depth
+// planes read by their byte layout.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <glm/glm.hpp>
+#include <optional>
 
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/scene/scene.h"
 #include "tests/e2e/inspect_script.h"
+#include "tests/reference/draw_raster_reference.h"
 
 namespace nightcap::test {
 namespace {
@@ -37,79 +40,132 @@ uint8_t stencil_at(const std::vector<uint8_t>& raw, uint32_t width, uint32_t hei
 
 class InspectRerunTest : public CityCaptureTest {};
 
-// Whether pixel (x, y)'s centre lies in one of the draw's triangles, placed as geometry.glsl
-// places them: the position decoded in the draw's box, the draw's model matrix, then the recorded camera's projection ·
-// view. The test is in homogeneous coordinates (Olano and Greer, 1997), so triangles that reach behind the camera count
-// by their visible part: the centre's ray meets the triangle where weights b solve Σ b_i (x_i − u w_i) = 0 and Σ b_i
-// (y_i − v w_i) = 0, i.e. b ∝ r_x × r_y; it is inside when every weight has the sign that puts the point in front (Σ
-// b_i w_i > 0).
-bool draw_covers(const GpuDraw& draw, const std::vector<uint8_t>& geometry, const FrameRecord& frame, uint32_t x,
-                 uint32_t y) {
-  const auto header = at<GeometryHeader>(geometry, 0);
-  glm::dmat4 view, projection;
-  std::memcpy(&view[0][0], frame.camera.view.data(), sizeof(double) * 16);
-  std::memcpy(&projection[0][0], frame.camera.projection.data(), sizeof(double) * 16);
-  const glm::dmat4 clip_from_object = projection * view * glm::dmat4(draw.model);
-  const double u = (x + 0.5) / frame.width * 2 - 1, v = (y + 0.5) / frame.height * 2 - 1;
-  for (uint32_t t = 0; t < draw.index_count / 3; ++t) {
-    glm::dvec3 rx, ry, w;
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t index = at<uint32_t>(geometry, header.index_offset + 4 * (draw.first_index + 3 * t + k));
-      const Vertex vertex = geometry_vertex(geometry, index + draw.vertex_offset, glm::vec3(draw.position_origin),
-                                            glm::vec3(draw.position_step));
-      const glm::dvec4 clip =
-          clip_from_object * glm::dvec4(vertex.position[0], vertex.position[1], vertex.position[2], 1.0);
-      rx[k] = clip.x - u * clip.w;
-      ry[k] = clip.y - v * clip.w;
-      w[k] = clip.w;
-    }
-    glm::dvec3 b = glm::cross(rx, ry);
-    if (glm::dot(b, w) < 0) b = -b;
-    const double slack = 1e-4 * (std::abs(b.x) + std::abs(b.y) + std::abs(b.z));  // ties on shared edges
-    if (glm::dot(b, w) > 0 && b.x >= -slack && b.y >= -slack && b.z >= -slack) return true;
-  }
-  return false;
+template <typename T>
+std::vector<T> records(const std::vector<uint8_t>& raw) {
+  std::vector<T> out(raw.size() / sizeof(T));
+  std::memcpy(out.data(), raw.data(), out.size() * sizeof(T));
+  return out;
 }
 
-TEST_F(InspectRerunTest, PickNamesTheDrawWhoseTriangleCoversThePixel) {
-  const PassRecord& geometry_pass = pass_named(frame0(), "gbuffer.opaque");
-  const std::vector<uint8_t> draws = capture_->load(input_named(geometry_pass, "draws.gbuffer.opaque"));
+// How far the depth gbuffer.opaque wrote may be from the reference's at a pixel centre: 2^-18 of
+// it, 32 float ulps. The GPU transforms the float vertex positions with float matrices and
+// interpolates z/w in float (lavapipe's depth plane comes from the float positions, not from
+// the 1/256-pixel snapped ones it tests coverage with); the worst measured on the city is
+// 6.1e-7 of the depth (5 ulps).
+double depth_tolerance(const reference::Hit& h) { return 0x1p-18 * h.depth; }
+
+// The pixels the pick test asks about, and why.
+struct PickPixel {
+  uint32_t x, y;
+  const char* kind;
+};
+
+// The nearest of the hits that surely cover a pixel centre, if any.
+std::optional<reference::Hit> nearest_sure(const std::vector<reference::Hit>& hits) {
+  std::optional<reference::Hit> best;
+  for (const reference::Hit& h : hits)
+    if (h.sure && (!best || h.depth > best->depth)) best = h;
+  return best;
+}
+
+// A grid (sky included); pixels where two draws cover the centre at clearly different depths (the
+// farther at least 25% farther: device depth is znear / distance); pixels on an edge between two
+// draws (the neighbour to the right has another nearest draw, and both cover this centre). Each
+// kind spread over the image, at most `per_kind`.
+std::vector<PickPixel> pick_pixels(const std::vector<std::vector<reference::Hit>>& hits, uint32_t width,
+                                   uint32_t height, size_t per_kind) {
+  std::vector<PickPixel> grid, overlap, edge;
+  for (uint32_t y = 5; y < height; y += 25)
+    for (uint32_t x = 7; x < width; x += 39) grid.push_back({x, y, "grid"});
+  for (uint32_t y = 0; y < height; ++y)
+    for (uint32_t x = 0; x + 1 < width; ++x) {
+      const auto& here = hits[size_t(y) * width + x];
+      const std::optional<reference::Hit> nearest = nearest_sure(here);
+      if (!nearest) continue;
+      bool farther_draw = false, neighbour_draw_here = false;
+      const std::optional<reference::Hit> right = nearest_sure(hits[size_t(y) * width + x + 1]);
+      for (const reference::Hit& h : here) {
+        farther_draw |= h.sure && h.draw != nearest->draw && h.depth < 0.8 * nearest->depth;
+        neighbour_draw_here |= right && h.draw == right->draw;
+      }
+      if (farther_draw) overlap.push_back({x, y, "overlap"});
+      if (right && right->draw != nearest->draw && neighbour_draw_here) edge.push_back({x, y, "edge"});
+    }
+  EXPECT_GE(overlap.size(), per_kind) << "the city has too few overlapping draws for the test";
+  EXPECT_GE(edge.size(), per_kind) << "the city has too few edges between draws for the test";
+  std::vector<PickPixel> chosen = grid;
+  for (const auto* kind : {&overlap, &edge})
+    for (size_t i = 0; i < std::min(per_kind, kind->size()); ++i)
+      chosen.push_back((*kind)[i * kind->size() / per_kind]);
+  return chosen;
+}
+
+// pick against the reference rasteriser: the draw it names covers the pixel centre, and no draw
+// that surely covers it is nearer (beyond the depth tolerance); the depth gbuffer.opaque wrote
+// there is the named draw's, within that tolerance. Where draws tie within the tolerance
+// (coplanar, or the centre on a shared edge) either may be named.
+TEST_F(InspectRerunTest, PickNamesTheNearestDrawCoveringThePixel) {
+  const FrameRecord& frame = frame0();
+  const PassRecord& geometry_pass = pass_named(frame, "gbuffer.opaque");
+  const std::vector<uint8_t> draw_bytes = capture_->load(input_named(geometry_pass, "draws.gbuffer.opaque"));
+  const auto draws = records<GpuDraw>(draw_bytes);
+  const auto materials = records<GpuMaterial>(capture_->load(input_named(geometry_pass, "scene.materials")));
   const std::vector<uint8_t> geometry = capture_->load(input_named(geometry_pass, "scene.geometry"));
   const std::vector<uint8_t> depth = capture_->load(output_named(geometry_pass, "scene.depth"));
-  std::vector<std::pair<uint32_t, uint32_t>> pixels;
+  // Geometry alone decides only where no alpha test cuts holes.
+  for (const GpuDraw& d : draws) ASSERT_LT(materials.at(d.material).pbr.z, 0.0f) << "an alpha-tested draw";
+
+  const std::vector<std::vector<reference::Hit>> hits =
+      reference::rasterise(reference::screen_triangles(draws, materials, geometry, frame), frame.width, frame.height);
+  const std::vector<PickPixel> pixels = pick_pixels(hits, frame.width, frame.height, 6);
   std::string commands;
-  for (uint32_t y = 5; y < 180; y += 25)
-    for (uint32_t x = 7; x < 320; x += 39) {
-      pixels.emplace_back(x, y);
-      commands += "pick " + std::to_string(x) + " " + std::to_string(y) + " --json; ";
-    }
+  for (const PickPixel& p : pixels) commands += "pick " + std::to_string(p.x) + " " + std::to_string(p.y) + " --json; ";
   const Inspected run = inspect(path_, commands);
   ASSERT_EQ(run.result.code, 0) << run.result.err;
   ASSERT_EQ(run.objects.size(), pixels.size());
   size_t covered = 0, sky = 0;
+  double worst_depth_error = 0;  // in units of the tolerance
   for (size_t i = 0; i < pixels.size(); ++i) {
-    const auto [x, y] = pixels[i];
+    const auto [x, y, kind] = pixels[i];
     const json& j = run.objects[i];
-    SCOPED_TRACE("pixel " + std::to_string(x) + "," + std::to_string(y) + ": " + j.dump());
+    SCOPED_TRACE(std::string(kind) + " pixel " + std::to_string(x) + "," + std::to_string(y) + ": " + j.dump());
+    const std::vector<reference::Hit>& here = hits[size_t(y) * frame.width + x];
+    const float written = depth_at(depth, frame.width, x, y);
     if (!j["covered"].get<bool>()) {
-      EXPECT_EQ(depth_at(depth, 320, x, y), 0.0f) << "pick found no draw where the depth buffer has one";
+      EXPECT_EQ(written, 0.0f) << "pick found no draw where the depth buffer has one";
+      EXPECT_FALSE(nearest_sure(here)) << "the reference has a draw there";
       ++sky;
       continue;
     }
     ++covered;
     const uint32_t index = j["draw"];
-    ASSERT_LT((index + 1) * sizeof(GpuDraw), draws.size() + 1);
-    const auto draw = at<GpuDraw>(draws, index * sizeof(GpuDraw));
+    ASSERT_LT(index, draws.size());
+    const GpuDraw& draw = draws[index];
     EXPECT_EQ(j["instance"], draw.instance);
     EXPECT_EQ(j["material"]["index"], draw.material);
     EXPECT_EQ(j["mesh"]["first_index"], draw.first_index);
     EXPECT_EQ(j["mesh"]["index_count"], draw.index_count);
     EXPECT_EQ(j["stencil"]["value"], draw.stencil);
     // The G-buffer pass writes each draw's stencil value where it draws.
-    EXPECT_EQ(stencil_at(depth, 320, 180, x, y), draw.stencil);
-    EXPECT_TRUE(draw_covers(draw, geometry, frame0(), x, y));
+    EXPECT_EQ(stencil_at(depth, frame.width, frame.height, x, y), draw.stencil);
+    // The named draw covers the centre at the depth written there.
+    std::optional<reference::Hit> named;
+    for (const reference::Hit& h : here)
+      if (h.draw == index && (!named || std::abs(h.depth - written) < std::abs(named->depth - written))) named = h;
+    ASSERT_TRUE(named) << "the draw named does not cover the pixel centre";
+    const double error = std::abs(named->depth - written);
+    worst_depth_error = std::max(worst_depth_error, error / depth_tolerance(*named));
+    EXPECT_LE(error, depth_tolerance(*named)) << "reference depth " << named->depth << ", written " << written;
+    // Nothing that surely covers the centre is nearer.
+    for (const reference::Hit& h : here) {
+      if (!h.sure) continue;
+      EXPECT_LE(h.depth, named->depth + depth_tolerance(h) + depth_tolerance(*named))
+          << "draw " << h.draw << " is nearer, at depth " << h.depth << "; the named draw's is " << named->depth;
+    }
   }
-  EXPECT_GE(covered, 10u);
+  std::printf("pick: %zu pixels (%zu sky); depth written vs the reference's: worst %.3g of the tolerance\n",
+              pixels.size(), sky, worst_depth_error);
+  EXPECT_GE(covered, 20u);
   EXPECT_GE(sky, 1u) << "no test pixel on the sky: move the grid";
 }
 

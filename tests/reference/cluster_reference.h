@@ -91,6 +91,13 @@ struct Froxel {
   std::array<glm::dvec3, 4> planes{};  // unit inward normals of the side planes (through the camera)
 };
 
+// The view-space bounding box of the froxel's extent between its near and far depth.
+inline void set_box(Froxel& f) {
+  const auto& e = f.extent;
+  f.lo = {std::min(e[0] * f.near, e[0] * f.far), std::min(e[1] * f.near, e[1] * f.far), -f.far};
+  f.hi = {std::max(e[2] * f.near, e[2] * f.far), std::max(e[3] * f.near, e[3] * f.far), -f.near};
+}
+
 inline Froxel froxel(const ClusterView& v, uint32_t tx, uint32_t ty, uint32_t k) {
   Froxel f;
   const auto [tile_min, tile_max] = v.tile_depth[size_t(ty) * v.tiles_x + tx];
@@ -98,20 +105,43 @@ inline Froxel froxel(const ClusterView& v, uint32_t tx, uint32_t ty, uint32_t k)
   f.near = std::max(start, tile_min);
   f.far = std::min(end, tile_max);
   f.occupied = f.near <= f.far;
-  // The GPU rounds the slice bounds (exp2 in float); the tile's bounds are its own floats.
-  f.marginal = (start > tile_min || end < tile_max) &&
-               std::abs(f.far - f.near) <= 0x1p-16 * std::max(std::abs(f.far), std::abs(f.near));
+  // The GPU rounds the slice bounds (exp2 in float); the tile's bounds are its own floats. The
+  // froxel is occupied when the slice starts before the tile's far bound and ends after its near
+  // one: either comparison within 2^-16 can go both ways.
+  f.marginal = std::abs(start - tile_max) <= 0x1p-16 * tile_max || std::abs(end - tile_min) <= 0x1p-16 * tile_min;
   const double x0 = 2.0 * (tx * v.tile) / v.width - 1.0;
   const double x1 = 2.0 * std::min((tx + 1) * v.tile, v.width) / v.width - 1.0;
   const double y0 = 2.0 * (ty * v.tile) / v.height - 1.0;
   const double y1 = 2.0 * std::min((ty + 1) * v.tile, v.height) / v.height - 1.0;
   f.extent = {x0 * v.sx, -y1 * v.sy, x1 * v.sx, -y0 * v.sy};
+  set_box(f);
   const auto& e = f.extent;
-  f.lo = {std::min(e[0] * f.near, e[0] * f.far), std::min(e[1] * f.near, e[1] * f.far), -f.far};
-  f.hi = {std::max(e[2] * f.near, e[2] * f.far), std::max(e[3] * f.near, e[3] * f.far), -f.near};
   f.planes = {glm::normalize(glm::dvec3(1, 0, e[0])), glm::normalize(glm::dvec3(0, 1, e[1])),
               glm::normalize(glm::dvec3(-1, 0, -e[2])), glm::normalize(glm::dvec3(0, -1, -e[3]))};
   return f;
+}
+
+// A marginal froxel as the GPU builds it when it finds it occupied, up to rounding: its depth
+// range shrunk to the centre of its band (near and far within 2^-16 of the depth). The GPU's
+// range lies within 2^-15 · depth of that centre (its slice bound rounded by up to 2^-16 more),
+// which moves a light's distance to the box by at most √(1 + ex² + ey²) · 2^-15 · depth: under
+// 2^-13 · scale less the GPU's own 2^-16 · scale for views up to 120° (|ex|, |ey| ≤ √3), since a
+// light that reaches depth d has range + distance ≥ d.
+inline Froxel thin_froxel(const Froxel& marginal) {
+  Froxel f = marginal;
+  f.occupied = true;
+  f.near = f.far = 0.5 * (marginal.near + marginal.far);
+  set_box(f);
+  return f;
+}
+
+// The slice next to marginal froxel k that shares its band: the band is where the tile's surfaces
+// meet a slice bound, and the slice on the other side of that bound holds them.
+inline uint32_t band_neighbour(const ClusterView& v, const Froxel& marginal, uint32_t k) {
+  const double band = 0.5 * (marginal.near + marginal.far);
+  const bool at_start =
+      k + 1 == v.slices || std::abs(band - slice_start(v, k)) < std::abs(band - slice_start(v, k + 1));
+  return at_start ? k - 1 : k + 1;
 }
 
 struct LightCore {

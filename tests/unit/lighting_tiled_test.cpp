@@ -15,9 +15,19 @@
 // - tubes alone (everything else at 0; radius 0, so both see the same line), on the city: diffuse
 //   within 2⁻⁸ relative of the adaptive integral where it exceeds 2⁻¹⁴ (8-point Gauss–Legendre
 //   of a smooth integrand and half-float storage); specular against the reference's adaptive
-//   integral of GGX along the segment, accuracy.md's 5% mean and 15% max over views ≤ 80°,
-//   except where roughness ≥ 0.5 and the view ≥ 70°, where LTC misses (ltc_test.cpp): there
-//   ≤ 40%, and the worst is printed.
+//   integral of GGX along the segment, per roughness × view bin (views ≤ 80°, values above
+//   2⁻¹⁴): the error weighted by the reference and the worst relative error each within the
+//   bin's bound in kTubeSpecular, about 15% above what was measured; a bin without a bound must
+//   stay empty. The table of measured values is printed and stands by the bounds. No bin
+//   reaches accuracy.md's 5% mean / 15% max, a bound for a light centred on the lobe's mirror
+//   direction (ltc_test.cpp checks it there): here lights reach surfaces far off the peak, where
+//   the fitted LTC lobe is zero (the GPU writes 0: worst 100%) or small while GGX's tail is not.
+//   Measured: roughness [0.25, 0.5) 5.5% (worst 5.9%) at views 0-40°; [0.5, 0.75) 6.2-22.7%
+//   (59-118%); [0.75, 1] 97.9% (100%).
+// - spheres alone (the city's point lights with a radius of 0.25 m), on the city: diffuse within
+//   2⁻⁸ of the integral over the sphere's cap; specular per bin as the tubes', within
+//   kSphereSpecular: measured 11.6-92.0% weighted, worst up to 809% at views 70-80° (the LTC
+//   overshoots GGX's tail there) and 100% where the GPU writes 0.
 // - other froxel shapes (lights.cluster's tile_size and slices, which the pass reads from
 //   lights.cluster_stats): the city and the 2 km map's street shot, whole frames, with tiles of
 //   16 px and 32 slices and with 64 px and 128 slices: the same bytes as the default shape's.
@@ -25,6 +35,7 @@
 //   sphere light, lights at the camera: every output finite, and the pass run again from its
 //   recorded inputs writes the same bytes (what replay --verify checks).
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <numbers>
 #include <optional>
@@ -354,16 +365,24 @@ TEST_F(LightingTiled, OtherFroxelShapesLightTheSame) {
   }
 }
 
-// Area-light specular against its reference integral, binned by roughness and view angle: the
-// error of each bin weighted by the reference (what a viewer sees of the light) and its worst
-// value, over values above 2⁻¹⁴.
+// Bounds on one roughness × view bin of AreaErrors: the error weighted by the reference (what a
+// viewer sees of the light) and the worst relative error. nullopt: the scene has no values there.
+struct BinBound {
+  double weighted, worst;
+};
+// Rows: roughness √α in [0, 0.25), [0.25, 0.5), [0.5, 0.75), [0.75, 1]; columns: view 0-40°,
+// 40-60°, 60-70°, 70-80°.
+using BinBounds = std::array<std::array<std::optional<BinBound>, 4>, 4>;
+
+// Area-light specular against its reference integral, binned by roughness and view angle, over
+// values above 2⁻¹⁴ and views up to 80° (accuracy.md's domain).
 class AreaErrors {
  public:
   void add(const ref::Surface& s, double gpu, double reference) {
     if (reference <= kThreshold) return;
     const double n_v = std::clamp(glm::dot(s.n, s.v), 0.0, 1.0);
     const double view = glm::degrees(std::acos(n_v));
-    if (view > 80) return;  // accuracy.md's bound covers views up to 80°
+    if (view > 80) return;
     const int r = std::min(int(std::sqrt(s.alpha) * 4), 3);
     const int v = view < 40 ? 0 : view < 60 ? 1 : view < 70 ? 2 : 3;
     const double error = std::abs(gpu - std::min(reference, kMaxHalf));
@@ -371,44 +390,89 @@ class AreaErrors {
       bin->error += error;
       bin->reference += reference;
       bin->worst = std::max(bin->worst, error / reference);
-      bin->relative += error / reference;
       ++bin->values;
     }
   }
-  double weighted() const { return all_.error / all_.reference; }
-  double mean() const { return all_.relative / std::max<size_t>(all_.values, 1); }
   size_t values() const { return all_.values; }
   void print(const char* what) const {
     std::printf(
-        "%s specular against the integral over the light (%zu values, views <= 80 deg): weighted %.2f%%, "
-        "mean %.2f%%, worst %.1f%%\n  weighted error %% (worst %%) by roughness (rows) and view (columns):\n"
-        "              0-40        40-60       60-70       70-80\n",
-        what, all_.values, 100 * weighted(), 100 * mean(), 100 * all_.worst);
-    const char* rows[] = {"[0, 0.25)", "[0.25, 0.5)", "[0.5, 0.75)", "[0.75, 1]"};
+        "%s specular against the integral over the light (%zu values, views <= 80 deg): weighted %.2f%%, worst "
+        "%.1f%%\n  weighted error %% (worst %%) [values] by roughness (rows) and view (columns):\n"
+        "              0-40                40-60               60-70               70-80\n",
+        what, all_.values, 100 * all_.weighted(), 100 * all_.worst);
     for (int r = 0; r < 4; ++r) {
-      std::printf("  %-11s", rows[r]);
+      std::printf("  %-11s", kRows[r]);
       for (const Bin& bin : bins_[r])
         if (bin.values)
-          std::printf(" %5.1f (%4.0f)", 100 * bin.error / bin.reference, 100 * bin.worst);
+          std::printf(" %5.1f (%5.1f) [%4zu]", 100 * bin.weighted(), 100 * bin.worst, bin.values);
         else
-          std::printf("   -         ");
+          std::printf("   -                ");
       std::printf("\n");
     }
   }
+  // Each bin within its bound; a bin without one must be empty, a bin with one must not.
+  void expect_within(const BinBounds& bounds) const {
+    for (int r = 0; r < 4; ++r)
+      for (int v = 0; v < 4; ++v) {
+        const Bin& bin = bins_[r][v];
+        const std::string name = std::string("roughness ") + kRows[r] + ", view " + kColumns[v];
+        if (!bounds[r][v]) {
+          EXPECT_EQ(bin.values, 0u) << name << " has values and no bound";
+          continue;
+        }
+        EXPECT_GT(bin.values, 0u) << name << " has a bound and no values";
+        EXPECT_LE(bin.weighted(), bounds[r][v]->weighted) << name << " weighted";
+        EXPECT_LE(bin.worst, bounds[r][v]->worst) << name << " worst";
+      }
+  }
 
  private:
+  static constexpr const char* kRows[] = {"[0, 0.25)", "[0.25, 0.5)", "[0.5, 0.75)", "[0.75, 1]"};
+  static constexpr const char* kColumns[] = {"0-40", "40-60", "60-70", "70-80"};
   struct Bin {
-    double error = 0, reference = 0, worst = 0, relative = 0;
+    double error = 0, reference = 0, worst = 0;
     size_t values = 0;
+    double weighted() const { return reference > 0 ? error / reference : 0.0; }
   };
   Bin bins_[4][4], all_;
 };
+
+// What CityTubesAgainstTheSegmentIntegrals and CitySpheresAgainstTheCapIntegrals measured (the
+// same on every run: lavapipe is deterministic), weighted % (worst %) [values]; the bounds sit
+// about 15% above. accuracy.md's 5% mean and 15% max hold in no bin, and are not what these
+// scenes can show: that bound is for a light centred on the lobe's mirror direction, which
+// ltc_test.cpp checks. The city's lights reach most surfaces far off the peak, where the fitted
+// LTC lobe is zero or small while GGX's tail is not: a worst of 100% is the GPU's specular
+// exactly 0 with the light in range, above the horizon and lit diffusely (ltc_sphere and
+// ltc_line clip the light to the LTC lobe's horizon in cosine space). The sphere's grazing bins
+// (70-80°) also overshoot the tail, by up to 9×.
+//
+// Tubes:       0-40                40-60               60-70               70-80
+// [0.25, 0.5)  5.5 (5.9) [6]
+// [0.5, 0.75)  9.2 (117.9) [1328]  6.2 (74.0) [572]    22.7 (59.4) [145]   10.9 (100.0) [1255]
+// [0.75, 1]    97.9 (100.0) [6]
+const BinBounds kTubeSpecular = {{
+    {},
+    {BinBound{0.065, 0.07}, {}, {}, {}},
+    {BinBound{0.11, 1.30}, BinBound{0.075, 0.85}, BinBound{0.26, 0.70}, BinBound{0.13, 1.10}},
+    {BinBound{1.05, 1.10}, {}, {}, {}},
+}};
+// Spheres:     0-40                40-60               60-70               70-80
+// [0.25, 0.5)  92.0 (100.0) [16]                       12.4 (87.8) [333]   19.3 (452.8) [809]
+// [0.5, 0.75)  21.3 (100.0) [2638] 28.7 (59.7) [349]   11.6 (77.7) [1395]  26.5 (809.0) [3255]
+// [0.75, 1]    15.9 (29.4) [12]
+const BinBounds kSphereSpecular = {{
+    {},
+    {BinBound{1.00, 1.10}, {}, BinBound{0.145, 1.00}, BinBound{0.22, 5.00}},
+    {BinBound{0.24, 1.10}, BinBound{0.33, 0.70}, BinBound{0.135, 0.90}, BinBound{0.30, 9.00}},
+    {BinBound{0.185, 0.34}, {}, {}, {}},
+}};
 
 // Tubes alone against the reference's integrals along each segment. accuracy.md's tube bound
 // (5% mean, 15% max) is met by the table where the bound is defined, a tube centred on the
 // mirror direction (ltc_test.cpp); across a street the tubes also light surfaces from far off
 // the lobe's peak, where the LTC's tail is not GGX's. What this asserts is what was measured,
-// with a margin: the error weighted by the reference over all sampled values.
+// with a margin, bin by bin (kTubeSpecular).
 TEST_F(LightingTiled, CityTubesAgainstTheSegmentIntegrals) {
   const RecordedPass r = render(city());
   Frame f = decode(r.inputs);
@@ -460,7 +524,7 @@ TEST_F(LightingTiled, CityTubesAgainstTheSegmentIntegrals) {
   specular.print("city tubes");
   ASSERT_GT(specular.values(), 1000u);
   EXPECT_LE(diffuse_worst, 0x1p-8) << where_diffuse;
-  EXPECT_LE(specular.weighted(), 0.20);
+  specular.expect_within(kTubeSpecular);
 }
 
 // Lambert's and GGX's integrals over the cap a sphere of unit radiance covers, seen from s (the
@@ -497,7 +561,7 @@ std::optional<CapIntegral> cap_integral(const ref::Surface& s, const dvec3& cent
 
 // The city's point lights as spheres of 0.25 m (everything else dark) against the integrals
 // over each sphere's cap. Diffuse: the closed form of the horizon-cut sphere (Snyder) to 2⁻⁸
-// relative; specular (LTC): measured as the tubes' are.
+// relative; specular (LTC): bin by bin as the tubes' are (kSphereSpecular).
 TEST_F(LightingTiled, CitySpheresAgainstTheCapIntegrals) {
   // In the scene, not in the recorded list: frame.constants groups frame.lights by kind.
   Scene scene = city();
@@ -570,7 +634,7 @@ TEST_F(LightingTiled, CitySpheresAgainstTheCapIntegrals) {
   specular.print("city spheres");
   ASSERT_GT(specular.values(), 1000u);
   EXPECT_LE(diffuse_worst, 0x1p-8) << where_diffuse;
-  EXPECT_LE(specular.weighted(), 0.20);
+  specular.expect_within(kSphereSpecular);
 }
 
 // The sun's contact shadow against a march of the same definition in double precision over the
