@@ -228,9 +228,11 @@ TEST(CaptureLoop, PassesJsonDescribesEveryPassAndResource) {
   // GPU passes carry a timestamp duration, CPU passes null; a GPU pass that ran took some time.
   EXPECT_TRUE(find_pass(frame, "cull.main").at("gpu_ms").is_null());
   ASSERT_TRUE(find_pass(frame, "gbuffer.opaque").at("gpu_ms").is_number());
-  for (const auto& p : frame.at("passes"))
-    if (p.at("status") == "ran" && !p.at("gpu_ms").is_null())
+  for (const auto& p : frame.at("passes")) {
+    if (p.at("status") == "ran" && !p.at("gpu_ms").is_null()) {
       EXPECT_GT(p.at("gpu_ms").get<double>(), 0.0) << p.at("name");
+    }
+  }
   // Exact formats of frame.md.
   std::map<std::string, std::string> formats;
   for (const auto& o : find_pass(frame, "gbuffer.opaque").at("outputs")) formats[o.at("resource")] = o.at("format");
