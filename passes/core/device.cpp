@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 #include <link.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <cstring>
@@ -276,6 +277,7 @@ GpuDevice::GpuDevice(const Options& options) {
 GpuDevice::~GpuDevice() {
   if (device_) {
     vkDeviceWaitIdle(device_);
+    for (const TransientBlock& block : transient_free_) vkFreeMemory(device_, block.memory, nullptr);
     vkDestroyCommandPool(device_, pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
   }
@@ -379,6 +381,46 @@ VkDeviceMemory GpuDevice::allocate(uint64_t bytes, uint32_t type, const std::str
   vk_check(vkAllocateMemory(device_, &alloc, nullptr, &memory), "vkAllocateMemory");
   this->name(VK_OBJECT_TYPE_DEVICE_MEMORY, memory, name);
   return memory;
+}
+
+// Free blocks kept per memory type; a frame places its transients in one block a type.
+constexpr size_t kKeptTransientBlocks = 4;
+
+VkDeviceMemory GpuDevice::take_transient_block(uint64_t bytes, uint32_t type, const std::string& name) {
+  std::lock_guard lock(transient_mutex_);
+  // The smallest kept block it fits, unless that would hold more than twice what it needs.
+  auto best = transient_free_.end();
+  for (auto it = transient_free_.begin(); it != transient_free_.end(); ++it)
+    if (it->type == type && it->bytes >= bytes && it->bytes <= 2 * bytes &&
+        (best == transient_free_.end() || it->bytes < best->bytes))
+      best = it;
+  TransientBlock block;
+  if (best != transient_free_.end()) {
+    block = *best;
+    transient_free_.erase(best);
+    this->name(VK_OBJECT_TYPE_DEVICE_MEMORY, block.memory, name);
+  } else {
+    block = {allocate(bytes, type, name), bytes, type};
+  }
+  transient_in_use_.push_back(block);
+  return block.memory;
+}
+
+void GpuDevice::return_transient_block(VkDeviceMemory memory) {
+  std::lock_guard lock(transient_mutex_);
+  const auto it = std::find_if(transient_in_use_.begin(), transient_in_use_.end(),
+                               [&](const TransientBlock& b) { return b.memory == memory; });
+  if (it == transient_in_use_.end()) throw GpuError("a transient memory block returned twice or never taken");
+  const TransientBlock block = *it;
+  transient_in_use_.erase(it);
+  transient_free_.push_back(block);
+  size_t kept = 0;
+  for (const TransientBlock& b : transient_free_) kept += b.type == block.type;
+  if (kept <= kKeptTransientBlocks) return;
+  const auto oldest = std::find_if(transient_free_.begin(), transient_free_.end(),
+                                   [&](const TransientBlock& b) { return b.type == block.type; });
+  vkFreeMemory(device_, oldest->memory, nullptr);
+  transient_free_.erase(oldest);
 }
 
 void GpuDevice::bind(const GpuImage& image, VkDeviceMemory memory, uint64_t offset) {

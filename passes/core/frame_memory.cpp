@@ -8,7 +8,7 @@
 namespace nightcap {
 
 FrameMemory::~FrameMemory() {
-  for (VkDeviceMemory block : blocks_) vkFreeMemory(gpu_.device(), block, nullptr);
+  for (VkDeviceMemory block : blocks_) gpu_.return_transient_block(block);
 }
 
 void FrameMemory::place(const std::map<std::string, PhysicalResource*>& resources,
@@ -23,7 +23,8 @@ void FrameMemory::place(const std::map<std::string, PhysicalResource*>& resource
   }
   for (const auto& [type, needs] : by_type) {
     const MemoryPlan plan = plan_memory(needs);
-    VkDeviceMemory block = gpu_.allocate(plan.bytes, type, "transient memory (type " + std::to_string(type) + ")");
+    VkDeviceMemory block =
+        gpu_.take_transient_block(plan.bytes, type, "transient memory (type " + std::to_string(type) + ")");
     blocks_.push_back(block);
     bytes_ += plan.bytes;
     bytes_without_aliasing_ += plan.bytes_without_aliasing;

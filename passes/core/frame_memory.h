@@ -19,7 +19,9 @@ struct PhysicalResource;
 class FrameMemory {
  public:
   explicit FrameMemory(GpuDevice& gpu) : gpu_(gpu) {}
-  ~FrameMemory();  // frees the blocks: the resources in them must be destroyed first
+  // Returns the blocks to the device for a later frame: the resources in them must be destroyed,
+  // and the frame's work done, first.
+  ~FrameMemory();
   FrameMemory(const FrameMemory&) = delete;
   FrameMemory& operator=(const FrameMemory&) = delete;
 
