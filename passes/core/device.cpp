@@ -386,7 +386,7 @@ VkDeviceMemory GpuDevice::allocate(uint64_t bytes, uint32_t type, const std::str
 // Free blocks kept per memory type; a frame places its transients in one block a type.
 constexpr size_t kKeptTransientBlocks = 4;
 
-VkDeviceMemory GpuDevice::take_transient_block(uint64_t bytes, uint32_t type, const std::string& name) {
+GpuDevice::TransientBlock GpuDevice::take_transient_block(uint64_t bytes, uint32_t type, const std::string& name) {
   std::lock_guard lock(transient_mutex_);
   // The smallest kept block it fits, unless that would hold more than twice what it needs.
   auto best = transient_free_.end();
@@ -394,25 +394,15 @@ VkDeviceMemory GpuDevice::take_transient_block(uint64_t bytes, uint32_t type, co
     if (it->type == type && it->bytes >= bytes && it->bytes <= 2 * bytes &&
         (best == transient_free_.end() || it->bytes < best->bytes))
       best = it;
-  TransientBlock block;
-  if (best != transient_free_.end()) {
-    block = *best;
-    transient_free_.erase(best);
-    this->name(VK_OBJECT_TYPE_DEVICE_MEMORY, block.memory, name);
-  } else {
-    block = {allocate(bytes, type, name), bytes, type};
-  }
-  transient_in_use_.push_back(block);
-  return block.memory;
+  if (best == transient_free_.end()) return {allocate(bytes, type, name), bytes, type};
+  const TransientBlock block = *best;
+  transient_free_.erase(best);
+  this->name(VK_OBJECT_TYPE_DEVICE_MEMORY, block.memory, name);
+  return block;
 }
 
-void GpuDevice::return_transient_block(VkDeviceMemory memory) {
+void GpuDevice::return_transient_block(const TransientBlock& block) {
   std::lock_guard lock(transient_mutex_);
-  const auto it = std::find_if(transient_in_use_.begin(), transient_in_use_.end(),
-                               [&](const TransientBlock& b) { return b.memory == memory; });
-  if (it == transient_in_use_.end()) throw GpuError("a transient memory block returned twice or never taken");
-  const TransientBlock block = *it;
-  transient_in_use_.erase(it);
   transient_free_.push_back(block);
   size_t kept = 0;
   for (const TransientBlock& b : transient_free_) kept += b.type == block.type;

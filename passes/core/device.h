@@ -88,8 +88,13 @@ class GpuDevice {
   // that fits in it: lavapipe's device memory is the host's, and fresh memory faults on the first
   // touch of every page (about 26 000 faults a frame, most of the empty scene's frame time), where
   // a kept block's pages stay mapped. A few blocks a type are kept, the rest freed.
-  VkDeviceMemory take_transient_block(uint64_t bytes, uint32_t type, const std::string& name);
-  void return_transient_block(VkDeviceMemory block);
+  struct TransientBlock {
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    uint64_t bytes = 0;  // may exceed what was asked for
+    uint32_t type = 0;
+  };
+  TransientBlock take_transient_block(uint64_t bytes, uint32_t type, const std::string& name);
+  void return_transient_block(const TransientBlock& block);
   void bind(const GpuImage& image, VkDeviceMemory memory, uint64_t offset);
   void bind(const GpuBuffer& buffer, VkDeviceMemory memory, uint64_t offset);
   // A view of the image named `image_name`, named after it plus the mips, layer and aspect it
@@ -150,13 +155,8 @@ class GpuDevice {
   PFN_vkCmdPushDescriptorSetKHR push_descriptor_set_ = nullptr;
   void* renderdoc_ = nullptr;  // RENDERDOC_API_1_1_2*
 
-  struct TransientBlock {
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    uint64_t bytes = 0;
-    uint32_t type = 0;
-  };
   std::mutex transient_mutex_;
-  std::vector<TransientBlock> transient_in_use_, transient_free_;  // free: oldest first
+  std::vector<TransientBlock> transient_free_;  // oldest first
 };
 
 }  // namespace nightcap

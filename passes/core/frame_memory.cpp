@@ -8,7 +8,7 @@
 namespace nightcap {
 
 FrameMemory::~FrameMemory() {
-  for (VkDeviceMemory block : blocks_) gpu_.return_transient_block(block);
+  for (const GpuDevice::TransientBlock& block : blocks_) gpu_.return_transient_block(block);
 }
 
 void FrameMemory::place(const std::map<std::string, PhysicalResource*>& resources,
@@ -23,7 +23,7 @@ void FrameMemory::place(const std::map<std::string, PhysicalResource*>& resource
   }
   for (const auto& [type, needs] : by_type) {
     const MemoryPlan plan = plan_memory(needs);
-    VkDeviceMemory block =
+    const GpuDevice::TransientBlock block =
         gpu_.take_transient_block(plan.bytes, type, "transient memory (type " + std::to_string(type) + ")");
     blocks_.push_back(block);
     bytes_ += plan.bytes;
@@ -31,9 +31,9 @@ void FrameMemory::place(const std::map<std::string, PhysicalResource*>& resource
     for (const auto& [name, offset] : plan.offsets) {
       const PhysicalResource& r = *resources.at(name);
       if (r.desc.is_buffer)
-        gpu_.bind(r.buffer, block, offset);
+        gpu_.bind(r.buffer, block.memory, offset);
       else
-        gpu_.bind(r.image, block, offset);
+        gpu_.bind(r.image, block.memory, offset);
     }
     for (const auto& [name, previous] : plan.takes_over)
       for (const std::string& p : previous) {

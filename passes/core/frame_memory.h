@@ -37,7 +37,7 @@ class FrameMemory {
 
  private:
   GpuDevice& gpu_;
-  std::vector<VkDeviceMemory> blocks_;
+  std::vector<GpuDevice::TransientBlock> blocks_;
   uint64_t bytes_ = 0, bytes_without_aliasing_ = 0;
   std::map<std::string, AccessState> waits_;
 };
