@@ -6,8 +6,6 @@
 #include <zstd.h>
 #include <zstd_errors.h>
 
-#include <fstream>
-#include <iterator>
 #include <optional>
 
 #include "captures/hash.h"
@@ -30,14 +28,15 @@ std::optional<BlobCheck> locate(const Capture& capture, const std::string& blob,
   }
 }
 
-std::vector<uint8_t> read_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::vector<uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-// A zstd frame cut short: its header announces more than the file holds.
+// A zstd frame cut short: its header announces more than the file holds. A file that cannot be
+// opened is not called cut.
 bool zstd_truncated(const fs::path& file) {
-  const std::vector<uint8_t> bytes = read_bytes(file);
+  std::vector<uint8_t> bytes;
+  try {
+    bytes = read_file_bytes(file);
+  } catch (const CaptureError&) {
+    return false;
+  }
   if (bytes.empty()) return true;
   const size_t size = ZSTD_findFrameCompressedSize(bytes.data(), bytes.size());
   return ZSTD_isError(size) && ZSTD_getErrorCode(size) == ZSTD_error_srcSize_wrong;
@@ -119,8 +118,7 @@ BlobCheck check_resource_blob(const Capture& capture, const ResourceRecord& reco
   if (auto refused = locate(capture, record.blob, file)) return *refused;
   std::vector<uint8_t> raw;
   try {
-    raw = record.is_buffer ? read_buffer_blob(file, record.buffer_size)
-                           : read_image_blob(file, *format_info(record.format), record.extent, threads, decoded_parts);
+    raw = decode_resource_blob(file, record, threads, decoded_parts);
   } catch (const std::exception& e) {
     const bool truncated = record.is_buffer ? zstd_truncated(file) : exr_truncated(file);
     return {truncated ? BlobProblem::truncated : BlobProblem::undecodable, e.what()};
@@ -134,7 +132,13 @@ BlobCheck check_file_blob(const Capture& capture, const std::string& blob, const
   fs::path file;
   if (auto refused = locate(capture, blob, file)) return *refused;
   // Shader blobs are the bytes themselves: a cut one is told only by its hash.
-  if (const std::string actual = content_hash(read_bytes(file)); actual != hash)
+  std::vector<uint8_t> bytes;
+  try {
+    bytes = read_file_bytes(file);
+  } catch (const CaptureError& e) {
+    return {BlobProblem::undecodable, e.what()};
+  }
+  if (const std::string actual = content_hash(bytes); actual != hash)
     return {BlobProblem::hash_mismatch, file.string() + ": content hashes to " + actual + ", not " + hash};
   return {};
 }

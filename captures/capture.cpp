@@ -176,12 +176,6 @@ void fsync_path(const fs::path& path, bool directory) {
   }
 }
 
-std::vector<uint8_t> read_file(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw CaptureError(file.string() + ": cannot open");
-  return std::vector<uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 }  // namespace
 
 bool safe_name(const std::string& name) {
@@ -611,7 +605,7 @@ Capture Capture::open(const fs::path& folder) {
   if (!fs::is_directory(folder)) throw CaptureError(folder.string() + ": no such capture");
   const fs::path file = folder / "manifest.json";
   if (!fs::exists(file)) throw CaptureError(file.string() + ": missing (not a capture)");
-  const std::vector<uint8_t> text = read_file(file);
+  const std::vector<uint8_t> text = read_file_bytes(file);
   json j;
   try {
     j = json::parse(text.begin(), text.end());
@@ -642,18 +636,28 @@ fs::path Capture::blob_file(const std::string& blob) const {
   return real;
 }
 
+std::vector<uint8_t> read_file_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw CaptureError(file.string() + ": cannot open");
+  return std::vector<uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::vector<uint8_t> decode_resource_blob(const fs::path& file, const ResourceRecord& record, int threads,
+                                          DecodedParts* decoded_parts) {
+  return record.is_buffer ? read_buffer_blob(file, record.buffer_size)
+                          : read_image_blob(file, *format_info(record.format), record.extent, threads, decoded_parts);
+}
+
 std::vector<uint8_t> read_resource_blob(const fs::path& file, const ResourceRecord& record, int threads,
                                         DecodedParts* decoded_parts) {
-  std::vector<uint8_t> raw =
-      record.is_buffer ? read_buffer_blob(file, record.buffer_size)
-                       : read_image_blob(file, *format_info(record.format), record.extent, threads, decoded_parts);
+  std::vector<uint8_t> raw = decode_resource_blob(file, record, threads, decoded_parts);
   if (content_hash(raw) != record.hash)
     throw CaptureError(file.string() + ": content does not match its hash " + record.hash + " (corrupt capture)");
   return raw;
 }
 
 std::vector<uint8_t> read_file_blob(const fs::path& file, const std::string& hash) {
-  std::vector<uint8_t> bytes = read_file(file);
+  std::vector<uint8_t> bytes = read_file_bytes(file);
   if (content_hash(bytes) != hash)
     throw CaptureError(file.string() + ": content does not match its hash " + hash + " (corrupt capture)");
   return bytes;

@@ -136,6 +136,11 @@ CaptureManifest manifest_from_json(const nlohmann::json& json, const std::string
 std::vector<uint8_t> read_resource_blob(const std::filesystem::path& file, const ResourceRecord& record,
                                         int threads = -1, DecodedParts* decoded_parts = nullptr);
 std::vector<uint8_t> read_file_blob(const std::filesystem::path& file, const std::string& hash);
+// The same reads without the hash check, for a caller that tells a blob that does not decode from
+// one whose content is not its hash (`nightcap check`). Throw naming `file`.
+std::vector<uint8_t> decode_resource_blob(const std::filesystem::path& file, const ResourceRecord& record,
+                                          int threads = -1, DecodedParts* decoded_parts = nullptr);
+std::vector<uint8_t> read_file_bytes(const std::filesystem::path& file);
 
 // Removes `<target>.tmp-<pid>` and `<target>.old-<pid>` folders whose process is gone (a killed
 // writer's); those of a live process are kept.
