@@ -80,12 +80,6 @@ std::vector<std::string> differing_keys(const nlohmann::json& a, const nlohmann:
   return out;
 }
 
-std::string joined(const std::vector<std::string>& names) {
-  std::string text;
-  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
-  return text;
-}
-
 const FrameDiff* first_with_inputs_differing(const CaptureDiff& diff) {
   for (const FrameDiff& frame : diff.frames)
     if (!frame.inputs_differ.empty()) return &frame;
@@ -234,6 +228,12 @@ nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::js
 
 }  // namespace
 
+std::string comma_separated(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
+  return text;
+}
+
 bool PassIsolation::pass_changed() const {
   return std::any_of(outputs.begin(), outputs.end(), [](const Output& o) { return !o.reproduced; });
 }
@@ -362,7 +362,8 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
   const int pass_column = int(pass_width), resource_column = int(resource_width);
   for (const FrameDiff& frame : diff.frames) {
     out << "frame " << frame.index << "\n";
-    if (!frame.inputs_differ.empty()) out << "  the frame's own inputs differ: " << joined(frame.inputs_differ) << "\n";
+    if (!frame.inputs_differ.empty())
+      out << "  the frame's own inputs differ: " << comma_separated(frame.inputs_differ) << "\n";
     out << "  " << std::left << std::setw(pass_column) << "pass" << std::setw(resource_column) << "resource"
         << std::setw(11) << "status" << std::right << std::setw(11) << "max abs" << std::setw(11) << "RMSE"
         << std::setw(9) << "PSNR" << std::setw(8) << ">thr %" << std::setw(12) << "NaN/Inf"
@@ -399,14 +400,15 @@ void print_diff_table(std::ostream& out, const CaptureDiff& diff) {
     }
   }
   for (const std::string& note : diff.notes) out << "note: " << note << "\n";
-  if (!diff.settings_differ.empty()) out << "settings differ: " << joined(diff.settings_differ) << "\n";
-  if (!diff.scene_differ.empty()) out << "the scenes' descriptions differ: " << joined(diff.scene_differ) << "\n";
+  if (!diff.settings_differ.empty()) out << "settings differ: " << comma_separated(diff.settings_differ) << "\n";
+  if (!diff.scene_differ.empty())
+    out << "the scenes' descriptions differ: " << comma_separated(diff.scene_differ) << "\n";
   const FrameDiff* inputs_differ = first_with_inputs_differing(diff);
   if (diff.first_divergence)
     out << "first divergence: " << diff.first_divergence->second << " (frame " << diff.first_divergence->first << ")\n";
   else if (inputs_differ)
     out << "first divergence: the own inputs of frame " << inputs_differ->index << " ("
-        << joined(inputs_differ->inputs_differ) << "), before any pass: no pass differs with equal inputs\n";
+        << comma_separated(inputs_differ->inputs_differ) << "), before any pass: no pass differs with equal inputs\n";
   else
     out << (diff.identical ? "no differences\n" : "differences, but no pass where they start with equal inputs\n");
 }

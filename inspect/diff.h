@@ -111,6 +111,8 @@ struct CaptureDiff {
 // Throws CaptureError when a blob cannot be read or a capture lacks options.frame.
 CaptureDiff diff_captures(const Capture& a, const Capture& b, const DiffOptions& options);
 void print_diff_table(std::ostream& out, const CaptureDiff& diff);
+// "a, b, c": the inputs and keys that differ, as the table and the JUnit messages name them.
+std::string comma_separated(const std::vector<std::string>& names);
 // With --isolate's results, "changed_passes" lists the passes found changed themselves.
 // "input_divergence" names the first frame whose own inputs differ, and them ({"frame",
 // "inputs"}), or is null.

@@ -30,17 +30,12 @@ std::string measured(const OutputDiff& o) {
   return c.metric + " max abs " + number(c.max_abs);
 }
 
-std::string joined(const std::vector<std::string>& names) {
-  std::string text;
-  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
-  return text;
-}
-
 // What differs of a frame's own inputs, and of the settings that likely made them differ.
 std::string frame_inputs_message(const CaptureDiff& diff, const FrameDiff& frame) {
-  std::string text = "the frame's own inputs differ: " + joined(frame.inputs_differ);
-  if (!diff.settings_differ.empty()) text += "; the captures' settings differ: " + joined(diff.settings_differ);
-  if (!diff.scene_differ.empty()) text += "; the scenes' descriptions differ: " + joined(diff.scene_differ);
+  std::string text = "the frame's own inputs differ: " + comma_separated(frame.inputs_differ);
+  if (!diff.settings_differ.empty())
+    text += "; the captures' settings differ: " + comma_separated(diff.settings_differ);
+  if (!diff.scene_differ.empty()) text += "; the scenes' descriptions differ: " + comma_separated(diff.scene_differ);
   return text;
 }
 
