@@ -166,12 +166,15 @@ class Search {
   // Where `report` is given, they are added to it with their values.
   const Positions& positions(const ResourceRecord& r, NanOrigin* report, const FrameRecord& frame) {
     const std::string k = key(r);
-    if (auto known = scanned_.find(k); known != scanned_.end() && (!report || known->second.empty()))
-      return known->second;
+    const auto known = scanned_.find(k);
+    if (known != scanned_.end() && (!report || known->second.empty())) return known->second;
     const BufferSchema* schema = schema_of(r);
     if (!holds_floats(r, schema)) return scanned_[k];
-    std::vector<uint8_t> raw = load_(r);  // a version seen before is loaded again only to list its values
-    const Positions& all = scanned_[k] = r.is_buffer ? buffer_positions(*schema, raw) : image_positions(r, raw);
+    // A version seen before is loaded again only to list its values, not scanned again.
+    const std::vector<uint8_t> raw = load_(r);
+    const Positions& all = known != scanned_.end()
+                               ? known->second
+                               : (scanned_[k] = r.is_buffer ? buffer_positions(*schema, raw) : image_positions(r, raw));
     if (!report || all.empty()) return all;
     NonFiniteValues values{&r, all.size(), {}, {}};
     for (size_t i = 0; i < std::min(all.size(), limit_); ++i)
