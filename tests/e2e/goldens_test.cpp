@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 
 #include "captures/capture.h"
 #include "tests/e2e/cli.h"
@@ -52,42 +53,41 @@ View view_of(const std::string& model) {
   return v;
 }
 
-// The golden's silhouette, or empty when it carries no alpha.
-std::vector<uint8_t> silhouette(const fs::path& png, uint32_t width, uint32_t height) {
+// A golden's 8-bit pixels, every channel, or nothing when it cannot be read or has another size.
+struct Golden {
+  OIIO::ImageSpec spec;
+  std::vector<uint8_t> pixels;
+};
+std::optional<Golden> read_golden(const fs::path& png, uint32_t width, uint32_t height) {
   auto input = OIIO::ImageInput::open(png.string());
-  if (!input) return {};
-  const OIIO::ImageSpec spec = input->spec();
-  if (spec.alpha_channel < 0 || uint32_t(spec.width) != width || uint32_t(spec.height) != height) return {};
-  std::vector<uint8_t> pixels(size_t(spec.width) * spec.height * spec.nchannels);
-  input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, pixels.data());
-  std::vector<uint8_t> mask(size_t(width) * height);
-  for (size_t i = 0; i < mask.size(); ++i) mask[i] = pixels[i * spec.nchannels + spec.alpha_channel] >= 128;
-  return mask;
+  if (!input) return std::nullopt;
+  Golden golden{input->spec(), {}};
+  if (uint32_t(golden.spec.width) != width || uint32_t(golden.spec.height) != height) return std::nullopt;
+  golden.pixels.resize(size_t(width) * height * golden.spec.nchannels);
+  input->read_image(0, 0, 0, golden.spec.nchannels, OIIO::TypeDesc::UINT8, golden.pixels.data());
+  return golden;
 }
 
-// The golden's pixels as 8-bit RGB (alpha dropped), or empty when its size differs.
-std::vector<uint8_t> rgb(const fs::path& png, uint32_t width, uint32_t height) {
-  auto input = OIIO::ImageInput::open(png.string());
-  if (!input) return {};
-  const OIIO::ImageSpec spec = input->spec();
-  if (uint32_t(spec.width) != width || uint32_t(spec.height) != height || spec.nchannels < 3) return {};
-  std::vector<uint8_t> pixels(size_t(width) * height * 3);
-  input->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, pixels.data());
-  return pixels;
+// The golden's silhouette: alpha ≥ 128 (the caller has checked it has alpha).
+std::vector<uint8_t> silhouette(const Golden& golden) {
+  const int channels = golden.spec.nchannels, alpha = golden.spec.alpha_channel;
+  std::vector<uint8_t> mask(golden.pixels.size() / channels);
+  for (size_t i = 0; i < mask.size(); ++i) mask[i] = golden.pixels[i * channels + alpha] >= 128;
+  return mask;
 }
 
 // For goldens without alpha (LightsPunctualLamp's): every renderer draws the model before the same
 // smooth grey backdrop (R = G = B within a few codes), no brighter than light grey, while the
 // model's metal is tinted and its glass shade near white. A pixel is the model's where most
 // goldens show a tint or a white; one renderer's noise (filament's backdrop strays 6 codes from
-// grey) cannot decide alone.
-std::vector<uint8_t> consensus_silhouette(const std::vector<fs::path>& goldens, uint32_t width, uint32_t height) {
-  std::vector<uint32_t> votes(size_t(width) * height, 0);
-  for (const fs::path& png : goldens) {
-    const std::vector<uint8_t> pixels = rgb(png, width, height);
-    if (pixels.empty()) return {};
+// grey) cannot decide alone. Each golden has at least three channels (RGB first).
+std::vector<uint8_t> consensus_silhouette(const std::vector<Golden>& goldens) {
+  std::vector<uint32_t> votes(goldens.front().pixels.size() / goldens.front().spec.nchannels, 0);
+  for (const Golden& golden : goldens) {
+    const int channels = golden.spec.nchannels;
     for (size_t i = 0; i < votes.size(); ++i) {
-      const int r = pixels[3 * i], g = pixels[3 * i + 1], b = pixels[3 * i + 2];
+      const int r = golden.pixels[channels * i], g = golden.pixels[channels * i + 1],
+                b = golden.pixels[channels * i + 2];
       const bool tinted = std::max({std::abs(r - g), std::abs(g - b), std::abs(r - b)}) > kGreyCodes;
       votes[i] += tinted || std::min({r, g, b}) >= kWhiteCode;
     }
@@ -150,22 +150,25 @@ TEST_P(Goldens, SilhouettesMatchAndEveryPassIsFiniteAndReplays) {
     }
   ASSERT_FALSE(covered.empty()) << "no scene.depth from gbuffer.opaque";
 
-  int compared = 0;
-  std::vector<fs::path> without_alpha;
+  int compared = 0, other_size = 0;
+  std::vector<Golden> without_alpha;
   for (const auto& entry : fs::directory_iterator(kData / "goldens" / model)) {
-    const std::vector<uint8_t> golden = silhouette(entry.path(), v.width, v.height);
-    if (golden.empty()) {
-      without_alpha.push_back(entry.path());
-      continue;
+    std::optional<Golden> golden = read_golden(entry.path(), v.width, v.height);
+    if (!golden) {
+      ++other_size;
+    } else if (golden->spec.alpha_channel < 0) {
+      without_alpha.push_back(std::move(*golden));
+    } else {
+      EXPECT_GE(intersection_over_union(silhouette(*golden), covered), 0.97)
+          << model << " vs " << entry.path().filename();
+      ++compared;
     }
-    EXPECT_GE(intersection_over_union(golden, covered), 0.97) << model << " vs " << entry.path().filename();
-    ++compared;
   }
   if (compared == 0) {
     ASSERT_GE(without_alpha.size(), 2u) << "no golden with alpha for " << model << ", and too few for a consensus";
-    const std::vector<uint8_t> consensus = consensus_silhouette(without_alpha, v.width, v.height);
-    ASSERT_FALSE(consensus.empty()) << model << ": goldens of another size";
-    const double iou = intersection_over_union(consensus, covered);
+    ASSERT_EQ(other_size, 0) << model << ": goldens of another size";
+    for (const Golden& golden : without_alpha) ASSERT_GE(golden.spec.nchannels, 3) << model << ": a golden not RGB";
+    const double iou = intersection_over_union(consensus_silhouette(without_alpha), covered);
     std::printf("%s: %zu goldens without alpha, consensus silhouette IoU %.4f\n", model.c_str(), without_alpha.size(),
                 iou);
     EXPECT_GE(iou, kConsensusIou) << model;
