@@ -4,37 +4,24 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "tests/unit/scratch_folder.h"
+#include "tests/unit/text_lines.h"
 
 namespace nightcap {
 namespace {
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream stream(text);
-  for (std::string line; std::getline(stream, line);) lines.push_back(line);
-  return lines;
-}
-
 // The commands of the README's first fenced block, comments left out.
 std::vector<std::string> readme_commands() {
   std::vector<std::string> commands;
   bool inside = false;
-  for (const std::string& line : lines_of(read_text(fs::path(NIGHTCAP_SOURCE) / "README.md"))) {
+  for (const std::string& line : lines_of(fs::path(NIGHTCAP_SOURCE) / "README.md")) {
     if (line.rfind("```", 0) == 0) {
       if (inside) break;
       inside = true;
@@ -48,11 +35,10 @@ std::vector<std::string> readme_commands() {
 TEST(CiCommand, CiRunsTheReadmesTestCommandUnderCi) {
   const std::vector<std::string> commands = readme_commands();
   ASSERT_EQ(commands.size(), 2u) << "the README's first block holds the two commands";
-  const std::string ci = read_text(fs::path(NIGHTCAP_SOURCE) / ".ci/run");
-  const std::vector<std::string> ci_lines = lines_of(ci);
+  const std::vector<std::string> ci_lines = lines_of(fs::path(NIGHTCAP_SOURCE) / ".ci/run");
   ASSERT_FALSE(ci_lines.empty());
   EXPECT_EQ(ci_lines.back(), commands[1]);
-  EXPECT_NE(ci.find("\nexport CI=true\n"), std::string::npos);
+  EXPECT_NE(std::find(ci_lines.begin(), ci_lines.end(), "export CI=true"), ci_lines.end());
   EXPECT_NE(commands[1].find("bash tests/run-tests.sh build"), std::string::npos);
 }
 

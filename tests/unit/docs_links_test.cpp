@@ -5,13 +5,13 @@
 
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <regex>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
+
+#include "tests/unit/text_lines.h"
 
 namespace nightcap {
 namespace {
@@ -25,13 +25,6 @@ std::vector<fs::path> markdown_pages() {
   for (const auto& entry : fs::recursive_directory_iterator(kRoot / "docs"))
     if (entry.is_regular_file() && entry.path().extension() == ".md") pages.push_back(entry.path());
   return pages;
-}
-
-std::vector<std::string> lines_of(const fs::path& file) {
-  std::ifstream in(file);
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
 }
 
 bool is_fence(const std::string& line) { return line.rfind("```", 0) == 0; }
