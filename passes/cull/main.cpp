@@ -68,14 +68,18 @@ Containment box_in_frustum(const std::array<Plane, 5>& planes, const glm::dvec3&
   return result;
 }
 
-void box_corners(const glm::dmat4& clip_from_object, const MeshRecord& mesh, glm::dvec4 (&out)[8]) {
-  for (int corner = 0; corner < 8; ++corner) {
-    const glm::dvec4 p(corner & 1 ? mesh.bounds_max[0] : mesh.bounds_min[0],
-                       corner & 2 ? mesh.bounds_max[1] : mesh.bounds_min[1],
-                       corner & 4 ? mesh.bounds_max[2] : mesh.bounds_min[2], 1.0);
-    out[corner] = clip_from_object * p;
-  }
+// clip_from_box × (x, y, z, 1) at the box's eight corners (bit k of a corner's index: the max
+// on axis k). The sum is glm's mat4 × vec4, ((m0·x + m1·y) + (m2·z + m3)), so the corners are the
+// same bits as one product each; the products corners share are computed once.
+void box_corners(const glm::dmat4& m, const glm::dvec3& lo, const glm::dvec3& hi, glm::dvec4 (&out)[8]) {
+  const glm::dvec4 x[2] = {m[0] * lo.x, m[0] * hi.x};
+  const glm::dvec4 y[2] = {m[1] * lo.y, m[1] * hi.y};
+  const glm::dvec4 zw[2] = {m[2] * lo.z + m[3], m[2] * hi.z + m[3]};
+  for (int k = 0; k < 8; ++k) out[k] = (x[k & 1] + y[(k >> 1) & 1]) + zw[(k >> 2) & 1];
 }
+
+glm::dvec3 mesh_min(const MeshRecord& m) { return {m.bounds_min[0], m.bounds_min[1], m.bounds_min[2]}; }
+glm::dvec3 mesh_max(const MeshRecord& m) { return {m.bounds_max[0], m.bounds_max[1], m.bounds_max[2]}; }
 
 // The seeds' order inside gbuffer.opaque [001]: static meshes, then ground and emissive, then
 // foliage (destructibles have no class of their own here).
@@ -86,16 +90,35 @@ uint32_t draw_order_class(const GpuMaterial& m) {
   return 0;
 }
 
+// What a draw list holds of an instance until its record is written: enough to sort it and to
+// build its GpuDraw (draw_record), a fraction of the record's 256 bytes.
+struct Drawn {
+  const MeshRecord* mesh;  // the level of detail drawn
+  glm::dvec3 translation, previous_translation;
+  uint32_t instance;
+  bool moving;  // drawn by gbuffer.dynamic
+};
+
+// The lists' order as two integers compared in turn: (draw class, material), (mesh's first
+// index, instance). Each instance is drawn once, so no two keys of a list are equal.
+struct DrawKey {
+  uint64_t major, minor;
+  auto operator<=>(const DrawKey&) const = default;
+};
+
+// A draw list's entry: the draw and its place in the list's order.
+struct ListedDraw {
+  DrawKey key;
+  Drawn drawn;
+};
+
 struct Candidate {
-  GpuDraw draw;
-  glm::dmat4 model;  // object → camera-relative world, in double
-  glm::dvec3 previous_translation;
+  Drawn drawn;
+  glm::dmat4 model;       // object → camera-relative world, in double
   glm::dvec4 corners[8];  // clip space, of the drawn level's box
-  const MeshRecord* mesh;
-  double score;  // occluder quality: squared box size over squared distance
-  uint32_t lod;
+  double score;           // occluder quality: squared box size over squared distance
+  uint32_t material, lod;
   bool in_frustum;
-  bool moving;             // drawn by gbuffer.dynamic
   bool decal;              // drawn by decals.mesh
   bool occluder_material;  // opaque (not alpha-tested or blended), static and not a decal
 };
@@ -151,22 +174,28 @@ class Culler {
  private:
   enum class Refusal { none, degenerate, distance };
 
-  // The instance as it would be drawn this frame, or nothing (and why) when it is not drawn.
-  std::optional<Candidate> evaluate(uint32_t index, const glm::dvec3& translation,
-                                    const glm::dvec3& previous_translation, Refusal* refusal = nullptr) const {
-    const InstanceRecord& r = instances_[index];
+  // The instance's model matrix: object → camera-relative world, the translation subtracted in
+  // double.
+  glm::dmat4 relative_model(const InstanceRecord& r, const glm::dvec3& translation) const {
     glm::dmat4 model(1.0);
     for (int c = 0; c < 3; ++c)
       for (int row = 0; row < 3; ++row) model[c][row] = r.basis[c * 3 + row];
-    model[3] = glm::dvec4(translation - eye_, 1.0);  // camera-relative, subtracted in double
+    model[3] = glm::dvec4(translation - eye_, 1.0);
+    return model;
+  }
+
+  // Fills `c` with the instance as it would be drawn this frame; anything but Refusal::none says
+  // why it is not drawn (and leaves `c` partly written). `c` is the caller's so that the ~0.5 kB
+  // candidate is neither cleared nor copied for each of the tens of thousands of instances looked at.
+  Refusal evaluate(uint32_t index, const glm::dvec3& translation, const glm::dvec3& previous_translation,
+                   Candidate& c) const {
+    const InstanceRecord& r = instances_[index];
+    const glm::dmat4 model = relative_model(r, translation);
     // A zero-scale transform covers no pixel and has no normal matrix.
     const double determinant = glm::determinant(glm::dmat3(model));
     const MeshRecord* mesh = mesh_at(r.primitive, index);
-    if (!std::isfinite(determinant) || determinant == 0.0 || mesh->index_count == 0 ||
-        r.material >= materials_.size()) {
-      if (refusal) *refusal = Refusal::degenerate;
-      return std::nullopt;
-    }
+    if (!std::isfinite(determinant) || determinant == 0.0 || mesh->index_count == 0 || r.material >= materials_.size())
+      return Refusal::degenerate;
     // Level of detail by the distance to the centre of the finest level's box.
     const glm::dvec3 centre(model * glm::dvec4(0.5 * (mesh->bounds_min[0] + mesh->bounds_max[0]),
                                                0.5 * (mesh->bounds_min[1] + mesh->bounds_max[1]),
@@ -177,54 +206,51 @@ class Culler {
       if (++lod > meshes_.size()) throw GraphError("cull.main: mesh levels of detail form a cycle");
       mesh = mesh_at(uint32_t(mesh->coarser), index);
     }
-    if (distance > mesh->draw_distance) {
-      if (refusal) *refusal = Refusal::distance;
-      return std::nullopt;
-    }
-    Candidate c{};
-    box_corners(view_projection_ * model, *mesh, c.corners);
+    if (distance > mesh->draw_distance) return Refusal::distance;
+    box_corners(view_projection_ * model, mesh_min(*mesh), mesh_max(*mesh), c.corners);
     c.in_frustum = !outside_frustum(c.corners);
     const GpuMaterial& m = materials_[r.material];
-    c.moving = (r.flags & kInstanceMoving) != 0;
-    c.decal = (int(m.extra.w) & 4) != 0;
+    c.drawn = {mesh, translation, previous_translation, index, (r.flags & kInstanceMoving) != 0};
     c.model = model;
-    c.previous_translation = previous_translation;
-    // The rest of the record (matrices, box) is filled by complete() for what is kept.
-    GpuDraw& d = c.draw;
-    d.first_index = mesh->first_index;
-    d.index_count = mesh->index_count;
-    d.vertex_offset = mesh->vertex_offset;
-    d.material = r.material;
-    d.stencil = uint32_t(m.textures2.z) | (c.moving ? stencil::moving : 0u);
-    d.instance = index;
-    d.mirrored = determinant < 0.0;
-    c.mesh = mesh;
+    c.material = r.material;
     c.lod = lod;
+    c.decal = (int(m.extra.w) & 4) != 0;
     const glm::dvec3 size(mesh->bounds_max[0] - mesh->bounds_min[0], mesh->bounds_max[1] - mesh->bounds_min[1],
                           mesh->bounds_max[2] - mesh->bounds_min[2]);
     const glm::dvec3 diagonal = glm::dmat3(model) * size;
     c.score = glm::dot(diagonal, diagonal) / std::max(distance * distance, 1e-6);
-    c.occluder_material = m.extra.z == float(AlphaMode::opaque) && !c.moving && !c.decal;
-    return c;
+    c.occluder_material = m.extra.z == float(AlphaMode::opaque) && !c.drawn.moving && !c.decal;
+    return Refusal::none;
   }
 
   // A static instance where it stands.
-  std::optional<Candidate> evaluate_at_rest(uint32_t index) const {
-    return evaluate(index, position_of(instances_[index]), position_of(instances_[index]));
+  Refusal evaluate_at_rest(uint32_t index, Candidate& c) const {
+    return evaluate(index, position_of(instances_[index]), position_of(instances_[index]), c);
   }
 
-  // The draw record's matrices and quantisation box, for a candidate that is drawn or occludes.
-  void complete(Candidate& c) const {
-    GpuDraw& d = c.draw;
-    d.model = glm::mat4(c.model);
-    glm::dmat4 previous_model = c.model;
-    previous_model[3] = glm::dvec4(c.previous_translation - eye_, 1.0);
+  // The draw record of an instance that is drawn or occludes: matrices, mesh range, material,
+  // flags and the box scene.geometry quantised the mesh's positions in (vertex_streams.h).
+  GpuDraw draw_record(const Drawn& drawn) const {
+    const InstanceRecord& r = instances_[drawn.instance];
+    const glm::dmat4 model = relative_model(r, drawn.translation);
+    GpuDraw d{};
+    d.model = glm::mat4(model);
+    glm::dmat4 previous_model = model;
+    previous_model[3] = glm::dvec4(drawn.previous_translation - eye_, 1.0);
     d.previous_model = glm::mat4(previous_model);
-    d.normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::dmat3(c.model))));
-    // The box scene.geometry quantised the mesh's positions in (vertex_streams.h).
-    const glm::vec3 lo = glm::make_vec3(c.mesh->bounds_min), hi = glm::make_vec3(c.mesh->bounds_max);
+    d.normal_matrix = glm::mat4(glm::transpose(glm::inverse(glm::dmat3(model))));
+    const MeshRecord& mesh = *drawn.mesh;
+    d.first_index = mesh.first_index;
+    d.index_count = mesh.index_count;
+    d.vertex_offset = mesh.vertex_offset;
+    d.material = r.material;
+    d.stencil = uint32_t(materials_[r.material].textures2.z) | (drawn.moving ? stencil::moving : 0u);
+    d.instance = drawn.instance;
+    d.mirrored = glm::determinant(glm::dmat3(model)) < 0.0;
+    const glm::vec3 lo = glm::make_vec3(mesh.bounds_min), hi = glm::make_vec3(mesh.bounds_max);
     d.position_origin = glm::vec4(lo, 0.0f);
     d.position_step = glm::vec4(position_step(lo, hi), 0.0f);
+    return d;
   }
 
   // The `occluders` best static opaque instances in the frustum by squared size over squared
@@ -245,6 +271,7 @@ class Culler {
     // The chosen so far, worst (score, instance) on top, each with its slot in `chosen_`.
     using Chosen = std::tuple<double, uint32_t, size_t>;
     std::priority_queue<Chosen, std::vector<Chosen>, std::greater<Chosen>> best;
+    Candidate candidate;
     open.push({bound(0), 0});
     while (!open.empty()) {
       const auto [node_bound, n] = open.top();
@@ -259,22 +286,21 @@ class Culler {
       }
       for (uint32_t k = node.first; k < node.first + node.count; ++k) {
         const uint32_t i = hierarchy_.static_order[k];
-        const std::optional<Candidate> c = evaluate_at_rest(i);
-        if (!c || !c->in_frustum || !c->occluder_material) continue;
+        if (evaluate_at_rest(i, candidate) != Refusal::none || !candidate.in_frustum || !candidate.occluder_material)
+          continue;
         if (best.size() < budget) {
-          best.push({c->score, i, chosen_.size()});
-          chosen_.push_back(*c);
-        } else if (c->score > std::get<0>(best.top())) {
+          best.push({candidate.score, i, chosen_.size()});
+          chosen_.push_back(candidate.drawn);
+        } else if (candidate.score > std::get<0>(best.top())) {
           const size_t slot = std::get<2>(best.top());
           best.pop();
-          chosen_[slot] = *c;
-          best.push({c->score, i, slot});
+          chosen_[slot] = candidate.drawn;
+          best.push({candidate.score, i, slot});
         }
       }
     }
-    std::sort(chosen_.begin(), chosen_.end(),
-              [](const Candidate& a, const Candidate& b) { return a.draw.instance < b.draw.instance; });
-    for (const Candidate& c : chosen_) occluders_.push_back(c.draw.instance);
+    std::sort(chosen_.begin(), chosen_.end(), [](const Drawn& a, const Drawn& b) { return a.instance < b.instance; });
+    for (const Drawn& d : chosen_) occluders_.push_back(d.instance);
   }
 
   bool is_occluder(uint32_t instance) const {
@@ -285,31 +311,30 @@ class Culler {
     const uint32_t width = uint32_t(ctx_.param("occlusion_width"));
     const uint32_t height = std::max(1u, uint32_t(std::lround(double(width) * camera_.height / camera_.width)));
     buffer_.emplace(width, height);
-    for (Candidate& c : chosen_) {
-      complete(c);
-      rasterise(c);
+    for (const Drawn& d : chosen_) {
+      rasterise(draw_record(d), *d.mesh);
       stats_.occluders += 1;
-      stats_.occluder_triangles += std::min(c.mesh->occluder_index_count, c.mesh->index_count) / 3;
+      stats_.occluder_triangles += std::min(d.mesh->occluder_index_count, d.mesh->index_count) / 3;
     }
   }
 
-  void rasterise(const Candidate& c) {
-    const GpuMaterial& m = materials_[c.draw.material];
+  void rasterise(const GpuDraw& draw, const MeshRecord& mesh) {
+    const GpuMaterial& m = materials_[draw.material];
     const bool two_sided = (int(m.extra.w) & 2) != 0;
     // Front faces are counter-clockwise (the passes' declared face), clockwise when mirrored.
-    const bool front_ccw = !c.draw.mirrored;
+    const bool front_ccw = !draw.mirrored;
     // The draw's float model is what the GPU uses; the buffer follows it.
-    const glm::dmat4 clip_from_object = view_projection_ * glm::dmat4(c.draw.model);
+    const glm::dmat4 clip_from_object = view_projection_ * glm::dmat4(draw.model);
     const uint8_t* index_bytes = geometry_.data() + geometry_header_.index_offset;
-    const uint32_t indices = std::min(c.mesh->occluder_index_count, c.mesh->index_count);
+    const uint32_t indices = std::min(mesh.occluder_index_count, mesh.index_count);
     for (uint32_t t = 0; t + 2 < indices; t += 3) {
       glm::dvec4 clip[3];
       for (int v = 0; v < 3; ++v) {
         uint32_t index;
-        std::memcpy(&index, index_bytes + (size_t(c.mesh->first_index) + t + v) * 4, 4);
-        const int64_t vertex = int64_t(index) + c.mesh->vertex_offset;
+        std::memcpy(&index, index_bytes + (size_t(mesh.first_index) + t + v) * 4, 4);
+        const int64_t vertex = int64_t(index) + mesh.vertex_offset;
         if (vertex < 0 || uint64_t(vertex) >= geometry_header_.vertex_count) return;  // no occlusion from garbage
-        clip[v] = clip_from_object * glm::dvec4(vertex_position(uint32_t(vertex), c.draw), 1.0);
+        clip[v] = clip_from_object * glm::dvec4(vertex_position(uint32_t(vertex), draw), 1.0);
       }
       buffer_->rasterise(clip[0], clip[1], clip[2], front_ccw, two_sided);
     }
@@ -343,8 +368,7 @@ class Culler {
     }
     if (!keep_hidden_) {
       glm::dvec4 corners[8];
-      for (int k = 0; k < 8; ++k)
-        corners[k] = view_projection_ * glm::dvec4(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z, 1.0);
+      box_corners(view_projection_, lo, hi, corners);
       if (buffer_->hidden(corners)) {
         const uint32_t count = leaf_count(index);
         stats_.instances_tested += count;
@@ -371,9 +395,9 @@ class Culler {
       keep_everything_under(node.first + 1);
       return;
     }
-    for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-      if (std::optional<Candidate> c = evaluate_at_rest(hierarchy_.static_order[k])) keep(*c);
-    }
+    Candidate c;
+    for (uint32_t k = node.first; k < node.first + node.count; ++k)
+      if (evaluate_at_rest(hierarchy_.static_order[k], c) == Refusal::none) keep(c);
   }
 
   uint32_t leaf_count(uint32_t index) const {
@@ -394,30 +418,39 @@ class Culler {
 
   void consider(uint32_t index, const glm::dvec3& translation, const glm::dvec3& previous_translation) {
     ++stats_.instances_tested;
-    Refusal refusal = Refusal::none;
-    std::optional<Candidate> c = evaluate(index, translation, previous_translation, &refusal);
-    if (!c) {
+    Candidate c;
+    const Refusal refusal = evaluate(index, translation, previous_translation, c);
+    if (refusal != Refusal::none) {
       ++(refusal == Refusal::distance ? stats_.culled_distance : stats_.culled_degenerate);
       return;
     }
-    if (!c->in_frustum) {
+    if (!c.in_frustum) {
       ++stats_.culled_frustum;
-      if (keep_outside_) keep(*c);
+      if (keep_outside_) keep(c);
       return;
     }
-    if (!is_occluder(index) && buffer_->hidden(c->corners)) {
+    if (!is_occluder(index) && buffer_->hidden(c.corners)) {
       ++stats_.culled_occlusion;
       if (!keep_hidden_) return;
     } else {
       ++stats_.visible;
-      stats_.lod_histogram[std::min<uint32_t>(c->lod, kLodBins - 1)] += 1;
+      stats_.lod_histogram[std::min<uint32_t>(c.lod, kLodBins - 1)] += 1;
     }
-    keep(*c);
+    keep(c);
   }
 
-  void keep(Candidate& c) {
-    complete(c);
-    kept_.push_back(c);
+  // Lists the candidate in the draw lists it is drawn in, with its place in their order.
+  void keep(const Candidate& c) {
+    const Drawn& drawn = c.drawn;
+    const DrawKey key{uint64_t(draw_order_class(materials_[c.material])) << 32 | c.material,
+                      uint64_t(drawn.mesh->first_index) << 32 | drawn.instance};
+    if (c.decal) {
+      // Decals blend: the later one covers the earlier, so their order is the instances' order.
+      decal_draws_.push_back({{0, drawn.instance}, drawn});
+    } else {
+      (drawn.moving ? dynamic_draws_ : gbuffer_draws_).push_back({key, drawn});
+    }
+    if (!drawn.moving && is_occluder(drawn.instance)) prepass_draws_.push_back({key, drawn});
   }
 
   // A box is drawn unless it is beyond its draw distance or lies wholly outside the frustum or
@@ -434,9 +467,7 @@ class Culler {
       if (!std::isfinite(determinant) || determinant == 0.0 || !std::isfinite(glm::dot(model[3], model[3]))) continue;
       if (glm::length(glm::dvec3(model[3])) > r.draw_distance) continue;
       glm::dvec4 corners[8];
-      for (int k = 0; k < 8; ++k)
-        corners[k] =
-            view_projection_ * model * glm::dvec4(k & 1 ? 0.5 : -0.5, k & 2 ? 0.5 : -0.5, k & 4 ? 0.5 : -0.5, 1.0);
+      box_corners(view_projection_ * model, glm::dvec3(-0.5), glm::dvec3(0.5), corners);
       if (outside_frustum(corners) && !keep_outside_) continue;
       if (!keep_hidden_ && buffer_->hidden(corners)) continue;
       GpuDecal d{};
@@ -451,35 +482,20 @@ class Culler {
   }
 
   void finish() {
-    std::vector<GpuDraw> prepass, gbuffer, dynamic, decals;
-    for (const Candidate& c : kept_) {
-      (c.decal ? decals : c.moving ? dynamic : gbuffer).push_back(c.draw);
-      if (!c.moving && is_occluder(c.draw.instance)) prepass.push_back(c.draw);
-    }
-    auto order = [&](const GpuDraw& a, const GpuDraw& b) {
-      const uint32_t ca = draw_order_class(materials_[a.material]), cb = draw_order_class(materials_[b.material]);
-      if (ca != cb) return ca < cb;
-      if (a.material != b.material) return a.material < b.material;
-      if (a.first_index != b.first_index) return a.first_index < b.first_index;
-      return a.instance < b.instance;
-    };
-    std::sort(prepass.begin(), prepass.end(), order);
-    std::sort(gbuffer.begin(), gbuffer.end(), order);
-    std::sort(dynamic.begin(), dynamic.end(), order);
-    // Decals blend: the later one covers the earlier, so their order is the instances' order.
-    std::sort(decals.begin(), decals.end(), [](const GpuDraw& a, const GpuDraw& b) { return a.instance < b.instance; });
-    stats_.draws_prepass = batch_count(prepass);
-    stats_.draws_gbuffer = batch_count(gbuffer);
-    stats_.draws_dynamic = batch_count(dynamic);
-    for (const GpuDraw& d : prepass) stats_.triangles_prepass += d.index_count / 3;
-    for (const GpuDraw& d : gbuffer) stats_.triangles_gbuffer += d.index_count / 3;
-    for (const GpuDraw& d : dynamic) stats_.triangles_dynamic += d.index_count / 3;
-    ctx_.store<GpuDraw>("draws.depth.prepass", prepass);
-    ctx_.store<GpuDraw>("draws.gbuffer.opaque", gbuffer);
-    ctx_.store<GpuDraw>("draws.gbuffer.dynamic", dynamic);
-    ctx_.store<GpuDraw>("draws.decals.mesh", decals);
+    for (std::vector<ListedDraw>* list : {&prepass_draws_, &gbuffer_draws_, &dynamic_draws_, &decal_draws_})
+      std::sort(list->begin(), list->end(), [](const ListedDraw& a, const ListedDraw& b) { return a.key < b.key; });
+    const ListStats prepass = store_draws("draws.depth.prepass", prepass_draws_);
+    const ListStats gbuffer = store_draws("draws.gbuffer.opaque", gbuffer_draws_);
+    const ListStats dynamic = store_draws("draws.gbuffer.dynamic", dynamic_draws_);
+    store_draws("draws.decals.mesh", decal_draws_);
     ctx_.store<GpuDecal>("draws.decals.projected", projected_);
-    stats_.decals_mesh = uint32_t(decals.size());
+    stats_.draws_prepass = prepass.batches;
+    stats_.draws_gbuffer = gbuffer.batches;
+    stats_.draws_dynamic = dynamic.batches;
+    stats_.triangles_prepass = prepass.triangles;
+    stats_.triangles_gbuffer = gbuffer.triangles;
+    stats_.triangles_dynamic = dynamic.triangles;
+    stats_.decals_mesh = uint32_t(decal_draws_.size());
     stats_.decals_projected = uint32_t(projected_.size());
     auto& stats = ctx_.output("cull.stats");
     stats.resize(sizeof(stats_));
@@ -491,10 +507,26 @@ class Culler {
     std::memcpy(depth.data() + sizeof(header), buffer_->depth().data(), buffer_->depth().size_bytes());
   }
 
-  static uint32_t batch_count(const std::vector<GpuDraw>& draws) {
-    uint32_t count = 0;
-    for (size_t i = 0; i < draws.size(); ++i) count += i == 0 || !same_batch(draws[i - 1], draws[i]);
-    return count;
+  struct ListStats {
+    uint32_t batches = 0;    // instanced draw calls draw_scene issues for the list
+    uint32_t triangles = 0;  // of every draw in it
+  };
+
+  // Writes a sorted list's draw records straight into its output, built only now that the list
+  // is final.
+  ListStats store_draws(const char* resource, const std::vector<ListedDraw>& list) {
+    std::vector<uint8_t>& out = ctx_.output(resource);
+    out.resize(list.size() * sizeof(GpuDraw));
+    ListStats stats;
+    GpuDraw previous{};
+    for (size_t i = 0; i < list.size(); ++i) {
+      const GpuDraw draw = draw_record(list[i].drawn);
+      stats.batches += i == 0 || !same_batch(previous, draw);
+      stats.triangles += draw.index_count / 3;
+      std::memcpy(out.data() + i * sizeof(GpuDraw), &draw, sizeof(draw));
+      previous = draw;
+    }
+    return stats;
   }
 
   PassContext& ctx_;
@@ -510,9 +542,10 @@ class Culler {
   glm::dmat4 world_{1.0}, view_projection_{1.0};
   glm::dvec3 eye_{0.0};
   std::array<Plane, 5> planes_{};
-  std::vector<Candidate> chosen_;    // the occluders, as evaluated when they were chosen
+  std::vector<Drawn> chosen_;        // the occluders, as evaluated when they were chosen
   std::vector<uint32_t> occluders_;  // their instance indices, sorted
-  std::vector<Candidate> kept_;      // what the lists draw
+  // What each list draws: depth.prepass, gbuffer.opaque, gbuffer.dynamic and decals.mesh.
+  std::vector<ListedDraw> prepass_draws_, gbuffer_draws_, dynamic_draws_, decal_draws_;
   std::vector<GpuDecal> projected_;  // draws.decals.projected, in scene.decals' order
   std::optional<OcclusionBuffer> buffer_;
   CullStats stats_{};
