@@ -125,6 +125,17 @@ struct Candidate {
 
 glm::dvec3 position_of(const InstanceRecord& r) { return {r.position[0], r.position[1], r.position[2]}; }
 
+// Asks for every cache line of the record ahead of its use (a record spans up to three).
+void prefetch(const InstanceRecord& r) {
+  const char* bytes = reinterpret_cast<const char*>(&r);
+  __builtin_prefetch(bytes);
+  __builtin_prefetch(bytes + 64);
+  __builtin_prefetch(bytes + sizeof(r) - 1);
+}
+
+// How many records ahead a walk over scattered instances asks for.
+constexpr size_t kPrefetchAhead = 8;
+
 glm::dvec3 node_min(const HierarchyNode& n) { return {n.bounds_min[0], n.bounds_min[1], n.bounds_min[2]}; }
 glm::dvec3 node_max(const HierarchyNode& n) { return {n.bounds_max[0], n.bounds_max[1], n.bounds_max[2]}; }
 
@@ -161,7 +172,12 @@ class Culler {
     choose_occluders();
     rasterise_occluders();
     if (!hierarchy_.static_order.empty()) visit(0, false);
-    for (uint32_t i : hierarchy_.moving) {
+    const std::span<const uint32_t> moving = hierarchy_.moving;
+    for (size_t k = 0; k < moving.size(); ++k) {
+      // The moving instances' records lie apart in scene.instances: each is asked for a few
+      // iterations ahead, so its cache misses overlap the work on the ones before.
+      if (k + kPrefetchAhead < moving.size()) prefetch(instances_[moving[k + kPrefetchAhead]]);
+      const uint32_t i = moving[k];
       const InstanceRecord& r = instances_[i];
       const glm::dvec3 velocity(r.velocity[0], r.velocity[1], r.velocity[2]);
       const glm::dvec3 translation = position_of(r) + velocity * camera_.time;
@@ -377,6 +393,9 @@ class Culler {
       }
     }
     if (node.count > 0) {
+      // The leaf's records lie apart in scene.instances: asked for all at once, their cache
+      // misses overlap instead of coming one after the other.
+      for (uint32_t k = node.first; k < node.first + node.count; ++k) prefetch(instances_[hierarchy_.static_order[k]]);
       for (uint32_t k = node.first; k < node.first + node.count; ++k) {
         const uint32_t i = hierarchy_.static_order[k];
         consider(i, position_of(instances_[i]), position_of(instances_[i]));
