@@ -9,6 +9,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
+#include <vector>
 
 namespace nightcap {
 
@@ -21,5 +23,13 @@ exr_result_t inflate_zip_chunk(exr_decode_pipeline_t* pipeline);
 // bytes, offset by 128, of the first halves of every sample followed by their second halves;
 // `out` gets the samples' bytes back in order.
 void unfilter_zip(uint8_t* filtered, uint8_t* out, size_t n);
+
+// The ZIP filter: what unfilter_zip undoes. `out` gets n bytes.
+void filter_zip(const uint8_t* bytes, uint8_t* out, size_t n);
+
+// Appends to `out` a ZIP or ZIPS chunk of `samples` (its lines' samples, channel by channel) as
+// OpenEXR stores it: filtered and deflated by libdeflate at zlib `level`, or the samples as they
+// are where that would be no smaller.
+void deflate_zip_chunk(std::span<const uint8_t> samples, int level, std::vector<uint8_t>& out);
 
 }  // namespace nightcap
