@@ -585,12 +585,9 @@ class ZipExrWriter {
   void write_chunks(int32_t index, std::span<const uint8_t> raw, bool multipart, std::vector<uint64_t>& offsets) {
     const Part& part = parts_[size_t(index)];
     const Layout layout = layout_of(format_, part.aspect);
-    // OpenEXR only reads through an output frame buffer's pointers.
-    uint8_t* codes = const_cast<uint8_t*>(raw.data() + part.offset);
-    PartPixels pixels(widening_scratch());
-    const uint8_t* samples = sample_memory(pixels, layout, part, codes);
-    if (pixels.codes) widen(pixels, layout, codes);
+    const uint8_t* codes = raw.data() + part.offset;
     const size_t sample = sample_bytes(layout.type), channels = layout.channels.size();
+    const size_t code_row_bytes = layout.raw_bytes * channels * size_t(part.width);
     const size_t row_bytes = sample * channels * size_t(part.width);
     std::vector<size_t> slots;  // each stored channel's place among a texel's samples
     for (const std::string& name : sorted_channels(layout))
@@ -604,16 +601,11 @@ class ZipExrWriter {
       const int32_t rows = std::min(rows_per_chunk_, part.rows - first);
       chunk.resize(row_bytes * size_t(rows));
       uint8_t* to = chunk.data();
-      for (int32_t y = first; y < first + rows; ++y) {
-        const uint8_t* row = samples + size_t(y) * row_bytes;
+      for (int32_t y = first; y < first + rows; ++y)
         for (size_t slot : slots) {
-          if (sample == 2)
-            gather<uint16_t>(row, size_t(part.width), channels, slot, to);
-          else
-            gather<uint32_t>(row, size_t(part.width), channels, slot, to);
+          gather(layout, codes + size_t(y) * code_row_bytes, size_t(part.width), slot, to);
           to += sample * size_t(part.width);
         }
-      }
       offsets.push_back(written_ + bytes_.size());
       if (multipart) put<int32_t>(index);
       put<int32_t>(first);
@@ -634,11 +626,25 @@ class ZipExrWriter {
     }
   }
 
-  // One channel's samples of a row of interleaved texels.
-  template <typename Sample>
-  static void gather(const uint8_t* row, size_t width, size_t channels, size_t slot, uint8_t* out) {
-    for (size_t x = 0; x < width; ++x)
-      std::memcpy(out + x * sizeof(Sample), row + (x * channels + slot) * sizeof(Sample), sizeof(Sample));
+  // One channel's samples of a row of texels, from their raw codes, widened as they go: no
+  // widened copy of the whole part is made.
+  static void gather(const Layout& layout, const uint8_t* row, size_t width, size_t slot, uint8_t* out) {
+    const size_t channels = layout.channels.size();
+    if (layout.type == Imf::HALF && layout.raw_bytes == 1) {
+      const auto& table = half_codes().half_of_code;
+      for (size_t x = 0; x < width; ++x) std::memcpy(out + 2 * x, &table[row[x * channels + slot]], 2);
+    } else if (layout.raw_bytes == 2 && layout.type == Imf::HALF) {
+      for (size_t x = 0; x < width; ++x) std::memcpy(out + 2 * x, row + 2 * (x * channels + slot), 2);
+    } else if (layout.raw_bytes == 2) {
+      for (size_t x = 0; x < width; ++x) {
+        uint16_t code;
+        std::memcpy(&code, row + 2 * (x * channels + slot), 2);
+        const uint32_t widened = code;
+        std::memcpy(out + 4 * x, &widened, 4);
+      }
+    } else {
+      for (size_t x = 0; x < width; ++x) std::memcpy(out + 4 * x, row + 4 * (x * channels + slot), 4);
+    }
   }
 
   // Two per thread: the chunk being written and the one before it.
