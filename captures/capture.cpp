@@ -471,7 +471,7 @@ void CaptureWriter::work() {
 void CaptureWriter::add_resource(ResourceRecord& record, std::shared_ptr<const std::vector<uint8_t>> raw) {
   if (!raw || raw->size() != record.raw_bytes())
     throw std::logic_error("add_resource: " + record.resource + " size mismatch");
-  record.hash = content_hash(*raw);
+  record.hash = hash_of(raw);
   // Equal bytes in two image formats or extents are two files: the blob states its format.
   std::string name = record.hash;
   if (!record.is_buffer) {
@@ -485,6 +485,23 @@ void CaptureWriter::add_resource(ResourceRecord& record, std::shared_ptr<const s
   ++busy_;
   queue_.push_back([this, record, raw = std::move(raw)] { encode(record, raw); });
   queued_.notify_one();
+}
+
+std::string CaptureWriter::hash_of(const std::shared_ptr<const std::vector<uint8_t>>& raw) {
+  {
+    std::lock_guard lock(mutex_);
+    const auto known = hashed_.find(raw.get());
+    if (known != hashed_.end() && known->second.bytes.lock() == raw) return known->second.hash;
+  }
+  std::string hash = content_hash(*raw);
+  std::lock_guard lock(mutex_);
+  // Bytes no longer held by anyone are forgotten once as many entries were added as remain.
+  if (hashed_.size() >= 2 * hashed_after_pruning_) {
+    std::erase_if(hashed_, [](const auto& entry) { return entry.second.bytes.expired(); });
+    hashed_after_pruning_ = std::max<size_t>(hashed_.size(), 64);
+  }
+  hashed_[raw.get()] = {raw, hash};
+  return hash;
 }
 
 void CaptureWriter::encode(const ResourceRecord& record, const std::shared_ptr<const std::vector<uint8_t>>& raw) {

@@ -175,6 +175,9 @@ class CaptureWriter {
   uint64_t bytes_written();  // flushes first
 
  private:
+  // The content hash of `raw`, computed once for the same bytes given again: a frame's versions
+  // are added as they are read back and again when the frame is recorded.
+  std::string hash_of(const std::shared_ptr<const std::vector<uint8_t>>& raw);
   void encode(const ResourceRecord& record, const std::shared_ptr<const std::vector<uint8_t>>& raw);
   void work();
   // Writes `bytes` once as blobs/<hash>.<extension>; returns the hash and the blob path.
@@ -186,6 +189,12 @@ class CaptureWriter {
   std::mutex mutex_;
   std::condition_variable queued_, drained_;
   std::set<std::string> blobs_;  // hashes written or queued
+  struct Hashed {
+    std::weak_ptr<const std::vector<uint8_t>> bytes;  // expired: the address may hold other bytes now
+    std::string hash;
+  };
+  std::map<const std::vector<uint8_t>*, Hashed> hashed_;
+  size_t hashed_after_pruning_ = 64;
   std::deque<std::function<void()>> queue_;
   size_t busy_ = 0;  // queued or being encoded
   bool stopping_ = false;
