@@ -651,7 +651,7 @@ int main(int argc, char** argv) {
   render
       ->add_option("--codec", r.codec,
                    "OpenEXR compression of every image blob: none, rle, zips, zip, piz or pxr24 (zip1 … zip9: "
-                   "with a zlib level); auto: chosen per kind of data")
+                   "with a zlib level); auto: ZIP at zlib level 1, nightcap's own writer")
       ->capture_default_str();
   render->add_option("--inject-nan", r.inject_nan,
                      "PASS:X,Y: after PASS runs, write a NaN into its first float output at output pixel (X, Y), "
