@@ -26,6 +26,16 @@ extern "C" const char* __lsan_default_suppressions() {
   return "leak:libVkLayer_khronos_validation.so\n"
          "leak:wcsdup\n";
 }
+
+// LeakSanitizer's tracer used to die at exit now and then ("Tracer caught signal 11", about one
+// sanitizer suite in eight). GCC 12's runtime (as LLVM's up to 16) intercepts __tls_get_addr and,
+// for a dynamic TLS block that starts 16 bytes into a page, assumes glibc 2.19's layout and reads
+// the two words before it as the block's start and size; glibc 2.25 and later put no such header
+// there, so a block that lands at that offset by chance hands the tracer a garbage range to scan.
+// lavapipe's Mesa and LLVM give every thread they start dynamic TLS blocks. Without the
+// interception the blocks are heap blocks like any other, found through each thread's vector of
+// them (docs/testing.md).
+extern "C" const char* __asan_default_options() { return "intercept_tls_get_addr=0"; }
 #endif
 
 namespace nightcap {
