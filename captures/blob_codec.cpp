@@ -10,6 +10,7 @@
 #include <ImfMultiPartOutputFile.h>
 #include <ImfOutputPart.h>
 #include <ImfPartType.h>
+#include <ImfStdIO.h>
 #include <ImfStringAttribute.h>
 #include <ImfThreading.h>
 #include <half.h>
@@ -467,18 +468,18 @@ void read_part(const ExrReader& reader, int index, const Layout& layout, const P
 // the city frame at 1280x720 (176 MiB raw, one core, 2026-11-27) took 965 ms that way; 745 ms
 // with libdeflate and the copies and the filter done here, 6% smaller; 592 ms with a chunk
 // equal to the one before stored without deflating it again. The file is the one OpenEXR
-// writes: the same attributes (exr_headers.h), chunks of 16 lines (ZIP) or 1 (ZIPS), each
-// filtered and deflated, or kept as it is where that is no smaller.
+// writes: its headers written by OpenEXR from header_of, chunks of 16 lines (ZIP) or 1 (ZIPS),
+// each filtered and deflated, or kept as it is where that is no smaller.
 class ZipExrWriter {
  public:
+  // `compression`: ZIP or ZIPS, what `encoding` comes to for every part.
   ZipExrWriter(const std::filesystem::path& file, const FormatInfo& format, const ImageExtent& extent,
-               const std::vector<Part>& parts, Imf::Compression compression, int level)
+               const std::vector<Part>& parts, ImageEncoding encoding, Imf::Compression compression)
       : file_(file),
         format_(format),
         extent_(extent),
         parts_(parts),
-        level_(level),
-        compression_(compression),
+        encoding_(encoding),
         rows_per_chunk_(compression == Imf::ZIP_COMPRESSION ? 16 : 1),
         out_(file, std::ios::binary | std::ios::trunc) {}
 
@@ -510,28 +511,6 @@ class ZipExrWriter {
     const auto* bytes = reinterpret_cast<const uint8_t*>(&value);
     bytes_.insert(bytes_.end(), bytes, bytes + sizeof value);
   }
-  void put_name(std::string_view name) {
-    bytes_.insert(bytes_.end(), name.begin(), name.end());
-    bytes_.push_back(0);
-  }
-  void put_attribute(std::string_view name, std::string_view type, size_t size) {
-    put_name(name);
-    put_name(type);
-    put<int32_t>(int32_t(size));
-  }
-  void put_string(std::string_view name, std::string_view value) {
-    put_attribute(name, "string", value.size());
-    bytes_.insert(bytes_.end(), value.begin(), value.end());
-  }
-  void put_int(std::string_view name, int32_t value) {
-    put_attribute(name, "int", sizeof value);
-    put<int32_t>(value);
-  }
-  void put_box(std::string_view name, int32_t width, int32_t rows) {
-    put_attribute(name, "box2i", 4 * sizeof(int32_t));
-    for (int32_t corner : {0, 0, width - 1, rows - 1}) put<int32_t>(corner);
-  }
-
   int32_t chunk_count(const Part& part) const { return (part.rows + rows_per_chunk_ - 1) / rows_per_chunk_; }
 
   // Channels are stored in the order of their names, as OpenEXR keeps them.
@@ -541,45 +520,14 @@ class ZipExrWriter {
     return names;
   }
 
-  // Attributes in the order of their names, as OpenEXR writes them.
+  // The header write_image_blob gives OpenEXR (header_of), serialised by OpenEXR itself.
   void write_header(const Part& part, bool multipart) {
-    const Layout layout = layout_of(format_, part.aspect);
-    const std::vector<std::string> channels = sorted_channels(layout);
-    constexpr size_t kChannelTail = 16;  // pixel type, pLinear, 3 reserved bytes, x and y sampling
-    size_t list_size = 1;
-    for (const std::string& channel : channels) list_size += channel.size() + 1 + kChannelTail;
-    put_attribute("channels", "chlist", list_size);
-    for (const std::string& channel : channels) {
-      put_name(channel);
-      put<int32_t>(int32_t(layout.type));
-      for (int reserved = 0; reserved < 4; ++reserved) put<uint8_t>(0);  // pLinear and 3 reserved bytes
-      put<int32_t>(1);
-      put<int32_t>(1);
-    }
-    put<uint8_t>(0);
-    if (multipart) put_int("chunkCount", chunk_count(part));
-    put_attribute("compression", "compression", 1);
-    put<uint8_t>(uint8_t(compression_));
-    put_box("dataWindow", part.width, part.rows);
-    put_box("displayWindow", parts_.front().width, parts_.front().rows);
-    put_attribute("lineOrder", "lineOrder", 1);
-    put<uint8_t>(uint8_t(Imf::INCREASING_Y));
-    put_string("name", part.name);
-    put_int("nightcap.depth", int32_t(extent_.depth));
-    put_string("nightcap.format", format_.name);
-    put_int("nightcap.height", int32_t(extent_.height));
-    put_int("nightcap.layers", int32_t(extent_.layers));
-    put_int("nightcap.mips", int32_t(extent_.mips));
-    put_int("nightcap.width", int32_t(extent_.width));
-    put_attribute("pixelAspectRatio", "float", sizeof(float));
-    put<float>(1.0f);
-    put_attribute("screenWindowCenter", "v2f", 2 * sizeof(float));
-    put<float>(0.0f);
-    put<float>(0.0f);
-    put_attribute("screenWindowWidth", "float", sizeof(float));
-    put<float>(1.0f);
-    put_string("type", "scanlineimage");
-    put<uint8_t>(0);
+    Imf::Header header = header_of(format_, extent_, parts_.front(), part, layout_of(format_, part.aspect), encoding_);
+    if (multipart) header.setChunkCount(chunk_count(part));
+    Imf::StdOSStream stream;
+    header.writeTo(stream);
+    const std::string bytes = stream.str();
+    bytes_.insert(bytes_.end(), bytes.begin(), bytes.end());
   }
 
   void write_chunks(int32_t index, std::span<const uint8_t> raw, bool multipart, std::vector<uint64_t>& offsets) {
@@ -615,7 +563,7 @@ class ZipExrWriter {
       } else {
         const size_t size_at = bytes_.size();
         put<int32_t>(0);
-        deflate_zip_chunk(chunk, level_, bytes_);
+        deflate_zip_chunk(chunk, encoding_.zip_level, bytes_);
         const auto packed = bytes_.begin() + std::ptrdiff_t(size_at + sizeof(int32_t));
         const int32_t packed_size = int32_t(bytes_.end() - packed);
         std::memcpy(bytes_.data() + size_at, &packed_size, sizeof packed_size);
@@ -663,8 +611,7 @@ class ZipExrWriter {
   const FormatInfo& format_;
   const ImageExtent& extent_;
   const std::vector<Part>& parts_;
-  int level_;
-  Imf::Compression compression_;
+  ImageEncoding encoding_;
   int32_t rows_per_chunk_;
   std::ofstream out_;
   std::vector<uint8_t> bytes_;  // written to out_ in pieces of a few MiB
@@ -714,7 +661,7 @@ void write_image_blob(const std::filesystem::path& file, const FormatInfo& forma
                                return exr_compression(encoding.compression, layout_of(format, part.aspect)) == first;
                              });
   if (deflated_only) {
-    ZipExrWriter(file, format, extent, parts, first, encoding.zip_level).write(raw);
+    ZipExrWriter(file, format, extent, parts, encoding, first).write(raw);
     return;
   }
   std::vector<Imf::Header> headers;
