@@ -156,6 +156,25 @@ bool versions(const CompiledPass& pass, const BoundUse& out) {
   return pass.runs || !out.modifies || pass.folded.count(out.resource);
 }
 
+// The history slots whose resource ends the frame at its declared clear value: its fresh writer
+// skips, and so does every pass that modifies it after, none folding it. The pool needs no copy
+// for them (HistorySlot::clear_value_pending).
+std::vector<std::string> history_at_clear_value(const CompiledGraph& graph) {
+  std::map<std::string, bool> at_clear;  // resource -> whether its current version is the clear value
+  for (const CompiledPass& pass : graph.passes) {
+    if (pass.culled) continue;
+    for (const BoundUse& out : pass.outputs) {
+      if (!versions(pass, out)) continue;
+      at_clear[out.resource] =
+          !pass.runs && pass.decl->type != PassType::cpu && !out.modifies && !pass.folded.count(out.resource);
+    }
+  }
+  std::vector<std::string> slots;
+  for (const std::string& slot : graph.history)
+    if (at_clear[history_source(slot)]) slots.push_back(slot);
+  return slots;
+}
+
 // The versions skipped GPU passes leave (their outputs, by pass index) that something reads: a
 // pass that runs, a readback, the history copy. The others need no clear. A fold that changes
 // part of a modified output builds on the version before it, which is then read too.
@@ -188,7 +207,8 @@ std::set<std::pair<size_t, std::string>> read_skipped_versions(const CompiledGra
     }
   }
   for (const std::string& resource : graph.settings.readback) reads(resource);
-  for (const std::string& slot : graph.history) reads(history_source(slot));
+  for (const std::string& slot : graph.history)
+    if (!graph.history_at_clear_value.count(slot)) reads(history_source(slot));
   return read;
 }
 
@@ -221,6 +241,8 @@ void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& imp
   if (graph.settings.capture)
     for (const std::string& slot : graph.history) planner.use_whole(slot, transfer_state(false), false);
   graph.before_history_readback = planner.flush();
+  const std::vector<std::string> at_clear = history_at_clear_value(graph);
+  graph.history_at_clear_value = {at_clear.begin(), at_clear.end()};
 
   std::map<std::string, size_t> final_writer;
   for (size_t i = 0; i < graph.passes.size(); ++i)
@@ -323,8 +345,10 @@ void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& imp
   }
 
   for (const std::string& slot : graph.history) {
-    planner.use_whole(history_source(slot), transfer_state(false), false);
-    planner.use_whole(slot, transfer_state(true), true);
+    // A slot not copied into keeps its bytes: the pool may already hold the clear value there.
+    const bool copied = !graph.history_at_clear_value.count(slot);
+    if (copied) planner.use_whole(history_source(slot), transfer_state(false), false);
+    planner.use_whole(slot, transfer_state(true), copied);
   }
   graph.before_history_copy = planner.flush();
   graph.lifetimes = planner.lifetimes();

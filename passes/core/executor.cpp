@@ -329,6 +329,7 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
   result.memory_bytes = memory.bytes();
   result.memory_bytes_without_aliasing = memory.bytes_without_aliasing();
   std::map<std::string, HistorySlot*> slots;  // previous(name) -> its slot in the pool
+  std::set<std::string> cleared_slots;        // those this frame cleared
   for (const auto& [name, resource] : pooled) {
     const ResourceDesc& desc = graph.resources.at(name);
     HistorySlot* slot = options.history->find(resource);
@@ -447,14 +448,22 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
     for (const std::string& name : graph.uploads) upload(name);
     // The previous frame's values, or the declared initial value where there is no valid one.
     // A slot with valid history is already where the plan's clear barriers would leave it.
+    // A slot that holds the clear value already needs no clear.
+    auto starts_cleared = [&](const std::string& name) {
+      const HistorySlot& slot = *slots.at(name);
+      return (result.history_reset.count(pooled.at(name)) || slot.at_clear_value) && !slot.holds_clear_value;
+    };
     std::vector<PlannedBarrier> reset;
     for (const PlannedBarrier& b : graph.before_history_clears)
-      if (result.history_reset.count(pooled.at(b.resource))) reset.push_back(b);
+      if (starts_cleared(b.resource)) reset.push_back(b);
     issue_step(reset);
     std::map<std::string, int> history_versions;
     for (const auto& [name, resource] : pooled) {
       PhysicalResource& r = shared.resources.at(name);
-      if (result.history_reset.count(resource)) clear_to(shared.cmd, r, whole(r.desc), r.desc.clear);
+      if (starts_cleared(name)) {
+        clear_to(shared.cmd, r, whole(r.desc), r.desc.clear);
+        cleared_slots.insert(name);
+      }
       history_versions[name] = add_version(name, r.desc, nullptr);
     }
     issue_step(graph.before_history_readback);
@@ -578,13 +587,18 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
     // This frame's final values are the next frame's history.
     issue_step(graph.before_history_copy);
     for (const auto& [name, resource] : pooled)
-      copy_whole(shared.cmd, shared.resources.at(resource), shared.resources.at(name));
+      if (!graph.history_at_clear_value.count(name))
+        copy_whole(shared.cmd, shared.resources.at(resource), shared.resources.at(name));
   } catch (...) {
     if (shared.cmd) vkEndCommandBuffer(shared.cmd);
     throw;
   }
   submit(true);
-  for (const auto& [name, slot] : slots) slot->filled = true;
+  for (const auto& [name, slot] : slots) {
+    slot->filled = true;
+    slot->at_clear_value = graph.history_at_clear_value.count(name) > 0;
+    slot->holds_clear_value = slot->at_clear_value && (slot->holds_clear_value || cleared_slots.count(name));
+  }
   for (const auto& [name, resource] : host_pooled) {
     auto written = shared.host.find(resource);
     options.history->keep_host(resource, written != shared.host.end() && written->second

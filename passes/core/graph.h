@@ -154,11 +154,16 @@ struct CompiledGraph {
   std::vector<std::string> uploads;
   std::vector<PlannedBarrier> before_uploads;
   // previous(name) inputs the executor's history pool supplies (a replay imports them instead).
-  // After the uploads, a slot without valid history is cleared (before_history_clears is issued
-  // for those slots only: a filled slot is already in that state, the previous frame's copy into
-  // it having been its last use) and, in a capture, each is read back; after the last pass each
-  // name's final version is copied into its slot.
+  // After the uploads, a slot without valid history, or left at the clear value by a frame that
+  // copied nothing into it, is cleared unless it holds that value (before_history_clears is
+  // issued for those slots only: a filled slot is already in that state, the previous frame's
+  // last use of it having been the copy step) and, in a capture, each is read back; after the
+  // last pass each name's final version is copied into its slot (history_at_clear_value: not
+  // those whose writers skipped).
   std::vector<std::string> history;
+  // Slots whose resource ends the frame at its clear value (its writers skip): not copied into,
+  // the pool clears such a slot when it does not hold that value already (HistorySlot).
+  std::set<std::string> history_at_clear_value;
   std::vector<PlannedBarrier> before_history_clears, before_history_readback, before_history_copy;
 };
 

@@ -1,7 +1,9 @@
 // The history pool: what passes read one frame later (PassDecl::read_previous). The caller keeps
 // it across frames; execute_graph binds each previous(name) to its slot, starts a slot from the
 // resource's clear value when it has no valid history (first frame, camera cut, resize), and at
-// the end of the frame copies the resource's final version into the slot for the next frame.
+// the end of the frame copies the resource's final version into the slot for the next frame
+// unless that version is the clear value: then the slot is cleared when a frame starts from it,
+// once (an empty scene's skipped shadow maps cost no clear and no copy per frame).
 // A CPU pass's output read by a CPU pass a frame later (a plan that remembers what it decided)
 // is kept as its bytes; with no valid history it reads as empty.
 #pragma once
@@ -21,6 +23,10 @@ struct HistorySlot {
   PhysicalResource resource;
   VkImageUsageFlags usage = 0;
   bool filled = false;  // holds a value some frame wrote
+  // The last frame left the resource at its clear value (its writers skipped) and copied nothing:
+  // the slot's value is the clear value, which its bytes are when holds_clear_value.
+  bool at_clear_value = false;
+  bool holds_clear_value = false;  // cleared, and not copied into since
 };
 
 class HistoryPool {

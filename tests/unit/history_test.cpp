@@ -1,7 +1,8 @@
 // The history pool across frames: a pass that reads its own previous output sees the value the
 // previous execution left, its declared clear value on the first frame, after a camera cut and
 // after a resize; the capture records that history as an input version equal to the previous
-// frame's output. A CPU pass reading its own previous output gets the bytes it wrote a frame
+// frame's output; after a frame whose writer skipped it reads the clear value, though the pool
+// copies nothing then. A CPU pass reading its own previous output gets the bytes it wrote a frame
 // earlier, and nothing on the first frame or after a cut.
 #include <cstring>
 
@@ -105,6 +106,47 @@ TEST_F(History, CarriesAcrossFramesAndRestartsOnCutsAndResizes) {
   Frame f4 = run_frame(passes, &pool, 9, false);
   EXPECT_EQ(f4.history, f3.sum);
   EXPECT_TRUE(all(f4.sum, 12.0f));
+}
+
+// The pass skipped on odd frames: the frame after one that skipped reads the clear value, though
+// the pool copied nothing into its slot (it held 11 from the frame before) and clears a slot once
+// for a run of skipped frames.
+TEST_F(History, AFrameAfterItsWriterSkippedReadsTheClearValue) {
+  const std::vector<PassDecl> passes{
+      accumulate_pass().skip_when([](const SkipContext& frame) { return frame.frame_index % 2 ? "odd frame" : ""; })};
+  HistoryPool pool(*gpu_);
+  auto skipped_frame = [&](uint32_t index) {
+    GraphSettings settings;
+    settings.width = 5;
+    settings.height = 3;
+    settings.sinks = {"sum"};
+    settings.frame.frame_index = index;
+    CompiledGraph graph = compile_graph(passes, {}, settings);
+    ASSERT_FALSE(graph.passes.at(0).runs);
+    EXPECT_EQ(graph.history_at_clear_value, std::set<std::string>{"sum@previous"});
+    ExecutionOptions options;
+    options.history = &pool;
+    execute_graph(*gpu_, *cache_, graph, {}, options);
+    const HistorySlot* slot = pool.find("sum");
+    ASSERT_NE(slot, nullptr);
+    EXPECT_TRUE(slot->at_clear_value);
+  };
+  ASSERT_EQ(run_frame(passes, &pool, 5, false).sum, std::vector<float>(5 * 3, 11.0f));  // frame 0
+  skipped_frame(1);
+  EXPECT_FALSE(pool.find("sum")->holds_clear_value) << "frame 1 copied nothing and cleared nothing";
+  skipped_frame(3);
+  EXPECT_TRUE(pool.find("sum")->holds_clear_value) << "the next frame cleared the slot";
+  skipped_frame(5);
+  EXPECT_TRUE(pool.find("sum")->holds_clear_value);
+  // run_frame compiles frame 0's settings: an even frame, so the pass runs.
+  const Frame after = run_frame(passes, &pool, 5, false);
+  EXPECT_EQ(after.history, std::vector<float>(5 * 3, 10.0f)) << "the skipped frame's value: the clear value";
+  EXPECT_EQ(after.sum, std::vector<float>(5 * 3, 11.0f));
+  EXPECT_TRUE(after.reset.empty()) << "a skipped writer is history, not a reset";
+  EXPECT_FALSE(pool.find("sum")->holds_clear_value) << "copied into again";
+  skipped_frame(7);
+  EXPECT_EQ(run_frame(passes, &pool, 5, false).history, std::vector<float>(5 * 3, 10.0f))
+      << "cleared at the start of the frame that reads it, over the 11 copied two frames before";
 }
 
 TEST_F(History, AGraphThatReadsHistoryNeedsAPool) {
