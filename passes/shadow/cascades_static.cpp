@@ -65,7 +65,7 @@ PassDecl shadow_cascades_static_pass() {
           if (keeps && refreshed == 0 && !strips) continue;
           ctx.begin_rendering({}, "shadow.cascades_static", 0, cascade);
           bind_casters(ctx, "draws.shadow.cascades", "shadow.cascade_data", cascade);
-          auto scissor_of = [](const TexelRect& r) {
+          auto scissor_of = [](const MapTexels& r) {
             return VkRect2D{{r.x0, r.y0}, {uint32_t(r.x1 - r.x0), uint32_t(r.y1 - r.y0)}};
           };
           if (strips) {
@@ -74,7 +74,7 @@ PassDecl shadow_cascades_static_pass() {
                 uncovered_strips(resolution, {stats.shift[2 * cascade], stats.shift[2 * cascade + 1]});
             uint32_t first = stats.strip_first_draw[cascade];
             for (uint32_t axis = 0; axis < 2; ++axis) {
-              const TexelRect& part = axis == 0 ? uncovered.columns : uncovered.rows;
+              const MapTexels& part = axis == 0 ? uncovered.columns : uncovered.rows;
               const uint32_t count = stats.strip_draws[2 * cascade + axis];
               if (part.empty() || count == 0) {
                 first += count;

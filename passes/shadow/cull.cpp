@@ -340,7 +340,7 @@ class ShadowCuller {
         const int32_t side = int32_t(resolution / tiles);
         for (uint32_t t = 0; t < tiles * tiles; ++t) {
           if (!(stale[k] >> t & 1u)) continue;
-          const TexelRect r = c.map.tile_texels(t);
+          const MapTexels r = c.map.tile_texels(t);
           const glm::ivec2 from = glm::ivec2(r.x0, r.y0) + side / 2 + c.shift;
           if (glm::any(glm::lessThan(from, glm::ivec2(0))) ||
               glm::any(glm::greaterThanEqual(from, glm::ivec2(int32_t(resolution)))))

@@ -35,7 +35,7 @@ struct LightRect {
 LightRect across_sun(const LightAxes& axes, const glm::dvec3& lo, const glm::dvec3& hi);
 
 // Texels [x0, x1) × [y0, y1) of a map.
-struct TexelRect {
+struct MapTexels {
   int32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   bool empty() const { return x0 >= x1 || y0 >= y1; }
 };
@@ -47,13 +47,13 @@ struct TiledMap {
   double texel = 0.0;
   uint32_t resolution = 0, tiles = 1;
   uint64_t all() const { return tiles * tiles == 64 ? ~uint64_t(0) : (uint64_t(1) << (tiles * tiles)) - 1; }
-  TexelRect tile_texels(uint32_t t) const {
+  MapTexels tile_texels(uint32_t t) const {
     const int32_t side = int32_t(resolution / tiles);
     const int32_t x = int32_t(t % tiles) * side, y = int32_t(t / tiles) * side;
     return {x, y, x + side, y + side};
   }
   // Texels' rectangle grown by a texel each side: a caster whose box meets it may cover one of them.
-  LightRect texels(const TexelRect& r) const {
+  LightRect texels(const MapTexels& r) const {
     return {origin + glm::dvec2(r.x0 - 1, r.y0 - 1) * texel, origin + glm::dvec2(r.x1 + 1, r.y1 + 1) * texel};
   }
   LightRect tile(uint32_t t) const { return texels(tile_texels(t)); }
@@ -74,7 +74,7 @@ TilesAfterMove tiles_after_move(uint64_t complete_before, glm::ivec2 shift, uint
 // The texels of a map moved by `shift` that lay outside the previous map: the columns (full
 // height), and the rows (without those columns, so the two do not overlap).
 struct UncoveredStrips {
-  TexelRect columns, rows;
+  MapTexels columns, rows;
 };
 UncoveredStrips uncovered_strips(uint32_t resolution, glm::ivec2 shift);
 

@@ -42,7 +42,7 @@ TEST(LightTiles, UncoveredStripsHoldEveryUncoveredTexelOnce) {
         const glm::ivec2 source = glm::ivec2(x, y) + shift;
         const bool uncovered =
             source.x < 0 || source.y < 0 || source.x >= int(kResolution) || source.y >= int(kResolution);
-        auto in = [&](const TexelRect& r) { return x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1; };
+        auto in = [&](const MapTexels& r) { return x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1; };
         EXPECT_EQ(int(in(strips.columns)) + int(in(strips.rows)), int(uncovered)) << "texel " << x << ", " << y;
       }
   }
