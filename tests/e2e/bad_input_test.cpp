@@ -21,6 +21,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 const char* kSmall = "--city-block --size 64x36";
@@ -316,5 +317,6 @@ TEST(Cli, EveryCommandHasHelp) {
   }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -12,6 +12,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 fs::path write_page(const fs::path& dir, const std::string& body, const std::string& name = "page.html") {
@@ -140,5 +141,6 @@ TEST(Browser, ScreenshotHasTheRequestedSize) {
   EXPECT_EQ(in->spec().height, 200);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -11,6 +11,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 const char* kCity = "--city-block --size 320x180 --frames 2";
@@ -461,5 +462,6 @@ TEST(CaptureLoop, DiffNamesLightingAndMarksWhatInheritsIt) {
   EXPECT_EQ(status["gbuffer.opaque"], "identical");
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

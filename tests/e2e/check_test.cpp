@@ -13,6 +13,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -195,5 +196,6 @@ TEST(Check, BlobsOutsideTheCaptureAreRefusedUnread) {
       << r.out;
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -16,6 +16,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -440,5 +441,6 @@ TEST(DiffCi, IsolateTellsAPassThatChangedFromOneWhoseInputsChanged) {
       json::parse(run_cli("diff --json --frame 1 " + quote(a) + " " + quote(b)).out).contains("changed_passes"));
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

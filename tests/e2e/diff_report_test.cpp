@@ -15,6 +15,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -179,5 +180,6 @@ TEST(DiffReport, AgainstAGoldenOfAStore) {
   EXPECT_NE(html.find("First divergence: <a href=\"#f0-lighting.tiled\">"), std::string::npos);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

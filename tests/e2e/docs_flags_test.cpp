@@ -13,6 +13,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -158,5 +159,6 @@ TEST(DocsFlags, TheCommandsIndexLinksEveryCommandsPage) {
     EXPECT_NE(index.find("](" + name + ".md)"), std::string::npos) << "docs/commands/README.md: no link to " << name;
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -14,6 +14,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -85,5 +86,6 @@ INSTANTIATE_TEST_SUITE_P(
                            {"depth.convert", "motion.stencil", "normals.pack", "depth.pyramid", "lighting.tiled"}}),
     [](const auto& info) { return std::string(info.param.name); });
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

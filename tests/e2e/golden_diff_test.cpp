@@ -11,6 +11,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -285,5 +286,6 @@ TEST(GoldenDiff, WhatOneSideLacksIsNamedForTheSide) {
   EXPECT_EQ(diff.at("notes"), json::array({"frame 1 only in B"}));
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -18,6 +18,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 const fs::path kData = NIGHTCAP_SHARED_DATA;
@@ -188,5 +189,6 @@ std::vector<std::string> models() {
 
 INSTANTIATE_TEST_SUITE_P(Models, Goldens, ::testing::ValuesIn(models()), [](const auto& info) { return info.param; });
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -14,6 +14,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 const char* kCity = "--city-block --size 320x180 --frames 2";
@@ -256,5 +257,6 @@ TEST(Graph, BadFrameOrCaptureIsRefused) {
   EXPECT_NE(r.err.find((dir / "no-such-folder" / "g.dot").string()), std::string::npos) << r.err;
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

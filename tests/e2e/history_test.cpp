@@ -19,6 +19,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 const char* kWalk = "--city-block --size 160x90 --frames 8 --cut-at 5";
@@ -181,5 +182,6 @@ TEST(History, BadFrameFlagsAreRefusedByName) {
   refused("--motion fly", "--motion 'fly'");
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -8,6 +8,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 const char* kSmall = "--city-block --size 64x36";
@@ -51,5 +52,6 @@ TEST(ImageModule, AModuleThatCannotBeLoadedIsNamed) {
   EXPECT_EQ(r.code, 0) << r.err;
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -13,6 +13,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 struct HalfImage {
@@ -78,5 +79,6 @@ TEST(InspectExport, HalfUncompressedTargetsHoldTheStoredValues) {
   }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -19,6 +19,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -286,5 +287,6 @@ TEST_F(InspectRerunTest, ReplayWithAShaderFile) {
   EXPECT_FALSE(white["outputs"][0]["contract"]["holds"].get<bool>());
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -14,6 +14,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 class Terminal {
  public:
@@ -101,5 +102,6 @@ TEST(InspectTerminal, CompletesPassNamesAndRecallsHistory) {
   EXPECT_EQ(terminal.wait_exit(), 0) << terminal.transcript();
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -16,6 +16,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -679,5 +680,6 @@ TEST_F(InspectTest, ExportValuesAndPictures) {
             1.0f);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

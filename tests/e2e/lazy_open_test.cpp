@@ -10,6 +10,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 TEST(LazyOpen, PassesGraphAndDiffReadNoBlob) {
@@ -48,5 +49,6 @@ TEST(LazyOpen, PassesGraphAndDiffReadNoBlob) {
   EXPECT_TRUE(named) << "no blob of tonemap named with its hash: " << replay.err;
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

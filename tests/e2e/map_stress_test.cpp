@@ -10,6 +10,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -42,5 +43,6 @@ INSTANTIATE_TEST_SUITE_P(Shots, MapStress,
                                            Case{"aerial_odd", "--shot aerial --size 161x91 --motion drive"}),
                          [](const auto& info) { return std::string(info.param.name); });
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

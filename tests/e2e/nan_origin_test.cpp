@@ -17,6 +17,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -244,5 +245,6 @@ TEST(NanOrigin, AMalformedInjectionRecordIsRefusedNamingTheManifest) {
   refused("resource", "gbuffer.albedo", "'gbuffer.albedo' is not a float image output of the pass");
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

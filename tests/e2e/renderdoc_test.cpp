@@ -20,6 +20,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 // renderdoc_markers.py's output for the capture, one line per item; `mode` is empty or "--resources ".
@@ -82,5 +83,6 @@ TEST(RenderDoc, OneCaptureLabelledWithThePassesThatRanAndTheirImagesNamed) {
         << image << " has no texture of that name in RenderDoc's resource list, see " << dir / "resources";
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

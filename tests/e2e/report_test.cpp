@@ -16,6 +16,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 const char* kCity = "--city-block --size 320x180 --frames 2";  // as tests/e2e/graph_test.cpp
@@ -238,5 +239,6 @@ TEST(Report, HostileNamesAreShownAsTextAndNothingIsWrittenOutsideTheFolder) {
   expect_loads_in_chromium(out / "index.html", manifest.at("frames")[0], root / "browser");
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

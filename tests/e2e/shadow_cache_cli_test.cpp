@@ -20,6 +20,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 const ResourceRecord* find_resource(const FrameRecord& frame, const std::string& pass, const std::string& resource,
                                     bool output) {
@@ -143,5 +144,6 @@ TEST(ShadowCache, SpotLightMapsAreKeptAndFrameThreeReplays) {
   }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

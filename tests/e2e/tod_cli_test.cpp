@@ -10,6 +10,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -52,5 +53,6 @@ TEST(TodCli, BakeRenderReplay) {
   refused("render --scene-seed 2 --map-size 0.5 --hour 9 --tod " + quote(corrupt), corrupt.string() + ": corrupt");
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

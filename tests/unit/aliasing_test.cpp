@@ -8,6 +8,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 bool bytes_overlap(const MemoryPlan& plan, const MemoryNeed& a, const MemoryNeed& b) {
   const uint64_t x = plan.offsets.at(a.resource), y = plan.offsets.at(b.resource);
@@ -71,5 +72,6 @@ TEST(Aliasing, RandomFramesNeverOverlapLiveResources) {
   }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

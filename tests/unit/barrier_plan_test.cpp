@@ -10,6 +10,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 constexpr VkFormat kHalf = VK_FORMAT_R16G16B16A16_SFLOAT;
 
@@ -397,5 +398,6 @@ TEST(BarrierPlan, NanInjectionMistakesAreGraphErrors) {
             "NaN injection into level0 (chain): texel (0, 32) is outside its 64x32 mip 0");
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

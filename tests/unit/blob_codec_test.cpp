@@ -28,6 +28,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -448,5 +449,6 @@ TEST(DecodedParts, KeepsNoMoreThanItsBudgetOldestDroppedFirst) {
   EXPECT_FALSE(parts.find({4, 4}));
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

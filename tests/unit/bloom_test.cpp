@@ -22,6 +22,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 using reference::RgbImage;
 
@@ -220,5 +221,6 @@ TEST(BloomSwitch, TheGroupTakesEnabledOnly) {
       << "a level has no switch of its own";
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -13,6 +13,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 const SchemaField& field_named(const BufferSchema& schema, const std::string& name) {
   for (const SchemaField& f : schema.fields)
@@ -195,5 +196,6 @@ TEST(BufferSchema, TheManifestRecordsItWithTheOutput) {
   }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

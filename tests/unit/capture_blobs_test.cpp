@@ -11,6 +11,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 struct Written {
@@ -95,5 +96,6 @@ TEST(CaptureBlobs, ADamagedShaderOrShaderSourceIsRefused) {
   expect_hash_mismatch([&] { capture.load_shader_source(shader); }, w.shader.source_blob, w.shader.source_hash);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

@@ -10,6 +10,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -95,5 +96,6 @@ TEST(CaptureWriter, ABlobThatCannotBeWrittenFailsTheCommit) {
   EXPECT_FALSE(fs::exists(dir.path / "cap"));
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

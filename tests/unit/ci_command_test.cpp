@@ -15,6 +15,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 // The commands of the README's first fenced block, comments left out.
@@ -70,5 +71,6 @@ TEST(CiCommand, PassesOnlyWhenEveryTestRanAndPassed) {
   EXPECT_NE(run_tests_on("none", ""), 0) << "no test at all fails the run";
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

@@ -32,6 +32,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 // std::mt19937's raw sequence is fixed by the standard; the distributions are not.
 class Random {
@@ -590,5 +591,6 @@ TEST_F(FrameConstants, NoDirectionalLightMeansNoSun) {
   check(dark, camera, camera, 64, 64);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

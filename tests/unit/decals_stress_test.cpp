@@ -17,6 +17,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 Scene stressed_map() {
   Scene scene = build_map({1, 1.0, Shot::street});
@@ -87,5 +88,6 @@ INSTANTIATE_TEST_SUITE_P(Sizes, DecalsStress, ::testing::Values(std::pair{1u, 1u
                            return std::to_string(info.param.first) + "x" + std::to_string(info.param.second);
                          });
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

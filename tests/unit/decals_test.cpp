@@ -39,6 +39,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 constexpr uint32_t kWidth = 320, kHeight = 180;
 
@@ -374,5 +375,6 @@ TEST_F(Decals, NoneInViewSkipsBothPassesAndLeavesTheGBufferBitForBit) {
   EXPECT_EQ(stats.decals_projected, 0u);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -24,6 +24,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 float from_bits(uint32_t bits) {
   float f;
@@ -112,5 +113,6 @@ INSTANTIATE_TEST_SUITE_P(, DepthConvert,
                          ::testing::Values(Case{0.05f, 1e6f}, Case{1e-3f, 1e6f}, Case{0.1f, 1e30f}, Case{1.0f, 1e6f},
                                            Case{10.0f, 3e38f}));
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

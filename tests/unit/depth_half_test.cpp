@@ -24,6 +24,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 constexpr float kZnear = 0.05f;
 constexpr double kSkyDepth = 1e6;
@@ -148,5 +149,6 @@ INSTANTIATE_TEST_SUITE_P(, DepthHalf,
                                   (info.param.all_sky ? "_all_sky" : "");
                          });
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

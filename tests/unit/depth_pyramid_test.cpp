@@ -8,6 +8,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 struct Level {
   uint32_t width, height;
@@ -95,5 +96,6 @@ INSTANTIATE_TEST_SUITE_P(Sizes, DepthPyramid,
                                            std::make_pair(37u, 23u), std::make_pair(129u, 65u),
                                            std::make_pair(320u, 180u), std::make_pair(1279u, 719u)));
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

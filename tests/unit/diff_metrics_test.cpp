@@ -13,6 +13,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 TEST(DiffMetrics, FloatErrorsAreExact) {
   const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 4, 1);
@@ -375,5 +376,6 @@ TEST(Contract, SetsIgnoreOrderButNotContent) {
   EXPECT_FALSE(check_contract(contract, r, words(1, 2, 3), r, words(3, 1, 1)).holds);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

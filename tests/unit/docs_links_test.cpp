@@ -15,6 +15,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 namespace fs = std::filesystem;
 
@@ -117,5 +118,6 @@ TEST(DocsLinks, EveryAnchorNamesAHeadingOfItsPage) {
   EXPECT_GT(anchors, 0u);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

@@ -23,6 +23,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 constexpr double kLog2Min = -12, kLog2Max = 12;
 
@@ -192,5 +193,6 @@ TEST_F(Exposure, AnImageOfNaNsKeepsThePreviousValueOrLeavesExposureManual) {
   for (int k = 0; k < 4; ++k) EXPECT_EQ(manual.value[k], 0.0f) << "0: tonemap uses its manual exposure alone";
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

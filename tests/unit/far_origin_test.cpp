@@ -13,6 +13,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 std::map<std::string, const VersionData*> outputs(const RenderedFrame& frame, const std::string& pass) {
   std::map<std::string, const VersionData*> result;
@@ -103,5 +104,6 @@ TEST_F(FarFromOrigin, AtTheMapsFarCornerEveryGBufferTargetIsBitIdentical) {
         << name << " differs at the far corner";
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -18,6 +18,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 using Rgb = std::array<double, 3>;
 constexpr double kPi = std::numbers::pi;
@@ -408,5 +409,6 @@ TEST(FlipMap, MagmaRunsFromBlackToLightYellowAndBrightens) {
   EXPECT_EQ(flip_map_rgba8(flip), (std::vector<uint8_t>{0, 0, 4, 255, 252, 253, 191, 255}));
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

@@ -10,6 +10,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 FormatInfo info(VkFormat format) { return *format_info(format); }
 
@@ -270,5 +271,6 @@ TEST(Format, KindNamesRoundTrip) {
   EXPECT_FALSE(kind_by_name("colour "));
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

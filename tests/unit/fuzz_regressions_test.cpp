@@ -16,6 +16,7 @@ namespace nc = nightcap;
 namespace fs = std::filesystem;
 
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 const fs::path kCorpus = fs::path(NIGHTCAP_SOURCE) / "tests/fuzz/corpus";
 
@@ -33,8 +34,6 @@ std::string error_of(F&& f) {
   }
   return "no error";
 }
-
-}  // namespace
 
 // OpenEXR reads a channel list to its end whatever size the header states; the header walk that
 // bounded attribute sizes skipped by the stated size, so it and OpenEXR parted ways and OpenEXR
@@ -89,3 +88,6 @@ TEST(FuzzRegressions, ManifestNamesThatRepeat) {
   });
   EXPECT_NE(error.find("appears twice among the outputs"), std::string::npos) << error;
 }
+
+}  // namespace NIGHTCAP_FILE_ID
+}  // namespace

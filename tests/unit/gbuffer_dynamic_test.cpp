@@ -21,6 +21,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 // uv ([0, 1], y down) of a world point seen by a pinhole camera.
 glm::dvec2 project(const Camera& camera, double aspect, const glm::dvec3& world) {
@@ -141,5 +142,6 @@ TEST_F(GBufferDynamic, SkippedWhenNoMovingInstanceIsVisible) {
         << target;
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -9,6 +9,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 // One triangle per instance, each a different kind of trouble.
 Scene hostile_scene() {
@@ -78,11 +79,13 @@ TEST_F(GeometryStress, DegenerateAndExtremeGeometryStaysFinite) {
   EXPECT_EQ(draws->bytes->size() / sizeof(GpuDraw), scene.instances.size() - 1);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 // glTF: a transform with a negative determinant flips the winding; the near face of a mirrored
 // cube must still be the one drawn, with its normal toward the camera.
@@ -107,5 +110,6 @@ TEST_F(GeometryStress, MirroredTransformsKeepTheirFrontFaces) {
   EXPECT_GT(((word >> 20) & 1023) / 1023.0 * 2.0 - 1.0, 0.9);  // facing the camera (+Z)
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -35,6 +35,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 class GltfGBuffer : public GpuTest {
  protected:
@@ -446,5 +447,6 @@ TEST_F(GltfGBuffer, UnlitFlagInAlbedoAlpha) {
   EXPECT_GT(unlit, 4000u);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -12,6 +12,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -220,5 +221,6 @@ TEST_P(DamagedSource, LeavesTheStoreAsItWas) {
 
 INSTANTIATE_TEST_SUITE_P(GoldenStore, DamagedSource, ::testing::Values("truncated", "corrupt"));
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

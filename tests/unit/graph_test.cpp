@@ -5,6 +5,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 ImageDecl image(VkFormat format = VK_FORMAT_R8G8B8A8_UNORM) { return ImageDecl{format, ResourceKind::colour}; }
 
@@ -567,5 +568,6 @@ TEST(Barriers, DepthFormatsSampleInTheReadOnlyDepthLayout) {
             VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

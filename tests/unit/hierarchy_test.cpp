@@ -13,6 +13,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 bool contains(const HierarchyNode& n, const Box& b) {
   for (int k = 0; k < 3; ++k)
@@ -88,5 +89,6 @@ TEST(Hierarchy, CorruptHierarchiesAreRefused) {
   EXPECT_THROW(Hierarchy::parse(good, count / 2), GraphError);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -12,6 +12,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 // Adds 1 to every texel of the previous frame's sum.
 constexpr const char* kAccumulate = R"(#version 460
@@ -252,5 +253,6 @@ TEST_F(History, OnlyACpuPassReadsACpuPassHistory) {
   }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -14,6 +14,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 const fs::path kBox = fs::path(NIGHTCAP_SHARED_DATA) / "gltf/BoxTextured/glTF";
@@ -108,5 +109,6 @@ TEST(Images, AnEmbeddedGltfImageDecodesLikeItsFile) {
   EXPECT_EQ(embedded.textures[0].rgba8, from_file.textures[0].rgba8);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

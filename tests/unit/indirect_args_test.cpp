@@ -10,6 +10,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 constexpr uint32_t kCells = 64;  // 8×8 possible groups
 
@@ -110,5 +111,6 @@ TEST_F(IndirectArgs, AnUndeclaredIndirectReadIsAGraphError) {
   }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

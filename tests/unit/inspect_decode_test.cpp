@@ -14,6 +14,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 TEST(InspectStats, CountsNanInfAndStoredHalfDenormals) {
   // One channel's halves across 6 texels: 1, NaN, +Inf, -Inf, the smallest denormal, -2.
@@ -148,5 +149,6 @@ TEST(InspectDecode, SlicesOfA3DImage) {
   EXPECT_EQ(stats.at(0).max, 385);  // 300 + 10·7 + 15
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

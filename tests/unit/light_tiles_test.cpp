@@ -6,6 +6,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 constexpr uint32_t kTiles = 4, kResolution = 16;
 
@@ -59,5 +60,6 @@ TEST(LightTiles, TheTilesARectangleMeetsIncludeTheTexelAroundEachTile) {
   EXPECT_EQ(whole.all(), ~uint64_t(0));
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

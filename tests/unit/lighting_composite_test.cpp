@@ -32,6 +32,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 constexpr double U = 0x1p-24;
 constexpr double HALF_MAX = 65504.0;
@@ -191,5 +192,6 @@ TEST_P(Composite, IsTheNearestHalfOfTheDoubleReferenceUpToFloatError) {
 INSTANTIATE_TEST_SUITE_P(, Composite,
                          ::testing::Values(Params{0.02, 0.004}, Params{0.0, 0.0}, Params{1.0, 2.5}, Params{1e6, 1e6}));
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

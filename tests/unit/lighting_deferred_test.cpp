@@ -37,6 +37,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 namespace ref = nightcap::reference;
 using glm::dvec3;
@@ -565,5 +566,6 @@ TEST(LightingDeferredReference, TubeIntegralMatchesTheClosedForm) {
     }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -52,6 +52,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 namespace ref = nightcap::reference;
 using glm::dvec3;
@@ -842,5 +843,6 @@ TEST_F(LightingTiled, TileListsAgreeWithTheClasses) {
     }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

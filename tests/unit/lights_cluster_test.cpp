@@ -37,6 +37,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 namespace ref = nightcap::reference;
 
@@ -784,5 +785,6 @@ TEST_F(LightsCluster, SkippedWithoutLocalLights) {
   EXPECT_TRUE(found);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -22,6 +22,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 using glm::dvec3;
 
@@ -163,5 +164,6 @@ TEST_F(LtcGpu, ShaderMatchesTheCpu) {
   std::printf("ltc.glsl against ltc.h: worst error %.3f of the bound\n", worst);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

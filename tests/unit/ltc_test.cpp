@@ -25,6 +25,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 using glm::dvec3;
 namespace ref = nightcap::reference;
@@ -276,5 +277,6 @@ void main() {
   EXPECT_FALSE(compile_glsl("test/ltc.comp", source).empty());
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

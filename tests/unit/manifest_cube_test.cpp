@@ -7,6 +7,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 CaptureManifest manifest_with(const ResourceRecord& output) {
   CaptureManifest manifest;
@@ -63,5 +64,6 @@ TEST(ManifestCube, ACubeThatCannotBeOneIsRefused) {
   EXPECT_THROW(manifest_from_json(json, "manifest.json"), CaptureError);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

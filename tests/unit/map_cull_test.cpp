@@ -23,6 +23,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> final_versions(const RenderedFrame& frame) {
   std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>> out;
@@ -156,5 +157,6 @@ TEST_F(MapCullingInside, CulledGBufferEqualsTheUnculledOne) {
 INSTANTIATE_TEST_SUITE_P(Shots, MapCulling, ::testing::Values(Shot::street, Shot::rooftop, Shot::aerial),
                          [](const auto& info) { return shot_name(info.param); });
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -18,6 +18,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 const Scene& full_map(Shot shot) {
   static std::map<Shot, Scene> maps;
@@ -158,5 +159,6 @@ TEST_F(MapCull, NoShotOfTheFullMapDrawsMoreThanTwoMillionTriangles) {
   }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -11,6 +11,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 constexpr uint32_t kSize = 64;
 
@@ -139,5 +140,6 @@ TEST_F(MemoryAliasing, TheWholeFrameIsTheSameWithAndWithoutIt) {
   }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -9,6 +9,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 constexpr uint32_t kCount = 64;
 
@@ -117,5 +118,6 @@ TEST_F(FrameSubmits, OnlyTheSunsOccludersSplitTheFrame) {
   EXPECT_EQ(renderer.render_frame(0, false).execution.submits, 2u);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -16,6 +16,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 enum class Fill { sparse, sky, one_tagged };
 
@@ -112,5 +113,6 @@ TEST(MotionStencilSkip, SkippedOnlyWhenNothingMovesAndTheCameraIsStill) {
   EXPECT_EQ(pass.skip_if(moving), "");
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -15,6 +15,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 constexpr float kNan = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -267,5 +268,6 @@ TEST(NanOriginSearch, BufferFieldsTheirSchemaDeclaresFloatHoldNans) {
   EXPECT_TRUE(found.texels.empty());
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

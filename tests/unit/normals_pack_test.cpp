@@ -11,6 +11,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 using dvec3 = glm::dvec3;
 
@@ -97,5 +98,6 @@ TEST_F(NormalsPack, BestFitNormalsReachTheAccuracyBound) {
   EXPECT_LE(worst, axis_floor + 1e-9);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

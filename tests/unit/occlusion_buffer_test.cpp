@@ -14,6 +14,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 struct Triangle {
   glm::dvec4 v[3];
@@ -112,5 +113,6 @@ TEST(OcclusionBuffer, BoxesReachingTheCameraPlaneAreNeverHidden) {
   EXPECT_FALSE(buffer.hidden(corners));
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -13,6 +13,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 constexpr uint32_t kSize = 8;
 
@@ -233,5 +234,6 @@ TEST(DeclaredPipeline, LayoutFormatsShadersAndConstantsComeFromTheDeclaration) {
   EXPECT_THROW(pass.blend("depth", BlendState::additive()), std::logic_error);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

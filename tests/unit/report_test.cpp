@@ -7,6 +7,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 TEST(ReportHtml, EscapesMarkupQuotesAndBrokenText) {
   EXPECT_EQ(escape_markup("<script>alert(\"x\")</script>"), "&lt;script&gt;alert(&quot;x&quot;)&lt;/script&gt;");
@@ -63,5 +64,6 @@ TEST(Thumbnail, KeepsTheAspectAndLeavesSmallPicturesAlone) {
   EXPECT_EQ(shrink(small, 256, true).pixels, small.pixels);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

@@ -34,6 +34,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 using glm::dvec3;
 using reference::ShadowTriangles;
@@ -461,5 +462,6 @@ TEST_F(DistantShadows, StressStaysFiniteAndReplays) {
   }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -60,6 +60,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 using glm::dvec3;
 using reference::LocalComparison;
@@ -592,5 +593,6 @@ TEST_F(LocalShadows, ASlotWithoutAMapIsKeptForKeepFrames) {
   EXPECT_EQ(r.slot_state[11], uint32_t(LocalSlotState::empty));
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

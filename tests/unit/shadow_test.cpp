@@ -42,6 +42,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 using glm::dvec3;
 using reference::ShadowAgreement;
@@ -535,5 +536,6 @@ TEST_F(Shadows, StressStaysFiniteAndReplaysIdentically) {
   }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

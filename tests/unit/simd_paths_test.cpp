@@ -25,6 +25,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 using simd::Path;
 
@@ -390,5 +391,6 @@ TEST(SimdPathsCpu, MatchCpuinfoFlags) {
   EXPECT_EQ(simd::widest_path(), expected.back());
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

@@ -9,6 +9,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 const std::map<std::string, std::string> kShaders = {
     {"test/layer.frag", R"(#version 460
@@ -197,5 +198,6 @@ TEST_F(SubresourcesOnGpu, ThreeDimensionalImageWrittenByComputeAndHalvedIntoItsN
       }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -15,6 +15,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 
 fs::path write_file(const std::string& name, const std::string& text) {
@@ -205,5 +206,6 @@ TEST(Thresholds, FlipOfDisplayedColourPerPixel) {
             std::string::npos);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

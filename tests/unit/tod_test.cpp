@@ -21,6 +21,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 using glm::dvec3;
 
@@ -264,5 +265,6 @@ TEST_F(TodShadows, EveryStaticCasterDroppedAcrossMidnightReplays) {
   }
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

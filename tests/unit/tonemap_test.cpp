@@ -24,6 +24,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 constexpr double BOUND = 0.5 + 0.17;
 
@@ -173,5 +174,6 @@ TEST_F(TonemapBloom, AddsTheMeanOfTheLevelsInterpolatedAtThePixelCentre) {
   std::printf("tonemap with bloom: worst %.4f codes from the exact encoding\n", worst);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

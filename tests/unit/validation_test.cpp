@@ -11,6 +11,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 TEST(Validation, ObjectsLeakedAtDeviceDestructionAreCountedByName) {
   const uint32_t before = validation_errors_reported();
@@ -52,5 +53,6 @@ TEST(Validation, SynchronizationHazardsAreErrors) {
   EXPECT_NE(messages.find("written.twice"), std::string::npos) << messages;
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -28,6 +28,7 @@
 
 namespace nightcap::test {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 double angle_degrees(const glm::dvec3& a, const glm::dvec3& b) {
   return glm::degrees(std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)));
@@ -332,5 +333,6 @@ TEST_F(VertexStreamsGpu, TheShaderDecodesWhatWasEncoded) {
   EXPECT_LE(worst_tangent, kTangentMax + kGpuNormalise);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test

@@ -9,6 +9,7 @@
 
 namespace nightcap {
 namespace {
+namespace NIGHTCAP_FILE_ID {
 
 uint8_t by_formula(float x) { return uint8_t(std::lround(std::clamp(double(linear_to_srgb(x)), 0.0, 1.0) * 255.0)); }
 
@@ -30,5 +31,6 @@ TEST(Visualise, SrgbCodeByTableIsTheFormulasCodeEverywhere) {
   EXPECT_EQ(srgb_code(0.5f), 188);
 }
 
+}  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap
