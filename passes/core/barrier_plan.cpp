@@ -158,8 +158,8 @@ bool versions(const CompiledPass& pass, const BoundUse& out) {
 
 // The history slots whose resource ends the frame at its declared clear value: its fresh writer
 // skips, and so does every pass that modifies it after, none folding it. The pool needs no copy
-// for them (HistorySlot::clear_value_pending).
-std::vector<std::string> history_at_clear_value(const CompiledGraph& graph) {
+// for them (HistorySlot::at_clear_value).
+std::set<std::string> history_at_clear_value(const CompiledGraph& graph) {
   std::map<std::string, bool> at_clear;  // resource -> whether its current version is the clear value
   for (const CompiledPass& pass : graph.passes) {
     if (pass.culled) continue;
@@ -169,9 +169,9 @@ std::vector<std::string> history_at_clear_value(const CompiledGraph& graph) {
           !pass.runs && pass.decl->type != PassType::cpu && !out.modifies && !pass.folded.count(out.resource);
     }
   }
-  std::vector<std::string> slots;
+  std::set<std::string> slots;
   for (const std::string& slot : graph.history)
-    if (at_clear[history_source(slot)]) slots.push_back(slot);
+    if (at_clear[history_source(slot)]) slots.insert(slot);
   return slots;
 }
 
@@ -241,8 +241,7 @@ void plan_synchronisation(CompiledGraph& graph, const std::set<std::string>& imp
   if (graph.settings.capture)
     for (const std::string& slot : graph.history) planner.use_whole(slot, transfer_state(false), false);
   graph.before_history_readback = planner.flush();
-  const std::vector<std::string> at_clear = history_at_clear_value(graph);
-  graph.history_at_clear_value = {at_clear.begin(), at_clear.end()};
+  graph.history_at_clear_value = history_at_clear_value(graph);
 
   std::map<std::string, size_t> final_writer;
   for (size_t i = 0; i < graph.passes.size(); ++i)
