@@ -234,6 +234,11 @@ void PassContext::push(const std::vector<Binding>& bindings) {
   gpu().push_descriptors(cmd(), bind_point_, layout_, writes);
 }
 
+void PassContext::push_declared() {
+  const DescOf desc_of = [this](const std::string& name) -> const ResourceDesc& { return desc(name); };
+  push(declared_bindings(declaration(), desc_of, [this](const SamplerDesc& d) { return sampler(d); }));
+}
+
 void PassContext::push_constants(const void* data, uint32_t bytes) {
   if (bytes > push_constant_bytes_) throw GraphError(pass() + ": push constants larger than the pipeline declares");
   vkCmdPushConstants(cmd(), layout_, VK_SHADER_STAGE_ALL, 0, bytes, data);
@@ -244,13 +249,7 @@ VkSampler PassContext::sampler(const SamplerDesc& desc) {
   return shared_.cache.sampler(desc);
 }
 
-VkSampler PassContext::nearest_clamp() {
-  SamplerDesc d;
-  d.mag_filter = d.min_filter = VK_FILTER_NEAREST;
-  d.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-  d.wrap_u = d.wrap_v = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-  return sampler(d);
-}
+VkSampler PassContext::nearest_clamp() { return sampler(nearest_clamp_sampler()); }
 
 void PassContext::begin_rendering(const std::vector<std::string>& colors, const std::string& depth, uint32_t mip,
                                   uint32_t layer) {

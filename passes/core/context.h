@@ -14,48 +14,13 @@
 #include <type_traits>
 #include <vector>
 
+#include "passes/core/declared_pipeline.h"
 #include "passes/core/device.h"
 #include "passes/core/graph.h"
 #include "passes/core/pipeline_cache.h"
 #include "passes/scene/scene.h"
 
 namespace nightcap {
-
-enum class ViewAspect { natural, depth, stencil };
-
-struct Binding {
-  uint32_t binding = 0;
-  VkDescriptorType type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-  std::string resource;
-  VkSampler sampler = VK_NULL_HANDLE;
-  ViewAspect aspect = ViewAspect::natural;
-  int mip = -1;  // -1: every mip
-  uint64_t offset = 0, range = VK_WHOLE_SIZE;
-  int layer = -1;  // -1: every layer (an array, cube or 3D view); else that layer as a 2D image
-
-  static Binding uniform(uint32_t b, std::string r) { return {b, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, std::move(r)}; }
-  static Binding storage(uint32_t b, std::string r, uint64_t offset = 0, uint64_t range = VK_WHOLE_SIZE) {
-    Binding x{b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::move(r)};
-    x.offset = offset;
-    x.range = range;
-    return x;
-  }
-  static Binding texture(uint32_t b, std::string r, VkSampler s, ViewAspect a = ViewAspect::natural, int mip = -1,
-                         int layer = -1) {
-    return {b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, std::move(r), s, a, mip, 0, VK_WHOLE_SIZE, layer};
-  }
-  static Binding image(uint32_t b, std::string r, int mip = 0, int layer = -1) {
-    return {b,
-            VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-            std::move(r),
-            VK_NULL_HANDLE,
-            ViewAspect::natural,
-            mip,
-            0,
-            VK_WHOLE_SIZE,
-            layer};
-  }
-};
 
 class PassContext {
  public:
@@ -103,6 +68,9 @@ class PassContext {
   // mip sampled, another written).
   uint32_t slot(const std::string& resource, Use use) const;
   void push(const std::vector<Binding>& bindings);
+  // The bindings the declaration implies (declared_bindings), for passes that bind nothing per
+  // draw or per dispatch.
+  void push_declared();
   void push_constants(const void* data, uint32_t bytes);
   template <typename Constants>
   void push_constants(const Constants& constants) {

@@ -20,6 +20,9 @@ std::string stage_shader(const PassDecl& decl, const std::string& extension) {
   return found;
 }
 
+// The one mip or layer a declared range selects, or -1 for all of them.
+int single(uint32_t base, uint32_t count) { return count == 1 ? int(base) : -1; }
+
 }  // namespace
 
 std::vector<DeclaredSlot> declared_slots(const PassDecl& decl, const DescOf& desc_of) {
@@ -56,6 +59,45 @@ std::vector<VkDescriptorType> declared_layout(const PassDecl& decl, const DescOf
   std::vector<VkDescriptorType> layout;
   for (const DeclaredSlot& slot : declared_slots(decl, desc_of)) layout.insert(layout.end(), slot.count, slot.type);
   return layout;
+}
+
+std::vector<Binding> declared_bindings(const PassDecl& decl, const DescOf& desc_of,
+                                       const std::function<VkSampler(const SamplerDesc&)>& sampler_of) {
+  std::vector<Binding> bindings;
+  for (const DeclaredSlot& slot : declared_slots(decl, desc_of)) {
+    const ResourceUse& use = *slot.use;
+    const std::string name = use.bound_name();
+    const int layer = single(use.range.base_layer, use.range.layer_count);
+    if (slot.type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER) {
+      if (use.prefix)
+        throw GraphError(decl.name + ": the textures of prefix read '" + use.resource + "' are bound per draw");
+      const std::vector<ViewAspect> aspects = use.aspects.empty() ? std::vector{ViewAspect::natural} : use.aspects;
+      if (aspects.size() != slot.count)
+        throw GraphError(decl.name + ": '" + use.resource + "' takes more bindings than its declared aspects");
+      const VkSampler sampler = sampler_of(use.sampler.value_or(nearest_clamp_sampler()));
+      for (uint32_t i = 0; i < slot.count; ++i)
+        bindings.push_back(Binding::texture(slot.first + i, name, sampler, aspects[i],
+                                            single(use.range.base_mip, use.range.mip_count), layer));
+      continue;
+    }
+    if (slot.count != 1)
+      throw GraphError(decl.name + ": '" + use.resource + "' takes several bindings, which change per dispatch");
+    if (slot.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER)
+      bindings.push_back(Binding::uniform(slot.first, name));
+    else if (slot.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
+      bindings.push_back(Binding::storage(slot.first, name));
+    else
+      bindings.push_back(Binding::image(slot.first, name, int(use.range.base_mip), layer));
+  }
+  return bindings;
+}
+
+SamplerDesc nearest_clamp_sampler() {
+  SamplerDesc desc;
+  desc.mag_filter = desc.min_filter = VK_FILTER_NEAREST;
+  desc.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  desc.wrap_u = desc.wrap_v = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  return desc;
 }
 
 std::vector<std::string> colour_targets(const PassDecl& decl) {

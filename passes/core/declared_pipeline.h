@@ -12,6 +12,41 @@
 
 namespace nightcap {
 
+// One descriptor of set 0, as PassContext::push writes it.
+struct Binding {
+  uint32_t binding = 0;
+  VkDescriptorType type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+  std::string resource;
+  VkSampler sampler = VK_NULL_HANDLE;
+  ViewAspect aspect = ViewAspect::natural;
+  int mip = -1;  // -1: every mip
+  uint64_t offset = 0, range = VK_WHOLE_SIZE;
+  int layer = -1;  // -1: every layer (an array, cube or 3D view); else that layer as a 2D image
+
+  static Binding uniform(uint32_t b, std::string r) { return {b, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, std::move(r)}; }
+  static Binding storage(uint32_t b, std::string r, uint64_t offset = 0, uint64_t range = VK_WHOLE_SIZE) {
+    Binding x{b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::move(r)};
+    x.offset = offset;
+    x.range = range;
+    return x;
+  }
+  static Binding texture(uint32_t b, std::string r, VkSampler s, ViewAspect a = ViewAspect::natural, int mip = -1,
+                         int layer = -1) {
+    return {b, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, std::move(r), s, a, mip, 0, VK_WHOLE_SIZE, layer};
+  }
+  static Binding image(uint32_t b, std::string r, int mip = 0, int layer = -1) {
+    return {b,
+            VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+            std::move(r),
+            VK_NULL_HANDLE,
+            ViewAspect::natural,
+            mip,
+            0,
+            VK_WHOLE_SIZE,
+            layer};
+  }
+};
+
 // A use's bindings in set 0: `count` from binding `first`, all of `type`.
 struct DeclaredSlot {
   const ResourceUse* use = nullptr;
@@ -26,6 +61,15 @@ using DescOf = std::function<const ResourceDesc&(const std::string& resource)>;
 // Inputs, then outputs, in declaration order (PassDecl::slots).
 std::vector<DeclaredSlot> declared_slots(const PassDecl& decl, const DescOf& desc_of);
 std::vector<VkDescriptorType> declared_layout(const PassDecl& decl, const DescOf& desc_of);
+// What each declared slot binds: uniform and storage buffers whole; a sampled image through its
+// declared sampler (made by `sampler_of`) at its declared aspects, at the one mip and layer its
+// range selects or all of them; a storage image at its range's first mip. A history input binds
+// previous(resource). Throws for a prefix read or an image bound at several mips: those change
+// per draw or per dispatch.
+std::vector<Binding> declared_bindings(const PassDecl& decl, const DescOf& desc_of,
+                                       const std::function<VkSampler(const SamplerDesc&)>& sampler_of);
+// The sampler of a sampled use that declares none: each texel as stored, nothing past the edge.
+SamplerDesc nearest_clamp_sampler();
 // The colour attachments in declaration order, and the depth attachment ("" when none).
 std::vector<std::string> colour_targets(const PassDecl& decl);
 std::string depth_target(const PassDecl& decl);

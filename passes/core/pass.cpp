@@ -112,6 +112,28 @@ PassDecl& PassDecl::slots(const std::string& resource, uint32_t count) {
   throw std::logic_error(name + ": slots() names '" + resource + "', which it does not use");
 }
 
+namespace {
+
+ResourceUse& sampled_input(PassDecl& decl, const std::string& resource, const char* call) {
+  for (ResourceUse& use : decl.inputs)
+    if (use.resource == resource && use.use == Use::sampled) return use;
+  throw std::logic_error(decl.name + ": " + call + "() names '" + resource + "', which it does not sample");
+}
+
+}  // namespace
+
+PassDecl& PassDecl::sampler(const std::string& resource, SamplerDesc desc) {
+  sampled_input(*this, resource, "sampler").sampler = desc;
+  return *this;
+}
+
+PassDecl& PassDecl::aspects(const std::string& resource, std::vector<ViewAspect> per_binding) {
+  ResourceUse& use = sampled_input(*this, resource, "aspects");
+  use.slots = uint32_t(per_binding.size());
+  use.aspects = std::move(per_binding);
+  return *this;
+}
+
 PassDecl& PassDecl::raster(RasterState state) {
   raster_state = state;
   return *this;

@@ -20,6 +20,7 @@
 #include "passes/core/format.h"
 #include "passes/core/history_name.h"
 #include "passes/core/pipeline_state.h"
+#include "passes/scene/scene.h"
 
 namespace nightcap {
 
@@ -39,6 +40,9 @@ enum class Use {
   indirect_args,  // draw or dispatch arguments of vkCmd*Indirect (PassContext::dispatch_indirect)
   host,           // CPU pass: read or written on the host
 };
+
+// The aspect of an image a view shows: natural is the depth of a depth format, else the colour.
+enum class ViewAspect { natural, depth, stencil };
 
 using ParamValues = std::map<std::string, double>;
 // Resources each holding one value at every texel (or, for a buffer, a zero fill), by name.
@@ -121,6 +125,10 @@ struct ResourceUse {
   std::string bound_name() const { return history ? previous(resource) : resource; }
   // Consecutive descriptor bindings it takes (PassDecl::slots) if a shader binds it.
   uint32_t slots = 1;
+  // A sampled image's sampler (PassDecl::sampler); none: nearest, clamped to the edge.
+  std::optional<SamplerDesc> sampler;
+  // The aspect each of its bindings shows (PassDecl::aspects); empty: one natural binding.
+  std::vector<ViewAspect> aspects;
 };
 
 struct ParamDecl {
@@ -204,6 +212,12 @@ struct PassDecl {
   // (a resource or a read prefix) `count` consecutive bindings: the textures of a prefix read
   // bound per draw, one image bound at two mips.
   PassDecl& slots(const std::string& resource, uint32_t count);
+  // The sampler sampled input `resource` is bound through (PassContext::push_declared), where
+  // nearest clamp-to-edge does not suit its shader.
+  PassDecl& sampler(const std::string& resource, SamplerDesc desc);
+  // Sampled depth-stencil input `resource` bound once per aspect, in consecutive bindings
+  // (e.g. depth then stencil, or stencil alone).
+  PassDecl& aspects(const std::string& resource, std::vector<ViewAspect> per_binding);
   PassDecl& raster(RasterState state);
   PassDecl& depth_stencil(DepthStencilState state);
   PassDecl& blend(const std::string& output, BlendState state);
@@ -244,8 +258,9 @@ struct PassDecl {
   // renderer reads `output` back and prints what `check` returns on stderr unless it is empty.
   PassDecl& warn_from(const std::string& output, std::function<std::string(std::span<const uint8_t>)> check);
   // A fragment shader drawn over the whole output, recorded from the declaration alone
-  // (passes/core/fullscreen.cpp): set 0 binds the GPU inputs in declaration order (images
-  // through a nearest clamp-to-edge sampler, depth by its depth aspect), the colour outputs are
+  // (passes/core/fullscreen.cpp): set 0 binds the GPU inputs as PassContext::push_declared
+  // does (images through a nearest clamp-to-edge sampler unless declared otherwise, depth by
+  // its depth aspect), the colour outputs are
   // the render targets in declaration order, and `make_constants(ctx)` — a struct built from
   // the parameters — fills the push constants.
   PassDecl& fullscreen(std::string fragment);

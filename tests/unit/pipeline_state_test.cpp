@@ -234,6 +234,73 @@ TEST(DeclaredPipeline, LayoutFormatsShadersAndConstantsComeFromTheDeclaration) {
   EXPECT_THROW(pass.blend("depth", BlendState::additive()), std::logic_error);
 }
 
+// What each declared slot binds, without a device: a pass writes no resource name on a binding line.
+TEST(DeclaredPipeline, BindingsComeFromTheDeclaredUses) {
+  ImageDecl chain{VK_FORMAT_R32_SFLOAT, ResourceKind::depth_minmax};
+  chain.mips = 4;
+  const SamplerDesc bilinear_repeat;  // SamplerDesc's defaults, unlike the nearest clamp-to-edge default
+  PassDecl pass("test.bindings", PassType::compute);
+  pass.read("constants", Use::uniform_buffer)
+      .read("list", Use::storage_read)
+      .read("host.only", Use::host)
+      .read("depth", Use::sampled)
+      .aspects("depth", {ViewAspect::depth, ViewAspect::stencil})
+      .read_previous("exposure", Use::sampled)
+      .read("moments", Use::sampled, Subresources::mip(2))
+      .sampler("moments", bilinear_repeat)
+      .write("pyramid", Use::storage_write, chain, Subresources::mip(3));
+  std::map<std::string, ResourceDesc> descs;
+  descs["list"].is_buffer = true;
+  descs["pyramid"].format = VK_FORMAT_R32_SFLOAT;
+  const DescOf desc_of = [&](const std::string& r) -> const ResourceDesc& { return descs.at(r); };
+  // Each sampler asked for gets a handle of its own: handle i + 1 is made[i].
+  std::vector<SamplerDesc> made;
+  const auto sampler_of = [&](const SamplerDesc& desc) {
+    made.push_back(desc);
+    return reinterpret_cast<VkSampler>(uintptr_t(made.size()));
+  };
+  const std::vector<Binding> bindings = declared_bindings(pass, desc_of, sampler_of);
+  ASSERT_EQ(bindings.size(), 7u);
+  struct Expected {
+    VkDescriptorType type;
+    std::string resource;
+    ViewAspect aspect;
+    int mip;
+  };
+  const std::vector<Expected> expected{
+      {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, "constants", ViewAspect::natural, -1},
+      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, "list", ViewAspect::natural, -1},
+      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, "depth", ViewAspect::depth, -1},
+      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, "depth", ViewAspect::stencil, -1},
+      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, previous("exposure"), ViewAspect::natural, -1},
+      {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, "moments", ViewAspect::natural, 2},
+      {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, "pyramid", ViewAspect::natural, 3}};
+  for (uint32_t i = 0; i < bindings.size(); ++i) {
+    SCOPED_TRACE(expected[i].resource);
+    EXPECT_EQ(bindings[i].binding, i);  // the layout's slot: declared_layout numbers them alike
+    EXPECT_EQ(bindings[i].type, expected[i].type);
+    EXPECT_EQ(bindings[i].resource, expected[i].resource);
+    EXPECT_EQ(bindings[i].aspect, expected[i].aspect);
+    EXPECT_EQ(bindings[i].mip, expected[i].mip);
+    EXPECT_EQ(bindings[i].layer, -1);
+    EXPECT_EQ(bindings[i].sampler == VK_NULL_HANDLE, expected[i].type != VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER);
+  }
+  EXPECT_EQ(declared_layout(pass, desc_of).size(), bindings.size());
+  auto sampler_at = [&](uint32_t i) { return made.at(reinterpret_cast<uintptr_t>(bindings[i].sampler) - 1); };
+  for (uint32_t i : {2u, 3u, 4u}) {
+    EXPECT_EQ(sampler_at(i).mag_filter, VK_FILTER_NEAREST);
+    EXPECT_EQ(sampler_at(i).wrap_u, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE);
+  }
+  EXPECT_EQ(bindings[2].sampler, bindings[3].sampler);  // one sampler for both aspects
+  EXPECT_EQ(sampler_at(5).mag_filter, VK_FILTER_LINEAR);
+  EXPECT_EQ(sampler_at(5).wrap_u, VK_SAMPLER_ADDRESS_MODE_REPEAT);
+
+  // Textures bound per draw, or one image at two mips per dispatch, are the pass's to bind.
+  PassDecl per_draw("test.per_draw", PassType::graphics);
+  per_draw.read_all("texture.", Use::sampled).slots("texture.", 2);
+  EXPECT_THROW(declared_bindings(per_draw, desc_of, sampler_of), GraphError);
+  EXPECT_THROW(pass.sampler("list", bilinear_repeat), std::logic_error);
+}
 }  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap::test
