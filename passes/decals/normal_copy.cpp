@@ -30,8 +30,7 @@ PassDecl decals_normal_copy_pass() {
       .shader("decals/normal_copy.comp")
       .run([](PassContext& ctx) {
         ctx.bind_pipeline();
-        ctx.push({Binding::image(ctx.slot("gbuffer.normal"), "gbuffer.normal"),
-                  Binding::image(ctx.slot("decals.normal_copy"), "decals.normal_copy")});
+        ctx.push_declared();
         const ImageExtent size = ctx.desc("decals.normal_copy").extent;
         vkCmdDispatch(ctx.cmd(), (size.width + 7) / 8, (size.height + 7) / 8, 1);
       });

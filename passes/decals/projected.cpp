@@ -27,7 +27,7 @@ PassDecl decals_projected_pass() {
       .read("frame.constants", Use::uniform_buffer)
       .read("draws.decals.projected", Use::storage_read)
       .read("scene.depth", Use::sampled)
-      .slots("scene.depth", 2)  // its depth aspect, then its stencil aspect
+      .aspects("scene.depth", {ViewAspect::depth, ViewAspect::stencil})
       .modify("gbuffer.albedo", Use::color_attachment)
       .modify("gbuffer.normal", Use::color_attachment)
       .modify("gbuffer.material", Use::color_attachment)
@@ -46,11 +46,7 @@ PassDecl decals_projected_pass() {
         const uint32_t count = uint32_t(ctx.host("draws.decals.projected").size() / sizeof(GpuDecal));
         ctx.begin_rendering();
         ctx.bind_pipeline();
-        const uint32_t depth = ctx.slot("scene.depth");
-        ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
-                  Binding::storage(ctx.slot("draws.decals.projected"), "draws.decals.projected"),
-                  Binding::texture(depth, "scene.depth", ctx.nearest_clamp(), ViewAspect::depth),
-                  Binding::texture(depth + 1, "scene.depth", ctx.nearest_clamp(), ViewAspect::stencil)});
+        ctx.push_declared();
         if (count > 0) vkCmdDraw(ctx.cmd(), 36, count, 0, 0);
         ctx.end_rendering();
       });

@@ -26,7 +26,7 @@ PassDecl depth_convert_pass() {
   return PassDecl("depth.convert", PassType::compute)
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.depth", Use::sampled)
-      .slots("scene.depth", 2)  // its depth aspect, then its stencil aspect
+      .aspects("scene.depth", {ViewAspect::depth, ViewAspect::stencil})
       .write("depth.linear", Use::storage_write, linear)
       .write("depth.half", Use::storage_write, half_depth)
       .write("stencil.half", Use::storage_write, half_stencil)
@@ -44,13 +44,7 @@ PassDecl depth_convert_pass() {
       .push_constants<float>()
       .run([](PassContext& ctx) {
         ctx.bind_pipeline();
-        const uint32_t depth = ctx.slot("scene.depth");
-        ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
-                  Binding::texture(depth, "scene.depth", ctx.nearest_clamp(), ViewAspect::depth),
-                  Binding::texture(depth + 1, "scene.depth", ctx.nearest_clamp(), ViewAspect::stencil),
-                  Binding::image(ctx.slot("depth.linear"), "depth.linear"),
-                  Binding::image(ctx.slot("depth.half"), "depth.half"),
-                  Binding::image(ctx.slot("stencil.half"), "stencil.half")});
+        ctx.push_declared();
         ctx.push_constants(float(ctx.param("sky_depth")));
         const ImageExtent half = ctx.desc("depth.half").extent;
         vkCmdDispatch(ctx.cmd(), (half.width + 7) / 8, (half.height + 7) / 8, 1);

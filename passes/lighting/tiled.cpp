@@ -34,6 +34,15 @@ struct TiledConstants {
   float local_bias, local_min_variance, local_bleeding, local_moment_bias;
 };
 
+// Bilinear over the moments: the filter moment maps are made for, and no stair steps at a shadow's edge.
+SamplerDesc moments_sampler() {
+  SamplerDesc linear;
+  linear.mag_filter = linear.min_filter = VK_FILTER_LINEAR;
+  linear.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+  linear.wrap_u = linear.wrap_v = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  return linear;
+}
+
 }  // namespace
 
 BufferSchema tile_classes_schema() {
@@ -70,6 +79,7 @@ PassDecl lighting_tiled_pass() {
       .read("shadow.local_data", Use::uniform_buffer)
       .read("shadow.local_slots", Use::storage_read)
       .read("shadow.local_moments", Use::sampled)
+      .sampler("shadow.local_moments", moments_sampler())
       .write("lighting.diffuse", Use::storage_write, hdr)
       .write("lighting.specular", Use::storage_write, hdr)
       .write("lighting.tile_classes", Use::storage_write, BufferDecl{ResourceKind::buffer, sizeof(GpuTileClasses)})
@@ -116,33 +126,6 @@ PassDecl lighting_tiled_pass() {
                                        float(ctx.param("local_min_variance")),
                                        float(ctx.param("local_bleeding")),
                                        float(ctx.param("local_moment_bias"))};
-        // Bilinear over the moments: the filter moment maps are made for, and no stair steps at a shadow's edge.
-        SamplerDesc linear;
-        linear.mag_filter = linear.min_filter = VK_FILTER_LINEAR;
-        linear.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-        linear.wrap_u = linear.wrap_v = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-        const VkSampler nearest = ctx.nearest_clamp();
-        const std::vector<Binding> bindings{
-            Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
-            Binding::storage(ctx.slot("frame.lights"), "frame.lights"),
-            Binding::texture(ctx.slot("gbuffer.albedo"), "gbuffer.albedo", nearest),
-            Binding::texture(ctx.slot("gbuffer.normal"), "gbuffer.normal", nearest),
-            Binding::texture(ctx.slot("gbuffer.material"), "gbuffer.material", nearest),
-            Binding::texture(ctx.slot("scene.depth"), "scene.depth", nearest, ViewAspect::depth),
-            Binding::texture(ctx.slot("depth.linear"), "depth.linear", nearest),
-            Binding::texture(ctx.slot("lights.clusters"), "lights.clusters", nearest),
-            Binding::storage(ctx.slot("lights.cluster_indices"), "lights.cluster_indices"),
-            Binding::storage(ctx.slot("lights.cluster_stats"), "lights.cluster_stats"),
-            Binding::texture(ctx.slot("lighting.ltc_inverse"), "lighting.ltc_inverse", nearest),
-            Binding::texture(ctx.slot("lighting.ltc_magnitude"), "lighting.ltc_magnitude", nearest),
-            Binding::texture(ctx.slot("shadow.sun"), "shadow.sun", nearest),
-            Binding::uniform(ctx.slot("shadow.local_data"), "shadow.local_data"),
-            Binding::storage(ctx.slot("shadow.local_slots"), "shadow.local_slots"),
-            Binding::texture(ctx.slot("shadow.local_moments"), "shadow.local_moments", ctx.sampler(linear)),
-            Binding::image(ctx.slot("lighting.diffuse"), "lighting.diffuse", 0),
-            Binding::image(ctx.slot("lighting.specular"), "lighting.specular", 0),
-            Binding::storage(ctx.slot("lighting.tile_classes"), "lighting.tile_classes"),
-            Binding::storage(ctx.slot("lighting.tile_lists"), "lighting.tile_lists")};
         // Each phase is its own pipeline (tiled.comp's constant `phase`): lavapipe runs every
         // side of a branch, so one pipeline switching on a push constant paid for every phase
         // in each dispatch (phase 1's loops in every workgroup of the shading).
@@ -153,7 +136,7 @@ PassDecl lighting_tiled_pass() {
         const int32_t moments = local_shadow_moments(ctx.host("shadow.local_data"), "lighting.tiled");
         auto begin_phase = [&](int32_t phase) {
           ctx.bind_pipeline({phase, tube_nodes, moments});
-          ctx.push(bindings);
+          ctx.push_declared();
           ctx.push_constants(constants);
         };
         begin_phase(0);

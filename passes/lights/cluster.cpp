@@ -138,19 +138,11 @@ PassDecl lights_cluster_pass() {
         // each) and the tile a constant divisor, no loop bound read from memory. Each phase is
         // its own pipeline too: lavapipe runs every side of a branch, so a phase chosen by a push
         // constant would pay for the others' loops in every workgroup.
-        const std::vector<Binding> bindings{
-            Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
-            Binding::storage(ctx.slot("frame.lights"), "frame.lights"),
-            Binding::texture(ctx.slot("depth.pyramid"), "depth.pyramid", ctx.nearest_clamp()),
-            Binding::image(ctx.slot("lights.clusters"), "lights.clusters", 0),
-            Binding::storage(ctx.slot("lights.cluster_indices"), "lights.cluster_indices"),
-            Binding::storage(ctx.slot("lights.cluster_stats"), "lights.cluster_stats"),
-            Binding::storage(ctx.slot("lights.cluster_blocks"), "lights.cluster_blocks")};
         const uint32_t blocks_x = (tiles.width + kClusterBlock - 1) / kClusterBlock;
         const uint32_t blocks_y = (tiles.height + kClusterBlock - 1) / kClusterBlock;
         for (int32_t phase = 0; phase < 4; ++phase) {
           ctx.bind_pipeline({int32_t(slices), int32_t(tile_size), phase});
-          ctx.push(bindings);
+          ctx.push_declared();
           ctx.push_constants(constants);
           if (phase == 0)
             vkCmdDispatch(ctx.cmd(), blocks_x, blocks_y, 1);

@@ -24,6 +24,7 @@ constexpr int kMaxRadius = 16;
 PassDecl motion_stencil_pass() {
   return PassDecl("motion.stencil", PassType::compute)
       .read("scene.depth", Use::sampled)
+      .aspects("scene.depth", {ViewAspect::stencil})
       .write("motion.mask", Use::storage_write, ImageDecl{VK_FORMAT_R8_UINT, ResourceKind::mask})
       .param("radius", 2, 0, kMaxRadius, "pixels of dilation around tagged pixels (a square window)")
       .skip_when([](const SkipContext& frame) -> std::string {
@@ -35,8 +36,7 @@ PassDecl motion_stencil_pass() {
       .push_constants<int32_t>()
       .run([](PassContext& ctx) {
         ctx.bind_pipeline();
-        ctx.push({Binding::texture(ctx.slot("scene.depth"), "scene.depth", ctx.nearest_clamp(), ViewAspect::stencil),
-                  Binding::image(ctx.slot("motion.mask"), "motion.mask")});
+        ctx.push_declared();
         const double radius = ctx.param("radius");
         if (!(radius >= 0 && radius <= kMaxRadius))
           throw GraphError("motion.stencil: radius " + std::to_string(radius) + " is outside 0 … " +

@@ -55,12 +55,7 @@ PassDecl exposure_pass() {
                                     uniform ? lit.width * lit.height : 0u};
         if (!(constants.log2_max > constants.log2_min)) throw GraphError("exposure: log2_max must be above log2_min");
         ctx.bind_pipeline();
-        const std::string history = previous("exposure.value");
-        ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
-                  Binding::texture(ctx.slot("lighting.lit"), "lighting.lit", ctx.nearest_clamp()),
-                  Binding::texture(ctx.slot(history), history, ctx.nearest_clamp()),
-                  Binding::storage(ctx.slot("exposure.histogram"), "exposure.histogram"),
-                  Binding::image(ctx.slot("exposure.value"), "exposure.value")});
+        ctx.push_declared();
         for (uint32_t phase = 0; phase < 3; ++phase) {
           constants.phase = phase;
           ctx.push_constants(constants);

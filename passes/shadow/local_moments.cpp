@@ -69,10 +69,6 @@ PassDecl shadow_local_moments_pass() {
         const auto plan = host_records<LocalShadowPlan>(ctx.host("shadow.local_plan")).at(0);
         const int32_t moments = local_shadow_moments(ctx.host("shadow.local_data"), "shadow.local_moments");
         const uint32_t side = ctx.desc("shadow.local_moments").extent.width, groups = (side + 15) / 16;
-        const std::vector<Binding> bindings{
-            Binding::uniform(ctx.slot("shadow.local_data"), "shadow.local_data"),
-            Binding::texture(ctx.slot("shadow.local"), "shadow.local", ctx.nearest_clamp(), ViewAspect::depth),
-            Binding::image(ctx.slot("shadow.local_moments"), "shadow.local_moments", 0)};
         // Maps whose moments the previous frame has but where moving casters are or were (the
         // plan says which): copied, then computed again over that part alone.
         const uint32_t maps = std::min(plan.maps, kLocalShadowSlices);
@@ -83,7 +79,7 @@ PassDecl shadow_local_moments_pass() {
           // Disjoint layers or tiles, but the validation's synchronization checks see the whole bound image.
           if (dispatched) ctx.storage_barrier();
           ctx.bind_pipeline({blur, moments});
-          ctx.push(bindings);
+          ctx.push_declared();
           ctx.push_constants(MomentsDispatch{first, x0, y0, 0});
           vkCmdDispatch(ctx.cmd(), x1 - x0, y1 - y0, layers);
           dispatched = true;

@@ -51,7 +51,6 @@ PassDecl shadow_sun_resolve_pass() {
       .run([](PassContext& ctx) {
         const ImageExtent size = ctx.desc("shadow.sun").extent;
         const ResolveConstants constants{float(ctx.param("depth_bias")), float(ctx.param("max_slope"))};
-        const VkSampler nearest = ctx.nearest_clamp();
         int32_t check_tiles = 1;
         const std::span<const uint8_t> record = ctx.host("shadow.cull_stats");
         if (record.size() == sizeof(ShadowCullStats)) {
@@ -63,14 +62,7 @@ PassDecl shadow_sun_resolve_pass() {
               check_tiles = 1;
         }
         ctx.bind_pipeline({int32_t(ctx.param("filter_radius")), check_tiles});
-        ctx.push({Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
-                  Binding::uniform(ctx.slot("shadow.cascade_data"), "shadow.cascade_data"),
-                  Binding::texture(ctx.slot("scene.depth"), "scene.depth", nearest, ViewAspect::depth),
-                  Binding::texture(ctx.slot("gbuffer.normal"), "gbuffer.normal", nearest),
-                  Binding::texture(ctx.slot("shadow.cascades"), "shadow.cascades", nearest),
-                  Binding::uniform(ctx.slot("shadow.distant_data"), "shadow.distant_data"),
-                  Binding::texture(ctx.slot("shadow.distant"), "shadow.distant", nearest),
-                  Binding::image(ctx.slot("shadow.sun"), "shadow.sun", 0)});
+        ctx.push_declared();
         ctx.push_constants(constants);
         vkCmdDispatch(ctx.cmd(), (size.width + 7) / 8, (size.height + 7) / 8, 1);
       });
