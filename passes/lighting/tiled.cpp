@@ -36,10 +36,8 @@ struct TiledConstants {
 
 // Bilinear over the moments: the filter moment maps are made for, and no stair steps at a shadow's edge.
 SamplerDesc moments_sampler() {
-  SamplerDesc linear;
+  SamplerDesc linear = nearest_clamp_sampler();
   linear.mag_filter = linear.min_filter = VK_FILTER_LINEAR;
-  linear.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-  linear.wrap_u = linear.wrap_v = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
   return linear;
 }
 
