@@ -234,9 +234,26 @@ void PassContext::push(const std::vector<Binding>& bindings) {
   gpu().push_descriptors(cmd(), bind_point_, layout_, writes);
 }
 
-void PassContext::push_declared() {
+void PassContext::push_declared(std::optional<uint32_t> level) {
   const DescOf desc_of = [this](const std::string& name) -> const ResourceDesc& { return desc(name); };
-  push(declared_bindings(declaration(), desc_of, [this](const SamplerDesc& d) { return sampler(d); }));
+  push(declared_bindings(
+      declaration(), desc_of, [this](const SamplerDesc& d) { return sampler(d); }, level));
+}
+
+void PassContext::push_draw_textures(std::span<const DrawTexture> textures) {
+  const DescOf desc_of = [this](const std::string& name) -> const ResourceDesc& { return desc(name); };
+  const DeclaredSlot slot = prefix_slot(declaration(), desc_of);
+  if (textures.size() != slot.count)
+    throw GraphError(pass() + ": " + std::to_string(textures.size()) + " textures for the " +
+                     std::to_string(slot.count) + " slots of '" + slot.use->resource + "'");
+  std::vector<Binding> bindings;
+  for (uint32_t i = 0; i < slot.count; ++i) {
+    if (textures[i].resource.rfind(slot.use->resource, 0) != 0)
+      throw GraphError(pass() + ": '" + textures[i].resource + "' is not one of its '" + slot.use->resource +
+                       "' reads");
+    bindings.push_back(Binding::texture(slot.first + i, textures[i].resource, sampler(textures[i].sampler)));
+  }
+  push(bindings);
 }
 
 void PassContext::push_constants(const void* data, uint32_t bytes) {

@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <span>
 #include <string>
@@ -68,9 +69,17 @@ class PassContext {
   // mip sampled, another written).
   uint32_t slot(const std::string& resource, Use use) const;
   void push(const std::vector<Binding>& bindings);
-  // The bindings the declaration implies (declared_bindings), for passes that bind nothing per
-  // draw or per dispatch.
-  void push_declared();
+  // The bindings the declaration implies (declared_bindings); `level`: the mip level this
+  // dispatch works on, for images declared with level_mips. A prefix read's textures are pushed
+  // per draw (push_draw_textures).
+  void push_declared(std::optional<uint32_t> level = std::nullopt);
+  // The textures of the pass's prefix read (PassDecl::read_all) for the next draws, one per slot
+  // it declares, each through its own sampler (a material's textures).
+  struct DrawTexture {
+    std::string resource;
+    SamplerDesc sampler;
+  };
+  void push_draw_textures(std::span<const DrawTexture> textures);
   void push_constants(const void* data, uint32_t bytes);
   template <typename Constants>
   void push_constants(const Constants& constants) {

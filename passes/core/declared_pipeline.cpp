@@ -1,5 +1,7 @@
 #include "passes/core/declared_pipeline.h"
 
+#include <algorithm>
+
 #include "passes/core/graph.h"
 
 namespace nightcap {
@@ -62,34 +64,55 @@ std::vector<VkDescriptorType> declared_layout(const PassDecl& decl, const DescOf
 }
 
 std::vector<Binding> declared_bindings(const PassDecl& decl, const DescOf& desc_of,
-                                       const std::function<VkSampler(const SamplerDesc&)>& sampler_of) {
+                                       const std::function<VkSampler(const SamplerDesc&)>& sampler_of,
+                                       std::optional<uint32_t> level) {
   std::vector<Binding> bindings;
   for (const DeclaredSlot& slot : declared_slots(decl, desc_of)) {
     const ResourceUse& use = *slot.use;
+    if (use.prefix) continue;
     const std::string name = use.bound_name();
     const int layer = single(use.range.base_layer, use.range.layer_count);
+    // The mip of each binding: one the range selects (or all: -1), or one per declared offset.
+    std::vector<int> mips(slot.count, single(use.range.base_mip, use.range.mip_count));
+    if (!use.level_mips.empty()) {
+      if (!level)
+        throw GraphError(decl.name + ": '" + use.resource + "' is bound per level: push_declared(level) names it");
+      for (uint32_t i = 0; i < slot.count; ++i) mips[i] = std::max(0, int(*level) + use.level_mips[i]);
+    }
     if (slot.type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER) {
-      if (use.prefix)
-        throw GraphError(decl.name + ": the textures of prefix read '" + use.resource + "' are bound per draw");
-      const std::vector<ViewAspect> aspects = use.aspects.empty() ? std::vector{ViewAspect::natural} : use.aspects;
+      std::vector<ViewAspect> aspects = use.aspects;
+      if (aspects.empty()) aspects.assign(slot.count, ViewAspect::natural);
       if (aspects.size() != slot.count)
         throw GraphError(decl.name + ": '" + use.resource + "' takes more bindings than its declared aspects");
       const VkSampler sampler = sampler_of(use.sampler.value_or(nearest_clamp_sampler()));
       for (uint32_t i = 0; i < slot.count; ++i)
-        bindings.push_back(Binding::texture(slot.first + i, name, sampler, aspects[i],
-                                            single(use.range.base_mip, use.range.mip_count), layer));
+        bindings.push_back(Binding::texture(slot.first + i, name, sampler, aspects[i], mips[i], layer));
+      continue;
+    }
+    if (slot.type == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE) {
+      for (uint32_t i = 0; i < slot.count; ++i)
+        bindings.push_back(
+            Binding::image(slot.first + i, name, use.level_mips.empty() ? int(use.range.base_mip) : mips[i], layer));
       continue;
     }
     if (slot.count != 1)
-      throw GraphError(decl.name + ": '" + use.resource + "' takes several bindings, which change per dispatch");
-    if (slot.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER)
-      bindings.push_back(Binding::uniform(slot.first, name));
-    else if (slot.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
-      bindings.push_back(Binding::storage(slot.first, name));
-    else
-      bindings.push_back(Binding::image(slot.first, name, int(use.range.base_mip), layer));
+      throw GraphError(decl.name + ": buffer '" + use.resource + "' takes one binding, not " +
+                       std::to_string(slot.count));
+    bindings.push_back(slot.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER ? Binding::uniform(slot.first, name)
+                                                                      : Binding::storage(slot.first, name));
   }
   return bindings;
+}
+
+DeclaredSlot prefix_slot(const PassDecl& decl, const DescOf& desc_of) {
+  std::optional<DeclaredSlot> found;
+  for (const DeclaredSlot& slot : declared_slots(decl, desc_of))
+    if (slot.use->prefix) {
+      if (found) throw GraphError(decl.name + ": binds two prefix reads per draw; one is supported");
+      found = slot;
+    }
+  if (!found) throw GraphError(decl.name + ": binds textures per draw but declares no prefix read (read_all)");
+  return *found;
 }
 
 SamplerDesc nearest_clamp_sampler() {

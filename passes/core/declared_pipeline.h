@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,11 +64,14 @@ std::vector<DeclaredSlot> declared_slots(const PassDecl& decl, const DescOf& des
 std::vector<VkDescriptorType> declared_layout(const PassDecl& decl, const DescOf& desc_of);
 // What each declared slot binds: uniform and storage buffers whole; a sampled image through its
 // declared sampler (made by `sampler_of`) at its declared aspects, at the one mip and layer its
-// range selects or all of them; a storage image at its range's first mip. A history input binds
-// previous(resource). Throws for a prefix read or an image bound at several mips: those change
-// per draw or per dispatch.
+// range selects or all of them; a storage image at its range's first mip; an image declared with
+// level_mips at `level` plus each offset. A history input binds previous(resource). A prefix
+// read's textures change per draw (PassContext::push_draw_textures): it is left out here.
 std::vector<Binding> declared_bindings(const PassDecl& decl, const DescOf& desc_of,
-                                       const std::function<VkSampler(const SamplerDesc&)>& sampler_of);
+                                       const std::function<VkSampler(const SamplerDesc&)>& sampler_of,
+                                       std::optional<uint32_t> level = std::nullopt);
+// The one prefix read a pass binds per draw (its slot), or throws.
+DeclaredSlot prefix_slot(const PassDecl& decl, const DescOf& desc_of);
 // The sampler of a sampled use that declares none: each texel as stored, nothing past the edge.
 SamplerDesc nearest_clamp_sampler();
 // The colour attachments in declaration order, and the depth attachment ("" when none).

@@ -134,6 +134,18 @@ PassDecl& PassDecl::aspects(const std::string& resource, std::vector<ViewAspect>
   return *this;
 }
 
+PassDecl& PassDecl::level_mips(const std::string& resource, std::vector<int> offsets) {
+  for (std::vector<ResourceUse>* uses : {&inputs, &outputs})
+    for (ResourceUse& use : *uses)
+      if (use.resource == resource &&
+          (use.use == Use::sampled || use.use == Use::storage_read || use.use == Use::storage_write)) {
+        use.slots = uint32_t(offsets.size());
+        use.level_mips = std::move(offsets);
+        return *this;
+      }
+  throw std::logic_error(name + ": level_mips() names '" + resource + "', which it does not bind as an image");
+}
+
 PassDecl& PassDecl::raster(RasterState state) {
   raster_state = state;
   return *this;

@@ -129,6 +129,9 @@ struct ResourceUse {
   std::optional<SamplerDesc> sampler;
   // The aspect each of its bindings shows (PassDecl::aspects); empty: one natural binding.
   std::vector<ViewAspect> aspects;
+  // Bound once per entry at mip `level + entry` of the level a dispatch works on
+  // (PassDecl::level_mips); empty: bound as its range declares.
+  std::vector<int> level_mips;
 };
 
 struct ParamDecl {
@@ -218,6 +221,10 @@ struct PassDecl {
   // Sampled depth-stencil input `resource` bound once per aspect, in consecutive bindings
   // (e.g. depth then stencil, or stencil alone).
   PassDecl& aspects(const std::string& resource, std::vector<ViewAspect> per_binding);
+  // Image `resource`, worked on a mip level per dispatch, bound once per offset in consecutive
+  // bindings, each at mip `level + offset` (at least 0) of the level that
+  // PassContext::push_declared(level) names: {-1, 0} reads the level above the one it writes.
+  PassDecl& level_mips(const std::string& resource, std::vector<int> offsets);
   PassDecl& raster(RasterState state);
   PassDecl& depth_stencil(DepthStencilState state);
   PassDecl& blend(const std::string& output, BlendState state);

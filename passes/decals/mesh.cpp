@@ -43,10 +43,7 @@ PassDecl decals_mesh_pass() {
       .skip_when_cleared({"draws.decals.mesh"})
       .shader("gbuffer/opaque.vert")
       .shader("decals/mesh.frag")
-      .run([](PassContext& ctx) {
-        draw_surfaces(ctx, "draws.decals.mesh",
-                      {Binding::texture(ctx.slot("decals.normal_copy"), "decals.normal_copy", ctx.nearest_clamp())});
-      });
+      .run([](PassContext& ctx) { draw_surfaces(ctx, "draws.decals.mesh"); });
 }
 
 }  // namespace nightcap

@@ -23,7 +23,7 @@ PassDecl depth_prepass_pass() {
       .run([](PassContext& ctx) {
         ctx.begin_rendering();
         ctx.bind_pipeline();
-        ctx.push(geometry_bindings(ctx, "draws.depth.prepass"));
+        ctx.push_declared();
         draw_scene(ctx, "draws.depth.prepass", [](uint32_t, const GpuMaterial&) {});
         ctx.end_rendering();
       });

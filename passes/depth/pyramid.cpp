@@ -25,14 +25,13 @@ PassDecl depth_pyramid_pass() {
       .read("depth.linear", Use::sampled)
       .write("depth.pyramid", Use::storage_write, pyramid)
       .skip_when_cleared({"depth.linear"})
-      .slots("depth.pyramid", 2)  // the level read and the level written
+      .level_mips("depth.pyramid", {-1, 0})  // the level above the one written (level 0: unused), and that one
       .push_constants<PyramidConstants>()
       .shader("depth/pyramid.comp")
       .run([](PassContext& ctx) {
         ctx.bind_pipeline();
         const ImageExtent full = ctx.desc("depth.linear").extent;
         const ImageExtent levels = ctx.desc("depth.pyramid").extent;
-        const uint32_t source = ctx.slot("depth.linear"), pyramid = ctx.slot("depth.pyramid");
         for (uint32_t mip = 0; mip < levels.mips; ++mip) {
           PyramidConstants params{};
           params.source[0] = int32_t(mip == 0 ? full.width : mip_size(levels.width, mip - 1));
@@ -40,10 +39,7 @@ PassDecl depth_pyramid_pass() {
           params.target[0] = int32_t(mip_size(levels.width, mip));
           params.target[1] = int32_t(mip_size(levels.height, mip));
           params.from_linear = mip == 0;
-          // Level 0 binds level 0 as its (unused) source: every binding must be valid.
-          ctx.push({Binding::texture(source, "depth.linear", ctx.nearest_clamp()),
-                    Binding::image(pyramid, "depth.pyramid", mip == 0 ? 0 : int(mip) - 1),
-                    Binding::image(pyramid + 1, "depth.pyramid", int(mip))});
+          ctx.push_declared(mip);
           ctx.push_constants(params);
           vkCmdDispatch(ctx.cmd(), (params.target[0] + 7) / 8, (params.target[1] + 7) / 8, 1);
           ctx.storage_barrier();

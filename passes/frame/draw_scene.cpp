@@ -22,13 +22,6 @@ GeometryHeader geometry_header(PassContext& ctx) {
 
 }  // namespace
 
-std::vector<Binding> geometry_bindings(PassContext& ctx, const std::string& draws) {
-  geometry_header(ctx);
-  // The header and the vertex streams: the shader finds the streams through the header.
-  return {Binding::uniform(ctx.slot("frame.constants"), "frame.constants"),
-          Binding::storage(ctx.slot("scene.geometry"), "scene.geometry"), Binding::storage(ctx.slot(draws), draws)};
-}
-
 void draw_scene(PassContext& ctx, const std::string& draws,
                 const std::function<void(uint32_t, const GpuMaterial&)>& on_material, DrawRange range) {
   const GeometryHeader header = geometry_header(ctx);

@@ -22,7 +22,4 @@ struct DrawRange {
 void draw_scene(PassContext& ctx, const std::string& draws,
                 const std::function<void(uint32_t material, const GpuMaterial&)>& on_material, DrawRange range = {});
 
-// geometry.glsl's frame constants, vertex stream and draw list at their declared bindings.
-std::vector<Binding> geometry_bindings(PassContext& ctx, const std::string& draws);
-
 }  // namespace nightcap

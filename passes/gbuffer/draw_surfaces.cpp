@@ -6,26 +6,22 @@
 
 namespace nightcap {
 
-void draw_surfaces(PassContext& ctx, const std::string& draws, const std::vector<Binding>& extra) {
+void draw_surfaces(PassContext& ctx, const std::string& draws) {
   ctx.begin_rendering();
   ctx.bind_pipeline();
-  auto bindings = geometry_bindings(ctx, draws);
-  bindings.push_back(Binding::storage(ctx.slot("scene.materials"), "scene.materials"));
-  bindings.insert(bindings.end(), extra.begin(), extra.end());
-  ctx.push(bindings);
+  ctx.push_declared();
   draw_scene(ctx, draws, [&](uint32_t, const GpuMaterial& m) {
     const int32_t indices[MaterialTexture::count] = {m.textures.x, m.textures.y, m.textures.z, m.textures.w,
                                                      m.textures2.x};
     const uint32_t samplers[MaterialTexture::count] = {m.samplers.x, m.samplers.y, m.samplers.z, m.samplers.w,
                                                        m.samplers2.x};
-    std::vector<Binding> textures;
-    const uint32_t first = ctx.slot("scene.texture.");
+    std::vector<PassContext::DrawTexture> textures;
     for (uint32_t slot = 0; slot < MaterialTexture::count; ++slot) {
       const bool used = indices[slot] >= 0;
-      const std::string name = texture_resource(uint32_t(used ? indices[slot] : m.textures2.w));
-      textures.push_back(Binding::texture(first + slot, name, ctx.sampler(unpack_sampler(samplers[slot]))));
+      textures.push_back(
+          {texture_resource(uint32_t(used ? indices[slot] : m.textures2.w)), unpack_sampler(samplers[slot])});
     }
-    ctx.push(textures);
+    ctx.push_draw_textures(textures);
   });
   ctx.end_rendering();
 }

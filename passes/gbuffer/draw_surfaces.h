@@ -4,15 +4,13 @@
 #pragma once
 
 #include <string>
-#include <vector>
 
 #include "passes/core/context.h"
 
 namespace nightcap {
 
-// `extra`: bindings of inputs the caller's pass declares after surface_pass's (decals.mesh's
-// normal copy).
-void draw_surfaces(PassContext& ctx, const std::string& draws, const std::vector<Binding>& extra = {});
+// Binds what the pass declares (decals.mesh adds its normal copy), then draws.
+void draw_surfaces(PassContext& ctx, const std::string& draws);
 
 // A graphics pass that reads the frame, the scene's geometry, materials and textures and the
 // draw list `draws`, depth-tests against scene.depth, culls back faces per draw and runs

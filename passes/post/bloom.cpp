@@ -92,9 +92,7 @@ PassDecl bloom_level_pass(uint32_t level) {
         ctx.bind_pipeline();
         const BloomConstants c =
             constants(ctx.param("sigma"), ctx.desc(source).extent, source_mip, ctx.desc("bloom.chain").extent, level);
-        ctx.push({Binding::texture(ctx.slot(source, Use::sampled), source, ctx.nearest_clamp(), ViewAspect::natural,
-                                   int(source_mip)),
-                  Binding::image(ctx.slot("bloom.chain", Use::storage_write), "bloom.chain", int(level))});
+        ctx.push_declared();
         ctx.push_constants(c);
         vkCmdDispatch(ctx.cmd(), (c.target_size[0] + 15) / 16, (c.target_size[1] + 15) / 16, 1);
       });

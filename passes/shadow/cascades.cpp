@@ -45,7 +45,7 @@ PassDecl shadow_cascades_pass() {
           ctx.copy_layer("shadow.cascades_static", cascade, "shadow.cascades", cascade);
           if (stats.moving_draws[cascade] == 0) continue;
           ctx.begin_rendering({}, "shadow.cascades", 0, cascade);
-          bind_casters(ctx, "draws.shadow.cascades", "shadow.cascade_data", cascade);
+          bind_casters(ctx, cascade);
           draw_casters(ctx, "draws.shadow.cascades",
                        {stats.first_draw[cascade] + stats.draws[cascade] - stats.moving_draws[cascade],
                         stats.moving_draws[cascade]});

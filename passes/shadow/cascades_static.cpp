@@ -52,7 +52,7 @@ PassDecl shadow_cascades_static_pass() {
           if (stats.reset != uint32_t(CascadeReset::none)) {
             // Drawn whole; the attachment's clear is the layer's start.
             ctx.begin_rendering({}, "shadow.cascades_static", 0, cascade);
-            bind_casters(ctx, "draws.shadow.cascades", "shadow.cascade_data", cascade);
+            bind_casters(ctx, cascade);
             draw_casters(ctx, "draws.shadow.cascades", {stats.first_draw[cascade], static_draws});
             ctx.end_rendering();
             continue;
@@ -64,7 +64,7 @@ PassDecl shadow_cascades_static_pass() {
           const bool strips = stats.strips >> cascade & 1u;
           if (keeps && refreshed == 0 && !strips) continue;
           ctx.begin_rendering({}, "shadow.cascades_static", 0, cascade);
-          bind_casters(ctx, "draws.shadow.cascades", "shadow.cascade_data", cascade);
+          bind_casters(ctx, cascade);
           auto scissor_of = [](const MapTexels& r) {
             return VkRect2D{{r.x0, r.y0}, {uint32_t(r.x1 - r.x0), uint32_t(r.y1 - r.y0)}};
           };

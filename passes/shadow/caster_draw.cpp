@@ -43,11 +43,9 @@ ImageDecl shadow_depth_array(uint32_t layers) {
   return map;
 }
 
-void bind_casters(PassContext& ctx, const std::string& draws, const std::string& projections, uint32_t layer) {
+void bind_casters(PassContext& ctx, uint32_t layer) {
   ctx.bind_pipeline();
-  std::vector<Binding> bindings = geometry_bindings(ctx, draws);
-  bindings.push_back(Binding::uniform(ctx.slot(projections), projections));
-  ctx.push(bindings);
+  ctx.push_declared();
   ctx.push_constants(layer);
 }
 

@@ -30,9 +30,9 @@ void sort_for_batching(std::vector<GpuDraw>& draws);
 // cleared to 1 (no caster; forward depth, LESS).
 ImageDecl shadow_depth_array(uint32_t layers);
 
-// Binds the pass's declared pipeline with geometry.glsl's bindings for `draws`, the uniform
-// buffer `projections` (the maps' matrices) and `layer` as the push constant that picks one.
-void bind_casters(PassContext& ctx, const std::string& draws, const std::string& projections, uint32_t layer);
+// Binds the pass's declared pipeline and bindings (geometry.glsl's frame constants, vertex
+// streams and draw list, and the maps' matrices) and `layer` as the push constant that picks a map.
+void bind_casters(PassContext& ctx, uint32_t layer);
 
 // Draws `range` of `draws` with what bind_casters bound: depth only, no material.
 void draw_casters(PassContext& ctx, const std::string& draws, DrawRange range);

@@ -68,7 +68,7 @@ PassDecl shadow_distant_pass() {
                            data.refresh[level].y);
           if (plan.refreshed[level] == 0) continue;
           ctx.begin_rendering({}, "shadow.distant", 0, level);
-          bind_casters(ctx, "draws.shadow.distant", "shadow.distant_data", level);
+          bind_casters(ctx, level);
           for (uint32_t t = 0; t < tiles * tiles; ++t) {
             if (!(plan.refreshed[level] >> t & 1u)) continue;
             const uint32_t unit = level * tiles * tiles + t;
@@ -86,7 +86,7 @@ PassDecl shadow_distant_pass() {
                          data.refresh[0].y);
         if (plan.refreshed[0] == 0) return;
         ctx.begin_rendering({}, "shadow.distant_occluders", 0, 0);
-        bind_casters(ctx, "draws.shadow.distant", "shadow.distant_data", 0);
+        bind_casters(ctx, 0);
         for (uint32_t t = 0; t < tiles * tiles; ++t) {
           if (!(plan.refreshed[0] >> t & 1u)) continue;
           const VkRect2D scissor = tile_rect(t);

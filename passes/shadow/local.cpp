@@ -52,7 +52,7 @@ PassDecl shadow_local_pass() {
           ctx.copy_layer("shadow.local_static", slot, "shadow.local", layer);
           if (plan.slice_moving_draws[layer] == 0) continue;
           ctx.begin_rendering({}, "shadow.local", 0, layer);
-          bind_casters(ctx, "draws.shadow.local", "shadow.local_views", slot);
+          bind_casters(ctx, slot);
           draw_casters(ctx, "draws.shadow.local",
                        {plan.slice_first_draw[layer] + plan.slice_draws[layer] - plan.slice_moving_draws[layer],
                         plan.slice_moving_draws[layer]});

@@ -47,7 +47,7 @@ PassDecl shadow_local_static_pass() {
             for (uint32_t map = 0; map < plan.maps; ++map) {
               const uint32_t statics = plan.slice_draws[map] - plan.slice_moving_draws[map];
               if (plan.slice_slot[map] != slot || statics == 0) continue;
-              bind_casters(ctx, "draws.shadow.local", "shadow.local_views", slot);
+              bind_casters(ctx, slot);
               draw_casters(ctx, "draws.shadow.local", {plan.slice_first_draw[map], statics});
             }
           }

@@ -295,11 +295,46 @@ TEST(DeclaredPipeline, BindingsComeFromTheDeclaredUses) {
   EXPECT_EQ(sampler_at(5).mag_filter, VK_FILTER_LINEAR);
   EXPECT_EQ(sampler_at(5).wrap_u, VK_SAMPLER_ADDRESS_MODE_REPEAT);
 
-  // Textures bound per draw, or one image at two mips per dispatch, are the pass's to bind.
-  PassDecl per_draw("test.per_draw", PassType::graphics);
-  per_draw.read_all("texture.", Use::sampled).slots("texture.", 2);
-  EXPECT_THROW(declared_bindings(per_draw, desc_of, sampler_of), GraphError);
   EXPECT_THROW(pass.sampler("list", bilinear_repeat), std::logic_error);
+}
+
+// Choices that change per dispatch or per draw are declared too: the mips a level's dispatch
+// binds, and the slots a prefix read's textures take.
+TEST(DeclaredPipeline, PerLevelMipsAndPerDrawTexturesAreDeclared) {
+  ImageDecl chain{VK_FORMAT_R32G32_SFLOAT, ResourceKind::depth_minmax};
+  chain.mips = 0;
+  PassDecl pyramid("test.pyramid", PassType::compute);
+  pyramid.read("source", Use::sampled)
+      .write("chain", Use::storage_write, chain)
+      .level_mips("chain", {-1, 0})
+      .read_all("texture.", Use::sampled)
+      .slots("texture.", 2);
+  std::map<std::string, ResourceDesc> descs;
+  descs["chain"].format = VK_FORMAT_R32G32_SFLOAT;
+  const DescOf desc_of = [&](const std::string& r) -> const ResourceDesc& { return descs.at(r); };
+  const auto sampler_of = [](const SamplerDesc&) { return reinterpret_cast<VkSampler>(uintptr_t(1)); };
+  // Inputs, then outputs: source, the two textures, the chain twice.
+  EXPECT_EQ(declared_layout(pyramid, desc_of).size(), 5u);
+  // A level's mips need the level.
+  EXPECT_THROW(declared_bindings(pyramid, desc_of, sampler_of), GraphError);
+  for (uint32_t level : {0u, 3u}) {
+    SCOPED_TRACE(level);
+    const std::vector<Binding> bindings = declared_bindings(pyramid, desc_of, sampler_of, level);
+    ASSERT_EQ(bindings.size(), 3u);  // the prefix read's textures are pushed per draw
+    EXPECT_EQ(bindings[0].resource, "source");
+    for (uint32_t i : {1u, 2u}) {
+      EXPECT_EQ(bindings[i].binding, i + 2);
+      EXPECT_EQ(bindings[i].resource, "chain");
+      EXPECT_EQ(bindings[i].type, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
+    }
+    EXPECT_EQ(bindings[1].mip, level == 0 ? 0 : int(level) - 1);  // no level above 0: clamped to it
+    EXPECT_EQ(bindings[2].mip, int(level));
+  }
+  const DeclaredSlot textures = prefix_slot(pyramid, desc_of);
+  EXPECT_EQ(textures.first, 1u);
+  EXPECT_EQ(textures.count, 2u);
+  EXPECT_THROW(prefix_slot(PassDecl("test.none", PassType::graphics), desc_of), GraphError);
+  EXPECT_THROW(pyramid.level_mips("missing", {0}), std::logic_error);
 }
 }  // namespace NIGHTCAP_FILE_ID
 }  // namespace
