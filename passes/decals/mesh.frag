@@ -4,9 +4,9 @@
 // the mesh has tangents.
 #include "../frame/types.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
-layout(std430, set = 0, binding = 2) readonly buffer DrawBlock { Draw draws[]; };
-layout(std430, set = 0, binding = 3) readonly buffer MaterialBlock { Material materials[]; };
+layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std430, set = 0, binding = 2) readonly buffer DrawBlock { GpuDraw draws[]; };
+layout(std430, set = 0, binding = 3) readonly buffer MaterialBlock { GpuMaterial materials[]; };
 layout(set = 0, binding = 4) uniform sampler2D base_color_map;
 layout(set = 0, binding = 5) uniform sampler2D metallic_roughness_map;
 layout(set = 0, binding = 6) uniform sampler2D normal_map;
@@ -23,10 +23,12 @@ layout(location = 0) out vec4 out_albedo;    // rgb blended by a; alpha masked (
 layout(location = 1) out vec4 out_normal;    // the blended normal, 0.5n+0.5, weight 1; alpha masked
 layout(location = 2) out vec4 out_material;  // metalness, roughness, translucency blended by a; alpha masked
 
-vec2 slot_uv(Material m, int slot) { return ((m.textures2.y >> slot) & 1) != 0 ? in_uv.zw : in_uv.xy; }
+vec2 slot_uv(GpuMaterial m, int slot) {
+  return ((m.textures2.y >> slot) & 1) != 0 ? in_uv.zw : in_uv.xy;
+}
 
 void main() {
-  Material m = materials[draws[in_draw].material];
+  GpuMaterial m = materials[draws[in_draw].material];
   vec4 base = m.base_color * in_color;
   if (m.textures.x >= 0) base *= texture(base_color_map, slot_uv(m, 0));
   float a = clamp(base.a, 0.0, 1.0);

@@ -3,8 +3,8 @@
 // tagged moving, takes the decal's pattern (see projected.cpp for the blend).
 #include "../frame/types.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
-layout(std430, set = 0, binding = 1) readonly buffer DecalBlock { Decal decals[]; };
+layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std430, set = 0, binding = 1) readonly buffer DecalBlock { GpuDecal decals[]; };
 layout(set = 0, binding = 2) uniform sampler2D depth_map;
 layout(set = 0, binding = 3) uniform usampler2D stencil_map;
 
@@ -45,7 +45,7 @@ void main() {
 
   vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
   vec4 p = frame.inverse_view_projection * vec4(ndc, depth, 1.0);
-  Decal decal = decals[in_decal];
+  GpuDecal decal = decals[in_decal];
   vec3 local = (decal.local_from_world * vec4(p.xyz / p.w, 1.0)).xyz;
   // Outside the unit cube (a NaN fails the test too).
   if (!all(lessThanEqual(abs(local), vec3(0.5)))) discard;

@@ -3,15 +3,15 @@
 // counter-clockwise seen from outside (the pipeline culls front faces: the back faces are drawn).
 #include "../frame/types.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
-layout(std430, set = 0, binding = 1) readonly buffer DecalBlock { Decal decals[]; };
+layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std430, set = 0, binding = 1) readonly buffer DecalBlock { GpuDecal decals[]; };
 
 layout(location = 0) flat out uint out_decal;
 
 const int kCorner[6] = int[6](0, 1, 2, 0, 2, 3);
 
 void main() {
-  Decal decal = decals[gl_InstanceIndex];
+  GpuDecal decal = decals[gl_InstanceIndex];
   int face = gl_VertexIndex / 6, axis = face / 2;
   vec3 n = vec3(0.0);
   n[axis] = (face & 1) != 0 ? 1.0 : -1.0;

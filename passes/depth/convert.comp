@@ -8,7 +8,7 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
+layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
 layout(set = 0, binding = 1) uniform sampler2D depth_map;
 layout(set = 0, binding = 2) uniform usampler2D stencil_map;
 layout(set = 0, binding = 3, r32f) uniform writeonly image2D linear_depth;

@@ -2,7 +2,7 @@
 #include "../frame/geometry.glsl"
 
 void main() {
-  Draw draw = draws[gl_InstanceIndex];
+  GpuDraw draw = draws[gl_InstanceIndex];
   SceneVertex v = load_vertex(gl_VertexIndex);
   gl_Position = clip_position(draw, v.position);
 }

@@ -4,18 +4,18 @@
 // G-buffer pass agree bit for bit.
 #include "types.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
+layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
 layout(std430, set = 0, binding = 1) readonly buffer GeometryBlock { uint geometry_words[]; };
-layout(std430, set = 0, binding = 2) readonly buffer DrawBlock { Draw draws[]; };
+layout(std430, set = 0, binding = 2) readonly buffer DrawBlock { GpuDraw draws[]; };
 #include "vertex_streams.glsl"
 
 // Vertex `index` of scene.geometry, its position in the box of the draw being drawn.
 SceneVertex load_vertex(uint index) {
-  Draw draw = draws[gl_InstanceIndex];
+  GpuDraw draw = draws[gl_InstanceIndex];
   return decode_vertex(index, draw.position_origin.xyz, draw.position_step.xyz);
 }
 
-vec4 clip_position(Draw draw, vec3 position) {
+vec4 clip_position(GpuDraw draw, vec3 position) {
   precise vec4 world = draw.model * vec4(position, 1.0);
   precise vec4 clip = frame.view_projection * world;
   return clip;

@@ -10,7 +10,7 @@ layout(location = 5) flat out uint out_draw;
 layout(location = 6) out vec3 out_previous_position;  // camera-relative, at the previous frame's time
 
 void main() {
-  Draw draw = draws[gl_InstanceIndex];
+  GpuDraw draw = draws[gl_InstanceIndex];
   SceneVertex v = load_vertex(gl_VertexIndex);
   gl_Position = clip_position(draw, v.position);
   out_position = (draw.model * vec4(v.position, 1.0)).xyz;

@@ -9,7 +9,7 @@ layout(location = 4) out vec4 out_color;
 layout(location = 5) flat out uint out_draw;
 
 void main() {
-  Draw draw = draws[gl_InstanceIndex];
+  GpuDraw draw = draws[gl_InstanceIndex];
   SceneVertex v = load_vertex(gl_VertexIndex);
   gl_Position = clip_position(draw, v.position);
   out_position = (draw.model * vec4(v.position, 1.0)).xyz;

@@ -4,9 +4,9 @@
 #include "../frame/half.glsl"
 #include "../frame/types.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
-layout(std430, set = 0, binding = 2) readonly buffer DrawBlock { Draw draws[]; };
-layout(std430, set = 0, binding = 3) readonly buffer MaterialBlock { Material materials[]; };
+layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std430, set = 0, binding = 2) readonly buffer DrawBlock { GpuDraw draws[]; };
+layout(std430, set = 0, binding = 3) readonly buffer MaterialBlock { GpuMaterial materials[]; };
 layout(set = 0, binding = 4) uniform sampler2D base_color_map;
 layout(set = 0, binding = 5) uniform sampler2D metallic_roughness_map;
 layout(set = 0, binding = 6) uniform sampler2D normal_map;
@@ -28,12 +28,12 @@ layout(location = 4) out vec3 out_emissive;  // B10G11R11: emitted radiance
 
 const float FLAG_UNLIT = 1.0 / 3.0;  // 2-bit alpha of RT0
 
-vec2 slot_uv(Material m, int slot) {
+vec2 slot_uv(GpuMaterial m, int slot) {
   return ((m.textures2.y >> slot) & 1) != 0 ? in_uv.zw : in_uv.xy;
 }
 
 void write_gbuffer(vec3 previous_position) {
-  Material m = materials[draws[in_draw].material];
+  GpuMaterial m = materials[draws[in_draw].material];
   vec4 base = m.base_color * in_color;
   if (m.textures.x >= 0) base *= texture(base_color_map, slot_uv(m, 0));
   // MASK: alpha below the cutoff is a hole (pbr.z < 0 for other modes).

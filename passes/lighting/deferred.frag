@@ -4,8 +4,8 @@
 #include "../frame/types.glsl"
 #include "brdf.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
-layout(std430, set = 0, binding = 1) readonly buffer LightBlock { Light lights[]; };
+layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std430, set = 0, binding = 1) readonly buffer LightBlock { GpuLight lights[]; };
 layout(set = 0, binding = 2) uniform sampler2D albedo_map;
 layout(set = 0, binding = 3) uniform sampler2D normal_map;
 layout(set = 0, binding = 4) uniform sampler2D material_map;
@@ -29,7 +29,7 @@ float range_window(float distance, float range) {
   return w * w;
 }
 
-float spot_factor(Light light, vec3 to_light) {
+float spot_factor(GpuLight light, vec3 to_light) {
   float cos_outer = light.direction_cos_outer.w, cos_inner = light.cos_inner.x;
   float cd = dot(light.direction_cos_outer.xyz, -to_light);
   float t = clamp((cd - cos_outer) / max(cos_inner - cos_outer, 1e-4), 0.0, 1.0);
@@ -63,7 +63,7 @@ void main() {
   }
 
   for (uint i = 0u; i < frame.counts.x; ++i) {
-    Light light = lights[i];
+    GpuLight light = lights[i];
     uint type = uint(light.position_type.w);
     vec3 radiance = light.color_range.rgb * intensity_scale;
     float range = light.color_range.w;

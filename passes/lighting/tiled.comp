@@ -31,8 +31,8 @@ layout(constant_id = 2) const int LOCAL_MOMENTS = 4;
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
-layout(std430, set = 0, binding = 1) readonly buffer LightBlock { Light lights[]; };
+layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std430, set = 0, binding = 1) readonly buffer LightBlock { GpuLight lights[]; };
 layout(set = 0, binding = 2) uniform sampler2D albedo_map;
 layout(set = 0, binding = 3) uniform sampler2D normal_map;
 layout(set = 0, binding = 4) uniform sampler2D material_map;
@@ -186,7 +186,7 @@ void place() {
 }
 
 // Phases 2 to 6.
-float spot_factor(Light light, vec3 to_light) {
+float spot_factor(GpuLight light, vec3 to_light) {
   float cos_outer = light.direction_cos_outer.w, cos_inner = light.cos_inner.x;
   float cd = dot(light.direction_cos_outer.xyz, -to_light);
   float t = clamp((cd - cos_outer) / max(cos_inner - cos_outer, 1e-4), 0.0, 1.0);
@@ -287,7 +287,7 @@ float local_visibility(uint index, vec3 position) {
 // Each kind of light has its own function and its own loop in shade_tiles(): lavapipe runs both
 // sides of a branch, so shading kinds apart keeps a point light from paying for a tube's LTC.
 void shade_punctual(uint index, Surface s, inout vec3 diffuse, inout vec3 specular) {
-  Light light = lights[index];
+  GpuLight light = lights[index];
   vec3 radiance = light.color_range.rgb * intensity_scale;
   float range = light.color_range.w;
   vec3 to_light = light.position_type.xyz - s.position;
@@ -303,7 +303,7 @@ void shade_punctual(uint index, Surface s, inout vec3 diffuse, inout vec3 specul
 }
 
 // A sphere of `radiance` candela seen from any side: radiance / (π r²) per unit area.
-void shade_sphere(Light light, Surface s, Lobe lobe, inout vec3 diffuse, inout vec3 specular) {
+void shade_sphere(GpuLight light, Surface s, Lobe lobe, inout vec3 diffuse, inout vec3 specular) {
   float range = light.color_range.w, radius = light.end_radius.w;
   vec3 to_light = light.position_type.xyz - s.position;
   float d2 = max(dot(to_light, to_light), 1e-8);
@@ -319,7 +319,7 @@ void shade_sphere(Light light, Surface s, Lobe lobe, inout vec3 diffuse, inout v
 }
 
 // A line light of `radiance` candela per metre.
-void shade_tube(Light light, Surface s, Lobe lobe, inout vec3 diffuse, inout vec3 specular) {
+void shade_tube(GpuLight light, Surface s, Lobe lobe, inout vec3 diffuse, inout vec3 specular) {
   vec3 radiance = light.color_range.rgb * intensity_scale;
   float range = light.color_range.w;
   vec3 a = light.position_type.xyz - s.position, b = light.end_radius.xyz - s.position;

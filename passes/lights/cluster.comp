@@ -43,8 +43,8 @@ layout(constant_id = 1) const uint kTile = 32u;  // pixels on a side of a tile
 layout(constant_id = 2) const uint phase = 0u;   // one pipeline per phase (cluster.cpp says why)
 const uint kBlock = 4u;                          // tiles on a side of a block
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
-layout(std430, set = 0, binding = 1) readonly buffer LightBlock { Light lights[]; };
+layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std430, set = 0, binding = 1) readonly buffer LightBlock { GpuLight lights[]; };
 layout(set = 0, binding = 2) uniform sampler2D pyramid;
 layout(set = 0, binding = 3, rg32ui) uniform uimage3D clusters;
 layout(std430, set = 0, binding = 4) buffer IndexBlock { uint indices[]; };
@@ -151,7 +151,7 @@ uint light_core(uint i, out vec3 a, out vec3 b, out float r) {
   a = vec3(0.0);
   b = vec3(0.0);
   r = 0.0;
-  Light light = lights[i];
+  GpuLight light = lights[i];
   if (uint(light.position_type.w) == LIGHT_DIRECTIONAL) return kNone;
   float range = light.color_range.w;
   if (range <= 0.0) return kEverywhere;

@@ -9,7 +9,7 @@
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
+layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
 layout(set = 0, binding = 1) uniform sampler2D lit_map;
 layout(set = 0, binding = 2) uniform sampler2D previous_exposure;
 layout(std430, set = 0, binding = 3) buffer Histogram { uint bins[256]; };

@@ -13,7 +13,7 @@ layout(std140, set = 0, binding = 3) uniform CascadeBlock {
 layout(push_constant) uniform Params { uint cascade; };
 
 void main() {
-  Draw draw = draws[gl_InstanceIndex];
+  GpuDraw draw = draws[gl_InstanceIndex];
   SceneVertex v = load_vertex(gl_VertexIndex);
   precise vec4 world = draw.model * vec4(v.position, 1.0);
   gl_Position = light_from_world[cascade] * world;

@@ -10,7 +10,7 @@ layout(std140, set = 0, binding = 3) uniform ViewBlock {
 layout(push_constant) uniform Params { uint slot; };
 
 void main() {
-  Draw draw = draws[gl_InstanceIndex];
+  GpuDraw draw = draws[gl_InstanceIndex];
   SceneVertex v = load_vertex(gl_VertexIndex);
   precise vec4 world = draw.model * vec4(v.position, 1.0);
   gl_Position = vec4(dot(view_x[slot], world), dot(view_y[slot], world), dot(view_z[slot], world),

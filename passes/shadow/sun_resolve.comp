@@ -21,7 +21,7 @@ layout(constant_id = 0) const int FILTER_RADIUS = 1;
 // the search for a cascade that holds a pixel is then compiled out.
 layout(constant_id = 1) const int CHECK_TILES = 1;
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { FrameConstants frame; };
+layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
 layout(std140, set = 0, binding = 1) uniform CascadeBlock {
   mat4 light_from_world[4];
   vec4 splits;

@@ -36,6 +36,18 @@ TEST(BufferSchema, OffsetsAndTypesComeFromTheStruct) {
   EXPECT_EQ(type_name(field_named(constants, "counts")), "uvec4");
   EXPECT_EQ(field_named(constants, "counts").offset, offsetof(GpuFrameConstants, counts));
   EXPECT_EQ(light_schema().stride, sizeof(GpuLight));
+  // A schema generated from a struct's field list (gpu_layout.glsl.h) names every member in
+  // order but the padding (GpuDraw::pad).
+  for (const auto& [schema, padding] :
+       {std::pair{draws, 4u}, std::pair{constants, 0u}, std::pair{light_schema(), 0u}, std::pair{decal_schema(), 0u}}) {
+    uint32_t end = 0, bytes = 0;
+    for (const SchemaField& f : schema.fields) {
+      EXPECT_GE(f.offset, end) << f.name;
+      end = f.offset + f.bytes();
+      bytes += f.bytes();
+    }
+    EXPECT_EQ(bytes + padding, schema.stride);
+  }
   // Fields of a struct of another size are refused rather than given wrong offsets.
   EXPECT_THROW(BufferSchema::of<GpuLight>().field("model", &GpuDraw::model), std::logic_error);
 }
