@@ -21,10 +21,12 @@
 // shadow.local_moments is shadowed by it (local_visibility: 4MSM or VSM).
 #include "../frame/half.glsl"
 #include "../frame/types.glsl"
+#include "../lights/cluster_layout.glsl.h"
 #include "brdf.glsl"
 layout(constant_id = 1) const int LTC_LINE_NODES = 8;  // the tube_nodes parameter
 #include "ltc.glsl"
 #include "../shadow/local_moments.glsl"
+#include "../shadow/local_layout.glsl.h"
 // shadow.local_data's counts.y: 4, moment shadow maps; 2, variance shadow maps. A constant:
 // lavapipe would run both reconstructions for every spot light otherwise.
 layout(constant_id = 2) const int LOCAL_MOMENTS = 4;
@@ -40,23 +42,14 @@ layout(set = 0, binding = 5) uniform sampler2D depth_map;
 layout(set = 0, binding = 6) uniform sampler2D linear_depth_map;
 layout(set = 0, binding = 7) uniform usampler3D clusters;
 layout(std430, set = 0, binding = 8) readonly buffer IndexBlock { uint cluster_indices[]; };
-// lights.cluster_stats: its counts (cluster_layout.h), then the froxels' shape. All zero when
-// lights.cluster was skipped (no local light), every list then empty: the max(…, 1) below keep
-// the arithmetic defined there.
-layout(std430, set = 0, binding = 9) readonly buffer ClusterStatsBlock {
-  uint cluster_counts[12];
-  float slicing_max_distance;
-  uint slicing_tile, slicing_slices;
-};
+// lights.cluster_stats, for the froxels' shape. All zero when lights.cluster was skipped (no
+// local light), every list then empty: the max(…, 1) below keep the arithmetic defined there.
+layout(std430, set = 0, binding = 9) readonly buffer ClusterStatsBlock { GpuClusterStats cluster_stats; };
 layout(set = 0, binding = 10) uniform sampler2D ltc_inverse;
 layout(set = 0, binding = 11) uniform sampler2D ltc_magnitude;
 layout(set = 0, binding = 12) uniform sampler2D sun_shadow_map;
 // shadow.local_plan's maps (passes/shadow/local_layout.h), each light's map or -1, the moments.
-layout(std140, set = 0, binding = 13) uniform LocalShadowBlock {
-  vec4 local_x[16], local_y[16], local_z[16], local_w[16];  // rows of camera-relative world → clip
-  vec4 local_depth_range[16];  // near, far, 1 / (far − near), light
-  uvec4 local_counts;
-};
+layout(std140, set = 0, binding = 13) uniform LocalShadowBlock { GpuLocalShadows local_shadows; };
 layout(std430, set = 0, binding = 14) readonly buffer LocalSlotBlock { int local_slots[]; };
 layout(set = 0, binding = 15) uniform sampler2DArray local_moments;
 layout(set = 0, binding = 16, rgba16f) uniform writeonly image2D diffuse_out;
@@ -91,9 +84,9 @@ bool shaded(ivec2 pixel) {
 // then moved so that it lies between the slice's bounds as cluster.comp computes them (the same
 // float expressions), which float rounding of the logarithm could otherwise miss by one.
 uint pixel_slice(float depth) {
-  int slices = int(max(slicing_slices, 1u));
+  int slices = int(max(cluster_stats.slices, 1u));
   float znear = frame.projection_params.x;
-  float far = max(slicing_max_distance, 2.0 * znear);
+  float far = max(cluster_stats.max_distance, 2.0 * znear);
   float step = log2(far / znear) / float(slices);
   int k = clamp(int(floor(log2(depth / znear) / step)), 0, slices - 1);
   if (k < slices - 1 && depth >= znear * exp2(float(k + 1) * step)) ++k;
@@ -103,7 +96,7 @@ uint pixel_slice(float depth) {
 
 // The froxel list of a pixel at a linear depth: (offset, count) into cluster_indices.
 uvec2 froxel_list(ivec2 pixel, float depth) {
-  uvec2 tile = uvec2(pixel) / max(slicing_tile, 1u);
+  uvec2 tile = uvec2(pixel) / max(cluster_stats.tile_size, 1u);
   return texelFetch(clusters, ivec3(tile, pixel_slice(depth)), 0).xy;
 }
 
@@ -273,8 +266,9 @@ float local_visibility(uint index, vec3 position) {
   int slot = local_slots[index];
   if (slot < 0) return 1.0;
   vec4 at = vec4(position, 1.0);
-  vec4 clip = vec4(dot(local_x[slot], at), dot(local_y[slot], at), dot(local_z[slot], at), dot(local_w[slot], at));
-  vec4 range = local_depth_range[slot];
+  vec4 clip = vec4(dot(local_shadows.clip_x[slot], at), dot(local_shadows.clip_y[slot], at),
+                   dot(local_shadows.clip_z[slot], at), dot(local_shadows.clip_w[slot], at));
+  vec4 range = local_shadows.depth_range[slot];
   if (clip.w <= range.x) return 1.0;
   vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;

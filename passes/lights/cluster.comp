@@ -1,7 +1,7 @@
 #version 460
 // lights.cluster, in four phases of one pass (each a dispatch and its own pipeline, ordered by
 // the pass's storage barriers); passes/lights/cluster_layout.h says how froxels divide the view.
-//   0: a workgroup per block of kBlock×kBlock tiles lists, in ascending order, the local lights
+//   0: a workgroup per block of kClusterBlock² tiles lists, in ascending order, the local lights
 //      whose bound reaches the block's view-space box (the box of its tiles' depth range) in
 //      lights.cluster_blocks, so that a tile tests those rather than every light of the frame:
 //      on the 16 km map thousands of lights survive the frame's culling and most tiles see a
@@ -35,25 +35,20 @@
 // plane of a block is not a side plane of its tiles, and behind the camera a light can lie
 // outside the block's plane and inside the tile's.
 #include "../frame/types.glsl"
+#include "cluster_layout.glsl.h"
 
 // The froxels' shape, lights.cluster's parameters: the workgroup is one invocation per slice.
 layout(local_size_x_id = 0) in;
 const uint kSlices = gl_WorkGroupSize.x;
 layout(constant_id = 1) const uint kTile = 32u;  // pixels on a side of a tile
 layout(constant_id = 2) const uint phase = 0u;   // one pipeline per phase (cluster.cpp says why)
-const uint kBlock = 4u;                          // tiles on a side of a block
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
 layout(std430, set = 0, binding = 1) readonly buffer LightBlock { GpuLight lights[]; };
 layout(set = 0, binding = 2) uniform sampler2D pyramid;
 layout(set = 0, binding = 3, rg32ui) uniform uimage3D clusters;
 layout(std430, set = 0, binding = 4) buffer IndexBlock { uint indices[]; };
-layout(std430, set = 0, binding = 5) buffer StatsBlock {
-  uint lights_local, froxels, froxels_lit, entries, entries_wanted, max_count, froxels_over_cap, dropped_over_cap,
-      froxels_cut, dropped_cut, per_froxel_cap, index_capacity;
-  float slicing_max_distance;
-  uint slicing_tile, slicing_slices;
-};
+layout(std430, set = 0, binding = 5) buffer StatsBlock { GpuClusterStats stats; };
 
 // Per block, a slot of block_slot() words: the count (kOverflow when the list did not fit), then
 // the list.
@@ -71,7 +66,7 @@ layout(push_constant) uniform Params {
 const uint kNone = 0u, kBounded = 1u, kEverywhere = 2u;
 const uint kOverflow = 0xffffffffu;
 
-uvec2 block_count() { return (uvec2(tiles_x, tiles_y) + kBlock - 1u) / kBlock; }
+uvec2 block_count() { return (uvec2(tiles_x, tiles_y) + kClusterBlock - 1u) / kClusterBlock; }
 uint block_slot() { return uint(block_lists.length()) / (block_count().x * block_count().y); }
 
 // The chunk of lights (one per invocation) the workgroup tests together: view-space ends, padded
@@ -167,7 +162,7 @@ uint light_core(uint i, out vec3 a, out vec3 b, out float r) {
 void build_block_list() {
   uvec2 block = gl_WorkGroupID.xy;
   uint lane = gl_LocalInvocationID.x;
-  uvec2 first_tile = block * kBlock, end_tile = min(first_tile + kBlock, uvec2(tiles_x, tiles_y));
+  uvec2 first_tile = block * kClusterBlock, end_tile = min(first_tile + kClusterBlock, uvec2(tiles_x, tiles_y));
   ivec2 level_size = textureSize(pyramid, pyramid_level);
   vec2 depth_range = vec2(3.0e38, -3.0e38);
   for (uint y = first_tile.y; y < end_tile.y; ++y)
@@ -249,7 +244,7 @@ void build_lists() {
     stored = list.y;
   }
   // The lights to test: the block's list, or every light when it did not fit.
-  uvec2 block = tile / kBlock;
+  uvec2 block = tile / kClusterBlock;
   uint slot = (block.y * block_count().x + block.x) * block_slot();
   uint block_lights = block_lists[slot];
   bool every_light = block_lights == kOverflow;
@@ -368,28 +363,28 @@ void place_lists() {
     sums[7] = add_saturated(sums[7], run_cut_entries[k]);
     sums[8] += run_lights[k];
   }
-  lights_local = sums[8];
-  froxels = total;
-  froxels_lit = sums[2];
-  entries = sums[0];
-  entries_wanted = sums[1];
-  max_count = sums[3];
-  froxels_over_cap = sums[4];
-  dropped_over_cap = sums[5];
-  froxels_cut = sums[6];
-  dropped_cut = sums[7];
-  per_froxel_cap = max_per_froxel;
-  index_capacity = max_indices;
-  slicing_max_distance = max_distance;
-  slicing_tile = kTile;
-  slicing_slices = kSlices;
+  stats.lights = sums[8];
+  stats.froxels = total;
+  stats.froxels_lit = sums[2];
+  stats.entries = sums[0];
+  stats.entries_wanted = sums[1];
+  stats.max_count = sums[3];
+  stats.froxels_over_cap = sums[4];
+  stats.dropped_over_cap = sums[5];
+  stats.froxels_cut = sums[6];
+  stats.dropped_cut = sums[7];
+  stats.per_froxel_cap = max_per_froxel;
+  stats.index_capacity = max_indices;
+  stats.max_distance = max_distance;
+  stats.tile_size = kTile;
+  stats.slices = kSlices;
 }
 
 // Phase 3, besides the lists: the entries past the last one are zero, so the buffer is defined.
 void zero_tail() {
   uint groups = tiles_x * tiles_y;
   uint group = gl_WorkGroupID.y * tiles_x + gl_WorkGroupID.x;
-  for (uint i = entries + group * kSlices + gl_LocalInvocationID.x; i < indices.length(); i += groups * kSlices)
+  for (uint i = stats.entries + group * kSlices + gl_LocalInvocationID.x; i < indices.length(); i += groups * kSlices)
     indices[i] = 0u;
 }
 

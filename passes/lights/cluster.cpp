@@ -55,25 +55,7 @@ std::string overflow_warning(std::span<const uint8_t> bytes) {
 
 }  // namespace
 
-BufferSchema cluster_stats_schema() {
-  using S = GpuClusterStats;
-  return BufferSchema::of<S>()
-      .field("lights", &S::lights)
-      .field("froxels", &S::froxels)
-      .field("froxels_lit", &S::froxels_lit)
-      .field("entries", &S::entries)
-      .field("entries_wanted", &S::entries_wanted)
-      .field("max_count", &S::max_count)
-      .field("froxels_over_cap", &S::froxels_over_cap)
-      .field("dropped_over_cap", &S::dropped_over_cap)
-      .field("froxels_cut", &S::froxels_cut)
-      .field("dropped_cut", &S::dropped_cut)
-      .field("per_froxel_cap", &S::per_froxel_cap)
-      .field("index_capacity", &S::index_capacity)
-      .field("max_distance", &S::max_distance)
-      .field("tile_size", &S::tile_size)
-      .field("slices", &S::slices);
-}
+BufferSchema cluster_stats_schema() { return NC_SCHEMA_OF(GpuClusterStats, NC_GPU_CLUSTER_STATS_FIELDS); }
 
 BufferSchema cluster_index_schema() {
   struct Entry {

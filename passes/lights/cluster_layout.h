@@ -16,6 +16,7 @@
 #include <cstdint>
 
 #include "passes/core/buffer_schema.h"
+#include "passes/lights/cluster_layout.glsl.h"
 
 namespace nightcap {
 
@@ -27,33 +28,10 @@ constexpr uint32_t kClusterTileSizes[] = {8, 16, 32, 64};
 constexpr uint32_t kClusterMinSlices = 16, kClusterMaxSlices = 128;
 // Entries lights.cluster_indices holds (4 MiB): about 18 per froxel at 1280×720, 2 at 3840×2160.
 constexpr uint32_t kClusterIndexCapacity = 1u << 20;
-// Tiles on a side of a block: lights.cluster lists the lights that reach each block first, and a
-// tile tests only its block's (cluster.comp's kBlock).
-constexpr uint32_t kClusterBlock = 4;
 // Words of lights.cluster_blocks (4 MiB), shared equally by the blocks: 17 475 lights a block at
 // 1280×720 with 32-pixel tiles; a block whose list is longer makes its tiles test every light.
 constexpr uint32_t kClusterBlockCapacity = 1u << 20;
 
-// lights.cluster_stats: what the lists hold, what the caps cut and how the depth was sliced. Sums
-// saturate at 2^32 − 1.
-struct GpuClusterStats {
-  uint32_t lights;            // local lights of frame.lights (point, spot, tube)
-  uint32_t froxels;           // tiles_x · tiles_y · slices
-  uint32_t froxels_lit;       // froxels that at least one light reaches
-  uint32_t entries;           // indices stored
-  uint32_t entries_wanted;    // indices the lists would hold without caps
-  uint32_t max_count;         // the longest list, before the caps
-  uint32_t froxels_over_cap;  // froxels with more lights than max_lights_per_froxel
-  uint32_t dropped_over_cap;  // entries those lost (the lights of highest index)
-  uint32_t froxels_cut;       // froxels that lost entries to the index capacity (the last in
-  uint32_t dropped_cut;       // froxel order: farthest slice first), and the entries they lost
-  uint32_t per_froxel_cap;    // the limits applied
-  uint32_t index_capacity;
-  // The froxels' shape (lights.cluster's parameters), by which lighting finds a pixel's froxel.
-  float max_distance;
-  uint32_t tile_size;
-  uint32_t slices;
-};
 static_assert(sizeof(GpuClusterStats) == 60);
 
 BufferSchema cluster_stats_schema();

@@ -1,14 +1,9 @@
 #version 460
 // shadow.cascades: a caster's vertex in the light clip space of the cascade being drawn.
 #include "../frame/geometry.glsl"
+#include "shadow_layout.glsl.h"
 
-layout(std140, set = 0, binding = 3) uniform CascadeBlock {
-  mat4 light_from_world[4];
-  vec4 splits;
-  vec4 texel_metres;
-  vec4 depth_metres;
-  vec4 light_direction;
-};
+layout(std140, set = 0, binding = 3) uniform CascadeBlock { GpuShadowCascades cascades; };
 
 layout(push_constant) uniform Params { uint cascade; };
 
@@ -16,5 +11,5 @@ void main() {
   GpuDraw draw = draws[gl_InstanceIndex];
   SceneVertex v = load_vertex(gl_VertexIndex);
   precise vec4 world = draw.model * vec4(v.position, 1.0);
-  gl_Position = light_from_world[cascade] * world;
+  gl_Position = cascades.light_from_world[cascade] * world;
 }

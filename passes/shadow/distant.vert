@@ -1,14 +1,9 @@
 #version 460
 // shadow.distant: a static caster's vertex in the light clip space of the level being drawn.
 #include "../frame/geometry.glsl"
+#include "shadow_layout.glsl.h"
 
-layout(std140, set = 0, binding = 3) uniform DistantBlock {
-  mat4 light_from_world[4];
-  vec4 texel_metres;
-  vec4 depth_metres;
-  vec4 light_direction;
-  ivec4 refresh[4];
-};
+layout(std140, set = 0, binding = 3) uniform DistantBlock { GpuDistantLevels levels; };
 
 layout(push_constant) uniform Params { uint level; };
 
@@ -16,5 +11,5 @@ void main() {
   GpuDraw draw = draws[gl_InstanceIndex];
   SceneVertex v = load_vertex(gl_VertexIndex);
   precise vec4 world = draw.model * vec4(v.position, 1.0);
-  gl_Position = light_from_world[level] * world;
+  gl_Position = levels.light_from_world[level] * world;
 }

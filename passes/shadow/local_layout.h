@@ -16,30 +16,14 @@
 
 #include "passes/core/buffer_schema.h"
 #include "passes/core/graph.h"
+#include "passes/shadow/local_layout.glsl.h"
 
 namespace nightcap {
 
-// Layers of shadow.local and shadow.local_moments: frame.md's 10-20 slices. The plan's max_maps
-// uses at most this many. shadow.local_static has as many cache slots.
-constexpr uint32_t kLocalShadowSlices = 16;
 constexpr uint32_t kLocalShadowResolution = 512;
 // The moments' blur radius shadow.local_moments supports at most (its shared-memory tile).
 constexpr uint32_t kLocalShadowMaxBlur = 4;
 
-// Mirrored by passes/shadow/local.vert, local_moments.comp and lighting/tiled.comp (std140).
-struct GpuLocalShadows {
-  // Camera-relative world → the map's clip space, a row of the matrix each (the capture's
-  // schema holds arrays of at most 64 numbers): a perspective along the spot's axis, z in [0, 1]
-  // (forward) from `near` to the light's range; w is the distance along that axis.
-  glm::vec4 clip_x[kLocalShadowSlices], clip_y[kLocalShadowSlices], clip_z[kLocalShadowSlices],
-      clip_w[kLocalShadowSlices];
-  // Per map: x near, y far (metres along the axis), z 1 / (far − near), w: the light's index in
-  // frame.lights.
-  glm::vec4 depth_range[kLocalShadowSlices];
-  // x: maps this frame; y: moments per texel in shadow.local_moments, 2 (variance shadow maps)
-  // or 4 (moment shadow maps), from shadow.local_plan's `moments`; z, w: unused.
-  glm::uvec4 counts;
-};
 static_assert(sizeof(GpuLocalShadows) == kLocalShadowSlices * 80 + 16);
 
 // counts.y of shadow.local_data's bytes: which moments shadow.local_moments writes and
@@ -56,14 +40,6 @@ inline int32_t local_shadow_moments(std::span<const uint8_t> data, const std::st
   return int32_t(shadows.counts.y);
 }
 
-// The light-relative world → clip rows of each cache slot's map, what shadow.local_static and
-// shadow.local draw with (mirrored by local.vert, std140): the casters' draws are relative to
-// the light (its scene.lights position), so a static caster's depth does not change with the
-// camera and a slot keeps it across frames. Zero for an empty slot.
-struct GpuLocalShadowViews {
-  glm::vec4 view_x[kLocalShadowSlices], view_y[kLocalShadowSlices], view_z[kLocalShadowSlices],
-      view_w[kLocalShadowSlices];
-};
 static_assert(sizeof(GpuLocalShadowViews) == kLocalShadowSlices * 64);
 
 // Why a spot light has a map this frame or not (LocalShadowPlan::candidate_reason).
@@ -129,24 +105,10 @@ struct LocalShadowPlan {
 };
 static_assert(sizeof(LocalShadowPlan) == (16 + 14 * kLocalShadowSlices + 2 * kLocalShadowRecorded) * 4);
 
-inline BufferSchema local_shadows_schema() {
-  using S = GpuLocalShadows;
-  return BufferSchema::of<S>()
-      .field("clip_x", &S::clip_x)
-      .field("clip_y", &S::clip_y)
-      .field("clip_z", &S::clip_z)
-      .field("clip_w", &S::clip_w)
-      .field("depth_range", &S::depth_range)
-      .field("counts", &S::counts);
-}
+inline BufferSchema local_shadows_schema() { return NC_SCHEMA_OF(GpuLocalShadows, NC_GPU_LOCAL_SHADOWS_FIELDS); }
 
 inline BufferSchema local_shadow_views_schema() {
-  using S = GpuLocalShadowViews;
-  return BufferSchema::of<S>()
-      .field("view_x", &S::view_x)
-      .field("view_y", &S::view_y)
-      .field("view_z", &S::view_z)
-      .field("view_w", &S::view_w);
+  return NC_SCHEMA_OF(GpuLocalShadowViews, NC_GPU_LOCAL_SHADOW_VIEWS_FIELDS);
 }
 
 inline BufferSchema local_shadow_plan_schema() {

@@ -4,17 +4,14 @@
 // column sums. The map's edge repeats its last texel. MOMENTS 2: (t, t²) in .rg (variance shadow
 // maps); 4: (t, t², t³, t⁴) through local_moments.glsl's quantization transform.
 #include "local_moments.glsl"
+#include "local_layout.glsl.h"
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(constant_id = 0) const int BLUR = 1;
 // shadow.local_data's counts.y (the plan's `moments`): a constant, so that the 2-moment variant
 // does not pay for the 4-moment one's shared memory and sums on lavapipe.
 layout(constant_id = 1) const int MOMENTS = 4;
 
-layout(std140, set = 0, binding = 0) uniform LocalBlock {
-  vec4 clip_x[16], clip_y[16], clip_z[16], clip_w[16];  // rows of camera-relative world → clip
-  vec4 depth_range[16];  // near, far, 1 / (far − near), light
-  uvec4 counts;
-};
+layout(std140, set = 0, binding = 0) uniform LocalBlock { GpuLocalShadows shadows; };
 layout(set = 0, binding = 1) uniform sampler2DArray depth_maps;
 // Binding 2 is the previous frame's moments, which only the copies of unchanged maps read.
 layout(set = 0, binding = 3, rgba16) uniform writeonly image2DArray moments_out;
@@ -37,7 +34,7 @@ void main() {
   int resolution = textureSize(depth_maps, 0).x;
   ivec2 origin = (ivec2(gl_WorkGroupID.xy) + ivec2(tile_x, tile_y)) * 16 - BLUR;
   uint lane = gl_LocalInvocationIndex;
-  vec4 range = depth_range[slice];
+  vec4 range = shadows.depth_range[slice];
   for (uint i = lane; i < uint(kSide * kSide); i += 256u) {
     ivec2 texel = clamp(origin + ivec2(int(i) % kSide, int(i) / kSide), ivec2(0), ivec2(resolution - 1));
     float d = texelFetch(depth_maps, ivec3(texel, slice), 0).r;

@@ -10,12 +10,12 @@
 #include <glm/glm.hpp>
 
 #include "passes/core/buffer_schema.h"
+#include "passes/shadow/shadow_layout.glsl.h"
 
 namespace nightcap {
 
 struct GraphicsPipelineDesc;
 
-constexpr uint32_t kShadowCascades = 4;
 // Texels per side of each cascade by default (shadow.cull.resolution and
 // shadow.cascades_static.resolution, which must agree: shadow.cascades_static checks).
 constexpr uint32_t kShadowResolution = 1024;
@@ -23,19 +23,6 @@ constexpr uint32_t kShadowResolution = 1024;
 constexpr uint32_t kCascadeMaxTilesPerSide = 8;
 constexpr uint32_t kCascadeUnits = kShadowCascades * kCascadeMaxTilesPerSide * kCascadeMaxTilesPerSide;
 
-// Mirrored by passes/shadow/cascades.vert and sun_resolve.comp (std140).
-struct GpuShadowCascades {
-  // Camera-relative world → the cascade's light clip space: x and y in [-1, 1] across the map,
-  // z in [0, 1] from the light's near plane (the scene's side nearest the sun) to its far one.
-  glm::mat4 light_from_world[kShadowCascades];
-  glm::vec4 splits;           // view depth (metres along the view axis) where each cascade ends
-  glm::vec4 texel_metres;     // a texel's side in metres, per cascade
-  glm::vec4 depth_metres;     // metres of light depth that z's [0, 1] spans, per cascade
-  glm::vec4 light_direction;  // xyz: the way sunlight travels; w: the map's resolution in texels
-  // Per cascade: x, y, the tiles (bit ty·tiles + tx, low word then high) that hold their casters'
-  // depth this frame; z, tiles per side. The resolve reads no other tile.
-  glm::uvec4 tiles[kShadowCascades];
-};
 static_assert(sizeof(GpuShadowCascades) == 4 * 64 + 4 * 16 + 4 * 16);
 
 // Why shadow.cull redraws the cascades' static layers without what the previous frame held
@@ -117,16 +104,7 @@ static_assert(sizeof(ShadowCullStats) == (12 * kShadowCascades + 8 + 2 * 2 * kSh
                                           1 + 4 * kShadowCascades + 12 + 4 * kCascadeUnits) *
                                              4);
 
-inline BufferSchema shadow_cascades_schema() {
-  using S = GpuShadowCascades;
-  return BufferSchema::of<S>()
-      .field("light_from_world", &S::light_from_world)
-      .field("splits", &S::splits)
-      .field("texel_metres", &S::texel_metres)
-      .field("depth_metres", &S::depth_metres)
-      .field("light_direction", &S::light_direction)
-      .field("tiles", &S::tiles);
-}
+inline BufferSchema shadow_cascades_schema() { return NC_SCHEMA_OF(GpuShadowCascades, NC_GPU_SHADOW_CASCADES_FIELDS); }
 
 inline BufferSchema shadow_cull_stats_schema() {
   using S = ShadowCullStats;
@@ -169,26 +147,12 @@ inline BufferSchema shadow_cull_stats_schema() {
       .field("unit_waiting", &S::unit_waiting);
 }
 
-constexpr uint32_t kDistantLevels = 4;
 // Tiles per side of a level at most: a level's refreshed tiles are one 16-bit mask.
 constexpr uint32_t kDistantMaxTilesPerSide = 4;
 constexpr uint32_t kDistantTiles = kDistantMaxTilesPerSide * kDistantMaxTilesPerSide;  // per level, at most
 constexpr uint32_t kDistantUnits = kDistantLevels * kDistantTiles;
 constexpr uint32_t kDistantResolution = 1024;
 
-// Mirrored by passes/shadow/distant.vert and sun_resolve.comp (std140).
-struct GpuDistantLevels {
-  // Camera-relative world → the level's light clip space (as GpuShadowCascades'); z spans the
-  // static scene's light depth, the same at every level.
-  glm::mat4 light_from_world[kDistantLevels];
-  glm::vec4 texel_metres;     // a texel's side in metres, per level
-  glm::vec4 depth_metres;     // metres of light depth that z's [0, 1] spans, per level
-  glm::vec4 light_direction;  // xyz: the way sunlight travels; w: the levels' resolution in texels
-  // Per level: xy, the texel of the previous frame's level that this frame's texel (0, 0) covers
-  // (the level moved with the camera by whole texels); z, the mask of tiles redrawn this frame
-  // (bit ty·w + tx); w, tiles per side.
-  glm::ivec4 refresh[kDistantLevels];
-};
 static_assert(sizeof(GpuDistantLevels) == 4 * 64 + 3 * 16 + 4 * 16);
 
 // Why shadow.distant_plan redraws every unit this frame, past the budget (DistantPlan::reset).
@@ -231,15 +195,7 @@ struct DistantPlan {
 static_assert(sizeof(DistantPlan) ==
               (9 + 3 * kDistantLevels + 2 * kDistantLevels + 6 + 3 * kDistantUnits + 2 * kDistantTiles) * 4);
 
-inline BufferSchema distant_levels_schema() {
-  using S = GpuDistantLevels;
-  return BufferSchema::of<S>()
-      .field("light_from_world", &S::light_from_world)
-      .field("texel_metres", &S::texel_metres)
-      .field("depth_metres", &S::depth_metres)
-      .field("light_direction", &S::light_direction)
-      .field("refresh", &S::refresh);
-}
+inline BufferSchema distant_levels_schema() { return NC_SCHEMA_OF(GpuDistantLevels, NC_GPU_DISTANT_LEVELS_FIELDS); }
 
 inline BufferSchema distant_plan_schema() {
   using S = DistantPlan;

@@ -14,6 +14,7 @@
 // at 1 holds no caster: lit, even for a receiver past the map's far depth. R: visibility; G: 1
 // (free, frame.md).
 #include "../frame/types.glsl"
+#include "shadow_layout.glsl.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(constant_id = 0) const int FILTER_RADIUS = 1;
@@ -22,24 +23,11 @@ layout(constant_id = 0) const int FILTER_RADIUS = 1;
 layout(constant_id = 1) const int CHECK_TILES = 1;
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
-layout(std140, set = 0, binding = 1) uniform CascadeBlock {
-  mat4 light_from_world[4];
-  vec4 splits;
-  vec4 texel_metres;
-  vec4 depth_metres;
-  vec4 light_direction;
-  uvec4 cascade_tiles[4];  // xy: the complete tiles' mask (low, high); z: tiles per side
-};
+layout(std140, set = 0, binding = 1) uniform CascadeBlock { GpuShadowCascades cascades; };
 layout(set = 0, binding = 2) uniform sampler2D depth_map;
 layout(set = 0, binding = 3) uniform sampler2D normal_map;
 layout(set = 0, binding = 4) uniform sampler2DArray cascade_maps;
-layout(std140, set = 0, binding = 5) uniform DistantBlock {
-  mat4 distant_from_world[4];
-  vec4 distant_texel_metres;
-  vec4 distant_depth_metres;
-  vec4 distant_light_direction;  // w: the levels' resolution
-  ivec4 distant_refresh[4];
-};
+layout(std140, set = 0, binding = 5) uniform DistantBlock { GpuDistantLevels distant; };
 layout(set = 0, binding = 6) uniform sampler2DArray distant_maps;
 layout(set = 0, binding = 7, rg8) uniform writeonly image2D sun_out;
 
@@ -89,7 +77,7 @@ const int kSide = 2 * FILTER_RADIUS + 1;
 
 // Whether every tile of cascade k is complete (a still camera, or a refresh that kept up).
 bool cascade_complete(uint k) {
-  uvec4 tiles = cascade_tiles[k];
+  uvec4 tiles = cascades.tiles[k];
   int count = int(tiles.z * tiles.z);
   uvec2 every = uvec2(count >= 32 ? ~0u : (1u << count) - 1u,
                       count >= 64 ? ~0u : count > 32 ? (1u << (count - 32)) - 1u : 0u);
@@ -99,9 +87,9 @@ bool cascade_complete(uint k) {
 // Whether cascade k can shadow the point: every tile holding a texel its filter reads is complete
 // and, when k is not the pixel's own cascade, those texels lie inside the map with one to spare.
 bool cascade_holds(int k, vec3 position, bool own) {
-  uvec4 tiles = cascade_tiles[k];
-  int resolution = int(light_direction.w);
-  vec2 clip = (light_from_world[k] * vec4(position, 1.0)).xy;
+  uvec4 tiles = cascades.tiles[k];
+  int resolution = int(cascades.light_direction.w);
+  vec2 clip = (cascades.light_from_world[k] * vec4(position, 1.0)).xy;
   ivec2 base = ivec2(floor((clip * 0.5 + 0.5) * float(resolution)));
   ivec2 lo = base - FILTER_RADIUS, hi = base + FILTER_RADIUS;
   if (!own && (any(lessThan(lo, ivec2(1))) || any(greaterThan(hi, ivec2(resolution - 2))))) return false;
@@ -124,23 +112,23 @@ void main() {
   vec4 p = frame.inverse_view_projection * vec4(ndc, max(depth, 1e-30), 1.0);
   vec3 position = p.xyz / p.w;  // camera-relative world, as lighting.tiled finds it
   float view_depth = frame.projection_params.x / max(depth, 1e-30);
-  uint cascade = (view_depth > splits.x ? 1u : 0u) + (view_depth > splits.y ? 1u : 0u) +
-                 (view_depth > splits.z ? 1u : 0u);
+  uint cascade = (view_depth > cascades.splits.x ? 1u : 0u) + (view_depth > cascades.splits.y ? 1u : 0u) +
+                 (view_depth > cascades.splits.z ? 1u : 0u);
   vec3 n = texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0;
   n = dot(n, n) > 1e-8 ? normalize(n) : vec3(0.0);
   // Beyond the last split: the finest distant level that holds every texel the filter reads,
   // with a texel to spare (4: none, unshadowed).
-  float distant_resolution = distant_light_direction.w;
+  float distant_resolution = distant.light_direction.w;
   float reach = 2.0 * float(FILTER_RADIUS + 2) / max(distant_resolution, 1.0);
   int level = 4;
   for (int k = 3; k >= 0; --k) {
-    vec2 clip = (distant_from_world[k] * vec4(position, 1.0)).xy;
+    vec2 clip = (distant.light_from_world[k] * vec4(position, 1.0)).xy;
     if (all(lessThanEqual(abs(clip), vec2(1.0 - reach)))) level = k;
   }
   // The pixel's own cascade when it is complete; else a search that only the pixels needing it
   // enter (a loop, which lavapipe runs once when no lane of a row enters it; an if it would run
   // whole), and that is not compiled at all when every cascade is complete.
-  bool in_range = depth > 0.0 && view_depth <= splits.w;
+  bool in_range = depth > 0.0 && view_depth <= cascades.splits.w;
   int chosen = in_range && (CHECK_TILES == 0 || cascade_complete(cascade)) ? int(cascade) : 4;
   if (CHECK_TILES != 0)
     for (int k = in_range && chosen == 4 ? int(cascade) : 4; k < 4 && chosen == 4; ++k)
@@ -149,11 +137,12 @@ void main() {
   bool in_distant = depth > 0.0 && !in_cascades && level < 4;
   ShadowMap map;
   if (in_distant) {
-    map = ShadowMap(level, distant_from_world[level], distant_texel_metres[level], distant_depth_metres[level],
+    map = ShadowMap(level, distant.light_from_world[level], distant.texel_metres[level], distant.depth_metres[level],
                     distant_resolution);
   } else {
     int k = min(chosen, 3);
-    map = ShadowMap(k, light_from_world[k], texel_metres[k], depth_metres[k], light_direction.w);
+    map = ShadowMap(k, cascades.light_from_world[k], cascades.texel_metres[k], cascades.depth_metres[k],
+                    cascades.light_direction.w);
   }
   Receiver r = receiver_in(map, position, n);
   ivec2 base = ivec2(floor(r.at));
