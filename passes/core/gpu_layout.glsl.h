@@ -15,6 +15,11 @@
 // differ (std140/std430 against C++'s, where glm::vec4 aligns to 4 bytes), so the C++ side keeps a
 // static_assert on each struct's size and pads explicitly where GLSL would.
 //
+// Push constants are a field list too, in the pass's header: NC_PUSH_CONSTANTS(Name, FIELDS) is
+// the C++ struct, and the one shader that pushes them declares the block (another shader may
+// include the header: a stage has one push-constant block), members read unqualified:
+//   layout(push_constant) uniform Name { NC_BLOCK_MEMBERS(FIELDS) };
+//
 // A constant both sides read (a table's size, a workgroup's side) is NC_CONST(uint, kName, 16u):
 // a `const` in GLSL (array sizes and local_size_x take it), a constexpr in namespace nightcap.
 #ifndef NIGHTCAP_GPU_LAYOUT_GLSL_H
@@ -57,6 +62,13 @@ using mat4_type = glm::mat4;
   };                                       \
   }
 
+#define NC_PUSH_CONSTANTS(Name, FIELDS) NC_STRUCT(Name, FIELDS)
+
+namespace nightcap {
+// Workgroups of `side` invocations along an axis that cover `size` (the last may reach past it).
+constexpr uint32_t group_count(uint32_t size, uint32_t side) { return (size + side - 1) / side; }
+}  // namespace nightcap
+
 #define NC_SCHEMA_FIELD(type, name) .field(#name, &Layout::name)
 #define NC_SCHEMA_ARRAY(type, name, count) .field(#name, &Layout::name)
 #define NC_SCHEMA_PADDING(type, name)
@@ -76,6 +88,8 @@ using mat4_type = glm::mat4;
   struct Name {                            \
     FIELDS(NC_MEMBER, NC_ARRAY, NC_MEMBER) \
   };
+#define NC_PUSH_CONSTANTS(Name, FIELDS)
+#define NC_BLOCK_MEMBERS(FIELDS) FIELDS(NC_MEMBER, NC_ARRAY, NC_MEMBER)
 
 #endif
 

@@ -59,7 +59,4 @@ PassDecl tonemap_pass();
 // surface of a 16 km map, and finite.
 constexpr double kSkyDepth = 1e6;
 
-// exposure.histogram's bin count (passes/post/exposure.comp).
-constexpr uint32_t kExposureBins = 256;
-
 }  // namespace nightcap

@@ -53,15 +53,7 @@ layout(std430, set = 0, binding = 5) buffer StatsBlock { GpuClusterStats stats; 
 // Per block, a slot of block_slot() words: the count (kOverflow when the list did not fit), then
 // the list.
 layout(std430, set = 0, binding = 6) buffer BlockListBlock { uint block_lists[]; };
-
-layout(push_constant) uniform Params {
-  uint max_per_froxel;
-  uint max_indices;
-  int pyramid_level;  // the level of depth.pyramid whose texel covers a tile (or its last)
-  float max_distance;
-  uint tiles_x, tiles_y;
-  uint max_block_lights;
-};
+layout(push_constant) uniform ClusterConstants { NC_BLOCK_MEMBERS(NC_CLUSTER_CONSTANTS_FIELDS) };
 
 const uint kNone = 0u, kBounded = 1u, kEverywhere = 2u;
 const uint kOverflow = 0xffffffffu;

@@ -23,14 +23,6 @@
 namespace nightcap {
 namespace {
 
-struct ClusterConstants {
-  uint32_t max_per_froxel, max_indices;
-  int32_t pyramid_level;
-  float max_distance;
-  uint32_t tiles_x, tiles_y;
-  uint32_t max_block_lights;
-};
-
 // A parameter's value as given: 24 or 24.5, not 24.000000.
 std::string number(double value) {
   std::ostringstream out;
@@ -120,8 +112,8 @@ PassDecl lights_cluster_pass() {
         // each) and the tile a constant divisor, no loop bound read from memory. Each phase is
         // its own pipeline too: lavapipe runs every side of a branch, so a phase chosen by a push
         // constant would pay for the others' loops in every workgroup.
-        const uint32_t blocks_x = (tiles.width + kClusterBlock - 1) / kClusterBlock;
-        const uint32_t blocks_y = (tiles.height + kClusterBlock - 1) / kClusterBlock;
+        const uint32_t blocks_x = group_count(tiles.width, kClusterBlock);
+        const uint32_t blocks_y = group_count(tiles.height, kClusterBlock);
         for (int32_t phase = 0; phase < 4; ++phase) {
           ctx.bind_pipeline({int32_t(slices), int32_t(tile_size), phase});
           ctx.push_declared();

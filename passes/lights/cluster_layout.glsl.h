@@ -41,4 +41,15 @@ NC_CONST(uint, kClusterBlock, 4u)
   F(uint, slices)
 NC_STRUCT(GpuClusterStats, NC_GPU_CLUSTER_STATS_FIELDS)
 
+#define NC_CLUSTER_CONSTANTS_FIELDS(F, A, P)                               \
+  F(uint, max_per_froxel)                                                  \
+  F(uint, max_indices)                                                     \
+  /* the level of depth.pyramid whose texel covers a tile (or its last) */ \
+  F(int, pyramid_level)                                                    \
+  F(float, max_distance)                                                   \
+  F(uint, tiles_x)                                                         \
+  F(uint, tiles_y)                                                         \
+  F(uint, max_block_lights)
+NC_PUSH_CONSTANTS(ClusterConstants, NC_CLUSTER_CONSTANTS_FIELDS)
+
 #endif

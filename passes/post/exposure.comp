@@ -1,34 +1,25 @@
 #version 460
 // exposure, in three phases of one pass (each a dispatch, ordered by the pass's storage barrier):
 //   0: zero the histogram;
-//   1: count every pixel of the lit image into 256 bins of log2 luminance (integer atomics: the
-//      counts, hence everything after them, do not depend on execution order);
+//   1: count every pixel of the lit image into kExposureBins bins of log2 luminance (integer
+//      atomics: the counts, hence everything after them, do not depend on execution order);
 //   2: one workgroup takes the histogram's mean log2 luminance, adapts the previous frame's
 //      value toward it and writes exposure.value.
 #include "../frame/types.glsl"
+#include "exposure.glsl.h"
 
-layout(local_size_x = 16, local_size_y = 16) in;
+layout(local_size_x = kExposureGroupSide, local_size_y = kExposureGroupSide) in;
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
 layout(set = 0, binding = 1) uniform sampler2D lit_map;
 layout(set = 0, binding = 2) uniform sampler2D previous_exposure;
-layout(std430, set = 0, binding = 3) buffer Histogram { uint bins[256]; };
+layout(std430, set = 0, binding = 3) buffer Histogram { uint bins[kExposureBins]; };
 layout(set = 0, binding = 4, rgba32f) uniform writeonly image2D exposure_value;
+layout(push_constant) uniform ExposureConstants { NC_BLOCK_MEMBERS(NC_EXPOSURE_CONSTANTS_FIELDS) };
 
-layout(push_constant) uniform Params {
-  uint phase;
-  float log2_min, log2_max;  // the histogram's range; pixels outside count in the end bins
-  float key;                 // the luminance the adapted mean is mapped to; 0: chosen from it
-  float adapt_seconds;       // time constant of the adaptation; 0: instant
-  // Non-zero when every pixel of the lit image holds the same value: texel (0, 0) alone is
-  // counted, this many times (the pixel count), and phase 1 is one workgroup.
-  uint uniform_pixels;
-};
-
-const uint kBins = 256u;
-shared uint local_bins[kBins];
-shared float weighted[kBins];
-shared uint counted[kBins];
+shared uint local_bins[kExposureBins];
+shared float weighted[kExposureBins];
+shared uint counted[kExposureBins];
 
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
@@ -37,9 +28,9 @@ int bin_of(vec3 colour) {
   float l = luminance(colour);
   if (isnan(l)) return -1;
   if (l <= exp2(log2_min)) return 0;
-  if (isinf(l)) return int(kBins) - 1;
+  if (isinf(l)) return int(kExposureBins) - 1;
   float t = (log2(l) - log2_min) / (log2_max - log2_min);
-  return int(clamp(floor(t * float(kBins)), 0.0, float(kBins - 1u)));
+  return int(clamp(floor(t * float(kExposureBins)), 0.0, float(kExposureBins - 1u)));
 }
 
 void main() {
@@ -62,11 +53,11 @@ void main() {
     return;
   }
   // Phase 2: a tree sum in a fixed order, so the result is the same on every run.
-  float bin_width = (log2_max - log2_min) / float(kBins);
+  float bin_width = (log2_max - log2_min) / float(kExposureBins);
   counted[lane] = bins[lane];
   weighted[lane] = float(bins[lane]) * (log2_min + (float(lane) + 0.5) * bin_width);
   barrier();
-  for (uint stride = kBins / 2u; stride > 0u; stride /= 2u) {
+  for (uint stride = kExposureBins / 2u; stride > 0u; stride /= 2u) {
     if (lane < stride) {
       counted[lane] += counted[lane + stride];
       weighted[lane] += weighted[lane + stride];

@@ -1,5 +1,5 @@
-// exposure (frame.md section 7): auto-exposure from a 256-bin histogram of the lit image's log2
-// luminance, adapted toward the histogram's mean over frames (exponentially, with a time
+// exposure (frame.md section 7): auto-exposure from a histogram (kExposureBins bins) of the lit
+// image's log2 luminance, adapted toward the histogram's mean over frames (exponentially, with a time
 // constant in seconds) from the previous frame's value, a history input. exposure.value
 // (1×1 RGBA32F) holds x: the scale tonemap multiplies by, y: the adapted log2 luminance (the
 // history the next frame adapts from), z: this frame's measured mean log2 luminance. Its
@@ -11,18 +11,9 @@
 // Deviation from frame.md: it reads lighting.lit, the resolved colour until TAA exists.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
+#include "passes/post/exposure.glsl.h"
 
 namespace nightcap {
-namespace {
-
-struct ExposureConstants {
-  uint32_t phase;
-  float log2_min, log2_max, key, adapt_seconds;
-  uint32_t uniform_pixels;
-};
-
-}  // namespace
-
 PassDecl exposure_pass() {
   ImageDecl value{VK_FORMAT_R32G32B32A32_SFLOAT, ResourceKind::hdr_colour};
   value.size = {SizeRule::Mode::absolute, 1, 1, {}};
@@ -60,7 +51,8 @@ PassDecl exposure_pass() {
           constants.phase = phase;
           ctx.push_constants(constants);
           if (phase == 1 && !uniform)
-            vkCmdDispatch(ctx.cmd(), (lit.width + 15) / 16, (lit.height + 15) / 16, 1);
+            vkCmdDispatch(ctx.cmd(), group_count(lit.width, kExposureGroupSide),
+                          group_count(lit.height, kExposureGroupSide), 1);
           else
             vkCmdDispatch(ctx.cmd(), 1, 1, 1);
           if (phase < 2) ctx.storage_barrier();

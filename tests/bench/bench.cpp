@@ -52,6 +52,7 @@
 #include "passes/lighting/ltc/fit.h"
 #include "passes/lights/cluster_layout.h"
 #include "passes/normals/bfn_lut.h"
+#include "passes/post/exposure.glsl.h"
 #include "passes/scene/scene.h"
 #include "passes/scene/time_of_day.h"
 #include "passes/shadow/local_layout.h"

@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "passes/frame/frame_passes.h"
+#include "passes/post/exposure.glsl.h"
 
 namespace nightcap::reference {
 
