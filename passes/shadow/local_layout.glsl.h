@@ -37,4 +37,16 @@ NC_STRUCT(GpuLocalShadows, NC_GPU_LOCAL_SHADOWS_FIELDS)
   A(vec4, view_w, kLocalShadowSlices)
 NC_STRUCT(GpuLocalShadowViews, NC_GPU_LOCAL_SHADOW_VIEWS_FIELDS)
 
+// Texels on a side of the tile a workgroup of shadow.local_moments blurs and stores.
+NC_CONST(uint, kLocalMomentsTile, 16u)
+
+// shadow.local_moments' dispatch: its first layer and its first tile (a map computed again where
+// moving casters are).
+#define NC_LOCAL_MOMENTS_DISPATCH_FIELDS(F, A, P) \
+  F(uint, first_slice)                            \
+  F(uint, tile_x)                                 \
+  F(uint, tile_y)                                 \
+  P(uint, pad)
+NC_PUSH_CONSTANTS(LocalMomentsDispatch, NC_LOCAL_MOMENTS_DISPATCH_FIELDS)
+
 #endif

@@ -13,7 +13,7 @@
 // One RGBA16_UNORM resource for both rather than an R16G16_UNORM one beside it: a resource's
 // format is fixed by its declaration, and a second array would be bound, cleared and recorded
 // in every frame while only one is written; VSM pays for the two unused channels.
-// The blur is separable and done in one dispatch per map: a workgroup loads its 16×16 tile and
+// The blur is separable and done in one dispatch per map: a workgroup loads its kLocalMomentsTile² tile and
 // an r-texel apron into shared memory, sums rows, then columns. Linear t rather than the stored
 // perspective depth: the moments' variance only measures how far apart two surfaces are when
 // the depth is linear. Layers without a map hold the moments of t = 1 (nothing in front of the
@@ -39,15 +39,6 @@ using glm::vec4;
 #include "passes/shadow/local_moments.glsl"
 }  // namespace local_moments_glsl
 
-namespace {
-
-// Mirrored by local_moments.comp's push constants: the dispatch's first layer and first tile.
-struct MomentsDispatch {
-  uint32_t first_slice, tile_x, tile_y, pad;
-};
-
-}  // namespace
-
 PassDecl shadow_local_moments_pass() {
   ImageDecl moments{VK_FORMAT_R16G16B16A16_UNORM, ResourceKind::lookup_table};
   moments.size.mode = SizeRule::Mode::like;
@@ -63,12 +54,13 @@ PassDecl shadow_local_moments_pass() {
       .write("shadow.local_moments", Use::storage_write, moments)
       .param("blur_radius", 1, 0, kLocalShadowMaxBlur, "the box blur takes (2r + 1)² texels (0: none)")
       .needs("spot_lights")
-      .push_constants<MomentsDispatch>()
+      .push_constants<LocalMomentsDispatch>()
       .shader("shadow/local_moments.comp")
       .run([](PassContext& ctx) {
         const auto plan = host_records<LocalShadowPlan>(ctx.host("shadow.local_plan")).at(0);
         const int32_t moments = local_shadow_moments(ctx.host("shadow.local_data"), "shadow.local_moments");
-        const uint32_t side = ctx.desc("shadow.local_moments").extent.width, groups = (side + 15) / 16;
+        const uint32_t side = ctx.desc("shadow.local_moments").extent.width,
+                       groups = group_count(side, kLocalMomentsTile);
         // Maps whose moments the previous frame has but where moving casters are or were (the
         // plan says which): copied, then computed again over that part alone.
         const uint32_t maps = std::min(plan.maps, kLocalShadowSlices);
@@ -80,7 +72,7 @@ PassDecl shadow_local_moments_pass() {
           if (dispatched) ctx.storage_barrier();
           ctx.bind_pipeline({blur, moments});
           ctx.push_declared();
-          ctx.push_constants(MomentsDispatch{first, x0, y0, 0});
+          ctx.push_constants(LocalMomentsDispatch{first, x0, y0, 0});
           vkCmdDispatch(ctx.cmd(), x1 - x0, y1 - y0, layers);
           dispatched = true;
         };
@@ -103,7 +95,8 @@ PassDecl shadow_local_moments_pass() {
           };
           const int32_t x0 = texel(dirty.x, -blur - 1), x1 = texel(dirty.z, blur + 1);
           const int32_t y0 = texel(dirty.y, -blur - 1), y1 = texel(dirty.w, blur + 1);
-          dispatch(map, 1, uint32_t(x0) / 16, uint32_t(y0) / 16, uint32_t(x1) / 16 + 1, uint32_t(y1) / 16 + 1);
+          dispatch(map, 1, uint32_t(x0) / kLocalMomentsTile, uint32_t(y0) / kLocalMomentsTile,
+                   uint32_t(x1) / kLocalMomentsTile + 1, uint32_t(y1) / kLocalMomentsTile + 1);
         }
         // The others whole, a dispatch per run of consecutive maps.
         for (uint32_t first = 0; first < maps;) {
