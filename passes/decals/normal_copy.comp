@@ -1,7 +1,9 @@
 #version 460
 // decals.normal_copy: texel for texel. A 10-bit (and 2-bit) UNORM code loaded as code / 1023 and
 // stored back rounds to the same code, so the copy is exact; gbuffer.normal is only read.
-layout(local_size_x = 8, local_size_y = 8) in;
+#include "normal_copy.glsl.h"
+
+layout(local_size_x = kNormalCopyGroupSide, local_size_y = kNormalCopyGroupSide) in;
 
 layout(set = 0, binding = 0, rgb10_a2) uniform readonly image2D normal;
 layout(set = 0, binding = 1, rgb10_a2) uniform writeonly image2D normal_copy;

@@ -14,6 +14,7 @@
 // cleared, read by no pass that runs. Also skipped when gbuffer.normal is cleared (nothing
 // drawn), whose copy is the cleared decals.normal_copy.
 #include "passes/core/context.h"
+#include "passes/decals/normal_copy.glsl.h"
 #include "passes/frame/frame_passes.h"
 
 namespace nightcap {
@@ -32,7 +33,8 @@ PassDecl decals_normal_copy_pass() {
         ctx.bind_pipeline();
         ctx.push_declared();
         const ImageExtent size = ctx.desc("decals.normal_copy").extent;
-        vkCmdDispatch(ctx.cmd(), (size.width + 7) / 8, (size.height + 7) / 8, 1);
+        vkCmdDispatch(ctx.cmd(), group_count(size.width, kNormalCopyGroupSide),
+                      group_count(size.height, kNormalCopyGroupSide), 1);
       });
 }
 

@@ -5,8 +5,9 @@
 // one full column (row), so every full texel is converted exactly once.
 #include "../frame/half.glsl"
 #include "../frame/types.glsl"
+#include "convert.glsl.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = kDepthConvertGroupSide, local_size_y = kDepthConvertGroupSide) in;
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
 layout(set = 0, binding = 1) uniform sampler2D depth_map;

@@ -11,6 +11,7 @@
 // A compute pass writes all three: the full and half outputs have different sizes, which one
 // render pass cannot draw into.
 #include "passes/core/context.h"
+#include "passes/depth/convert.glsl.h"
 #include "passes/frame/frame_passes.h"
 
 namespace nightcap {
@@ -47,7 +48,8 @@ PassDecl depth_convert_pass() {
         ctx.push_declared();
         ctx.push_constants(float(ctx.param("sky_depth")));
         const ImageExtent half = ctx.desc("depth.half").extent;
-        vkCmdDispatch(ctx.cmd(), (half.width + 7) / 8, (half.height + 7) / 8, 1);
+        vkCmdDispatch(ctx.cmd(), group_count(half.width, kDepthConvertGroupSide),
+                      group_count(half.height, kDepthConvertGroupSide), 1);
       });
 }
 

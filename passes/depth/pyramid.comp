@@ -3,7 +3,9 @@
 // level being half the full size rounded up); later levels read the level above. Where the
 // level above has an odd size, its last row/column is folded into the last texel (a 3-wide
 // footprint) so no source texel is ever dropped: the pyramid stays conservative.
-layout(local_size_x = 8, local_size_y = 8) in;
+#include "pyramid.glsl.h"
+
+layout(local_size_x = kPyramidGroupSide, local_size_y = kPyramidGroupSide) in;
 
 layout(set = 0, binding = 0) uniform sampler2D linear_depth;
 layout(set = 0, binding = 1, rg32f) uniform readonly image2D source_level;

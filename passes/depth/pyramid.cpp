@@ -4,6 +4,7 @@
 // says never skipped; when depth.linear is cleared (the sky everywhere) the pyramid is too, and
 // its clear value is that sky.
 #include "passes/core/context.h"
+#include "passes/depth/pyramid.glsl.h"
 #include "passes/frame/frame_passes.h"
 
 namespace nightcap {
@@ -41,7 +42,8 @@ PassDecl depth_pyramid_pass() {
           params.from_linear = mip == 0;
           ctx.push_declared(mip);
           ctx.push_constants(params);
-          vkCmdDispatch(ctx.cmd(), (params.target[0] + 7) / 8, (params.target[1] + 7) / 8, 1);
+          vkCmdDispatch(ctx.cmd(), group_count(params.target[0], kPyramidGroupSide),
+                        group_count(params.target[1], kPyramidGroupSide), 1);
           ctx.storage_barrier();
         }
       });

@@ -4,13 +4,15 @@
 // texels around it into shared memory once, then dilates the rows and the columns of that tile
 // separately: 2r + 1 steps each per texel instead of (2r + 1)² texel fetches, which made the
 // dilation cost 30 times the fetches of radius 0 at radius 2 (1280×720 on lavapipe).
-layout(local_size_x = 16, local_size_y = 16) in;
+#include "stencil.glsl.h"
+
+layout(local_size_x = kMotionStencilTile, local_size_y = kMotionStencilTile) in;
 
 layout(set = 0, binding = 0) uniform usampler2D stencil_map;
 layout(set = 0, binding = 1, r8ui) uniform writeonly uimage2D motion_mask;
 layout(push_constant) uniform Params { int radius; };
 
-const int TILE = 16, MAX_RADIUS = 16, SPAN = TILE + 2 * MAX_RADIUS;  // MAX_RADIUS: the param's maximum
+const int TILE = int(kMotionStencilTile), MAX_RADIUS = 16, SPAN = TILE + 2 * MAX_RADIUS;  // MAX_RADIUS: the param's maximum
 
 // passes/scene/scene.h: the classes use bits 0xB5, so road (0x08) and vehicle (0x40) marks OR-ed
 // onto a class leave it recognisable.

@@ -11,6 +11,7 @@
 // clear value, 0; so it does when nothing was drawn (scene.depth cleared: no tag anywhere).
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
+#include "passes/motion/stencil.glsl.h"
 
 namespace nightcap {
 namespace {
@@ -43,7 +44,8 @@ PassDecl motion_stencil_pass() {
                            std::to_string(kMaxRadius) + ", the apron the shader's tile holds");
         ctx.push_constants(int32_t(radius));
         const ImageExtent full = ctx.desc("motion.mask").extent;
-        vkCmdDispatch(ctx.cmd(), (full.width + 15) / 16, (full.height + 15) / 16, 1);
+        vkCmdDispatch(ctx.cmd(), group_count(full.width, kMotionStencilTile),
+                      group_count(full.height, kMotionStencilTile), 1);
       });
 }
 

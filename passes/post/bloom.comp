@@ -1,14 +1,16 @@
 #version 460
 // One level of bloom.chain: the 2×2 box average of the level above (lighting.lit for level 0)
-// blurred by a separable Gaussian. A workgroup computes a 16×16 tile: it downsamples the tile
+// blurred by a separable Gaussian. A workgroup computes a kBloomTile² tile: it downsamples the tile
 // and an apron of MAX_RADIUS texels into shared memory, blurs the rows there, then blurs the
 // columns and stores — both 1D blurs of the separable filter in one dispatch, the intermediate
 // in float rather than rounded to a half. Edges clamp: outside the level, its border texel
 // repeats; a source of odd size repeats its last row and column in the box.
 #include "../frame/half.glsl"
 
-layout(local_size_x = 16, local_size_y = 16) in;
-const int TILE = 16;
+#include "bloom.glsl.h"
+
+layout(local_size_x = kBloomTile, local_size_y = kBloomTile) in;
+const int TILE = int(kBloomTile);
 const int MAX_RADIUS = 8;
 const int SPAN = TILE + 2 * MAX_RADIUS;
 

@@ -11,6 +11,7 @@
 
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
+#include "passes/post/bloom.glsl.h"
 
 namespace nightcap {
 namespace {
@@ -94,7 +95,8 @@ PassDecl bloom_level_pass(uint32_t level) {
             constants(ctx.param("sigma"), ctx.desc(source).extent, source_mip, ctx.desc("bloom.chain").extent, level);
         ctx.push_declared();
         ctx.push_constants(c);
-        vkCmdDispatch(ctx.cmd(), (c.target_size[0] + 15) / 16, (c.target_size[1] + 15) / 16, 1);
+        vkCmdDispatch(ctx.cmd(), group_count(c.target_size[0], kBloomTile), group_count(c.target_size[1], kBloomTile),
+                      1);
       });
 }
 

@@ -15,8 +15,9 @@
 // (free, frame.md).
 #include "../frame/types.glsl"
 #include "shadow_layout.glsl.h"
+#include "sun_resolve.glsl.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = kSunResolveGroupSide, local_size_y = kSunResolveGroupSide) in;
 layout(constant_id = 0) const int FILTER_RADIUS = 1;
 // 0 when every cascade's every tile is complete (shadow.sun_resolve.cpp reads shadow.cull_stats):
 // the search for a cascade that holds a pixel is then compiled out.
@@ -31,10 +32,7 @@ layout(std140, set = 0, binding = 5) uniform DistantBlock { GpuDistantLevels dis
 layout(set = 0, binding = 6) uniform sampler2DArray distant_maps;
 layout(set = 0, binding = 7, rg8) uniform writeonly image2D sun_out;
 
-layout(push_constant) uniform Params {
-  float depth_bias;  // texels
-  float max_slope;   // metres of light depth per metre across, at most (a receiver nearly edge-on)
-};
+layout(push_constant) uniform ResolveConstants { NC_BLOCK_MEMBERS(NC_SUN_RESOLVE_CONSTANTS_FIELDS) };
 
 // Where a pixel reads its shadow: a layer of the cascades or of the distant levels, its
 // projection, a texel's side and the light depth [0, 1] spans in metres, texels per side.

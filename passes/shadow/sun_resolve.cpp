@@ -15,16 +15,9 @@
 #include "passes/frame/scene_resources.h"
 #include "passes/shadow/light_tiles.h"
 #include "passes/shadow/shadow_layout.h"
+#include "passes/shadow/sun_resolve.glsl.h"
 
 namespace nightcap {
-
-namespace {
-
-struct ResolveConstants {
-  float depth_bias, max_slope;
-};
-
-}  // namespace
 
 PassDecl shadow_sun_resolve_pass() {
   ImageDecl sun{VK_FORMAT_R8G8_UNORM, ResourceKind::mask};
@@ -64,7 +57,8 @@ PassDecl shadow_sun_resolve_pass() {
         ctx.bind_pipeline({int32_t(ctx.param("filter_radius")), check_tiles});
         ctx.push_declared();
         ctx.push_constants(constants);
-        vkCmdDispatch(ctx.cmd(), (size.width + 7) / 8, (size.height + 7) / 8, 1);
+        vkCmdDispatch(ctx.cmd(), group_count(size.width, kSunResolveGroupSide),
+                      group_count(size.height, kSunResolveGroupSide), 1);
       });
 }
 
