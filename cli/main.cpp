@@ -161,8 +161,7 @@ int run_render(const RenderFlags& flags) {
   }
   if (!flags.record.empty())
     std::tie(settings.first_recorded, settings.last_recorded) = parse_frame_range(flags.record, frames);
-  for (const std::string& s : flags.sets) nc::parse_set(s, settings.params);
-  nc::validate_params(nc::frame_passes(), settings.params);
+  for (const std::string& s : flags.sets) nc::parse_set(nc::frame_passes(), s, settings.params);
   for (const std::string& text : flags.inject_nan) settings.inject_nan.push_back(nc::parse_inject_nan(text));
   nc::validate_nan_requests(nc::frame_passes(), settings.inject_nan, settings.width, settings.height);
   if (!orbit.empty()) {
@@ -290,7 +289,7 @@ int run_replay(const std::string& path, uint32_t frame, const std::vector<std::s
   options.frame = frame;
   options.passes = pass_names;
   options.chain = chain;
-  for (const std::string& s : sets) nc::parse_set(s, options.params);
+  for (const std::string& s : sets) nc::parse_set(nc::all_passes(), s, options.params);
   for (const std::string& s : shaders) {
     const size_t eq = s.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == s.size())

@@ -16,6 +16,7 @@
 #include "inspect/pixel_history.h"
 #include "inspect/stats.h"
 #include "inspect/visualise.h"
+#include "passes/frame/frame_passes.h"
 #include "passes/frame/renderer.h"
 #include "passes/lights/cluster_layout.h"
 #include "replay/replay.h"
@@ -923,8 +924,15 @@ class Runner {
     ReplayOptions options;
     options.frame = session_.frame().index;
     options.passes = {pass.name};
-    if (args.has("--set"))
-      for (const std::string& set : args.options.at("--set")) parse_set(pass.name + "." + set, options.params);
+    if (args.has("--set")) {
+      // NAME=VALUE of this pass: a parameter it shares with a group is set as the group's.
+      const std::vector<PassDecl> passes = all_passes();
+      const PassDecl* decl = find_pass(passes, pass.name);
+      for (const std::string& set : args.options.at("--set")) {
+        const ParamDecl* param = decl ? decl->find_param(set.substr(0, set.find('='))) : nullptr;
+        parse_set(passes, (param ? override_key(*decl, *param) : pass.name) + "." + set, options.params);
+      }
+    }
     if (args.has("--shader")) {
       if (args.options.at("--shader").size() > 1) throw InspectError("replay: one --shader at a time");
       options.shader_files[pass.name] = args.options.at("--shader")[0];

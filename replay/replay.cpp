@@ -152,7 +152,7 @@ bool ReplayReport::any_different() const {
 ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const ReplayOptions& options) {
   const FrameRecord& frame = capture.frame(options.frame);
   const std::vector<PassDecl> passes = all_passes();
-  validate_params(passes, options.params);
+  check_overrides(passes, options.params);
   for (const std::string& name : options.passes) {
     bool found = false;
     for (const PassRecord& p : frame.passes) found |= p.name == name;
@@ -198,9 +198,11 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
 
     const std::map<std::string, IsolatedInput> inputs =
         recorded_inputs(capture, record, options.chain ? replayed_by_recorded_hash : BytesByHash{});
-    ParamValues params = record.params;
-    if (auto it = options.params.find(record.name); it != options.params.end())
-      for (const auto& [k, v] : it->second) params[k] = v;
+    // The recorded values, and --set's over them.
+    ParamOverrides overrides = overrides_of(*decl, record.params);
+    for (const auto& [key, values] : options.params)
+      for (const auto& [name, value] : values) overrides[key][name] = value;
+    const ParamValues params = resolve_params(*decl, overrides);
     std::optional<ShaderOverride> override;
     if (auto it = options.shader_files.find(record.name); it != options.shader_files.end()) {
       override = ShaderOverride{extension(it->second), compile_glsl(it->second, read_text(it->second))};

@@ -18,7 +18,7 @@ namespace nightcap {
 struct ReplayOptions {
   uint32_t frame = 0;
   std::vector<std::string> passes;                  // empty: every pass that ran
-  std::map<std::string, ParamValues> params;        // overrides of recorded parameters
+  ParamOverrides params;                            // overrides of recorded parameters (--set)
   std::map<std::string, std::string> shader_files;  // pass -> GLSL file replacing its shader of that stage
   bool chain = false;  // feed replayed outputs to later passes instead of the recorded ones
 };

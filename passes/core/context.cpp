@@ -16,14 +16,24 @@ void record_state(nlohmann::json& list, nlohmann::json state) {
 
 }  // namespace
 
-PassContext::PassContext(Shared& shared, const CompiledPass& pass, const ParamValues& params)
-    : shared_(shared), pass_(pass), params_(params) {}
+PassContext::PassContext(Shared& shared, const CompiledPass& pass) : shared_(shared), pass_(pass) {}
 
-double PassContext::param(const std::string& name) const {
-  auto it = params_.find(name);
-  if (it == params_.end()) throw GraphError(pass() + ": reads undeclared parameter '" + name + "'");
-  return it->second;
+double PassContext::param_value(const std::string& name, std::initializer_list<ParamType> types) const {
+  const ParamDecl* param = pass_.decl->find_param(name);
+  if (!param) throw GraphError(pass() + ": reads undeclared parameter '" + name + "'");
+  if (std::find(types.begin(), types.end(), param->type) == types.end())
+    throw GraphError(pass() + ": reads " + type_name(param->type) + " parameter '" + name + "' as " +
+                     type_name(*types.begin()));
+  return pass_.params.at(name);
 }
+
+double PassContext::param_float(const std::string& name) const { return param_value(name, {ParamType::real}); }
+
+int64_t PassContext::param_int(const std::string& name) const {
+  return int64_t(param_value(name, {ParamType::integer, ParamType::choice}));
+}
+
+bool PassContext::flag(const std::string& name) const { return param_value(name, {ParamType::boolean}) != 0; }
 
 const BoundUse* PassContext::find_use(const std::string& resource) const {
   for (const BoundUse& u : pass_.outputs)

@@ -6,6 +6,7 @@
 
 #include <cstring>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <optional>
@@ -26,11 +27,15 @@ namespace nightcap {
 class PassContext {
  public:
   struct Shared;  // executor state the context reaches into
-  PassContext(Shared& shared, const CompiledPass& pass, const ParamValues& params);
+  PassContext(Shared& shared, const CompiledPass& pass);
 
   const std::string& pass() const { return pass_.decl->name; }
   const PassDecl& declaration() const { return *pass_.decl; }
-  double param(const std::string& name) const;
+  // The pass's parameters by type, as compile_graph resolved them; reading one the pass did not
+  // declare, or as another type, throws GraphError.
+  double param_float(const std::string& name) const;
+  int64_t param_int(const std::string& name) const;  // an int, or an enum's value
+  bool flag(const std::string& name) const;
   // Whether input `resource` holds one value at every texel, as the graph knows before the frame
   // runs (a skipped or folded writer): a pass may then take a cheaper path to the same bits. A
   // replay does not know it, so replay --verify checks that path against the general one.
@@ -119,6 +124,7 @@ class PassContext {
 
  private:
   const BoundUse* find_use(const std::string& resource) const;
+  double param_value(const std::string& name, std::initializer_list<ParamType> types) const;
   // The buffer holding `bytes` of indirect arguments at `offset`; throws unless declared so.
   VkBuffer indirect_args(const std::string& resource, uint64_t offset, uint64_t bytes) const;
   // Throws unless the pass declared a use of every subresource the view selects, in a use that
@@ -126,7 +132,6 @@ class PassContext {
   void check_declared(const std::string& resource, int mip, int layer, VkImageLayout layout) const;
   Shared& shared_;
   const CompiledPass& pass_;
-  const ParamValues& params_;
   std::set<std::pair<std::string, uint32_t>> copied_layers_;  // (resource, layer) filled by copy_layer
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipelineBindPoint bind_point_ = VK_PIPELINE_BIND_POINT_GRAPHICS;

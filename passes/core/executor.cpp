@@ -233,15 +233,13 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
   for (CompiledPass& pass : graph.passes)
     for (BoundUse& in : pass.inputs)
       if (host_pooled.count(in.resource)) in.desc = graph.resources.at(in.resource);
-  auto params_of = [&](const PassDecl& decl) { return decl.params_with(options.params); };
   // Runs a CPU pass whose inputs are on the host; its outputs become host data.
   auto run_cpu_pass = [&](size_t i) {
     CompiledPass& pass = graph.passes[i];
     PassExecution& exec = result.passes[i];
     shared.cpu_outputs.clear();
     if (pass.runs) {
-      const ParamValues params = params_of(*pass.decl);
-      PassContext ctx(shared, pass, params);
+      PassContext ctx(shared, pass);
       auto start = std::chrono::steady_clock::now();
       pass.decl->execute(ctx);
       exec.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -522,7 +520,7 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
       const auto& keep = graph.settings.keep;
       if (pass.runs && !pass.decl->cleared_skips.empty() &&
           std::find(keep.begin(), keep.end(), pass.decl->name) == keep.end())
-        if (const auto* skip = pass.decl->cleared_skip(cleared, params_of(*pass.decl))) {
+        if (const auto* skip = pass.decl->cleared_skip(cleared, pass.params)) {
           pass.runs = false;
           // Cleared outputs are not what it computes: nothing for a replay to check.
           pass.inputs_known = !pass.clears_if_skipped;
@@ -546,8 +544,7 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
         gpu.begin_label(shared.cmd, pass.decl->name);
         vkCmdWriteTimestamp2(shared.cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, cleanup.queries,
                              static_cast<uint32_t>(2 * i));
-        const ParamValues params = params_of(*pass.decl);
-        PassContext ctx(shared, pass, params);
+        PassContext ctx(shared, pass);
         pass.decl->execute(ctx);
         vkCmdWriteTimestamp2(shared.cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, cleanup.queries,
                              static_cast<uint32_t>(2 * i + 1));

@@ -25,7 +25,6 @@ class HistoryPool;
 struct VersionData;
 
 struct ExecutionOptions {
-  std::map<std::string, ParamValues> params;  // per pass; missing ones take their defaults
   ShaderProvider shaders;
   std::string name;  // of the command buffer, for debuggers; empty: "frame <graph frame index>"
   // Where previous(name) inputs that are not imported come from, and where this frame's values

@@ -2,12 +2,10 @@
 
 #include <algorithm>
 #include <bit>
-#include <cmath>
 #include <limits>
 #include <map>
 #include <queue>
 #include <set>
-#include <sstream>
 
 namespace nightcap {
 namespace {
@@ -17,23 +15,27 @@ struct Version {
   ResourceDesc desc;
 };
 
-// A size a pass's parameter gives (SizeRule::tile_param and square_param, ImageDecl::depth_param): a whole number
-// of at least 1.
-uint32_t size_from_param(const ParamValues& params, const std::string& param, const std::string& what) {
-  auto it = params.find(param);
-  if (it == params.end()) throw GraphError(what + " is sized by '" + param + "', which the pass does not declare");
-  const double value = it->second;
-  if (!(value >= 1 && value <= double(std::numeric_limits<uint32_t>::max()) && value == std::floor(value))) {
-    std::ostringstream message;
-    message << what << ": " << param << " " << value << " is not a size (a whole number from 1)";
-    throw GraphError(message.str());
-  }
-  return uint32_t(value);
+// A size a pass's parameter gives (SizeRule::tile_param and square_param, ImageDecl::depth_param):
+// the parameter is declared an int from 1, or an enum of such values, so its checked value is one.
+uint32_t size_from_param(const PassDecl& pass, const ParamValues& params, const std::string& param,
+                         const std::string& what) {
+  const ParamDecl* decl = pass.find_param(param);
+  if (!decl) throw GraphError(what + " is sized by '" + param + "', which the pass does not declare");
+  auto is_size = [](double value) { return value >= 1 && value <= double(std::numeric_limits<uint32_t>::max()); };
+  const bool sizes =
+      decl->type == ParamType::integer
+          ? is_size(decl->min) && is_size(decl->max)
+          : decl->type == ParamType::choice && std::all_of(decl->choices.begin(), decl->choices.end(),
+                                                           [&](const ParamChoice& c) { return is_size(c.value); });
+  if (!sizes)
+    throw GraphError(what + " is sized by '" + param + "', which is not an int from 1 (or an enum of such values)");
+  return uint32_t(params.at(param));
 }
 
 ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
-                     const std::map<std::string, ResourceDesc>& known, const std::string& pass,
+                     const std::map<std::string, ResourceDesc>& known, const PassDecl& decl,
                      const ParamValues& params) {
+  const std::string& pass = decl.name;
   ResourceDesc desc;
   if (out.is_buffer) {
     desc.is_buffer = true;
@@ -57,9 +59,9 @@ ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
       desc.extent.height = (settings.height + 1) / 2;
       break;
     case SizeRule::Mode::output_tiles: {
-      const uint32_t tile = d.size.tile_param.empty()
-                                ? d.size.tile
-                                : size_from_param(params, d.size.tile_param, pass + ": output '" + out.resource + "'");
+      const uint32_t tile = d.size.tile_param.empty() ? d.size.tile
+                                                      : size_from_param(decl, params, d.size.tile_param,
+                                                                        pass + ": output '" + out.resource + "'");
       if (tile == 0) throw GraphError(pass + ": output '" + out.resource + "' has tiles of 0 pixels");
       desc.extent.width = (settings.width + tile - 1) / tile;
       desc.extent.height = (settings.height + tile - 1) / tile;
@@ -79,11 +81,11 @@ ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
     }
     case SizeRule::Mode::square_param:
       desc.extent.width = desc.extent.height =
-          size_from_param(params, d.size.param, pass + ": output '" + out.resource + "'");
+          size_from_param(decl, params, d.size.param, pass + ": output '" + out.resource + "'");
       break;
   }
   const std::string what = pass + ": output '" + out.resource + "'";
-  const uint32_t depth = d.depth_param.empty() ? d.depth : size_from_param(params, d.depth_param, what);
+  const uint32_t depth = d.depth_param.empty() ? d.depth : size_from_param(decl, params, d.depth_param, what);
   if (d.layers == 0 || depth == 0) throw GraphError(what + " has no layers or no depth");
   if (depth > 1 && d.layers > 1) throw GraphError(what + " is 3D and layered: Vulkan has no 3D arrays");
   if (d.cube && (d.layers % 6 != 0 || desc.extent.width != desc.extent.height))
@@ -283,6 +285,7 @@ uint32_t full_mip_count(uint32_t width, uint32_t height) {
 
 CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
                             const GraphSettings& settings) {
+  check_overrides(passes, settings.params);
   const int n = static_cast<int>(passes.size());
   // Who writes what: fresh writer first, then modifiers in declaration order.
   std::map<std::string, int> fresh_writer;
@@ -482,6 +485,7 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
     const PassDecl& decl = passes[i];
     CompiledPass compiled;
     compiled.decl = &decl;
+    compiled.params = resolve_params(decl, settings.params);
     compiled.clears_if_skipped = clears_if_skipped[i];
     position[i] = static_cast<int>(graph.passes.size());
     if (!needed[i]) {
@@ -498,20 +502,16 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
           compiled.reason = "scene has no " + f;
           break;
         }
-      if (compiled.runs && !decl.disabled_reason.empty()) {
-        auto params = settings.params.find(decl.disable_switch);
-        if (params != settings.params.end() && params->second.count("enabled") && params->second.at("enabled") == 0) {
-          compiled.runs = false;
-          compiled.reason = decl.disabled_reason + " (" + decl.disable_switch + ".enabled=0)";
-        }
+      if (compiled.runs && !decl.disabled_reason.empty() && compiled.params.at("enabled") == 0) {
+        compiled.runs = false;
+        compiled.reason = decl.disabled_reason + " (" + override_key(decl, *decl.find_param("enabled")) + ".enabled=0)";
       }
       if (compiled.runs && decl.skip_if) {
         compiled.reason = decl.skip_if(frame);
         compiled.runs = compiled.reason.empty();
       }
-      const ParamValues params = decl.params_with(settings.params);
       if (compiled.runs && !decl.cleared_skips.empty())
-        if (const auto* skip = decl.cleared_skip(cleared_resources(decl, known, graph.resources), params)) {
+        if (const auto* skip = decl.cleared_skip(cleared_resources(decl, known, graph.resources), compiled.params)) {
           compiled.runs = false;
           compiled.inputs_known = true;
           compiled.reason = skip->reason();
@@ -521,7 +521,7 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
                                         [&](const NanInjection& nan) { return nan.pass == decl.name; });
       if (compiled.runs && !injected)
         for (const PassDecl::UniformFold& fold : decl.uniform_folds)
-          if (auto values = folded_outputs(decl, fold, known, graph.resources, params)) {
+          if (auto values = folded_outputs(decl, fold, known, graph.resources, compiled.params)) {
             compiled.runs = false;
             compiled.inputs_known = true;
             compiled.reason = fold.reason();
@@ -563,7 +563,7 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
           if (!read) compiled.inputs.push_back(bound);
           bound.producer = -1;
         } else {
-          bound.desc = resolve(out, settings, graph.resources, decl.name, decl.params_with(settings.params));
+          bound.desc = resolve(out, settings, graph.resources, decl, compiled.params);
           graph.resources[out.resource] = bound.desc;
         }
         compiled.outputs.push_back(bound);

@@ -39,7 +39,7 @@ struct GraphSettings {
   std::vector<std::string> sinks = {"final.ldr"};  // resources the frame must produce
   // Passes to run even when nothing consumes them and their skip conditions hold (replay).
   std::vector<std::string> keep;
-  std::map<std::string, ParamValues> params;  // per pass: the `enabled` of can_disable, sizes by parameter
+  ParamOverrides params;  // --set and the like: every pass's values are resolved from them (CompiledPass::params)
   // Copies to the host: every version a pass writes (a capture), and the last version of these.
   bool capture = false;
   std::set<std::string> readback;
@@ -141,6 +141,9 @@ struct CompiledPass {
   // Its inputs that are uniform, with a value known before the frame (PassContext::uniform).
   std::set<std::string> uniform_inputs;
   bool culled = false;  // not needed at all: nothing of it is allocated or executed
+  // Every parameter it declares, its default or override, checked: what it runs with and the
+  // capture records.
+  ParamValues params;
   std::vector<BoundUse> inputs, outputs;
   PassSync sync;  // GPU passes that are not culled
 };
@@ -174,7 +177,8 @@ struct CompiledGraph {
 // subresource range outside its image (or on a buffer), one pass using a subresource in two
 // layouts, a 3D array or a cube that is not square with a multiple of 6 layers; and for a NaN
 // injection whose pass is unknown or does not run (or runs on the CPU), whose resource is not a
-// float colour image the pass writes, or whose texel is outside the resource.
+// float colour image the pass writes, or whose texel is outside the resource; and for parameters
+// as check_overrides and resolve_params say (passes/core/params.h).
 CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
                             const GraphSettings& settings);
 

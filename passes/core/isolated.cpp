@@ -18,14 +18,12 @@ IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& p
   settings.height = height;
   settings.sinks = {};
   settings.keep = {pass.name};
-  settings.params[pass.name] = params;  // outputs the pass sizes by a parameter
+  settings.params = overrides_of(pass, params);
   settings.capture = true;
   settings.nan_injections = nan_injections;
-  settings.params[pass.name] = params;  // an output may be sized by a parameter
   const std::vector<PassDecl> single{pass};
   run.graph = compile_graph(single, imports, settings);
   ExecutionOptions options;
-  options.params[pass.name] = params;
   options.shaders = shaders;
   options.name = "isolated " + pass.name;
   run.execution = execute_graph(gpu, cache, run.graph, bytes, options);

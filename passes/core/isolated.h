@@ -23,8 +23,9 @@ struct IsolatedRun {
   std::map<std::string, ResourceDesc> output_descs;
 };
 
-// Runs `pass` (whatever its skip conditions say) at output size width×height, then writes the
-// NaNs of `nan_injections` (those a capture recorded for it) as the render did.
+// Runs `pass` (whatever its skip conditions say) at output size width×height with `params`
+// (some or all of its parameters; the rest take their defaults), then writes the NaNs of `nan_injections` (those a
+// capture recorded for it) as the render did.
 IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& pass,
                          const std::map<std::string, IsolatedInput>& inputs, const ParamValues& params, uint32_t width,
                          uint32_t height, const ShaderProvider& shaders,

@@ -79,17 +79,32 @@ PassDecl& PassDecl::read_previous(std::string resource, Use use) {
 
 PassDecl& PassDecl::can_disable(std::string reason, std::string group) {
   disabled_reason = std::move(reason);
-  if (!group.empty() && group != name) {
-    disable_switch = std::move(group);
-    return *this;
-  }
-  disable_switch = name;
-  return param("enabled", 1.0, 0.0, 1.0, "0 skips the pass (" + disabled_reason + ")");
+  ParamDecl enabled = ParamDecl::boolean("enabled", true, "0 skips the pass (" + disabled_reason + ")");
+  return param(group.empty() || group == name ? std::move(enabled) : std::move(enabled).shared_by(std::move(group)));
 }
 
-PassDecl& PassDecl::param(std::string param_name, double default_value, double min, double max, std::string help) {
-  params.push_back({std::move(param_name), default_value, min, max, std::move(help)});
+PassDecl& PassDecl::param(ParamDecl decl) {
+  if (find_param(decl.name)) throw std::logic_error(name + ": parameter '" + decl.name + "' declared twice");
+  params.push_back(std::move(decl));
   return *this;
+}
+
+PassDecl& PassDecl::param_float(std::string param_name, double default_value, double min, double max,
+                                std::string help) {
+  return param(ParamDecl::real(std::move(param_name), default_value, min, max, std::move(help)));
+}
+
+PassDecl& PassDecl::param_int(std::string param_name, double default_value, double min, double max, std::string help) {
+  return param(ParamDecl::integer(std::move(param_name), default_value, min, max, std::move(help)));
+}
+
+PassDecl& PassDecl::flag(std::string param_name, bool default_value, std::string help) {
+  return param(ParamDecl::boolean(std::move(param_name), default_value, std::move(help)));
+}
+
+PassDecl& PassDecl::choice(std::string param_name, double default_value, std::vector<ParamChoice> choices,
+                           std::string help) {
+  return param(ParamDecl::choice(std::move(param_name), default_value, std::move(choices), std::move(help)));
 }
 
 PassDecl& PassDecl::needs(std::string feature) {
@@ -260,18 +275,7 @@ PassDecl& PassDecl::fullscreen(std::string fragment) {
   return *this;
 }
 
-ParamValues PassDecl::default_params() const {
-  ParamValues values;
-  for (const ParamDecl& p : params) values[p.name] = p.default_value;
-  return values;
-}
-
-ParamValues PassDecl::params_with(const std::map<std::string, ParamValues>& overrides) const {
-  ParamValues values = default_params();
-  if (auto it = overrides.find(name); it != overrides.end())
-    for (const auto& [k, v] : it->second) values[k] = v;
-  return values;
-}
+ParamValues PassDecl::default_params() const { return resolve_params(*this, {}); }
 
 const ParamDecl* PassDecl::find_param(const std::string& param_name) const {
   for (const ParamDecl& p : params)

@@ -19,6 +19,7 @@
 #include "passes/core/contract.h"
 #include "passes/core/format.h"
 #include "passes/core/history_name.h"
+#include "passes/core/params.h"
 #include "passes/core/pipeline_state.h"
 #include "passes/scene/scene.h"
 
@@ -44,7 +45,6 @@ enum class Use {
 // The aspect of an image a view shows: natural is the depth of a depth format, else the colour.
 enum class ViewAspect { natural, depth, stencil };
 
-using ParamValues = std::map<std::string, double>;
 // Resources each holding one value at every texel (or, for a buffer, a zero fill), by name.
 using UniformValues = std::map<std::string, VkClearValue>;
 // Whether two values of an image of `format` are the same bits (a depth format compares depth and stencil).
@@ -134,12 +134,6 @@ struct ResourceUse {
   std::vector<int> level_mips;
 };
 
-struct ParamDecl {
-  std::string name;
-  double default_value = 0.0, min = 0.0, max = 0.0;
-  std::string help;
-};
-
 // What a skip condition may look at: the scene's features and the frame.
 struct SkipContext {
   std::set<std::string> features;
@@ -185,7 +179,6 @@ struct PassDecl {
   };
   std::vector<OutputWarning> warnings;
   std::string disabled_reason;  // set by can_disable: the skip reason when `enabled` is 0
-  std::string disable_switch;   // set by can_disable: whose `enabled` (this pass, or its group)
 
   PassDecl(std::string pass_name, PassType pass_type) : name(std::move(pass_name)), type(pass_type) {}
   PassDecl& read(std::string resource, Use use);
@@ -203,11 +196,16 @@ struct PassDecl {
   // frame 0, after a camera cut or a resize it is the resource's declared clear value. The
   // resource's writer runs whenever this pass does, so the next frame has its history.
   PassDecl& read_previous(std::string resource, Use use);
-  // A parameter `enabled` (default 1): at 0 the pass is skipped with `reason`, e.g. "fixed exposure".
-  // Passes that carry out one pass of frame.md in steps share one switch, named by `group`
-  // (bloom.level0…5: `--set bloom.enabled=0`); the parameter then belongs to the group.
+  // A bool parameter `enabled` (default true): false skips the pass with `reason`, e.g. "fixed
+  // exposure". Passes that carry out one pass of frame.md in steps share one switch, a parameter
+  // of `group` (bloom.level0…5: `--set bloom.enabled=0`).
   PassDecl& can_disable(std::string reason, std::string group = "");
-  PassDecl& param(std::string param_name, double default_value, double min, double max, std::string help);
+  // Parameters (passes/core/params.h), read by PassContext::param_float, param_int and flag.
+  PassDecl& param(ParamDecl decl);
+  PassDecl& param_float(std::string param_name, double default_value, double min, double max, std::string help);
+  PassDecl& param_int(std::string param_name, double default_value, double min, double max, std::string help);
+  PassDecl& flag(std::string param_name, bool default_value, std::string help);
+  PassDecl& choice(std::string param_name, double default_value, std::vector<ParamChoice> choices, std::string help);
   PassDecl& needs(std::string feature);
   PassDecl& shader(std::string path);
   // Descriptor set 0 binds the inputs, then the outputs, in declaration order, one binding
@@ -274,9 +272,7 @@ struct PassDecl {
   template <typename MakeConstants>
   PassDecl& fullscreen(std::string fragment, MakeConstants make_constants);
 
-  ParamValues default_params() const;
-  // Its defaults, with this pass's entry of `overrides` (per pass name) applied over them.
-  ParamValues params_with(const std::map<std::string, ParamValues>& overrides) const;
+  ParamValues default_params() const;  // resolve_params with no overrides
   const ParamDecl* find_param(const std::string& param_name) const;
   const ComparisonContract& contract_of(const std::string& output) const;
   const BufferSchema* schema_of(const std::string& output) const;

@@ -150,8 +150,8 @@ class Culler {
         decals_(host_view<DecalRecord>(ctx.host("scene.decals"))),
         geometry_(ctx.host("scene.geometry")),
         hierarchy_(Hierarchy::parse(ctx.host("scene.hierarchy"), instances_.size())),
-        keep_outside_(ctx.param("frustum") == 0.0),
-        keep_hidden_(ctx.param("occlusion") == 0.0) {
+        keep_outside_(!ctx.flag("frustum")),
+        keep_hidden_(!ctx.flag("occlusion")) {
     std::memcpy(&world_[0][0], camera_.world, sizeof(camera_.world));
     eye_ = glm::dvec3(world_[3]);
     if (!(camera_.width > 0 && camera_.height > 0)) throw GraphError("cull.main: frame.camera has no size");
@@ -273,7 +273,7 @@ class Culler {
   // distance, found best-first: a node's bound is its own squared diagonal over its squared
   // distance, which no instance inside it can beat.
   void choose_occluders() {
-    const size_t budget = size_t(ctx_.param("occluders"));
+    const size_t budget = size_t(ctx_.param_int("occluders"));
     if (budget == 0 || hierarchy_.static_order.empty()) return;
     auto bound = [&](uint32_t n) {
       const HierarchyNode& node = hierarchy_.nodes[n];
@@ -324,7 +324,7 @@ class Culler {
   }
 
   void rasterise_occluders() {
-    const uint32_t width = uint32_t(ctx_.param("occlusion_width"));
+    const uint32_t width = uint32_t(ctx_.param_int("occlusion_width"));
     const uint32_t height = std::max(1u, uint32_t(std::lround(double(width) * camera_.height / camera_.width)));
     buffer_.emplace(width, height);
     for (const Drawn& d : chosen_) {
@@ -594,11 +594,12 @@ PassDecl cull_main_pass() {
       .layout("draws.decals.mesh", draw_schema())
       .layout("draws.decals.projected", decal_schema())
       .layout("cull.stats", cull_stats_schema())
-      .param("frustum", 1, 0, 1, "1: drop instances outside the view frustum")
-      .param("occlusion", 1, 0, 1, "1: drop instances hidden behind the occluders")
-      .param("occluders", 64, 0, 4096,
-             "how many of the largest nearby opaque instances occlude (and depth.prepass draws)")
-      .param("occlusion_width", 256, 8, 2048, "width of the CPU occlusion buffer in cells (height follows the aspect)")
+      .flag("frustum", true, "1: drop instances outside the view frustum")
+      .flag("occlusion", true, "1: drop instances hidden behind the occluders")
+      .param_int("occluders", 64, 0, 4096,
+                 "how many of the largest nearby opaque instances occlude (and depth.prepass draws)")
+      .param_int("occlusion_width", 256, 8, 2048,
+                 "width of the CPU occlusion buffer in cells (height follows the aspect)")
       .run([](PassContext& ctx) { Culler(ctx).run(); });
 }
 

@@ -31,7 +31,8 @@ PassDecl depth_convert_pass() {
       .write("depth.linear", Use::storage_write, linear)
       .write("depth.half", Use::storage_write, half_depth)
       .write("stencil.half", Use::storage_write, half_stencil)
-      .param("sky_depth", kSkyDepth, 1.0, 3e38, "linear depth written where nothing was drawn (finite, so no Inf)")
+      .param_float("sky_depth", kSkyDepth, 1.0, 3e38,
+                   "linear depth written where nothing was drawn (finite, so no Inf)")
       .skip_when_cleared({"scene.depth"}, [](const ParamValues& p) { return p.at("sky_depth") == kSkyDepth; })
       .compare("depth.linear", ComparisonContract::depth(0x1p-23,
                                                          "znear / depth is correctly rounded (0.5 ULP, "
@@ -46,7 +47,7 @@ PassDecl depth_convert_pass() {
       .run([](PassContext& ctx) {
         ctx.bind_pipeline();
         ctx.push_declared();
-        ctx.push_constants(float(ctx.param("sky_depth")));
+        ctx.push_constants(float(ctx.param_float("sky_depth")));
         const ImageExtent half = ctx.desc("depth.half").extent;
         vkCmdDispatch(ctx.cmd(), group_count(half.width, kDepthConvertGroupSide),
                       group_count(half.height, kDepthConvertGroupSide), 1);

@@ -38,49 +38,6 @@ ResourceRecord describe(const VersionData& v) {
 
 }  // namespace
 
-void parse_set(const std::string& text, std::map<std::string, ParamValues>& params) {
-  const size_t equals = text.find('=');
-  const size_t dot = text.rfind('.', equals);
-  if (equals == std::string::npos || dot == std::string::npos || dot == 0 || dot + 1 >= equals)
-    throw SceneError("--set '" + text + "': expected PASS.PARAM=VALUE");
-  const std::string value = text.substr(equals + 1);
-  char* end = nullptr;
-  const double number = std::strtod(value.c_str(), &end);
-  if (value.empty() || *end != '\0' || !std::isfinite(number))
-    throw SceneError("--set '" + text + "': value '" + value + "' is not a finite number");
-  params[text.substr(0, dot)][text.substr(dot + 1, equals - dot - 1)] = number;
-}
-
-void validate_params(const std::vector<PassDecl>& passes, const std::map<std::string, ParamValues>& params) {
-  for (const auto& [pass, values] : params) {
-    const PassDecl* decl = find_pass(passes, pass);
-    if (!decl) {
-      // A group's switch (bloom.enabled for bloom.level0…5) is its only parameter.
-      const bool group = std::any_of(passes.begin(), passes.end(), [&](const PassDecl& p) {
-        return !p.disabled_reason.empty() && p.disable_switch == pass;
-      });
-      if (!group) throw SceneError("--set " + pass + ".*: no pass named '" + pass + "'");
-      for (const auto& [name, value] : values)
-        if (name != "enabled" || (value != 0 && value != 1))
-          throw SceneError("--set " + pass + "." + name + ": '" + pass +
-                           "' is a group of passes whose only parameter is 'enabled' (0 or 1)");
-      continue;
-    }
-    for (const auto& [name, value] : values) {
-      const ParamDecl* p = decl->find_param(name);
-      if (!p) {
-        std::string known;
-        for (const ParamDecl& q : decl->params) known += (known.empty() ? "" : ", ") + q.name;
-        throw SceneError("--set " + pass + "." + name + ": unknown parameter (" + pass +
-                         " has: " + (known.empty() ? "none" : known) + ")");
-      }
-      if (value < p->min || value > p->max)
-        throw SceneError("--set " + pass + "." + name + "=" + std::to_string(value) + ": outside [" +
-                         std::to_string(p->min) + ", " + std::to_string(p->max) + "]");
-    }
-  }
-}
-
 NanRequest parse_inject_nan(const std::string& text) {
   const std::string usage = "--inject-nan '" + text + "': expected PASS:X,Y (an output pixel)";
   const size_t colon = text.rfind(':'), comma = text.find(',', colon == std::string::npos ? 0 : colon);
@@ -234,7 +191,6 @@ Renderer::Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings)
       scene_imports_(scene_imports(scene)),
       features_(scene.features()),
       base_(base_camera(scene, settings_)) {
-  validate_params(passes_, settings_.params);
   validate_nan_requests(passes_, settings_.inject_nan, settings_.width, settings_.height);
   keep_freed_memory();
 }
@@ -271,7 +227,6 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture, CaptureWriter
   }
 
   ExecutionOptions options;
-  options.params = settings_.params;
   options.shaders = [](const std::string&, const std::string& path) { return builtin_spirv(path); };
   options.history = &history_;
   options.alias_memory = settings_.alias_memory;
@@ -297,8 +252,7 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture, CaptureWriter
   return frame;
 }
 
-FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint32_t index,
-                         const std::map<std::string, ParamValues>& params) {
+FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint32_t index) {
   FrameRecord record;
   record.index = index;
   record.width = frame.graph.settings.width;
@@ -331,7 +285,7 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
     p.reason = pass.reason;
     p.gpu_ms = exec.gpu_ms;
     p.cpu_ms = exec.cpu_ms;
-    p.params = pass.decl->params_with(params);
+    p.params = pass.params;
     for (const auto& [path, code] : exec.spirv) p.shaders.push_back(writer.add_shader(path, code, shader_source(path)));
     p.pipelines = exec.pipelines;
     p.samplers = exec.samplers;
@@ -416,7 +370,7 @@ RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const Render
       if (!recorded) continue;
       monitor.progress("frame " + std::to_string(k + 1) + "/" + std::to_string(last + 1) + ": writing capture");
       start = std::chrono::steady_clock::now();
-      manifest.frames.push_back(record_frame(writer, frame, k, settings.params));
+      manifest.frames.push_back(record_frame(writer, frame, k));
       summary.capture_ms += ms_since(start);
       for (const VersionData& v : frame.execution.versions) summary.raw_bytes += v.bytes ? v.bytes->size() : 0;
       if (const VersionData* final = frame.execution.final_version("final.ldr")) final_pixels = *final->bytes;

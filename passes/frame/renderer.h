@@ -42,22 +42,17 @@ struct RenderSettings {
   uint32_t frames = 1;
   uint32_t first_recorded = 0, last_recorded = UINT32_MAX;  // --record-frames A..B; others only render
   CameraPath path;
-  std::map<std::string, ParamValues> params;  // --set overrides, per pass
-  std::optional<Camera> camera;               // --orbit; else the scene's, else a framing one
-  nlohmann::json description;                 // settings as given, recorded in the manifest
-  CaptureWriter::Options capture;             // blob codecs
-  bool alias_memory = true;                   // ExecutionOptions::alias_memory
+  ParamOverrides params;           // --set (passes/core/params.h)
+  std::optional<Camera> camera;    // --orbit; else the scene's, else a framing one
+  nlohmann::json description;      // settings as given, recorded in the manifest
+  CaptureWriter::Options capture;  // blob codecs
+  bool alias_memory = true;        // ExecutionOptions::alias_memory
   std::vector<NanRequest> inject_nan;
   // What the frame must produce; empty: frame_sinks(). Fewer sinks run part of the frame (a
   // benchmark or test of the passes before lighting).
   std::vector<std::string> sinks;
   FrameLighting lighting = FrameLighting::tiled;  // deferred: the baseline a benchmark compares with
 };
-
-// Throws SceneError naming the flag for a parameter that no pass declares or out of range.
-void validate_params(const std::vector<PassDecl>& passes, const std::map<std::string, ParamValues>& params);
-// Parses "pass.param=value"; throws SceneError naming the flag.
-void parse_set(const std::string& text, std::map<std::string, ParamValues>& params);
 
 // Parses "PASS:X,Y"; throws SceneError naming the flag.
 NanRequest parse_inject_nan(const std::string& text);
@@ -112,8 +107,7 @@ class Renderer {
 const std::vector<uint32_t>& builtin_spirv(const std::string& path);
 
 // Turns an executed frame into the manifest's frame record, writing blobs as it goes.
-FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint32_t index,
-                         const std::map<std::string, ParamValues>& params);
+FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint32_t index);
 
 struct RenderSummary {
   double render_ms = 0, capture_ms = 0;

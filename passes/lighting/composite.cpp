@@ -30,8 +30,8 @@ PassDecl lighting_composite_pass() {
       .read("gbuffer.emissive", Use::sampled)
       .read("scene.depth", Use::sampled)
       .write("lighting.lit", Use::color_attachment, ImageDecl{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour})
-      .param("ambient", 0.02, 0.0, 1e6, "uniform ambient radiance (a stand-in for the indirect light to come)")
-      .param("sky", 0.004, 0.0, 1e6, "radiance of the night sky where nothing was drawn")
+      .param_float("ambient", 0.02, 0.0, 1e6, "uniform ambient radiance (a stand-in for the indirect light to come)")
+      .param_float("sky", 0.004, 0.0, 1e6, "radiance of the night sky where nothing was drawn")
       .compare("lighting.lit", ComparisonContract::floats(0x1p-24, 0x1p-10,
                                                           "the nearest half to the sum "
                                                           "(tests/unit/lighting_composite_test.cpp): "
@@ -47,7 +47,7 @@ PassDecl lighting_composite_pass() {
                            return UniformValues{{"lighting.lit", lit}};
                          })
       .fullscreen("lighting/composite.frag", [](const PassContext& ctx) {
-        const ParamValues params{{"ambient", ctx.param("ambient")}, {"sky", ctx.param("sky")}};
+        const ParamValues params{{"ambient", ctx.param_float("ambient")}, {"sky", ctx.param_float("sky")}};
         struct {
           std::array<float, 4> ambient, sky;
         } constants{ambient_radiance(params), sky_radiance(params)};

@@ -28,9 +28,9 @@ PassDecl lighting_deferred_pass() {
       .read("scene.depth", Use::sampled)
       .write("lighting.diffuse", Use::color_attachment, hdr)
       .write("lighting.specular", Use::color_attachment, hdr)
-      .param("intensity_scale", 1.0, 0.0, 1e6, "multiplies every light's intensity")
-      .param("min_roughness", 0.03, 0.0, 1.0, "roughness floor: keeps point highlights finite in half floats")
-      .param("tube_samples", 8, 1, 256, "samples along each tube light for its diffuse term")
+      .param_float("intensity_scale", 1.0, 0.0, 1e6, "multiplies every light's intensity")
+      .param_float("min_roughness", 0.03, 0.0, 1.0, "roughness floor: keeps point highlights finite in half floats")
+      .param_int("tube_samples", 8, 1, 256, "samples along each tube light for its diffuse term")
       .compare("lighting.diffuse", lighting_contract())
       .compare("lighting.specular", lighting_contract())
       .skip_when([](const SkipContext& frame) {
@@ -42,8 +42,8 @@ PassDecl lighting_deferred_pass() {
         struct {
           float intensity_scale, min_roughness;
           int32_t tube_samples;
-        } constants{float(ctx.param("intensity_scale")), float(ctx.param("min_roughness")),
-                    int32_t(ctx.param("tube_samples"))};
+        } constants{float(ctx.param_float("intensity_scale")), float(ctx.param_float("min_roughness")),
+                    int32_t(ctx.param_int("tube_samples"))};
         return constants;
       });
 }

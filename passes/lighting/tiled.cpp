@@ -10,6 +10,8 @@
 // the Hamburger 4MSM lower bound on the fraction of the filter in front of the receiver, with 2
 // Chebyshev's upper bound on the fraction lit; either with light-bleeding reduction. Other local
 // lights have no shadow.
+#include <array>
+
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/lighting/tiled_layout.h"
@@ -85,23 +87,23 @@ PassDecl lighting_tiled_pass() {
              BufferDecl{ResourceKind::buffer, uint64_t(kLightingTileCapacity) * sizeof(GpuTileEntry)})
       .layout("lighting.tile_classes", tile_classes_schema())
       .layout("lighting.tile_lists", tile_entry_schema())
-      .param("intensity_scale", 1.0, 0.0, 1e6, "multiplies every light's intensity")
-      .param("min_roughness", 0.03, 0.0, 1.0, "roughness floor: keeps point highlights finite in half floats")
-      .param("tube_nodes", 8, 2, 16,
-             "Gauss-Legendre nodes along each tube line for its specular and ranged diffuse: 2, 4, 8 or 16")
-      .param("contact_length", 0.5, 0.0, 10.0, "metres the sun's contact shadow marches toward the sun")
-      .param("contact_steps", 8, 0, 64, "steps of the contact shadow's march (0: no contact shadow)")
-      .param("contact_thickness", 0.5, 0.001, 100.0,
-             "metres in front of the march beyond which a surface does not occlude it")
-      .param("local_bias", 0.002, 0.0, 0.1,
-             "linear depth (a fraction of the light's range) a receiver may lie behind its map and stay lit")
-      .param("local_min_variance", 2e-5, 0.0, 0.01,
-             "2 moments: floor of the moments' variance, which keeps a flat receiver lit through 16-bit rounding")
-      .param("local_bleeding", 0.2, 0.0, 0.99,
-             "light-bleeding reduction: visibilities below this read as shadow, the rest rescaled")
-      .param("local_moment_bias", 3e-5, 0.0, 0.1,
-             "4 moments: weight of (0.5, 0.5, 0.5, 0.5) mixed into them (Peters and Klein's α for 16 bits), "
-             "which keeps their Hankel matrix invertible through rounding")
+      .param_float("intensity_scale", 1.0, 0.0, 1e6, "multiplies every light's intensity")
+      .param_float("min_roughness", 0.03, 0.0, 1.0, "roughness floor: keeps point highlights finite in half floats")
+      .choice("tube_nodes", 8, numbered_choices(std::array<uint32_t, 4>{2, 4, 8, 16}),
+              "Gauss-Legendre nodes along each tube line for its specular and ranged diffuse: 2, 4, 8 or 16")
+      .param_float("contact_length", 0.5, 0.0, 10.0, "metres the sun's contact shadow marches toward the sun")
+      .param_int("contact_steps", 8, 0, 64, "steps of the contact shadow's march (0: no contact shadow)")
+      .param_float("contact_thickness", 0.5, 0.001, 100.0,
+                   "metres in front of the march beyond which a surface does not occlude it")
+      .param_float("local_bias", 0.002, 0.0, 0.1,
+                   "linear depth (a fraction of the light's range) a receiver may lie behind its map and stay lit")
+      .param_float("local_min_variance", 2e-5, 0.0, 0.01,
+                   "2 moments: floor of the moments' variance, which keeps a flat receiver lit through 16-bit rounding")
+      .param_float("local_bleeding", 0.2, 0.0, 0.99,
+                   "light-bleeding reduction: visibilities below this read as shadow, the rest rescaled")
+      .param_float("local_moment_bias", 3e-5, 0.0, 0.1,
+                   "4 moments: weight of (0.5, 0.5, 0.5, 0.5) mixed into them (Peters and Klein's α for 16 bits), "
+                   "which keeps their Hankel matrix invertible through rounding")
       .compare("lighting.diffuse", lighting_contract())
       .compare("lighting.specular", lighting_contract())
       .skip_when([](const SkipContext& frame) {
@@ -113,23 +115,17 @@ PassDecl lighting_tiled_pass() {
       .shader("lighting/tiled.comp")
       .run([](PassContext& ctx) {
         const ImageExtent size = ctx.desc("lighting.diffuse").extent;
-        const TiledConstants constants{(size.width + kLightingTile - 1) / kLightingTile,
-                                       (size.height + kLightingTile - 1) / kLightingTile,
-                                       float(ctx.param("intensity_scale")),
-                                       float(ctx.param("min_roughness")),
-                                       float(ctx.param("contact_length")),
-                                       float(ctx.param("contact_thickness")),
-                                       uint32_t(ctx.param("contact_steps")),
-                                       float(ctx.param("local_bias")),
-                                       float(ctx.param("local_min_variance")),
-                                       float(ctx.param("local_bleeding")),
-                                       float(ctx.param("local_moment_bias"))};
+        const TiledConstants constants{
+            (size.width + kLightingTile - 1) / kLightingTile, (size.height + kLightingTile - 1) / kLightingTile,
+            float(ctx.param_float("intensity_scale")),        float(ctx.param_float("min_roughness")),
+            float(ctx.param_float("contact_length")),         float(ctx.param_float("contact_thickness")),
+            uint32_t(ctx.param_int("contact_steps")),         float(ctx.param_float("local_bias")),
+            float(ctx.param_float("local_min_variance")),     float(ctx.param_float("local_bleeding")),
+            float(ctx.param_float("local_moment_bias"))};
         // Each phase is its own pipeline (tiled.comp's constant `phase`): lavapipe runs every
         // side of a branch, so one pipeline switching on a push constant paid for every phase
         // in each dispatch (phase 1's loops in every workgroup of the shading).
-        const int32_t tube_nodes = int32_t(ctx.param("tube_nodes"));
-        if (tube_nodes != 2 && tube_nodes != 4 && tube_nodes != 8 && tube_nodes != 16)
-          throw GraphError("lighting.tiled: tube_nodes is 2, 4, 8 or 16, not " + std::to_string(tube_nodes));
+        const int32_t tube_nodes = int32_t(ctx.param_int("tube_nodes"));
         // The moments' reconstruction too: shadow.local_plan's record says which were written.
         const int32_t moments = local_shadow_moments(ctx.host("shadow.local_data"), "lighting.tiled");
         auto begin_phase = [&](int32_t phase) {

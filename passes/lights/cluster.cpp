@@ -10,9 +10,7 @@
 // the scene has no local light.
 #include <algorithm>
 #include <bit>
-#include <cmath>
 #include <cstring>
-#include <iterator>
 #include <sstream>
 
 #include "passes/core/context.h"
@@ -22,13 +20,6 @@
 
 namespace nightcap {
 namespace {
-
-// A parameter's value as given: 24 or 24.5, not 24.000000.
-std::string number(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
-}
 
 // What the caps cut, in one line; "" when nothing was.
 std::string overflow_warning(std::span<const uint8_t> bytes) {
@@ -74,40 +65,35 @@ PassDecl lights_cluster_pass() {
       .layout("lights.cluster_indices", cluster_index_schema())
       .layout("lights.cluster_stats", cluster_stats_schema())
       .needs("local_lights")
-      .param("tile_size", kClusterTile, 8, 64, "pixels on a side of a froxel's screen tile: 8, 16, 32 or 64")
-      .param("slices", kClusterSlices, kClusterMinSlices, kClusterMaxSlices,
-             "exponential depth slices from the near plane to max_distance (a whole number)")
-      .param("max_distance", 2000.0, 1.0, 1e6,
-             "metres where the last of the exponential depth slices starts; it reaches to infinity")
-      .param("max_lights_per_froxel", 256, 1, 4096, "longest list a froxel keeps (the lights of lowest index)")
-      .param("max_indices", kClusterIndexCapacity, 0, kClusterIndexCapacity,
-             "entries all lists together keep; froxels past it in froxel order (farthest slice last) are cut")
-      .param("max_block_lights", kClusterBlockCapacity, 0, kClusterBlockCapacity,
-             "longest list a block of tiles keeps (also its share of lights.cluster_blocks); the tiles of a "
-             "block with more test every light: time, not the lists, depends on it")
+      .choice("tile_size", kClusterTile, numbered_choices(kClusterTileSizes),
+              "pixels on a side of a froxel's screen tile: 8, 16, 32 or 64")
+      .param_int("slices", kClusterSlices, kClusterMinSlices, kClusterMaxSlices,
+                 "exponential depth slices from the near plane to max_distance (a whole number)")
+      .param_float("max_distance", 2000.0, 1.0, 1e6,
+                   "metres where the last of the exponential depth slices starts; it reaches to infinity")
+      .param_int("max_lights_per_froxel", 256, 1, 4096, "longest list a froxel keeps (the lights of lowest index)")
+      .param_int("max_indices", kClusterIndexCapacity, 0, kClusterIndexCapacity,
+                 "entries all lists together keep; froxels past it in froxel order (farthest slice last) are cut")
+      .param_int("max_block_lights", kClusterBlockCapacity, 0, kClusterBlockCapacity,
+                 "longest list a block of tiles keeps (also its share of lights.cluster_blocks); the tiles of a "
+                 "block with more test every light: time, not the lists, depends on it")
       .warn_from("lights.cluster_stats", overflow_warning)
       .push_constants<ClusterConstants>()
       .shader("lights/cluster.comp")
       .run([](PassContext& ctx) {
-        const double tile_size = ctx.param("tile_size"), slices = ctx.param("slices");
-        if (std::find(std::begin(kClusterTileSizes), std::end(kClusterTileSizes), tile_size) ==
-            std::end(kClusterTileSizes))
-          throw GraphError("lights.cluster: tile_size is 8, 16, 32 or 64, not " + number(tile_size));
-        if (!(slices >= kClusterMinSlices && slices <= kClusterMaxSlices && slices == std::floor(slices)))
-          throw GraphError("lights.cluster: slices is a whole number from " + std::to_string(kClusterMinSlices) +
-                           " to " + std::to_string(kClusterMaxSlices) + ", not " + number(slices));
+        const int64_t tile_size = ctx.param_int("tile_size"), slices = ctx.param_int("slices");
         const ImageExtent tiles = ctx.desc("lights.clusters").extent;
         const uint32_t levels = ctx.desc("depth.pyramid").extent.mips;
         // Level 0 is half resolution: level L's texel covers 2^(L+1) pixels, a tile at
         // L = log2(tile_size) − 1.
         const uint32_t tile_level = std::bit_width(uint32_t(tile_size)) - 2;
-        const ClusterConstants constants{uint32_t(ctx.param("max_lights_per_froxel")),
-                                         uint32_t(ctx.param("max_indices")),
+        const ClusterConstants constants{uint32_t(ctx.param_int("max_lights_per_froxel")),
+                                         uint32_t(ctx.param_int("max_indices")),
                                          int32_t(std::min(tile_level, levels - 1)),
-                                         float(ctx.param("max_distance")),
+                                         float(ctx.param_float("max_distance")),
                                          tiles.width,
                                          tiles.height,
-                                         uint32_t(ctx.param("max_block_lights"))};
+                                         uint32_t(ctx.param_int("max_block_lights"))};
         // The shape as specialization constants: the slices are the workgroup (an invocation
         // each) and the tile a constant divisor, no loop bound read from memory. Each phase is
         // its own pipeline too: lavapipe runs every side of a branch, so a phase chosen by a push

@@ -27,7 +27,8 @@ PassDecl motion_stencil_pass() {
       .read("scene.depth", Use::sampled)
       .aspects("scene.depth", {ViewAspect::stencil})
       .write("motion.mask", Use::storage_write, ImageDecl{VK_FORMAT_R8_UINT, ResourceKind::mask})
-      .param("radius", 2, 0, kMaxRadius, "pixels of dilation around tagged pixels (a square window)")
+      .param_int("radius", 2, 0, kMaxRadius,
+                 "pixels of dilation around tagged pixels (a square window), at most the apron the shader's tile holds")
       .skip_when([](const SkipContext& frame) -> std::string {
         if (frame.features.count("moving_geometry") || frame.camera_moved) return "";
         return "nothing moves and the camera is still";
@@ -38,11 +39,7 @@ PassDecl motion_stencil_pass() {
       .run([](PassContext& ctx) {
         ctx.bind_pipeline();
         ctx.push_declared();
-        const double radius = ctx.param("radius");
-        if (!(radius >= 0 && radius <= kMaxRadius))
-          throw GraphError("motion.stencil: radius " + std::to_string(radius) + " is outside 0 … " +
-                           std::to_string(kMaxRadius) + ", the apron the shader's tile holds");
-        ctx.push_constants(int32_t(radius));
+        ctx.push_constants(int32_t(ctx.param_int("radius")));
         const ImageExtent full = ctx.desc("motion.mask").extent;
         vkCmdDispatch(ctx.cmd(), group_count(full.width, kMotionStencilTile),
                       group_count(full.height, kMotionStencilTile), 1);

@@ -70,8 +70,8 @@ PassDecl bloom_level_pass(uint32_t level) {
         .modify("bloom.chain", Use::storage_write, Subresources::mip(level));
   }
   return pass.can_disable("bloom disabled by settings", "bloom")
-      .param("sigma", 1.5, 0.25, 2.6,
-             "Gaussian blur of each level, in texels of that level (radius ceil(3 sigma) <= 8)")
+      .param_float("sigma", 1.5, 0.25, 2.6,
+                   "Gaussian blur of each level, in texels of that level (radius ceil(3 sigma) <= 8)")
       .skip_when([level](const SkipContext& frame) -> std::string {
         const uint32_t levels = std::min(kBloomLevels, full_mip_count((frame.width + 1) / 2, (frame.height + 1) / 2));
         if (level < levels) return "";
@@ -91,8 +91,8 @@ PassDecl bloom_level_pass(uint32_t level) {
                                           "on two devices erring apart, twelve half ULPs"))
       .run([level, source, source_mip](PassContext& ctx) {
         ctx.bind_pipeline();
-        const BloomConstants c =
-            constants(ctx.param("sigma"), ctx.desc(source).extent, source_mip, ctx.desc("bloom.chain").extent, level);
+        const BloomConstants c = constants(ctx.param_float("sigma"), ctx.desc(source).extent, source_mip,
+                                           ctx.desc("bloom.chain").extent, level);
         ctx.push_declared();
         ctx.push_constants(c);
         vkCmdDispatch(ctx.cmd(), group_count(c.target_size[0], kBloomTile), group_count(c.target_size[1], kBloomTile),

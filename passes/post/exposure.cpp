@@ -24,13 +24,13 @@ PassDecl exposure_pass() {
       .write("exposure.histogram", Use::storage_write, BufferDecl{ResourceKind::buffer, kExposureBins * 4})
       .write("exposure.value", Use::storage_write, value)
       .can_disable("fixed exposure")
-      .param("adapt_seconds", 1.0, 0.0, 60.0,
-             "time constant of the adaptation toward the measured exposure; 0: instant")
-      .param("key", 0.0, 0.0, 100.0,
-             "the luminance the adapted mean is exposed to; 0: 1.03 - 2 / (2 + log10(mean + 1)) (Krawczyk et al. "
-             "2005), which keeps night scenes dark")
-      .param("log2_min", -12.0, -64.0, 64.0, "lowest log2 luminance the histogram tells apart")
-      .param("log2_max", 12.0, -64.0, 64.0, "highest log2 luminance the histogram tells apart")
+      .param_float("adapt_seconds", 1.0, 0.0, 60.0,
+                   "time constant of the adaptation toward the measured exposure; 0: instant")
+      .param_float("key", 0.0, 0.0, 100.0,
+                   "the luminance the adapted mean is exposed to; 0: 1.03 - 2 / (2 + log10(mean + 1)) (Krawczyk et al. "
+                   "2005), which keeps night scenes dark")
+      .param_float("log2_min", -12.0, -64.0, 64.0, "lowest log2 luminance the histogram tells apart")
+      .param_float("log2_max", 12.0, -64.0, 64.0, "highest log2 luminance the histogram tells apart")
       .push_constants<ExposureConstants>()
       .shader("post/exposure.comp")
       .run([](PassContext& ctx) {
@@ -39,10 +39,10 @@ PassDecl exposure_pass() {
         // integer counts, so the same bits after them.
         const bool uniform = ctx.uniform("lighting.lit");
         ExposureConstants constants{0,
-                                    float(ctx.param("log2_min")),
-                                    float(ctx.param("log2_max")),
-                                    float(ctx.param("key")),
-                                    float(ctx.param("adapt_seconds")),
+                                    float(ctx.param_float("log2_min")),
+                                    float(ctx.param_float("log2_max")),
+                                    float(ctx.param_float("key")),
+                                    float(ctx.param_float("adapt_seconds")),
                                     uniform ? lit.width * lit.height : 0u};
         if (!(constants.log2_max > constants.log2_min)) throw GraphError("exposure: log2_max must be above log2_min");
         ctx.bind_pipeline();

@@ -24,9 +24,9 @@ PassDecl tonemap_pass() {
       .read("exposure.value", Use::sampled)
       .read("bloom.chain", Use::sampled)
       .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_SRGB, ResourceKind::colour})
-      .param("exposure", 1.0, 0.0, 1e6,
-             "multiplies the HDR colour before the curve (with the automatic exposure, if any)")
-      .param("bloom", 0.05, 0.0, 1e3, "weight of the bloom added to the lit colour")
+      .param_float("exposure", 1.0, 0.0, 1e6,
+                   "multiplies the HDR colour before the curve (with the automatic exposure, if any)")
+      .param_float("bloom", 0.05, 0.0, 1e3, "weight of the bloom added to the lit colour")
       .compare("final.ldr", ComparisonContract::codes(1,
                                                       "within 0.67 of a code of the exact sRGB encoding "
                                                       "(tests/unit/tonemap_test.cpp); encoders may round the "
@@ -35,7 +35,7 @@ PassDecl tonemap_pass() {
       .shader("post/tonemap.vert")
       .shader("post/tonemap.frag")
       .run([](PassContext& ctx) {
-        const TonemapConstants constants{float(ctx.param("exposure")), float(ctx.param("bloom"))};
+        const TonemapConstants constants{float(ctx.param_float("exposure")), float(ctx.param_float("bloom"))};
         // Uniform inputs (an empty scene's sky): the variant that computes the colour once.
         const bool uniform = ctx.uniform("lighting.lit") && ctx.uniform("bloom.chain");
         record_fullscreen(ctx, {reinterpret_cast<const uint8_t*>(&constants), sizeof constants}, {uniform});

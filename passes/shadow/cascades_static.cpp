@@ -13,6 +13,7 @@
 #include "passes/shadow/caster_draw.h"
 #include "passes/shadow/light_tiles.h"
 #include "passes/shadow/shadow_layout.h"
+#include "passes/shadow/shadow_params.h"
 
 namespace nightcap {
 
@@ -27,20 +28,14 @@ PassDecl shadow_cascades_static_pass() {
       .read("scene.materials", Use::host)
       .read("shadow.cull_stats", Use::host)
       .write("shadow.cascades_static", Use::depth_attachment, shadow_depth_array(kShadowCascades))
-      .param("resolution", kShadowResolution, 64, 4096,
-             "texels per side of each cascade (shadow.cascades' too): shadow.cull.resolution's")
+      .param(sun_shadow_resolution())
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
       .needs("sun_above_horizon")
       .push_constants<uint32_t>()
       .shader("shadow/cascades.vert")
       .run([](PassContext& ctx) {
-        const auto data = host_records<GpuShadowCascades>(ctx.host("shadow.cascade_data")).at(0);
         const uint32_t resolution = ctx.desc("shadow.cascades_static").extent.width;
-        if (uint32_t(data.light_direction.w) != resolution)
-          throw GraphError("shadow.cascades_static: its resolution (" + std::to_string(resolution) +
-                           ") is not shadow.cull's (" + std::to_string(uint32_t(data.light_direction.w)) +
-                           "): set shadow.cull.resolution and shadow.cascades_static.resolution alike");
         const auto stats = host_records<ShadowCullStats>(ctx.host("shadow.cull_stats")).at(0);
         const uint32_t tiles = stats.tiles_per_side;
         const TiledMap map{{}, 0.0, resolution, tiles};

@@ -70,6 +70,7 @@
 #include "passes/shadow/caster_draw.h"
 #include "passes/shadow/light_tiles.h"
 #include "passes/shadow/shadow_layout.h"
+#include "passes/shadow/shadow_params.h"
 
 namespace nightcap {
 namespace {
@@ -238,10 +239,9 @@ class ShadowCuller {
         materials_(host_records<GpuMaterial>(ctx.host("scene.materials"))),
         hierarchy_(Hierarchy::parse(ctx.host("scene.hierarchy"), instances_.size())),
         occlusion_(OcclusionBuffer::from_record(ctx.host("cull.occlusion"))),
-        light_occluders_(
-            ctx.param("light_occlusion") != 0.0 ? ctx.host("shadow.distant_data") : std::span<const uint8_t>(),
-            ctx.host("shadow.distant_occluders"), ctx.param("receiver_slope")),
-        culling_(ctx.param("culling") != 0.0) {
+        light_occluders_(ctx.flag("light_occlusion") ? ctx.host("shadow.distant_data") : std::span<const uint8_t>(),
+                         ctx.host("shadow.distant_occluders"), ctx.param_float("receiver_slope")),
+        culling_(ctx.flag("culling")) {
     std::memcpy(&world_[0][0], camera_.world, sizeof(camera_.world));
     eye_ = dvec3(world_[3]);
     if (!(camera_.width > 0 && camera_.height > 0)) throw GraphError("shadow.cull: frame.camera has no size");
@@ -272,15 +272,15 @@ class ShadowCuller {
         ctx_.store<uint8_t>(name, {});
       return;
     }
-    const uint32_t resolution = uint32_t(ctx_.param("resolution"));
-    const uint32_t tiles = uint32_t(ctx_.param("tiles"));
+    const uint32_t resolution = uint32_t(ctx_.param_int("resolution"));
+    const uint32_t tiles = uint32_t(ctx_.param_int("tiles"));
     if (resolution % 2 != 0) throw GraphError("shadow.cull: resolution must be even");
     if (resolution % tiles != 0)
       throw GraphError("shadow.cull: tiles (" + std::to_string(tiles) + ") must divide the resolution (" +
                        std::to_string(resolution) + ")");
     axes_ = LightAxes::of_sun(travel_);
     const LightRange range = light_range();
-    const bool cache = ctx_.param("cache") != 0.0;
+    const bool cache = ctx_.flag("cache");
     const std::array<double, kShadowCascades + 1> splits = split_distances();
     std::array<Cascade, kShadowCascades> cascades;
     for (uint32_t k = 0; k < kShadowCascades; ++k)
@@ -288,7 +288,7 @@ class ShadowCuller {
 
     stats_.tiles_per_side = tiles;
     stats_.resolution = resolution;
-    stats_.budget_triangles = uint32_t(ctx_.param("budget_triangles"));
+    stats_.budget_triangles = uint32_t(ctx_.param_int("budget_triangles"));
     const float key[12] = {float(travel_.x),
                            float(travel_.y),
                            float(travel_.z),
@@ -462,8 +462,8 @@ class ShadowCuller {
     m[3] = glm::dvec4((eye_across.x - snapped.x) / radius, (eye_across.y - snapped.y) / radius,
                       (glm::dot(eye_, travel_) - range.near) / range.depth, 1.0);
     c.light_from_world = glm::mat4(m);
-    c.margin = ctx_.param("margin_texels") * texel;
-    c.depth_margin = ctx_.param("receiver_slope") * c.margin;
+    c.margin = ctx_.param_float("margin_texels") * texel;
+    c.depth_margin = ctx_.param_float("receiver_slope") * c.margin;
     c.volume = extruded_slice(corners, -travel_, c.margin, c.depth_margin);
     for (const dvec3& p : corners) c.footprint.grow(axes_.across(p + eye_));
     c.footprint.lo -= c.margin + texel;
@@ -644,8 +644,8 @@ class ShadowCuller {
   }
 
   std::array<double, kShadowCascades + 1> split_distances() const {
-    const double n = camera_.znear, f = std::max(ctx_.param("max_distance"), 2.0 * n);
-    const double lambda = ctx_.param("lambda");
+    const double n = camera_.znear, f = std::max(ctx_.param_float("max_distance"), 2.0 * n);
+    const double lambda = ctx_.param_float("lambda");
     std::array<double, kShadowCascades + 1> s{};
     s[0] = n;
     for (uint32_t i = 1; i <= kShadowCascades; ++i) {
@@ -888,26 +888,27 @@ PassDecl shadow_cull_pass() {
       .layout("shadow.cascade_data", shadow_cascades_schema())
       .layout("draws.shadow.cascades", draw_schema())
       .layout("shadow.cull_stats", shadow_cull_stats_schema())
-      .param("resolution", kShadowResolution, 64, 4096, "texels per side of each cascade (even)")
-      .param("max_distance", 120, 1, 20000, "metres along the view where the last cascade ends (no sun shadow beyond)")
-      .param("lambda", 0.75, 0, 1, "practical split: 1 logarithmic, 0 uniform")
-      .param("margin_texels", 6, 0, 64,
-             "texels each culling plane is pushed out: at least (shadow.sun_resolve.filter_radius + 1)·√2")
-      .param("receiver_slope", 11.43, 0, 1000,
-             "the steepest receiver slope culling allows for: at least shadow.sun_resolve.max_slope")
-      .param("tiles", 8, 1, kCascadeMaxTilesPerSide,
-             "tiles per side of a cascade: the unit of the static layers' refresh")
-      .param("budget_triangles", 500000, 0, 1e9,
-             "static triangles shadow.cascades_static draws per frame at most, after a reset (a unit above it is "
-             "drawn alone)")
-      .param("cache", 1, 0, 1,
-             "1: the static layers (shadow.cascades_static) carry over from the previous frame and only the stale "
-             "tiles the view needs are redrawn; 0: every static layer drawn whole each frame")
-      .param("light_occlusion", 1, 0, 1,
-             "1: drop casters wholly behind shadow.distant_occluders from the sun; 0: not (culling=0 turns every "
-             "test off)")
-      .param("culling", 1, 0, 1,
-             "1: drop casters outside each cascade's volume or whose shadow is hidden (0 keeps them, for the tests)")
+      .param(sun_shadow_resolution())
+      .param_float("max_distance", 120, 1, 20000,
+                   "metres along the view where the last cascade ends (no sun shadow beyond)")
+      .param_float("lambda", 0.75, 0, 1, "practical split: 1 logarithmic, 0 uniform")
+      .param_float("margin_texels", 6, 0, 64,
+                   "texels each culling plane is pushed out: at least (shadow.sun_resolve.filter_radius + 1)·√2")
+      .param_float("receiver_slope", 11.43, 0, 1000,
+                   "the steepest receiver slope culling allows for: at least shadow.sun_resolve.max_slope")
+      .param_int("tiles", 8, 1, kCascadeMaxTilesPerSide,
+                 "tiles per side of a cascade: the unit of the static layers' refresh")
+      .param_int("budget_triangles", 500000, 0, 1e9,
+                 "static triangles shadow.cascades_static draws per frame at most, after a reset (a unit above it is "
+                 "drawn alone)")
+      .flag("cache", true,
+            "1: the static layers (shadow.cascades_static) carry over from the previous frame and only the stale "
+            "tiles the view needs are redrawn; 0: every static layer drawn whole each frame")
+      .flag("light_occlusion", true,
+            "1: drop casters wholly behind shadow.distant_occluders from the sun; 0: not (culling=0 turns every "
+            "test off)")
+      .flag("culling", true,
+            "1: drop casters outside each cascade's volume or whose shadow is hidden (0 keeps them, for the tests)")
       .needs("sun_above_horizon")
       .run([](PassContext& ctx) { ShadowCuller(ctx).run(); });
 }

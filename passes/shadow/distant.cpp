@@ -21,6 +21,7 @@
 #include "passes/frame/scene_resources.h"
 #include "passes/shadow/caster_draw.h"
 #include "passes/shadow/shadow_layout.h"
+#include "passes/shadow/shadow_params.h"
 
 namespace nightcap {
 
@@ -37,8 +38,7 @@ PassDecl shadow_distant_pass() {
       .write("shadow.distant", Use::depth_attachment, shadow_depth_array(kDistantLevels))
       .read_previous("shadow.distant_occluders", Use::sampled)
       .write("shadow.distant_occluders", Use::depth_attachment, shadow_depth_array(1))
-      .param("resolution", kDistantResolution, 64, 4096,
-             "texels per side of each level: shadow.distant_plan.resolution's")
+      .param(distant_shadow_resolution())
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
       .can_disable("distant shadows disabled by settings")
@@ -48,10 +48,6 @@ PassDecl shadow_distant_pass() {
       .run([](PassContext& ctx) {
         const ImageExtent extent = ctx.desc("shadow.distant").extent;
         const auto data = host_records<GpuDistantLevels>(ctx.host("shadow.distant_data")).at(0);
-        if (uint32_t(data.light_direction.w) != extent.width)
-          throw GraphError("shadow.distant: its resolution (" + std::to_string(extent.width) +
-                           ") is not shadow.distant_plan's (" + std::to_string(uint32_t(data.light_direction.w)) +
-                           "): set both");
         const auto plan = host_records<DistantPlan>(ctx.host("shadow.distant_plan")).at(0);
         const uint32_t tiles = plan.tiles_per_side, tile_texels = extent.width / tiles;
         const uint32_t all_tiles = (1u << (tiles * tiles)) - 1u;

@@ -49,6 +49,7 @@
 #include "passes/shadow/caster_draw.h"
 #include "passes/shadow/light_tiles.h"
 #include "passes/shadow/shadow_layout.h"
+#include "passes/shadow/shadow_params.h"
 
 namespace nightcap {
 namespace {
@@ -82,8 +83,8 @@ class DistantPlanner {
         ctx_.store<uint8_t>(name, {});
       return;
     }
-    const uint32_t resolution = uint32_t(ctx_.param("resolution"));
-    const uint32_t tiles = uint32_t(ctx_.param("tiles"));
+    const uint32_t resolution = uint32_t(ctx_.param_int("resolution"));
+    const uint32_t tiles = uint32_t(ctx_.param_int("tiles"));
     if (resolution % 8 != 0) throw GraphError("shadow.distant_plan: resolution must be a multiple of 8");
     if (resolution % tiles != 0) throw GraphError("shadow.distant_plan: tiles must divide the resolution");
     // The static scene in light space (a box around the eye when there is none).
@@ -106,18 +107,19 @@ class DistantPlanner {
     const double map_side = std::max(map.hi.x - map.lo.x, map.hi.y - map.lo.y) + 2.0;
     const double last_scale = std::pow(4.0, kDistantLevels - 1);
     // Snapping moves a centre by less than a texel: the last level keeps a texel of room each side.
-    const double side0 = std::max(ctx_.param("level0_metres"), map_side / (last_scale * (1.0 - 2.0 / resolution)));
+    const double side0 =
+        std::max(ctx_.param_float("level0_metres"), map_side / (last_scale * (1.0 - 2.0 / resolution)));
 
     DistantPlan plan{};
     plan.tiles_per_side = tiles;
     plan.resolution = resolution;
-    plan.budget_triangles = uint32_t(ctx_.param("budget_triangles"));
+    plan.budget_triangles = uint32_t(ctx_.param_int("budget_triangles"));
     plan.units = kDistantLevels * tiles * tiles;
     const float key[6] = {float(axes_.travel.x), float(axes_.travel.y), float(axes_.travel.z),
                           float(side0),          float(near),           float(depth)};
     std::copy(std::begin(key), std::end(key), plan.frame_key);
     const DistantPlan* before = previous_plan();
-    if (ctx_.param("cache") == 0.0)
+    if (!ctx_.flag("cache"))
       plan.reset = uint32_t(DistantReset::cache_off);
     else if (!before)
       plan.reset = uint32_t(DistantReset::no_history);
@@ -325,16 +327,15 @@ PassDecl shadow_distant_plan_pass() {
       .layout("shadow.distant_data", distant_levels_schema())
       .layout("draws.shadow.distant", draw_schema())
       .layout("shadow.distant_plan", distant_plan_schema())
-      .param("resolution", kDistantResolution, 64, 4096,
-             "texels per side of each level (a multiple of 8): shadow.distant.resolution's")
-      .param("level0_metres", 256, 1, 100000,
-             "side of the finest level in metres (grown until the last level covers the map)")
-      .param("tiles", 2, 1, kDistantMaxTilesPerSide, "tiles per side of a level: the unit of refresh")
-      .param("budget_triangles", 500000, 0, 1e9,
-             "triangles shadow.distant draws per frame at most (a unit above it is drawn alone)")
-      .param("cache", 1, 0, 1,
-             "1: levels carry over from the previous frame and only stale units are redrawn; 0: every level "
-             "drawn whole each frame")
+      .param(distant_shadow_resolution())
+      .param_float("level0_metres", 256, 1, 100000,
+                   "side of the finest level in metres (grown until the last level covers the map)")
+      .param_int("tiles", 2, 1, kDistantMaxTilesPerSide, "tiles per side of a level: the unit of refresh")
+      .param_int("budget_triangles", 500000, 0, 1e9,
+                 "triangles shadow.distant draws per frame at most (a unit above it is drawn alone)")
+      .flag("cache", true,
+            "1: levels carry over from the previous frame and only stale units are redrawn; 0: every level "
+            "drawn whole each frame")
       .needs("sun_above_horizon")
       .run([](PassContext& ctx) { DistantPlanner(ctx).run(); });
 }

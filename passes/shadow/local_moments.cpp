@@ -52,7 +52,7 @@ PassDecl shadow_local_moments_pass() {
       .read("shadow.local_plan", Use::host)
       .read_previous("shadow.local_moments", Use::sampled)
       .write("shadow.local_moments", Use::storage_write, moments)
-      .param("blur_radius", 1, 0, kLocalShadowMaxBlur, "the box blur takes (2r + 1)² texels (0: none)")
+      .param_int("blur_radius", 1, 0, kLocalShadowMaxBlur, "the box blur takes (2r + 1)² texels (0: none)")
       .needs("spot_lights")
       .push_constants<LocalMomentsDispatch>()
       .shader("shadow/local_moments.comp")
@@ -64,7 +64,7 @@ PassDecl shadow_local_moments_pass() {
         // Maps whose moments the previous frame has but where moving casters are or were (the
         // plan says which): copied, then computed again over that part alone.
         const uint32_t maps = std::min(plan.maps, kLocalShadowSlices);
-        const int32_t blur = int32_t(ctx.param("blur_radius"));
+        const int32_t blur = int32_t(ctx.param_int("blur_radius"));
         bool dispatched = false;
         // Tiles [x0, x1) × [y0, y1) of layers [first, first + layers).
         auto dispatch = [&](uint32_t first, uint32_t layers, uint32_t x0, uint32_t y0, uint32_t x1, uint32_t y1) {

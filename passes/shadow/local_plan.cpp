@@ -85,10 +85,10 @@ class LocalPlanner {
         hierarchy_(Hierarchy::parse(ctx.host("scene.hierarchy"), instances_.size())) {}
 
   void run() {
-    const uint32_t max_maps = uint32_t(ctx_.param("max_maps"));
-    const uint32_t max_refreshes = uint32_t(ctx_.param("max_refreshes"));
-    const bool cache = ctx_.param("cache") != 0.0;
-    const double near = ctx_.param("near_metres");
+    const uint32_t max_maps = uint32_t(ctx_.param_int("max_maps"));
+    const uint32_t max_refreshes = uint32_t(ctx_.param_int("max_refreshes"));
+    const bool cache = ctx_.flag("cache");
+    const double near = ctx_.param_float("near_metres");
     LocalShadowPlan before{};
     GpuLocalShadowViews views_before{};
     const bool history = read_history(before, views_before);
@@ -228,7 +228,7 @@ class LocalPlanner {
     }
     // A slot without a map this frame keeps its light for keep_frames frames: each kept slot
     // costs shadow.local_static a layer copy every frame.
-    const uint32_t keep_frames = uint32_t(ctx_.param("keep_frames"));
+    const uint32_t keep_frames = uint32_t(ctx_.param_int("keep_frames"));
     std::array<uint32_t, kLocalShadowSlices> slot_state{};
     for (uint32_t s = 0; s < kLocalShadowSlices; ++s) {
       if (plan.slot_light[s] == kLocalNoLight) continue;
@@ -255,9 +255,7 @@ class LocalPlanner {
     }
     plan.draws = uint32_t(all.size());
     data.counts.x = plan.maps;
-    data.counts.y = plan.moments = uint32_t(ctx_.param("moments"));
-    if (data.counts.y != 2 && data.counts.y != 4)
-      throw GraphError("shadow.local_plan: moments is 2 or 4, not " + std::to_string(data.counts.y));
+    data.counts.y = plan.moments = uint32_t(ctx_.param_int("moments"));
     // A map whose slot kept its static depth, and whose slot the previous frame mapped too, has
     // that map's moments but where moving casters are or were.
     std::fill(std::begin(plan.moments_from), std::end(plan.moments_from), -1);
@@ -461,20 +459,20 @@ PassDecl shadow_local_plan_pass() {
       .layout("shadow.local_views", local_shadow_views_schema())
       .layout("draws.shadow.local", draw_schema())
       .layout("shadow.local_plan", local_shadow_plan_schema())
-      .param("max_maps", 8, 0, kLocalShadowSlices, "spot lights with a shadow map per frame at most")
-      .param("near_metres", 0.05, 0.001, 10, "the maps' near plane: casters closer to the light cast nothing")
-      .param("moments", 4, 2, 4,
-             "moments per texel of shadow.local_moments: 4, moment shadow maps (Hamburger 4MSM); 2, variance "
-             "shadow maps (frame.md's; leaks under stacked occluders)")
-      .param("max_refreshes", 4, 0, kLocalShadowSlices,
-             "cache slots whose static casters are drawn per frame at most, with the cache on and history (a light "
-             "needing one past that gets no map this frame)")
-      .param("keep_frames", 60, 0, 100000,
-             "frames a cache slot keeps the static depth of a light without a map (copied each frame) before it is "
-             "freed")
-      .param("cache", 1, 0, 1,
-             "1: a map whose light and view are the previous frame's keeps its static casters' depth "
-             "(shadow.local_static) and draws only the moving ones; 0: everything drawn each frame")
+      .param_int("max_maps", 8, 0, kLocalShadowSlices, "spot lights with a shadow map per frame at most")
+      .param_float("near_metres", 0.05, 0.001, 10, "the maps' near plane: casters closer to the light cast nothing")
+      .choice("moments", 4, numbered_choices(std::array<uint32_t, 2>{2, 4}),
+              "moments per texel of shadow.local_moments: 4, moment shadow maps (Hamburger 4MSM); 2, variance "
+              "shadow maps (frame.md's; leaks under stacked occluders)")
+      .param_int("max_refreshes", 4, 0, kLocalShadowSlices,
+                 "cache slots whose static casters are drawn per frame at most, with the cache on and history (a light "
+                 "needing one past that gets no map this frame)")
+      .param_int("keep_frames", 60, 0, 100000,
+                 "frames a cache slot keeps the static depth of a light without a map (copied each frame) before it is "
+                 "freed")
+      .flag("cache", true,
+            "1: a map whose light and view are the previous frame's keeps its static casters' depth "
+            "(shadow.local_static) and draws only the moving ones; 0: everything drawn each frame")
       .run([](PassContext& ctx) { LocalPlanner(ctx).run(); });
 }
 

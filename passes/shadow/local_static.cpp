@@ -25,8 +25,8 @@ PassDecl shadow_local_static_pass() {
       .read("scene.materials", Use::host)
       .read("shadow.local_plan", Use::host)
       .write("shadow.local_static", Use::depth_attachment, shadow_depth_array(kLocalShadowSlices))
-      .param("resolution", kLocalShadowResolution, 64, 2048,
-             "texels per side of each slot and of each map (shadow.local is sized like it)")
+      .param_int("resolution", kLocalShadowResolution, 64, 2048,
+                 "texels per side of each slot and of each map (shadow.local is sized like it)")
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
       .needs("spot_lights")

@@ -32,10 +32,10 @@ PassDecl shadow_sun_resolve_pass() {
       .read("shadow.distant", Use::sampled)
       .read("shadow.cull_stats", Use::host)
       .write("shadow.sun", Use::storage_write, sun)
-      .param("filter_radius", 1, 0, 3, "the filter takes (2r + 1)² texels around the pixel's point (0: one)")
-      .param("depth_bias", 0.5, 0, 16, "texels of light depth a receiver may lie behind the map and stay lit")
-      .param("max_slope", 11.43, 0, 1000,
-             "largest receiver slope carried to the filter's texels (tan 85°: steeper ones self-shadow)")
+      .param_int("filter_radius", 1, 0, 3, "the filter takes (2r + 1)² texels around the pixel's point (0: one)")
+      .param_float("depth_bias", 0.5, 0, 16, "texels of light depth a receiver may lie behind the map and stay lit")
+      .param_float("max_slope", 11.43, 0, 1000,
+                   "largest receiver slope carried to the filter's texels (tan 85°: steeper ones self-shadow)")
       .can_disable("sun shadows disabled by settings")
       .needs("sun_above_horizon")
       .skip_when_cleared({"scene.depth"})
@@ -43,7 +43,7 @@ PassDecl shadow_sun_resolve_pass() {
       .shader("shadow/sun_resolve.comp")
       .run([](PassContext& ctx) {
         const ImageExtent size = ctx.desc("shadow.sun").extent;
-        const ResolveConstants constants{float(ctx.param("depth_bias")), float(ctx.param("max_slope"))};
+        const ResolveConstants constants{float(ctx.param_float("depth_bias")), float(ctx.param_float("max_slope"))};
         int32_t check_tiles = 1;
         const std::span<const uint8_t> record = ctx.host("shadow.cull_stats");
         if (record.size() == sizeof(ShadowCullStats)) {
@@ -54,7 +54,7 @@ PassDecl shadow_sun_resolve_pass() {
                 TiledMap{{}, 0.0, stats.resolution, std::max(stats.tiles_per_side, 1u)}.all())
               check_tiles = 1;
         }
-        ctx.bind_pipeline({int32_t(ctx.param("filter_radius")), check_tiles});
+        ctx.bind_pipeline({int32_t(ctx.param_int("filter_radius")), check_tiles});
         ctx.push_declared();
         ctx.push_constants(constants);
         vkCmdDispatch(ctx.cmd(), group_count(size.width, kSunResolveGroupSide),

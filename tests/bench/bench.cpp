@@ -172,7 +172,7 @@ void bench_capture_cost(nc::Renderer& renderer, const nc::RenderSettings& settin
     nc::CaptureWriter writer(dir / ("on" + std::to_string(r)), false, settings.capture);
     nc::CaptureManifest manifest;
     const nc::RenderedFrame frame = renderer.render_frame(0, true, &writer);
-    manifest.frames.push_back(nc::record_frame(writer, frame, 0, settings.params));
+    manifest.frames.push_back(nc::record_frame(writer, frame, 0));
     writer.commit(manifest);
     frame_on.push_back(now_ms() - start);
     raw = 0;
@@ -210,7 +210,7 @@ void bench_capture_cost(nc::Renderer& renderer, const nc::RenderSettings& settin
       fs::remove_all(dir / "encode");
       nc::CaptureWriter writer(dir / "encode", false, options);
       const double start = now_ms();
-      nc::record_frame(writer, frame, 0, settings.params);
+      nc::record_frame(writer, frame, 0);
       writer.flush();
       times[i].push_back(now_ms() - start);
       rows[i].bytes = writer.bytes_written();

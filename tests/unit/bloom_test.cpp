@@ -45,7 +45,7 @@ class Bloom : public GpuTest {
  protected:
   // The bloom passes of the frame on `lit` (RGBA16F texels, 4 floats each) at width×height.
   static ChainRun run_chain(const std::vector<float>& lit, uint32_t width, uint32_t height,
-                            const std::map<std::string, ParamValues>& params = {}) {
+                            const ParamOverrides& params = {}) {
     ChainRun run;
     for (uint32_t level = 0; level < kBloomLevels; ++level) run.passes.push_back(bloom_level_pass(level));
     ResourceDesc desc;
@@ -66,7 +66,6 @@ class Bloom : public GpuTest {
     settings.params = params;
     run.graph = compile_graph(run.passes, {{"lighting.lit", desc}}, settings);
     ExecutionOptions options;
-    options.params = params;
     options.shaders = [](const std::string&, const std::string& path) { return builtin_spirv(path); };
     run.execution = execute_graph(*gpu_, *cache_, run.graph, {{"lighting.lit", bytes}}, options);
     return run;
@@ -213,12 +212,14 @@ TEST_F(Bloom, OneSwitchSkipsEveryLevelAndTheChainIsCleared) {
 }
 
 TEST(BloomSwitch, TheGroupTakesEnabledOnly) {
-  EXPECT_NO_THROW(validate_params(frame_passes(), {{"bloom", {{"enabled", 0}}}}));
-  EXPECT_NO_THROW(validate_params(frame_passes(), {{"bloom.level3", {{"sigma", 2}}}}));
-  EXPECT_THROW(validate_params(frame_passes(), {{"bloom", {{"sigma", 2}}}}), SceneError);
-  EXPECT_THROW(validate_params(frame_passes(), {{"bloom", {{"enabled", 0.5}}}}), SceneError);
-  EXPECT_THROW(validate_params(frame_passes(), {{"bloom.level3", {{"enabled", 0}}}}), SceneError)
-      << "a level has no switch of its own";
+  const std::vector<PassDecl> passes = frame_passes();
+  ParamOverrides overrides;
+  EXPECT_NO_THROW(parse_set(passes, "bloom.enabled=0", overrides));
+  EXPECT_NO_THROW(parse_set(passes, "bloom.level3.sigma=2", overrides));
+  EXPECT_THROW(parse_set(passes, "bloom.sigma=2", overrides), SceneError);
+  EXPECT_THROW(parse_set(passes, "bloom.enabled=0.5", overrides), SceneError);
+  EXPECT_THROW(parse_set(passes, "bloom.level3.enabled=0", overrides), SceneError) << "a level's switch is the group's";
+  EXPECT_EQ(overrides, (ParamOverrides{{"bloom", {{"enabled", 0}}}, {"bloom.level3", {{"sigma", 2}}}}));
 }
 
 }  // namespace NIGHTCAP_FILE_ID

@@ -37,9 +37,7 @@ class GpuTest : public ::testing::Test {
 
   static IsolatedRun run(const PassDecl& pass, const std::map<std::string, IsolatedInput>& inputs, uint32_t width,
                          uint32_t height, ParamValues params = {}) {
-    ParamValues all = pass.default_params();
-    for (const auto& [k, v] : params) all[k] = v;
-    return run_isolated(*gpu_, *cache_, pass, inputs, all, width, height,
+    return run_isolated(*gpu_, *cache_, pass, inputs, params, width, height,
                         [](const std::string&, const std::string& path) { return builtin_spirv(path); });
   }
 

@@ -96,7 +96,7 @@ TEST(Graph, PassesWhoseInputsAreAllClearedAreSkippedDownTheFrame) {
                        .read("constants", Use::uniform_buffer)
                        .read("depth", Use::sampled)
                        .write("linear", Use::storage_write, image())
-                       .param("sky", 1e6, 1, 1e9, "")
+                       .param_float("sky", 1e6, 1, 1e9, "")
                        .skip_when_cleared({"depth"}, [](const ParamValues& p) { return p.at("sky") == 1e6; }));
   passes.push_back(PassDecl("pyramid", PassType::compute)
                        .read("linear", Use::sampled)
@@ -186,7 +186,7 @@ TEST(Graph, PassesOnUniformInputsAreFoldedAndOnlyWhatIsReadIsCleared) {
                                return std::optional(UniformValues{
                                    {"blurred", p.at("to") < 0 ? in.at("blurred") : colour(float(p.at("to")))}});
                              })
-          .param("to", -1, -1, 1, "-1: the value of mip 0"));
+          .param_int("to", -1, -1, 1, "-1: the value of mip 0"));
   passes.push_back(PassDecl("final", PassType::graphics)
                        .read("blurred", Use::sampled)
                        .write("final.ldr", Use::color_attachment, image()));
@@ -351,8 +351,8 @@ TEST(Graph, SizesByTheWritersParameters) {
   std::vector<PassDecl> passes;
   passes.push_back(PassDecl("t", PassType::compute)
                        .write("tiles", Use::storage_write, tiles)
-                       .param("tile", 32, 1, 64, "pixels per tile")
-                       .param("slices", 64, 1, 128, "depth slices"));
+                       .param_int("tile", 32, 1, 64, "pixels per tile")
+                       .param_int("slices", 64, 1, 128, "depth slices"));
   GraphSettings settings;
   settings.width = 1279;
   settings.height = 719;
@@ -371,7 +371,16 @@ TEST(Graph, SizesByTheWritersParameters) {
     compile_graph(passes, {}, settings);
     ADD_FAILURE() << "2.5 slices were accepted";
   } catch (const GraphError& e) {
-    EXPECT_NE(std::string(e.what()).find("slices 2.5 is not a size"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()), "t.slices = 2.5: int parameter, expected a whole number in [1, 128]");
+  }
+  passes[0].params[1] = ParamDecl::real("slices", 64, 0, 128, "depth slices");
+  settings.params.clear();
+  try {
+    compile_graph(passes, {}, settings);
+    ADD_FAILURE() << "a float parameter sized an image";
+  } catch (const GraphError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "t: output 'tiles' is sized by 'slices', which is not an int from 1 (or an enum of such values)");
   }
 }
 
@@ -385,7 +394,7 @@ TEST(Graph, SizesAnOutputByItsWritersParameter) {
   std::vector<PassDecl> passes;
   passes.push_back(PassDecl("s", PassType::graphics)
                        .write("map", Use::depth_attachment, map)
-                       .param("resolution", 1024, 64, 4096, "texels a side"));
+                       .param_int("resolution", 1024, 64, 4096, "texels a side"));
   GraphSettings settings;
   settings.sinks = {"map"};
   EXPECT_EQ(compile_graph(passes, {}, settings).resources.at("map").extent.width, 1024u);

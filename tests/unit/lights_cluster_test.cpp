@@ -76,7 +76,7 @@ std::vector<T> records(const std::vector<uint8_t>& bytes) {
 
 // `params`: lights.cluster's, defaults where not given.
 ClusterFrame cluster_frame(const Versions& v, const ParamValues& params = {}) {
-  const ParamValues all = lights_cluster_pass().params_with({{"lights.cluster", params}});
+  const ParamValues all = resolve_params(lights_cluster_pass(), {{"lights.cluster", params}});
   ClusterFrame c;
   std::memcpy(&c.frame, v.at("frame.constants").second->data(), sizeof(c.frame));
   c.lights = records<GpuLight>(*v.at("frame.lights").second);

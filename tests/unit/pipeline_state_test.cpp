@@ -40,8 +40,8 @@ PassDecl triangle_pass(const std::function<void(PassDecl&)>& declare) {
   PassDecl pass("test.triangle", PassType::graphics);
   pass.write("colour", Use::color_attachment, colour)
       .write("depth", Use::depth_attachment, depth)
-      .param("depth", 0.5, 0.0, 1.0, "depth of the triangle")
-      .param("slope", 0.0, -1.0, 1.0, "depth change per NDC unit of x")
+      .param_float("depth", 0.5, 0.0, 1.0, "depth of the triangle")
+      .param_float("slope", 0.0, -1.0, 1.0, "depth change per NDC unit of x")
       .push_constants<TriangleConstants>()
       .shader("test/triangle.vert")
       .shader("test/triangle.frag")
@@ -49,7 +49,7 @@ PassDecl triangle_pass(const std::function<void(PassDecl&)>& declare) {
         ctx.begin_rendering();
         ctx.bind_pipeline();
         vkCmdSetStencilReference(ctx.cmd(), VK_STENCIL_FACE_FRONT_AND_BACK, 7);
-        ctx.push_constants(TriangleConstants{float(ctx.param("depth")), float(ctx.param("slope"))});
+        ctx.push_constants(TriangleConstants{float(ctx.param_float("depth")), float(ctx.param_float("slope"))});
         vkCmdDraw(ctx.cmd(), 3, 1, 0, 0);
         ctx.end_rendering();
       });
@@ -68,10 +68,8 @@ class PipelineState : public GpuTest {
  protected:
   static Target draw(const std::function<void(PassDecl&)>& declare, ParamValues params = {}) {
     const PassDecl pass = triangle_pass(declare);
-    ParamValues all = pass.default_params();
-    for (const auto& [k, v] : params) all[k] = v;
     const IsolatedRun run =
-        run_isolated(*gpu_, *cache_, pass, {}, all, kSize, kSize,
+        run_isolated(*gpu_, *cache_, pass, {}, params, kSize, kSize,
                      [](const std::string&, const std::string& path) { return compile_glsl(path, kSources.at(path)); });
     Target t;
     const auto& colour = *run.outputs.at("colour");
