@@ -210,6 +210,40 @@ json to_json(const ResourceRecord& r) {
   return j;
 }
 
+namespace {
+
+// A parameter's declaration as the manifest's "param_types" records it.
+json to_json(const ParamDecl& p) {
+  json j = {{"type", type_name(p.type)}};
+  if (p.type == ParamType::real || p.type == ParamType::integer) {
+    j["min"] = p.min;
+    j["max"] = p.max;
+  }
+  if (p.type == ParamType::choice) {
+    j["choices"] = json::array();
+    for (const ParamChoice& c : p.choices) j["choices"].push_back({{"name", c.name}, {"value", c.value}});
+  }
+  if (!p.group.empty()) j["group"] = p.group;
+  return j;
+}
+
+ParamDecl param_type_from_json(const std::string& name, const json& j) {
+  ParamDecl p;
+  p.name = name;
+  const std::string type = j.at("type").get<std::string>();
+  for (ParamType t : {ParamType::real, ParamType::integer, ParamType::boolean, ParamType::choice})
+    if (type == type_name(t)) p.type = t;
+  if (type != type_name(p.type)) throw std::runtime_error("unknown parameter type '" + type + "'");
+  p.min = j.value("min", 0.0);
+  p.max = j.value("max", p.type == ParamType::boolean ? 1.0 : 0.0);
+  for (const json& c : j.value("choices", json::array()))
+    p.choices.push_back({c.at("name").get<std::string>(), c.at("value").get<double>()});
+  p.group = j.value("group", "");
+  return p;
+}
+
+}  // namespace
+
 json to_json(const CaptureManifest& m) {
   json frames = json::array();
   for (const FrameRecord& f : m.frames) {
@@ -220,6 +254,11 @@ json to_json(const CaptureManifest& m) {
       pass["gpu_ms"] = p.gpu_ms ? json(*p.gpu_ms) : json(nullptr);
       pass["cpu_ms"] = p.cpu_ms;
       pass["params"] = p.params;
+      if (!p.param_types.empty()) {
+        json types = json::object();
+        for (const ParamDecl& param : p.param_types) types[param.name] = to_json(param);
+        pass["param_types"] = types;
+      }
       json shaders = json::array(), inputs = json::array(), outputs = json::array();
       for (const ShaderRecord& s : p.shaders)
         shaders.push_back({{"path", s.path},
@@ -360,6 +399,12 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
         p.params = pj.value("params", json::object()).get<std::map<std::string, double>>();
       } catch (const json::exception&) {
         fail(file, pw, "\"params\" must map names to numbers");
+      }
+      try {
+        const json types = pj.value("param_types", json::object());
+        for (const auto& [name, type] : types.items()) p.param_types.push_back(param_type_from_json(name, type));
+      } catch (const std::exception& e) {
+        fail(file, pw, std::string("\"param_types\": ") + e.what());
       }
       for (const char* state : {"pipelines", "samplers"})
         if (!pj.contains(state) || !pj.at(state).is_array())

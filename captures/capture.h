@@ -25,6 +25,7 @@
 #include "passes/core/buffer_schema.h"
 #include "passes/core/contract.h"
 #include "passes/core/format.h"
+#include "passes/core/params.h"
 
 namespace nightcap {
 
@@ -86,6 +87,9 @@ struct PassRecord {
   std::optional<double> gpu_ms;  // null for CPU passes and skipped ones
   double cpu_ms = 0.0;
   std::map<std::string, double> params;
+  // How each parameter is declared: its type, range or choices and group (not its help); absent
+  // in captures made before parameters had types.
+  std::vector<ParamDecl> param_types;
   std::vector<ShaderRecord> shaders;
   std::vector<ResourceRecord> inputs, outputs;
   // Pipeline and sampler state the pass bound, as passes/core/pipeline_cache.h describes it:

@@ -348,7 +348,14 @@ class Runner {
     if (json_) return emit(j);
     show_current();
     out_ << "  gpu " << format_ms(p.gpu_ms) << " ms, cpu " << format_ms(p.cpu_ms) << " ms\n";
-    for (const auto& [name, value] : p.params) out_ << "  param " << name << " = " << value << "\n";
+    for (const auto& [name, value] : p.params) {
+      out_ << "  param " << name << " = " << value;
+      for (const ParamDecl& type : p.param_types)
+        if (type.name == name)
+          out_ << " (" << type_name(type.type) << (type.group.empty() ? "" : ", set as " + type.group + "." + name)
+               << ")";
+      out_ << "\n";
+    }
     out_ << "  reads:\n";
     for (const ResourceRecord& r : p.inputs)
       out_ << "    " << std::left << std::setw(26) << r.resource << kind_name(r.kind) << ", " << shape(r) << ", "

@@ -286,6 +286,7 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
     p.gpu_ms = exec.gpu_ms;
     p.cpu_ms = exec.cpu_ms;
     p.params = pass.params;
+    p.param_types = pass.decl->params;
     for (const auto& [path, code] : exec.spirv) p.shaders.push_back(writer.add_shader(path, code, shader_source(path)));
     p.pipelines = exec.pipelines;
     p.samplers = exec.samplers;
