@@ -10,6 +10,8 @@
 // invent surfaces between silhouettes, and a min or max of stencil bits would invent classes.
 // A compute pass writes all three: the full and half outputs have different sizes, which one
 // render pass cannot draw into.
+#include <limits>
+
 #include "passes/core/context.h"
 #include "passes/depth/convert.glsl.h"
 #include "passes/frame/frame_passes.h"
@@ -31,7 +33,7 @@ PassDecl depth_convert_pass() {
       .write("depth.linear", Use::storage_write, linear)
       .write("depth.half", Use::storage_write, half_depth)
       .write("stencil.half", Use::storage_write, half_stencil)
-      .param_float("sky_depth", kSkyDepth, 1.0, 3e38,
+      .param_float("sky_depth", kSkyDepth, 1.0, std::numeric_limits<float>::max(),
                    "linear depth written where nothing was drawn (finite, so no Inf)")
       .skip_when_cleared({"scene.depth"}, [](const ParamValues& p) { return p.at("sky_depth") == kSkyDepth; })
       .compare("depth.linear", ComparisonContract::depth(0x1p-23,

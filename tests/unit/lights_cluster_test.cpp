@@ -594,11 +594,11 @@ TEST_F(LightsCluster, ShapesItCannotRunAreRefused) {
   s.depth.assign(size_t(s.width) * s.height, 3.0f);
   s.lights = {point_light({0, 0, -3}, 2.0f)};
   const std::pair<ParamValues, std::string> refused[] = {
-      {{{"tile_size", 24}}, "lights.cluster: tile_size is 8, 16, 32 or 64, not 24"},
-      {{{"tile_size", 128}}, "lights.cluster: tile_size is 8, 16, 32 or 64, not 128"},
-      {{{"slices", 8}}, "lights.cluster: slices is a whole number from 16 to 128, not 8"},
-      {{{"slices", 129}}, "lights.cluster: slices is a whole number from 16 to 128, not 129"},
-      {{{"slices", 20.5}}, "slices 20.5 is not a size"},  // the graph sizes lights.clusters by it first
+      {{{"tile_size", 24}}, "lights.cluster.tile_size = 24: enum parameter, expected one of 8, 16, 32, 64"},
+      {{{"tile_size", 128}}, "lights.cluster.tile_size = 128: enum parameter, expected one of 8, 16, 32, 64"},
+      {{{"slices", 8}}, "lights.cluster.slices = 8: int parameter, expected a whole number in [16, 128]"},
+      {{{"slices", 129}}, "lights.cluster.slices = 129: int parameter, expected a whole number in [16, 128]"},
+      {{{"slices", 20.5}}, "lights.cluster.slices = 20.5: int parameter, expected a whole number in [16, 128]"},
   };
   for (const auto& [params, message] : refused) {
     try {
