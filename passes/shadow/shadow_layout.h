@@ -16,8 +16,8 @@ namespace nightcap {
 
 struct GraphicsPipelineDesc;
 
-// Texels per side of each cascade by default (shadow.cull.resolution and
-// shadow.cascades_static.resolution, which must agree: shadow.cascades_static checks).
+// Texels per side of each cascade by default (the group parameter shadow.resolution,
+// passes/shadow/shadow_params.h).
 constexpr uint32_t kShadowResolution = 1024;
 // Tiles per side of a cascade at most: a cascade's tiles are one 64-bit mask (two 32-bit words).
 constexpr uint32_t kCascadeMaxTilesPerSide = 8;
