@@ -11,11 +11,7 @@ layout(set = 0, binding = 0) uniform sampler2D linear_depth;
 layout(set = 0, binding = 1, rg32f) uniform readonly image2D source_level;
 layout(set = 0, binding = 2, rg32f) uniform writeonly image2D target_level;
 
-layout(push_constant) uniform Params {
-  ivec2 source_size;
-  ivec2 target_size;
-  int from_linear;
-};
+layout(push_constant) uniform PyramidConstants { NC_BLOCK_MEMBERS(NC_PYRAMID_CONSTANTS_FIELDS) };
 
 vec2 fetch(ivec2 p) {
   if (from_linear != 0) {

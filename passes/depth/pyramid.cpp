@@ -9,14 +9,6 @@
 
 namespace nightcap {
 
-namespace {
-
-struct PyramidConstants {
-  int32_t source[2], target[2], from_linear;
-};
-
-}  // namespace
-
 PassDecl depth_pyramid_pass() {
   ImageDecl pyramid{VK_FORMAT_R32G32_SFLOAT, ResourceKind::depth_minmax};
   pyramid.size.mode = SizeRule::Mode::output_half;
@@ -35,15 +27,15 @@ PassDecl depth_pyramid_pass() {
         const ImageExtent levels = ctx.desc("depth.pyramid").extent;
         for (uint32_t mip = 0; mip < levels.mips; ++mip) {
           PyramidConstants params{};
-          params.source[0] = int32_t(mip == 0 ? full.width : mip_size(levels.width, mip - 1));
-          params.source[1] = int32_t(mip == 0 ? full.height : mip_size(levels.height, mip - 1));
-          params.target[0] = int32_t(mip_size(levels.width, mip));
-          params.target[1] = int32_t(mip_size(levels.height, mip));
+          params.source_size[0] = int32_t(mip == 0 ? full.width : mip_size(levels.width, mip - 1));
+          params.source_size[1] = int32_t(mip == 0 ? full.height : mip_size(levels.height, mip - 1));
+          params.target_size[0] = int32_t(mip_size(levels.width, mip));
+          params.target_size[1] = int32_t(mip_size(levels.height, mip));
           params.from_linear = mip == 0;
           ctx.push_declared(mip);
           ctx.push_constants(params);
-          vkCmdDispatch(ctx.cmd(), group_count(params.target[0], kPyramidGroupSide),
-                        group_count(params.target[1], kPyramidGroupSide), 1);
+          vkCmdDispatch(ctx.cmd(), group_count(params.target_size[0], kPyramidGroupSide),
+                        group_count(params.target_size[1], kPyramidGroupSide), 1);
           ctx.storage_barrier();
         }
       });

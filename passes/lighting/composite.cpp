@@ -1,22 +1,21 @@
 // lighting.composite: direct diffuse + specular + emission + a uniform ambient term into the
 // lit HDR colour. The indirect terms of frame.md (AO, SSR, probes, GI volume, fog) join here
 // as their passes arrive.
-#include <array>
-
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
+#include "passes/lighting/composite.glsl.h"
 
 namespace nightcap {
 namespace {
 
 // A cool night ambient and a deep blue sky.
-std::array<float, 4> ambient_radiance(const ParamValues& params) {
-  const float ambient = float(params.at("ambient"));
-  return {ambient * 0.8f, ambient * 0.9f, ambient * 1.2f, 0.0f};
+glm::vec4 ambient_radiance(double ambient) {
+  const float a = float(ambient);
+  return {a * 0.8f, a * 0.9f, a * 1.2f, 0.0f};
 }
-std::array<float, 4> sky_radiance(const ParamValues& params) {
-  const float sky = float(params.at("sky"));
-  return {sky * 0.5f, sky * 0.7f, sky * 1.6f, 0.0f};
+glm::vec4 sky_radiance(double sky) {
+  const float s = float(sky);
+  return {s * 0.5f, s * 0.7f, s * 1.6f, 0.0f};
 }
 
 }  // namespace
@@ -40,18 +39,14 @@ PassDecl lighting_composite_pass() {
       .fold_when_uniform({"scene.depth"},
                          [](const UniformValues& inputs, const ParamValues& params) -> std::optional<UniformValues> {
                            if (!(inputs.at("scene.depth").depthStencil.depth <= 0.0f)) return std::nullopt;
-                           const std::array<float, 4> sky = sky_radiance(params);
+                           const glm::vec4 sky = sky_radiance(params.at("sky"));
                            VkClearValue lit{};
                            for (int c = 0; c < 3; ++c) lit.color.float32[c] = half_rounded(sky[c]);
                            lit.color.float32[3] = 1.0f;
                            return UniformValues{{"lighting.lit", lit}};
                          })
       .fullscreen("lighting/composite.frag", [](const PassContext& ctx) {
-        const ParamValues params{{"ambient", ctx.param_float("ambient")}, {"sky", ctx.param_float("sky")}};
-        struct {
-          std::array<float, 4> ambient, sky;
-        } constants{ambient_radiance(params), sky_radiance(params)};
-        return constants;
+        return CompositeConstants{ambient_radiance(ctx.param_float("ambient")), sky_radiance(ctx.param_float("sky"))};
       });
 }
 

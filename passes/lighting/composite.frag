@@ -1,6 +1,7 @@
 #version 460
 #include "../frame/half.glsl"
 #include "../frame/types.glsl"
+#include "composite.glsl.h"
 
 layout(set = 0, binding = 0) uniform sampler2D diffuse_map;
 layout(set = 0, binding = 1) uniform sampler2D specular_map;
@@ -9,10 +10,7 @@ layout(set = 0, binding = 3) uniform sampler2D material_map;
 layout(set = 0, binding = 4) uniform sampler2D emissive_map;
 layout(set = 0, binding = 5) uniform sampler2D depth_map;
 
-layout(push_constant) uniform Params {
-  vec4 ambient;  // rgb radiance of the uniform ambient term
-  vec4 sky;      // rgb radiance where nothing was drawn
-};
+layout(push_constant) uniform CompositeConstants { NC_BLOCK_MEMBERS(NC_COMPOSITE_CONSTANTS_FIELDS) };
 
 layout(location = 0) in vec2 in_uv;
 layout(location = 0) out vec4 out_lit;

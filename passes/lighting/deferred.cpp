@@ -3,6 +3,7 @@
 // (lighting.tiled) replaces it once lights.cluster exists.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
+#include "passes/lighting/deferred.glsl.h"
 
 namespace nightcap {
 
@@ -39,12 +40,8 @@ PassDecl lighting_deferred_pass() {
       })
       .skip_when_cleared({"scene.depth"})
       .fullscreen("lighting/deferred.frag", [](const PassContext& ctx) {
-        struct {
-          float intensity_scale, min_roughness;
-          int32_t tube_samples;
-        } constants{float(ctx.param_float("intensity_scale")), float(ctx.param_float("min_roughness")),
-                    int32_t(ctx.param_int("tube_samples"))};
-        return constants;
+        return DeferredConstants{float(ctx.param_float("intensity_scale")), float(ctx.param_float("min_roughness")),
+                                 int32_t(ctx.param_int("tube_samples"))};
       });
 }
 

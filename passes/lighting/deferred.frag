@@ -3,6 +3,7 @@
 #include "../frame/half.glsl"
 #include "../frame/types.glsl"
 #include "brdf.glsl"
+#include "deferred.glsl.h"
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
 layout(std430, set = 0, binding = 1) readonly buffer LightBlock { GpuLight lights[]; };
@@ -11,11 +12,7 @@ layout(set = 0, binding = 3) uniform sampler2D normal_map;
 layout(set = 0, binding = 4) uniform sampler2D material_map;
 layout(set = 0, binding = 5) uniform sampler2D depth_map;
 
-layout(push_constant) uniform Params {
-  float intensity_scale;
-  float min_roughness;
-  int tube_samples;
-};
+layout(push_constant) uniform DeferredConstants { NC_BLOCK_MEMBERS(NC_DEFERRED_CONSTANTS_FIELDS) };
 
 layout(location = 0) in vec2 in_uv;
 layout(location = 0) out vec4 out_diffuse;

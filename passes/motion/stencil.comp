@@ -10,9 +10,9 @@ layout(local_size_x = kMotionStencilTile, local_size_y = kMotionStencilTile) in;
 
 layout(set = 0, binding = 0) uniform usampler2D stencil_map;
 layout(set = 0, binding = 1, r8ui) uniform writeonly uimage2D motion_mask;
-layout(push_constant) uniform Params { int radius; };
+layout(push_constant) uniform MotionStencilConstants { NC_BLOCK_MEMBERS(NC_MOTION_STENCIL_CONSTANTS_FIELDS) };
 
-const int TILE = int(kMotionStencilTile), MAX_RADIUS = 16, SPAN = TILE + 2 * MAX_RADIUS;  // MAX_RADIUS: the param's maximum
+const int TILE = int(kMotionStencilTile), SPAN = TILE + 2 * kMotionStencilMaxRadius;
 
 // passes/scene/scene.h: the classes use bits 0xB5, so road (0x08) and vehicle (0x40) marks OR-ed
 // onto a class leave it recognisable.

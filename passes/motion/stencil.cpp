@@ -14,20 +14,13 @@
 #include "passes/motion/stencil.glsl.h"
 
 namespace nightcap {
-namespace {
-
-// The widest apron around a tile that the shader's shared memory holds (MAX_RADIUS in
-// stencil.comp).
-constexpr int kMaxRadius = 16;
-
-}  // namespace
 
 PassDecl motion_stencil_pass() {
   return PassDecl("motion.stencil", PassType::compute)
       .read("scene.depth", Use::sampled)
       .aspects("scene.depth", {ViewAspect::stencil})
       .write("motion.mask", Use::storage_write, ImageDecl{VK_FORMAT_R8_UINT, ResourceKind::mask})
-      .param_int("radius", 2, 0, kMaxRadius,
+      .param_int("radius", 2, 0, kMotionStencilMaxRadius,
                  "pixels of dilation around tagged pixels (a square window), at most the apron the shader's tile holds")
       .skip_when([](const SkipContext& frame) -> std::string {
         if (frame.features.count("moving_geometry") || frame.camera_moved) return "";
@@ -35,11 +28,11 @@ PassDecl motion_stencil_pass() {
       })
       .skip_when_cleared({"scene.depth"})
       .shader("motion/stencil.comp")
-      .push_constants<int32_t>()
+      .push_constants<MotionStencilConstants>()
       .run([](PassContext& ctx) {
         ctx.bind_pipeline();
         ctx.push_declared();
-        ctx.push_constants(int32_t(ctx.param_int("radius")));
+        ctx.push_constants(MotionStencilConstants{int32_t(ctx.param_int("radius"))});
         const ImageExtent full = ctx.desc("motion.mask").extent;
         vkCmdDispatch(ctx.cmd(), group_count(full.width, kMotionStencilTile),
                       group_count(full.height, kMotionStencilTile), 1);

@@ -7,5 +7,12 @@
 
 // Pixels on a side of a workgroup's tile.
 NC_CONST(uint, kMotionStencilTile, 16u)
+// The widest apron around a tile that the shader's shared memory holds: the radius's maximum.
+NC_CONST(int, kMotionStencilMaxRadius, 16)
+
+#define NC_MOTION_STENCIL_CONSTANTS_FIELDS(F, A, P)         \
+  /* pixels of dilation, at most kMotionStencilMaxRadius */ \
+  F(int, radius)
+NC_PUSH_CONSTANTS(MotionStencilConstants, NC_MOTION_STENCIL_CONSTANTS_FIELDS)
 
 #endif

@@ -1,7 +1,7 @@
 #version 460
 // One level of bloom.chain: the 2×2 box average of the level above (lighting.lit for level 0)
 // blurred by a separable Gaussian. A workgroup computes a kBloomTile² tile: it downsamples the tile
-// and an apron of MAX_RADIUS texels into shared memory, blurs the rows there, then blurs the
+// and an apron of kBloomMaxRadius texels into shared memory, blurs the rows there, then blurs the
 // columns and stores — both 1D blurs of the separable filter in one dispatch, the intermediate
 // in float rather than rounded to a half. Edges clamp: outside the level, its border texel
 // repeats; a source of odd size repeats its last row and column in the box.
@@ -11,18 +11,12 @@
 
 layout(local_size_x = kBloomTile, local_size_y = kBloomTile) in;
 const int TILE = int(kBloomTile);
-const int MAX_RADIUS = 8;
-const int SPAN = TILE + 2 * MAX_RADIUS;
+const int SPAN = TILE + 2 * kBloomMaxRadius;
 
 layout(set = 0, binding = 0) uniform sampler2D source;  // one mip: texel (0,0) of mip 0 of this view
 layout(set = 0, binding = 1, rgba16f) uniform writeonly image2D target;
 
-layout(push_constant) uniform Params {
-  ivec2 source_size;
-  ivec2 target_size;
-  int radius;                     // ≤ MAX_RADIUS
-  float weights[MAX_RADIUS + 1];  // weights[k] for offsets ±k, summing to 1 over -radius..radius
-};
+layout(push_constant) uniform BloomConstants { NC_BLOCK_MEMBERS(NC_BLOOM_CONSTANTS_FIELDS) };
 
 shared vec3 down[SPAN][SPAN];    // the downsampled level over the tile and its apron
 shared vec3 across[SPAN][TILE];  // its rows blurred
@@ -46,21 +40,21 @@ void main() {
   const int invocations = TILE * TILE;
   for (int i = int(gl_LocalInvocationIndex); i < SPAN * SPAN; i += invocations) {
     ivec2 s = ivec2(i % SPAN, i / SPAN);
-    down[s.y][s.x] = downsample(tile - MAX_RADIUS + s);
+    down[s.y][s.x] = downsample(tile - kBloomMaxRadius + s);
   }
   barrier();
   for (int i = int(gl_LocalInvocationIndex); i < SPAN * TILE; i += invocations) {
     ivec2 s = ivec2(i % TILE, i / TILE);
-    vec3 sum = weights[0] * down[s.y][s.x + MAX_RADIUS];
+    vec3 sum = weights[0] * down[s.y][s.x + kBloomMaxRadius];
     for (int k = 1; k <= radius; ++k)
-      sum += weights[k] * (down[s.y][s.x + MAX_RADIUS - k] + down[s.y][s.x + MAX_RADIUS + k]);
+      sum += weights[k] * (down[s.y][s.x + kBloomMaxRadius - k] + down[s.y][s.x + kBloomMaxRadius + k]);
     across[s.y][s.x] = sum;
   }
   barrier();
   const ivec2 t = ivec2(gl_LocalInvocationID.xy);
   if (any(greaterThanEqual(tile + t, target_size))) return;
-  vec3 sum = weights[0] * across[t.y + MAX_RADIUS][t.x];
+  vec3 sum = weights[0] * across[t.y + kBloomMaxRadius][t.x];
   for (int k = 1; k <= radius; ++k)
-    sum += weights[k] * (across[t.y + MAX_RADIUS - k][t.x] + across[t.y + MAX_RADIUS + k][t.x]);
+    sum += weights[k] * (across[t.y + kBloomMaxRadius - k][t.x] + across[t.y + kBloomMaxRadius + k][t.x]);
   imageStore(target, tile + t, vec4(nearest_half(sum), 1.0));
 }

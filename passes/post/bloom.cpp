@@ -16,14 +16,6 @@
 namespace nightcap {
 namespace {
 
-constexpr int kMaxRadius = 8;  // bloom.comp's MAX_RADIUS
-
-struct BloomConstants {
-  int32_t source_size[2], target_size[2];
-  int32_t radius;
-  float weights[kMaxRadius + 1];
-};
-
 BloomConstants constants(double sigma, const ImageExtent& source, uint32_t source_mip, const ImageExtent& chain,
                          uint32_t level) {
   BloomConstants c{};
@@ -31,8 +23,8 @@ BloomConstants constants(double sigma, const ImageExtent& source, uint32_t sourc
   c.source_size[1] = int32_t(mip_size(source.height, source_mip));
   c.target_size[0] = int32_t(mip_size(chain.width, level));
   c.target_size[1] = int32_t(mip_size(chain.height, level));
-  c.radius = std::min(kMaxRadius, int(std::ceil(3.0 * sigma)));
-  double weights[kMaxRadius + 1], total = 0;
+  c.radius = std::min(kBloomMaxRadius, int(std::ceil(3.0 * sigma)));
+  double weights[kBloomMaxRadius + 1], total = 0;
   for (int k = 0; k <= c.radius; ++k) {
     weights[k] = std::exp(-0.5 * k * k / (sigma * sigma));
     total += k == 0 ? weights[k] : 2 * weights[k];

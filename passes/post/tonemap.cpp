@@ -8,15 +8,9 @@
 // exists.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
+#include "passes/post/tonemap.glsl.h"
 
 namespace nightcap {
-namespace {
-
-struct TonemapConstants {
-  float exposure, bloom;
-};
-
-}  // namespace
 
 PassDecl tonemap_pass() {
   return PassDecl("tonemap", PassType::graphics)

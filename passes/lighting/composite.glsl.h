@@ -1,0 +1,15 @@
+// What lighting.composite's shaders share with its pass (passes/core/gpu_layout.glsl.h says
+// how this header is read by both compilers).
+#ifndef NIGHTCAP_LIGHTING_COMPOSITE_GLSL_H
+#define NIGHTCAP_LIGHTING_COMPOSITE_GLSL_H
+
+#include "../core/gpu_layout.glsl.h"
+
+#define NC_COMPOSITE_CONSTANTS_FIELDS(F, A, P)   \
+  /* rgb radiance of the uniform ambient term */ \
+  F(vec4, ambient)                               \
+  /* rgb radiance where nothing was drawn */     \
+  F(vec4, sky)
+NC_PUSH_CONSTANTS(CompositeConstants, NC_COMPOSITE_CONSTANTS_FIELDS)
+
+#endif
