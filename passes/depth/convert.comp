@@ -15,7 +15,7 @@ layout(set = 0, binding = 2) uniform usampler2D stencil_map;
 layout(set = 0, binding = 3, r32f) uniform writeonly image2D linear_depth;
 layout(set = 0, binding = 4, r16f) uniform writeonly image2D half_depth;
 layout(set = 0, binding = 5, r8ui) uniform writeonly uimage2D half_stencil;
-layout(push_constant) uniform Params { float sky_depth; };
+layout(push_constant) uniform DepthConvertConstants { NC_BLOCK_MEMBERS(NC_DEPTH_CONVERT_CONSTANTS_FIELDS) };
 
 float linear_of(float device) {
   // Reversed-Z with an infinite far plane: device = znear / distance, so the division is exact

@@ -45,11 +45,11 @@ PassDecl depth_convert_pass() {
                                                        "give 1 float ULP apart: the halves may then round "
                                                        "to neighbours, 1 half ULP (at most 2⁻¹⁰ relative)"))
       .shader("depth/convert.comp")
-      .push_constants<float>()
+      .push_constants<DepthConvertConstants>()
       .run([](PassContext& ctx) {
         ctx.bind_pipeline();
         ctx.push_declared();
-        ctx.push_constants(float(ctx.param_float("sky_depth")));
+        ctx.push_constants(DepthConvertConstants{float(ctx.param_float("sky_depth"))});
         const ImageExtent half = ctx.desc("depth.half").extent;
         vkCmdDispatch(ctx.cmd(), group_count(half.width, kDepthConvertGroupSide),
                       group_count(half.height, kDepthConvertGroupSide), 1);

@@ -8,4 +8,9 @@
 // Half-resolution pixels on a side of a workgroup.
 NC_CONST(uint, kDepthConvertGroupSide, 8u)
 
+#define NC_DEPTH_CONVERT_CONSTANTS_FIELDS(F, A, P)                                 \
+  /* the linear depth of the sky (nothing drawn), and the most any pixel stores */ \
+  F(float, sky_depth)
+NC_PUSH_CONSTANTS(DepthConvertConstants, NC_DEPTH_CONVERT_CONSTANTS_FIELDS)
+
 #endif

@@ -27,11 +27,12 @@ layout(constant_id = 1) const int LTC_LINE_NODES = 8;  // the tube_nodes paramet
 #include "ltc.glsl"
 #include "../shadow/local_moments.glsl"
 #include "../shadow/local_layout.glsl.h"
+#include "tiled.glsl.h"
 // shadow.local_data's counts.y: 4, moment shadow maps; 2, variance shadow maps. A constant:
 // lavapipe would run both reconstructions for every spot light otherwise.
 layout(constant_id = 2) const int LOCAL_MOMENTS = 4;
 
-layout(local_size_x = 16, local_size_y = 16) in;
+layout(local_size_x = kLightingTile, local_size_y = kLightingTile) in;
 
 layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
 layout(std430, set = 0, binding = 1) readonly buffer LightBlock { GpuLight lights[]; };
@@ -54,24 +55,14 @@ layout(std430, set = 0, binding = 14) readonly buffer LocalSlotBlock { int local
 layout(set = 0, binding = 15) uniform sampler2DArray local_moments;
 layout(set = 0, binding = 16, rgba16f) uniform writeonly image2D diffuse_out;
 layout(set = 0, binding = 17, rgba16f) uniform writeonly image2D specular_out;
-const uint kClasses = 5u;  // shaded classes, 1 to 5
 layout(std430, set = 0, binding = 18) buffer ClassBlock {
-  uvec4 class_dispatch[kClasses];  // classes 1 to 5: workgroups x, y, z; w: first list entry
+  uvec4 class_dispatch[kLightingTileClasses];  // classes 1 to 5: workgroups x, y, z; w: first list entry
 };
 layout(std430, set = 0, binding = 19) buffer ListBlock { uvec2 entries[]; };  // (class of tile i, i-th listed tile)
 
 layout(constant_id = 0) const uint phase = 0u;  // one pipeline per phase (tiled.cpp says why)
 
-layout(push_constant) uniform Params {
-  uint tiles_x, tiles_y;
-  float intensity_scale;
-  float min_roughness;
-  float contact_length, contact_thickness;
-  uint contact_steps;
-  float local_bias, local_min_variance, local_bleeding, local_moment_bias;
-};
-
-const uint kTile = 16u;
+layout(push_constant) uniform TiledConstants { NC_BLOCK_MEMBERS(NC_TILED_CONSTANTS_FIELDS) };
 
 bool inside(ivec2 pixel) { return all(lessThan(pixel, ivec2(frame.viewport.xy))); }
 
@@ -105,7 +96,7 @@ shared uint tile_flags;  // 1: a lit pixel; 2: its froxel lists a local light; 4
 
 void classify() {
   uvec2 tile = gl_WorkGroupID.xy;
-  ivec2 pixel = ivec2(tile * kTile + gl_LocalInvocationID.xy);
+  ivec2 pixel = ivec2(tile * kLightingTile + gl_LocalInvocationID.xy);
   if (gl_LocalInvocationIndex == 0u) tile_flags = 0u;
   barrier();
   if (inside(pixel) && shaded(pixel)) {
@@ -132,32 +123,32 @@ void classify() {
   uint groups = tiles_x * tiles_y;
   uint group = tile.y * tiles_x + tile.x;
   if (gl_LocalInvocationIndex == 0u) entries[group] = uvec2(tile_class, 0u);
-  for (uint i = groups + group * 256u + gl_LocalInvocationIndex; i < entries.length(); i += groups * 256u)
+  for (uint i = groups + group * kLightingTileInvocations + gl_LocalInvocationIndex; i < entries.length(); i += groups * kLightingTileInvocations)
     entries[i] = uvec2(0u);
 }
 
 // Phase 1.
-shared uint run_counts[kClasses][256];  // tiles of classes 1 to 5 in each invocation's run
+shared uint run_counts[kLightingTileClasses][kLightingTileInvocations];  // tiles of classes 1 to 5 in each invocation's run
 
 void place() {
   uint lane = gl_LocalInvocationIndex;
   uint total = tiles_x * tiles_y;
-  uint per_run = (total + 255u) / 256u;
+  uint per_run = (total + kLightingTileInvocations - 1u) / kLightingTileInvocations;
   uint begin = min(lane * per_run, total), end = min(begin + per_run, total);
-  uint counts[kClasses] = uint[kClasses](0u, 0u, 0u, 0u, 0u);
+  uint counts[kLightingTileClasses] = uint[kLightingTileClasses](0u, 0u, 0u, 0u, 0u);
   for (uint t = begin; t < end; ++t) {
     uint tile_class = entries[t].x;
     if (tile_class > 0u) ++counts[tile_class - 1u];
   }
-  for (uint c = 0u; c < kClasses; ++c) run_counts[c][lane] = counts[c];
+  for (uint c = 0u; c < kLightingTileClasses; ++c) run_counts[c][lane] = counts[c];
   barrier();
   // Each class's list follows the previous classes' lists.
-  uint at[kClasses], first[kClasses], all[kClasses];
+  uint at[kLightingTileClasses], first[kLightingTileClasses], all[kLightingTileClasses];
   uint listed = 0u;
-  for (uint c = 0u; c < kClasses; ++c) {
+  for (uint c = 0u; c < kLightingTileClasses; ++c) {
     uint before = 0u;
     all[c] = 0u;
-    for (uint k = 0u; k < 256u; ++k) {
+    for (uint k = 0u; k < kLightingTileInvocations; ++k) {
       if (k < lane) before += run_counts[c][k];
       all[c] += run_counts[c][k];
     }
@@ -172,7 +163,7 @@ void place() {
   if (lane != 0u) return;
   // A class with no tile dispatches nothing; (0, 0, 0) is also the buffer's cleared value, which
   // a frame with nothing to shade then computes (the pass's skip for cleared inputs).
-  for (uint c = 0u; c < kClasses; ++c) {
+  for (uint c = 0u; c < kLightingTileClasses; ++c) {
     uint any = min(all[c], 1u);
     class_dispatch[c] = uvec4(all[c], any, any, first[c]);
   }
@@ -348,7 +339,7 @@ void shade_tiles(uint tile_class) {
   uvec4 dispatch = class_dispatch[tile_class - 1u];
   uint tile_index = entries[dispatch.w + gl_WorkGroupID.x].y;
   uvec2 tile = uvec2(tile_index % tiles_x, tile_index / tiles_x);
-  ivec2 pixel = ivec2(tile * kTile + gl_LocalInvocationID.xy);
+  ivec2 pixel = ivec2(tile * kLightingTile + gl_LocalInvocationID.xy);
   if (!inside(pixel)) return;
   float depth = texelFetch(depth_map, pixel, 0).r;
   vec4 albedo_flags = texelFetch(albedo_map, pixel, 0);

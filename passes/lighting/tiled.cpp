@@ -28,14 +28,6 @@ ComparisonContract lighting_contract() {
                                     "(tests/unit/lighting_tiled_test.cpp): two within twice that");
 }
 
-struct TiledConstants {
-  uint32_t tiles_x, tiles_y;
-  float intensity_scale, min_roughness;
-  float contact_length, contact_thickness;
-  uint32_t contact_steps;
-  float local_bias, local_min_variance, local_bleeding, local_moment_bias;
-};
-
 // Bilinear over the moments: the filter moment maps are made for, and no stair steps at a shadow's edge.
 SamplerDesc moments_sampler() {
   SamplerDesc linear = nearest_clamp_sampler();
@@ -116,11 +108,11 @@ PassDecl lighting_tiled_pass() {
       .run([](PassContext& ctx) {
         const ImageExtent size = ctx.desc("lighting.diffuse").extent;
         const TiledConstants constants{
-            (size.width + kLightingTile - 1) / kLightingTile, (size.height + kLightingTile - 1) / kLightingTile,
-            float(ctx.param_float("intensity_scale")),        float(ctx.param_float("min_roughness")),
-            float(ctx.param_float("contact_length")),         float(ctx.param_float("contact_thickness")),
-            uint32_t(ctx.param_int("contact_steps")),         float(ctx.param_float("local_bias")),
-            float(ctx.param_float("local_min_variance")),     float(ctx.param_float("local_bleeding")),
+            group_count(size.width, kLightingTile),       group_count(size.height, kLightingTile),
+            float(ctx.param_float("intensity_scale")),    float(ctx.param_float("min_roughness")),
+            float(ctx.param_float("contact_length")),     float(ctx.param_float("contact_thickness")),
+            uint32_t(ctx.param_int("contact_steps")),     float(ctx.param_float("local_bias")),
+            float(ctx.param_float("local_min_variance")), float(ctx.param_float("local_bleeding")),
             float(ctx.param_float("local_moment_bias"))};
         // Each phase is its own pipeline (tiled.comp's constant `phase`): lavapipe runs every
         // side of a branch, so one pipeline switching on a push constant paid for every phase

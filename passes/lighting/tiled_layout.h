@@ -21,15 +21,14 @@
 #include <cstdint>
 
 #include "passes/core/buffer_schema.h"
+#include "passes/lighting/tiled.glsl.h"
 
 namespace nightcap {
 
-constexpr uint32_t kLightingTile = 16;  // pixels on a side of a tile
 // Tiles lighting.tile_lists holds: those of the largest output (16384² pixels).
 constexpr uint32_t kLightingTileCapacity = 1u << 20;
 
 enum class TileClass : uint32_t { unlit = 0, directional = 1, local = 2, tube = 3, sphere = 4, sphere_and_tube = 5 };
-constexpr uint32_t kLightingTileClasses = 5;  // shaded classes: 1 to 5
 
 // lighting.tile_classes: per shaded class, its VkDispatchIndirectCommand (x: the class's tiles;
 // y = z = 1, or all 0 when it has none) and in w the first entry of its list in

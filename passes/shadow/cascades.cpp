@@ -37,7 +37,7 @@ PassDecl shadow_cascades_pass() {
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
       .needs("sun_above_horizon")
-      .push_constants<uint32_t>()
+      .push_constants<CasterConstants>()
       .shader("shadow/cascades.vert")
       .run([](PassContext& ctx) {
         const auto stats = host_records<ShadowCullStats>(ctx.host("shadow.cull_stats")).at(0);

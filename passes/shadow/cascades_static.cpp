@@ -32,7 +32,7 @@ PassDecl shadow_cascades_static_pass() {
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
       .needs("sun_above_horizon")
-      .push_constants<uint32_t>()
+      .push_constants<CasterConstants>()
       .shader("shadow/cascades.vert")
       .run([](PassContext& ctx) {
         const uint32_t resolution = ctx.desc("shadow.cascades_static").extent.width;

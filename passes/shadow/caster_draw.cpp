@@ -46,7 +46,7 @@ ImageDecl shadow_depth_array(uint32_t layers) {
 void bind_casters(PassContext& ctx, uint32_t layer) {
   ctx.bind_pipeline();
   ctx.push_declared();
-  ctx.push_constants(layer);
+  ctx.push_constants(CasterConstants{layer});
 }
 
 void draw_casters(PassContext& ctx, const std::string& draws, DrawRange range) {

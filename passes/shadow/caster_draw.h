@@ -14,6 +14,7 @@
 #include "passes/frame/draw_scene.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/scene_resources.h"
+#include "passes/shadow/caster_draw.glsl.h"
 
 namespace nightcap {
 

@@ -43,7 +43,7 @@ PassDecl shadow_distant_pass() {
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
       .can_disable("distant shadows disabled by settings")
       .needs("sun_above_horizon")
-      .push_constants<uint32_t>()
+      .push_constants<CasterConstants>()
       .shader("shadow/distant.vert")
       .run([](PassContext& ctx) {
         const ImageExtent extent = ctx.desc("shadow.distant").extent;

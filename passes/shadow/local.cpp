@@ -34,7 +34,7 @@ PassDecl shadow_local_pass() {
       .raster(RasterState::per_draw(VK_CULL_MODE_NONE))
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_LESS, true))
       .needs("spot_lights")
-      .push_constants<uint32_t>()
+      .push_constants<CasterConstants>()
       .shader("shadow/local.vert")
       .run([](PassContext& ctx) {
         const auto plan = host_records<LocalShadowPlan>(ctx.host("shadow.local_plan")).at(0);

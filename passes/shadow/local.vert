@@ -2,16 +2,17 @@
 // shadow.local and shadow.local_static: a caster's vertex (its draw relative to the spot light)
 // in the clip space of the cache slot's map being drawn.
 #include "../frame/geometry.glsl"
+#include "caster_draw.glsl.h"
 #include "local_layout.glsl.h"
 
 layout(std140, set = 0, binding = 3) uniform ViewBlock { GpuLocalShadowViews views; };
 
-layout(push_constant) uniform Params { uint slot; };
+layout(push_constant) uniform CasterConstants { NC_BLOCK_MEMBERS(NC_CASTER_CONSTANTS_FIELDS) };
 
 void main() {
   GpuDraw draw = draws[gl_InstanceIndex];
   SceneVertex v = load_vertex(gl_VertexIndex);
   precise vec4 world = draw.model * vec4(v.position, 1.0);
-  gl_Position = vec4(dot(views.view_x[slot], world), dot(views.view_y[slot], world), dot(views.view_z[slot], world),
-                     dot(views.view_w[slot], world));
+  gl_Position = vec4(dot(views.view_x[layer], world), dot(views.view_y[layer], world), dot(views.view_z[layer], world),
+                     dot(views.view_w[layer], world));
 }
