@@ -8,7 +8,7 @@
 
 #include <optional>
 
-#include "captures/hash.h"
+#include "passes/core/hash.h"
 
 namespace nightcap {
 namespace fs = std::filesystem;

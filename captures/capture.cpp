@@ -14,8 +14,8 @@
 #include <thread>
 
 #include "captures/codec_choice.h"
-#include "captures/hash.h"
 #include "images/images.h"
+#include "passes/core/hash.h"
 
 namespace nightcap {
 namespace fs = std::filesystem;

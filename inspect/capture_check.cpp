@@ -4,7 +4,7 @@
 #include <map>
 #include <memory>
 
-#include "inspect/parallel.h"
+#include "compare/parallel.h"
 
 namespace nightcap {
 namespace {

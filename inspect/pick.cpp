@@ -73,11 +73,11 @@ DrawIdImage render_draw_ids(GpuDevice& gpu, const Capture& capture, const FrameR
     if (s.path == kFragment) fragment_source = capture.load_shader_source(s);
   }
   if (fragment_source.empty()) fragment_source = shader_source(kFragment);  // a capture without GLSL
-  const std::vector<uint32_t> fragment = compile_glsl(kFragment, with_draw_id_output(fragment_source, location));
-  auto shaders = [&](const std::string&, const std::string& path) {
-    if (path == kFragment) return fragment;
+  fragment_source = with_draw_id_output(fragment_source, location);
+  auto shaders = [&](const std::string&, const std::string& path, const std::string& bindings) {
+    if (path == kFragment) return compile_glsl(kFragment, fragment_source, bindings);
     auto it = recorded_spirv.find(path);
-    return it != recorded_spirv.end() ? it->second : builtin_spirv(path);
+    return it != recorded_spirv.end() ? it->second : builtin_spirv(path, bindings);
   };
 
   PipelineCache cache(gpu);

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "captures/capture.h"
-#include "inspect/diff.h"
+#include "compare/diff.h"
 #include "passes/core/device.h"
 
 namespace nightcap {

@@ -3,8 +3,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "captures/hash.h"
-#include "inspect/metrics.h"
+#include "compare/metrics.h"
+#include "passes/core/hash.h"
 #include "passes/core/isolated.h"
 #include "passes/core/shader.h"
 #include "passes/frame/frame_passes.h"
@@ -37,10 +37,11 @@ std::string extension(const std::string& path) {
   return dot == std::string::npos ? "" : path.substr(dot);
 }
 
-// A GLSL file compiled in place of the recorded shader of one stage (its extension).
+// A GLSL file compiled in place of the recorded shader of one stage (its extension), with the
+// bindings the pass's declaration numbers.
 struct ShaderOverride {
   std::string stage;
-  std::vector<uint32_t> spirv;
+  std::string path, source;
 };
 
 // Runs `decl` on `inputs` with `record`'s SPIR-V (read from `shaders_from`), the NaN it
@@ -51,12 +52,13 @@ IsolatedRun run_recorded(GpuDevice& gpu, PipelineCache& cache, const PassDecl& d
                          const std::optional<ShaderOverride>& override, std::vector<std::string>& notes) {
   std::map<std::string, std::vector<uint32_t>> recorded_spirv;
   for (const ShaderRecord& s : record.shaders) recorded_spirv[s.path] = shaders_from.load_shader(s);
-  auto shaders = [&](const std::string&, const std::string& path) -> std::vector<uint32_t> {
-    if (override && extension(path) == override->stage) return override->spirv;
+  auto shaders = [&](const std::string&, const std::string& path,
+                     const std::string& bindings) -> std::vector<uint32_t> {
+    if (override && extension(path) == override->stage) return compile_glsl(override->path, override->source, bindings);
     auto it = recorded_spirv.find(path);
     if (it != recorded_spirv.end()) return it->second;
     notes.push_back("capture has no SPIR-V for " + path + ": built-in shader used");
-    return builtin_spirv(path);
+    return builtin_spirv(path, bindings);
   };
   std::vector<NanInjection> nan_injections;
   if (const std::optional<InjectedNanRecord>& nan = record.injected_nan) {
@@ -205,7 +207,7 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
     const ParamValues params = resolve_params(*decl, overrides);
     std::optional<ShaderOverride> override;
     if (auto it = options.shader_files.find(record.name); it != options.shader_files.end()) {
-      override = ShaderOverride{extension(it->second), compile_glsl(it->second, read_text(it->second))};
+      override = ShaderOverride{extension(it->second), it->second, read_text(it->second)};
       result.notes.push_back("shader " + it->second + " replaces the recorded " + override->stage + " shader");
     }
     const IsolatedRun run = run_recorded(gpu, cache, *decl, capture, record, inputs, params, frame.width, frame.height,

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "captures/capture.h"
-#include "inspect/metrics.h"
+#include "compare/metrics.h"
 #include "passes/core/device.h"
 #include "passes/core/isolated.h"
 #include "passes/core/pass.h"

@@ -10,10 +10,10 @@
 #include <sstream>
 #include <tuple>
 
-#include "captures/hash.h"
-#include "inspect/decoded_image.h"
-#include "inspect/flip_map.h"
+#include "compare/decoded_image.h"
+#include "compare/flip_map.h"
 #include "inspect/visualise.h"
+#include "passes/core/hash.h"
 #include "reports/assets.h"
 #include "reports/html.h"
 #include "reports/thumbnails.h"

@@ -11,7 +11,7 @@
 #include <filesystem>
 
 #include "captures/capture.h"
-#include "inspect/diff.h"
+#include "compare/diff.h"
 
 namespace nightcap {
 

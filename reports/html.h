@@ -1,12 +1,12 @@
 // What the report pages share. Text that comes from a scene or a capture goes into them only
-// through escape_markup (inspect/markup.h), so that none of it can become markup.
+// through escape_markup (compare/markup.h), so that none of it can become markup.
 #pragma once
 
 #include <filesystem>
 #include <string>
 #include <string_view>
 
-#include "inspect/markup.h"
+#include "compare/markup.h"
 
 namespace nightcap {
 

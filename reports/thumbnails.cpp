@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "inspect/parallel.h"
+#include "compare/parallel.h"
 #include "inspect/visualise.h"
 
 namespace nightcap {

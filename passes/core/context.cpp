@@ -182,9 +182,15 @@ uint32_t PassContext::slot(const std::string& resource, Use use) const {
   throw GraphError(pass() + ": declares no binding of '" + resource + "' for that use");
 }
 
+std::string PassContext::binding_preamble() const {
+  const DescOf desc_of = [this](const std::string& name) -> const ResourceDesc& { return desc(name); };
+  return binding_defines(declaration(), desc_of);
+}
+
 void PassContext::bind(const GraphicsPipelineDesc& desc) {
+  const std::string bindings = binding_preamble();
   auto code = [&](const std::string& path) {
-    auto spirv = shared_.shaders(pass(), path);
+    auto spirv = shared_.shaders(pass(), path, bindings);
     shared_.current->spirv[path] = spirv;
     return spirv;
   };
@@ -202,7 +208,7 @@ void PassContext::bind(const GraphicsPipelineDesc& desc) {
 }
 
 void PassContext::bind(const ComputePipelineDesc& desc) {
-  auto spirv = shared_.shaders(pass(), desc.shader);
+  auto spirv = shared_.shaders(pass(), desc.shader, binding_preamble());
   shared_.current->spirv[desc.shader] = spirv;
   const auto& entry = shared_.cache.compute(desc, spirv);
   vkCmdBindPipeline(cmd(), VK_PIPELINE_BIND_POINT_COMPUTE, entry.pipeline);

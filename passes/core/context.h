@@ -20,7 +20,7 @@
 #include "passes/core/device.h"
 #include "passes/core/graph.h"
 #include "passes/core/pipeline_cache.h"
-#include "passes/scene/scene.h"
+#include "passes/core/sampler.h"
 
 namespace nightcap {
 
@@ -123,6 +123,7 @@ class PassContext {
   void draw_indexed_indirect(const std::string& resource, uint64_t offset, uint32_t count, uint32_t stride);
 
  private:
+  std::string binding_preamble() const;  // binding_defines of the declaration
   const BoundUse* find_use(const std::string& resource) const;
   double param_value(const std::string& name, std::initializer_list<ParamType> types) const;
   // The buffer holding `bytes` of indirect arguments at `offset`; throws unless declared so.

@@ -1,6 +1,7 @@
 #include "passes/core/declared_pipeline.h"
 
 #include <algorithm>
+#include <map>
 
 #include "passes/core/graph.h"
 
@@ -63,6 +64,22 @@ std::vector<VkDescriptorType> declared_layout(const PassDecl& decl, const DescOf
   return layout;
 }
 
+std::string binding_defines(const PassDecl& decl, const DescOf& desc_of) {
+  const std::vector<DeclaredSlot> slots = declared_slots(decl, desc_of);
+  std::map<std::string, int> uses;
+  for (const DeclaredSlot& slot : slots) ++uses[slot.use->shader_name()];
+  std::string defines = "#define NC_BINDING(name) NC_BINDING_##name\n";
+  for (const DeclaredSlot& slot : slots) {
+    const std::string name = slot.use->shader_name();
+    // A name two uses share stands for neither: a shader that writes it fails to compile on an
+    // identifier that says why.
+    const std::string value =
+        uses[name] == 1 ? std::to_string(slot.first) : name + "_is_bound_twice_name_one_use_with_as";
+    defines += "#define NC_BINDING_" + name + " " + value + "\n";
+  }
+  return defines;
+}
+
 std::vector<Binding> declared_bindings(const PassDecl& decl, const DescOf& desc_of,
                                        const std::function<VkSampler(const SamplerDesc&)>& sampler_of,
                                        std::optional<uint32_t> level) {
@@ -120,6 +137,12 @@ SamplerDesc nearest_clamp_sampler() {
   desc.mag_filter = desc.min_filter = VK_FILTER_NEAREST;
   desc.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
   desc.wrap_u = desc.wrap_v = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  return desc;
+}
+
+SamplerDesc bilinear_clamp_sampler() {
+  SamplerDesc desc = nearest_clamp_sampler();
+  desc.mag_filter = desc.min_filter = VK_FILTER_LINEAR;
   return desc;
 }
 

@@ -62,6 +62,12 @@ using DescOf = std::function<const ResourceDesc&(const std::string& resource)>;
 // Inputs, then outputs, in declaration order (PassDecl::slots).
 std::vector<DeclaredSlot> declared_slots(const PassDecl& decl, const DescOf& desc_of);
 std::vector<VkDescriptorType> declared_layout(const PassDecl& decl, const DescOf& desc_of);
+// The GLSL preamble that numbers the slots: shaders write `binding = NC_BINDING(name)` (plus k
+// for a use's k-th binding), where name is the use's ResourceUse::shader_name(), so no shader
+// repeats the declaration's order. A name the pass does not declare fails the shader's compile,
+// naming NC_BINDING_<name>; so does a name two uses share (a resource read and written: name
+// one with PassDecl::as), on an identifier that says so.
+std::string binding_defines(const PassDecl& decl, const DescOf& desc_of);
 // What each declared slot binds: uniform and storage buffers whole; a sampled image through its
 // declared sampler (made by `sampler_of`) at its declared aspects, at the one mip and layer its
 // range selects or all of them; a storage image at its range's first mip; an image declared with
@@ -74,6 +80,8 @@ std::vector<Binding> declared_bindings(const PassDecl& decl, const DescOf& desc_
 DeclaredSlot prefix_slot(const PassDecl& decl, const DescOf& desc_of);
 // The sampler of a sampled use that declares none: each texel as stored, nothing past the edge.
 SamplerDesc nearest_clamp_sampler();
+// Bilinear between the four nearest texels of the base level, clamped to the edge.
+SamplerDesc bilinear_clamp_sampler();
 // The colour attachments in declaration order, and the depth attachment ("" when none).
 std::vector<std::string> colour_targets(const PassDecl& decl);
 std::string depth_target(const PassDecl& decl);

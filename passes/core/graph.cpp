@@ -283,8 +283,28 @@ uint32_t full_mip_count(uint32_t width, uint32_t height) {
   return static_cast<uint32_t>(std::bit_width(std::max(width, height)));
 }
 
-CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
-                            const GraphSettings& settings) {
+namespace {
+
+// `passes` without the optional inputs that no pass writes and nothing imports; nullopt when
+// every optional input is connected.
+std::optional<std::vector<PassDecl>> without_unconnected_inputs(const std::vector<PassDecl>& passes,
+                                                                const std::vector<ImportedResource>& imports) {
+  std::set<std::string> produced;
+  for (const ImportedResource& r : imports) produced.insert(r.name);
+  for (const PassDecl& pass : passes)
+    for (const ResourceUse& out : pass.outputs) produced.insert(out.resource);
+  auto unconnected = [&](const ResourceUse& in) { return in.optional && !produced.count(in.resource); };
+  if (std::none_of(passes.begin(), passes.end(), [&](const PassDecl& pass) {
+        return std::any_of(pass.inputs.begin(), pass.inputs.end(), unconnected);
+      }))
+    return std::nullopt;
+  std::vector<PassDecl> connected = passes;
+  for (PassDecl& pass : connected) std::erase_if(pass.inputs, unconnected);
+  return connected;
+}
+
+CompiledGraph compile_connected(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
+                                const GraphSettings& settings) {
   check_overrides(passes, settings.params);
   const int n = static_cast<int>(passes.size());
   // Who writes what: fresh writer first, then modifiers in declaration order.
@@ -603,6 +623,18 @@ CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vect
                       : resolve_range({}, u.desc, pass.decl->name, u.resource);
   for (const NanInjection& nan : settings.nan_injections) check_nan_injection(graph, nan);
   plan_synchronisation(graph, imported);
+  return graph;
+}
+
+}  // namespace
+
+CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
+                            const GraphSettings& settings) {
+  std::optional<std::vector<PassDecl>> connected = without_unconnected_inputs(passes, imports);
+  if (!connected) return compile_connected(passes, imports, settings);
+  auto owned = std::make_shared<const std::vector<PassDecl>>(std::move(*connected));
+  CompiledGraph graph = compile_connected(*owned, imports, settings);
+  graph.connected = std::move(owned);
   return graph;
 }
 

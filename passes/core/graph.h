@@ -4,6 +4,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <stdexcept>
@@ -149,7 +150,10 @@ struct CompiledPass {
 };
 
 struct CompiledGraph {
-  GraphSettings settings;            // what it was compiled for: output size, sinks, frame
+  GraphSettings settings;  // what it was compiled for: output size, sinks, frame
+  // The declarations compiled, where some optional input had no producer: copies without it, which
+  // CompiledPass::decl points into (else it points into the list compile_graph was given).
+  std::shared_ptr<const std::vector<PassDecl>> connected;
   std::vector<CompiledPass> passes;  // execution order
   std::map<std::string, ResourceDesc> resources;
   std::map<std::string, Lifetime> lifetimes;  // every resource a GPU pass or an upload touches
@@ -178,7 +182,8 @@ struct CompiledGraph {
 // layouts, a 3D array or a cube that is not square with a multiple of 6 layers; and for a NaN
 // injection whose pass is unknown or does not run (or runs on the CPU), whose resource is not a
 // float colour image the pass writes, or whose texel is outside the resource; and for parameters
-// as check_overrides and resolve_params say (passes/core/params.h).
+// as check_overrides and resolve_params say (passes/core/params.h). An optional input that no
+// pass writes and nothing imports is left out of its pass (CompiledGraph::connected).
 CompiledGraph compile_graph(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
                             const GraphSettings& settings);
 

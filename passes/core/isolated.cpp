@@ -21,8 +21,8 @@ IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& p
   settings.params = overrides_of(pass, params);
   settings.capture = true;
   settings.nan_injections = nan_injections;
-  const std::vector<PassDecl> single{pass};
-  run.graph = compile_graph(single, imports, settings);
+  run.declaration = std::make_shared<const std::vector<PassDecl>>(std::vector<PassDecl>{pass});
+  run.graph = compile_graph(*run.declaration, imports, settings);
   ExecutionOptions options;
   options.shaders = shaders;
   options.name = "isolated " + pass.name;

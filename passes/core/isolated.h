@@ -16,6 +16,7 @@ struct IsolatedInput {
 };
 
 struct IsolatedRun {
+  std::shared_ptr<const std::vector<PassDecl>> declaration;  // the one pass graph.passes' decl names
   CompiledGraph graph;
   Execution execution;
   // Output bytes of the pass, by resource name.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -40,10 +41,12 @@ Settable settable(const std::vector<PassDecl>& passes, const std::string& key, c
       known += (known.empty() ? "" : ", ") + override_key(*pass, param) + "." + param.name;
     return {nullptr, what + ": unknown parameter (" + key + " has: " + (known.empty() ? "none" : known) + ")"};
   }
-  std::string known;
+  std::set<std::string> members;  // a group's parameter once, however many passes share it
   for (const PassDecl& pass : passes)
     for (const ParamDecl& param : pass.params)
-      if (override_key(pass, param) == key) known += (known.empty() ? "" : ", ") + param.name;
+      if (override_key(pass, param) == key) members.insert(param.name);
+  std::string known;
+  for (const std::string& member : members) known += (known.empty() ? "" : ", ") + member;
   if (!known.empty()) return {nullptr, what + ": unknown parameter (group " + key + " has: " + known + ")"};
   return {nullptr, what + ": no pass or group named '" + key + "'"};
 }
@@ -161,11 +164,11 @@ void parse_set(const std::vector<PassDecl>& passes, const std::string& text, Par
   const size_t equals = text.find('=');
   const size_t dot = text.rfind('.', equals);
   if (equals == std::string::npos || dot == std::string::npos || dot == 0 || dot + 1 >= equals)
-    throw SceneError("--set '" + text + "': expected PASS.PARAM=VALUE (or GROUP.PARAM=VALUE)");
+    throw SetError("--set '" + text + "': expected PASS.PARAM=VALUE (or GROUP.PARAM=VALUE)");
   const std::string key = text.substr(0, dot), name = text.substr(dot + 1, equals - dot - 1);
   const std::string given = text.substr(equals + 1);
   const Settable found = settable(passes, key, name);
-  if (!found.decl) throw SceneError("--set " + found.problem);
+  if (!found.decl) throw SetError("--set " + found.problem);
   const ParamDecl& param = *found.decl;
   double value = std::nan("");
   if (param.type == ParamType::boolean && (given == "true" || given == "false")) value = given == "true";
@@ -175,11 +178,11 @@ void parse_set(const std::vector<PassDecl>& passes, const std::string& text, Par
     char* end = nullptr;
     value = std::strtod(given.c_str(), &end);
     if (given.empty() || *end != '\0' || !std::isfinite(value))
-      throw SceneError("--set '" + text + "': " + type_name(param.type) + " parameter, " +
+      throw SetError("--set '" + text + "': " + type_name(param.type) + " parameter, " +
                        param.problem_with(std::nan("")));
   }
   if (const std::string problem = param.problem_with(value); !problem.empty())
-    throw SceneError("--set '" + text + "': " + type_name(param.type) + " parameter, " + problem);
+    throw SetError("--set '" + text + "': " + type_name(param.type) + " parameter, " + problem);
   overrides[key][name] = value;
 }
 

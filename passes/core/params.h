@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <map>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -79,9 +80,14 @@ ParamValues resolve_params(const PassDecl& pass, const ParamOverrides& overrides
 // `values` of `pass` (some or all of its parameters) filed under their override keys.
 ParamOverrides overrides_of(const PassDecl& pass, const ParamValues& values);
 
+// A `--set` the frame's parameters do not allow: the message names the flag and what is allowed.
+struct SetError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 // Parses "PASS.PARAM=VALUE" or "GROUP.PARAM=VALUE" into `overrides`: the value by the
 // parameter's type (an enum's choice by name, a bool as 0, 1, false or true) and checked; throws
-// SceneError naming the flag and what is allowed.
+// SetError.
 void parse_set(const std::vector<PassDecl>& passes, const std::string& text, ParamOverrides& overrides);
 
 }  // namespace nightcap

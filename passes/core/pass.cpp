@@ -1,6 +1,7 @@
 #include "passes/core/pass.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <stdexcept>
 
@@ -11,11 +12,20 @@ uint64_t ResourceDesc::raw_bytes() const {
   return raw_image_bytes(*format_info(format), extent);
 }
 
+std::string ResourceUse::shader_name() const {
+  if (!role.empty()) return role;
+  std::string name = resource;
+  if (prefix && !name.empty() && name.back() == '.') name.pop_back();
+  std::replace(name.begin(), name.end(), '.', '_');
+  return history ? name + "_previous" : name;
+}
+
 PassDecl& PassDecl::read(std::string resource, Use use) {
   ResourceUse u;
   u.resource = std::move(resource);
   u.use = use;
   inputs.push_back(std::move(u));
+  last_use_is_output_ = false;
   return *this;
 }
 
@@ -31,6 +41,7 @@ PassDecl& PassDecl::write(std::string resource, Use use, ImageDecl decl) {
   u.use = use;
   u.image = decl;
   outputs.push_back(std::move(u));
+  last_use_is_output_ = true;
   return *this;
 }
 
@@ -41,6 +52,7 @@ PassDecl& PassDecl::write(std::string resource, Use use, BufferDecl decl) {
   u.is_buffer = true;
   u.buffer = decl;
   outputs.push_back(std::move(u));
+  last_use_is_output_ = true;
   return *this;
 }
 
@@ -50,6 +62,7 @@ PassDecl& PassDecl::modify(std::string resource, Use use) {
   u.use = use;
   u.modifies = true;
   outputs.push_back(std::move(u));
+  last_use_is_output_ = true;
   return *this;
 }
 
@@ -71,9 +84,26 @@ PassDecl& PassDecl::modify(std::string resource, Use use, Subresources range) {
   return *this;
 }
 
+PassDecl& PassDecl::read_optional(std::string resource, Use use) {
+  read(std::move(resource), use);
+  inputs.back().optional = true;
+  return *this;
+}
+
 PassDecl& PassDecl::read_previous(std::string resource, Use use) {
   read(std::move(resource), use);
   inputs.back().history = true;
+  return *this;
+}
+
+PassDecl& PassDecl::as(std::string role) {
+  std::vector<ResourceUse>& uses = last_use_is_output_ ? outputs : inputs;
+  if (uses.empty()) throw std::logic_error(name + ": as('" + role + "') follows no read or write");
+  const bool identifier = !role.empty() && !std::isdigit(static_cast<unsigned char>(role[0])) &&
+                          std::all_of(role.begin(), role.end(),
+                                      [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+  if (!identifier) throw std::logic_error(name + ": as('" + role + "') is not a GLSL identifier");
+  uses.back().role = std::move(role);
   return *this;
 }
 

@@ -21,7 +21,7 @@
 #include "passes/core/history_name.h"
 #include "passes/core/params.h"
 #include "passes/core/pipeline_state.h"
-#include "passes/scene/scene.h"
+#include "passes/core/sampler.h"
 
 namespace nightcap {
 
@@ -117,12 +117,16 @@ struct ResourceUse {
   bool prefix = false;    // reads every resource whose name starts with `resource`
   bool modifies = false;  // output that starts from the resource's previous version
   bool history = false;   // input: the value `resource` had at the end of the previous frame
+  bool optional = false;  // input: read only where something produces it (PassDecl::read_optional)
   bool is_buffer = false;
   ImageDecl image;
   BufferDecl buffer;
   ComparisonContract contract;  // outputs: how two versions of it compare (exact by default)
   // The name the pass binds it by: previous(resource) for a history input.
   std::string bound_name() const { return history ? previous(resource) : resource; }
+  // The name its shaders give its binding, NC_BINDING(name) (PassDecl::as; declared_pipeline.h).
+  std::string shader_name() const;
+  std::string role;  // PassDecl::as
   // Consecutive descriptor bindings it takes (PassDecl::slots) if a shader binds it.
   uint32_t slots = 1;
   // A sampled image's sampler (PassDecl::sampler); none: nearest, clamped to the edge.
@@ -196,6 +200,15 @@ struct PassDecl {
   // frame 0, after a camera cut or a resize it is the resource's declared clear value. The
   // resource's writer runs whenever this pass does, so the next frame has its history.
   PassDecl& read_previous(std::string resource, Use use);
+  // An input the pass reads when the frame has it, when a pass writes it or it is imported
+  // (compile_graph). Where nothing does, the pass runs without it: no dependency, no binding,
+  // and its shaders' NC_BINDING_<name> is undefined, so they `#ifdef` the code that reads it.
+  // The frame connects a new producer (AO, fog) without an edit to its readers.
+  PassDecl& read_optional(std::string resource, Use use);
+  // The name the shaders give the use just declared, in place of its resource's: a shader that
+  // several passes share binds "draws", not "draws.depth.prepass"; bloom's levels read their
+  // "source". A GLSL identifier.
+  PassDecl& as(std::string role);
   // A bool parameter `enabled` (default true): false skips the pass with `reason`, e.g. "fixed
   // exposure". Passes that carry out one pass of frame.md in steps share one switch, a parameter
   // of `group` (bloom.level0…5: `--set bloom.enabled=0`).
@@ -276,6 +289,9 @@ struct PassDecl {
   const ParamDecl* find_param(const std::string& param_name) const;
   const ComparisonContract& contract_of(const std::string& output) const;
   const BufferSchema* schema_of(const std::string& output) const;
+
+ private:
+  bool last_use_is_output_ = false;  // which list as() names the last use of
 };
 
 const PassDecl* find_pass(const std::vector<PassDecl>& passes, const std::string& name);

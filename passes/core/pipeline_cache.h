@@ -13,7 +13,7 @@
 
 #include "passes/core/device.h"
 #include "passes/core/pipeline_state.h"
-#include "passes/scene/scene.h"
+#include "passes/core/sampler.h"
 
 namespace nightcap {
 
@@ -41,8 +41,10 @@ nlohmann::json describe(const GraphicsPipelineDesc& desc);
 nlohmann::json describe(const ComputePipelineDesc& desc);
 nlohmann::json describe(const SamplerDesc& desc);
 
-// SPIR-V for a pass's shader: the recorded code, an override, or the built-in source.
-using ShaderProvider = std::function<std::vector<uint32_t>(const std::string& pass, const std::string& path)>;
+// SPIR-V for a pass's shader: the recorded code, an override, or the built-in source compiled
+// with `bindings`, the preamble that numbers the pass's declared slots (binding_defines).
+using ShaderProvider =
+    std::function<std::vector<uint32_t>(const std::string& pass, const std::string& path, const std::string& bindings)>;
 
 // Pipelines, samplers and layouts survive across frames and replays on one device.
 class PipelineCache {

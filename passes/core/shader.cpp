@@ -47,7 +47,7 @@ const std::string& shader_source(const std::string& path) {
   return it->second;
 }
 
-std::vector<uint32_t> compile_glsl(const std::string& path, const std::string& source) {
+std::vector<uint32_t> compile_glsl(const std::string& path, const std::string& source, const std::string& preamble) {
   static std::once_flag init;
   std::call_once(init, [] { glslang::InitializeProcess(); });
 
@@ -56,7 +56,8 @@ std::vector<uint32_t> compile_glsl(const std::string& path, const std::string& s
   const char* text = source.c_str();
   const char* name = path.c_str();
   shader.setStringsWithLengthsAndNames(&text, nullptr, &name, 1);
-  shader.setPreamble("#extension GL_GOOGLE_include_directive : require\n");
+  const std::string full_preamble = "#extension GL_GOOGLE_include_directive : require\n" + preamble;
+  shader.setPreamble(full_preamble.c_str());
   shader.setEnvInput(glslang::EShSourceGlsl, stage, glslang::EShClientVulkan, 100);
   shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_3);
   shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_6);

@@ -1,6 +1,5 @@
 // cull.stats: what cull.main did this frame, recorded with the frame (and printed by the
-// benchmark). cull.occlusion: its occlusion buffer, an OcclusionHeader then width × height
-// floats of reversed-Z device depth, row by row from the top (0 where no occluder covers a cell).
+// benchmark). cull.occlusion, its occlusion buffer: passes/frame/occlusion_buffer.h.
 #pragma once
 
 #include <cstdint>
@@ -26,10 +25,6 @@ struct CullStats {
   uint32_t decals_projected;         // projected decals drawn (draws.decals.projected)
 };
 static_assert(sizeof(CullStats) == 80);
-
-struct OcclusionHeader {
-  uint32_t width, height;
-};
 
 inline BufferSchema cull_stats_schema() {
   using S = CullStats;

@@ -2,7 +2,7 @@
 // through scene.hierarchy and tested against the view frustum; moving instances (their
 // translation advanced to this frame's time) are tested one by one. Each survivor picks its
 // level of detail by distance. The largest nearby opaque survivors are the occluders: they are
-// rasterised into a small conservative CPU depth buffer (passes/cull/occlusion_buffer.h), and
+// rasterised into a small conservative CPU depth buffer (passes/frame/occlusion_buffer.h), and
 // every other instance whose box is behind it is dropped. The occluders are what depth.prepass
 // draws. Lists are sorted in the seeds' order (static meshes; ground and emissive; foliage),
 // then by material and mesh, so equal neighbours are drawn instanced (draw_scene batches them).
@@ -24,11 +24,11 @@
 
 #include "passes/core/context.h"
 #include "passes/cull/cull_stats.h"
-#include "passes/cull/hierarchy.h"
-#include "passes/cull/occlusion_buffer.h"
 #include "passes/frame/camera_math.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/frame/hierarchy.h"
+#include "passes/frame/occlusion_buffer.h"
 #include "passes/frame/scene_resources.h"
 
 namespace nightcap {

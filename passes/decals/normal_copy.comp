@@ -5,8 +5,8 @@
 
 layout(local_size_x = kNormalCopyGroupSide, local_size_y = kNormalCopyGroupSide) in;
 
-layout(set = 0, binding = 0, rgb10_a2) uniform readonly image2D normal;
-layout(set = 0, binding = 1, rgb10_a2) uniform writeonly image2D normal_copy;
+layout(set = 0, binding = NC_BINDING(gbuffer_normal), rgb10_a2) uniform readonly image2D normal;
+layout(set = 0, binding = NC_BINDING(decals_normal_copy), rgb10_a2) uniform writeonly image2D normal_copy;
 
 void main() {
   ivec2 texel = ivec2(gl_GlobalInvocationID.xy);

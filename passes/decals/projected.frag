@@ -3,10 +3,10 @@
 // tagged moving, takes the decal's pattern (see projected.cpp for the blend).
 #include "../frame/types.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
-layout(std430, set = 0, binding = 1) readonly buffer DecalBlock { GpuDecal decals[]; };
-layout(set = 0, binding = 2) uniform sampler2D depth_map;
-layout(set = 0, binding = 3) uniform usampler2D stencil_map;
+layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std430, set = 0, binding = NC_BINDING(draws_decals_projected)) readonly buffer DecalBlock { GpuDecal decals[]; };
+layout(set = 0, binding = NC_BINDING(scene_depth)) uniform sampler2D depth_map;
+layout(set = 0, binding = NC_BINDING(scene_depth) + 1) uniform usampler2D stencil_map;
 
 layout(location = 0) flat in uint in_decal;
 

@@ -3,8 +3,8 @@
 // counter-clockwise seen from outside (the pipeline culls front faces: the back faces are drawn).
 #include "../frame/types.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
-layout(std430, set = 0, binding = 1) readonly buffer DecalBlock { GpuDecal decals[]; };
+layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std430, set = 0, binding = NC_BINDING(draws_decals_projected)) readonly buffer DecalBlock { GpuDecal decals[]; };
 
 layout(location = 0) flat out uint out_decal;
 

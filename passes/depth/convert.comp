@@ -9,12 +9,12 @@
 
 layout(local_size_x = kDepthConvertGroupSide, local_size_y = kDepthConvertGroupSide) in;
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
-layout(set = 0, binding = 1) uniform sampler2D depth_map;
-layout(set = 0, binding = 2) uniform usampler2D stencil_map;
-layout(set = 0, binding = 3, r32f) uniform writeonly image2D linear_depth;
-layout(set = 0, binding = 4, r16f) uniform writeonly image2D half_depth;
-layout(set = 0, binding = 5, r8ui) uniform writeonly uimage2D half_stencil;
+layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+layout(set = 0, binding = NC_BINDING(scene_depth)) uniform sampler2D depth_map;
+layout(set = 0, binding = NC_BINDING(scene_depth) + 1) uniform usampler2D stencil_map;
+layout(set = 0, binding = NC_BINDING(depth_linear), r32f) uniform writeonly image2D linear_depth;
+layout(set = 0, binding = NC_BINDING(depth_half), r16f) uniform writeonly image2D half_depth;
+layout(set = 0, binding = NC_BINDING(stencil_half), r8ui) uniform writeonly uimage2D half_stencil;
 layout(push_constant) uniform DepthConvertConstants { NC_BLOCK_MEMBERS(NC_DEPTH_CONVERT_CONSTANTS_FIELDS) };
 
 float linear_of(float device) {

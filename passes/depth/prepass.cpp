@@ -15,6 +15,7 @@ PassDecl depth_prepass_pass() {
       .read("scene.geometry", Use::index_buffer)
       .read("scene.materials", Use::host)
       .read("draws.depth.prepass", Use::storage_read)
+      .as("draws")
       .write("scene.depth", Use::depth_attachment, depth)
       .raster(RasterState::per_draw(VK_CULL_MODE_BACK_BIT))
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_GREATER, true))

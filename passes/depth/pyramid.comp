@@ -7,9 +7,9 @@
 
 layout(local_size_x = kPyramidGroupSide, local_size_y = kPyramidGroupSide) in;
 
-layout(set = 0, binding = 0) uniform sampler2D linear_depth;
-layout(set = 0, binding = 1, rg32f) uniform readonly image2D source_level;
-layout(set = 0, binding = 2, rg32f) uniform writeonly image2D target_level;
+layout(set = 0, binding = NC_BINDING(depth_linear)) uniform sampler2D linear_depth;
+layout(set = 0, binding = NC_BINDING(depth_pyramid), rg32f) uniform readonly image2D source_level;
+layout(set = 0, binding = NC_BINDING(depth_pyramid) + 1, rg32f) uniform writeonly image2D target_level;
 
 layout(push_constant) uniform PyramidConstants { NC_BLOCK_MEMBERS(NC_PYRAMID_CONSTANTS_FIELDS) };
 

@@ -5,10 +5,10 @@
 #include <cstring>
 
 #include "passes/core/context.h"
-#include "passes/cull/occlusion_buffer.h"
 #include "passes/frame/camera_math.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/frame/occlusion_buffer.h"
 #include "passes/frame/scene_resources.h"
 
 namespace nightcap {

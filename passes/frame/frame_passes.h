@@ -11,8 +11,16 @@ namespace nightcap {
 // light at every pixel, kept as the benchmark's and the tests' baseline.
 enum class FrameLighting { tiled, deferred };
 
-// Every pass of the frame, in frame order (the graph sorts them by their dependencies).
+// Every pass of the frame, in frame order (the graph sorts them by their dependencies): the
+// stages below, and the names of what flows between them. A frame assembled otherwise (a pass
+// put between two stages) calls the stages itself.
 std::vector<PassDecl> frame_passes(FrameLighting lighting = FrameLighting::tiled);
+// Frame constants, culling, shadows, depth, G-buffer, decals, light lists and the sun's shadow.
+void add_scene_passes(std::vector<PassDecl>& passes);
+// Diffuse and specular light, and lighting.composite's lit colour, lighting.lit.
+void add_lighting_passes(std::vector<PassDecl>& passes, FrameLighting lighting);
+// Bloom, exposure and tonemap, reading the HDR colour `lit`; tonemap writes final.ldr.
+void add_post_passes(std::vector<PassDecl>& passes, const std::string& lit);
 // Every pass a frame of either lighting runs: where replay finds a recorded pass's declaration.
 std::vector<PassDecl> all_passes();
 
@@ -51,9 +59,9 @@ PassDecl lighting_deferred_pass();
 PassDecl lighting_composite_pass();
 // bloom.chain's levels, one pass each (passes/post/bloom.cpp).
 constexpr uint32_t kBloomLevels = 6;
-PassDecl bloom_level_pass(uint32_t level);
-PassDecl exposure_pass();
-PassDecl tonemap_pass();
+PassDecl bloom_level_pass(uint32_t level, const std::string& lit);
+PassDecl exposure_pass(const std::string& lit);
+PassDecl tonemap_pass(const std::string& lit);
 
 // depth.linear where nothing was drawn, by default (depth.convert's sky_depth): far beyond any
 // surface of a 16 km map, and finite.

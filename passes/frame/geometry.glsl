@@ -4,9 +4,9 @@
 // G-buffer pass agree bit for bit.
 #include "types.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
-layout(std430, set = 0, binding = 1) readonly buffer GeometryBlock { uint geometry_words[]; };
-layout(std430, set = 0, binding = 2) readonly buffer DrawBlock { GpuDraw draws[]; };
+layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std430, set = 0, binding = NC_BINDING(scene_geometry)) readonly buffer GeometryBlock { uint geometry_words[]; };
+layout(std430, set = 0, binding = NC_BINDING(draws)) readonly buffer DrawBlock { GpuDraw draws[]; };
 #include "vertex_streams.glsl"
 
 // Vertex `index` of scene.geometry, its position in the box of the draw being drawn.

@@ -35,7 +35,7 @@
   F(uvec4, light_groups)
 NC_STRUCT(GpuFrameConstants, NC_GPU_FRAME_CONSTANTS_FIELDS)
 
-// Camera-relative light. Types as LightType.
+// Camera-relative light. Types as LightType (kLight*, passes/scene/light_type.glsl.h).
 #define NC_GPU_LIGHT_FIELDS(F, A, P)                                                             \
   /* xyz position (tube: first end), w: type */                                                  \
   F(vec4, position_type)                                                                         \

@@ -8,8 +8,7 @@ std::vector<std::string> frame_sinks() {
           "lights.cluster_stats"};
 }
 
-std::vector<PassDecl> frame_passes(FrameLighting lighting) {
-  std::vector<PassDecl> passes;
+void add_scene_passes(std::vector<PassDecl>& passes) {
   passes.push_back(frame_constants_pass());
   passes.push_back(cull_main_pass());
   passes.push_back(shadow_distant_plan_pass());
@@ -34,6 +33,9 @@ std::vector<PassDecl> frame_passes(FrameLighting lighting) {
   passes.push_back(depth_pyramid_pass());
   passes.push_back(lights_cluster_pass());
   passes.push_back(shadow_sun_resolve_pass());
+}
+
+void add_lighting_passes(std::vector<PassDecl>& passes, FrameLighting lighting) {
   if (lighting == FrameLighting::tiled) {
     passes.push_back(lighting_ltc_table_pass());
     passes.push_back(lighting_tiled_pass());
@@ -41,9 +43,20 @@ std::vector<PassDecl> frame_passes(FrameLighting lighting) {
     passes.push_back(lighting_deferred_pass());
   }
   passes.push_back(lighting_composite_pass());
-  for (uint32_t level = 0; level < kBloomLevels; ++level) passes.push_back(bloom_level_pass(level));
-  passes.push_back(exposure_pass());
-  passes.push_back(tonemap_pass());
+}
+
+void add_post_passes(std::vector<PassDecl>& passes, const std::string& lit) {
+  for (uint32_t level = 0; level < kBloomLevels; ++level) passes.push_back(bloom_level_pass(level, lit));
+  passes.push_back(exposure_pass(lit));
+  passes.push_back(tonemap_pass(lit));
+}
+
+std::vector<PassDecl> frame_passes(FrameLighting lighting) {
+  std::vector<PassDecl> passes;
+  add_scene_passes(passes);
+  add_lighting_passes(passes, lighting);
+  // The post chain reads the composite's colour; TAA's resolve goes between them (frame.md).
+  add_post_passes(passes, "lighting.lit");
   return passes;
 }
 

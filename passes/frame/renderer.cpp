@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "captures/hash.h"
+#include "passes/core/hash.h"
 #include "passes/core/output_pixel.h"
 #include "passes/core/shader.h"
 #include "passes/frame/camera_math.h"
@@ -156,12 +156,13 @@ Camera frame_camera(const Camera& base, const Scene& scene, const CameraPath& pa
   return camera;
 }
 
-const std::vector<uint32_t>& builtin_spirv(const std::string& path) {
+const std::vector<uint32_t>& builtin_spirv(const std::string& path, const std::string& bindings) {
   static std::mutex mutex;
-  static std::map<std::string, std::vector<uint32_t>> compiled;
+  static std::map<std::pair<std::string, std::string>, std::vector<uint32_t>> compiled;
   std::lock_guard lock(mutex);
-  auto it = compiled.find(path);
-  if (it == compiled.end()) it = compiled.emplace(path, compile_glsl(path, shader_source(path))).first;
+  auto key = std::make_pair(path, bindings);
+  auto it = compiled.find(key);
+  if (it == compiled.end()) it = compiled.emplace(key, compile_glsl(path, shader_source(path), bindings)).first;
   return it->second;
 }
 
@@ -182,10 +183,18 @@ void keep_freed_memory() {
 }  // namespace
 
 Renderer::Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings)
+    : Renderer(gpu, scene, settings, frame_passes(settings.lighting),
+               [](const std::string&, const std::string& path, const std::string& bindings) {
+                 return builtin_spirv(path, bindings);
+               }) {}
+
+Renderer::Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings, std::vector<PassDecl> passes,
+                   ShaderProvider shaders)
     : gpu_(gpu),
       scene_(scene),
       settings_(std::move(settings)),
-      passes_(frame_passes(settings_.lighting)),
+      passes_(std::move(passes)),
+      shaders_(std::move(shaders)),
       cache_(gpu),
       history_(gpu),
       scene_imports_(scene_imports(scene)),
@@ -227,7 +236,7 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture, CaptureWriter
   }
 
   ExecutionOptions options;
-  options.shaders = [](const std::string&, const std::string& path) { return builtin_spirv(path); };
+  options.shaders = shaders_;
   options.history = &history_;
   options.alias_memory = settings_.alias_memory;
   if (capture && writer)

@@ -82,7 +82,12 @@ struct RenderedFrame {
 
 class Renderer {
  public:
+  // The frame of frame_passes(settings.lighting), with the built-in shaders.
   Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings);
+  // Another assembly of passes (add_scene_passes and the rest, with passes of its own between
+  // them), whose shaders `shaders` supplies.
+  Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings, std::vector<PassDecl> passes,
+           ShaderProvider shaders);
   // Frame `index`, reading the history the previous render_frame left (render them in order).
   // With `capture`, every version is read back; a `writer` starts encoding each one as soon as
   // it reaches the host, while the rest of the frame runs (record_frame completes the record).
@@ -95,16 +100,17 @@ class Renderer {
   const Scene& scene_;
   RenderSettings settings_;
   std::vector<PassDecl> passes_;
+  ShaderProvider shaders_;
   PipelineCache cache_;
   HistoryPool history_;
   Imports scene_imports_;
   std::set<std::string> features_;  // the scene's, for every frame's skip conditions
   Camera base_;
-  std::map<std::string, std::vector<uint32_t>> spirv_;
 };
 
-// Built-in SPIR-V of a shader, compiled once per process.
-const std::vector<uint32_t>& builtin_spirv(const std::string& path);
+// Built-in SPIR-V of a shader with a pass's `bindings` (binding_defines), compiled once per
+// process.
+const std::vector<uint32_t>& builtin_spirv(const std::string& path, const std::string& bindings);
 
 // Turns an executed frame into the manifest's frame record, writing blobs as it goes.
 FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint32_t index);

@@ -2,8 +2,8 @@
 
 #include <cstring>
 
-#include "passes/cull/hierarchy.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/frame/hierarchy.h"
 #include "passes/scene/shadow_occluder.h"
 
 namespace nightcap {

@@ -93,7 +93,7 @@ struct ImportedData {
 using Imports = std::map<std::string, ImportedData>;
 
 // scene.geometry (pack_geometry), scene.meshes, scene.instances, scene.hierarchy
-// (passes/cull/hierarchy.h), scene.materials, scene.lights, scene.decals, scene.tod and scene.texture.<n> (mip chains
+// (passes/frame/hierarchy.h), scene.materials, scene.lights, scene.decals, scene.tod and scene.texture.<n> (mip chains
 // built here; the last texture is 1×1 white, bound where a material has none).
 Imports scene_imports(const Scene& scene);
 // frame.camera of frame `frame_index` (at frame_index × kFrameSeconds); `cut`: the view jumped.

@@ -32,6 +32,7 @@ PassDecl surface_pass(std::string name, const std::string& draws) {
       .read("scene.geometry", Use::storage_read)
       .read("scene.geometry", Use::index_buffer)
       .read(draws, Use::storage_read)
+      .as("draws")
       .read("scene.materials", Use::storage_read)
       .read_all("scene.texture.", Use::sampled)
       .slots("scene.texture.", MaterialTexture::count)

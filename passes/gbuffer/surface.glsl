@@ -4,14 +4,14 @@
 #include "../frame/half.glsl"
 #include "../frame/types.glsl"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
-layout(std430, set = 0, binding = 2) readonly buffer DrawBlock { GpuDraw draws[]; };
-layout(std430, set = 0, binding = 3) readonly buffer MaterialBlock { GpuMaterial materials[]; };
-layout(set = 0, binding = 4) uniform sampler2D base_color_map;
-layout(set = 0, binding = 5) uniform sampler2D metallic_roughness_map;
-layout(set = 0, binding = 6) uniform sampler2D normal_map;
-layout(set = 0, binding = 7) uniform sampler2D occlusion_map;
-layout(set = 0, binding = 8) uniform sampler2D emissive_map;
+layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std430, set = 0, binding = NC_BINDING(draws)) readonly buffer DrawBlock { GpuDraw draws[]; };
+layout(std430, set = 0, binding = NC_BINDING(scene_materials)) readonly buffer MaterialBlock { GpuMaterial materials[]; };
+layout(set = 0, binding = NC_BINDING(scene_texture)) uniform sampler2D base_color_map;
+layout(set = 0, binding = NC_BINDING(scene_texture) + 1) uniform sampler2D metallic_roughness_map;
+layout(set = 0, binding = NC_BINDING(scene_texture) + 2) uniform sampler2D normal_map;
+layout(set = 0, binding = NC_BINDING(scene_texture) + 3) uniform sampler2D occlusion_map;
+layout(set = 0, binding = NC_BINDING(scene_texture) + 4) uniform sampler2D emissive_map;
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;

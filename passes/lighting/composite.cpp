@@ -1,6 +1,9 @@
 // lighting.composite: direct diffuse + specular + emission + a uniform ambient term into the
-// lit HDR colour. The indirect terms of frame.md (AO, SSR, probes, GI volume, fog) join here
-// as their passes arrive.
+// lit HDR colour. The indirect terms of frame.md join as optional inputs, each read when its
+// pass is in the frame: ao.bent's visibility (alpha, sampled bilinearly: AO may be half size)
+// darkens the ambient term. SSR, probes, the GI volume and fog are to join the same way, a
+// read_optional and an `#ifdef NC_BINDING_<name>` block in the shader each, with the passes that
+// define their formats.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/lighting/composite.glsl.h"
@@ -28,6 +31,9 @@ PassDecl lighting_composite_pass() {
       .read("gbuffer.material", Use::sampled)
       .read("gbuffer.emissive", Use::sampled)
       .read("scene.depth", Use::sampled)
+      .read_optional("ao.bent", Use::sampled)
+      .as("ao")
+      .sampler("ao.bent", bilinear_clamp_sampler())
       .write("lighting.lit", Use::color_attachment, ImageDecl{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour})
       .param_float("ambient", 0.02, 0.0, 1e6, "uniform ambient radiance (a stand-in for the indirect light to come)")
       .param_float("sky", 0.004, 0.0, 1e6, "radiance of the night sky where nothing was drawn")

@@ -5,12 +5,12 @@
 #include "brdf.glsl"
 #include "deferred.glsl.h"
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
-layout(std430, set = 0, binding = 1) readonly buffer LightBlock { GpuLight lights[]; };
-layout(set = 0, binding = 2) uniform sampler2D albedo_map;
-layout(set = 0, binding = 3) uniform sampler2D normal_map;
-layout(set = 0, binding = 4) uniform sampler2D material_map;
-layout(set = 0, binding = 5) uniform sampler2D depth_map;
+layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std430, set = 0, binding = NC_BINDING(frame_lights)) readonly buffer LightBlock { GpuLight lights[]; };
+layout(set = 0, binding = NC_BINDING(gbuffer_albedo)) uniform sampler2D albedo_map;
+layout(set = 0, binding = NC_BINDING(gbuffer_normal)) uniform sampler2D normal_map;
+layout(set = 0, binding = NC_BINDING(gbuffer_material)) uniform sampler2D material_map;
+layout(set = 0, binding = NC_BINDING(scene_depth)) uniform sampler2D depth_map;
 
 layout(push_constant) uniform DeferredConstants { NC_BLOCK_MEMBERS(NC_DEFERRED_CONSTANTS_FIELDS) };
 
@@ -64,10 +64,10 @@ void main() {
     uint type = uint(light.position_type.w);
     vec3 radiance = light.color_range.rgb * intensity_scale;
     float range = light.color_range.w;
-    if (type == LIGHT_DIRECTIONAL) {
+    if (type == kLightDirectional) {
       diffuse += diffuse_term(n, -light.direction_cos_outer.xyz, radiance, albedo, metallic);
       specular += specular_term(n, v, -light.direction_cos_outer.xyz, radiance, albedo, metallic, alpha);
-    } else if (type == LIGHT_TUBE) {
+    } else if (type == kLightTube) {
       // A line light of `radiance` candela per metre. Diffuse: the segment integrated with
       // tube_samples midpoint samples. Specular: Karis' representative point (the segment point
       // closest to the reflection ray) with the widened lobe renormalised.
@@ -104,7 +104,7 @@ void main() {
       float d = sqrt(d2);
       vec3 l = to_light / d;
       float attenuation = range_window(d, range) / d2;
-      if (type == LIGHT_SPOT) attenuation *= spot_factor(light, l);
+      if (type == kLightSpot) attenuation *= spot_factor(light, l);
       if (attenuation <= 0.0) continue;
       diffuse += diffuse_term(n, l, radiance * attenuation, albedo, metallic);
       specular += specular_term(n, v, l, radiance * attenuation, albedo, metallic, alpha);

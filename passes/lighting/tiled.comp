@@ -34,31 +34,29 @@ layout(constant_id = 2) const int LOCAL_MOMENTS = 4;
 
 layout(local_size_x = kLightingTile, local_size_y = kLightingTile) in;
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
-layout(std430, set = 0, binding = 1) readonly buffer LightBlock { GpuLight lights[]; };
-layout(set = 0, binding = 2) uniform sampler2D albedo_map;
-layout(set = 0, binding = 3) uniform sampler2D normal_map;
-layout(set = 0, binding = 4) uniform sampler2D material_map;
-layout(set = 0, binding = 5) uniform sampler2D depth_map;
-layout(set = 0, binding = 6) uniform sampler2D linear_depth_map;
-layout(set = 0, binding = 7) uniform usampler3D clusters;
-layout(std430, set = 0, binding = 8) readonly buffer IndexBlock { uint cluster_indices[]; };
+layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std430, set = 0, binding = NC_BINDING(frame_lights)) readonly buffer LightBlock { GpuLight lights[]; };
+layout(set = 0, binding = NC_BINDING(gbuffer_albedo)) uniform sampler2D albedo_map;
+layout(set = 0, binding = NC_BINDING(gbuffer_normal)) uniform sampler2D normal_map;
+layout(set = 0, binding = NC_BINDING(gbuffer_material)) uniform sampler2D material_map;
+layout(set = 0, binding = NC_BINDING(scene_depth)) uniform sampler2D depth_map;
+layout(set = 0, binding = NC_BINDING(depth_linear)) uniform sampler2D linear_depth_map;
+layout(set = 0, binding = NC_BINDING(lights_clusters)) uniform usampler3D clusters;
+layout(std430, set = 0, binding = NC_BINDING(lights_cluster_indices)) readonly buffer IndexBlock { uint cluster_indices[]; };
 // lights.cluster_stats, for the froxels' shape. All zero when lights.cluster was skipped (no
 // local light), every list then empty: the max(…, 1) below keep the arithmetic defined there.
-layout(std430, set = 0, binding = 9) readonly buffer ClusterStatsBlock { GpuClusterStats cluster_stats; };
-layout(set = 0, binding = 10) uniform sampler2D ltc_inverse;
-layout(set = 0, binding = 11) uniform sampler2D ltc_magnitude;
-layout(set = 0, binding = 12) uniform sampler2D sun_shadow_map;
+layout(std430, set = 0, binding = NC_BINDING(lights_cluster_stats)) readonly buffer ClusterStatsBlock { GpuClusterStats cluster_stats; };
+layout(set = 0, binding = NC_BINDING(lighting_ltc_inverse)) uniform sampler2D ltc_inverse;
+layout(set = 0, binding = NC_BINDING(lighting_ltc_magnitude)) uniform sampler2D ltc_magnitude;
+layout(set = 0, binding = NC_BINDING(shadow_sun)) uniform sampler2D sun_shadow_map;
 // shadow.local_plan's maps (passes/shadow/local_layout.h), each light's map or -1, the moments.
-layout(std140, set = 0, binding = 13) uniform LocalShadowBlock { GpuLocalShadows local_shadows; };
-layout(std430, set = 0, binding = 14) readonly buffer LocalSlotBlock { int local_slots[]; };
-layout(set = 0, binding = 15) uniform sampler2DArray local_moments;
-layout(set = 0, binding = 16, rgba16f) uniform writeonly image2D diffuse_out;
-layout(set = 0, binding = 17, rgba16f) uniform writeonly image2D specular_out;
-layout(std430, set = 0, binding = 18) buffer ClassBlock {
-  uvec4 class_dispatch[kLightingTileClasses];  // classes 1 to 5: workgroups x, y, z; w: first list entry
-};
-layout(std430, set = 0, binding = 19) buffer ListBlock { uvec2 entries[]; };  // (class of tile i, i-th listed tile)
+layout(std140, set = 0, binding = NC_BINDING(shadow_local_data)) uniform LocalShadowBlock { GpuLocalShadows local_shadows; };
+layout(std430, set = 0, binding = NC_BINDING(shadow_local_slots)) readonly buffer LocalSlotBlock { int local_slots[]; };
+layout(set = 0, binding = NC_BINDING(shadow_local_moments)) uniform sampler2DArray local_moments;
+layout(set = 0, binding = NC_BINDING(lighting_diffuse), rgba16f) uniform writeonly image2D diffuse_out;
+layout(set = 0, binding = NC_BINDING(lighting_specular), rgba16f) uniform writeonly image2D specular_out;
+layout(std430, set = 0, binding = NC_BINDING(lighting_tile_classes)) buffer ClassBlock { GpuTileClasses classes; };
+layout(std430, set = 0, binding = NC_BINDING(lighting_tile_lists)) buffer ListBlock { GpuTileEntry entries[]; };
 
 layout(constant_id = 0) const uint phase = 0u;  // one pipeline per phase (tiled.cpp says why)
 
@@ -122,9 +120,9 @@ void classify() {
   }
   uint groups = tiles_x * tiles_y;
   uint group = tile.y * tiles_x + tile.x;
-  if (gl_LocalInvocationIndex == 0u) entries[group] = uvec2(tile_class, 0u);
+  if (gl_LocalInvocationIndex == 0u) entries[group] = GpuTileEntry(tile_class, 0u);
   for (uint i = groups + group * kLightingTileInvocations + gl_LocalInvocationIndex; i < entries.length(); i += groups * kLightingTileInvocations)
-    entries[i] = uvec2(0u);
+    entries[i] = GpuTileEntry(0u, 0u);
 }
 
 // Phase 1.
@@ -137,7 +135,7 @@ void place() {
   uint begin = min(lane * per_run, total), end = min(begin + per_run, total);
   uint counts[kLightingTileClasses] = uint[kLightingTileClasses](0u, 0u, 0u, 0u, 0u);
   for (uint t = begin; t < end; ++t) {
-    uint tile_class = entries[t].x;
+    uint tile_class = entries[t].tile_class;
     if (tile_class > 0u) ++counts[tile_class - 1u];
   }
   for (uint c = 0u; c < kLightingTileClasses; ++c) run_counts[c][lane] = counts[c];
@@ -157,16 +155,18 @@ void place() {
     listed += all[c];
   }
   for (uint t = begin; t < end; ++t) {
-    uint tile_class = entries[t].x;
-    if (tile_class > 0u) entries[at[tile_class - 1u]++].y = t;
+    uint tile_class = entries[t].tile_class;
+    if (tile_class > 0u) entries[at[tile_class - 1u]++].listed_tile = t;
   }
   if (lane != 0u) return;
   // A class with no tile dispatches nothing; (0, 0, 0) is also the buffer's cleared value, which
   // a frame with nothing to shade then computes (the pass's skip for cleared inputs).
+  uvec4 dispatch[kLightingTileClasses];
   for (uint c = 0u; c < kLightingTileClasses; ++c) {
     uint any = min(all[c], 1u);
-    class_dispatch[c] = uvec4(all[c], any, any, first[c]);
+    dispatch[c] = uvec4(all[c], any, any, first[c]);
   }
+  classes = GpuTileClasses(dispatch[0], dispatch[1], dispatch[2], dispatch[3], dispatch[4]);
 }
 
 // Phases 2 to 6.
@@ -281,7 +281,7 @@ void shade_punctual(uint index, Surface s, inout vec3 diffuse, inout vec3 specul
   float d = sqrt(d2);
   vec3 l = to_light / d;
   float attenuation = ltc_range_window(d, range) / d2;
-  if (uint(light.position_type.w) == LIGHT_SPOT) attenuation *= spot_factor(light, l) * local_visibility(index, s.position);
+  if (uint(light.position_type.w) == kLightSpot) attenuation *= spot_factor(light, l) * local_visibility(index, s.position);
   if (attenuation <= 0.0) return;
   diffuse += diffuse_term(s.n, l, radiance * attenuation, s.albedo, s.metallic);
   specular += specular_term(s.n, s.v, l, radiance * attenuation, s.albedo, s.metallic, s.alpha);
@@ -335,9 +335,19 @@ float contact_shadow(vec3 position, vec3 l) {
   return 1.0;
 }
 
+// The first entry of class `tile_class`'s list in lighting.tile_lists.
+uint first_listed(uint tile_class) {
+  switch (tile_class) {
+    case 1u: return classes.directional.w;
+    case 2u: return classes.local.w;
+    case 3u: return classes.tube.w;
+    case 4u: return classes.sphere.w;
+  }
+  return classes.sphere_and_tube.w;
+}
+
 void shade_tiles(uint tile_class) {
-  uvec4 dispatch = class_dispatch[tile_class - 1u];
-  uint tile_index = entries[dispatch.w + gl_WorkGroupID.x].y;
+  uint tile_index = entries[first_listed(tile_class) + gl_WorkGroupID.x].listed_tile;
   uvec2 tile = uvec2(tile_index % tiles_x, tile_index / tiles_x);
   ivec2 pixel = ivec2(tile * kLightingTile + gl_LocalInvocationID.xy);
   if (!inside(pixel)) return;

@@ -28,29 +28,11 @@ ComparisonContract lighting_contract() {
                                     "(tests/unit/lighting_tiled_test.cpp): two within twice that");
 }
 
-// Bilinear over the moments: the filter moment maps are made for, and no stair steps at a shadow's edge.
-SamplerDesc moments_sampler() {
-  SamplerDesc linear = nearest_clamp_sampler();
-  linear.mag_filter = linear.min_filter = VK_FILTER_LINEAR;
-  return linear;
-}
-
 }  // namespace
 
-BufferSchema tile_classes_schema() {
-  using C = GpuTileClasses;
-  return BufferSchema::of<C>()
-      .field("directional", &C::directional)
-      .field("local", &C::local)
-      .field("tube", &C::tube)
-      .field("sphere", &C::sphere)
-      .field("sphere_and_tube", &C::sphere_and_tube);
-}
+BufferSchema tile_classes_schema() { return NC_SCHEMA_OF(GpuTileClasses, NC_TILE_CLASSES_FIELDS); }
 
-BufferSchema tile_entry_schema() {
-  using E = GpuTileEntry;
-  return BufferSchema::of<E>().field("tile_class", &E::tile_class).field("listed_tile", &E::listed_tile);
-}
+BufferSchema tile_entry_schema() { return NC_SCHEMA_OF(GpuTileEntry, NC_TILE_ENTRY_FIELDS); }
 
 PassDecl lighting_tiled_pass() {
   ImageDecl hdr{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour};
@@ -71,7 +53,9 @@ PassDecl lighting_tiled_pass() {
       .read("shadow.local_data", Use::uniform_buffer)
       .read("shadow.local_slots", Use::storage_read)
       .read("shadow.local_moments", Use::sampled)
-      .sampler("shadow.local_moments", moments_sampler())
+      // Bilinear over the moments: the filter moment maps are made for, and no stair steps at a
+      // shadow's edge.
+      .sampler("shadow.local_moments", bilinear_clamp_sampler())
       .write("lighting.diffuse", Use::storage_write, hdr)
       .write("lighting.specular", Use::storage_write, hdr)
       .write("lighting.tile_classes", Use::storage_write, BufferDecl{ResourceKind::buffer, sizeof(GpuTileClasses)})

@@ -11,6 +11,30 @@ NC_CONST(uint, kLightingTileInvocations, kLightingTile* kLightingTile)
 // Shaded classes, 1 to 5 (tiled_layout.h names them).
 NC_CONST(uint, kLightingTileClasses, 5u)
 
+// lighting.tile_classes: per shaded class, its VkDispatchIndirectCommand (x: the class's tiles;
+// y = z = 1, or all 0 when it has none) and in w the first entry of its list in
+// lighting.tile_lists.
+#define NC_TILE_CLASSES_FIELDS(F, A, P) \
+  /* class 1 */                         \
+  F(uvec4, directional)                 \
+  /* class 2 */                         \
+  F(uvec4, local)                       \
+  /* class 3 */                         \
+  F(uvec4, tube)                        \
+  /* class 4 */                         \
+  F(uvec4, sphere)                      \
+  /* class 5 */                         \
+  F(uvec4, sphere_and_tube)
+NC_STRUCT(GpuTileClasses, NC_TILE_CLASSES_FIELDS)
+
+// lighting.tile_lists, entry i: the class of tile i (row-major: y · tiles across + x), and the
+// i-th tile of the lists (class 1's, then 2's, and so on to 5's, each in row-major order); 0 past
+// the tiles.
+#define NC_TILE_ENTRY_FIELDS(F, A, P) \
+  F(uint, tile_class)                 \
+  F(uint, listed_tile)
+NC_STRUCT(GpuTileEntry, NC_TILE_ENTRY_FIELDS)
+
 #define NC_TILED_CONSTANTS_FIELDS(F, A, P)                                                      \
   /* tiles across and down the output */                                                        \
   F(uint, tiles_x)                                                                              \

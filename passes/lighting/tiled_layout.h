@@ -30,25 +30,8 @@ constexpr uint32_t kLightingTileCapacity = 1u << 20;
 
 enum class TileClass : uint32_t { unlit = 0, directional = 1, local = 2, tube = 3, sphere = 4, sphere_and_tube = 5 };
 
-// lighting.tile_classes: per shaded class, its VkDispatchIndirectCommand (x: the class's tiles;
-// y = z = 1, or all 0 when it has none) and in w the first entry of its list in
-// lighting.tile_lists.
-struct GpuTileClasses {
-  glm::uvec4 directional;      // class 1
-  glm::uvec4 local;            // class 2
-  glm::uvec4 tube;             // class 3
-  glm::uvec4 sphere;           // class 4
-  glm::uvec4 sphere_and_tube;  // class 5
-};
+// GpuTileClasses and GpuTileEntry: passes/lighting/tiled.glsl.h.
 static_assert(sizeof(GpuTileClasses) == 80);
-
-// lighting.tile_lists, entry i: the class of tile i (row-major: y · tiles across + x), and the
-// i-th tile of the lists (class 1's, then 2's, and so on to 5's, each in row-major order); 0 past
-// the tiles.
-struct GpuTileEntry {
-  uint32_t tile_class;
-  uint32_t listed_tile;
-};
 static_assert(sizeof(GpuTileEntry) == 8);
 
 BufferSchema tile_classes_schema();

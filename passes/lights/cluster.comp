@@ -43,16 +43,16 @@ const uint kSlices = gl_WorkGroupSize.x;
 layout(constant_id = 1) const uint kTile = 32u;  // pixels on a side of a tile
 layout(constant_id = 2) const uint phase = 0u;   // one pipeline per phase (cluster.cpp says why)
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
-layout(std430, set = 0, binding = 1) readonly buffer LightBlock { GpuLight lights[]; };
-layout(set = 0, binding = 2) uniform sampler2D pyramid;
-layout(set = 0, binding = 3, rg32ui) uniform uimage3D clusters;
-layout(std430, set = 0, binding = 4) buffer IndexBlock { uint indices[]; };
-layout(std430, set = 0, binding = 5) buffer StatsBlock { GpuClusterStats stats; };
+layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std430, set = 0, binding = NC_BINDING(frame_lights)) readonly buffer LightBlock { GpuLight lights[]; };
+layout(set = 0, binding = NC_BINDING(depth_pyramid)) uniform sampler2D pyramid;
+layout(set = 0, binding = NC_BINDING(lights_clusters), rg32ui) uniform uimage3D clusters;
+layout(std430, set = 0, binding = NC_BINDING(lights_cluster_indices)) buffer IndexBlock { uint indices[]; };
+layout(std430, set = 0, binding = NC_BINDING(lights_cluster_stats)) buffer StatsBlock { GpuClusterStats stats; };
 
 // Per block, a slot of block_slot() words: the count (kOverflow when the list did not fit), then
 // the list.
-layout(std430, set = 0, binding = 6) buffer BlockListBlock { uint block_lists[]; };
+layout(std430, set = 0, binding = NC_BINDING(lights_cluster_blocks)) buffer BlockListBlock { uint block_lists[]; };
 layout(push_constant) uniform ClusterConstants { NC_BLOCK_MEMBERS(NC_CLUSTER_CONSTANTS_FIELDS) };
 
 const uint kNone = 0u, kBounded = 1u, kEverywhere = 2u;
@@ -139,12 +139,12 @@ uint light_core(uint i, out vec3 a, out vec3 b, out float r) {
   b = vec3(0.0);
   r = 0.0;
   GpuLight light = lights[i];
-  if (uint(light.position_type.w) == LIGHT_DIRECTIONAL) return kNone;
+  if (uint(light.position_type.w) == kLightDirectional) return kNone;
   float range = light.color_range.w;
   if (range <= 0.0) return kEverywhere;
   mat3 view = mat3(frame.view);
   a = view * light.position_type.xyz;
-  b = uint(light.position_type.w) == LIGHT_TUBE ? view * light.end_radius.xyz : a;
+  b = uint(light.position_type.w) == kLightTube ? view * light.end_radius.xyz : a;
   r = range + exp2(-12.0) * (range + max(length(a), length(b)));
   return kBounded;
 }
@@ -330,7 +330,7 @@ void place_lists() {
   // Local lights, counted by the same invocations.
   uint local_lights = 0u;
   for (uint i = lane; i < frame.counts.x; i += kSlices)
-    if (uint(lights[i].position_type.w) != LIGHT_DIRECTIONAL) ++local_lights;
+    if (uint(lights[i].position_type.w) != kLightDirectional) ++local_lights;
   barrier();
   run_entries[lane] = stored;
   run_wanted[lane] = wanted;

@@ -8,8 +8,8 @@
 
 layout(local_size_x = kMotionStencilTile, local_size_y = kMotionStencilTile) in;
 
-layout(set = 0, binding = 0) uniform usampler2D stencil_map;
-layout(set = 0, binding = 1, r8ui) uniform writeonly uimage2D motion_mask;
+layout(set = 0, binding = NC_BINDING(scene_depth)) uniform usampler2D stencil_map;
+layout(set = 0, binding = NC_BINDING(motion_mask), r8ui) uniform writeonly uimage2D motion_mask;
 layout(push_constant) uniform MotionStencilConstants { NC_BLOCK_MEMBERS(NC_MOTION_STENCIL_CONSTANTS_FIELDS) };
 
 const int TILE = int(kMotionStencilTile), SPAN = TILE + 2 * kMotionStencilMaxRadius;

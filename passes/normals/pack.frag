@@ -1,9 +1,9 @@
 #version 460
 // Best-fit normal packing: the 8-bit vector along n whose normalisation best matches n, its
 // length read from normals.bfn_lut (see passes/normals/bfn_lut.h), plus roughness in alpha.
-layout(set = 0, binding = 0) uniform sampler2D normal_map;
-layout(set = 0, binding = 1) uniform sampler2D material_map;
-layout(set = 0, binding = 2) uniform usampler2D bfn_lut;
+layout(set = 0, binding = NC_BINDING(gbuffer_normal)) uniform sampler2D normal_map;
+layout(set = 0, binding = NC_BINDING(gbuffer_material)) uniform sampler2D material_map;
+layout(set = 0, binding = NC_BINDING(normals_bfn_lut)) uniform usampler2D bfn_lut;
 
 layout(location = 0) in vec2 in_uv;
 layout(location = 0) out vec4 out_packed;

@@ -1,5 +1,5 @@
 #version 460
-// One level of bloom.chain: the 2×2 box average of the level above (lighting.lit for level 0)
+// One level of bloom.chain: the 2×2 box average of the level above (the lit colour for level 0)
 // blurred by a separable Gaussian. A workgroup computes a kBloomTile² tile: it downsamples the tile
 // and an apron of kBloomMaxRadius texels into shared memory, blurs the rows there, then blurs the
 // columns and stores — both 1D blurs of the separable filter in one dispatch, the intermediate
@@ -13,8 +13,8 @@ layout(local_size_x = kBloomTile, local_size_y = kBloomTile) in;
 const int TILE = int(kBloomTile);
 const int SPAN = TILE + 2 * kBloomMaxRadius;
 
-layout(set = 0, binding = 0) uniform sampler2D source;  // one mip: texel (0,0) of mip 0 of this view
-layout(set = 0, binding = 1, rgba16f) uniform writeonly image2D target;
+layout(set = 0, binding = NC_BINDING(source)) uniform sampler2D source;  // one mip: texel (0,0) of mip 0 of this view
+layout(set = 0, binding = NC_BINDING(bloom_chain), rgba16f) uniform writeonly image2D target;
 
 layout(push_constant) uniform BloomConstants { NC_BLOCK_MEMBERS(NC_BLOOM_CONSTANTS_FIELDS) };
 

@@ -1,9 +1,9 @@
 // bloom.levelN: level N of bloom.chain (RGBA16F, half the output size, 6 mips), the 2×2 box
-// average of level N − 1 — of lighting.lit for level 0, the resolved colour until TAA exists —
+// average of level N − 1 — of `lit` for level 0, the colour the frame's assembly names —
 // blurred by a separable Gaussian of `sigma` texels of that level (frame.md: a 6-level
 // downsample chain with separable blurs). Each level is its own pass: it samples mip N − 1 of
 // bloom.chain while it writes mip N, and the graph places the barrier between them. `tonemap`
-// adds the levels. A NaN in lighting.lit contributes nothing and +Inf counts as 65504, so the
+// adds the levels. A NaN in `lit` contributes nothing and +Inf counts as 65504, so the
 // chain is always finite. At small outputs the chain is shorter (a 1×1 image has one mip): the
 // levels beyond it are skipped.
 #include <algorithm>
@@ -48,17 +48,18 @@ VkClearValue uniform_level(const VkClearValue& source) {
 
 }  // namespace
 
-PassDecl bloom_level_pass(uint32_t level) {
-  const std::string source = level == 0 ? "lighting.lit" : "bloom.chain";
+PassDecl bloom_level_pass(uint32_t level, const std::string& lit) {
+  const std::string source = level == 0 ? lit : "bloom.chain";
   const uint32_t source_mip = level == 0 ? 0 : level - 1;
   PassDecl pass("bloom.level" + std::to_string(level), PassType::compute);
   if (level == 0) {
     ImageDecl chain{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour};
     chain.size.mode = SizeRule::Mode::output_half;
     chain.mips = kBloomLevels;
-    pass.read("lighting.lit", Use::sampled).write("bloom.chain", Use::storage_write, chain, Subresources::mip(0));
+    pass.read(lit, Use::sampled).as("source").write("bloom.chain", Use::storage_write, chain, Subresources::mip(0));
   } else {
     pass.read("bloom.chain", Use::sampled, Subresources::mip(level - 1))
+        .as("source")
         .modify("bloom.chain", Use::storage_write, Subresources::mip(level));
   }
   return pass.can_disable("bloom disabled by settings", "bloom")

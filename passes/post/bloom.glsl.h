@@ -11,13 +11,13 @@ NC_CONST(uint, kBloomTile, 16u)
 // within it).
 NC_CONST(int, kBloomMaxRadius, 8)
 
-#define NC_BLOOM_CONSTANTS_FIELDS(F, A, P)                              \
-  /* the level read (lighting.lit for level 0) and the level written */ \
-  F(ivec2, source_size)                                                 \
-  F(ivec2, target_size)                                                 \
-  /* at most kBloomMaxRadius */                                         \
-  F(int, radius)                                                        \
-  /* weights[k] for offsets ±k, summing to 1 over -radius..radius */   \
+#define NC_BLOOM_CONSTANTS_FIELDS(F, A, P)                                \
+  /* the level read (the lit colour for level 0) and the level written */ \
+  F(ivec2, source_size)                                                   \
+  F(ivec2, target_size)                                                   \
+  /* at most kBloomMaxRadius */                                           \
+  F(int, radius)                                                          \
+  /* weights[k] for offsets ±k, summing to 1 over -radius..radius */     \
   A(float, weights, kBloomMaxRadius + 1)
 NC_PUSH_CONSTANTS(BloomConstants, NC_BLOOM_CONSTANTS_FIELDS)
 

@@ -10,11 +10,11 @@
 
 layout(local_size_x = kExposureGroupSide, local_size_y = kExposureGroupSide) in;
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
-layout(set = 0, binding = 1) uniform sampler2D lit_map;
-layout(set = 0, binding = 2) uniform sampler2D previous_exposure;
-layout(std430, set = 0, binding = 3) buffer Histogram { uint bins[kExposureBins]; };
-layout(set = 0, binding = 4, rgba32f) uniform writeonly image2D exposure_value;
+layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+layout(set = 0, binding = NC_BINDING(lit)) uniform sampler2D lit_map;
+layout(set = 0, binding = NC_BINDING(exposure_value_previous)) uniform sampler2D previous_exposure;
+layout(std430, set = 0, binding = NC_BINDING(exposure_histogram)) buffer Histogram { uint bins[kExposureBins]; };
+layout(set = 0, binding = NC_BINDING(exposure_value), rgba32f) uniform writeonly image2D exposure_value;
 layout(push_constant) uniform ExposureConstants { NC_BLOCK_MEMBERS(NC_EXPOSURE_CONSTANTS_FIELDS) };
 
 shared uint local_bins[kExposureBins];

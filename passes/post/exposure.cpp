@@ -8,18 +8,19 @@
 // mean as Krawczyk, Myszkowski and Seidel (2005) propose, so night stays night. Skipped (fixed exposure:
 // tonemap.exposure alone) with exposure.enabled=0, which leaves exposure.value 0.
 //
-// Deviation from frame.md: it reads lighting.lit, the resolved colour until TAA exists.
+// It reads `lit`, the colour the frame's assembly names (passes/frame/registry.cpp).
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/post/exposure.glsl.h"
 
 namespace nightcap {
-PassDecl exposure_pass() {
+PassDecl exposure_pass(const std::string& lit) {
   ImageDecl value{VK_FORMAT_R32G32B32A32_SFLOAT, ResourceKind::hdr_colour};
   value.size = {SizeRule::Mode::absolute, 1, 1, {}};
   return PassDecl("exposure", PassType::compute)
       .read("frame.constants", Use::uniform_buffer)
-      .read("lighting.lit", Use::sampled)
+      .read(lit, Use::sampled)
+      .as("lit")
       .read_previous("exposure.value", Use::sampled)
       .write("exposure.histogram", Use::storage_write, BufferDecl{ResourceKind::buffer, kExposureBins * 4})
       .write("exposure.value", Use::storage_write, value)
@@ -33,17 +34,17 @@ PassDecl exposure_pass() {
       .param_float("log2_max", 12.0, -64.0, 64.0, "highest log2 luminance the histogram tells apart")
       .push_constants<ExposureConstants>()
       .shader("post/exposure.comp")
-      .run([](PassContext& ctx) {
-        const ImageExtent lit = ctx.desc("lighting.lit").extent;
+      .run([lit](PassContext& ctx) {
+        const ImageExtent extent = ctx.desc(lit).extent;
         // A uniform lit image (the sky of an empty scene) is counted from one texel: the same
         // integer counts, so the same bits after them.
-        const bool uniform = ctx.uniform("lighting.lit");
+        const bool uniform = ctx.uniform(lit);
         ExposureConstants constants{0,
                                     float(ctx.param_float("log2_min")),
                                     float(ctx.param_float("log2_max")),
                                     float(ctx.param_float("key")),
                                     float(ctx.param_float("adapt_seconds")),
-                                    uniform ? lit.width * lit.height : 0u};
+                                    uniform ? extent.width * extent.height : 0u};
         if (!(constants.log2_max > constants.log2_min)) throw GraphError("exposure: log2_max must be above log2_min");
         ctx.bind_pipeline();
         ctx.push_declared();
@@ -51,8 +52,8 @@ PassDecl exposure_pass() {
           constants.phase = phase;
           ctx.push_constants(constants);
           if (phase == 1 && !uniform)
-            vkCmdDispatch(ctx.cmd(), group_count(lit.width, kExposureGroupSide),
-                          group_count(lit.height, kExposureGroupSide), 1);
+            vkCmdDispatch(ctx.cmd(), group_count(extent.width, kExposureGroupSide),
+                          group_count(extent.height, kExposureGroupSide), 1);
           else
             vkCmdDispatch(ctx.cmd(), 1, 1, 1);
           if (phase < 2) ctx.storage_barrier();

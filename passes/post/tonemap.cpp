@@ -1,20 +1,19 @@
-// tonemap: HDR lit colour plus bloom → display (R8G8B8A8_SRGB): scaled by the manual exposure
-// and, when the exposure pass ran, by its automatic one (exposure.value.x; 0 when it was
-// skipped), then a filmic curve. The bloom is the mean of bloom.chain's levels, each upsampled
-// bilinearly (in the shader, with exact weights) to the pixel centre. Where the graph knows the
-// lit colour and the chain to be uniform (an empty scene's sky), a pipeline variant computes
-// the one colour in the vertex shader and the fragments copy it: the same bits, since the
-// interpolation gives equal texels back exactly. The grading LUT of frame.md feeds it once it
-// exists.
+// tonemap: HDR lit colour (`lit`, as the frame's assembly names it) plus bloom → display (R8G8B8A8_SRGB): scaled by the
+// manual exposure and, when the exposure pass ran, by its automatic one (exposure.value.x; 0 when it was skipped), then
+// a filmic curve. The bloom is the mean of bloom.chain's levels, each upsampled bilinearly (in the shader, with exact
+// weights) to the pixel centre. Where the graph knows the lit colour and the chain to be uniform (an empty scene's
+// sky), a pipeline variant computes the one colour in the vertex shader and the fragments copy it: the same bits, since
+// the interpolation gives equal texels back exactly. The grading LUT of frame.md feeds it once it exists.
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/post/tonemap.glsl.h"
 
 namespace nightcap {
 
-PassDecl tonemap_pass() {
+PassDecl tonemap_pass(const std::string& lit) {
   return PassDecl("tonemap", PassType::graphics)
-      .read("lighting.lit", Use::sampled)
+      .read(lit, Use::sampled)
+      .as("lit")
       .read("exposure.value", Use::sampled)
       .read("bloom.chain", Use::sampled)
       .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_SRGB, ResourceKind::colour})
@@ -28,10 +27,10 @@ PassDecl tonemap_pass() {
       .push_constants<TonemapConstants>()
       .shader("post/tonemap.vert")
       .shader("post/tonemap.frag")
-      .run([](PassContext& ctx) {
+      .run([lit](PassContext& ctx) {
         const TonemapConstants constants{float(ctx.param_float("exposure")), float(ctx.param_float("bloom"))};
         // Uniform inputs (an empty scene's sky): the variant that computes the colour once.
-        const bool uniform = ctx.uniform("lighting.lit") && ctx.uniform("bloom.chain");
+        const bool uniform = ctx.uniform(lit) && ctx.uniform("bloom.chain");
         record_fullscreen(ctx, {reinterpret_cast<const uint8_t*>(&constants), sizeof constants}, {uniform});
       });
 }

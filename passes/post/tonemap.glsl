@@ -1,12 +1,12 @@
 // tonemap's colour pipeline, shared by tonemap.frag (per pixel) and tonemap.vert (once for the
-// whole output when the graph knows lighting.lit and bloom.chain to be uniform).
+// whole output when the graph knows the lit colour and bloom.chain to be uniform).
 #include "tonemap.glsl.h"
 
-layout(set = 0, binding = 0) uniform sampler2D lit_map;
-layout(set = 0, binding = 1) uniform sampler2D exposure_value;  // 1×1; x: automatic exposure, 0: none
-layout(set = 0, binding = 2) uniform sampler2D bloom_chain;
+layout(set = 0, binding = NC_BINDING(lit)) uniform sampler2D lit_map;
+layout(set = 0, binding = NC_BINDING(exposure_value)) uniform sampler2D exposure_value;  // 1×1; x: automatic exposure, 0: none
+layout(set = 0, binding = NC_BINDING(bloom_chain)) uniform sampler2D bloom_chain;
 layout(push_constant) uniform TonemapConstants { NC_BLOCK_MEMBERS(NC_TONEMAP_CONSTANTS_FIELDS) };
-// Every texel of lighting.lit, and of each bloom level, is the same: the pipeline variant that
+// Every texel of the lit colour, and of each bloom level, is the same: the pipeline variant that
 // evaluates the colour once, in the vertex shader.
 layout(constant_id = 0) const bool uniform_inputs = false;
 

@@ -14,6 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "passes/core/sampler.h"
+#include "passes/scene/light_type.glsl.h"
+
 namespace nightcap {
 
 // Bad scene input: the message names the file and the problem.
@@ -30,15 +33,6 @@ struct Vertex {
   float color[4];  // COLOR_0, white when absent
 };
 static_assert(sizeof(Vertex) == 72);
-
-struct SamplerDesc {
-  VkFilter mag_filter = VK_FILTER_LINEAR;
-  VkFilter min_filter = VK_FILTER_LINEAR;
-  VkSamplerMipmapMode mipmap_mode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
-  bool mipmaps = true;  // false for glTF NEAREST/LINEAR minification (no mip sampling)
-  VkSamplerAddressMode wrap_u = VK_SAMPLER_ADDRESS_MODE_REPEAT;
-  VkSamplerAddressMode wrap_v = VK_SAMPLER_ADDRESS_MODE_REPEAT;
-};
 
 // Base level only, 8-bit RGBA; the frame builds the mip chain when it uploads.
 struct Texture {
@@ -116,7 +110,12 @@ struct Instance {
   int32_t material = -1;     // overrides the primitive's material when set, so meshes are shared
 };
 
-enum class LightType : uint32_t { directional = 0, point = 1, spot = 2, tube = 3 };
+enum class LightType : uint32_t {
+  directional = kLightDirectional,
+  point = kLightPoint,
+  spot = kLightSpot,
+  tube = kLightTube
+};
 
 // Colours are linear RGB; intensity follows KHR_lights_punctual (candela for point/spot,
 // lux for directional); a tube's intensity is candela per metre of its length.

@@ -29,7 +29,7 @@
 #include <map>
 #include <thread>
 
-#include "captures/hash.h"
+#include "passes/core/hash.h"
 #include "passes/scene/scene_kit.h"
 #include "passes/scene/shadow_occluder.h"
 

@@ -28,6 +28,7 @@ PassDecl shadow_cascades_pass() {
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
       .read("draws.shadow.cascades", Use::storage_read)
+      .as("draws")
       .read("shadow.cascade_data", Use::uniform_buffer)
       .read("scene.geometry", Use::index_buffer)
       .read("scene.materials", Use::host)

@@ -4,7 +4,7 @@
 #include "caster_draw.glsl.h"
 #include "shadow_layout.glsl.h"
 
-layout(std140, set = 0, binding = 3) uniform CascadeBlock { GpuShadowCascades cascades; };
+layout(std140, set = 0, binding = NC_BINDING(shadow_cascade_data)) uniform CascadeBlock { GpuShadowCascades cascades; };
 
 layout(push_constant) uniform CasterConstants { NC_BLOCK_MEMBERS(NC_CASTER_CONSTANTS_FIELDS) };
 

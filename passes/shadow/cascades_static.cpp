@@ -22,6 +22,7 @@ PassDecl shadow_cascades_static_pass() {
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
       .read("draws.shadow.cascades", Use::storage_read)
+      .as("draws")
       .read("shadow.cascade_data", Use::uniform_buffer)
       .read_previous("shadow.cascades_static", Use::sampled)
       .read("scene.geometry", Use::index_buffer)

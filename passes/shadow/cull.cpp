@@ -60,11 +60,11 @@
 #include <optional>
 
 #include "passes/core/context.h"
-#include "passes/cull/hierarchy.h"
-#include "passes/cull/occlusion_buffer.h"
 #include "passes/frame/camera_math.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/frame/hierarchy.h"
+#include "passes/frame/occlusion_buffer.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/scene/time_of_day.h"
 #include "passes/shadow/caster_draw.h"

@@ -30,6 +30,7 @@ PassDecl shadow_distant_pass() {
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
       .read("draws.shadow.distant", Use::storage_read)
+      .as("draws")
       .read("shadow.distant_data", Use::uniform_buffer)
       .read_previous("shadow.distant", Use::sampled)
       .read("scene.geometry", Use::index_buffer)

@@ -42,9 +42,9 @@
 #include <cstring>
 
 #include "passes/core/context.h"
-#include "passes/cull/hierarchy.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/frame/hierarchy.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/shadow/caster_draw.h"
 #include "passes/shadow/light_tiles.h"

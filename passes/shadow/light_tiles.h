@@ -9,7 +9,7 @@
 #include <span>
 #include <vector>
 
-#include "passes/cull/hierarchy.h"
+#include "passes/frame/hierarchy.h"
 
 namespace nightcap {
 

@@ -25,6 +25,7 @@ PassDecl shadow_local_pass() {
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
       .read("draws.shadow.local", Use::storage_read)
+      .as("draws")
       .read("shadow.local_views", Use::uniform_buffer)
       .read("scene.geometry", Use::index_buffer)
       .read("scene.materials", Use::host)

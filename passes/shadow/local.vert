@@ -5,7 +5,7 @@
 #include "caster_draw.glsl.h"
 #include "local_layout.glsl.h"
 
-layout(std140, set = 0, binding = 3) uniform ViewBlock { GpuLocalShadowViews views; };
+layout(std140, set = 0, binding = NC_BINDING(shadow_local_views)) uniform ViewBlock { GpuLocalShadowViews views; };
 
 layout(push_constant) uniform CasterConstants { NC_BLOCK_MEMBERS(NC_CASTER_CONSTANTS_FIELDS) };
 

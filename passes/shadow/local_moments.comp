@@ -11,10 +11,10 @@ layout(constant_id = 0) const int BLUR = 1;
 // does not pay for the 4-moment one's shared memory and sums on lavapipe.
 layout(constant_id = 1) const int MOMENTS = 4;
 
-layout(std140, set = 0, binding = 0) uniform LocalBlock { GpuLocalShadows shadows; };
-layout(set = 0, binding = 1) uniform sampler2DArray depth_maps;
+layout(std140, set = 0, binding = NC_BINDING(shadow_local_data)) uniform LocalBlock { GpuLocalShadows shadows; };
+layout(set = 0, binding = NC_BINDING(shadow_local)) uniform sampler2DArray depth_maps;
 // Binding 2 is the previous frame's moments, which only the copies of unchanged maps read.
-layout(set = 0, binding = 3, rgba16) uniform writeonly image2DArray moments_out;
+layout(set = 0, binding = NC_BINDING(shadow_local_moments), rgba16) uniform writeonly image2DArray moments_out;
 
 layout(push_constant) uniform LocalMomentsDispatch { NC_BLOCK_MEMBERS(NC_LOCAL_MOMENTS_DISPATCH_FIELDS) };
 

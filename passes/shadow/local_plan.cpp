@@ -57,9 +57,9 @@
 
 #include "passes/core/context.h"
 #include "passes/core/history_name.h"
-#include "passes/cull/hierarchy.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/frame/hierarchy.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/scene/scene.h"
 #include "passes/shadow/caster_draw.h"

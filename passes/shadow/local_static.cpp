@@ -19,6 +19,7 @@ PassDecl shadow_local_static_pass() {
       .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
       .read("draws.shadow.local", Use::storage_read)
+      .as("draws")
       .read("shadow.local_views", Use::uniform_buffer)
       .read_previous("shadow.local_static", Use::sampled)
       .read("scene.geometry", Use::index_buffer)

@@ -23,14 +23,14 @@ layout(constant_id = 0) const int FILTER_RADIUS = 1;
 // the search for a cascade that holds a pixel is then compiled out.
 layout(constant_id = 1) const int CHECK_TILES = 1;
 
-layout(std140, set = 0, binding = 0) uniform FrameBlock { GpuFrameConstants frame; };
-layout(std140, set = 0, binding = 1) uniform CascadeBlock { GpuShadowCascades cascades; };
-layout(set = 0, binding = 2) uniform sampler2D depth_map;
-layout(set = 0, binding = 3) uniform sampler2D normal_map;
-layout(set = 0, binding = 4) uniform sampler2DArray cascade_maps;
-layout(std140, set = 0, binding = 5) uniform DistantBlock { GpuDistantLevels distant; };
-layout(set = 0, binding = 6) uniform sampler2DArray distant_maps;
-layout(set = 0, binding = 7, rg8) uniform writeonly image2D sun_out;
+layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+layout(std140, set = 0, binding = NC_BINDING(shadow_cascade_data)) uniform CascadeBlock { GpuShadowCascades cascades; };
+layout(set = 0, binding = NC_BINDING(scene_depth)) uniform sampler2D depth_map;
+layout(set = 0, binding = NC_BINDING(gbuffer_normal)) uniform sampler2D normal_map;
+layout(set = 0, binding = NC_BINDING(shadow_cascades)) uniform sampler2DArray cascade_maps;
+layout(std140, set = 0, binding = NC_BINDING(shadow_distant_data)) uniform DistantBlock { GpuDistantLevels distant; };
+layout(set = 0, binding = NC_BINDING(shadow_distant)) uniform sampler2DArray distant_maps;
+layout(set = 0, binding = NC_BINDING(shadow_sun), rg8) uniform writeonly image2D sun_out;
 
 layout(push_constant) uniform ResolveConstants { NC_BLOCK_MEMBERS(NC_SUN_RESOLVE_CONSTANTS_FIELDS) };
 

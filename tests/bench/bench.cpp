@@ -93,7 +93,9 @@ double now_ms() {
 }
 
 nc::ShaderProvider builtin() {
-  return [](const std::string&, const std::string& path) { return nc::builtin_spirv(path); };
+  return [](const std::string&, const std::string& path, const std::string& bindings) {
+    return nc::builtin_spirv(path, bindings);
+  };
 }
 
 void bench_capture_cost(nc::Renderer& renderer, const nc::RenderSettings& settings, int repeats);
@@ -1616,7 +1618,8 @@ void bench_bloom(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
     std::memcpy(lit->data() + 8 * i, h, 8);
   }
   std::vector<nc::PassDecl> passes;
-  for (uint32_t level = 0; level < nc::kBloomLevels; ++level) passes.push_back(nc::bloom_level_pass(level));
+  for (uint32_t level = 0; level < nc::kBloomLevels; ++level)
+    passes.push_back(nc::bloom_level_pass(level, "lighting.lit"));
   nc::ResourceDesc desc;
   desc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
   desc.kind = nc::ResourceKind::hdr_colour;
@@ -1702,14 +1705,14 @@ void bench_exposure(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width
   const nc::IsolatedInput constants_in = constants_input(constants);
   table() << "\n## exposure (" << width << "x" << height << ", log2 luminance uniform in [-10, 10])\n";
   for (const double range : {24.0, 48.0}) {
-    nc::ParamValues params = nc::exposure_pass().default_params();
+    nc::ParamValues params = nc::exposure_pass("lighting.lit").default_params();
     params["log2_min"] = -range / 2;
     params["log2_max"] = range / 2;
     std::vector<double> times;
     nc::IsolatedRun run;
     for (int r = 0; r < 3; ++r) {
       run = nc::run_isolated(
-          gpu, cache, nc::exposure_pass(),
+          gpu, cache, nc::exposure_pass("lighting.lit"),
           {{"frame.constants", constants_in},
            {"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, nc::ResourceKind::hdr_colour, width, height, lit)},
            {nc::previous("exposure.value"),

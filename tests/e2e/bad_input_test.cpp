@@ -15,8 +15,8 @@
 #include <thread>
 
 #include "captures/blob_codec.h"
-#include "captures/hash.h"
-#include "passes/cull/hierarchy.h"
+#include "passes/core/hash.h"
+#include "passes/frame/hierarchy.h"
 #include "tests/e2e/cli.h"
 
 namespace nightcap::test {

@@ -7,7 +7,7 @@
 #include <set>
 
 #include "captures/capture.h"
-#include "inspect/decoded_image.h"
+#include "compare/decoded_image.h"
 #include "reports/html.h"
 #include "tests/e2e/browser.h"
 #include "tests/e2e/cli.h"

@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "captures/capture.h"
-#include "inspect/diff.h"
+#include "compare/diff.h"
 #include "inspect/graph_dot.h"
 #include "tests/fuzz/scratch_file.h"
 

@@ -47,7 +47,8 @@ class Bloom : public GpuTest {
   static ChainRun run_chain(const std::vector<float>& lit, uint32_t width, uint32_t height,
                             const ParamOverrides& params = {}) {
     ChainRun run;
-    for (uint32_t level = 0; level < kBloomLevels; ++level) run.passes.push_back(bloom_level_pass(level));
+    for (uint32_t level = 0; level < kBloomLevels; ++level)
+      run.passes.push_back(bloom_level_pass(level, "lighting.lit"));
     ResourceDesc desc;
     desc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
     desc.kind = ResourceKind::hdr_colour;
@@ -66,7 +67,9 @@ class Bloom : public GpuTest {
     settings.params = params;
     run.graph = compile_graph(run.passes, {{"lighting.lit", desc}}, settings);
     ExecutionOptions options;
-    options.shaders = [](const std::string&, const std::string& path) { return builtin_spirv(path); };
+    options.shaders = [](const std::string&, const std::string& path, const std::string& bindings) {
+      return builtin_spirv(path, bindings);
+    };
     run.execution = execute_graph(*gpu_, *cache_, run.graph, {{"lighting.lit", bytes}}, options);
     return run;
   }
@@ -216,9 +219,9 @@ TEST(BloomSwitch, TheGroupTakesEnabledOnly) {
   ParamOverrides overrides;
   EXPECT_NO_THROW(parse_set(passes, "bloom.enabled=0", overrides));
   EXPECT_NO_THROW(parse_set(passes, "bloom.level3.sigma=2", overrides));
-  EXPECT_THROW(parse_set(passes, "bloom.sigma=2", overrides), SceneError);
-  EXPECT_THROW(parse_set(passes, "bloom.enabled=0.5", overrides), SceneError);
-  EXPECT_THROW(parse_set(passes, "bloom.level3.enabled=0", overrides), SceneError) << "a level's switch is the group's";
+  EXPECT_THROW(parse_set(passes, "bloom.sigma=2", overrides), SetError);
+  EXPECT_THROW(parse_set(passes, "bloom.enabled=0.5", overrides), SetError);
+  EXPECT_THROW(parse_set(passes, "bloom.level3.enabled=0", overrides), SetError) << "a level's switch is the group's";
   EXPECT_EQ(overrides, (ParamOverrides{{"bloom", {{"enabled", 0}}}, {"bloom.level3", {{"sigma", 2}}}}));
 }
 

@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "captures/capture.h"
-#include "inspect/metrics.h"
+#include "compare/metrics.h"
 #include "passes/frame/gpu_types.h"
 
 namespace nightcap {

@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "captures/capture.h"
-#include "captures/hash.h"
+#include "passes/core/hash.h"
 #include "tests/unit/scratch_folder.h"
 
 namespace nightcap {

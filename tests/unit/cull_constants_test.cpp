@@ -28,6 +28,7 @@
 #include "passes/frame/camera_math.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/frame/occlusion_buffer.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {

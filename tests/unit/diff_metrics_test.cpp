@@ -7,8 +7,8 @@
 #include <cstring>
 #include <random>
 
-#include "inspect/decoded_image.h"
-#include "inspect/metrics.h"
+#include "compare/decoded_image.h"
+#include "compare/metrics.h"
 #include "tests/unit/image_record.h"
 
 namespace nightcap {

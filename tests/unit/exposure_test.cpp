@@ -71,7 +71,7 @@ class Exposure : public GpuTest {
     std::memcpy(frame_bytes->data(), &frame, sizeof frame);
     constants.bytes = frame_bytes;
     const IsolatedRun run_result =
-        run(exposure_pass(),
+        run(exposure_pass("lighting.lit"),
             {{"frame.constants", constants},
              {"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height, lit)},
              {previous("exposure.value"), rgba32f_texel(history)}},

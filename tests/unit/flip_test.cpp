@@ -13,8 +13,8 @@
 #include <utility>
 #include <vector>
 
-#include "inspect/flip.h"
-#include "inspect/flip_map.h"
+#include "compare/flip.h"
+#include "compare/flip_map.h"
 
 namespace nightcap {
 namespace {

@@ -7,7 +7,7 @@
 #include <set>
 
 #include "captures/golden_store.h"
-#include "captures/hash.h"
+#include "passes/core/hash.h"
 #include "tests/unit/scratch_folder.h"
 
 namespace nightcap {

@@ -32,6 +32,40 @@ TEST(Graph, OrdersByDependenciesWhateverTheDeclarationOrder) {
   EXPECT_EQ(order(graph), (std::vector<std::string>{"a", "b", "c"}));
 }
 
+// An optional input is read where a pass writes it (or it is imported), and is no input at all
+// where nothing does: no dependency, no binding.
+TEST(Graph, OptionalInputsAreConnectedWhereTheFrameHasThem) {
+  const PassDecl reader = PassDecl("reader", PassType::compute)
+                              .read("lit", Use::sampled)
+                              .read_optional("ao", Use::sampled)
+                              .write("final.ldr", Use::storage_write, image());
+  std::vector<PassDecl> passes{reader, PassDecl("lit", PassType::compute).write("lit", Use::storage_write, image())};
+  auto inputs_of_reader = [](const CompiledGraph& graph) {
+    std::vector<std::string> names;
+    for (const BoundUse& in : pass(graph, "reader").inputs) names.push_back(in.resource);
+    return names;
+  };
+  const CompiledGraph without = compile_graph(passes, {}, GraphSettings());
+  EXPECT_EQ(inputs_of_reader(without), (std::vector<std::string>{"lit"}));
+  ASSERT_TRUE(without.connected);
+  EXPECT_EQ(pass(without, "reader").decl->inputs.size(), 1u);
+  EXPECT_EQ(passes[0].inputs.size(), 2u);  // the caller's declaration is left as it was
+
+  passes.push_back(PassDecl("ao", PassType::compute).write("ao", Use::storage_write, image()));
+  const CompiledGraph with = compile_graph(passes, {}, GraphSettings());
+  EXPECT_EQ(inputs_of_reader(with), (std::vector<std::string>{"lit", "ao"}));
+  EXPECT_EQ(order(with).back(), "reader");
+  EXPECT_FALSE(with.connected);
+
+  // Imported, as a replay imports what the capture recorded.
+  ResourceDesc desc;
+  desc.format = VK_FORMAT_R8G8B8A8_UNORM;
+  desc.extent = {4, 4, 1, 1, 1};
+  const std::vector<PassDecl> alone{reader};
+  const CompiledGraph imported = compile_graph(alone, {{"lit", desc}, {"ao", desc}}, GraphSettings());
+  EXPECT_EQ(inputs_of_reader(imported), (std::vector<std::string>{"lit", "ao"}));
+}
+
 TEST(Graph, ModifiersChainAndReadersSeeTheLastVersion) {
   std::vector<PassDecl> passes;
   passes.push_back(PassDecl("reader", PassType::graphics)

@@ -1,4 +1,4 @@
-// scene.hierarchy (passes/cull/hierarchy.h) on the 2 km map: every static instance sits in
+// scene.hierarchy (passes/frame/hierarchy.h) on the 2 km map: every static instance sits in
 // exactly one leaf, every moving one in the moving list, every node's box holds its children's
 // boxes and every instance's box (all its levels of detail) lies in its leaf's box; a corrupt
 // hierarchy (truncated, a child pointing back up, an instance out of range) is refused with a
@@ -9,7 +9,7 @@
 #include <set>
 
 #include "passes/core/graph.h"
-#include "passes/cull/hierarchy.h"
+#include "passes/frame/hierarchy.h"
 
 namespace nightcap::test {
 namespace {

@@ -61,7 +61,9 @@ class History : public GpuTest {
     CompiledGraph graph = compile_graph(passes, {}, settings);
     ExecutionOptions options;
     options.history = pool;
-    options.shaders = [](const std::string&, const std::string& path) { return compile_glsl(path, kAccumulate); };
+    options.shaders = [](const std::string&, const std::string& path, const std::string& bindings) {
+      return compile_glsl(path, kAccumulate, bindings);
+    };
     const Execution execution = execute_graph(*gpu_, *cache_, graph, {}, options);
     auto floats = [&](int version) {
       const auto& bytes = *execution.versions.at(version).bytes;

@@ -67,7 +67,9 @@ class IndirectArgs : public GpuTest {
     settings.readback = {"marks"};
     CompiledGraph graph = compile_graph(decls, {}, settings);
     ExecutionOptions options;
-    options.shaders = [](const std::string&, const std::string& path) { return compile_glsl(path, kShaders.at(path)); };
+    options.shaders = [](const std::string&, const std::string& path, const std::string& bindings) {
+      return compile_glsl(path, kShaders.at(path), bindings);
+    };
     return execute_graph(*gpu_, *cache_, graph, {}, options);
   }
 };

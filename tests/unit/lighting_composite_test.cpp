@@ -3,6 +3,7 @@
 //   the `ambient` parameter × (0.8, 0.9, 1.2);
 // - unlit (albedo alpha code 1, the G-buffer's unlit flag): albedo + emissive;
 // - sky (device depth 0): the `sky` parameter × (0.5, 0.7, 1.6);
+// - with ao.bent connected (an optional input), the ambient term × its alpha, the visibility;
 // then limited to 65504, the largest finite half float (see below). Inputs are decoded from
 // their formats as the GPU reads them (half floats, A2B10G10R10 and R8G8B8A8 UNORM codes,
 // B10G11R11 floats, D32 depth) by decode_texel.
@@ -15,7 +16,8 @@
 // rounded 1/1023), two products and three sums of non-negative terms — 10u·reference — plus the
 // error of 1 − metallic, absolute rather than relative (≤ 2u, times A·albedo ≤ A); 1u of margin
 // for second-order terms, and 1u·reference + 1u·A for decode_texel's own float decode of the
-// UNORM codes.
+// UNORM codes. A connected ao.bent adds a product and a UNORM decode to the ambient term: 3u·A
+// more.
 //
 // The RGBA16F store: Vulkan leaves the rounding of a float to half open, and lavapipe truncates
 // (Mesa's lp_build_float_to_half), so before the pass rounded to the nearest half itself it was
@@ -113,12 +115,13 @@ double half_ulp(double x) { return x < 0x1p-14 ? 0x1p-25 : std::ldexp(1.0, std::
 
 struct Params {
   double ambient, sky;
+  int ao_code;  // ao.bent's alpha, the same at every texel; -1: no AO pass in the frame
 };
 
 class Composite : public GpuTest, public ::testing::WithParamInterface<Params> {};
 
 TEST_P(Composite, IsTheNearestHalfOfTheDoubleReferenceUpToFloatError) {
-  const auto [ambient, sky] = GetParam();
+  const auto [ambient, sky, ao_code] = GetParam();
   const uint32_t width = 256, height = 256;
   const size_t count = size_t(width) * height;
   const std::vector<Pixel> pixels = sweep(count);
@@ -139,15 +142,24 @@ TEST_P(Composite, IsTheNearestHalfOfTheDoubleReferenceUpToFloatError) {
   const auto hdr = [&](std::vector<uint8_t>& bytes) {
     return image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height, bytes);
   };
-  const IsolatedRun result = run(
-      lighting_composite_pass(),
-      {{"lighting.diffuse", hdr(diffuse)},
-       {"lighting.specular", hdr(specular)},
-       {"gbuffer.albedo", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::colour, width, height, albedo)},
-       {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::material, width, height, material)},
-       {"gbuffer.emissive", image(VK_FORMAT_B10G11R11_UFLOAT_PACK32, ResourceKind::colour, width, height, emissive)},
-       {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, width, height, depth)}},
-      width, height, {{"ambient", ambient}, {"sky", sky}});
+  std::map<std::string, IsolatedInput> inputs{
+      {"lighting.diffuse", hdr(diffuse)},
+      {"lighting.specular", hdr(specular)},
+      {"gbuffer.albedo", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::colour, width, height, albedo)},
+      {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::material, width, height, material)},
+      {"gbuffer.emissive", image(VK_FORMAT_B10G11R11_UFLOAT_PACK32, ResourceKind::colour, width, height, emissive)},
+      {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, width, height, depth)}};
+  // AO at half size, as ao.gtao makes it; its bent normal varies, its visibility does not.
+  std::vector<uint8_t> ao((width / 2) * (height / 2) * 4);
+  for (size_t i = 0; i < ao.size(); ++i) ao[i] = i % 4 == 3 ? uint8_t(ao_code) : uint8_t(i * 37);
+  if (ao_code >= 0)
+    inputs.emplace("ao.bent", image(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour, width / 2, height / 2, ao));
+  const IsolatedRun result =
+      run(lighting_composite_pass(), inputs, width, height, {{"ambient", ambient}, {"sky", sky}});
+  // The input is left out of the pass where nothing produces it.
+  bool reads_ao = false;
+  for (const BoundUse& in : result.graph.passes.at(0).inputs) reads_ao |= in.resource == "ao.bent";
+  EXPECT_EQ(reads_ao, ao_code >= 0);
   const std::vector<uint8_t>& out = *result.outputs.at("lighting.lit");
   ASSERT_EQ(out.size(), count * 8);
 
@@ -156,7 +168,8 @@ TEST_P(Composite, IsTheNearestHalfOfTheDoubleReferenceUpToFloatError) {
     decode_texel(*format_info(format), 0, bytes, i, texel);
     for (int c = 0; c < 4; ++c) values[c] = texel[c];
   };
-  const double ambient_colour[3] = {ambient * 0.8, ambient * 0.9, ambient * 1.2};
+  const double visibility = ao_code >= 0 ? ao_code / 255.0 : 1.0;
+  const double ambient_colour[3] = {ambient * 0.8 * visibility, ambient * 0.9 * visibility, ambient * 1.2 * visibility};
   const double sky_colour[3] = {sky * 0.5, sky * 0.7, sky * 1.6};
   double worst_half_ulps = 0;
   size_t limited = 0;
@@ -179,18 +192,22 @@ TEST_P(Composite, IsTheNearestHalfOfTheDoubleReferenceUpToFloatError) {
       const double gpu = half_to_float(lit[c]);
       ASSERT_TRUE(std::isfinite(gpu)) << "pixel " << i << " channel " << c << ": expected " << expected;
       const double error = std::abs(gpu - expected);
-      const double bound = half_ulp(expected) + 12 * U * sum + 3 * U * ambient_colour[c];
+      const double bound = half_ulp(expected) + 12 * U * sum + (ao_code >= 0 ? 6 : 3) * U * ambient_colour[c];
       worst_half_ulps = std::max(worst_half_ulps, error / half_ulp(expected));
       ASSERT_LE(error, bound) << "pixel " << i << " channel " << c << ": got " << gpu << ", expected " << expected;
     }
     ASSERT_EQ(lit[3], 0x3c00) << "alpha, pixel " << i;
   }
-  std::printf("lighting.composite ambient %g sky %g: worst %.4f half-float half-ULPs; %zu channels limited to 65504\n",
-              ambient, sky, worst_half_ulps, limited);
+  std::printf(
+      "lighting.composite ambient %g sky %g AO code %d: worst %.4f half-float half-ULPs; %zu channels limited to "
+      "65504\n",
+      ambient, sky, ao_code, worst_half_ulps, limited);
 }
 
 INSTANTIATE_TEST_SUITE_P(, Composite,
-                         ::testing::Values(Params{0.02, 0.004}, Params{0.0, 0.0}, Params{1.0, 2.5}, Params{1e6, 1e6}));
+                         ::testing::Values(Params{0.02, 0.004, -1}, Params{0.0, 0.0, -1}, Params{1.0, 2.5, -1},
+                                           Params{1e6, 1e6, -1}, Params{1.0, 2.5, 0}, Params{1.0, 2.5, 128},
+                                           Params{1e6, 1e6, 255}));
 
 }  // namespace NIGHTCAP_FILE_ID
 }  // namespace

@@ -123,7 +123,9 @@ TEST_F(LtcGpu, ShaderMatchesTheCpu) {
   const std::vector<PassDecl> decls{pass};
   CompiledGraph graph = compile_graph(decls, {{"ltc.cases", input_desc}}, settings);
   ExecutionOptions options;
-  options.shaders = [](const std::string&, const std::string& path) { return compile_glsl(path, kShader); };
+  options.shaders = [](const std::string&, const std::string& path, const std::string& bindings) {
+    return compile_glsl(path, kShader, bindings);
+  };
   const Execution run = execute_graph(*gpu_, *cache_, graph, {{"ltc.cases", input}}, options);
   const VersionData* results = run.final_version("ltc.results");
   ASSERT_TRUE(results && results->bytes);

@@ -83,8 +83,8 @@ class MemoryAliasing : public GpuTest {
     graph = compile_graph(decls, {}, settings);
     ExecutionOptions options;
     options.alias_memory = alias;
-    options.shaders = [](const std::string&, const std::string& path) {
-      return compile_glsl(path, path == "test/first.comp" ? kFirst : kStep);
+    options.shaders = [](const std::string&, const std::string& path, const std::string& bindings) {
+      return compile_glsl(path, path == "test/first.comp" ? kFirst : kStep, bindings);
     };
     return execute_graph(*gpu_, *cache_, graph, {}, options);
   }

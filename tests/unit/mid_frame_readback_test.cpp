@@ -28,9 +28,9 @@ void main() { result[gl_GlobalInvocationID.x] = prefix[gl_GlobalInvocationID.x] 
 };
 
 ShaderProvider test_shaders() {
-  return [](const std::string&, const std::string& path) {
+  return [](const std::string&, const std::string& path, const std::string& bindings) {
     auto it = kShaders.find(path);
-    return it == kShaders.end() ? builtin_spirv(path) : compile_glsl(path, it->second);
+    return it == kShaders.end() ? builtin_spirv(path, bindings) : compile_glsl(path, it->second, bindings);
   };
 }
 

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <random>
 
-#include "passes/cull/occlusion_buffer.h"
+#include "passes/frame/occlusion_buffer.h"
 
 namespace nightcap::test {
 namespace {

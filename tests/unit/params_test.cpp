@@ -81,7 +81,7 @@ TEST(Params, SetParsesByType) {
   auto error = [&](const std::string& text) {
     try {
       parse_set(passes, text, set);
-    } catch (const SceneError& e) {
+    } catch (const SetError& e) {
       return std::string(e.what());
     }
     return std::string();
@@ -121,7 +121,7 @@ TEST(Params, AGroupsParameterIsSetOnceForEveryMember) {
 TEST(Params, AGroupMemberCannotBeSetAlone) {
   const std::vector<PassDecl> passes = group_passes();
   ParamOverrides set;
-  EXPECT_THROW(parse_set(passes, "maps.draw.size=512", set), SceneError);
+  EXPECT_THROW(parse_set(passes, "maps.draw.size=512", set), SetError);
   EXPECT_EQ(compile_error(passes, {{"maps.draw", {{"size", 512}}}}),
             "maps.draw.size: shared by maps.plan, maps.draw: set maps.size");
 }
@@ -142,8 +142,8 @@ TEST(Params, TheShadowPassesShareTheirResolutions) {
     EXPECT_EQ(resolve_params(*find_pass(passes, name), set).at("resolution"), 2048) << name;
   for (const char* name : {"shadow.distant_plan", "shadow.distant"})
     EXPECT_EQ(resolve_params(*find_pass(passes, name), set).at("resolution"), 512) << name;
-  EXPECT_THROW(parse_set(passes, "shadow.cull.resolution=2048", set), SceneError);
-  EXPECT_THROW(parse_set(passes, "shadow.distant_plan.resolution=512", set), SceneError);
+  EXPECT_THROW(parse_set(passes, "shadow.cull.resolution=2048", set), SetError);
+  EXPECT_THROW(parse_set(passes, "shadow.distant_plan.resolution=512", set), SetError);
   EXPECT_NO_THROW(parse_set(passes, "shadow.distant.enabled=0", set)) << "shadow.distant's own switch";
 }
 

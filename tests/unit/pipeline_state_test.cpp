@@ -4,11 +4,14 @@
 // so back-facing under a counter-clockwise front face), at depth `depth` + `slope`·x (NDC).
 // Targets are cleared to colour 0.25, depth 0.25 and stencil 0; the triangle writes colour 0.5
 // and the stencil reference 7.
+#include <algorithm>
 #include <cstring>
+#include <regex>
 
 #include "passes/core/context.h"
 #include "passes/core/declared_pipeline.h"
 #include "passes/core/shader.h"
+#include "passes/core/shader_sources.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {
@@ -68,9 +71,10 @@ class PipelineState : public GpuTest {
  protected:
   static Target draw(const std::function<void(PassDecl&)>& declare, ParamValues params = {}) {
     const PassDecl pass = triangle_pass(declare);
-    const IsolatedRun run =
-        run_isolated(*gpu_, *cache_, pass, {}, params, kSize, kSize,
-                     [](const std::string&, const std::string& path) { return compile_glsl(path, kSources.at(path)); });
+    const IsolatedRun run = run_isolated(*gpu_, *cache_, pass, {}, params, kSize, kSize,
+                                         [](const std::string&, const std::string& path, const std::string& bindings) {
+                                           return compile_glsl(path, kSources.at(path), bindings);
+                                         });
     Target t;
     const auto& colour = *run.outputs.at("colour");
     t.colour.resize(colour.size() / 2);
@@ -333,6 +337,85 @@ TEST(DeclaredPipeline, PerLevelMipsAndPerDrawTexturesAreDeclared) {
   EXPECT_EQ(textures.count, 2u);
   EXPECT_THROW(prefix_slot(PassDecl("test.none", PassType::graphics), desc_of), GraphError);
   EXPECT_THROW(pyramid.level_mips("missing", {0}), std::logic_error);
+}
+
+// The bindings a declared pass gives its shaders, in the order declared_layout numbers them.
+std::vector<uint32_t> decorated_bindings(const std::vector<uint32_t>& spirv) {
+  constexpr uint32_t kOpDecorate = 71, kDecorationBinding = 33;
+  std::vector<uint32_t> bindings;
+  for (size_t i = 5; i < spirv.size(); i += spirv[i] >> 16) {
+    if ((spirv[i] & 0xffff) == kOpDecorate && spirv[i + 2] == kDecorationBinding) bindings.push_back(spirv[i + 3]);
+    if ((spirv[i] >> 16) == 0) break;
+  }
+  return bindings;
+}
+
+// Shaders name each binding by the use it binds, NC_BINDING(name): the number comes from the
+// declaration, so a shader never repeats its order.
+TEST(DeclaredPipeline, ShadersNameTheirBindingsByTheDeclaredUse) {
+  PassDecl pass("test.named", PassType::compute);
+  pass.read("frame.constants", Use::uniform_buffer)
+      .read("host.only", Use::host)
+      .read_all("scene.texture.", Use::sampled)
+      .slots("scene.texture.", 2)
+      .read_previous("exposure.value", Use::sampled)
+      .read("chain", Use::sampled, Subresources::mip(0))
+      .as("source")
+      .modify("chain", Use::storage_write, Subresources::mip(1))
+      .shader("test/named.comp");
+  std::map<std::string, ResourceDesc> descs;
+  descs["chain"].format = VK_FORMAT_R16G16B16A16_SFLOAT;
+  const DescOf desc_of = [&](const std::string& r) -> const ResourceDesc& { return descs.at(r); };
+  const std::string defines = binding_defines(pass, desc_of);
+  for (const char* line : {"#define NC_BINDING_frame_constants 0\n", "#define NC_BINDING_scene_texture 1\n",
+                           "#define NC_BINDING_exposure_value_previous 3\n", "#define NC_BINDING_source 4\n",
+                           "#define NC_BINDING_chain 5\n"})
+    EXPECT_NE(defines.find(line), std::string::npos) << line << " in\n" << defines;
+
+  const std::string shader = R"(#version 460
+layout(local_size_x = 1) in;
+layout(set = 0, binding = NC_BINDING(scene_texture) + 1) uniform sampler2D second_texture;
+layout(set = 0, binding = NC_BINDING(source)) uniform sampler2D source;
+layout(set = 0, binding = NC_BINDING(chain), rgba16f) uniform writeonly image2D chain;
+void main() { imageStore(chain, ivec2(0), texelFetch(source, ivec2(0), 0) + texelFetch(second_texture, ivec2(0), 0)); }
+)";
+  std::vector<uint32_t> bindings = decorated_bindings(compile_glsl("test/named.comp", shader, defines));
+  std::sort(bindings.begin(), bindings.end());
+  EXPECT_EQ(bindings, (std::vector<uint32_t>{2, 4, 5}));
+
+  // A name the pass does not declare fails the compile and is named.
+  try {
+    compile_glsl("test/named.comp",
+                 "#version 460\nlayout(local_size_x = 1) in;\n"
+                 "layout(set = 0, binding = NC_BINDING(missing)) uniform sampler2D m;\n"
+                 "void main() {}\n",
+                 defines);
+    ADD_FAILURE() << "compiled a binding the pass does not declare";
+  } catch (const ShaderError& e) {
+    EXPECT_NE(std::string(e.what()).find("NC_BINDING_missing"), std::string::npos) << e.what();
+  }
+
+  // A name two uses share binds neither; names GLSL cannot spell are refused.
+  PassDecl twice("test.twice", PassType::compute);
+  twice.read("chain", Use::sampled, Subresources::mip(0)).modify("chain", Use::storage_write, Subresources::mip(1));
+  try {
+    compile_glsl("test/twice.comp",
+                 "#version 460\nlayout(local_size_x = 1) in;\n"
+                 "layout(set = 0, binding = NC_BINDING(chain)) uniform sampler2D m;\nvoid main() {}\n",
+                 binding_defines(twice, desc_of));
+    ADD_FAILURE() << "compiled a binding two uses share";
+  } catch (const ShaderError& e) {
+    EXPECT_NE(std::string(e.what()).find("chain_is_bound_twice_name_one_use_with_as"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(PassDecl("test.bad", PassType::compute).read("a", Use::sampled).as("a.b"), std::logic_error);
+  EXPECT_THROW(PassDecl("test.bad", PassType::compute).as("a"), std::logic_error);
+}
+
+// Every built-in shader takes its bindings from its pass's declaration.
+TEST(DeclaredPipeline, NoBuiltInShaderNumbersABinding) {
+  const std::regex numbered(R"(binding\s*=\s*[0-9])");
+  for (const auto& [path, source] : embedded_shader_sources())
+    EXPECT_FALSE(std::regex_search(source, numbered)) << path << " numbers a binding: write NC_BINDING(name)";
 }
 }  // namespace NIGHTCAP_FILE_ID
 }  // namespace

@@ -1,5 +1,5 @@
-// Every SIMD path this CPU has (inspect/simd.h) against the generic path, bit for bit: each loop of
-// inspect/simd_kernels.h on the same inputs, random values mixed with the edge cases (NaN, ±infinity,
+// Every SIMD path this CPU has (compare/simd.h) against the generic path, bit for bit: each loop of
+// compare/simd_kernels.h on the same inputs, random values mixed with the edge cases (NaN, ±infinity,
 // ±0, subnormals, the extreme normals, every half), at lengths that end in each loop's vector part
 // and in its tail.
 //
@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "inspect/simd_kernels.h"
+#include "compare/simd_kernels.h"
 
 namespace nightcap {
 namespace {

@@ -61,9 +61,9 @@ class SubresourcesOnGpu : public GpuTest {
     settings.capture = true;
     graph = compile_graph(passes, {}, settings);
     ExecutionOptions options;
-    options.shaders = [](const std::string&, const std::string& path) {
+    options.shaders = [](const std::string&, const std::string& path, const std::string& bindings) {
       auto it = kShaders.find(path);
-      return it == kShaders.end() ? builtin_spirv(path) : compile_glsl(path, it->second);
+      return it == kShaders.end() ? builtin_spirv(path, bindings) : compile_glsl(path, it->second, bindings);
     };
     return execute_graph(*gpu_, *cache_, graph, {}, options);
   }

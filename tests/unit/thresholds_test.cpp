@@ -9,8 +9,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "inspect/metrics.h"
-#include "inspect/thresholds.h"
+#include "compare/metrics.h"
+#include "compare/thresholds.h"
 #include "tests/unit/image_record.h"
 
 namespace nightcap {

@@ -79,7 +79,7 @@ TEST_P(Tonemap, StaysWithinTheBoundOfTheExactAcesAndSrgbEncoding) {
   chain.desc.extent.mips = kBloomLevels;
   chain.bytes = std::make_shared<const std::vector<uint8_t>>(chain.desc.raw_bytes(), 0);
   const IsolatedRun result =
-      run(tonemap_pass(),
+      run(tonemap_pass("lighting.lit"),
           {{"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height, bytes)},
            {"exposure.value", exposure_value(float(automatic))},
            {"bloom.chain", chain}},
@@ -139,7 +139,7 @@ TEST_F(TonemapBloom, AddsTheMeanOfTheLevelsInterpolatedAtThePixelCentre) {
   std::vector<uint8_t> lit_bytes(lit_codes.size() * 2);
   std::memcpy(lit_bytes.data(), lit_codes.data(), lit_bytes.size());
   const IsolatedRun result =
-      run(tonemap_pass(),
+      run(tonemap_pass("lighting.lit"),
           {{"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height, lit_bytes)},
            {"exposure.value", exposure_value(0.0f)},
            {"bloom.chain", chain}},

@@ -288,14 +288,14 @@ TEST_F(VertexStreamsGpu, TheShaderDecodesWhatWasEncoded) {
                                           Binding::storage(ctx.slot("test.decoded"), "test.decoded")});
                                 vkCmdDispatch(ctx.cmd(), uint32_t((count + 63) / 64), 1, 1);
                               });
-  const IsolatedRun result =
-      run_isolated(*gpu_, *cache_, decode,
-                   {{"scene.geometry", buffer(packed.bytes.data(), packed.bytes.size())},
-                    {"test.boxes", buffer(boxes.data(), boxes.size() * sizeof(glm::vec4))}},
-                   {}, 1, 1, [](const std::string&, const std::string& path) {
-                     auto it = kShaders.find(path);
-                     return it == kShaders.end() ? builtin_spirv(path) : compile_glsl(path, it->second);
-                   });
+  const IsolatedRun result = run_isolated(
+      *gpu_, *cache_, decode,
+      {{"scene.geometry", buffer(packed.bytes.data(), packed.bytes.size())},
+       {"test.boxes", buffer(boxes.data(), boxes.size() * sizeof(glm::vec4))}},
+      {}, 1, 1, [](const std::string&, const std::string& path, const std::string& bindings) {
+        auto it = kShaders.find(path);
+        return it == kShaders.end() ? builtin_spirv(path, bindings) : compile_glsl(path, it->second, bindings);
+      });
   const std::vector<uint8_t>& out = *result.outputs.at("test.decoded");
   ASSERT_EQ(out.size(), count * 80);
   std::vector<glm::vec4> gpu(count * 5);

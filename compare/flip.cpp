@@ -1,4 +1,4 @@
-#include "inspect/flip.h"
+#include "compare/flip.h"
 
 #include <algorithm>
 #include <bit>
@@ -9,7 +9,7 @@
 #include <string>
 #include <thread>
 
-#include "inspect/simd_kernels.h"
+#include "compare/simd_kernels.h"
 
 namespace nightcap {
 namespace {
@@ -186,7 +186,7 @@ void parallel_rows(uint32_t rows, unsigned threads, const Rows& rows_of) {
   for (std::thread& w : workers) w.join();
 }
 
-// The filters are most of FLIP's time: eight pixels at a time (inspect/simd.h).
+// The filters are most of FLIP's time: eight pixels at a time (compare/simd.h).
 using Lanes = simd::Floats8;
 constexpr uint32_t kLanes = sizeof(Lanes) / sizeof(float);
 
@@ -565,7 +565,7 @@ class Perception {
   PerceivedRow row() const { return {lightness.data(), a.data(), b.data(), edges.data(), points.data()}; }
 };
 
-// Lane-wise helpers of pixel_errors, inlined into each of its paths' functions (inspect/simd.h).
+// Lane-wise helpers of pixel_errors, inlined into each of its paths' functions (compare/simd.h).
 using Words = simd::Words8;
 using SignedWords = int32_t __attribute__((vector_size(32)));
 

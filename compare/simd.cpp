@@ -1,4 +1,4 @@
-#include "inspect/simd.h"
+#include "compare/simd.h"
 
 namespace nightcap::simd {
 

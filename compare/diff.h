@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "captures/capture.h"
-#include "inspect/metrics.h"
-#include "inspect/thresholds.h"
+#include "compare/metrics.h"
+#include "compare/thresholds.h"
 
 namespace nightcap {
 

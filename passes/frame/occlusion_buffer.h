@@ -18,6 +18,13 @@
 
 namespace nightcap {
 
+// cull.occlusion, as recorded: this header, then width × height floats of reversed-Z device
+// depth, row by row from the top (0 where no occluder covers a cell). frame.constants culls
+// lights against it, so it lives with what the stages share.
+struct OcclusionHeader {
+  uint32_t width, height;
+};
+
 class OcclusionBuffer {
  public:
   // A buffer of width × height cells over the whole view.

@@ -1,4 +1,4 @@
-#include "captures/hash.h"
+#include "passes/core/hash.h"
 
 #include <xxhash.h>
 

@@ -1,4 +1,4 @@
-#include "inspect/flip_map.h"
+#include "compare/flip_map.h"
 
 #include <algorithm>
 #include <cmath>

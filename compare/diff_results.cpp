@@ -1,4 +1,4 @@
-#include "inspect/diff_results.h"
+#include "compare/diff_results.h"
 
 #include <fstream>
 #include <iomanip>
@@ -6,7 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "inspect/markup.h"
+#include "compare/markup.h"
 
 namespace nightcap {
 

@@ -1,15 +1,15 @@
-#include "inspect/decoded_image.h"
+#include "compare/decoded_image.h"
 
 #include <algorithm>
 #include <array>
 #include <cstring>
 
-#include "inspect/simd_kernels.h"
+#include "compare/simd_kernels.h"
 
 namespace nightcap {
 namespace {
 
-// Halves to floats, eight at a time (inspect/simd.h): the half's magnitude bits shifted into a
+// Halves to floats, eight at a time (compare/simd.h): the half's magnitude bits shifted into a
 // float's place read as a float 2^-112 times too small (subnormals included), so one multiply
 // rebiases it; what comes out at 2^16 or more was infinity or NaN and gets the float's all-ones
 // exponent, keeping the NaN's payload. Every half gives half_to_float's value (a NaN a NaN).

@@ -1,4 +1,4 @@
-#include "inspect/metrics.h"
+#include "compare/metrics.h"
 
 #include <glm/glm.hpp>
 
@@ -10,7 +10,7 @@
 #include <sstream>
 #include <vector>
 
-#include "inspect/simd_kernels.h"
+#include "compare/simd_kernels.h"
 
 namespace nightcap {
 namespace {
@@ -124,7 +124,7 @@ void compare_buffers(std::span<const uint8_t> a, std::span<const uint8_t> b, Res
 
 using metrics_kernels::ImageTally;
 
-// Four values at a time, as doubles (inspect/simd.h); a comparison of two gives all bits set in
+// Four values at a time, as doubles (compare/simd.h); a comparison of two gives all bits set in
 // the lanes where it holds.
 using simd::Doubles4;
 using simd::Floats4;
@@ -310,7 +310,7 @@ void tally_any(const float* a, const float* b, uint64_t texels, uint32_t channel
 using WorstDepartureFinitePaths = simd::Compiled<worst_departure_finite_body, simd::Path::avx2>;
 constexpr auto& worst_departure_finite = WorstDepartureFinitePaths::dispatch;
 
-// The largest |a[i] − b[i]| of two byte arrays, thirty-two at a time (inspect/simd.h).
+// The largest |a[i] − b[i]| of two byte arrays, thirty-two at a time (compare/simd.h).
 [[gnu::always_inline]] inline uint8_t largest_byte_difference_body(const uint8_t* a, const uint8_t* b, size_t n) {
   using Bytes32 = uint8_t __attribute__((vector_size(32)));
   Bytes32 largest{};

@@ -1,4 +1,4 @@
-#include "passes/cull/hierarchy.h"
+#include "passes/frame/hierarchy.h"
 
 #include <algorithm>
 #include <cmath>

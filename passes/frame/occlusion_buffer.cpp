@@ -1,4 +1,4 @@
-#include "passes/cull/occlusion_buffer.h"
+#include "passes/frame/occlusion_buffer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,6 @@
 #include <string>
 
 #include "passes/core/graph.h"
-#include "passes/cull/cull_stats.h"
 
 namespace nightcap {
 namespace {

@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <vector>
 
-#include "inspect/diff.h"
-#include "inspect/flip.h"
+#include "compare/diff.h"
+#include "compare/flip.h"
 
 namespace nightcap {
 

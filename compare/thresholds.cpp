@@ -1,6 +1,6 @@
-#include "inspect/thresholds.h"
+#include "compare/thresholds.h"
 
-#include "inspect/metrics.h"
+#include "compare/metrics.h"
 
 #include <fnmatch.h>
 

@@ -1,4 +1,4 @@
-// The diff's SIMD loops (inspect/simd.h), a path's functions at a time: the program calls them
+// The diff's SIMD loops (compare/simd.h), a path's functions at a time: the program calls them
 // through their dispatchers, which run the widest path the CPU has; tests call every path the CPU
 // has through these tables and hold each to the generic path's bits.
 #pragma once
@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "inspect/simd.h"
+#include "compare/simd.h"
 #include "passes/core/contract.h"
 
 #include <vector>

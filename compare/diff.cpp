@@ -1,4 +1,4 @@
-#include "inspect/diff.h"
+#include "compare/diff.h"
 
 #include <algorithm>
 #include <iomanip>
@@ -6,7 +6,7 @@
 #include <set>
 #include <sstream>
 
-#include "inspect/parallel.h"
+#include "compare/parallel.h"
 #include "passes/core/history_name.h"
 
 namespace nightcap {
@@ -209,7 +209,7 @@ void measure(const Capture& ca, const Capture& cb, const PendingOutput& p, const
 }
 
 // Loading, decoding and comparing are independent per output: a worker per core takes the next
-// one (inspect/parallel.h).
+// one (compare/parallel.h).
 void measure_all(const Capture& ca, const Capture& cb, const std::vector<PendingOutput>& pending,
                  const DiffOptions& options) {
   // Longest first, so that no worker starts a long one while the others run out of work. The

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "inspect/diff.h"
+#include "compare/diff.h"
 
 namespace nightcap {
 

@@ -1,4 +1,4 @@
-#include "inspect/parallel.h"
+#include "compare/parallel.h"
 
 #include <algorithm>
 #include <atomic>

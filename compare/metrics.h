@@ -6,8 +6,8 @@
 #include <string>
 
 #include "captures/capture.h"
-#include "inspect/decoded_image.h"
-#include "inspect/flip.h"
+#include "compare/decoded_image.h"
+#include "compare/flip.h"
 
 namespace nightcap {
 

@@ -1,4 +1,4 @@
-#include "inspect/markup.h"
+#include "compare/markup.h"
 
 #include <cstdint>
 

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "captures/capture.h"
-#include "inspect/decoded_image.h"
+#include "compare/decoded_image.h"
 
 namespace nightcap {
 
