@@ -179,7 +179,7 @@ void parse_set(const std::vector<PassDecl>& passes, const std::string& text, Par
     value = std::strtod(given.c_str(), &end);
     if (given.empty() || *end != '\0' || !std::isfinite(value))
       throw SetError("--set '" + text + "': " + type_name(param.type) + " parameter, " +
-                       param.problem_with(std::nan("")));
+                     param.problem_with(std::nan("")));
   }
   if (const std::string problem = param.problem_with(value); !problem.empty())
     throw SetError("--set '" + text + "': " + type_name(param.type) + " parameter, " + problem);
