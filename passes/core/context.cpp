@@ -156,7 +156,7 @@ void PassContext::check_declared(const std::string& resource, int mip, int layer
 }
 
 void PassContext::bind_pipeline(const std::vector<int32_t>& specialization) {
-  const DescOf desc_of = [this](const std::string& resource) -> const ResourceDesc& { return desc(resource); };
+  const DescOf desc_of = declared_descs();
   if (declaration().type == PassType::compute) {
     ComputePipelineDesc desc = declared_compute_pipeline(declaration(), desc_of);
     desc.specialization = specialization;
@@ -169,23 +169,16 @@ void PassContext::bind_pipeline(const std::vector<int32_t>& specialization) {
 }
 
 uint32_t PassContext::slot(const std::string& resource) const {
-  const DescOf desc_of = [this](const std::string& name) -> const ResourceDesc& { return desc(name); };
-  for (const DeclaredSlot& s : declared_slots(declaration(), desc_of))
+  for (const DeclaredSlot& s : declared_slots(declaration(), declared_descs()))
     if (s.use->bound_name() == resource) return s.first;
   throw GraphError(pass() + ": declares no binding for '" + resource + "'");
 }
 
-uint32_t PassContext::slot(const std::string& resource, Use use) const {
-  const DescOf desc_of = [this](const std::string& name) -> const ResourceDesc& { return desc(name); };
-  for (const DeclaredSlot& s : declared_slots(declaration(), desc_of))
-    if (s.use->bound_name() == resource && s.use->use == use) return s.first;
-  throw GraphError(pass() + ": declares no binding of '" + resource + "' for that use");
+DescOf PassContext::declared_descs() const {
+  return [this](const std::string& resource) -> const ResourceDesc& { return desc(resource); };
 }
 
-std::string PassContext::binding_preamble() const {
-  const DescOf desc_of = [this](const std::string& name) -> const ResourceDesc& { return desc(name); };
-  return binding_defines(declaration(), desc_of);
-}
+std::string PassContext::binding_preamble() const { return binding_defines(declaration(), declared_descs()); }
 
 void PassContext::bind(const GraphicsPipelineDesc& desc) {
   const std::string bindings = binding_preamble();
@@ -251,14 +244,12 @@ void PassContext::push(const std::vector<Binding>& bindings) {
 }
 
 void PassContext::push_declared(std::optional<uint32_t> level) {
-  const DescOf desc_of = [this](const std::string& name) -> const ResourceDesc& { return desc(name); };
   push(declared_bindings(
-      declaration(), desc_of, [this](const SamplerDesc& d) { return sampler(d); }, level));
+      declaration(), declared_descs(), [this](const SamplerDesc& d) { return sampler(d); }, level));
 }
 
 void PassContext::push_draw_textures(std::span<const DrawTexture> textures) {
-  const DescOf desc_of = [this](const std::string& name) -> const ResourceDesc& { return desc(name); };
-  const DeclaredSlot slot = prefix_slot(declaration(), desc_of);
+  const DeclaredSlot slot = prefix_slot(declaration(), declared_descs());
   if (textures.size() != slot.count)
     throw GraphError(pass() + ": " + std::to_string(textures.size()) + " textures for the " +
                      std::to_string(slot.count) + " slots of '" + slot.use->resource + "'");

@@ -70,9 +70,6 @@ class PassContext {
   void bind(const ComputePipelineDesc& desc);
   // The first binding the declaration gives `resource` (a resource or a read prefix).
   uint32_t slot(const std::string& resource) const;
-  // The binding of the use of `resource` for `use`, where a pass binds one resource twice (one
-  // mip sampled, another written).
-  uint32_t slot(const std::string& resource, Use use) const;
   void push(const std::vector<Binding>& bindings);
   // The bindings the declaration implies (declared_bindings); `level`: the mip level this
   // dispatch works on, for images declared with level_mips. A prefix read's textures are pushed
@@ -123,6 +120,7 @@ class PassContext {
   void draw_indexed_indirect(const std::string& resource, uint64_t offset, uint32_t count, uint32_t stride);
 
  private:
+  DescOf declared_descs() const;         // desc() as the declared_* functions take it
   std::string binding_preamble() const;  // binding_defines of the declaration
   const BoundUse* find_use(const std::string& resource) const;
   double param_value(const std::string& name, std::initializer_list<ParamType> types) const;

@@ -166,6 +166,12 @@ const std::vector<uint32_t>& builtin_spirv(const std::string& path, const std::s
   return it->second;
 }
 
+ShaderProvider builtin_shaders() {
+  return [](const std::string&, const std::string& path, const std::string& bindings) {
+    return builtin_spirv(path, bindings);
+  };
+}
+
 namespace {
 
 // Every frame allocates the same large host buffers again (readback staging, each version's
@@ -183,10 +189,7 @@ void keep_freed_memory() {
 }  // namespace
 
 Renderer::Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings)
-    : Renderer(gpu, scene, settings, frame_passes(settings.lighting),
-               [](const std::string&, const std::string& path, const std::string& bindings) {
-                 return builtin_spirv(path, bindings);
-               }) {}
+    : Renderer(gpu, scene, settings, frame_passes(settings.lighting), builtin_shaders()) {}
 
 Renderer::Renderer(GpuDevice& gpu, const Scene& scene, RenderSettings settings, std::vector<PassDecl> passes,
                    ShaderProvider shaders)

@@ -111,6 +111,8 @@ class Renderer {
 // Built-in SPIR-V of a shader with a pass's `bindings` (binding_defines), compiled once per
 // process.
 const std::vector<uint32_t>& builtin_spirv(const std::string& path, const std::string& bindings);
+// builtin_spirv for every pass: the frame's shaders as built into the binary.
+ShaderProvider builtin_shaders();
 
 // Turns an executed frame into the manifest's frame record, writing blobs as it goes.
 FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint32_t index);

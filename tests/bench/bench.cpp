@@ -92,12 +92,6 @@ double now_ms() {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-nc::ShaderProvider builtin() {
-  return [](const std::string&, const std::string& path, const std::string& bindings) {
-    return nc::builtin_spirv(path, bindings);
-  };
-}
-
 void bench_capture_cost(nc::Renderer& renderer, const nc::RenderSettings& settings, int repeats);
 
 // Per-pass medians over `repeats` frames, capture off, and the frame's GPU memory; with
@@ -615,7 +609,7 @@ void bench_normals(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t count)
             image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, nc::ResourceKind::normal, width, height, normals)},
            {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, nc::ResourceKind::material, width, height, material)},
            {"normals.bfn_lut", image(VK_FORMAT_R8_UINT, nc::ResourceKind::lookup_table, lut_size, lut_size, lut)}},
-          {}, width, height, builtin());
+          {}, width, height, nc::builtin_shaders());
       times.push_back(gpu_ms(run));
     }
     const auto& packed = *run.outputs.at("normals.packed");
@@ -718,7 +712,8 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
     std::vector<double> times;
     nc::IsolatedRun result;
     for (int r = 0; r < 3; ++r) {
-      result = nc::run_isolated(gpu, cache, nc::lighting_deferred_pass(), inputs, params, width, height, builtin());
+      result = nc::run_isolated(gpu, cache, nc::lighting_deferred_pass(), inputs, params, width, height,
+                                nc::builtin_shaders());
       times.push_back(gpu_ms(result));
     }
     const auto& out = *result.outputs.at("lighting.diffuse");
@@ -765,7 +760,8 @@ void bench_map(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uin
     std::vector<double> cull_ms;
     nc::CullStats stats{};
     for (int r = 0; r < 5; ++r) {
-      nc::IsolatedRun run = nc::run_isolated(gpu, cache, cull, inputs, cull.default_params(), width, height, builtin());
+      nc::IsolatedRun run =
+          nc::run_isolated(gpu, cache, cull, inputs, cull.default_params(), width, height, nc::builtin_shaders());
       cull_ms.push_back(run.execution.passes.at(0).cpu_ms);
       std::memcpy(&stats, run.outputs.at("cull.stats")->data(), sizeof(stats));
     }
@@ -896,7 +892,7 @@ void bench_cluster(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width,
     std::vector<double> wall;
     for (int r = 0; r < 4; ++r) {  // the first run compiles the pipeline
       const double start = now_ms();
-      nc::run_isolated(gpu, cache, pass, inputs, pass.default_params(), width, height, builtin());
+      nc::run_isolated(gpu, cache, pass, inputs, pass.default_params(), width, height, nc::builtin_shaders());
       if (r > 0) wall.push_back(now_ms() - start);
     }
     nc::GpuClusterStats stats{};
@@ -967,7 +963,7 @@ void bench_tiled(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
         std::vector<double> wall;
         for (int r = 0; r <= runs; ++r) {
           const double start = now_ms();
-          nc::run_isolated(gpu, cache, pass, inputs, pass.default_params(), width, height, builtin());
+          nc::run_isolated(gpu, cache, pass, inputs, pass.default_params(), width, height, nc::builtin_shaders());
           if (r > 0 || runs == 0) wall.push_back(now_ms() - start);
         }
         return median(wall);
@@ -1129,7 +1125,8 @@ void bench_tube_quality(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
       std::vector<double> times;
       nc::IsolatedRun result;
       for (int r = 0; r < 3; ++r) {
-        result = nc::run_isolated(gpu, cache, nc::lighting_tiled_pass(), inputs, params, width, height, builtin());
+        result = nc::run_isolated(gpu, cache, nc::lighting_tiled_pass(), inputs, params, width, height,
+                                  nc::builtin_shaders());
         times.push_back(gpu_ms(result));
       }
       const auto& diffuse_out = *result.outputs.at("lighting.diffuse");
@@ -1240,7 +1237,7 @@ void bench_cluster_shape(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t 
     const nc::RenderedFrame frame = renderer.render_frame(0, true);
     deferred = nc::run_isolated(gpu, cache, nc::lighting_deferred_pass(),
                                 without_area_lights(nc::recorded_pass(frame, "lighting.tiled").inputs),
-                                nc::lighting_deferred_pass().default_params(), width, height, builtin());
+                                nc::lighting_deferred_pass().default_params(), width, height, nc::builtin_shaders());
   }
   table() << "\n## lights.cluster froxel shape, time against error (2 km map, street shot, " << width << "x" << height
           << ", GPU ms median of " << repeats << "; error against lighting.deferred, deferred " << std::fixed
@@ -1275,7 +1272,7 @@ void bench_cluster_shape(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t 
     const double per_pixel = mean_list_per_pixel(inputs, stats);
 
     const nc::IsolatedRun shaded = nc::run_isolated(gpu, cache, nc::lighting_tiled_pass(), without_area_lights(inputs),
-                                                    no_contact, width, height, builtin());
+                                                    no_contact, width, height, nc::builtin_shaders());
     double worst = 0, sum = 0;
     size_t values = 0;
     for (const char* output : {"lighting.diffuse", "lighting.specular"}) {
@@ -1431,7 +1428,7 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
                                {{"frame.constants", constants_in},
                                 {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, nc::ResourceKind::depth_stencil,
                                                       width, height, depth_bytes)}},
-                               nc::depth_convert_pass().default_params(), width, height, builtin());
+                               nc::depth_convert_pass().default_params(), width, height, nc::builtin_shaders());
     if (r > 0) wall.push_back(now_ms() - start);
     if (r > 0) times.push_back(gpu_ms(convert));
   }
@@ -1478,7 +1475,7 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
     pyramid = nc::run_isolated(
         gpu, cache, nc::depth_pyramid_pass(),
         {{"depth.linear", {convert.output_descs.at("depth.linear"), convert.outputs.at("depth.linear")}}}, {}, width,
-        height, builtin());
+        height, nc::builtin_shaders());
     times.push_back(gpu_ms(pyramid));
   }
   table() << "depth.pyramid   gpu " << std::fixed << std::setprecision(3) << median(times)
@@ -1576,7 +1573,7 @@ void bench_motion_stencil(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t
     for (int r = 0; r < 4; ++r) {  // the first run compiles the pipeline
       const double start = now_ms();
       run = nc::run_isolated(gpu, cache, nc::motion_stencil_pass(), {{"scene.depth", depth}},
-                             {{"radius", double(radius)}}, width, height, builtin());
+                             {{"radius", double(radius)}}, width, height, nc::builtin_shaders());
       if (r > 0) wall.push_back(now_ms() - start);
       if (r > 0) times.push_back(gpu_ms(run));
     }
@@ -1631,7 +1628,7 @@ void bench_bloom(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
   settings.sinks = {"bloom.chain"};
   settings.readback = {"bloom.chain"};
   nc::ExecutionOptions options;
-  options.shaders = builtin();
+  options.shaders = nc::builtin_shaders();
   // lavapipe's timestamps around these compute passes come out far below the work they do (the
   // frame's figures show it too), so the wall-clock cost is measured as well: the same graph
   // with every level skipped (the chain only cleared) is the baseline.
@@ -1717,7 +1714,7 @@ void bench_exposure(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width
            {"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, nc::ResourceKind::hdr_colour, width, height, lit)},
            {nc::previous("exposure.value"),
             image(VK_FORMAT_R32G32B32A32_SFLOAT, nc::ResourceKind::hdr_colour, 1, 1, std::vector<uint8_t>(16, 0))}},
-          params, width, height, builtin());
+          params, width, height, nc::builtin_shaders());
       times.push_back(gpu_ms(run));
     }
     float value[4];

@@ -67,9 +67,7 @@ class Bloom : public GpuTest {
     settings.params = params;
     run.graph = compile_graph(run.passes, {{"lighting.lit", desc}}, settings);
     ExecutionOptions options;
-    options.shaders = [](const std::string&, const std::string& path, const std::string& bindings) {
-      return builtin_spirv(path, bindings);
-    };
+    options.shaders = builtin_shaders();
     run.execution = execute_graph(*gpu_, *cache_, run.graph, {{"lighting.lit", bytes}}, options);
     return run;
   }

@@ -37,10 +37,7 @@ class GpuTest : public ::testing::Test {
 
   static IsolatedRun run(const PassDecl& pass, const std::map<std::string, IsolatedInput>& inputs, uint32_t width,
                          uint32_t height, ParamValues params = {}) {
-    return run_isolated(*gpu_, *cache_, pass, inputs, params, width, height,
-                        [](const std::string&, const std::string& path, const std::string& bindings) {
-                          return builtin_spirv(path, bindings);
-                        });
+    return run_isolated(*gpu_, *cache_, pass, inputs, params, width, height, builtin_shaders());
   }
 
   static IsolatedInput image(VkFormat format, ResourceKind kind, uint32_t width, uint32_t height,
