@@ -190,7 +190,7 @@ uint64_t ResourceRecord::raw_bytes() const {
 }
 
 json to_json(const ResourceRecord& r) {
-  json j = {{"resource", r.resource}, {"kind", kind_name(r.kind)}};
+  json j = {{"resource", r.resource}, {"kind", r.kind.name()}};
   if (r.is_buffer) {
     j["format"] = "BUFFER";
     j["width"] = r.buffer_size;

@@ -26,6 +26,7 @@
 #include "passes/core/contract.h"
 #include "passes/core/format.h"
 #include "passes/core/params.h"
+#include "passes/core/resource_kind.h"
 
 namespace nightcap {
 
@@ -51,7 +52,7 @@ bool safe_name(const std::string& name);
 
 struct ResourceRecord {
   std::string resource;
-  ResourceKind kind = ResourceKind::buffer;
+  ResourceKind kind = kinds::buffer;
   bool is_buffer = true;
   VkFormat format = VK_FORMAT_UNDEFINED;  // images only
   ImageExtent extent;                     // images only

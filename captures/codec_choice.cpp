@@ -2,7 +2,8 @@
 
 namespace nightcap {
 
-// Every kind takes ZIP at zlib level 1 since ZIP blobs are written by nightcap with libdeflate
+// A kind's compression is its registered KindCompression: deflate is OpenEXR's ZIP, wavelet its
+// PIZ. Every kind has taken ZIP at zlib level 1 since ZIP blobs are written by nightcap with libdeflate
 // (blob_codec.cpp). Encoding the city frame's images at 1280x720 on one core (2026-11-27, MB
 // after encoding), PIZ where it was chosen before against ZIP now:
 //   colour A2B10G10R10   PIZ 0.67 in 18.8 ms, ZIP 0.74 in 13.4
@@ -15,6 +16,10 @@ namespace nightcap {
 // every kind 31.0 MB in 1463 ms. ZIP is also the faster to read (captures/exr_zip.h), and its
 // higher levels cost more time than they save bytes (ZIP4 on hdr_colour with zlib, 2026-11-23:
 // 0.26 of raw against 0.29, at 0.75x the speed).
-ImageEncoding image_encoding_for(ResourceKind, const FormatInfo&) { return {ExrCompression::zip, 1}; }
+ImageEncoding image_encoding_for(ResourceKind kind, const FormatInfo&) {
+  const KindCompression& compression = kind_info(kind).compression;
+  return {compression.method == KindCompression::Method::wavelet ? ExrCompression::piz : ExrCompression::zip,
+          compression.level};
+}
 
 }  // namespace nightcap

@@ -3,6 +3,7 @@
 
 #include "captures/blob_codec.h"
 #include "passes/core/format.h"
+#include "passes/core/resource_kind.h"
 
 namespace nightcap {
 

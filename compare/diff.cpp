@@ -88,7 +88,7 @@ const FrameDiff* first_with_inputs_differing(const CaptureDiff& diff) {
 
 // Outputs `--tolerance` applies to: float colour values (not normals, depth or buffers).
 bool float_output(const ResourceRecord& r) {
-  if (r.is_buffer || r.kind == ResourceKind::normal || r.kind == ResourceKind::packed_normal) return false;
+  if (r.is_buffer || kind_info(r.kind).measure == KindMeasure::unit_vector) return false;
   const FormatInfo f = *format_info(r.format);
   return !f.is_depth && (f.encoding == ChannelEncoding::sfloat16 || f.encoding == ChannelEncoding::sfloat32 ||
                          f.encoding == ChannelEncoding::packed_b10g11r11);

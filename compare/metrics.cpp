@@ -353,7 +353,7 @@ ResourceComparison compare_resource(const ResourceRecord& a, std::span<const uin
 }
 
 bool displayed_colour(const ResourceRecord& r) {
-  return !r.is_buffer && r.kind == ResourceKind::colour && format_info(r.format)->encoding == ChannelEncoding::srgb8 &&
+  return !r.is_buffer && r.kind == kinds::colour && format_info(r.format)->encoding == ChannelEncoding::srgb8 &&
          format_info(r.format)->channels >= 3;
 }
 
@@ -441,7 +441,8 @@ ResourceComparison compare_with(const ResourcePair& pair, const ComparisonContra
     return r;
   }
   const FormatInfo f = *format_info(a.format);
-  const bool normal = a.kind == ResourceKind::normal || a.kind == ResourceKind::packed_normal;
+  // A vector needs three channels: a kind that claims one in fewer is measured by its values.
+  const bool normal = kind_info(a.kind).measure == KindMeasure::unit_vector && aspect_channels(f, 0) >= 3;
   r.metric = normal             ? "angle"
              : f.has_stencil    ? "depth + stencil"
              : is_integer(f, 0) ? "integer (exact)"

@@ -67,11 +67,11 @@ double texel_error(TexelMetric metric, const FormatInfo& format, uint32_t aspect
 std::string unfit(TexelMetric metric, const ResourceRecord& r) {
   if (r.is_buffer) return metric == TexelMetric::exact ? "" : "a buffer is held to 'exact' only";
   const FormatInfo f = *format_info(r.format);
-  const bool normal = r.kind == ResourceKind::normal || r.kind == ResourceKind::packed_normal;
-  if (metric == TexelMetric::angle && !normal)
-    return "'angle' measures normals, and this is " + std::string(kind_name(r.kind));
-  if (metric == TexelMetric::depth && !f.is_depth && r.kind != ResourceKind::linear_depth)
-    return "'depth' measures depth, and this is " + std::string(kind_name(r.kind));
+  const KindMeasure measure = kind_info(r.kind).measure;
+  if (metric == TexelMetric::angle && (measure != KindMeasure::unit_vector || aspect_channels(f, 0) < 3))
+    return "'angle' measures normals, and this is " + std::string(r.kind.name());
+  if (metric == TexelMetric::depth && !f.is_depth && measure != KindMeasure::depth)
+    return "'depth' measures depth, and this is " + std::string(r.kind.name());
   const bool unorm = f.encoding == ChannelEncoding::unorm8 || f.encoding == ChannelEncoding::srgb8 ||
                      f.encoding == ChannelEncoding::unorm16 || f.encoding == ChannelEncoding::packed_a2b10g10r10;
   if (metric == TexelMetric::codes && !unorm)

@@ -18,7 +18,7 @@
 #include "inspect/visualise.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/renderer.h"
-#include "passes/lights/cluster_layout.h"
+#include "passes/scene/stencil_tags.h"
 #include "replay/replay.h"
 
 namespace nightcap {
@@ -187,7 +187,7 @@ std::string shape(const ResourceRecord& r) {
 }
 
 ojson resource_json(const ResourceRecord& r, bool output) {
-  ojson j = {{"resource", r.resource}, {"kind", kind_name(r.kind)}};
+  ojson j = {{"resource", r.resource}, {"kind", r.kind.name()}};
   if (r.is_buffer) {
     j["format"] = "BUFFER";
     j["bytes"] = r.buffer_size;
@@ -358,11 +358,11 @@ class Runner {
     }
     out_ << "  reads:\n";
     for (const ResourceRecord& r : p.inputs)
-      out_ << "    " << std::left << std::setw(26) << r.resource << kind_name(r.kind) << ", " << shape(r) << ", "
+      out_ << "    " << std::left << std::setw(26) << r.resource << r.kind.name() << ", " << shape(r) << ", "
            << r.hash.substr(0, 12) << "\n";
     out_ << "  writes:\n";
     for (const ResourceRecord& r : p.outputs) {
-      out_ << "    " << std::left << std::setw(26) << r.resource << kind_name(r.kind) << ", " << shape(r) << ", "
+      out_ << "    " << std::left << std::setw(26) << r.resource << r.kind.name() << ", " << shape(r) << ", "
            << r.hash.substr(0, 12) << "\n"
            << "      contract: " << contract_description(r.contract)
            << (r.contract.reason.empty() ? "" : " (" + r.contract.reason + ")") << "\n";
@@ -434,7 +434,7 @@ class Runner {
     const TexelAddress texel = texel_for_output_pixel(record, frame, x, y, subimage);
     ojson j = {{"frame", frame.index},
                {"resource", record.resource},
-               {"kind", kind_name(record.kind)},
+               {"kind", record.kind.name()},
                {"format", format_info(record.format)->name},
                {"pixel", {x, y}},
                {"texel", {texel.x, texel.y}},
@@ -454,39 +454,43 @@ class Runner {
     for (const auto& [name, value] : j["decoded"].items()) out_ << "  " << name << ": " << brief(value) << "\n";
   }
 
-  // lights.clusters under a pixel: the froxel of its tile where depth.linear puts the pixel (the
-  // slice that lights.cluster's max_distance and the image's slices give its depth), or at
-  // --slice, and that froxel's list of frame.lights indices from lights.cluster_indices.
-  void froxel(const ResourceRecord& record, uint32_t x, uint32_t y, Subimage subimage, bool slice_given) {
+  // An image whose texels index lists (lights.clusters) under a pixel: the texel of its tile, in
+  // the depth slice where the kind's linear depth resource (depth.linear) puts the pixel or at
+  // --slice, and that texel's list from the kind's buffer (lights.cluster_indices).
+  void listed(const ResourceRecord& record, uint32_t x, uint32_t y, Subimage subimage, bool slice_given) {
     const FrameRecord& frame = session_.frame();
-    const PassRecord* writer = nullptr;
-    for (const PassRecord& p : frame.passes)
-      for (const ResourceRecord& out : p.outputs)
-        if (out.resource == record.resource && out.hash == record.hash) writer = &p;
-    if (!writer || !writer->params.count("max_distance"))
-      throw InspectError(record.resource + ": no pass of frame " + std::to_string(frame.index) + " wrote this version");
+    const KindInfo& kind = kind_info(record.kind);
+    const TexelLists& lists = *kind.lists;
     std::optional<double> depth;
-    if (!slice_given) {
-      const ResourceRecord& linear = session_.resource("depth.linear");
+    if (!slice_given && kind.slices) {
+      const PassRecord* writer = writer_of(record, frame);
+      if (!writer)
+        throw InspectError(record.resource + ": no pass of frame " + std::to_string(frame.index) +
+                           " wrote this version");
+      const ResourceRecord& linear = session_.resource(kind.slices->linear_depth);
       const PixelReading reading =
           read_pixel(linear, session_.load(linear), frame, texel_for_output_pixel(linear, frame, x, y, {}));
       depth = reading.values.raw.at(0);
-      subimage.slice =
-          cluster_slice(*depth, frame.camera.znear, writer->params.at("max_distance"), record.extent.depth);
+      const std::optional<uint32_t> slice =
+          kind.slices->slice_of(*depth, frame.camera.znear, writer->params, record.extent.depth);
+      if (!slice)
+        throw InspectError(record.resource + ": " + writer->name +
+                           " recorded too few parameters to find a pixel's slice: use --slice");
+      subimage.slice = *slice;
     }
     ojson j = reading_json(record, frame, x, y, subimage);
-    const uint64_t offset = j["codes"][0], count = j["codes"][1];
-    const ResourceRecord& indices = session_.resource("lights.cluster_indices");
-    const std::vector<uint8_t>& bytes = session_.load(indices);
+    const uint64_t offset = j["codes"][lists.offset_channel], count = j["codes"][lists.count_channel];
+    const ResourceRecord& entries = session_.resource(lists.buffer);
+    const std::vector<uint8_t>& bytes = session_.load(entries);
     if ((offset + count) * 4 > bytes.size())
       throw InspectError(record.resource + ": the list at " + std::to_string(offset) + " runs past " +
-                         indices.resource);
-    std::vector<uint32_t> lights(count);
-    if (count) std::memcpy(lights.data(), bytes.data() + offset * 4, count * 4);
+                         entries.resource);
+    std::vector<uint32_t> list(count);
+    if (count) std::memcpy(list.data(), bytes.data() + offset * 4, count * 4);
     ojson& decoded = j["decoded"];
     decoded["froxel"] = {j["texel"][0], j["texel"][1], subimage.slice};
     if (depth) decoded["depth_m"] = *depth;
-    decoded["lights"] = lights;
+    decoded[lists.entries] = list;
     return json_ ? emit(j) : print_reading(j);
   }
 
@@ -504,7 +508,7 @@ class Runner {
     }
     const ResourceRecord& record = session_.resource(name);
     if (!args.has("--frames")) {
-      if (record.kind == ResourceKind::light_clusters) return froxel(record, x, y, subimage, args.has("--slice"));
+      if (kind_info(record.kind).lists) return listed(record, x, y, subimage, args.has("--slice"));
       const ojson j = reading_json(record, session_.frame(), x, y, subimage);
       return json_ ? emit(j) : print_reading(j);
     }
@@ -727,7 +731,7 @@ class Runner {
                       {"denormal", c.denormal},
                       {"histogram", c.histogram}});
     ojson j = {{"resource", record.resource},
-               {"kind", kind_name(record.kind)},
+               {"kind", record.kind.name()},
                {"format", format_info(record.format)->name},
                {"mip", subimage.mip},
                {"layer", subimage.layer},
@@ -758,8 +762,8 @@ class Runner {
       const ResourceRecord& record = session_.resource(args.positional[0]);
       std::optional<uint32_t> slice;
       if (args.has("--slice")) slice = uint32_t(option_index(args, "--slice", 0));
-      const ClusterHeatmap map = cluster_heatmap(record, session_.load(record), slice);
-      const Rgba8Image image = heatmap_picture(map, cluster_tile_size(record, session_.frame()));
+      const ListHeatmap map = list_heatmap(record, session_.load(record), slice);
+      const Rgba8Image image = heatmap_picture(map, output_tile_size(record, session_.frame()).value_or(1));
       write_png(target, image.pixels, image.width, image.height);
       if (json_) return emit({{"files", {target.string()}}, {"longest", map.longest}, {"mean", map.mean_nonempty}});
       out_ << "wrote " << target.string() << " (longest list " << map.longest << ", mean over tiles with a list "
@@ -872,9 +876,8 @@ class Runner {
       for (const NonFiniteTexel& t : found.texels) {
         ojson values = ojson::array(), inputs = ojson::array();
         for (double v : t.values) values.push_back(number_or_name(v));
-        // A lookup table is indexed by what the pass computes, not laid over the screen.
         for (const ResourceRecord& in : pass.inputs)
-          if (!in.is_buffer && in.kind != ResourceKind::lookup_table)
+          if (!in.is_buffer && kind_info(in.kind).over_output)
             inputs.push_back(reading_json(in, frame, t.pixel_x, t.pixel_y, {}));
         ojson texel = {{"pixel", {t.pixel_x, t.pixel_y}}, {"texel", {t.x, t.y}}, {"mip", t.mip}, {"layer", t.layer}};
         if (r.extent.depth > 1) texel["slice"] = t.slice;

@@ -5,8 +5,6 @@
 #include <utility>
 
 #include "passes/core/output_pixel.h"
-#include "passes/lights/cluster_layout.h"
-#include "passes/scene/scene.h"
 
 namespace nightcap {
 
@@ -63,105 +61,7 @@ void append_stored_codes(const FormatInfo& format, uint32_t aspect, std::span<co
   }
 }
 
-nlohmann::ordered_json vector_json(const double* v, size_t n) { return std::vector<double>(v, v + n); }
-
-double rec709_luminance(double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }
-
-void decode_kind(const ResourceRecord& record, const FrameRecord& frame, const TexelValues& texel,
-                 nlohmann::ordered_json& out) {
-  const std::vector<double>& v = texel.raw;
-  switch (record.kind) {
-    case ResourceKind::normal:
-    case ResourceKind::packed_normal: {
-      const std::array<double, 3> n = *stored_normal(record.kind, texel);
-      const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-      // The zero vector (a cleared target) has no direction.
-      out["normal"] = length == 0.0 ? nlohmann::ordered_json(nullptr)
-                                    : nlohmann::ordered_json{n[0] / length, n[1] / length, n[2] / length};
-      out["stored_length"] = length;
-      if (record.kind == ResourceKind::packed_normal)
-        out["roughness"] = v[3];
-      else if (v.size() > 3)
-        out["hair"] = v[3] != 0.0;  // gbuffer.normal's 2-bit alpha marks hair
-      return;
-    }
-    case ResourceKind::material:  // gbuffer.material: the emissive channel is log2(1 + L) / 16
-      out["metalness"] = v[0];
-      out["roughness"] = v[1];
-      out["translucency"] = v[2];
-      out["emissive_luminance"] = std::exp2(16.0 * v[3]) - 1.0;
-      return;
-    case ResourceKind::motion: {
-      const auto pixels = motion_pixels(v[0], v[1], frame);
-      out["motion_uv"] = {v[0], v[1]};
-      out["motion_pixels"] = {pixels[0], pixels[1]};
-      return;
-    }
-    case ResourceKind::depth_stencil: {
-      out["device_depth"] = v[0];
-      const std::optional<double> metres = linear_metres(v[0], frame);
-      out["linear_m"] = metres ? nlohmann::ordered_json(*metres) : nlohmann::ordered_json("infinite (nothing drawn)");
-      if (v.size() > 1) {
-        const uint32_t stencil = uint32_t(texel.codes.at(0));
-        out["stencil"] = stencil;
-        out["class"] = stencil_class_name(stencil);
-        out["flags"] = stencil_flags(stencil);
-      }
-      return;
-    }
-    case ResourceKind::linear_depth:
-      out["linear_m"] = v[0];
-      return;
-    case ResourceKind::depth_minmax:
-      out["min_m"] = v[0];
-      out["max_m"] = v[1];
-      return;
-    case ResourceKind::stencil: {  // stencil.half: the tag of one full-resolution texel
-      const uint32_t stencil = uint32_t(texel.codes.at(0));
-      out["stencil"] = stencil;
-      out["class"] = stencil_class_name(stencil);
-      out["flags"] = stencil_flags(stencil);
-      return;
-    }
-    case ResourceKind::mask:
-      out["masked"] = texel.codes.at(0) != 0;
-      return;
-    case ResourceKind::hdr_colour:
-      out["rgb"] = vector_json(v.data(), std::min<size_t>(3, v.size()));
-      if (v.size() >= 3) out["luminance"] = rec709_luminance(v[0], v[1], v[2]);
-      return;
-    case ResourceKind::colour:
-      out["rgb_linear"] = vector_json(v.data(), std::min<size_t>(3, v.size()));
-      if (v.size() > 3) out["alpha"] = v[3];
-      return;
-    case ResourceKind::light_clusters:  // the list itself is in lights.cluster_indices (inspect's pixel reads it)
-      out["offset"] = texel.codes.at(0);
-      out["count"] = texel.codes.at(1);
-      return;
-    case ResourceKind::lookup_table:
-    case ResourceKind::texture:
-    case ResourceKind::buffer:
-    case ResourceKind::draw_list:
-      return;  // their raw values are what they hold
-  }
-}
-
 }  // namespace
-
-std::string stencil_class_name(uint32_t stencil) {
-  static const std::pair<uint8_t, const char*> kClasses[] = {
-      {stencil::plain, "plain"},     {stencil::road, "road"}, {stencil::body, "body"},      {stencil::face, "face"},
-      {stencil::vehicle, "vehicle"}, {stencil::hair, "hair"}, {stencil::foliage, "foliage"}};
-  for (const auto& [tag, name] : kClasses)
-    if ((stencil & ~uint32_t(stencil::moving)) == tag) return name;
-  return "unknown";
-}
-
-std::vector<std::string> stencil_flags(uint32_t stencil) {
-  std::vector<std::string> flags;
-  if (stencil & stencil::moving) flags.push_back("moving");
-  return flags;
-}
 
 void check_subimage(const ResourceRecord& record, const Subimage& subimage) {
   if (record.is_buffer) throw InspectError(record.resource + " is a buffer: use `buffer " + record.resource + "`");
@@ -177,14 +77,21 @@ void check_subimage(const ResourceRecord& record, const Subimage& subimage) {
                        std::to_string(subimage.mip) + ": no slice " + std::to_string(subimage.slice));
 }
 
-uint32_t cluster_tile_size(const ResourceRecord& record, const FrameRecord& frame) {
+const PassRecord* writer_of(const ResourceRecord& record, const FrameRecord& frame) {
   for (const PassRecord& pass : frame.passes)
     for (const ResourceRecord& out : pass.outputs)
-      if (out.resource == record.resource && out.hash == record.hash) {
-        auto tile = pass.params.find("tile_size");
-        if (tile != pass.params.end() && tile->second >= 1) return uint32_t(tile->second);
-      }
-  return kClusterTile;
+      if (out.resource == record.resource && out.hash == record.hash) return &pass;
+  return nullptr;
+}
+
+std::optional<uint32_t> output_tile_size(const ResourceRecord& record, const FrameRecord& frame) {
+  const std::optional<OutputTiles>& tiles = kind_info(record.kind).tiles;
+  if (!tiles) return std::nullopt;
+  if (const PassRecord* writer = writer_of(record, frame)) {
+    const auto side = writer->params.find(tiles->parameter);
+    if (side != writer->params.end() && side->second >= 1) return uint32_t(side->second);
+  }
+  return tiles->fallback;
 }
 
 TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRecord& frame, uint32_t x, uint32_t y,
@@ -195,12 +102,10 @@ TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRec
                        std::to_string(frame.width) + "x" + std::to_string(frame.height) + " output");
   const uint32_t width = mip_size(record.extent.width, subimage.mip);
   const uint32_t height = mip_size(record.extent.height, subimage.mip);
-  // Froxels are whole tiles from the top left, the last row and column cut short.
-  if (record.kind == ResourceKind::light_clusters) {
-    const uint32_t tile = cluster_tile_size(record, frame);
-    return {std::min(x / tile, width - 1), std::min(y / tile, height - 1), subimage.mip, subimage.layer,
+  // Tiles are whole from the top left, the last row and column cut short.
+  if (const std::optional<uint32_t> tile = output_tile_size(record, frame))
+    return {std::min(x / *tile, width - 1), std::min(y / *tile, height - 1), subimage.mip, subimage.layer,
             subimage.slice};
-  }
   return {texel_under_pixel(x, frame.width, width), texel_under_pixel(y, frame.height, height), subimage.mip,
           subimage.layer, subimage.slice};
 }
@@ -236,29 +141,13 @@ TexelValues read_texel(const ResourceRecord& record, std::span<const uint8_t> ra
   return values;
 }
 
-std::optional<std::array<double, 3>> stored_normal(ResourceKind kind, const TexelValues& texel) {
-  const std::vector<double>& v = texel.raw;
-  if (kind == ResourceKind::normal) return std::array<double, 3>{v[0] * 2 - 1, v[1] * 2 - 1, v[2] * 2 - 1};
-  if (kind == ResourceKind::packed_normal) {
-    const std::vector<uint64_t>& c = texel.codes;
-    return std::array<double, 3>{c[0] * (2.0 / 255.0) - 1, c[1] * (2.0 / 255.0) - 1, c[2] * (2.0 / 255.0) - 1};
-  }
-  return std::nullopt;
-}
-
-std::optional<double> linear_metres(double device_depth, const FrameRecord& frame) {
-  if (!(device_depth > 0.0)) return std::nullopt;
-  return frame.camera.znear / device_depth;
-}
-
-std::array<double, 2> motion_pixels(double u, double v, const FrameRecord& frame) {
-  return {u * frame.width, v * frame.height};
-}
+KindFrame kind_frame(const FrameRecord& frame) { return {frame.camera.znear, frame.width, frame.height}; }
 
 PixelReading read_pixel(const ResourceRecord& record, std::span<const uint8_t> raw, const FrameRecord& frame,
                         const TexelAddress& texel) {
   PixelReading reading{texel, read_texel(record, raw, texel)};
-  decode_kind(record, frame, reading.values, reading.decoded);
+  const KindInfo& kind = kind_info(record.kind);
+  if (kind.describe) kind.describe(reading.values, kind_frame(frame), reading.decoded);
   return reading;
 }
 

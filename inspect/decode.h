@@ -1,6 +1,7 @@
-// A resource's contents in its own terms: one pixel of an image decoded by the kind of data it
-// holds (a packed normal as a unit vector, device depth as metres, a stencil tag as its class,
-// motion in pixels), and a buffer decoded by the schema its pass declared. The raw values are
+// A resource's contents in its own terms: one pixel of an image decoded as its kind's registered
+// `describe` says (passes/core/resource_kind.h: a packed normal as a unit vector, device depth as
+// metres, a stencil tag as its class, motion in pixels), and a buffer decoded by the schema its
+// pass declared. The raw values are
 // always kept beside the decoded ones, so a reader can check the decoding.
 #pragma once
 
@@ -37,25 +38,20 @@ struct TexelAddress {
   uint32_t x = 0, y = 0, mip = 0, layer = 0, slice = 0;
 };
 
-// Pixels on a side of a light-cluster image's froxel tile: the tile_size its writer ran with, as
-// the frame records it (32, the only size before it was a parameter, where it records none).
-uint32_t cluster_tile_size(const ResourceRecord& record, const FrameRecord& frame);
+// The pass of `frame` that wrote this version of `record`; null if none did.
+const PassRecord* writer_of(const ResourceRecord& record, const FrameRecord& frame);
+
+// Pixels on a side of the output tile a texel covers, for kinds whose texels are tiles (froxels):
+// the writer's parameter its kind names, or the kind's fallback where the writer recorded none.
+std::optional<uint32_t> output_tile_size(const ResourceRecord& record, const FrameRecord& frame);
 
 // Output coordinates (full resolution) scaled to `subimage` of `record`: half-resolution
 // resources, mips and fixed-size tables take the texel that covers the same place of the
-// screen; froxels, the tile the pixel lies in. Throws InspectError when the pixel or the
+// screen; tiled kinds (froxels), the tile the pixel lies in. Throws InspectError when the pixel or the
 // subimage is outside.
 TexelAddress texel_for_output_pixel(const ResourceRecord& record, const FrameRecord& frame, uint32_t x, uint32_t y,
                                     const Subimage& subimage);
 
-struct TexelValues {
-  // Per aspect (depth then stencil): the channel values as format.h decodes them (UNORM in
-  // [0, 1], sRGB linearised, integers as their values).
-  std::vector<double> raw;
-  // The integer codes the format stores, where it stores codes (UNORM, UINT, packed words,
-  // stencil); empty for float formats, whose raw values are exact.
-  std::vector<uint64_t> codes;
-};
 TexelValues read_texel(const ResourceRecord& record, std::span<const uint8_t> raw, const TexelAddress& texel);
 
 // read_texel for every texel of one subresource: the format and the planes are looked up once,
@@ -73,15 +69,8 @@ class SubresourceReader {
   std::array<std::span<const uint8_t>, 2> planes_;
 };
 
-// The decodings by kind, stated once for `pixel` and for the pictures of visualise.h:
-// The stored vector of a normal (0.5n + 0.5, gbuffer.opaque) or packed normal (8-bit codes
-// · 2/255 − 1, normals.pack), before normalising; nullopt for other kinds.
-std::optional<std::array<double, 3>> stored_normal(ResourceKind kind, const TexelValues& texel);
-// Reversed-Z with an infinite far plane: device depth d is znear / distance; nullopt for 0
-// (nothing drawn).
-std::optional<double> linear_metres(double device_depth, const FrameRecord& frame);
-// Motion is stored in UV units (current − previous); in pixels of the frame's output.
-std::array<double, 2> motion_pixels(double u, double v, const FrameRecord& frame);
+// What a kind's decoding needs of the frame: its camera and output size.
+KindFrame kind_frame(const FrameRecord& frame);
 
 struct PixelReading {
   TexelAddress texel;
@@ -89,10 +78,6 @@ struct PixelReading {
   // What the texel means for the resource's kind, in order: "normal", "linear_m", "class", …
   nlohmann::ordered_json decoded = nlohmann::ordered_json::object();
 };
-
-// Names of the stencil material classes of frame.md, and the "moving" flag OR-ed onto them.
-std::string stencil_class_name(uint32_t stencil);
-std::vector<std::string> stencil_flags(uint32_t stencil);
 
 // `raw`: the record's bytes in format.h's raw layout. The frame supplies the camera (depth
 // linearisation) and the output size (motion in pixels).

@@ -7,16 +7,18 @@
 
 namespace nightcap {
 
-ClusterHeatmap cluster_heatmap(const ResourceRecord& record, std::span<const uint8_t> raw,
-                               std::optional<uint32_t> slice) {
-  if (record.kind != ResourceKind::light_clusters)
-    throw InspectError(record.resource + " holds no light lists: --heatmap draws a light-cluster image");
+ListHeatmap list_heatmap(const ResourceRecord& record, std::span<const uint8_t> raw, std::optional<uint32_t> slice) {
+  const std::optional<TexelLists>& lists = kind_info(record.kind).lists;
+  if (!lists)
+    throw InspectError(record.resource +
+                       " holds no lists: --heatmap draws an image whose texels index lists, such "
+                       "as lights.clusters");
   const uint32_t slices = record.extent.depth;
   if (slice && *slice >= slices)
     throw InspectError(record.resource + " has " + std::to_string(slices) + " slices: no slice " +
                        std::to_string(*slice));
   const SubresourceReader reader(record, raw, 0, 0);
-  ClusterHeatmap map;
+  ListHeatmap map;
   map.width = reader.width();
   map.height = reader.height();
   map.lengths.assign(size_t(map.width) * map.height, 0);
@@ -27,7 +29,7 @@ ClusterHeatmap cluster_heatmap(const ResourceRecord& record, std::span<const uin
       uint32_t& length = map.lengths[size_t(y) * map.width + x];
       for (uint32_t z = slice.value_or(0); z < (slice ? *slice + 1 : slices); ++z) {
         reader.read(x, y, z, values);
-        length = std::max(length, uint32_t(values.codes.at(1)));
+        length = std::max(length, uint32_t(values.codes.at(lists->count_channel)));
       }
       map.longest = std::max(map.longest, length);
       sum += length;
@@ -52,7 +54,7 @@ std::array<uint8_t, 3> heat_colour(uint32_t length, uint32_t longest) {
   return rgb;
 }
 
-Rgba8Image heatmap_picture(const ClusterHeatmap& map, uint32_t scale) {
+Rgba8Image heatmap_picture(const ListHeatmap& map, uint32_t scale) {
   Rgba8Image image;
   image.width = map.width * scale;
   image.height = map.height * scale;

@@ -64,7 +64,7 @@ DrawIdImage render_draw_ids(GpuDevice& gpu, const Capture& capture, const FrameR
   PassDecl decl = *find_pass(passes, kPickedPass);
   const uint32_t location = static_cast<uint32_t>(colour_targets(decl).size());
   // Never recorded or visualised: the kind only has to be an image's.
-  decl.write(kDrawIds, Use::color_attachment, ImageDecl{VK_FORMAT_R32_UINT, ResourceKind::colour});
+  decl.write(kDrawIds, Use::color_attachment, ImageDecl{VK_FORMAT_R32_UINT, kinds::colour});
 
   std::map<std::string, std::vector<uint32_t>> recorded_spirv;
   std::string fragment_source;

@@ -73,21 +73,6 @@ uint8_t srgb_code(float x) {
   return code < 255 && x >= first[code + 1] ? code + 1 : code;
 }
 
-std::array<uint8_t, 3> stencil_colour(uint32_t stencil) {
-  const std::string name = stencil_class_name(stencil);
-  std::array<uint8_t, 3> colour = name == "plain"     ? std::array<uint8_t, 3>{0, 0, 0}
-                                  : name == "road"    ? std::array<uint8_t, 3>{110, 110, 110}
-                                  : name == "body"    ? std::array<uint8_t, 3>{200, 150, 120}
-                                  : name == "face"    ? std::array<uint8_t, 3>{240, 190, 160}
-                                  : name == "vehicle" ? std::array<uint8_t, 3>{40, 90, 220}
-                                  : name == "hair"    ? std::array<uint8_t, 3>{110, 70, 30}
-                                  : name == "foliage" ? std::array<uint8_t, 3>{40, 170, 60}
-                                                      : std::array<uint8_t, 3>{255, 0, 255};
-  if (stencil & 0x02u)
-    for (uint8_t& c : colour) c = uint8_t(std::min(255, c + 60));
-  return colour;
-}
-
 Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw, const FrameRecord& frame,
                      const Subimage& subimage, VisualAspect aspect) {
   const FormatInfo format = *format_info(record.format);
@@ -103,93 +88,61 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
     image.pixels[4 * i + 1] = to_code(g);
     image.pixels[4 * i + 2] = to_code(b);
   };
-  // Depth and motion are drawn relative to their range in the image: kept per texel for a
+  // Distances and motion are drawn relative to their range in the image: kept per texel for a
   // second pass.
-  std::vector<double> metres;                 // 0: nothing drawn
+  std::vector<double> distances;              // 0: nothing there
   std::vector<std::array<double, 2>> motion;  // pixels
   double nearest = INFINITY, farthest = 0, longest = 0;
-  const bool depth = record.kind == ResourceKind::depth_stencil || record.kind == ResourceKind::linear_depth ||
-                     record.kind == ResourceKind::depth_minmax;
-  if (aspect != VisualAspect::stencil && depth) metres.assign(texels, 0.0);
-  if (aspect != VisualAspect::stencil && record.kind == ResourceKind::motion) motion.resize(texels);
+  const KindInfo& kind = kind_info(record.kind);
+  const KindFrame kind_frame_of_record = kind_frame(frame);
+  using Scale = TexelPicture::Scale;
 
   TexelValues values;
   for (uint32_t y = 0; y < image.height; ++y)
     for (uint32_t x = 0; x < image.width; ++x) {
       const uint64_t i = uint64_t(y) * image.width + x;
       reader.read(x, y, subimage.slice, values);
-      const std::vector<double>& v = values.raw;
       if (aspect == VisualAspect::stencil) {
-        const auto colour = stencil_colour(uint32_t(values.codes.back()));
+        const uint32_t tag = uint32_t(values.codes.back());
+        const std::array<uint8_t, 3> colour = kind.draw_stencil
+                                                  ? kind.draw_stencil(tag)
+                                                  : std::array<uint8_t, 3>{uint8_t(tag), uint8_t(tag), uint8_t(tag)};
         std::copy(colour.begin(), colour.end(), image.pixels.begin() + 4 * i);
         continue;
       }
-      switch (record.kind) {
-        case ResourceKind::normal:
-        case ResourceKind::packed_normal: {
-          const std::array<double, 3> n = *stored_normal(record.kind, values);
-          const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-          if (length == 0.0)
-            put(i, 0, 0, 0);
-          else
-            put(i, 0.5 * n[0] / length + 0.5, 0.5 * n[1] / length + 0.5, 0.5 * n[2] / length + 0.5);
+      const std::vector<double>& v = values.raw;
+      const TexelPicture picture =
+          kind.draw ? kind.draw(values, kind_frame_of_record)
+                    : TexelPicture{Scale::display,
+                                   {v[0], v[std::min<size_t>(1, v.size() - 1)], v[std::min<size_t>(2, v.size() - 1)]}};
+      const std::array<double, 3>& p = picture.value;
+      switch (picture.scale) {
+        case Scale::display:
+          put(i, p[0], p[1], p[2]);
           break;
-        }
-        case ResourceKind::depth_stencil:
-        case ResourceKind::linear_depth:
-        case ResourceKind::depth_minmax: {
-          // device depth, metres, or the pyramid's min
-          const std::optional<double> m =
-              record.kind == ResourceKind::depth_stencil ? linear_metres(v[0], frame) : std::optional<double>(v[0]);
-          if (m && std::isfinite(*m) && *m > 0) {
-            metres[i] = *m;
-            nearest = std::min(nearest, *m);
-            farthest = std::max(farthest, *m);
+        case Scale::light:
+          for (int c = 0; c < 3; ++c)
+            image.pixels[4 * i + c] = srgb_code(float(std::clamp(std::isnan(p[c]) ? 0.0 : p[c], 0.0, 1.0)));
+          break;
+        case Scale::distance:
+          if (distances.empty()) distances.assign(texels, 0.0);
+          if (std::isfinite(p[0]) && p[0] > 0) {
+            distances[i] = p[0];
+            nearest = std::min(nearest, p[0]);
+            farthest = std::max(farthest, p[0]);
           }
           break;
-        }
-        case ResourceKind::stencil: {
-          const auto colour = stencil_colour(uint32_t(values.codes.at(0)));
-          std::copy(colour.begin(), colour.end(), image.pixels.begin() + 4 * i);
-          break;
-        }
-        case ResourceKind::mask: {
-          const double shown = values.codes.at(0) != 0 ? 1.0 : 0.0;
-          put(i, shown, shown, shown);
-          break;
-        }
-        case ResourceKind::motion:
-          motion[i] = motion_pixels(v[0], v[1], frame);
-          if (std::isfinite(motion[i][0]) && std::isfinite(motion[i][1]))
-            longest = std::max(longest, std::hypot(motion[i][0], motion[i][1]));
-          break;
-        case ResourceKind::hdr_colour:
-        case ResourceKind::colour:
-          for (int c = 0; c < 3; ++c) {
-            const double value = v[std::min<size_t>(c, v.size() - 1)];
-            const double shown =
-                record.kind == ResourceKind::hdr_colour ? (value > 0 ? value / (1.0 + value) : 0.0) : value;
-            image.pixels[4 * i + c] = srgb_code(float(std::clamp(std::isnan(shown) ? 0.0 : shown, 0.0, 1.0)));
-          }
-          break;
-        case ResourceKind::light_clusters: {  // the count, so a 1-light froxel shows
-          const double count = double(values.codes.at(1));
-          put(i, count / (count + 8), count / (count + 8), count / (count + 8));
-          break;
-        }
-        case ResourceKind::material:
-        case ResourceKind::lookup_table:
-        case ResourceKind::texture:
-        case ResourceKind::buffer:
-        case ResourceKind::draw_list:
-          put(i, v[0], v[std::min<size_t>(1, v.size() - 1)], v[std::min<size_t>(2, v.size() - 1)]);
+        case Scale::motion:
+          if (motion.empty()) motion.resize(texels);
+          motion[i] = {p[0], p[1]};
+          if (std::isfinite(p[0]) && std::isfinite(p[1])) longest = std::max(longest, std::hypot(p[0], p[1]));
           break;
       }
     }
-  if (!metres.empty()) {
+  if (!distances.empty()) {
     const double range = farthest > nearest ? std::log(farthest / nearest) : 1.0;
     for (uint64_t i = 0; i < texels; ++i) {
-      const double grey = metres[i] > 0 ? 1.0 - std::log(metres[i] / nearest) / range : 0.0;
+      const double grey = distances[i] > 0 ? 1.0 - std::log(distances[i] / nearest) / range : 0.0;
       put(i, grey, grey, grey);
     }
   }

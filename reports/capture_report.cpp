@@ -50,7 +50,7 @@ void resource_figure(std::ostream& html, const ResourceRecord& r, const Thumbnai
          << "\"" << (enlarge > 1 ? " class=\"enlarged\"" : "") << " alt=\"" << escape_markup(r.resource) << "\">";
   } else
     html << "<div class=\"no-picture\">" << (r.is_buffer ? "buffer" : "image") << "</div>";
-  html << "<figcaption><b>" << escape_markup(r.resource) << "</b><br>" << escape_markup(std::string(kind_name(r.kind)))
+  html << "<figcaption><b>" << escape_markup(r.resource) << "</b><br>" << escape_markup(std::string(r.kind.name()))
        << " · " << escape_markup(describe(r));
   if (!r.is_buffer && (r.extent.mips > 1 || r.extent.layers > 1 || r.extent.depth > 1))
     html << "<br><i>shown: mip 0, layer 0" << (r.extent.depth > 1 ? ", slice 0" : "") << "</i>";

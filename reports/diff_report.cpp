@@ -142,7 +142,7 @@ void draw(const FrameRecord& frame_a, const OutputDiff& o, const ResourcePair& p
   const uint32_t width = a.extent.width, height = a.extent.height;
   p.step = std::max(1u, (std::max(width, height) + options.large_side - 1) / options.large_side);
   p.first_subresource_only = a.extent.mips > 1 || a.extent.layers > 1 || a.extent.depth > 1;
-  const bool light = a.kind == ResourceKind::colour || a.kind == ResourceKind::hdr_colour;
+  const bool light = kind_info(a.kind).light;
   const std::string& id = p.id;
   write_views(folder, id + ".a", visualise(a, pair.a_raw, frame_a, {}, VisualAspect::depth_or_colour), light, p,
               options);

@@ -44,7 +44,7 @@ Rgba8Image shrink(const Rgba8Image& picture, uint32_t max_side, bool srgb) {
 }
 
 ThumbnailSet::Key ThumbnailSet::key_of(const ResourceRecord& record) {
-  return {record.hash, int(record.format), int(record.kind)};
+  return {record.hash, int(record.format), record.kind.name()};
 }
 
 void ThumbnailSet::add(const ResourceRecord& record) {
@@ -63,7 +63,7 @@ void ThumbnailSet::write(const Capture& capture, const FrameRecord& frame, const
     Thumbnail& thumbnail = thumbnails_.at(key_of(record));
     const std::vector<uint8_t> raw = capture.load(record);
     const Rgba8Image picture = visualise(record, raw, frame, {}, VisualAspect::depth_or_colour);
-    const bool light = record.kind == ResourceKind::colour || record.kind == ResourceKind::hdr_colour;
+    const bool light = kind_info(record.kind).light;
     const Rgba8Image small = shrink(picture, max_side_, light);
     write_png(folder / thumbnail.file, small.pixels, small.width, small.height);
     thumbnail.width = small.width;

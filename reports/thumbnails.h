@@ -38,7 +38,7 @@ class ThumbnailSet {
   const Thumbnail* find(const ResourceRecord& record) const;
 
  private:
-  using Key = std::tuple<std::string, int, int>;  // hash, format, kind
+  using Key = std::tuple<std::string, int, std::string_view>;  // hash, format, kind
   static Key key_of(const ResourceRecord& record);
   uint32_t max_side_;
   std::vector<const ResourceRecord*> pending_;

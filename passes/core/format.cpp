@@ -37,10 +37,6 @@ const std::vector<FormatInfo> kFormats = {
     {VK_FORMAT_D32_SFLOAT_S8_UINT, "D32_SFLOAT_S8_UINT", E::depth32_stencil8, 2, 4, true, true},
 };
 
-constexpr std::array<std::string_view, 16> kKindNames = {
-    "colour",       "hdr_colour", "normal", "packed_normal", "material", "motion", "depth_stencil", "linear_depth",
-    "depth_minmax", "stencil",    "mask",   "lookup_table",  "texture",  "buffer", "draw_list",     "light_clusters"};
-
 // 10- and 11-bit floats have half's 5-bit exponent and bias: their bits are a half's, with the
 // mantissa cut short.
 float unsigned_small_float(uint32_t bits, int mantissa_bits) {
@@ -80,14 +76,6 @@ std::optional<FormatInfo> format_by_name(std::string_view name) {
 }
 
 const std::vector<FormatInfo>& all_formats() { return kFormats; }
-
-std::string_view kind_name(ResourceKind kind) { return kKindNames[static_cast<size_t>(kind)]; }
-
-std::optional<ResourceKind> kind_by_name(std::string_view name) {
-  for (size_t i = 0; i < kKindNames.size(); ++i)
-    if (kKindNames[i] == name) return static_cast<ResourceKind>(i);
-  return std::nullopt;
-}
 
 uint32_t mip_size(uint32_t base, uint32_t mip) { return std::max(1u, base >> mip); }
 

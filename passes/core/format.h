@@ -52,29 +52,6 @@ std::optional<FormatInfo> format_info(VkFormat format);
 std::optional<FormatInfo> format_by_name(std::string_view name);
 const std::vector<FormatInfo>& all_formats();
 
-// What a resource holds, so tools decode and visualise it without guessing.
-enum class ResourceKind {
-  colour,         // linear or display colour
-  hdr_colour,     // unbounded radiance
-  normal,         // 0.5n+0.5 encoded world normal
-  packed_normal,  // best-fit normal + roughness
-  material,       // metalness/roughness/translucency/emissive
-  motion,         // screen-space motion in pixels or uv
-  depth_stencil,  // device depth (reversed-Z) + stencil tags
-  linear_depth,   // view-space metres
-  depth_minmax,   // min/max linear depth pyramid
-  stencil,        // stencil tags (class and flags, passes/scene/scene.h) outside a depth-stencil image
-  mask,           // per-pixel 0/1 selection
-  lookup_table,
-  texture,         // scene-supplied texture
-  buffer,          // structured data
-  draw_list,       // per-draw records consumed by a pass
-  light_clusters,  // per froxel: offset and count of its list of light indices (lights.cluster)
-};
-
-std::string_view kind_name(ResourceKind kind);
-std::optional<ResourceKind> kind_by_name(std::string_view name);
-
 // Raw image layout used everywhere (GPU readback, capture blobs, replay uploads):
 // aspect-major (depth plane before stencil plane), then mip, then layer, then z slice, then
 // rows of tightly packed texels.

@@ -21,6 +21,7 @@
 #include "passes/core/history_name.h"
 #include "passes/core/params.h"
 #include "passes/core/pipeline_state.h"
+#include "passes/core/resource_kind.h"
 #include "passes/core/sampler.h"
 
 namespace nightcap {
@@ -63,7 +64,7 @@ struct ImageDecl {
   ImageDecl() = default;
   ImageDecl(VkFormat image_format, ResourceKind image_kind) : format(image_format), kind(image_kind) {}
   VkFormat format = VK_FORMAT_UNDEFINED;
-  ResourceKind kind = ResourceKind::colour;
+  ResourceKind kind = kinds::colour;
   SizeRule size;
   uint32_t mips = 1;        // at most this many (a small image has fewer); 0: the whole chain down to 1x1
   uint32_t layers = 1;      // more than 1: a 2D array
@@ -92,7 +93,7 @@ struct Subresources {
 struct BufferDecl {
   BufferDecl() = default;
   explicit BufferDecl(ResourceKind buffer_kind, uint64_t bytes = 0) : kind(buffer_kind), size(bytes) {}
-  ResourceKind kind = ResourceKind::buffer;
+  ResourceKind kind = kinds::buffer;
   uint64_t size = 0;                   // 0: the producing CPU pass decides at run time (a GPU writer must declare it)
   std::optional<BufferSchema> schema;  // how its bytes decode (PassDecl::layout); none: 32-bit words
 };
@@ -100,7 +101,7 @@ struct BufferDecl {
 // A concrete resource: what the graph allocates and the capture records.
 struct ResourceDesc {
   bool is_buffer = false;
-  ResourceKind kind = ResourceKind::colour;
+  ResourceKind kind = kinds::colour;
   VkFormat format = VK_FORMAT_UNDEFINED;
   ImageExtent extent;
   uint64_t buffer_size = 0;

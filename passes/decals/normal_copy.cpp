@@ -16,14 +16,14 @@
 #include "passes/core/context.h"
 #include "passes/decals/normal_copy.glsl.h"
 #include "passes/frame/frame_passes.h"
+#include "passes/gbuffer/kinds.h"
 
 namespace nightcap {
 
 PassDecl decals_normal_copy_pass() {
   return PassDecl("decals.normal_copy", PassType::compute)
       .modify("gbuffer.normal", Use::storage_write)
-      .write("decals.normal_copy", Use::storage_write,
-             ImageDecl{VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::normal})
+      .write("decals.normal_copy", Use::storage_write, ImageDecl{VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::normal})
       .read("draws.decals.mesh", Use::host)
       .needs("mesh_decals")
       .skip_when_cleared({"draws.decals.mesh"})

@@ -14,17 +14,34 @@
 
 #include "passes/core/context.h"
 #include "passes/depth/convert.glsl.h"
+#include "passes/depth/kinds.h"
 #include "passes/frame/frame_passes.h"
+#include "passes/scene/stencil_tags.h"
 
 namespace nightcap {
+namespace {
+
+// stencil.half: the tag of one full-resolution texel.
+const KindRegistration kStencil({
+    .kind = kinds::stencil,
+    .describe = [](const TexelValues& t, const KindFrame&,
+                   nlohmann::ordered_json& out) { describe_stencil_tag(uint32_t(t.codes.at(0)), out); },
+    .draw =
+        [](const TexelValues& t, const KindFrame&) {
+          const std::array<uint8_t, 3> c = stencil_colour(uint32_t(t.codes.at(0)));
+          return TexelPicture{TexelPicture::Scale::display, {c[0] / 255.0, c[1] / 255.0, c[2] / 255.0}};
+        },
+});
+
+}  // namespace
 
 PassDecl depth_convert_pass() {
-  ImageDecl linear{VK_FORMAT_R32_SFLOAT, ResourceKind::linear_depth};
+  ImageDecl linear{VK_FORMAT_R32_SFLOAT, kinds::linear_depth};
   linear.clear.color = {{float(kSkyDepth), 0, 0, 0}};
-  ImageDecl half_depth{VK_FORMAT_R16_SFLOAT, ResourceKind::linear_depth};
+  ImageDecl half_depth{VK_FORMAT_R16_SFLOAT, kinds::linear_depth};
   half_depth.size.mode = SizeRule::Mode::output_half;
   half_depth.clear.color = {{65504.0f, 0, 0, 0}};  // the sky clamped to the largest finite half
-  ImageDecl half_stencil{VK_FORMAT_R8_UINT, ResourceKind::stencil};
+  ImageDecl half_stencil{VK_FORMAT_R8_UINT, kinds::stencil};
   half_stencil.size.mode = SizeRule::Mode::output_half;
   return PassDecl("depth.convert", PassType::compute)
       .read("frame.constants", Use::uniform_buffer)

@@ -4,13 +4,30 @@
 // says never skipped; when depth.linear is cleared (the sky everywhere) the pyramid is too, and
 // its clear value is that sky.
 #include "passes/core/context.h"
+#include "passes/depth/kinds.h"
 #include "passes/depth/pyramid.glsl.h"
 #include "passes/frame/frame_passes.h"
 
 namespace nightcap {
+namespace {
+
+const KindRegistration kDepthMinMax({
+    .kind = kinds::depth_minmax,
+    .describe =
+        [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
+          out["min_m"] = t.raw[0];
+          out["max_m"] = t.raw[1];
+        },
+    .draw =
+        [](const TexelValues& t, const KindFrame&) {
+          return TexelPicture{TexelPicture::Scale::distance, {t.raw[0], 0, 0}};
+        },
+});
+
+}  // namespace
 
 PassDecl depth_pyramid_pass() {
-  ImageDecl pyramid{VK_FORMAT_R32G32_SFLOAT, ResourceKind::depth_minmax};
+  ImageDecl pyramid{VK_FORMAT_R32G32_SFLOAT, kinds::depth_minmax};
   pyramid.size.mode = SizeRule::Mode::output_half;
   pyramid.mips = 0;
   pyramid.clear.color = {{float(kSkyDepth), float(kSkyDepth), 0, 0}};

@@ -114,8 +114,8 @@ PassDecl frame_constants_pass() {
       .read("frame.camera", Use::host)
       .read("scene.lights", Use::host)
       .read("cull.occlusion", Use::host)
-      .write("frame.constants", Use::host, BufferDecl{ResourceKind::buffer})
-      .write("frame.lights", Use::host, BufferDecl{ResourceKind::buffer})
+      .write("frame.constants", Use::host, BufferDecl{kinds::buffer})
+      .write("frame.lights", Use::host, BufferDecl{kinds::buffer})
       .layout("frame.constants", frame_constants_schema())
       .layout("frame.lights", light_schema())
       .run(build_constants);

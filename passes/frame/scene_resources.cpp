@@ -27,7 +27,7 @@ ImportedData buffer(ResourceKind kind, std::shared_ptr<std::vector<uint8_t>> byt
 // Box-filtered mip chain; sRGB textures are filtered in linear light.
 ImportedData texture_with_mips(const Texture& texture) {
   ResourceDesc desc;
-  desc.kind = ResourceKind::texture;
+  desc.kind = kinds::texture;
   desc.format = texture.srgb ? VK_FORMAT_R8G8B8A8_SRGB : VK_FORMAT_R8G8B8A8_UNORM;
   desc.extent.width = texture.width;
   desc.extent.height = texture.height;
@@ -99,8 +99,7 @@ SamplerDesc unpack_sampler(uint32_t bits) {
 Imports scene_imports(const Scene& scene) {
   Imports imports;
   PackedGeometry geometry = pack_geometry(scene);
-  imports["scene.geometry"] =
-      buffer(ResourceKind::buffer, std::make_shared<std::vector<uint8_t>>(std::move(geometry.bytes)));
+  imports["scene.geometry"] = buffer(kinds::buffer, std::make_shared<std::vector<uint8_t>>(std::move(geometry.bytes)));
 
   std::vector<MeshRecord> meshes;
   meshes.reserve(scene.primitives.size());
@@ -138,10 +137,10 @@ Imports scene_imports(const Scene& scene) {
         (instance.moving ? kInstanceMoving : 0) | (shadow_occluder_indices(scene, i) > 0 ? kInstanceShadowOccluder : 0);
     instances.push_back(r);
   }
-  imports["scene.meshes"] = buffer(ResourceKind::buffer, bytes_of(meshes));
+  imports["scene.meshes"] = buffer(kinds::buffer, bytes_of(meshes));
   imports["scene.hierarchy"] =
-      buffer(ResourceKind::buffer, std::make_shared<std::vector<uint8_t>>(build_hierarchy(instances, meshes)));
-  imports["scene.instances"] = buffer(ResourceKind::buffer, bytes_of(instances));
+      buffer(kinds::buffer, std::make_shared<std::vector<uint8_t>>(build_hierarchy(instances, meshes)));
+  imports["scene.instances"] = buffer(kinds::buffer, bytes_of(instances));
 
   const int32_t white = static_cast<int32_t>(scene.textures.size());
   std::vector<GpuMaterial> materials;
@@ -172,7 +171,7 @@ Imports scene_imports(const Scene& scene) {
     g.textures2.w = white;
     materials.push_back(g);
   }
-  imports["scene.materials"] = buffer(ResourceKind::buffer, bytes_of(materials));
+  imports["scene.materials"] = buffer(kinds::buffer, bytes_of(materials));
 
   std::vector<LightRecord> lights;
   for (const Light& l : scene.lights) {
@@ -191,7 +190,7 @@ Imports scene_imports(const Scene& scene) {
     r.type = static_cast<uint32_t>(l.type);
     lights.push_back(r);
   }
-  imports["scene.lights"] = buffer(ResourceKind::buffer, bytes_of(lights));
+  imports["scene.lights"] = buffer(kinds::buffer, bytes_of(lights));
 
   std::vector<DecalRecord> decals;
   for (const Decal& d : scene.decals) {
@@ -207,7 +206,7 @@ Imports scene_imports(const Scene& scene) {
     r.draw_distance = d.draw_distance;
     decals.push_back(r);
   }
-  imports["scene.decals"] = buffer(ResourceKind::buffer, bytes_of(decals));
+  imports["scene.decals"] = buffer(kinds::buffer, bytes_of(decals));
 
   std::vector<uint32_t> tod;
   if (!scene.tod_visible.empty()) {
@@ -217,7 +216,7 @@ Imports scene_imports(const Scene& scene) {
     std::memcpy(tod.data(), &header, sizeof(header));
     tod.insert(tod.end(), scene.tod_visible.begin(), scene.tod_visible.end());
   }
-  imports["scene.tod"] = buffer(ResourceKind::buffer, bytes_of(tod));
+  imports["scene.tod"] = buffer(kinds::buffer, bytes_of(tod));
 
   for (uint32_t i = 0; i < scene.textures.size(); ++i)
     imports[texture_resource(i)] = texture_with_mips(scene.textures[i]);
@@ -242,7 +241,7 @@ Imports camera_import(const Camera& current, const Camera& previous, uint32_t wi
   auto bytes = std::make_shared<std::vector<uint8_t>>(sizeof(r));
   std::memcpy(bytes->data(), &r, sizeof(r));
   Imports imports;
-  imports["frame.camera"] = buffer(ResourceKind::buffer, bytes);
+  imports["frame.camera"] = buffer(kinds::buffer, bytes);
   return imports;
 }
 

@@ -5,21 +5,74 @@
 // emitted radiance. The seeds keep emission as one 8-bit scalar in RT2.a, which cannot carry
 // glTF's emissive colour and texture apart from the base colour; RT2.a still holds the
 // emissive intensity (log-encoded) as the seeds describe.
+#include <cmath>
+
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/gbuffer/draw_surfaces.h"
+#include "passes/gbuffer/kinds.h"
 
 namespace nightcap {
+namespace {
+
+const KindRegistration kNormal({
+    .kind = kinds::normal,
+    .describe =
+        [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
+          const double n[3] = {t.raw[0] * 2 - 1, t.raw[1] * 2 - 1, t.raw[2] * 2 - 1};
+          const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+          // The zero vector (a cleared target) has no direction.
+          out["normal"] = length == 0.0 ? nlohmann::ordered_json(nullptr)
+                                        : nlohmann::ordered_json{n[0] / length, n[1] / length, n[2] / length};
+          out["stored_length"] = length;
+          if (t.raw.size() > 3) out["hair"] = t.raw[3] != 0.0;
+        },
+    .draw =
+        [](const TexelValues& t, const KindFrame&) {
+          const double n[3] = {t.raw[0] * 2 - 1, t.raw[1] * 2 - 1, t.raw[2] * 2 - 1};
+          const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+          if (length == 0.0) return TexelPicture{};
+          return TexelPicture{TexelPicture::Scale::display,
+                              {0.5 * n[0] / length + 0.5, 0.5 * n[1] / length + 0.5, 0.5 * n[2] / length + 0.5}};
+        },
+    .measure = KindMeasure::unit_vector,
+});
+
+const KindRegistration kMaterial({
+    .kind = kinds::material,
+    .describe =
+        [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
+          out["metalness"] = t.raw[0];
+          out["roughness"] = t.raw[1];
+          out["translucency"] = t.raw[2];
+          out["emissive_luminance"] = std::exp2(16.0 * t.raw[3]) - 1.0;
+        },
+});
+
+const KindRegistration kMotion({
+    .kind = kinds::motion,
+    .describe =
+        [](const TexelValues& t, const KindFrame& frame, nlohmann::ordered_json& out) {
+          out["motion_uv"] = {t.raw[0], t.raw[1]};
+          out["motion_pixels"] = {t.raw[0] * frame.output_width, t.raw[1] * frame.output_height};
+        },
+    .draw =
+        [](const TexelValues& t, const KindFrame& frame) {
+          return TexelPicture{TexelPicture::Scale::motion,
+                              {t.raw[0] * frame.output_width, t.raw[1] * frame.output_height, 0}};
+        },
+});
+
+}  // namespace
 
 PassDecl gbuffer_opaque_pass() {
   auto target = [](VkFormat format, ResourceKind kind) { return ImageDecl{format, kind}; };
   return surface_pass("gbuffer.opaque", "draws.gbuffer.opaque")
-      .write("gbuffer.albedo", Use::color_attachment, target(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::colour))
-      .write("gbuffer.normal", Use::color_attachment, target(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::normal))
-      .write("gbuffer.material", Use::color_attachment, target(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::material))
-      .write("gbuffer.motion", Use::color_attachment, target(VK_FORMAT_R16G16_SFLOAT, ResourceKind::motion))
-      .write("gbuffer.emissive", Use::color_attachment,
-             target(VK_FORMAT_B10G11R11_UFLOAT_PACK32, ResourceKind::hdr_colour))
+      .write("gbuffer.albedo", Use::color_attachment, target(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::colour))
+      .write("gbuffer.normal", Use::color_attachment, target(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::normal))
+      .write("gbuffer.material", Use::color_attachment, target(VK_FORMAT_R8G8B8A8_UNORM, kinds::material))
+      .write("gbuffer.motion", Use::color_attachment, target(VK_FORMAT_R16G16_SFLOAT, kinds::motion))
+      .write("gbuffer.emissive", Use::color_attachment, target(VK_FORMAT_B10G11R11_UFLOAT_PACK32, kinds::hdr_colour))
       // GREATER_OR_EQUAL: what the prepass drew passes at its own depth. The stencil takes each
       // draw's material class.
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_GREATER_OR_EQUAL, true).writing_stencil())

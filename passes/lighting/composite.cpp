@@ -34,7 +34,7 @@ PassDecl lighting_composite_pass() {
       .read_optional("ao.bent", Use::sampled)
       .as("ao")
       .sampler("ao.bent", bilinear_clamp_sampler())
-      .write("lighting.lit", Use::color_attachment, ImageDecl{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour})
+      .write("lighting.lit", Use::color_attachment, ImageDecl{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour})
       .param_float("ambient", 0.02, 0.0, 1e6, "uniform ambient radiance (a stand-in for the indirect light to come)")
       .param_float("sky", 0.004, 0.0, 1e6, "radiance of the night sky where nothing was drawn")
       .compare("lighting.lit", ComparisonContract::floats(0x1p-24, 0x1p-10,

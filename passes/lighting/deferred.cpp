@@ -19,7 +19,7 @@ ComparisonContract lighting_contract() {
 }  // namespace
 
 PassDecl lighting_deferred_pass() {
-  ImageDecl hdr{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour};
+  ImageDecl hdr{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour};
   return PassDecl("lighting.deferred", PassType::graphics)
       .read("frame.constants", Use::uniform_buffer)
       .read("frame.lights", Use::storage_read)

@@ -15,9 +15,9 @@ PassDecl lighting_ltc_table_pass() {
   constexpr uint32_t n = ltc::kGgxTableSize;
   static_assert(sizeof(ltc::kGgxInverse) == n * n * 4 * sizeof(float));
   static_assert(sizeof(ltc::kGgxMagnitude) == n * n * 2 * sizeof(float));
-  ImageDecl inverse{VK_FORMAT_R32G32B32A32_SFLOAT, ResourceKind::lookup_table};
+  ImageDecl inverse{VK_FORMAT_R32G32B32A32_SFLOAT, kinds::lookup_table};
   inverse.size = {SizeRule::Mode::absolute, n, n, ""};
-  ImageDecl magnitude{VK_FORMAT_R32G32_SFLOAT, ResourceKind::lookup_table};
+  ImageDecl magnitude{VK_FORMAT_R32G32_SFLOAT, kinds::lookup_table};
   magnitude.size = inverse.size;
   return PassDecl("lighting.ltc_table", PassType::cpu)
       .write("lighting.ltc_inverse", Use::host, inverse)

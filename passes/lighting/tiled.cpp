@@ -35,7 +35,7 @@ BufferSchema tile_classes_schema() { return NC_SCHEMA_OF(GpuTileClasses, NC_TILE
 BufferSchema tile_entry_schema() { return NC_SCHEMA_OF(GpuTileEntry, NC_TILE_ENTRY_FIELDS); }
 
 PassDecl lighting_tiled_pass() {
-  ImageDecl hdr{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour};
+  ImageDecl hdr{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour};
   return PassDecl("lighting.tiled", PassType::compute)
       .read("frame.constants", Use::uniform_buffer)
       .read("frame.lights", Use::storage_read)
@@ -58,9 +58,9 @@ PassDecl lighting_tiled_pass() {
       .sampler("shadow.local_moments", bilinear_clamp_sampler())
       .write("lighting.diffuse", Use::storage_write, hdr)
       .write("lighting.specular", Use::storage_write, hdr)
-      .write("lighting.tile_classes", Use::storage_write, BufferDecl{ResourceKind::buffer, sizeof(GpuTileClasses)})
+      .write("lighting.tile_classes", Use::storage_write, BufferDecl{kinds::buffer, sizeof(GpuTileClasses)})
       .write("lighting.tile_lists", Use::storage_write,
-             BufferDecl{ResourceKind::buffer, uint64_t(kLightingTileCapacity) * sizeof(GpuTileEntry)})
+             BufferDecl{kinds::buffer, uint64_t(kLightingTileCapacity) * sizeof(GpuTileEntry)})
       .layout("lighting.tile_classes", tile_classes_schema())
       .layout("lighting.tile_lists", tile_entry_schema())
       .param_float("intensity_scale", 1.0, 0.0, 1e6, "multiplies every light's intensity")

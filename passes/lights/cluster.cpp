@@ -36,6 +36,31 @@ std::string overflow_warning(std::span<const uint8_t> bytes) {
   return out.str();
 }
 
+const KindRegistration kLightClusters({
+    .kind = kinds::light_clusters,
+    .describe =
+        [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
+          out["offset"] = t.codes.at(0);
+          out["count"] = t.codes.at(1);
+        },
+    // The count, so a 1-light froxel shows.
+    .draw =
+        [](const TexelValues& t, const KindFrame&) {
+          const double count = double(t.codes.at(1));
+          const double grey = count / (count + 8);
+          return TexelPicture{TexelPicture::Scale::display, {grey, grey, grey}};
+        },
+    .tiles = OutputTiles{"tile_size", kClusterTile},
+    .lists = TexelLists{0, 1, "lights.cluster_indices", "lights"},
+    .slices = DepthSlices{"depth.linear",
+                          [](double metres, double znear, const std::map<std::string, double>& writer,
+                             uint32_t slices) -> std::optional<uint32_t> {
+                            const auto max_distance = writer.find("max_distance");
+                            if (max_distance == writer.end()) return std::nullopt;
+                            return cluster_slice(metres, znear, max_distance->second, slices);
+                          }},
+});
+
 }  // namespace
 
 BufferSchema cluster_stats_schema() { return NC_SCHEMA_OF(GpuClusterStats, NC_GPU_CLUSTER_STATS_FIELDS); }
@@ -48,7 +73,7 @@ BufferSchema cluster_index_schema() {
 }
 
 PassDecl lights_cluster_pass() {
-  ImageDecl clusters{VK_FORMAT_R32G32_UINT, ResourceKind::light_clusters};
+  ImageDecl clusters{VK_FORMAT_R32G32_UINT, kinds::light_clusters};
   clusters.size.mode = SizeRule::Mode::output_tiles;
   clusters.size.tile_param = "tile_size";
   clusters.depth_param = "slices";
@@ -58,10 +83,10 @@ PassDecl lights_cluster_pass() {
       .read("depth.pyramid", Use::sampled)
       .write("lights.clusters", Use::storage_write, clusters)
       .write("lights.cluster_indices", Use::storage_write,
-             BufferDecl{ResourceKind::buffer, uint64_t(kClusterIndexCapacity) * 4})
-      .write("lights.cluster_stats", Use::storage_write, BufferDecl{ResourceKind::buffer, sizeof(GpuClusterStats)})
+             BufferDecl{kinds::buffer, uint64_t(kClusterIndexCapacity) * 4})
+      .write("lights.cluster_stats", Use::storage_write, BufferDecl{kinds::buffer, sizeof(GpuClusterStats)})
       .write("lights.cluster_blocks", Use::storage_write,
-             BufferDecl{ResourceKind::buffer, uint64_t(kClusterBlockCapacity) * 4})
+             BufferDecl{kinds::buffer, uint64_t(kClusterBlockCapacity) * 4})
       .layout("lights.cluster_indices", cluster_index_schema())
       .layout("lights.cluster_stats", cluster_stats_schema())
       .needs("local_lights")

@@ -16,9 +16,16 @@
 #include <cstdint>
 
 #include "passes/core/buffer_schema.h"
+#include "passes/core/resource_kind.h"
 #include "passes/lights/cluster_layout.glsl.h"
 
 namespace nightcap {
+
+namespace kinds {
+// Per froxel, the offset and length of its list in lights.cluster_indices (registered beside
+// lights.cluster, with the tiles, lists and slices that `inspect` follows).
+inline constexpr ResourceKind light_clusters{"light_clusters"};
+}  // namespace kinds
 
 constexpr uint32_t kClusterTile = 32;    // tile_size's default: pixels on a side of a tile
 constexpr uint32_t kClusterSlices = 64;  // slices' default: depth slices

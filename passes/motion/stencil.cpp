@@ -19,7 +19,7 @@ PassDecl motion_stencil_pass() {
   return PassDecl("motion.stencil", PassType::compute)
       .read("scene.depth", Use::sampled)
       .aspects("scene.depth", {ViewAspect::stencil})
-      .write("motion.mask", Use::storage_write, ImageDecl{VK_FORMAT_R8_UINT, ResourceKind::mask})
+      .write("motion.mask", Use::storage_write, ImageDecl{VK_FORMAT_R8_UINT, kinds::mask})
       .param_int("radius", 2, 0, kMotionStencilMaxRadius,
                  "pixels of dilation around tagged pixels (a square window), at most the apron the shader's tile holds")
       .skip_when([](const SkipContext& frame) -> std::string {

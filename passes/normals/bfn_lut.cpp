@@ -74,7 +74,7 @@ const std::vector<uint8_t>& cached_lut(uint32_t size) {
 }  // namespace
 
 PassDecl normals_bfn_lut_pass() {
-  ImageDecl lut{VK_FORMAT_R8_UINT, ResourceKind::lookup_table};
+  ImageDecl lut{VK_FORMAT_R8_UINT, kinds::lookup_table};
   lut.size = {SizeRule::Mode::absolute, kLutSize, kLutSize, ""};
   return PassDecl("normals.bfn_lut", PassType::cpu).write("normals.bfn_lut", Use::host, lut).run([](PassContext& ctx) {
     ctx.output("normals.bfn_lut") = cached_lut(kLutSize);

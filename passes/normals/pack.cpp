@@ -5,13 +5,46 @@
 // cleared G-buffer packs to the clear value, and frame.md's "never skipped" gives way to the
 // geometry stage's rule.
 
+#include <cmath>
+
 #include "passes/core/context.h"
 #include "passes/frame/frame_passes.h"
+#include "passes/normals/kinds.h"
 
 namespace nightcap {
+namespace {
+
+// The stored vector, before normalising: 8-bit codes · 2/255 − 1.
+std::array<double, 3> stored_vector(const TexelValues& t) {
+  return {t.codes[0] * (2.0 / 255.0) - 1, t.codes[1] * (2.0 / 255.0) - 1, t.codes[2] * (2.0 / 255.0) - 1};
+}
+
+const KindRegistration kPackedNormal({
+    .kind = kinds::packed_normal,
+    .describe =
+        [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
+          const std::array<double, 3> n = stored_vector(t);
+          const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+          out["normal"] = length == 0.0 ? nlohmann::ordered_json(nullptr)
+                                        : nlohmann::ordered_json{n[0] / length, n[1] / length, n[2] / length};
+          out["stored_length"] = length;
+          out["roughness"] = t.raw[3];
+        },
+    .draw =
+        [](const TexelValues& t, const KindFrame&) {
+          const std::array<double, 3> n = stored_vector(t);
+          const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+          if (length == 0.0) return TexelPicture{};
+          return TexelPicture{TexelPicture::Scale::display,
+                              {0.5 * n[0] / length + 0.5, 0.5 * n[1] / length + 0.5, 0.5 * n[2] / length + 0.5}};
+        },
+    .measure = KindMeasure::unit_vector,
+});
+
+}  // namespace
 
 PassDecl normals_pack_pass() {
-  ImageDecl packed{VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::packed_normal};
+  ImageDecl packed{VK_FORMAT_R8G8B8A8_UNORM, kinds::packed_normal};
   packed.clear.color = {{128.0f / 255.0f, 128.0f / 255.0f, 128.0f / 255.0f, 0.0f}};
   return PassDecl("normals.pack", PassType::graphics)
       .read("gbuffer.normal", Use::sampled)

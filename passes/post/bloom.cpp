@@ -53,7 +53,7 @@ PassDecl bloom_level_pass(uint32_t level, const std::string& lit) {
   const uint32_t source_mip = level == 0 ? 0 : level - 1;
   PassDecl pass("bloom.level" + std::to_string(level), PassType::compute);
   if (level == 0) {
-    ImageDecl chain{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour};
+    ImageDecl chain{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour};
     chain.size.mode = SizeRule::Mode::output_half;
     chain.mips = kBloomLevels;
     pass.read(lit, Use::sampled).as("source").write("bloom.chain", Use::storage_write, chain, Subresources::mip(0));

@@ -15,14 +15,14 @@
 
 namespace nightcap {
 PassDecl exposure_pass(const std::string& lit) {
-  ImageDecl value{VK_FORMAT_R32G32B32A32_SFLOAT, ResourceKind::hdr_colour};
+  ImageDecl value{VK_FORMAT_R32G32B32A32_SFLOAT, kinds::hdr_colour};
   value.size = {SizeRule::Mode::absolute, 1, 1, {}};
   return PassDecl("exposure", PassType::compute)
       .read("frame.constants", Use::uniform_buffer)
       .read(lit, Use::sampled)
       .as("lit")
       .read_previous("exposure.value", Use::sampled)
-      .write("exposure.histogram", Use::storage_write, BufferDecl{ResourceKind::buffer, kExposureBins * 4})
+      .write("exposure.histogram", Use::storage_write, BufferDecl{kinds::buffer, kExposureBins * 4})
       .write("exposure.value", Use::storage_write, value)
       .can_disable("fixed exposure")
       .param_float("adapt_seconds", 1.0, 0.0, 60.0,

@@ -16,7 +16,7 @@ PassDecl tonemap_pass(const std::string& lit) {
       .as("lit")
       .read("exposure.value", Use::sampled)
       .read("bloom.chain", Use::sampled)
-      .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_SRGB, ResourceKind::colour})
+      .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_SRGB, kinds::colour})
       .param_float("exposure", 1.0, 0.0, 1e6,
                    "multiplies the HDR colour before the curve (with the automatic exposure, if any)")
       .param_float("bloom", 0.05, 0.0, 1e3, "weight of the bloom added to the lit colour")

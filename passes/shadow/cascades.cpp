@@ -18,7 +18,7 @@
 namespace nightcap {
 
 PassDecl shadow_cascades_pass() {
-  ImageDecl map{VK_FORMAT_D32_SFLOAT, ResourceKind::lookup_table};
+  ImageDecl map{VK_FORMAT_D32_SFLOAT, kinds::light_depth};
   // Sized like the static layers, so the resolution is set on shadow.cull and shadow.cascades_static.
   map.size.mode = SizeRule::Mode::like;
   map.size.like = "shadow.cascades_static";

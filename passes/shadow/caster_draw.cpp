@@ -6,6 +6,25 @@
 #include "passes/frame/vertex_streams.h"
 
 namespace nightcap {
+namespace {
+
+const KindRegistration kLightDepth({
+    .kind = kinds::light_depth,
+    .describe =
+        [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
+          out["depth"] = t.raw[0];
+          out["drawn"] = t.raw[0] < 1.0;
+        },
+    // The drawn depths from the nearest (white) to the farthest; nothing drawn is black.
+    .draw =
+        [](const TexelValues& t, const KindFrame&) {
+          return TexelPicture{TexelPicture::Scale::distance, {t.raw[0] < 1.0 ? t.raw[0] : 0.0, 0, 0}};
+        },
+    .over_output = false,
+    .measure = KindMeasure::depth,
+});
+
+}  // namespace
 
 GpuDraw caster_draw(uint32_t instance, const InstanceRecord& record, const glm::dmat4& relative_model,
                     const MeshRecord& mesh) {
@@ -35,7 +54,7 @@ void sort_for_batching(std::vector<GpuDraw>& draws) {
 }
 
 ImageDecl shadow_depth_array(uint32_t layers) {
-  ImageDecl map{VK_FORMAT_D32_SFLOAT, ResourceKind::lookup_table};
+  ImageDecl map{VK_FORMAT_D32_SFLOAT, kinds::light_depth};
   map.size.mode = SizeRule::Mode::square_param;
   map.size.param = "resolution";
   map.layers = layers;

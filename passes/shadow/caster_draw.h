@@ -18,6 +18,12 @@
 
 namespace nightcap {
 
+namespace kinds {
+// Depth from a light's view, forward: 0 at the light's near plane, 1 where nothing was drawn
+// (the shadow maps: each a D32 array of cascades, levels or slices).
+inline constexpr ResourceKind light_depth{"light_depth"};
+}  // namespace kinds
+
 // A shadow map holds no motion, so the previous model is the model. `relative_model`: the
 // instance's model matrix relative to the camera, as every draw list.
 GpuDraw caster_draw(uint32_t instance, const InstanceRecord& record, const glm::dmat4& relative_model,

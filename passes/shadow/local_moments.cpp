@@ -40,7 +40,7 @@ using glm::vec4;
 }  // namespace local_moments_glsl
 
 PassDecl shadow_local_moments_pass() {
-  ImageDecl moments{VK_FORMAT_R16G16B16A16_UNORM, ResourceKind::lookup_table};
+  ImageDecl moments{VK_FORMAT_R16G16B16A16_UNORM, kinds::lookup_table};
   moments.size.mode = SizeRule::Mode::like;
   moments.size.like = "shadow.local";
   moments.layers = kLocalShadowSlices;

@@ -20,7 +20,7 @@
 namespace nightcap {
 
 PassDecl shadow_sun_resolve_pass() {
-  ImageDecl sun{VK_FORMAT_R8G8_UNORM, ResourceKind::mask};
+  ImageDecl sun{VK_FORMAT_R8G8_UNORM, kinds::mask};
   sun.clear.color = {{1.0f, 1.0f, 0.0f, 0.0f}};
   return PassDecl("shadow.sun_resolve", PassType::compute)
       .read("frame.constants", Use::uniform_buffer)

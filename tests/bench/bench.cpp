@@ -46,9 +46,11 @@
 #include "captures/capture.h"
 #include "passes/core/isolated.h"
 #include "passes/cull/cull_stats.h"
+#include "passes/depth/kinds.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/renderer.h"
+#include "passes/gbuffer/kinds.h"
 #include "passes/lighting/ltc/fit.h"
 #include "passes/lights/cluster_layout.h"
 #include "passes/normals/bfn_lut.h"
@@ -555,7 +557,7 @@ nc::IsolatedInput image(VkFormat format, nc::ResourceKind kind, uint32_t w, uint
 nc::IsolatedInput constants_input(const nc::GpuFrameConstants& constants) {
   nc::IsolatedInput input;
   input.desc.is_buffer = true;
-  input.desc.kind = nc::ResourceKind::buffer;
+  input.desc.kind = nc::kinds::buffer;
   input.desc.buffer_size = sizeof(constants);
   auto bytes = std::make_shared<std::vector<uint8_t>>(sizeof(constants));
   std::memcpy(bytes->data(), &constants, sizeof(constants));
@@ -605,10 +607,9 @@ void bench_normals(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t count)
     for (int r = 0; r < 3; ++r) {
       run = nc::run_isolated(
           gpu, cache, nc::normals_pack_pass(),
-          {{"gbuffer.normal",
-            image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, nc::ResourceKind::normal, width, height, normals)},
-           {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, nc::ResourceKind::material, width, height, material)},
-           {"normals.bfn_lut", image(VK_FORMAT_R8_UINT, nc::ResourceKind::lookup_table, lut_size, lut_size, lut)}},
+          {{"gbuffer.normal", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, nc::kinds::normal, width, height, normals)},
+           {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, nc::kinds::material, width, height, material)},
+           {"normals.bfn_lut", image(VK_FORMAT_R8_UINT, nc::kinds::lookup_table, lut_size, lut_size, lut)}},
           {}, width, height, nc::builtin_shaders());
       times.push_back(gpu_ms(run));
     }
@@ -1424,11 +1425,11 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
   nc::IsolatedRun convert;
   for (int r = 0; r < 4; ++r) {  // the first run compiles the pipeline
     const double start = now_ms();
-    convert = nc::run_isolated(gpu, cache, nc::depth_convert_pass(),
-                               {{"frame.constants", constants_in},
-                                {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, nc::ResourceKind::depth_stencil,
-                                                      width, height, depth_bytes)}},
-                               nc::depth_convert_pass().default_params(), width, height, nc::builtin_shaders());
+    convert = nc::run_isolated(
+        gpu, cache, nc::depth_convert_pass(),
+        {{"frame.constants", constants_in},
+         {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, nc::kinds::depth_stencil, width, height, depth_bytes)}},
+        nc::depth_convert_pass().default_params(), width, height, nc::builtin_shaders());
     if (r > 0) wall.push_back(now_ms() - start);
     if (r > 0) times.push_back(gpu_ms(convert));
   }
@@ -1565,7 +1566,7 @@ void bench_motion_stencil(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t
   std::vector<uint8_t> depth_bytes(tags.size() * 5, 0);
   std::memcpy(depth_bytes.data() + tags.size() * 4, tags.data(), tags.size());
   const nc::IsolatedInput depth =
-      image(VK_FORMAT_D32_SFLOAT_S8_UINT, nc::ResourceKind::depth_stencil, width, height, depth_bytes);
+      image(VK_FORMAT_D32_SFLOAT_S8_UINT, nc::kinds::depth_stencil, width, height, depth_bytes);
   table() << "\n## motion.stencil (" << width << "x" << height << ", 1 pixel in 200 tagged)\n";
   for (int radius : {0, 2, 4, 8}) {
     std::vector<double> times, wall;
@@ -1619,7 +1620,7 @@ void bench_bloom(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
     passes.push_back(nc::bloom_level_pass(level, "lighting.lit"));
   nc::ResourceDesc desc;
   desc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
-  desc.kind = nc::ResourceKind::hdr_colour;
+  desc.kind = nc::kinds::hdr_colour;
   desc.extent.width = width;
   desc.extent.height = height;
   nc::GraphSettings settings;
@@ -1711,9 +1712,9 @@ void bench_exposure(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width
       run = nc::run_isolated(
           gpu, cache, nc::exposure_pass("lighting.lit"),
           {{"frame.constants", constants_in},
-           {"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, nc::ResourceKind::hdr_colour, width, height, lit)},
+           {"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, nc::kinds::hdr_colour, width, height, lit)},
            {nc::previous("exposure.value"),
-            image(VK_FORMAT_R32G32B32A32_SFLOAT, nc::ResourceKind::hdr_colour, 1, 1, std::vector<uint8_t>(16, 0))}},
+            image(VK_FORMAT_R32G32B32A32_SFLOAT, nc::kinds::hdr_colour, 1, 1, std::vector<uint8_t>(16, 0))}},
           params, width, height, nc::builtin_shaders());
       times.push_back(gpu_ms(run));
     }

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "captures/capture.h"
+#include "passes/depth/kinds.h"
 #include "tests/e2e/cli.h"
 #include "tests/reference/depth_half_reference.h"
 
@@ -279,7 +280,7 @@ TEST(CaptureLoop, HalfResolutionDepthAndStencilAndTheMotionMaskAreRecorded) {
   const ResourceRecord& half_stencil = record_named(convert.outputs, "stencil.half");
   EXPECT_EQ(half_depth.format, VK_FORMAT_R16_SFLOAT);
   EXPECT_EQ(half_stencil.format, VK_FORMAT_R8_UINT);
-  EXPECT_EQ(half_stencil.kind, ResourceKind::stencil);
+  EXPECT_EQ(half_stencil.kind, kinds::stencil);
   EXPECT_EQ(half_depth.extent.width, 160u);
   EXPECT_EQ(half_depth.extent.height, 90u);
 

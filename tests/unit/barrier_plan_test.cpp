@@ -15,7 +15,7 @@ namespace NIGHTCAP_FILE_ID {
 constexpr VkFormat kHalf = VK_FORMAT_R16G16B16A16_SFLOAT;
 
 ImageDecl chain_decl(uint32_t mips) {
-  ImageDecl d{kHalf, ResourceKind::hdr_colour};
+  ImageDecl d{kHalf, kinds::hdr_colour};
   d.size = {SizeRule::Mode::absolute, 64, 32, ""};
   d.mips = mips;
   return d;
@@ -102,14 +102,12 @@ TEST(BarrierPlan, MipWrittenWhileThePreviousIsSampled) {
 
 TEST(BarrierPlan, WholeImageUseAfterPerMipUsesMergesTheirStates) {
   std::vector<PassDecl> passes = chain_passes(3);
-  passes.push_back(
-      PassDecl("reader", PassType::graphics)
-          .read("chain", Use::sampled)
-          .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour}));
-  passes.push_back(
-      PassDecl("reader2", PassType::graphics)
-          .read("chain", Use::sampled)
-          .write("other", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour}));
+  passes.push_back(PassDecl("reader", PassType::graphics)
+                       .read("chain", Use::sampled)
+                       .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_UNORM, kinds::colour}));
+  passes.push_back(PassDecl("reader2", PassType::graphics)
+                       .read("chain", Use::sampled)
+                       .write("other", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_UNORM, kinds::colour}));
   GraphSettings settings = sinks({"final.ldr", "other"});
   const CompiledGraph graph = compile_graph(passes, {}, settings);
 
@@ -150,7 +148,7 @@ TEST(BarrierPlan, WholeImageUseAfterPerMipUsesMergesTheirStates) {
 }
 
 TEST(BarrierPlan, EachLayerOfAnArrayRenderedByItsOwnPass) {
-  ImageDecl array{VK_FORMAT_R32_SFLOAT, ResourceKind::colour};
+  ImageDecl array{VK_FORMAT_R32_SFLOAT, kinds::colour};
   array.layers = 4;
   std::vector<PassDecl> passes;
   passes.push_back(
@@ -160,7 +158,7 @@ TEST(BarrierPlan, EachLayerOfAnArrayRenderedByItsOwnPass) {
                          .modify("array", Use::color_attachment, Subresources::layer(l)));
   passes.push_back(PassDecl("reader", PassType::compute)
                        .read("array", Use::sampled)
-                       .write("out", Use::storage_write, ImageDecl{VK_FORMAT_R32_SFLOAT, ResourceKind::colour}));
+                       .write("out", Use::storage_write, ImageDecl{VK_FORMAT_R32_SFLOAT, kinds::colour}));
   const CompiledGraph graph = compile_graph(passes, {}, sinks({"out"}));
 
   ASSERT_EQ(pass(graph, "layer0").sync.clears.size(), 1u);
@@ -182,7 +180,7 @@ TEST(BarrierPlan, EachLayerOfAnArrayRenderedByItsOwnPass) {
 }
 
 TEST(BarrierPlan, ThreeDimensionalImagesAreOneLayerWithDepthInTheirMips) {
-  ImageDecl volume{VK_FORMAT_R32_SFLOAT, ResourceKind::colour};
+  ImageDecl volume{VK_FORMAT_R32_SFLOAT, kinds::colour};
   volume.size = {SizeRule::Mode::absolute, 16, 8, ""};
   volume.depth = 32;
   volume.mips = 0;
@@ -213,7 +211,7 @@ TEST(BarrierPlan, ThreeDimensionalImagesAreOneLayerWithDepthInTheirMips) {
 }
 
 TEST(BarrierPlan, CubeFacesAreLayers) {
-  ImageDecl cube{kHalf, ResourceKind::hdr_colour};
+  ImageDecl cube{kHalf, kinds::hdr_colour};
   cube.size = {SizeRule::Mode::absolute, 32, 32, ""};
   cube.layers = 6;
   cube.cube = true;
@@ -263,14 +261,13 @@ TEST(BarrierPlan, SkippedPassClearsItsFreshOutputsWhole) {
 TEST(BarrierPlan, UploadsComeFirstAndTwoUsesOfABufferWaitTogether) {
   ResourceDesc buffer;
   buffer.is_buffer = true;
-  buffer.kind = ResourceKind::buffer;
+  buffer.kind = kinds::buffer;
   buffer.buffer_size = 64;
   std::vector<PassDecl> passes;
-  passes.push_back(
-      PassDecl("draw", PassType::graphics)
-          .read("scene.geometry", Use::storage_read)
-          .read("scene.geometry", Use::index_buffer)
-          .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour}));
+  passes.push_back(PassDecl("draw", PassType::graphics)
+                       .read("scene.geometry", Use::storage_read)
+                       .read("scene.geometry", Use::index_buffer)
+                       .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_UNORM, kinds::colour}));
   const CompiledGraph graph = compile_graph(passes, {{"scene.geometry", buffer}}, GraphSettings());
   EXPECT_EQ(graph.uploads, std::vector<std::string>{"scene.geometry"});
   ASSERT_EQ(graph.before_uploads.size(), 1u) << "a first use is planned, so memory it takes over can be waited for";
@@ -307,10 +304,10 @@ TEST(BarrierPlan, DeclarationMistakesAreGraphErrors) {
   // A range on a buffer.
   std::vector<PassDecl> buffer;
   buffer.push_back(
-      PassDecl("fill", PassType::compute).write("list", Use::storage_write, BufferDecl(ResourceKind::buffer, 64)));
+      PassDecl("fill", PassType::compute).write("list", Use::storage_write, BufferDecl(kinds::buffer, 64)));
   buffer.push_back(PassDecl("use", PassType::compute)
                        .read("list", Use::storage_read, Subresources::mip(1))
-                       .write("out", Use::storage_write, ImageDecl{VK_FORMAT_R32_SFLOAT, ResourceKind::colour}));
+                       .write("out", Use::storage_write, ImageDecl{VK_FORMAT_R32_SFLOAT, kinds::colour}));
   EXPECT_EQ(message(buffer, {"out"}), "use: 'list' is a buffer: a use of it has no mips or layers");
 }
 
@@ -367,11 +364,10 @@ TEST(BarrierPlan, NanInjectionIsVisibleToTheNextReaderWithoutACapture) {
 TEST(BarrierPlan, NanInjectionMistakesAreGraphErrors) {
   std::vector<PassDecl> passes = chain_passes(2);
   passes[1].can_disable("off for the test");
-  passes.push_back(
-      PassDecl("ldr", PassType::graphics)
-          .read("chain", Use::sampled)
-          .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour})
-          .write("list", Use::storage_write, BufferDecl(ResourceKind::buffer, 64)));
+  passes.push_back(PassDecl("ldr", PassType::graphics)
+                       .read("chain", Use::sampled)
+                       .write("final.ldr", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_UNORM, kinds::colour})
+                       .write("list", Use::storage_write, BufferDecl(kinds::buffer, 64)));
   auto message = [&](const NanInjection& nan) {
     GraphSettings settings = sinks({"final.ldr", "list"});
     settings.params["level1"]["enabled"] = 0;

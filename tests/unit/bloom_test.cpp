@@ -51,7 +51,7 @@ class Bloom : public GpuTest {
       run.passes.push_back(bloom_level_pass(level, "lighting.lit"));
     ResourceDesc desc;
     desc.format = VK_FORMAT_R16G16B16A16_SFLOAT;
-    desc.kind = ResourceKind::hdr_colour;
+    desc.kind = kinds::hdr_colour;
     desc.extent.width = width;
     desc.extent.height = height;
     auto bytes = std::make_shared<std::vector<uint8_t>>(lit.size() * 2);

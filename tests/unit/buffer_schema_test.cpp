@@ -101,7 +101,7 @@ class DrawListComparison : public ::testing::Test {
  protected:
   void SetUp() override {
     record.resource = "draws.test";
-    record.kind = ResourceKind::draw_list;
+    record.kind = kinds::draw_list;
     record.is_buffer = true;
     record.schema = draw_schema();
     std::vector<GpuDraw> draws(3);
@@ -177,7 +177,7 @@ TEST(BufferSchema, TheManifestRecordsItWithTheOutput) {
   pass.ran = true;
   ResourceRecord out;
   out.resource = "draws.gbuffer.opaque";
-  out.kind = ResourceKind::draw_list;
+  out.kind = kinds::draw_list;
   out.buffer_size = 2 * sizeof(GpuDraw);
   out.hash = std::string(32, 'a');
   out.blob = "blobs/" + out.hash + ".zst";

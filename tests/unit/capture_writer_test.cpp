@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "captures/capture.h"
+#include "passes/gbuffer/kinds.h"
 
 namespace nightcap {
 namespace {
@@ -49,8 +50,8 @@ TEST(CaptureWriter, EqualBytesInTwoFormatsAreTwoReadableBlobs) {
   // 16 bytes: a 2x2 R32_SFLOAT image and a 2x2 RGBA8 one with the same raw bytes.
   auto bytes = std::make_shared<const std::vector<uint8_t>>(
       std::vector<uint8_t>{0, 0, 128, 63, 0, 0, 0, 64, 0, 0, 64, 64, 0, 0, 128, 64});
-  ResourceRecord depth = image("depth.linear", VK_FORMAT_R32_SFLOAT, ResourceKind::linear_depth);
-  ResourceRecord colour = image("gbuffer.material", VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::material);
+  ResourceRecord depth = image("depth.linear", VK_FORMAT_R32_SFLOAT, kinds::linear_depth);
+  ResourceRecord colour = image("gbuffer.material", VK_FORMAT_R8G8B8A8_UNORM, kinds::material);
   {
     CaptureWriter writer(dir.path / "cap", false, {});
     writer.add_resource(depth, bytes);
@@ -74,8 +75,8 @@ TEST(CaptureWriter, EveryKindAndForcedCodecRoundTrips) {
     std::vector<ResourceRecord> records;
     const fs::path folder = dir.path / (forced ? image_encoding_name(*forced) : "auto");
     CaptureWriter writer(folder, false, {forced, 3, 2});
-    for (int kind = 0; kind <= int(ResourceKind::texture); ++kind) {
-      records.push_back(image("r" + std::to_string(kind), VK_FORMAT_R32G32_SFLOAT, ResourceKind(kind)));
+    for (const ResourceKind kind : registered_kinds()) {
+      records.push_back(image("r." + std::string(kind.name()), VK_FORMAT_R32G32_SFLOAT, kind));
       writer.add_resource(records.back(), bytes);
     }
     writer.commit(manifest_with(records));
@@ -86,7 +87,7 @@ TEST(CaptureWriter, EveryKindAndForcedCodecRoundTrips) {
 
 TEST(CaptureWriter, ABlobThatCannotBeWrittenFailsTheCommit) {
   TempDir dir;
-  ResourceRecord colour = image("final.ldr", VK_FORMAT_R8G8B8A8_SRGB, ResourceKind::colour);
+  ResourceRecord colour = image("final.ldr", VK_FORMAT_R8G8B8A8_SRGB, kinds::colour);
   CaptureWriter writer(dir.path / "cap", false, {});
   // The blobs folder vanishes under the writer: the queued encode cannot write its file.
   for (const fs::directory_entry& entry : fs::directory_iterator(dir.path))

@@ -18,6 +18,7 @@
 #include <cstring>
 #include <random>
 
+#include "passes/depth/kinds.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "tests/unit/gpu_fixture.h"
@@ -71,17 +72,17 @@ TEST_P(DepthConvert, MatchesTheDoubleReferenceWithinOneUlp) {
   constants.projection_params = {znear, 1.0f, 1.0f, 0.0f};
   IsolatedInput frame;
   frame.desc.is_buffer = true;
-  frame.desc.kind = ResourceKind::buffer;
+  frame.desc.kind = kinds::buffer;
   frame.desc.buffer_size = sizeof(constants);
   auto constant_bytes = std::make_shared<std::vector<uint8_t>>(sizeof(constants));
   std::memcpy(constant_bytes->data(), &constants, sizeof(constants));
   frame.bytes = constant_bytes;
 
-  const IsolatedRun result = run(
-      depth_convert_pass(),
-      {{"frame.constants", frame},
-       {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, width, height, depth_bytes)}},
-      width, height, {{"sky_depth", sky_depth}});
+  const IsolatedRun result =
+      run(depth_convert_pass(),
+          {{"frame.constants", frame},
+           {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil, width, height, depth_bytes)}},
+          width, height, {{"sky_depth", sky_depth}});
   const std::vector<uint8_t>& out = *result.outputs.at("depth.linear");
   ASSERT_EQ(out.size(), pixels * 4);
 

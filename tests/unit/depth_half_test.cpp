@@ -17,6 +17,7 @@
 #include <cstring>
 #include <random>
 
+#include "passes/depth/kinds.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "tests/reference/depth_half_reference.h"
@@ -75,7 +76,7 @@ IsolatedInput constants_input() {
   constants.projection_params = {kZnear, 1.0f, 1.0f, 0.0f};
   IsolatedInput frame;
   frame.desc.is_buffer = true;
-  frame.desc.kind = ResourceKind::buffer;
+  frame.desc.kind = kinds::buffer;
   frame.desc.buffer_size = sizeof(constants);
   auto bytes = std::make_shared<std::vector<uint8_t>>(sizeof(constants));
   std::memcpy(bytes->data(), &constants, sizeof(constants));
@@ -97,11 +98,11 @@ TEST_P(DepthHalf, MatchesTheNearestTexelDownsample) {
   std::memcpy(depth_bytes.data(), in.device.data(), pixels * 4);
   std::memcpy(depth_bytes.data() + pixels * 4, in.stencil.data(), pixels);
 
-  const IsolatedRun result = run(
-      depth_convert_pass(),
-      {{"frame.constants", constants_input()},
-       {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, width, height, depth_bytes)}},
-      width, height, {{"sky_depth", kSkyDepth}});
+  const IsolatedRun result =
+      run(depth_convert_pass(),
+          {{"frame.constants", constants_input()},
+           {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil, width, height, depth_bytes)}},
+          width, height, {{"sky_depth", kSkyDepth}});
   const reference::HalfDepthStencil expected =
       reference::half_depth_stencil(in.device, in.stencil, width, height, double(kZnear), kSkyDepth);
   const size_t half_texels = size_t(expected.width) * expected.height;

@@ -59,9 +59,9 @@ TEST_P(DepthPyramid, MatchesTheCpuMinMaxExactlyAndIsConservative) {
   }
   std::vector<uint8_t> bytes(depth.size() * 4);
   std::memcpy(bytes.data(), depth.data(), bytes.size());
-  const IsolatedRun result = run(
-      depth_pyramid_pass(),
-      {{"depth.linear", image(VK_FORMAT_R32_SFLOAT, ResourceKind::linear_depth, width, height, bytes)}}, width, height);
+  const IsolatedRun result =
+      run(depth_pyramid_pass(),
+          {{"depth.linear", image(VK_FORMAT_R32_SFLOAT, kinds::linear_depth, width, height, bytes)}}, width, height);
   const ResourceDesc& desc = result.output_descs.at("depth.pyramid");
   const std::vector<uint8_t>& out = *result.outputs.at("depth.pyramid");
   const std::vector<Level> expected = cpu_pyramid(depth, width, height);

@@ -9,6 +9,8 @@
 
 #include "compare/decoded_image.h"
 #include "compare/metrics.h"
+#include "passes/depth/kinds.h"
+#include "passes/gbuffer/kinds.h"
 #include "tests/unit/image_record.h"
 
 namespace nightcap {
@@ -16,7 +18,7 @@ namespace {
 namespace NIGHTCAP_FILE_ID {
 
 TEST(DiffMetrics, FloatErrorsAreExact) {
-  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 4, 1);
+  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, kinds::hdr_colour, 4, 1);
   const auto a = floats({1.0f, 2.0f, 3.0f, 4.0f});
   const auto b = floats({1.0f, 2.5f, 3.0f, 2.0f});  // differences 0, 0.5, 0, 2
   const ResourceComparison c = compare_resource(r, a, r, b);
@@ -51,7 +53,7 @@ TEST(DiffMetrics, LargeHalfImagesMatchAPlainDoubleReckoning) {
   // 1500x3 RGBA: five blocks of the block-at-a-time comparison, the last partial; one block holds
   // a NaN and an infinity (the exact path), the others only finite values (the four-lane path).
   const uint32_t width = 1500, height = 3, values = width * height * 4;
-  const ResourceRecord r = image_record(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height);
+  const ResourceRecord r = image_record(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour, width, height);
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> value(-40.0f, 40.0f), change(-0.05f, 0.05f);
   std::vector<uint16_t> a(values), b(values);
@@ -154,7 +156,7 @@ TEST(DiffMetrics, MeasuredTogetherAsApart) {
   const uint32_t width = 1500, height = 3;
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> value(-40.0f, 40.0f), change(-0.01f, 0.01f);
-  const ResourceRecord half = image_record(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height);
+  const ResourceRecord half = image_record(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour, width, height);
   std::vector<uint16_t> a(width * height * 4), b(a.size());
   for (size_t i = 0; i < a.size(); ++i) {
     a[i] = float_to_half(value(rng));
@@ -174,7 +176,7 @@ TEST(DiffMetrics, MeasuredTogetherAsApart) {
     expect_measured_as_apart(contract, half, bytes(a), bytes(with_nan));
   }
 
-  const ResourceRecord unorm = image_record(VK_FORMAT_R16_UNORM, ResourceKind::lookup_table, width, height);
+  const ResourceRecord unorm = image_record(VK_FORMAT_R16_UNORM, kinds::lookup_table, width, height);
   std::vector<uint16_t> codes_a(width * height), codes_b(codes_a.size());
   for (size_t i = 0; i < codes_a.size(); ++i) {
     codes_a[i] = uint16_t(rng());
@@ -182,7 +184,7 @@ TEST(DiffMetrics, MeasuredTogetherAsApart) {
   }
   expect_measured_as_apart(ComparisonContract::codes(1, "test"), unorm, bytes(codes_a), bytes(codes_b));
 
-  const ResourceRecord depth = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::linear_depth, width, height);
+  const ResourceRecord depth = image_record(VK_FORMAT_R32_SFLOAT, kinds::linear_depth, width, height);
   std::vector<float> near(width * height), far(near.size());
   for (size_t i = 0; i < near.size(); ++i) {
     near[i] = 0.5f + float(i % 97);
@@ -194,7 +196,7 @@ TEST(DiffMetrics, MeasuredTogetherAsApart) {
 }
 
 TEST(DiffMetrics, IdenticalInputsHaveInfinitePsnr) {
-  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 2, 1);
+  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, kinds::hdr_colour, 2, 1);
   const auto a = floats({1.0f, -7.0f});
   const ResourceComparison c = compare_resource(r, a, r, a);
   EXPECT_TRUE(c.identical);
@@ -203,7 +205,7 @@ TEST(DiffMetrics, IdenticalInputsHaveInfinitePsnr) {
 }
 
 TEST(DiffMetrics, NanAndInfAreCountedAndNanInBothPlacesAgrees) {
-  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 4, 1);
+  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, kinds::hdr_colour, 4, 1);
   const auto a = floats({NAN, 1.0f, INFINITY, 2.0f});
   const auto b = floats({NAN, NAN, INFINITY, 2.0f});
   const ResourceComparison c = compare_resource(r, a, r, b);
@@ -216,7 +218,7 @@ TEST(DiffMetrics, NanAndInfAreCountedAndNanInBothPlacesAgrees) {
 }
 
 TEST(DiffMetrics, UnormOneCodeOff) {
-  const ResourceRecord r = image_record(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour, 2, 1);
+  const ResourceRecord r = image_record(VK_FORMAT_R8G8B8A8_UNORM, kinds::colour, 2, 1);
   const std::vector<uint8_t> a = {10, 20, 30, 255, 0, 0, 0, 0};
   std::vector<uint8_t> b = a;
   b[1] = 21;
@@ -228,7 +230,7 @@ TEST(DiffMetrics, UnormOneCodeOff) {
 }
 
 TEST(DiffMetrics, NormalsReportTheAngleBetweenThem) {
-  const ResourceRecord r = image_record(VK_FORMAT_R32G32B32A32_SFLOAT, ResourceKind::normal, 1, 1);
+  const ResourceRecord r = image_record(VK_FORMAT_R32G32B32A32_SFLOAT, kinds::normal, 1, 1);
   // 0.5n+0.5 encoding: +Z, and +Z rotated by 10 degrees about X.
   const double angle = 10.0 * M_PI / 180.0;
   const auto a = floats({0.5f, 0.5f, 1.0f, 0.0f});
@@ -240,7 +242,7 @@ TEST(DiffMetrics, NormalsReportTheAngleBetweenThem) {
 }
 
 TEST(DiffMetrics, StencilIsComparedExactly) {
-  const ResourceRecord r = image_record(VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, 2, 1);
+  const ResourceRecord r = image_record(VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil, 2, 1);
   std::vector<uint8_t> a(2 * 4 + 2, 0), b;
   const float depth[2] = {0.5f, 0.25f};
   std::memcpy(a.data(), depth, 8);
@@ -270,7 +272,7 @@ TEST(DiffMetrics, BuffersCompareWordsAndSizeMismatchIsNotComparable) {
 
 // Comparison contracts: each kind holds exactly up to its bound and fails just past it.
 TEST(Contract, FloatValuesHoldUpToAbsolutePlusRelative) {
-  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 2, 1);
+  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, kinds::hdr_colour, 2, 1);
   const auto contract = ComparisonContract::floats(0.01, 0.1, "test");
   const auto a = floats({1.0f, 100.0f});
   // Allowed: 0.01 + 0.1·1 = 0.11 and 0.01 + 0.1·100 = 10.01.
@@ -283,7 +285,7 @@ TEST(Contract, FloatValuesHoldUpToAbsolutePlusRelative) {
 }
 
 TEST(Contract, ExactMeansEveryByte) {
-  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 2, 1);
+  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, kinds::hdr_colour, 2, 1);
   const ComparisonContract exact;
   EXPECT_TRUE(check_contract(exact, r, floats({1.0f, 2.0f}), r, floats({1.0f, 2.0f})).holds);
   const ContractCheck one =
@@ -293,7 +295,7 @@ TEST(Contract, ExactMeansEveryByte) {
 }
 
 TEST(Contract, UnormCodesCountStepsOfTheFormat) {
-  const ResourceRecord r = image_record(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour, 1, 1);
+  const ResourceRecord r = image_record(VK_FORMAT_R8G8B8A8_UNORM, kinds::colour, 1, 1);
   const auto contract = ComparisonContract::codes(1, "test");
   const std::vector<uint8_t> a = {10, 20, 30, 255};
   EXPECT_TRUE(check_contract(contract, r, a, r, std::vector<uint8_t>{11, 19, 30, 255}).holds);
@@ -303,7 +305,7 @@ TEST(Contract, UnormCodesCountStepsOfTheFormat) {
 }
 
 TEST(Contract, SrgbCodesAreCountedBeforeDecoding) {
-  const ResourceRecord r = image_record(VK_FORMAT_R8G8B8A8_SRGB, ResourceKind::colour, 1, 1);
+  const ResourceRecord r = image_record(VK_FORMAT_R8G8B8A8_SRGB, kinds::colour, 1, 1);
   const std::vector<uint8_t> a = {200, 20, 3, 255};
   EXPECT_TRUE(
       check_contract(ComparisonContract::codes(1, "test"), r, a, r, std::vector<uint8_t>{201, 19, 4, 255}).holds);
@@ -314,7 +316,7 @@ TEST(Contract, SrgbCodesAreCountedBeforeDecoding) {
 TEST(Contract, ByteCodesLargestStepWhereverItIs) {
   // 9x5 RGBA8: 180 bytes, read 32 at a time and the last 20 one by one. Each step is found alone,
   // wherever it lies, in either direction, and the largest of several wins.
-  const ResourceRecord r = image_record(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour, 9, 5);
+  const ResourceRecord r = image_record(VK_FORMAT_R8G8B8A8_UNORM, kinds::colour, 9, 5);
   const auto contract = ComparisonContract::codes(1, "test");
   std::vector<uint8_t> a(180);
   for (size_t i = 0; i < a.size(); ++i) a[i] = uint8_t(i * 37 % 200 + 20);
@@ -333,7 +335,7 @@ TEST(Contract, ByteCodesLargestStepWhereverItIs) {
 }
 
 TEST(Contract, AnglesOfNormals) {
-  const ResourceRecord r = image_record(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::normal, 1, 1);
+  const ResourceRecord r = image_record(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::normal, 1, 1);
   auto word = [](int x, int y, int z) {
     const uint32_t w = uint32_t(x) | uint32_t(y) << 10 | uint32_t(z) << 20;
     std::vector<uint8_t> bytes(4);
@@ -347,7 +349,7 @@ TEST(Contract, AnglesOfNormals) {
 }
 
 TEST(Contract, LinearDepthIsRelativeAndStencilExact) {
-  const ResourceRecord r = image_record(VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, 1, 1);
+  const ResourceRecord r = image_record(VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil, 1, 1);
   auto texel = [](float depth, uint8_t stencil) {
     std::vector<uint8_t> bytes(5);
     std::memcpy(bytes.data(), &depth, 4);

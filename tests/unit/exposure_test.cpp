@@ -52,7 +52,7 @@ class Exposure : public GpuTest {
   static IsolatedInput rgba32f_texel(const float (&texel)[4]) {
     std::vector<uint8_t> bytes(16);
     std::memcpy(bytes.data(), texel, 16);
-    return image(VK_FORMAT_R32G32B32A32_SFLOAT, ResourceKind::hdr_colour, 1, 1, std::move(bytes));
+    return image(VK_FORMAT_R32G32B32A32_SFLOAT, kinds::hdr_colour, 1, 1, std::move(bytes));
   }
 
   static Result expose(const std::vector<Rgb>& pixels, uint32_t width, uint32_t height, const float (&history)[4],
@@ -73,7 +73,7 @@ class Exposure : public GpuTest {
     const IsolatedRun run_result =
         run(exposure_pass("lighting.lit"),
             {{"frame.constants", constants},
-             {"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height, lit)},
+             {"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour, width, height, lit)},
              {previous("exposure.value"), rgba32f_texel(history)}},
             width, height, params);
     Result r;

@@ -265,12 +265,6 @@ TEST(Format, QuietNanTexelIsNanInEveryChannelOfEachFloatColourFormat) {
   EXPECT_EQ(quiet_nan_texel(info(VK_FORMAT_R32_SFLOAT)), bytes_of<uint32_t>({0x7FC00000}));
 }
 
-TEST(Format, KindNamesRoundTrip) {
-  for (int k = 0; k <= int(ResourceKind::light_clusters); ++k)
-    EXPECT_EQ(kind_by_name(kind_name(ResourceKind(k))), ResourceKind(k));
-  EXPECT_FALSE(kind_by_name("colour "));
-}
-
 }  // namespace NIGHTCAP_FILE_ID
 }  // namespace
 }  // namespace nightcap

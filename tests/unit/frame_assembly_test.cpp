@@ -34,12 +34,12 @@ TEST_F(FrameAssembly, APassGoesBetweenTheCompositeAndItsReadersByTheAssemblyAlon
   std::vector<PassDecl> passes;
   add_scene_passes(passes);
   add_lighting_passes(passes, FrameLighting::tiled);
-  passes.push_back(PassDecl("test.copy", PassType::graphics)
-                       .read("lighting.lit", Use::sampled)
-                       .as("source")
-                       .write("test.lit_copy", Use::color_attachment,
-                              ImageDecl{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour})
-                       .fullscreen("test/copy.frag"));
+  passes.push_back(
+      PassDecl("test.copy", PassType::graphics)
+          .read("lighting.lit", Use::sampled)
+          .as("source")
+          .write("test.lit_copy", Use::color_attachment, ImageDecl{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour})
+          .fullscreen("test/copy.frag"));
   add_post_passes(passes, "test.lit_copy");
   const ShaderProvider shaders = [](const std::string&, const std::string& path, const std::string& bindings) {
     return path == "test/copy.frag" ? compile_glsl(path, kCopy, bindings) : builtin_spirv(path, bindings);

@@ -7,7 +7,7 @@ namespace nightcap {
 namespace {
 namespace NIGHTCAP_FILE_ID {
 
-ImageDecl image(VkFormat format = VK_FORMAT_R8G8B8A8_UNORM) { return ImageDecl{format, ResourceKind::colour}; }
+ImageDecl image(VkFormat format = VK_FORMAT_R8G8B8A8_UNORM) { return ImageDecl{format, kinds::colour}; }
 
 std::vector<std::string> order(const CompiledGraph& graph) {
   std::vector<std::string> names;
@@ -143,7 +143,7 @@ TEST(Graph, PassesWhoseInputsAreAllClearedAreSkippedDownTheFrame) {
                        .skip_when_cleared({"pyramid", "constants"}));
   ResourceDesc constants;
   constants.is_buffer = true;
-  constants.kind = ResourceKind::buffer;
+  constants.kind = kinds::buffer;
   constants.buffer_size = 64;
   const std::vector<ImportedResource> imports = {{"constants", constants}};
   GraphSettings settings;
@@ -467,8 +467,7 @@ TEST(Graph, DeclarationMistakesAreCaughtBeforeRunning) {
 
   // Only a CPU pass may size its output buffer when it runs; a GPU buffer needs its size declared.
   std::vector<PassDecl> unsized;
-  unsized.push_back(
-      PassDecl("g", PassType::compute).write("final.ldr", Use::storage_write, BufferDecl(ResourceKind::buffer)));
+  unsized.push_back(PassDecl("g", PassType::compute).write("final.ldr", Use::storage_write, BufferDecl(kinds::buffer)));
   try {
     compile_graph(unsized, {}, GraphSettings());
     ADD_FAILURE() << "an unsized GPU buffer compiled";
@@ -477,7 +476,7 @@ TEST(Graph, DeclarationMistakesAreCaughtBeforeRunning) {
         << e.what();
   }
   std::vector<PassDecl> cpu_sized;
-  cpu_sized.push_back(PassDecl("c", PassType::cpu).write("final.ldr", Use::host, BufferDecl(ResourceKind::buffer)));
+  cpu_sized.push_back(PassDecl("c", PassType::cpu).write("final.ldr", Use::host, BufferDecl(kinds::buffer)));
   EXPECT_NO_THROW(compile_graph(cpu_sized, {}, GraphSettings()));
 }
 
@@ -553,7 +552,7 @@ TEST(Graph, HistoryMistakesAreCaughtBeforeRunning) {
                     .read_previous("nobody.writes", Use::sampled)
                     .write("final.ldr", Use::color_attachment, image())},
                "taa: reads the previous frame's 'nobody.writes', which no pass writes");
-  expect_error({PassDecl("cpu", PassType::cpu).write("list", Use::host, BufferDecl{ResourceKind::buffer}),
+  expect_error({PassDecl("cpu", PassType::cpu).write("list", Use::host, BufferDecl{kinds::buffer}),
                 PassDecl("reader", PassType::graphics)
                     .read_previous("list", Use::storage_read)
                     .write("final.ldr", Use::color_attachment, image())},

@@ -27,7 +27,7 @@ void main() {
 )";
 
 PassDecl accumulate_pass() {
-  ImageDecl sum{VK_FORMAT_R32_SFLOAT, ResourceKind::colour};
+  ImageDecl sum{VK_FORMAT_R32_SFLOAT, kinds::colour};
   sum.clear.color.float32[0] = 10.0f;  // the initial value of the history
   return PassDecl("accumulate", PassType::compute)
       .read_previous("sum", Use::sampled)
@@ -165,7 +165,7 @@ TEST_F(History, AGraphThatReadsHistoryNeedsAPool) {
 
 // Moves the previous frame's sum one texel left by a transfer copy (PassContext::copy_layer).
 PassDecl shift_left_pass() {
-  ImageDecl sum{VK_FORMAT_R32_SFLOAT, ResourceKind::colour};
+  ImageDecl sum{VK_FORMAT_R32_SFLOAT, kinds::colour};
   sum.clear.color.float32[0] = 10.0f;
   return PassDecl("shift", PassType::compute)
       .read_previous("sum", Use::sampled)
@@ -190,7 +190,7 @@ TEST_F(History, CopyLayerMovesThePreviousFrameAndClearsWhatItUncovers) {
 PassDecl counting_plan_pass() {
   return PassDecl("plan", PassType::cpu)
       .read_previous("plan.record", Use::host)
-      .write("plan.record", Use::host, BufferDecl{ResourceKind::buffer})
+      .write("plan.record", Use::host, BufferDecl{kinds::buffer})
       .run([](PassContext& ctx) {
         const std::span<const uint8_t> before = ctx.host(previous("plan.record"));
         std::vector<uint8_t>& now = ctx.output("plan.record");
@@ -240,7 +240,7 @@ TEST_F(History, ACpuPassReadsWhatItWroteAFrameEarlier) {
 TEST_F(History, OnlyACpuPassReadsACpuPassHistory) {
   const PassDecl reader = PassDecl("reader", PassType::compute)
                               .read_previous("plan.record", Use::storage_read)
-                              .write("out", Use::storage_write, ImageDecl{VK_FORMAT_R32_SFLOAT, ResourceKind::colour})
+                              .write("out", Use::storage_write, ImageDecl{VK_FORMAT_R32_SFLOAT, kinds::colour})
                               .run([](PassContext&) {});
   GraphSettings settings;
   settings.sinks = {"out"};

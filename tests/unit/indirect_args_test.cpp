@@ -38,8 +38,8 @@ void main() { marks[gl_WorkGroupID.y * 8u + gl_WorkGroupID.x] = 1u + gl_NumWorkG
 std::vector<PassDecl> passes(Use args_use) {
   std::vector<PassDecl> p;
   p.push_back(PassDecl("args", PassType::compute)
-                  .write("dispatch.args", Use::storage_write, BufferDecl{ResourceKind::buffer, 12})
-                  .write("marks", Use::storage_write, BufferDecl{ResourceKind::buffer, kCells * 4})
+                  .write("dispatch.args", Use::storage_write, BufferDecl{kinds::buffer, 12})
+                  .write("marks", Use::storage_write, BufferDecl{kinds::buffer, kCells * 4})
                   .shader("test/write_args.comp")
                   .run([](PassContext& ctx) {
                     ctx.bind_pipeline();

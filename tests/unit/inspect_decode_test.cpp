@@ -10,6 +10,8 @@
 #include "inspect/decode.h"
 #include "inspect/stats.h"
 #include "inspect/visualise.h"
+#include "passes/depth/kinds.h"
+#include "passes/scene/stencil_tags.h"
 #include "tests/unit/image_record.h"
 
 namespace nightcap {
@@ -19,7 +21,7 @@ namespace NIGHTCAP_FILE_ID {
 TEST(InspectStats, CountsNanInfAndStoredHalfDenormals) {
   // One channel's halves across 6 texels: 1, NaN, +Inf, -Inf, the smallest denormal, -2.
   const uint16_t halves[6] = {0x3c00, 0x7e00, 0x7c00, 0xfc00, 0x0001, 0xc000};
-  const ResourceRecord r = image_record(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, 6, 1, 1, "hdr");
+  const ResourceRecord r = image_record(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour, 6, 1, 1, "hdr");
   std::vector<uint8_t> raw(6 * 8, 0);
   for (int i = 0; i < 6; ++i) std::memcpy(raw.data() + 8 * i, &halves[i], 2);
   const std::vector<ChannelStats> stats = image_stats(r, raw, {}, {0, 0, 6, 1});
@@ -53,8 +55,7 @@ TEST(InspectDecode, StencilClassesAndFlags) {
 }
 
 TEST(InspectDecode, DepthStencilTexelInMetresAndClass) {
-  const ResourceRecord r =
-      image_record(VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, 2, 1, 1, "scene.depth");
+  const ResourceRecord r = image_record(VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil, 2, 1, 1, "scene.depth");
   const float depths[2] = {0.0f, 0.004f};
   std::vector<uint8_t> raw(2 * 4 + 2);
   std::memcpy(raw.data(), depths, 8);
@@ -79,7 +80,7 @@ TEST(InspectDecode, HalfResolutionStencilByClassAndTheMotionMask) {
   frame.width = 5;
   frame.height = 1;
   // stencil.half of a 5-wide output: 3 texels, foliage, vehicle moving, an unknown tag.
-  const ResourceRecord half = image_record(VK_FORMAT_R8_UINT, ResourceKind::stencil, 3, 1, 1, "stencil.half");
+  const ResourceRecord half = image_record(VK_FORMAT_R8_UINT, kinds::stencil, 3, 1, 1, "stencil.half");
   const std::vector<uint8_t> tags = {0xA0, 0x42, 0x11};
   const PixelReading foliage = read_pixel(half, tags, frame, {0, 0, 0, 0});
   EXPECT_EQ(foliage.decoded["stencil"], 0xA0);
@@ -95,7 +96,7 @@ TEST(InspectDecode, HalfResolutionStencilByClassAndTheMotionMask) {
     EXPECT_TRUE(std::equal(expected.begin(), expected.end(), palette.pixels.begin() + 4 * i)) << i;
   }
 
-  const ResourceRecord mask = image_record(VK_FORMAT_R8_UINT, ResourceKind::mask, 5, 1, 1, "motion.mask");
+  const ResourceRecord mask = image_record(VK_FORMAT_R8_UINT, kinds::mask, 5, 1, 1, "motion.mask");
   const std::vector<uint8_t> bits = {0, 1, 1, 0, 0};
   EXPECT_EQ(read_pixel(mask, bits, frame, {0, 0, 0, 0}).decoded["masked"], false);
   EXPECT_EQ(read_pixel(mask, bits, frame, {1, 0, 0, 0}).decoded["masked"], true);
@@ -107,8 +108,7 @@ TEST(InspectDecode, OutputPixelsMapToHalfResolutionMips) {
   FrameRecord frame;
   frame.width = 1280;
   frame.height = 720;
-  const ResourceRecord half =
-      image_record(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, 640, 360, 6, "chain");
+  const ResourceRecord half = image_record(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour, 640, 360, 6, "chain");
   const TexelAddress mip2 = texel_for_output_pixel(half, frame, 1279, 719, {2, 0, 0});
   EXPECT_EQ(mip2.x, 159u);  // mip 2 of 640x360 is 160x90
   EXPECT_EQ(mip2.y, 89u);
@@ -124,7 +124,7 @@ TEST(InspectDecode, OutputPixelsMapToHalfResolutionMips) {
 // A 16x8x4 R32_SFLOAT volume with 2 mips whose texel (x, y, z) of mip m holds 1000m + 100z + 10y + x:
 // each slice is read where the raw layout puts it (mip, then z, then rows).
 TEST(InspectDecode, SlicesOfA3DImage) {
-  ResourceRecord volume = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::buffer, 16, 8, 2, "froxels");
+  ResourceRecord volume = image_record(VK_FORMAT_R32_SFLOAT, kinds::buffer, 16, 8, 2, "froxels");
   volume.extent.depth = 4;
   std::vector<uint8_t> raw;
   for (uint32_t m = 0; m < 2; ++m)

@@ -29,7 +29,9 @@
 #include <random>
 
 #include "passes/core/format.h"
+#include "passes/depth/kinds.h"
 #include "passes/frame/frame_passes.h"
+#include "passes/gbuffer/kinds.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {
@@ -140,20 +142,20 @@ TEST_P(Composite, IsTheNearestHalfOfTheDoubleReferenceUpToFloatError) {
     std::memcpy(&depth[4 * i], &p.depth, 4);  // the depth plane; the stencil plane follows
   }
   const auto hdr = [&](std::vector<uint8_t>& bytes) {
-    return image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height, bytes);
+    return image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour, width, height, bytes);
   };
   std::map<std::string, IsolatedInput> inputs{
       {"lighting.diffuse", hdr(diffuse)},
       {"lighting.specular", hdr(specular)},
-      {"gbuffer.albedo", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::colour, width, height, albedo)},
-      {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::material, width, height, material)},
-      {"gbuffer.emissive", image(VK_FORMAT_B10G11R11_UFLOAT_PACK32, ResourceKind::colour, width, height, emissive)},
-      {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, width, height, depth)}};
+      {"gbuffer.albedo", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::colour, width, height, albedo)},
+      {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, kinds::material, width, height, material)},
+      {"gbuffer.emissive", image(VK_FORMAT_B10G11R11_UFLOAT_PACK32, kinds::colour, width, height, emissive)},
+      {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil, width, height, depth)}};
   // AO at half size, as ao.gtao makes it; its bent normal varies, its visibility does not.
   std::vector<uint8_t> ao((width / 2) * (height / 2) * 4);
   for (size_t i = 0; i < ao.size(); ++i) ao[i] = i % 4 == 3 ? uint8_t(ao_code) : uint8_t(i * 37);
   if (ao_code >= 0)
-    inputs.emplace("ao.bent", image(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour, width / 2, height / 2, ao));
+    inputs.emplace("ao.bent", image(VK_FORMAT_R8G8B8A8_UNORM, kinds::colour, width / 2, height / 2, ao));
   const IsolatedRun result =
       run(lighting_composite_pass(), inputs, width, height, {{"ambient", ambient}, {"sky", sky}});
   // The input is left out of the pass where nothing produces it.

@@ -30,8 +30,10 @@
 #include <random>
 #include <sstream>
 
+#include "passes/depth/kinds.h"
 #include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/gbuffer/kinds.h"
 #include "tests/reference/lighting_reference.h"
 #include "tests/unit/gpu_fixture.h"
 
@@ -184,7 +186,7 @@ template <class T>
 IsolatedInput buffer(const std::vector<T>& values) {
   IsolatedInput input;
   input.desc.is_buffer = true;
-  input.desc.kind = ResourceKind::buffer;
+  input.desc.kind = kinds::buffer;
   input.desc.buffer_size = values.size() * sizeof(T);
   auto bytes = std::make_shared<std::vector<uint8_t>>(input.desc.buffer_size);
   std::memcpy(bytes->data(), values.data(), bytes->size());
@@ -214,11 +216,11 @@ class LightingDeferred : public GpuTest {
         lighting_deferred_pass(),
         {{"frame.constants", buffer(std::vector<GpuFrameConstants>{in.frame})},
          {"frame.lights", buffer(lights)},
-         {"gbuffer.albedo", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::colour, w, h, bytes_of(in.albedo))},
-         {"gbuffer.normal", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::normal, w, h, bytes_of(in.normal))},
-         {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::material, w, h, in.material)},
+         {"gbuffer.albedo", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::colour, w, h, bytes_of(in.albedo))},
+         {"gbuffer.normal", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::normal, w, h, bytes_of(in.normal))},
+         {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, kinds::material, w, h, in.material)},
          {"scene.depth",
-          image(VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, w, h, bytes_of(in.depth, size_t(w) * h))}},
+          image(VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil, w, h, bytes_of(in.depth, size_t(w) * h))}},
         w, h, params);
     Output out;
     for (auto [name, target] : {std::pair{"lighting.diffuse", &out.diffuse}, {"lighting.specular", &out.specular}}) {

@@ -75,7 +75,7 @@ template <typename T>
 IsolatedInput buffer(const std::vector<T>& values) {
   IsolatedInput input;
   input.desc.is_buffer = true;
-  input.desc.kind = ResourceKind::buffer;
+  input.desc.kind = kinds::buffer;
   input.desc.buffer_size = std::max<size_t>(values.size() * sizeof(T), 16);
   auto bytes = std::make_shared<std::vector<uint8_t>>(input.desc.buffer_size, 0);
   std::memcpy(bytes->data(), values.data(), values.size() * sizeof(T));

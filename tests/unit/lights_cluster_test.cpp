@@ -331,7 +331,7 @@ class LightsCluster : public GpuTest {
     std::memcpy(depth_bytes.data(), s.depth.data(), depth_bytes.size());
     const IsolatedRun pyramid =
         run(depth_pyramid_pass(),
-            {{"depth.linear", image(VK_FORMAT_R32_SFLOAT, ResourceKind::linear_depth, s.width, s.height, depth_bytes)}},
+            {{"depth.linear", image(VK_FORMAT_R32_SFLOAT, kinds::linear_depth, s.width, s.height, depth_bytes)}},
             s.width, s.height);
     GpuFrameConstants frame{};
     const double aspect = double(s.width) / s.height;
@@ -344,7 +344,7 @@ class LightsCluster : public GpuTest {
     auto buffer = [](const void* data, size_t bytes) {
       IsolatedInput in;
       in.desc.is_buffer = true;
-      in.desc.kind = ResourceKind::buffer;
+      in.desc.kind = kinds::buffer;
       in.desc.buffer_size = bytes;
       in.bytes = std::make_shared<const std::vector<uint8_t>>((const uint8_t*)data, (const uint8_t*)data + bytes);
       return in;

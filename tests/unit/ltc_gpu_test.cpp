@@ -102,13 +102,13 @@ TEST_F(LtcGpu, ShaderMatchesTheCpu) {
   std::memcpy(input->data(), packed.data(), input->size());
   ResourceDesc input_desc;
   input_desc.is_buffer = true;
-  input_desc.kind = ResourceKind::buffer;
+  input_desc.kind = kinds::buffer;
   input_desc.buffer_size = input->size();
 
   const uint64_t bytes = cases.size() * 2 * 16;
   PassDecl pass = PassDecl("ltc.test", PassType::compute)
                       .read("ltc.cases", Use::storage_read)
-                      .write("ltc.results", Use::storage_write, BufferDecl{ResourceKind::buffer, bytes})
+                      .write("ltc.results", Use::storage_write, BufferDecl{kinds::buffer, bytes})
                       .shader("test/ltc.comp")
                       .run([&](PassContext& ctx) {
                         ctx.bind_pipeline();

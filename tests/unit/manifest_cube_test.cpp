@@ -27,7 +27,7 @@ CaptureManifest manifest_with(const ResourceRecord& output) {
 ResourceRecord cube_record() {
   ResourceRecord r;
   r.resource = "probe.cube";
-  r.kind = ResourceKind::hdr_colour;
+  r.kind = kinds::hdr_colour;
   r.is_buffer = false;
   r.format = VK_FORMAT_R16G16B16A16_SFLOAT;
   r.extent.width = r.extent.height = 16;

@@ -39,7 +39,7 @@ struct StepConstants {
 };
 
 ImageDecl plane() {
-  ImageDecl d{VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour};
+  ImageDecl d{VK_FORMAT_R32_SFLOAT, kinds::hdr_colour};
   d.size = {SizeRule::Mode::absolute, kSize, kSize, ""};
   return d;
 }

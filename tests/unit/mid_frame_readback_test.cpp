@@ -38,7 +38,7 @@ ShaderProvider test_shaders() {
 std::vector<PassDecl> passes() {
   std::vector<PassDecl> p;
   p.push_back(PassDecl("squares", PassType::compute)
-                  .write("squares", Use::storage_write, BufferDecl{ResourceKind::buffer, kCount * 4})
+                  .write("squares", Use::storage_write, BufferDecl{kinds::buffer, kCount * 4})
                   .shader("test/squares.comp")
                   .run([](PassContext& ctx) {
                     ctx.bind_pipeline();
@@ -47,7 +47,7 @@ std::vector<PassDecl> passes() {
                   }));
   p.push_back(PassDecl("prefix", PassType::cpu)
                   .read("squares", Use::host)
-                  .write("prefix", Use::host, BufferDecl{ResourceKind::buffer})
+                  .write("prefix", Use::host, BufferDecl{kinds::buffer})
                   .run([](PassContext& ctx) {
                     const std::span<const uint8_t> in = ctx.host("squares");
                     std::vector<uint32_t> values(in.size() / 4);
@@ -60,7 +60,7 @@ std::vector<PassDecl> passes() {
   p.push_back(
       PassDecl("offset", PassType::compute)
           .read("prefix", Use::storage_read)
-          .write("result", Use::storage_write, BufferDecl{ResourceKind::buffer, kCount * 4})
+          .write("result", Use::storage_write, BufferDecl{kinds::buffer, kCount * 4})
           .shader("test/offset.comp")
           .run([](PassContext& ctx) {
             ctx.bind_pipeline();

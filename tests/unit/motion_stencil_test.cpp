@@ -10,6 +10,7 @@
 #include <cstring>
 #include <random>
 
+#include "passes/depth/kinds.h"
 #include "passes/frame/frame_passes.h"
 #include "tests/reference/motion_mask_reference.h"
 #include "tests/unit/gpu_fixture.h"
@@ -58,10 +59,10 @@ TEST_P(MotionStencil, EqualsTheCpuDilation) {
   // D32_SFLOAT_S8_UINT raw layout: the depth plane (0: sky), then a byte of stencil per texel.
   std::vector<uint8_t> depth_bytes(pixels * 5, 0);
   std::memcpy(depth_bytes.data() + pixels * 4, tags.data(), pixels);
-  const IsolatedRun result = run(
-      motion_stencil_pass(),
-      {{"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, width, height, depth_bytes)}},
-      width, height, {{"radius", double(radius)}});
+  const IsolatedRun result =
+      run(motion_stencil_pass(),
+          {{"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil, width, height, depth_bytes)}},
+          width, height, {{"radius", double(radius)}});
   const std::vector<uint8_t> expected = reference::motion_mask(tags, width, height, radius);
   const std::vector<uint8_t>& mask = *result.outputs.at("motion.mask");
   ASSERT_EQ(mask.size(), pixels);
@@ -93,11 +94,10 @@ class MotionStencilRadius : public GpuTest {};
 
 TEST_F(MotionStencilRadius, AboveTheTilesApronIsRefused) {
   const std::vector<uint8_t> depth_bytes(4 * 4 * 5, 0);
-  EXPECT_THROW(
-      run(motion_stencil_pass(),
-          {{"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil, 4, 4, depth_bytes)}}, 4, 4,
-          {{"radius", 17.0}}),
-      GraphError);
+  EXPECT_THROW(run(motion_stencil_pass(),
+                   {{"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil, 4, 4, depth_bytes)}}, 4,
+                   4, {{"radius", 17.0}}),
+               GraphError);
 }
 
 TEST(MotionStencilSkip, SkippedOnlyWhenNothingMovesAndTheCameraIsStill) {

@@ -36,7 +36,7 @@ struct Blobs {
                        std::vector<uint8_t> raw) {
     ResourceRecord r;
     r.resource = resource;
-    r.kind = ResourceKind::hdr_colour;
+    r.kind = kinds::hdr_colour;
     r.is_buffer = false;
     r.format = format;
     r.extent = extent;

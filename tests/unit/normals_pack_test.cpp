@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "passes/frame/frame_passes.h"
+#include "passes/gbuffer/kinds.h"
 #include "passes/normals/bfn_lut.h"
 #include "tests/unit/gpu_fixture.h"
 
@@ -67,9 +68,9 @@ TEST_F(NormalsPack, BestFitNormalsReachTheAccuracyBound) {
   std::vector<uint8_t> lut = build_bfn_lut(lut_size);
   const IsolatedRun result =
       run(normals_pack_pass(),
-          {{"gbuffer.normal", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, ResourceKind::normal, width, height, normals)},
-           {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::material, width, height, material)},
-           {"normals.bfn_lut", image(VK_FORMAT_R8_UINT, ResourceKind::lookup_table, lut_size, lut_size, lut)}},
+          {{"gbuffer.normal", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::normal, width, height, normals)},
+           {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, kinds::material, width, height, material)},
+           {"normals.bfn_lut", image(VK_FORMAT_R8_UINT, kinds::lookup_table, lut_size, lut_size, lut)}},
           width, height);
   const std::vector<uint8_t>& packed = *result.outputs.at("normals.packed");
 

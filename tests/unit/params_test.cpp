@@ -12,7 +12,7 @@ namespace nightcap {
 namespace {
 namespace NIGHTCAP_FILE_ID {
 
-ImageDecl image() { return ImageDecl(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour); }
+ImageDecl image() { return ImageDecl(VK_FORMAT_R8G8B8A8_UNORM, kinds::colour); }
 
 PassDecl typed_pass() {
   return PassDecl("shade", PassType::compute)

@@ -12,6 +12,7 @@
 #include "passes/core/declared_pipeline.h"
 #include "passes/core/shader.h"
 #include "passes/core/shader_sources.h"
+#include "passes/depth/kinds.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {
@@ -36,9 +37,9 @@ struct TriangleConstants {
 
 // The pass under test: `declare` adds the state.
 PassDecl triangle_pass(const std::function<void(PassDecl&)>& declare) {
-  ImageDecl colour{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour};
+  ImageDecl colour{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour};
   for (int c = 0; c < 4; ++c) colour.clear.color.float32[c] = 0.25f;
-  ImageDecl depth{VK_FORMAT_D32_SFLOAT_S8_UINT, ResourceKind::depth_stencil};
+  ImageDecl depth{VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil};
   depth.clear.depthStencil = {0.25f, 0};
   PassDecl pass("test.triangle", PassType::graphics);
   pass.write("colour", Use::color_attachment, colour)
@@ -198,7 +199,7 @@ TEST_F(PipelineState, DepthBiasMovesDepthByTheDeclaredAmount) {
 
 // The pipeline a declaration implies, without a device: every fact from one place.
 TEST(DeclaredPipeline, LayoutFormatsShadersAndConstantsComeFromTheDeclaration) {
-  ImageDecl colour{VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour};
+  ImageDecl colour{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour};
   PassDecl pass("test.declared", PassType::graphics);
   pass.read("constants", Use::uniform_buffer)
       .read("list", Use::storage_read)
@@ -207,7 +208,7 @@ TEST(DeclaredPipeline, LayoutFormatsShadersAndConstantsComeFromTheDeclaration) {
       .slots("texture.", 3)
       .read("depth", Use::depth_attachment)
       .write("lit", Use::color_attachment, colour)
-      .write("extra", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour})
+      .write("extra", Use::color_attachment, ImageDecl{VK_FORMAT_R8G8B8A8_UNORM, kinds::colour})
       .blend("extra", BlendState::additive())
       .push_constants<TriangleConstants>()
       .shader("test/a.vert")
@@ -238,7 +239,7 @@ TEST(DeclaredPipeline, LayoutFormatsShadersAndConstantsComeFromTheDeclaration) {
 
 // What each declared slot binds, without a device: a pass writes no resource name on a binding line.
 TEST(DeclaredPipeline, BindingsComeFromTheDeclaredUses) {
-  ImageDecl chain{VK_FORMAT_R32_SFLOAT, ResourceKind::depth_minmax};
+  ImageDecl chain{VK_FORMAT_R32_SFLOAT, kinds::depth_minmax};
   chain.mips = 4;
   const SamplerDesc bilinear_repeat;  // SamplerDesc's defaults, unlike the nearest clamp-to-edge default
   PassDecl pass("test.bindings", PassType::compute);
@@ -303,7 +304,7 @@ TEST(DeclaredPipeline, BindingsComeFromTheDeclaredUses) {
 // Choices that change per dispatch or per draw are declared too: the mips a level's dispatch
 // binds, and the slots a prefix read's textures take.
 TEST(DeclaredPipeline, PerLevelMipsAndPerDrawTexturesAreDeclared) {
-  ImageDecl chain{VK_FORMAT_R32G32_SFLOAT, ResourceKind::depth_minmax};
+  ImageDecl chain{VK_FORMAT_R32G32_SFLOAT, kinds::depth_minmax};
   chain.mips = 0;
   PassDecl pyramid("test.pyramid", PassType::compute);
   pyramid.read("source", Use::sampled)

@@ -81,7 +81,7 @@ float layer_value(uint32_t base, uint32_t x, uint32_t y) { return float(base + y
 
 TEST_F(SubresourcesOnGpu, EachLayerOfAnArrayRenderedByItsOwnPass) {
   const uint32_t width = 16, height = 8, layers = 4;
-  ImageDecl array{VK_FORMAT_R32_SFLOAT, ResourceKind::colour};
+  ImageDecl array{VK_FORMAT_R32_SFLOAT, kinds::colour};
   array.size = {SizeRule::Mode::absolute, width, height, ""};
   array.layers = layers;
   array.mips = 2;
@@ -94,7 +94,7 @@ TEST_F(SubresourcesOnGpu, EachLayerOfAnArrayRenderedByItsOwnPass) {
       return constants;
     };
   };
-  ImageDecl sum_decl{VK_FORMAT_R32_SFLOAT, ResourceKind::colour};
+  ImageDecl sum_decl{VK_FORMAT_R32_SFLOAT, kinds::colour};
   sum_decl.size = array.size;
   std::vector<PassDecl> passes;
   passes.push_back(PassDecl("layer0", PassType::graphics)
@@ -148,7 +148,7 @@ TEST_F(SubresourcesOnGpu, EachLayerOfAnArrayRenderedByItsOwnPass) {
 
 TEST_F(SubresourcesOnGpu, ThreeDimensionalImageWrittenByComputeAndHalvedIntoItsNextMip) {
   const uint32_t width = 16, height = 8, depth = 12;
-  ImageDecl volume{VK_FORMAT_R32_SFLOAT, ResourceKind::colour};
+  ImageDecl volume{VK_FORMAT_R32_SFLOAT, kinds::colour};
   volume.size = {SizeRule::Mode::absolute, width, height, ""};
   volume.depth = depth;
   volume.mips = 2;

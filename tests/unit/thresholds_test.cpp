@@ -11,6 +11,7 @@
 
 #include "compare/metrics.h"
 #include "compare/thresholds.h"
+#include "passes/gbuffer/kinds.h"
 #include "tests/unit/image_record.h"
 
 namespace nightcap {
@@ -49,8 +50,8 @@ TEST(Thresholds, FileRulesAndTheFirstMatchWins) {
     {"match": "*", "metric": "abs", "limit": 0}]})");
   const Thresholds t = read_thresholds(file.string());
   ASSERT_EQ(t.rules.size(), 3u);
-  ResourceRecord specular = image_record(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, 4, 4),
-                 diffuse = specular, ldr = image_record(VK_FORMAT_R8G8B8A8_SRGB, ResourceKind::colour, 4, 4), buffer;
+  ResourceRecord specular = image_record(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour, 4, 4), diffuse = specular,
+                 ldr = image_record(VK_FORMAT_R8G8B8A8_SRGB, kinds::colour, 4, 4), buffer;
   specular.resource = "lighting.specular";
   diffuse.resource = "lighting.diffuse";
   ldr.resource = "final.ldr";
@@ -99,7 +100,7 @@ TEST(Thresholds, MalformedFilesNameTheFileAndTheProblem) {
 }
 
 TEST(Thresholds, ConstantOffset) {
-  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 8, 4);
+  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, kinds::hdr_colour, 8, 4);
   const auto a = floats(std::vector<float>(32, 2.0f)), b = floats(std::vector<float>(32, 2.02f));
   const ThresholdCheck loose = check_threshold(rule(TexelMetric::abs, 0.03), frame(8, 4), r, a, b);
   EXPECT_TRUE(loose.holds);
@@ -115,7 +116,7 @@ TEST(Thresholds, ConstantOffset) {
 }
 
 TEST(Thresholds, SingleFireflyAllowedShareAndIgnoredRectangle) {
-  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 8, 4);
+  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, kinds::hdr_colour, 8, 4);
   std::vector<float> values(32, 1.0f);
   const auto a = floats(values);
   values[2 * 8 + 5] = 100.0f;  // texel (5, 2)
@@ -135,7 +136,7 @@ TEST(Thresholds, SingleFireflyAllowedShareAndIgnoredRectangle) {
 }
 
 TEST(Thresholds, OnePixelShiftOfAnEdge) {
-  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 8, 4);
+  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, kinds::hdr_colour, 8, 4);
   std::vector<float> edge(32), shifted(32);
   for (uint32_t y = 0; y < 4; ++y)
     for (uint32_t x = 0; x < 8; ++x) {
@@ -149,7 +150,7 @@ TEST(Thresholds, OnePixelShiftOfAnEdge) {
 }
 
 TEST(Thresholds, NanOnOneSideIsInfiniteAndOnBothIsAgreement) {
-  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::hdr_colour, 2, 1);
+  const ResourceRecord r = image_record(VK_FORMAT_R32_SFLOAT, kinds::hdr_colour, 2, 1);
   const ThresholdCheck one =
       check_threshold(rule(TexelMetric::abs, 1e30), frame(2, 1), r, floats({1.0f, 1.0f}), floats({NAN, 1.0f}));
   EXPECT_EQ(one.over, 1u);
@@ -162,17 +163,17 @@ TEST(Thresholds, NanOnOneSideIsInfiniteAndOnBothIsAgreement) {
 
 TEST(Thresholds, AngleDepthCodesAndExactByKind) {
   // Normals 0.5n + 0.5 in RGBA16F: +X against +Y is 90 degrees.
-  const ResourceRecord normals = image_record(VK_FORMAT_R32G32B32A32_SFLOAT, ResourceKind::normal, 1, 1);
+  const ResourceRecord normals = image_record(VK_FORMAT_R32G32B32A32_SFLOAT, kinds::normal, 1, 1);
   const ThresholdCheck angle = check_threshold(rule(TexelMetric::angle, 89), frame(1, 1), normals,
                                                floats({1.0f, 0.5f, 0.5f, 0}), floats({0.5f, 1.0f, 0.5f, 0}));
   EXPECT_NEAR(angle.worst, 90.0, 1e-9);
   EXPECT_FALSE(angle.holds);
   // Reversed-Z device depth 0.1 against 0.11: distances znear/0.1 and znear/0.11 differ by 1/11.
-  const ResourceRecord depth = image_record(VK_FORMAT_R32_SFLOAT, ResourceKind::linear_depth, 1, 1);
+  const ResourceRecord depth = image_record(VK_FORMAT_R32_SFLOAT, kinds::linear_depth, 1, 1);
   EXPECT_NEAR(check_threshold(rule(TexelMetric::depth, 1), frame(1, 1), depth, floats({0.1f}), floats({0.11f})).worst,
               1.0 / 11.0, 1e-6);
   // UNORM8: one code.
-  const ResourceRecord ldr = image_record(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::colour, 1, 1);
+  const ResourceRecord ldr = image_record(VK_FORMAT_R8G8B8A8_UNORM, kinds::colour, 1, 1);
   const std::vector<uint8_t> a = {10, 20, 30, 255}, b = {10, 21, 30, 255};
   EXPECT_EQ(check_threshold(rule(TexelMetric::codes, 1), frame(1, 1), ldr, a, b).worst, 1.0);
   EXPECT_TRUE(check_threshold(rule(TexelMetric::codes, 1), frame(1, 1), ldr, a, b).holds);
@@ -189,7 +190,7 @@ TEST(Thresholds, AngleDepthCodesAndExactByKind) {
 }
 
 TEST(Thresholds, FlipOfDisplayedColourPerPixel) {
-  const ResourceRecord ldr = image_record(VK_FORMAT_R8G8B8A8_SRGB, ResourceKind::colour, 16, 16);
+  const ResourceRecord ldr = image_record(VK_FORMAT_R8G8B8A8_SRGB, kinds::colour, 16, 16);
   std::vector<uint8_t> a(16 * 16 * 4, 128), b;
   b = a;
   for (size_t i = 8 * 16 + 8, c = 0; c < 3; ++c) b[4 * i + c] = 255;  // one bright texel at (8, 8)
@@ -201,7 +202,7 @@ TEST(Thresholds, FlipOfDisplayedColourPerPixel) {
             uint64_t(std::count_if(flip.error.begin(), flip.error.end(), [](float e) { return e > 0.05f; })));
   EXPECT_EQ(check.counted, 256u);
   EXPECT_TRUE(check_threshold(rule(TexelMetric::flip, 0), frame(16, 16), ldr, a, a).holds);
-  const ResourceRecord unorm = image_record(VK_FORMAT_R8G8B8A8_UNORM, ResourceKind::material, 16, 16);
+  const ResourceRecord unorm = image_record(VK_FORMAT_R8G8B8A8_UNORM, kinds::material, 16, 16);
   EXPECT_NE(check_threshold(rule(TexelMetric::flip, 1), frame(16, 16), unorm, a, b).problem.find("'flip' measures"),
             std::string::npos);
 }

@@ -55,7 +55,7 @@ IsolatedInput exposure_value(float automatic) {
   std::memcpy(bytes.data(), texel, sizeof texel);
   IsolatedInput input;
   input.desc.format = VK_FORMAT_R32G32B32A32_SFLOAT;
-  input.desc.kind = ResourceKind::hdr_colour;
+  input.desc.kind = kinds::hdr_colour;
   input.bytes = std::make_shared<const std::vector<uint8_t>>(std::move(bytes));
   return input;
 }
@@ -75,12 +75,12 @@ TEST_P(Tonemap, StaysWithinTheBoundOfTheExactAcesAndSrgbEncoding) {
   std::vector<uint8_t> bytes(texels.size() * 2);
   std::memcpy(bytes.data(), texels.data(), bytes.size());
   // No bloom here: a chain of zeros adds nothing (TonemapBloom covers it).
-  IsolatedInput chain = image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width / 2, height / 2, {});
+  IsolatedInput chain = image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour, width / 2, height / 2, {});
   chain.desc.extent.mips = kBloomLevels;
   chain.bytes = std::make_shared<const std::vector<uint8_t>>(chain.desc.raw_bytes(), 0);
   const IsolatedRun result =
       run(tonemap_pass("lighting.lit"),
-          {{"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height, bytes)},
+          {{"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour, width, height, bytes)},
            {"exposure.value", exposure_value(float(automatic))},
            {"bloom.chain", chain}},
           width, height, {{"exposure", manual}});
@@ -128,7 +128,7 @@ TEST_F(TonemapBloom, AddsTheMeanOfTheLevelsInterpolatedAtThePixelCentre) {
   const double weight = 0.5, lit = 0.1;
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> value(0.0f, 4.0f);
-  IsolatedInput chain = image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, chain_width, chain_height, {});
+  IsolatedInput chain = image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour, chain_width, chain_height, {});
   chain.desc.extent.mips = full_mip_count(chain_width, chain_height);
   std::vector<uint16_t> codes(chain.desc.raw_bytes() / 2);
   for (uint16_t& c : codes) c = float_to_half(value(rng));
@@ -140,7 +140,7 @@ TEST_F(TonemapBloom, AddsTheMeanOfTheLevelsInterpolatedAtThePixelCentre) {
   std::memcpy(lit_bytes.data(), lit_codes.data(), lit_bytes.size());
   const IsolatedRun result =
       run(tonemap_pass("lighting.lit"),
-          {{"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, ResourceKind::hdr_colour, width, height, lit_bytes)},
+          {{"lighting.lit", image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour, width, height, lit_bytes)},
            {"exposure.value", exposure_value(0.0f)},
            {"bloom.chain", chain}},
           width, height, {{"bloom", weight}});

@@ -270,7 +270,7 @@ TEST_F(VertexStreamsGpu, TheShaderDecodesWhatWasEncoded) {
   auto buffer = [](const void* data, size_t bytes) {
     IsolatedInput in;
     in.desc.is_buffer = true;
-    in.desc.kind = ResourceKind::buffer;
+    in.desc.kind = kinds::buffer;
     in.desc.buffer_size = bytes;
     in.bytes = std::make_shared<const std::vector<uint8_t>>(static_cast<const uint8_t*>(data),
                                                             static_cast<const uint8_t*>(data) + bytes);
@@ -279,7 +279,7 @@ TEST_F(VertexStreamsGpu, TheShaderDecodesWhatWasEncoded) {
   const PassDecl decode = PassDecl("test.decode_vertices", PassType::compute)
                               .read("scene.geometry", Use::storage_read)
                               .read("test.boxes", Use::storage_read)
-                              .write("test.decoded", Use::storage_write, BufferDecl{ResourceKind::buffer, count * 80})
+                              .write("test.decoded", Use::storage_write, BufferDecl{kinds::buffer, count * 80})
                               .shader("test/decode_vertices.comp")
                               .run([count](PassContext& ctx) {
                                 ctx.bind_pipeline();
