@@ -16,8 +16,8 @@
 #include "inspect/pixel_history.h"
 #include "inspect/stats.h"
 #include "inspect/visualise.h"
-#include "passes/frame/frame_passes.h"
-#include "passes/frame/renderer.h"
+#include "passes/assembly/frame_passes.h"
+#include "passes/assembly/renderer.h"
 #include "passes/scene/stencil_tags.h"
 #include "replay/replay.h"
 

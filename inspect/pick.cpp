@@ -3,11 +3,11 @@
 #include <cstring>
 
 #include "inspect/decode.h"
+#include "passes/assembly/frame_passes.h"
+#include "passes/assembly/renderer.h"
 #include "passes/core/declared_pipeline.h"
 #include "passes/core/pipeline_cache.h"
 #include "passes/core/shader.h"
-#include "passes/frame/frame_passes.h"
-#include "passes/frame/renderer.h"
 #include "replay/replay.h"
 
 namespace nightcap {

@@ -4,11 +4,11 @@
 #include <sstream>
 
 #include "compare/metrics.h"
+#include "passes/assembly/frame_passes.h"
+#include "passes/assembly/renderer.h"
 #include "passes/core/hash.h"
 #include "passes/core/isolated.h"
 #include "passes/core/shader.h"
-#include "passes/frame/frame_passes.h"
-#include "passes/frame/renderer.h"
 
 namespace nightcap {
 namespace {

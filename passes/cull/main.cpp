@@ -24,8 +24,8 @@
 
 #include "passes/core/context.h"
 #include "passes/cull/cull_stats.h"
+#include "passes/cull/stage.h"
 #include "passes/frame/camera_math.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/hierarchy.h"
 #include "passes/frame/occlusion_buffer.h"

@@ -20,7 +20,7 @@
 // Skipped when the scene has no mesh decal, and when none is visible (cull.main left
 // draws.decals.mesh empty; decals.normal_copy skips with it).
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/decals/stage.h"
 #include "passes/gbuffer/draw_surfaces.h"
 
 namespace nightcap {

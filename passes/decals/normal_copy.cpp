@@ -15,7 +15,7 @@
 // drawn), whose copy is the cleared decals.normal_copy.
 #include "passes/core/context.h"
 #include "passes/decals/normal_copy.glsl.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/decals/stage.h"
 #include "passes/gbuffer/kinds.h"
 
 namespace nightcap {

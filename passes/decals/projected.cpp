@@ -18,7 +18,7 @@
 #include <cstring>
 
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/decals/stage.h"
 #include "passes/frame/gpu_types.h"
 
 namespace nightcap {

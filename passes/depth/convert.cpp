@@ -15,7 +15,7 @@
 #include "passes/core/context.h"
 #include "passes/depth/convert.glsl.h"
 #include "passes/depth/kinds.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/depth/stage.h"
 #include "passes/scene/stencil_tags.h"
 
 namespace nightcap {

@@ -2,8 +2,8 @@
 // shades each pixel about once. Reversed-Z: cleared to 0 (infinitely far), GREATER passes.
 #include "passes/core/context.h"
 #include "passes/depth/kinds.h"
+#include "passes/depth/stage.h"
 #include "passes/frame/draw_scene.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/scene/stencil_tags.h"
 
 namespace nightcap {

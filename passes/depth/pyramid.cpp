@@ -6,7 +6,7 @@
 #include "passes/core/context.h"
 #include "passes/depth/kinds.h"
 #include "passes/depth/pyramid.glsl.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/depth/stage.h"
 
 namespace nightcap {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "passes/core/context.h"
 #include "passes/frame/camera_math.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/frame/constants.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/occlusion_buffer.h"
 #include "passes/frame/scene_resources.h"

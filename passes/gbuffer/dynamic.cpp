@@ -6,8 +6,8 @@
 // Skipped when the scene has no moving instance, and when none is visible (cull.main left
 // draws.gbuffer.dynamic empty: the executor skips it then, the targets staying as they were).
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/gbuffer/draw_surfaces.h"
+#include "passes/gbuffer/stage.h"
 
 namespace nightcap {
 

@@ -8,9 +8,9 @@
 #include <cmath>
 
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/gbuffer/draw_surfaces.h"
 #include "passes/gbuffer/kinds.h"
+#include "passes/gbuffer/stage.h"
 
 namespace nightcap {
 namespace {

@@ -5,8 +5,8 @@
 // read_optional and an `#ifdef NC_BINDING_<name>` block in the shader each, with the passes that
 // define their formats.
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/lighting/composite.glsl.h"
+#include "passes/lighting/stage.h"
 
 namespace nightcap {
 namespace {

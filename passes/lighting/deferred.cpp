@@ -2,8 +2,8 @@
 // into diffuse and specular (RGBA16F). The clustered, tiled compute version of frame.md
 // (lighting.tiled) replaces it once lights.cluster exists.
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/lighting/deferred.glsl.h"
+#include "passes/lighting/stage.h"
 
 namespace nightcap {
 

@@ -6,8 +6,8 @@
 #include <cstring>
 
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/lighting/ltc/ggx_table.h"
+#include "passes/lighting/stage.h"
 
 namespace nightcap {
 

@@ -13,7 +13,7 @@
 #include <array>
 
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/lighting/stage.h"
 #include "passes/lighting/tiled_layout.h"
 #include "passes/shadow/local_layout.h"
 

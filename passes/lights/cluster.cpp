@@ -14,9 +14,9 @@
 #include <sstream>
 
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/lights/cluster_layout.h"
+#include "passes/lights/stage.h"
 
 namespace nightcap {
 namespace {

@@ -10,7 +10,7 @@
 // moves and the camera is still: TAA's history then lines up everywhere, and the mask keeps its
 // clear value, 0; so it does when nothing was drawn (scene.depth cleared: no tag anywhere).
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/motion/stage.h"
 #include "passes/motion/stencil.glsl.h"
 
 namespace nightcap {

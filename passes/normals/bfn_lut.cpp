@@ -10,7 +10,7 @@
 #include <thread>
 
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/normals/stage.h"
 
 namespace nightcap {
 

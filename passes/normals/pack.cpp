@@ -8,8 +8,8 @@
 #include <cmath>
 
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/normals/kinds.h"
+#include "passes/normals/stage.h"
 
 namespace nightcap {
 namespace {

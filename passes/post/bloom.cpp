@@ -10,8 +10,8 @@
 #include <cmath>
 
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/post/bloom.glsl.h"
+#include "passes/post/stage.h"
 
 namespace nightcap {
 namespace {

@@ -8,10 +8,10 @@
 // mean as Krawczyk, Myszkowski and Seidel (2005) propose, so night stays night. Skipped (fixed exposure:
 // tonemap.exposure alone) with exposure.enabled=0, which leaves exposure.value 0.
 //
-// It reads `lit`, the colour the frame's assembly names (passes/frame/registry.cpp).
+// It reads `lit`, the colour the frame's assembly names (passes/assembly/registry.cpp).
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/post/exposure.glsl.h"
+#include "passes/post/stage.h"
 
 namespace nightcap {
 PassDecl exposure_pass(const std::string& lit) {

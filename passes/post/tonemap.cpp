@@ -5,7 +5,7 @@
 // sky), a pipeline variant computes the one colour in the vertex shader and the fragments copy it: the same bits, since
 // the interpolation gives equal texels back exactly. The grading LUT of frame.md feeds it once it exists.
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/post/stage.h"
 #include "passes/post/tonemap.glsl.h"
 
 namespace nightcap {

@@ -10,10 +10,10 @@
 // it. Skipped with no sun above the horizon.
 
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/shadow/caster_draw.h"
 #include "passes/shadow/shadow_layout.h"
+#include "passes/shadow/stage.h"
 
 namespace nightcap {
 

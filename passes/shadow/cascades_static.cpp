@@ -8,12 +8,12 @@
 // the moving casters over it. The depth test keeps the least depth whatever the order of draws,
 // so the sum is the map drawn in one go. Skipped with no sun above the horizon.
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/shadow/caster_draw.h"
 #include "passes/shadow/light_tiles.h"
 #include "passes/shadow/shadow_layout.h"
 #include "passes/shadow/shadow_params.h"
+#include "passes/shadow/stage.h"
 
 namespace nightcap {
 

@@ -61,7 +61,6 @@
 
 #include "passes/core/context.h"
 #include "passes/frame/camera_math.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/hierarchy.h"
 #include "passes/frame/occlusion_buffer.h"
@@ -71,6 +70,7 @@
 #include "passes/shadow/light_tiles.h"
 #include "passes/shadow/shadow_layout.h"
 #include "passes/shadow/shadow_params.h"
+#include "passes/shadow/stage.h"
 
 namespace nightcap {
 namespace {

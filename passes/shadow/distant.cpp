@@ -17,11 +17,11 @@
 // Not done: shadow.topdown (frame.md may merge it with the last level) does not exist yet, so
 // nothing shares the last level.
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/shadow/caster_draw.h"
 #include "passes/shadow/shadow_layout.h"
 #include "passes/shadow/shadow_params.h"
+#include "passes/shadow/stage.h"
 
 namespace nightcap {
 

@@ -42,7 +42,6 @@
 #include <cstring>
 
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/hierarchy.h"
 #include "passes/frame/scene_resources.h"
@@ -50,6 +49,7 @@
 #include "passes/shadow/light_tiles.h"
 #include "passes/shadow/shadow_layout.h"
 #include "passes/shadow/shadow_params.h"
+#include "passes/shadow/stage.h"
 
 namespace nightcap {
 namespace {

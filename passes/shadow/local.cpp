@@ -9,10 +9,10 @@
 // shadow.local_moments turns the depth into the moments lighting.tiled filters. Skipped with no
 // spot light in the scene; a frame whose spot lights are all out of view draws nothing.
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/shadow/caster_draw.h"
 #include "passes/shadow/local_layout.h"
+#include "passes/shadow/stage.h"
 
 namespace nightcap {
 

@@ -25,9 +25,9 @@
 #include <cmath>
 
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/shadow/local_layout.h"
+#include "passes/shadow/stage.h"
 
 namespace nightcap {
 

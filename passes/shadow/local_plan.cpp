@@ -57,13 +57,13 @@
 
 #include "passes/core/context.h"
 #include "passes/core/history_name.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/hierarchy.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/scene/scene.h"
 #include "passes/shadow/caster_draw.h"
 #include "passes/shadow/local_layout.h"
+#include "passes/shadow/stage.h"
 
 namespace nightcap {
 namespace {

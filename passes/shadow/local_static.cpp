@@ -7,10 +7,10 @@
 // the moving casters over it. The depth test keeps the least depth whatever the order of draws, so the sum is the map
 // drawn in one go, bit for bit. Skipped with no spot light in the scene.
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/shadow/caster_draw.h"
 #include "passes/shadow/local_layout.h"
+#include "passes/shadow/stage.h"
 
 namespace nightcap {
 

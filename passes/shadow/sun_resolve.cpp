@@ -11,10 +11,10 @@
 #include <algorithm>
 
 #include "passes/core/context.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/shadow/light_tiles.h"
 #include "passes/shadow/shadow_layout.h"
+#include "passes/shadow/stage.h"
 #include "passes/shadow/sun_resolve.glsl.h"
 
 namespace nightcap {

@@ -12,7 +12,6 @@
 
 #include "captures/capture.h"
 #include "passes/core/format.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
 #include "tests/e2e/cli.h"
 #include "tests/reference/exposure_reference.h"

@@ -525,7 +525,7 @@ TEST_F(InspectTest, ClusterHeatMapShowsEachTilesLongestList) {
                          " --json; export lights.clusters --heatmap --slice 20 -o " + (dir / "slice.png").string() +
                          " --json; export gbuffer.normal --heatmap -o " + (dir / "no.png").string());
   EXPECT_EQ(run.result.code, 2) << "a G-buffer target has no lists";
-  EXPECT_NE(run.result.err.find("gbuffer.normal holds no light lists"), std::string::npos) << run.result.err;
+  EXPECT_NE(run.result.err.find("gbuffer.normal holds no lists"), std::string::npos) << run.result.err;
   ASSERT_EQ(run.objects.size(), 2u) << run.result.err;
   EXPECT_EQ(run.objects[0]["longest"], top);
   // --json's mean is over the tiles with a list (0 for a slice without any), of the lengths the map

@@ -15,8 +15,9 @@
 #include <cstring>
 #include <random>
 
-#include "passes/frame/frame_passes.h"
-#include "passes/frame/renderer.h"
+#include "passes/assembly/frame_passes.h"
+#include "passes/assembly/renderer.h"
+#include "passes/post/stage.h"
 #include "tests/reference/bloom_reference.h"
 #include "tests/unit/gpu_fixture.h"
 

@@ -25,8 +25,9 @@
 #include <tuple>
 
 #include "passes/cull/cull_stats.h"
+#include "passes/cull/stage.h"
 #include "passes/frame/camera_math.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/frame/constants.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/occlusion_buffer.h"
 #include "tests/unit/gpu_fixture.h"

@@ -9,8 +9,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <set>
 
+#include "passes/assembly/renderer.h"
 #include "passes/frame/gpu_types.h"
-#include "passes/frame/renderer.h"
 #include "replay/replay.h"
 #include "tests/unit/gpu_fixture.h"
 #include "tests/unit/scratch_folder.h"

@@ -31,9 +31,9 @@
 #include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "passes/assembly/renderer.h"
 #include "passes/cull/cull_stats.h"
 #include "passes/frame/gpu_types.h"
-#include "passes/frame/renderer.h"
 #include "tests/reference/decal_reference.h"
 #include "tests/unit/gpu_fixture.h"
 

@@ -19,7 +19,7 @@
 #include <random>
 
 #include "passes/depth/kinds.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/depth/stage.h"
 #include "passes/frame/gpu_types.h"
 #include "tests/unit/gpu_fixture.h"
 

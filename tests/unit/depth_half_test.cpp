@@ -18,7 +18,7 @@
 #include <random>
 
 #include "passes/depth/kinds.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/depth/stage.h"
 #include "passes/frame/gpu_types.h"
 #include "tests/reference/depth_half_reference.h"
 #include "tests/unit/gpu_fixture.h"

@@ -3,7 +3,7 @@
 #include <cstring>
 #include <random>
 
-#include "passes/frame/frame_passes.h"
+#include "passes/depth/stage.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {

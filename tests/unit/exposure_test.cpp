@@ -16,8 +16,8 @@
 #include <random>
 
 #include "passes/core/format.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/post/stage.h"
 #include "tests/reference/exposure_reference.h"
 #include "tests/unit/gpu_fixture.h"
 

@@ -8,7 +8,7 @@
 #include <cstring>
 #include <set>
 
-#include "passes/frame/renderer.h"
+#include "passes/assembly/renderer.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {

@@ -4,8 +4,8 @@
 
 #include <set>
 
+#include "passes/assembly/frame_passes.h"
 #include "passes/core/shader.h"
-#include "passes/frame/frame_passes.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap {

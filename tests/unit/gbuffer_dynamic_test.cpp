@@ -16,7 +16,7 @@
 #include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "passes/frame/renderer.h"
+#include "passes/assembly/renderer.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {

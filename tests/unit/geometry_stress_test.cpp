@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "passes/assembly/renderer.h"
 #include "passes/frame/gpu_types.h"
-#include "passes/frame/renderer.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {

@@ -29,8 +29,8 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "passes/assembly/renderer.h"
 #include "passes/core/format.h"
-#include "passes/frame/renderer.h"
 #include "passes/frame/vertex_streams.h"
 #include "tests/unit/gpu_fixture.h"
 

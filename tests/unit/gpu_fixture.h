@@ -9,9 +9,9 @@
 #include <cstdlib>
 #include <memory>
 
+#include "passes/assembly/renderer.h"
 #include "passes/core/format.h"
 #include "passes/core/isolated.h"
-#include "passes/frame/renderer.h"
 
 namespace nightcap::test {
 

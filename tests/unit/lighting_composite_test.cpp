@@ -30,8 +30,8 @@
 
 #include "passes/core/format.h"
 #include "passes/depth/kinds.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/gbuffer/kinds.h"
+#include "passes/lighting/stage.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {

@@ -31,9 +31,9 @@
 #include <sstream>
 
 #include "passes/depth/kinds.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/gbuffer/kinds.h"
+#include "passes/lighting/stage.h"
 #include "tests/reference/lighting_reference.h"
 #include "tests/unit/gpu_fixture.h"
 

@@ -43,8 +43,8 @@
 #include <sstream>
 #include <tuple>
 
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/lighting/stage.h"
 #include "passes/lighting/tiled_layout.h"
 #include "tests/reference/lighting_reference.h"
 #include "tests/unit/gpu_fixture.h"

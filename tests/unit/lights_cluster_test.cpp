@@ -28,10 +28,11 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "passes/depth/stage.h"
 #include "passes/frame/camera_math.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/lights/cluster_layout.h"
+#include "passes/lights/stage.h"
 #include "tests/reference/cluster_reference.h"
 #include "tests/unit/gpu_fixture.h"
 

@@ -16,9 +16,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <set>
 
+#include "passes/assembly/renderer.h"
 #include "passes/cull/cull_stats.h"
 #include "passes/frame/gpu_types.h"
-#include "passes/frame/renderer.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {

@@ -12,7 +12,7 @@
 #include <cstring>
 
 #include "passes/cull/cull_stats.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/cull/stage.h"
 #include "passes/frame/gpu_types.h"
 #include "tests/unit/gpu_fixture.h"
 

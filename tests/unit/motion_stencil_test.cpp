@@ -11,7 +11,7 @@
 #include <random>
 
 #include "passes/depth/kinds.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/motion/stage.h"
 #include "tests/reference/motion_mask_reference.h"
 #include "tests/unit/gpu_fixture.h"
 

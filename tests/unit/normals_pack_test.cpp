@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstring>
 
-#include "passes/frame/frame_passes.h"
 #include "passes/gbuffer/kinds.h"
 #include "passes/normals/bfn_lut.h"
+#include "passes/normals/stage.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {

@@ -5,8 +5,8 @@
 #include <map>
 #include <string>
 
+#include "passes/assembly/renderer.h"
 #include "passes/core/isolated.h"
-#include "passes/frame/renderer.h"
 
 namespace nightcap {
 

@@ -11,7 +11,7 @@
 #include "compare/metrics.h"
 #include "inspect/decode.h"
 #include "inspect/visualise.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/assembly/frame_passes.h"
 #include "tests/unit/image_record.h"
 
 namespace nightcap {

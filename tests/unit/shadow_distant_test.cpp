@@ -24,10 +24,10 @@
 #include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "passes/frame/frame_passes.h"
-#include "passes/frame/renderer.h"
+#include "passes/assembly/renderer.h"
 #include "passes/scene/scene_kit.h"
 #include "passes/shadow/shadow_layout.h"
+#include "passes/shadow/stage.h"
 #include "tests/reference/shadow_reference.h"
 #include "tests/unit/gpu_fixture.h"
 #include "tests/unit/recorded_pass.h"

@@ -48,12 +48,13 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <set>
 
+#include "passes/assembly/renderer.h"
 #include "passes/core/format.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/gpu_types.h"
-#include "passes/frame/renderer.h"
+#include "passes/lighting/stage.h"
 #include "passes/scene/scene_kit.h"
 #include "passes/shadow/local_layout.h"
+#include "passes/shadow/stage.h"
 #include "tests/reference/local_shadow_reference.h"
 #include "tests/unit/gpu_fixture.h"
 #include "tests/unit/recorded_pass.h"

@@ -31,11 +31,11 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <optional>
 
-#include "passes/frame/frame_passes.h"
+#include "passes/assembly/renderer.h"
 #include "passes/frame/gpu_types.h"
-#include "passes/frame/renderer.h"
 #include "passes/scene/scene_kit.h"
 #include "passes/shadow/shadow_layout.h"
+#include "passes/shadow/stage.h"
 #include "tests/reference/shadow_reference.h"
 #include "tests/unit/gpu_fixture.h"
 #include "tests/unit/recorded_pass.h"

@@ -9,12 +9,12 @@
 #include <cstring>
 #include <fstream>
 
-#include "passes/frame/frame_passes.h"
+#include "passes/assembly/renderer.h"
 #include "passes/frame/gpu_types.h"
-#include "passes/frame/renderer.h"
 #include "passes/scene/scene_kit.h"
 #include "passes/scene/time_of_day.h"
 #include "passes/shadow/shadow_layout.h"
+#include "passes/shadow/stage.h"
 #include "tests/unit/gpu_fixture.h"
 #include "tests/unit/recorded_pass.h"
 #include "tests/unit/scratch_folder.h"

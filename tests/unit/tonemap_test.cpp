@@ -19,7 +19,7 @@
 
 #include "passes/core/format.h"
 #include "passes/core/graph.h"
-#include "passes/frame/frame_passes.h"
+#include "passes/post/stage.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {

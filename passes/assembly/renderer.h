@@ -9,9 +9,9 @@
 #include <string>
 
 #include "captures/capture.h"
+#include "passes/assembly/frame_passes.h"
 #include "passes/core/executor.h"
 #include "passes/core/history.h"
-#include "passes/frame/frame_passes.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/scene/scene.h"
 

@@ -1,6 +1,10 @@
-// Constructors of every pass of the frame; frame_passes() (passes/frame/registry.cpp) lists
-// them in frame order.
+// The frame's assembly: which passes make a frame, in stages, and the names of what flows between
+// them (passes/assembly/registry.cpp). The only code that names every stage: a pass put between
+// two others is wired here, not in its neighbours.
 #pragma once
+
+#include <string>
+#include <vector>
 
 #include "passes/core/pass.h"
 
@@ -28,43 +32,5 @@ std::vector<PassDecl> all_passes();
 // resources whose consumers (SSR, AO, TAA) have not landed yet, so they are rendered and
 // recorded.
 std::vector<std::string> frame_sinks();
-
-PassDecl frame_constants_pass();
-PassDecl cull_main_pass();
-PassDecl depth_prepass_pass();
-PassDecl gbuffer_opaque_pass();
-PassDecl gbuffer_dynamic_pass();
-PassDecl decals_normal_copy_pass();
-PassDecl decals_mesh_pass();
-PassDecl decals_projected_pass();
-PassDecl depth_convert_pass();
-PassDecl motion_stencil_pass();
-PassDecl normals_bfn_lut_pass();
-PassDecl normals_pack_pass();
-PassDecl depth_pyramid_pass();
-PassDecl shadow_distant_plan_pass();
-PassDecl shadow_distant_pass();
-PassDecl shadow_cull_pass();
-PassDecl shadow_cascades_pass();
-PassDecl shadow_cascades_static_pass();
-PassDecl shadow_sun_resolve_pass();
-PassDecl shadow_local_plan_pass();
-PassDecl shadow_local_static_pass();
-PassDecl shadow_local_pass();
-PassDecl shadow_local_moments_pass();
-PassDecl lights_cluster_pass();
-PassDecl lighting_ltc_table_pass();
-PassDecl lighting_tiled_pass();
-PassDecl lighting_deferred_pass();
-PassDecl lighting_composite_pass();
-// bloom.chain's levels, one pass each (passes/post/bloom.cpp).
-constexpr uint32_t kBloomLevels = 6;
-PassDecl bloom_level_pass(uint32_t level, const std::string& lit);
-PassDecl exposure_pass(const std::string& lit);
-PassDecl tonemap_pass(const std::string& lit);
-
-// depth.linear where nothing was drawn, by default (depth.convert's sky_depth): far beyond any
-// surface of a 16 km map, and finite.
-constexpr double kSkyDepth = 1e6;
 
 }  // namespace nightcap

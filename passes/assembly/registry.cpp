@@ -1,4 +1,15 @@
-#include "passes/frame/frame_passes.h"
+#include "passes/assembly/frame_passes.h"
+#include "passes/cull/stage.h"
+#include "passes/decals/stage.h"
+#include "passes/depth/stage.h"
+#include "passes/frame/constants.h"
+#include "passes/gbuffer/stage.h"
+#include "passes/lighting/stage.h"
+#include "passes/lights/stage.h"
+#include "passes/motion/stage.h"
+#include "passes/normals/stage.h"
+#include "passes/post/stage.h"
+#include "passes/shadow/stage.h"
 
 namespace nightcap {
 

@@ -1,4 +1,4 @@
-#include "passes/frame/renderer.h"
+#include "passes/assembly/renderer.h"
 
 #include <malloc.h>
 #include <algorithm>
@@ -11,11 +11,11 @@
 #include <stdexcept>
 #include <thread>
 
+#include "passes/assembly/frame_passes.h"
 #include "passes/core/hash.h"
 #include "passes/core/output_pixel.h"
 #include "passes/core/shader.h"
 #include "passes/frame/camera_math.h"
-#include "passes/frame/frame_passes.h"
 
 namespace nightcap {
 namespace {

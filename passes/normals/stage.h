@@ -1,0 +1,12 @@
+// The constructors of the normal-packing stage's passes, which the frame's assembly (passes/assembly/registry.cpp)
+// puts in the frame.
+#pragma once
+
+#include "passes/core/pass.h"
+
+namespace nightcap {
+
+PassDecl normals_bfn_lut_pass();
+PassDecl normals_pack_pass();
+
+}  // namespace nightcap
