@@ -1,3 +1,6 @@
+// Blobs both ways (captures/blob_codec.h). One file over 600 lines on purpose: the OpenEXR reader,
+// OpenEXR's writer and nightcap's ZIP writer share the private layout of a format's parts and the
+// widening of codes to samples and back, which would otherwise become a header of internals.
 #include "captures/blob_codec.h"
 
 #include <IlmThreadPool.h>

@@ -1,3 +1,7 @@
+// FLIP as its papers define it (compare/flip.h). One file over 600 lines on purpose: the colour
+// pipeline, the feature pipeline and their filters use the constants stated once at the top, and
+// each SIMD form sits beside the scalar helper whose operations it repeats in the same order (the
+// same bits), which a reader checks side by side.
 #include "compare/flip.h"
 
 #include <algorithm>

@@ -14,6 +14,8 @@
 //
 // `frustum=0` / `occlusion=0` keep what those tests would drop (the references use them); the
 // lists are otherwise the same, so a culled and an unculled frame draw in the same order.
+// (A few lines over 600: the Culler's steps, the walk, the occluders, the decals and the lists,
+// share its state, and the pass declaration sits beside it.)
 #include <algorithm>
 #include <array>
 #include <cmath>

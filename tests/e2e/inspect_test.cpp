@@ -1,5 +1,6 @@
 // `nightcap inspect` in scripted mode, against values decoded here from the capture's raw bytes
 // by formulas of this file (bit fields, half floats, znear / depth), never by inspect's decoder.
+// (Over 600 lines: one case per inspect command, sharing the capture they inspect.)
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 

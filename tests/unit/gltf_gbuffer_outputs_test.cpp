@@ -1,6 +1,7 @@
 // gbuffer.normal, gbuffer.motion, gbuffer.material (metalness, roughness) and the occlusion in
 // gbuffer.albedo of the Khronos sample models against the independent reference of
 // gltf_reference.h, and KHR_lights_punctual as loaded against the file.
+// (Over 600 lines: one case per G-buffer output, sharing the models and the reference.)
 #include <algorithm>
 #include <cmath>
 #include <map>

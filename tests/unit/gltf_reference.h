@@ -14,6 +14,8 @@
 // NormalTangentMirrorTest where 0.097° is allowed; 16-bit positions in a primitive much larger
 // than its distance to the camera moved depth by up to 8·10⁻⁵ relative (EmissiveStrengthTest)
 // where 10⁻⁵ is allowed.
+// (Over 600 lines: a glTF reader, a ray caster and the texture prediction, which must share
+// nothing with the renderer's code to stay independent of it.)
 #pragma once
 
 #include <OpenImageIO/imageio.h>

@@ -1,4 +1,5 @@
 // The render graph's compile step: ordering, culling, skip reasons, sizes, barriers.
+// (Over 600 lines: the compile step's cases, sharing the declarations they compile.)
 #include <gtest/gtest.h>
 
 #include "passes/core/graph.h"

@@ -34,6 +34,7 @@
 // - stress: 10 000 extra lights in view, a light touching the ground, a zero-length tube, a
 //   sphere light, lights at the camera: every output finite, and the pass run again from its
 //   recorded inputs writes the same bytes (what replay --verify checks).
+// (Over 600 lines: every case is lighting.tiled against the one reference, sharing its fixtures.)
 #include <algorithm>
 #include <array>
 #include <cstring>

@@ -20,6 +20,7 @@
 //   reported by the renderer.
 // - All of this for other tile sizes and slice counts than frame.md's 32×32 × 64 too; values the
 //   pass does not take are refused by name.
+// (Over 600 lines: every case is lights.cluster against the one reference, sharing its tally.)
 #include <algorithm>
 #include <cmath>
 #include <cstring>
