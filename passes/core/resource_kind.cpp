@@ -1,6 +1,7 @@
 #include "passes/core/resource_kind.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace nightcap {
@@ -78,6 +79,20 @@ std::map<std::string, KindInfo, std::less<>>& registry() {
 }
 
 }  // namespace
+
+void describe_stored_normal(const std::array<double, 3>& n, nlohmann::ordered_json& out) {
+  const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  out["normal"] = length == 0.0 ? nlohmann::ordered_json(nullptr)
+                                : nlohmann::ordered_json{n[0] / length, n[1] / length, n[2] / length};
+  out["stored_length"] = length;
+}
+
+TexelPicture stored_normal_picture(const std::array<double, 3>& n) {
+  const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (length == 0.0) return TexelPicture{};
+  return TexelPicture{TexelPicture::Scale::display,
+                      {0.5 * n[0] / length + 0.5, 0.5 * n[1] / length + 0.5, 0.5 * n[2] / length + 0.5}};
+}
 
 void register_kind(KindInfo info) {
   const std::string name(info.kind.name());

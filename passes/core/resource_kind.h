@@ -120,6 +120,12 @@ struct KindInfo {
   std::optional<DepthSlices> slices{};
 };
 
+// For kinds that store a vector meant to be a unit normal (before normalising): `inspect pixel`'s
+// "normal" (null for the zero vector, which a cleared target holds) and "stored_length", and the
+// picture 0.5n + 0.5 of the normalised vector (black for the zero vector).
+void describe_stored_normal(const std::array<double, 3>& stored, nlohmann::ordered_json& out);
+TexelPicture stored_normal_picture(const std::array<double, 3>& stored);
+
 // Adds `info` under its kind's name; throws std::logic_error if the name is taken or empty.
 // Owners register at static initialisation through KindRegistration, in the file of the pass that
 // writes the kind; every binary links the whole of core (nightcap_core_whole, CMakeLists.txt), so

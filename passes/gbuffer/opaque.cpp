@@ -15,26 +15,19 @@
 namespace nightcap {
 namespace {
 
+// 0.5n + 0.5 in 10-bit codes.
+std::array<double, 3> stored_vector(const TexelValues& t) {
+  return {t.raw[0] * 2 - 1, t.raw[1] * 2 - 1, t.raw[2] * 2 - 1};
+}
+
 const KindRegistration kNormal({
     .kind = kinds::normal,
     .describe =
         [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
-          const double n[3] = {t.raw[0] * 2 - 1, t.raw[1] * 2 - 1, t.raw[2] * 2 - 1};
-          const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-          // The zero vector (a cleared target) has no direction.
-          out["normal"] = length == 0.0 ? nlohmann::ordered_json(nullptr)
-                                        : nlohmann::ordered_json{n[0] / length, n[1] / length, n[2] / length};
-          out["stored_length"] = length;
+          describe_stored_normal(stored_vector(t), out);
           if (t.raw.size() > 3) out["hair"] = t.raw[3] != 0.0;
         },
-    .draw =
-        [](const TexelValues& t, const KindFrame&) {
-          const double n[3] = {t.raw[0] * 2 - 1, t.raw[1] * 2 - 1, t.raw[2] * 2 - 1};
-          const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-          if (length == 0.0) return TexelPicture{};
-          return TexelPicture{TexelPicture::Scale::display,
-                              {0.5 * n[0] / length + 0.5, 0.5 * n[1] / length + 0.5, 0.5 * n[2] / length + 0.5}};
-        },
+    .draw = [](const TexelValues& t, const KindFrame&) { return stored_normal_picture(stored_vector(t)); },
     .measure = KindMeasure::unit_vector,
 });
 

@@ -23,21 +23,10 @@ const KindRegistration kPackedNormal({
     .kind = kinds::packed_normal,
     .describe =
         [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
-          const std::array<double, 3> n = stored_vector(t);
-          const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-          out["normal"] = length == 0.0 ? nlohmann::ordered_json(nullptr)
-                                        : nlohmann::ordered_json{n[0] / length, n[1] / length, n[2] / length};
-          out["stored_length"] = length;
+          describe_stored_normal(stored_vector(t), out);
           out["roughness"] = t.raw[3];
         },
-    .draw =
-        [](const TexelValues& t, const KindFrame&) {
-          const std::array<double, 3> n = stored_vector(t);
-          const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-          if (length == 0.0) return TexelPicture{};
-          return TexelPicture{TexelPicture::Scale::display,
-                              {0.5 * n[0] / length + 0.5, 0.5 * n[1] / length + 0.5, 0.5 * n[2] / length + 0.5}};
-        },
+    .draw = [](const TexelValues& t, const KindFrame&) { return stored_normal_picture(stored_vector(t)); },
     .measure = KindMeasure::unit_vector,
 });
 
