@@ -3,6 +3,7 @@
 
 #include "passes/core/declared_pipeline.h"
 #include "passes/core/execution_state.h"
+#include "passes/core/resource_commands.h"
 
 #include <algorithm>
 

@@ -36,17 +36,6 @@ struct PassContext::Shared {
 
 inline bool is_depth(const ResourceDesc& d) { return !d.is_buffer && format_info(d.format)->is_depth; }
 
-// Issues barriers of the graph's plan as one dependency.
-// `waits`: a resource's first-use barriers also wait for the last use of the resources whose
-// memory it takes over (FrameMemory::waits).
-void issue(VkCommandBuffer cmd, std::map<std::string, PhysicalResource>& resources,
-           const std::vector<PlannedBarrier>& planned, const std::map<std::string, AccessState>& waits);
-
-// The contents a resource has when nothing computed it: its declared clear value (zero for a
-// buffer), here for `range`. It must be in the transfer-destination state.
-// A buffer is filled with zeros whatever `value` says: its only clear.
-void clear_to(VkCommandBuffer cmd, const PhysicalResource& r, const Subresources& range, const VkClearValue& value);
-
 inline VkImageAspectFlags natural_aspects(VkFormat format) {
   const FormatInfo f = *format_info(format);
   if (f.has_stencil) return VK_IMAGE_ASPECT_DEPTH_BIT | VK_IMAGE_ASPECT_STENCIL_BIT;

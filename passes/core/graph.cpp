@@ -4,8 +4,9 @@
 #include <bit>
 #include <limits>
 #include <map>
-#include <queue>
 #include <set>
+
+#include "passes/core/dependencies.h"
 
 namespace nightcap {
 namespace {
@@ -247,36 +248,6 @@ std::optional<UniformValues> folded_outputs(const PassDecl& decl, const PassDecl
   return changed;
 }
 
-// A pass other than passes[writer] that reads `resource` (its next frame's history included)
-// and would still run when every list of `skip` is empty, or the frame's caller for a sink;
-// empty when there is none.
-std::string reader_not_skipped_with(const std::vector<PassDecl>& passes, int writer, const PassDecl::ClearedSkip& skip,
-                                    const std::string& resource, const std::set<std::string>& sinks) {
-  if (sinks.count(resource)) return "the frame's caller (a sink)";
-  auto skips_too = [&](const PassDecl& reader) {
-    return std::any_of(reader.cleared_skips.begin(), reader.cleared_skips.end(), [&](const auto& own) {
-      return !own.exact && std::all_of(own.inputs.begin(), own.inputs.end(), [&](const std::string& r) {
-        return std::find(skip.inputs.begin(), skip.inputs.end(), r) != skip.inputs.end();
-      });
-    });
-  };
-  for (int k = 0; k < static_cast<int>(passes.size()); ++k) {
-    if (k == writer) continue;
-    const PassDecl& reader = passes[k];
-    const bool reads = std::any_of(reader.inputs.begin(), reader.inputs.end(),
-                                   [&](const ResourceUse& in) {
-                                     return in.prefix ? resource.rfind(in.resource, 0) == 0 : in.resource == resource;
-                                   }) ||
-                       std::any_of(reader.outputs.begin(), reader.outputs.end(),
-                                   [&](const ResourceUse& out) { return out.modifies && out.resource == resource; });
-    const bool history = std::any_of(reader.inputs.begin(), reader.inputs.end(),
-                                     [&](const ResourceUse& in) { return in.history && in.resource == resource; });
-    if (history) return reader.name + " (its next frame)";
-    if (reads && !skips_too(reader)) return reader.name;
-  }
-  return {};
-}
-
 }  // namespace
 
 uint32_t full_mip_count(uint32_t width, uint32_t height) {
@@ -303,196 +274,122 @@ std::optional<std::vector<PassDecl>> without_unconnected_inputs(const std::vecto
   return connected;
 }
 
-CompiledGraph compile_connected(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
-                                const GraphSettings& settings) {
-  check_overrides(passes, settings.params);
-  const int n = static_cast<int>(passes.size());
-  // Who writes what: fresh writer first, then modifiers in declaration order.
-  std::map<std::string, int> fresh_writer;
-  std::map<std::string, std::vector<int>> modifiers;
-  std::set<std::string> imported;
-  for (const ImportedResource& r : imports) imported.insert(r.name);
-  for (int i = 0; i < n; ++i) {
-    for (const ResourceUse& out : passes[i].outputs) {
-      if (out.resource.find('@') != std::string::npos)
-        throw GraphError(passes[i].name + ": '" + out.resource + "': '@' is reserved for history (read_previous)");
-      if (out.is_buffer && !out.modifies && out.buffer.size == 0 && passes[i].type != PassType::cpu)
-        throw GraphError(passes[i].name + ": GPU buffer '" + out.resource +
-                         "' has no declared size (only a CPU pass may size its output when it runs)");
-      if (out.modifies) {
-        modifiers[out.resource].push_back(i);
-      } else {
-        if (fresh_writer.count(out.resource) || imported.count(out.resource))
-          throw GraphError(
-              passes[i].name + ": '" + out.resource + "' is already written by " +
-              (imported.count(out.resource) ? std::string("the scene") : passes[fresh_writer[out.resource]].name) +
-              " (use modify to write it again)");
-        fresh_writer[out.resource] = i;
+// Why the scene, a parameter or the pass's own condition skips it; empty when none does.
+std::string skip_reason(const PassDecl& decl, const SkipContext& frame, const GraphSettings& settings,
+                        const ParamValues& params) {
+  for (const std::string& f : decl.features)
+    if (!settings.frame.features.count(f)) return "scene has no " + f;
+  if (!decl.disabled_reason.empty() && params.at("enabled") == 0)
+    return decl.disabled_reason + " (" + override_key(decl, *decl.find_param("enabled")) + ".enabled=0)";
+  return decl.skip_if ? decl.skip_if(frame) : std::string();
+}
+
+// A pass whose inputs hold values known before the frame may be skipped for them or folded;
+// one that runs learns which of its inputs are uniform.
+void use_known_inputs(CompiledPass& compiled, const GraphSettings& settings, const KnownValues& known,
+                      const std::map<std::string, ResourceDesc>& resources) {
+  const PassDecl& decl = *compiled.decl;
+  if (!decl.cleared_skips.empty())
+    if (const auto* skip = decl.cleared_skip(cleared_resources(decl, known, resources), compiled.params)) {
+      compiled.runs = false;
+      compiled.inputs_known = true;
+      compiled.reason = skip->reason();
+      return;
+    }
+  // A NaN injected into its output would leave it uniform no longer.
+  const bool injected = std::any_of(settings.nan_injections.begin(), settings.nan_injections.end(),
+                                    [&](const NanInjection& nan) { return nan.pass == decl.name; });
+  if (!injected)
+    for (const PassDecl::UniformFold& fold : decl.uniform_folds)
+      if (auto values = folded_outputs(decl, fold, known, resources, compiled.params)) {
+        compiled.runs = false;
+        compiled.inputs_known = true;
+        compiled.reason = fold.reason();
+        compiled.folded = std::move(*values);
+        return;
       }
+  for (const ResourceUse& in : decl.inputs)
+    if (!in.history && !in.prefix && known_over(known, in.resource, in.range, resources))
+      compiled.uniform_inputs.insert(in.resource);
+}
+
+// Whether a needed pass runs, and why not.
+void decide_whether_runs(CompiledPass& compiled, const GraphSettings& settings, const SkipContext& frame,
+                         const KnownValues& known, const std::map<std::string, ResourceDesc>& resources) {
+  const PassDecl& decl = *compiled.decl;
+  compiled.runs = true;
+  // Kept passes are re-executions of what a capture says ran: skip conditions do not apply.
+  if (std::find(settings.keep.begin(), settings.keep.end(), decl.name) != settings.keep.end()) return;
+  compiled.reason = skip_reason(decl, frame, settings, compiled.params);
+  compiled.runs = compiled.reason.empty();
+  if (compiled.runs) use_known_inputs(compiled, settings, known, resources);
+}
+
+// The versions pass i reads, each with the position of the pass that wrote it.
+void bind_inputs(CompiledPass& compiled, int i, const Dependencies& deps,
+                 const std::map<std::string, ResourceDesc>& resources, const std::map<int, int>& position) {
+  for (const ResourceUse& in : compiled.decl->inputs) {
+    if (in.history && !deps.imported.count(previous(in.resource))) {
+      // Its description is the resource's, known once its writer is placed (describe_history_inputs).
+      compiled.inputs.push_back({previous(in.resource), in.use, false, true, {}, -1, in.range});
+      continue;
+    }
+    for (const std::string& r : deps.reads[i]) {
+      const bool matches =
+          in.prefix ? r.rfind(in.resource, 0) == 0 : r == (in.history ? previous(in.resource) : in.resource);
+      if (!matches) continue;
+      int w = deps.version_read_by(i, r);
+      compiled.inputs.push_back({r, in.use, false, in.history, resources.at(r), w < 0 ? -1 : position.at(w),
+                                 in.prefix ? Subresources{} : in.range});
     }
   }
-  for (const auto& [resource, list] : modifiers)
-    if (!fresh_writer.count(resource) && !imported.count(resource))
-      throw GraphError(passes[list.front()].name + ": modifies '" + resource + "' which nobody writes first");
+}
 
-  // Expand prefix reads against everything that exists.
-  std::set<std::string> all_names = imported;
-  for (const auto& [name, writer] : fresh_writer) all_names.insert(name);
-  std::vector<std::vector<std::string>> reads(n);
-  // History reads: the resource whose previous value each pass reads from the pool. They order
-  // nothing this frame; they keep the resource's writer running.
-  std::vector<std::vector<std::string>> history_reads(n);
-  std::vector<bool> clears_if_skipped(n, false);
-  const std::set<std::string> sinks(settings.sinks.begin(), settings.sinks.end());
-  for (int i = 0; i < n; ++i) {
-    // A modified output is read too: the pass starts from its previous version.
-    auto reads_resource = [&](const std::string& r) {
-      return std::any_of(passes[i].inputs.begin(), passes[i].inputs.end(),
-                         [&](const ResourceUse& in) { return !in.history && !in.prefix && in.resource == r; }) ||
-             std::any_of(passes[i].outputs.begin(), passes[i].outputs.end(),
-                         [&](const ResourceUse& out) { return out.modifies && out.resource == r; });
-    };
-    for (const PassDecl::UniformFold& fold : passes[i].uniform_folds)
-      for (const std::string& r : fold.inputs)
-        if (!reads_resource(r))
-          throw GraphError(passes[i].name + ": folds when '" + r + "' is uniform, but does not read it");
-    for (const PassDecl::ClearedSkip& skip : passes[i].cleared_skips)
-      for (const std::string& r : skip.inputs) {
-        if (!reads_resource(r))
-          throw GraphError(passes[i].name + ": skips when '" + r + "' is cleared, but does not read it");
-        // A CPU pass's empty list is known only once it has run, after the barriers are planned:
-        // a fresh output the pass would leave unwritten must be read by no pass that runs then.
-        if (fresh_writer.count(r) && passes[fresh_writer.at(r)].type == PassType::cpu)
-          for (const ResourceUse& out : passes[i].outputs)
-            if (!out.modifies) {
-              if (const std::string reader = reader_not_skipped_with(passes, i, skip, out.resource, sinks);
-                  !reader.empty())
-                throw GraphError(passes[i].name + ": skips when the CPU pass's '" + r + "' is empty, leaving '" +
-                                 out.resource + "' unwritten, but " + reader +
-                                 " reads it and does not skip on the same lists");
-              clears_if_skipped[i] = true;
-            }
-      }
-    for (const ResourceUse& in : passes[i].inputs) {
-      // A resource read in two ways (storage and index buffer, two mips) is one read.
-      auto add = [&](const std::string& name) {
-        if (std::find(reads[i].begin(), reads[i].end(), name) == reads[i].end()) reads[i].push_back(name);
-      };
-      if (in.history) {
-        if (imported.count(previous(in.resource))) {
-          add(previous(in.resource));
-        } else if (fresh_writer.count(in.resource)) {
-          // The pool keeps a CPU pass's output as bytes, which only a CPU pass reads.
-          if (passes[fresh_writer.at(in.resource)].type == PassType::cpu &&
-              (passes[i].type != PassType::cpu || in.use != Use::host))
-            throw GraphError(passes[i].name + ": reads the previous frame's '" + in.resource +
-                             "', a CPU pass's output, on the GPU (only a CPU pass reads a CPU pass's history)");
-          history_reads[i].push_back(in.resource);
-        } else {
-          throw GraphError(passes[i].name + ": reads the previous frame's '" + in.resource + "', which no pass writes");
-        }
-      } else if (in.prefix) {
-        for (const std::string& name : all_names)
-          if (name.rfind(in.resource, 0) == 0) add(name);
-      } else {
-        if (!all_names.count(in.resource))
-          throw GraphError(passes[i].name + ": reads '" + in.resource +
-                           "' which no pass writes and the scene does not supply");
-        add(in.resource);
-      }
+// What pass i writes: a fresh output with its description resolved (now the graph's), a
+// modified one with the version it starts from.
+void bind_outputs(CompiledPass& compiled, int i, const Dependencies& deps, CompiledGraph& graph,
+                  const std::map<int, int>& position) {
+  const PassDecl& decl = *compiled.decl;
+  for (const ResourceUse& out : decl.outputs) {
+    BoundUse bound{out.resource, out.use, out.modifies, false, {}, -1, out.range};
+    if (out.modifies) {
+      int w = deps.writer_before_modifier(out.resource, i);
+      bound.producer = w < 0 ? -1 : position.at(w);
+      bound.desc = graph.resources.at(out.resource);
+      // A modifier reads the previous version too: that is an input of the pass (once, when
+      // the pass also reads other subresources of it).
+      const bool read = std::any_of(compiled.inputs.begin(), compiled.inputs.end(),
+                                    [&](const BoundUse& in) { return in.resource == out.resource; });
+      if (!read) compiled.inputs.push_back(bound);
+      bound.producer = -1;
+    } else {
+      bound.desc = resolve(out, graph.settings, graph.resources, decl, compiled.params);
+      graph.resources[out.resource] = bound.desc;
     }
+    compiled.outputs.push_back(bound);
   }
+}
 
-  // The version a pass reads: plain readers see the last version; a modifier sees the one
-  // before it. Edges point from the writer of that version to the reader.
-  auto last_writer = [&](const std::string& resource) {
-    auto m = modifiers.find(resource);
-    if (m != modifiers.end()) return m->second.back();
-    auto f = fresh_writer.find(resource);
-    return f == fresh_writer.end() ? -1 : f->second;
-  };
-  auto writer_before_modifier = [&](const std::string& resource, int modifier) {
-    const std::vector<int>& list = modifiers[resource];
-    auto it = std::find(list.begin(), list.end(), modifier);
-    if (it == list.begin()) {
-      auto f = fresh_writer.find(resource);
-      return f == fresh_writer.end() ? -1 : f->second;
-    }
-    return *(it - 1);
-  };
-  // A pass that modifies a resource and also reads it (another mip, say) reads the version
-  // before its own.
-  auto version_read_by = [&](int reader, const std::string& resource) {
-    auto m = modifiers.find(resource);
-    if (m != modifiers.end() && std::find(m->second.begin(), m->second.end(), reader) != m->second.end())
-      return writer_before_modifier(resource, reader);
-    return last_writer(resource);
-  };
-  std::vector<std::set<int>> successors(n);
-  std::vector<int> indegree(n, 0);
-  auto add_edge = [&](int from, int to) {
-    if (from < 0 || from == to) return;
-    if (successors[from].insert(to).second) ++indegree[to];
-  };
-  for (int i = 0; i < n; ++i) {
-    for (const std::string& r : reads[i]) add_edge(version_read_by(i, r), i);
-    for (const ResourceUse& out : passes[i].outputs)
-      if (out.modifies) add_edge(writer_before_modifier(out.resource, i), i);
+// A fresh output starts at its declared clear value; what the pass writes is then unknown if
+// it runs, or the fold's value.
+void update_known_values(KnownValues& known, const CompiledPass& compiled,
+                         const std::map<std::string, ResourceDesc>& resources) {
+  const PassDecl& decl = *compiled.decl;
+  for (const ResourceUse& out : decl.outputs) {
+    const ResourceDesc& desc = resources.at(out.resource);
+    if (!out.modifies) known.set(out.resource, whole_range(desc), desc.clear);
+    auto folded = compiled.folded.find(out.resource);
+    if (compiled.runs)
+      known.forget(out.resource, resolve_range(out.range, desc, decl.name, out.resource));
+    else if (folded != compiled.folded.end())
+      known.set(out.resource, resolve_range(out.range, desc, decl.name, out.resource), folded->second);
   }
+}
 
-  // Kahn's algorithm; ties keep declaration (frame) order.
-  std::priority_queue<int, std::vector<int>, std::greater<>> ready;
-  for (int i = 0; i < n; ++i)
-    if (indegree[i] == 0) ready.push(i);
-  std::vector<int> order;
-  while (!ready.empty()) {
-    int i = ready.top();
-    ready.pop();
-    order.push_back(i);
-    for (int s : successors[i])
-      if (--indegree[s] == 0) ready.push(s);
-  }
-  if (static_cast<int>(order.size()) != n) {
-    std::string stuck;
-    for (int i = 0; i < n; ++i)
-      if (indegree[i] > 0) stuck += (stuck.empty() ? "" : ", ") + passes[i].name;
-    throw GraphError("render graph has a cycle through: " + stuck);
-  }
-
-  // Needed: passes that lead to a sink or are kept.
-  std::vector<bool> needed(n, false);
-  std::vector<int> stack;
-  auto need_writers_of = [&](const std::string& resource) {
-    int w = last_writer(resource);
-    if (w >= 0 && !needed[w]) {
-      needed[w] = true;
-      stack.push_back(w);
-    }
-  };
-  for (const std::string& sink : settings.sinks) need_writers_of(sink);
-  for (int i = 0; i < n; ++i)
-    if (std::find(settings.keep.begin(), settings.keep.end(), passes[i].name) != settings.keep.end() && !needed[i]) {
-      needed[i] = true;
-      stack.push_back(i);
-    }
-  while (!stack.empty()) {
-    int i = stack.back();
-    stack.pop_back();
-    auto need = [&](int w) {
-      if (w >= 0 && !needed[w]) {
-        needed[w] = true;
-        stack.push_back(w);
-      }
-    };
-    for (const std::string& r : reads[i]) need(version_read_by(i, r));
-    for (const std::string& r : history_reads[i]) need(last_writer(r));
-    for (const ResourceUse& out : passes[i].outputs)
-      if (out.modifies) need(writer_before_modifier(out.resource, i));
-  }
-
-  CompiledGraph graph;
-  graph.settings = settings;
-  for (const ImportedResource& r : imports) graph.resources[r.name] = r.desc;
+// Each pass in execution order, with what the passes before it decided.
+void compile_passes(CompiledGraph& graph, const Dependencies& deps, const std::vector<int>& order,
+                    const std::vector<bool>& needed) {
+  const GraphSettings& settings = graph.settings;
   SkipContext frame = settings.frame;
   frame.width = settings.width;
   frame.height = settings.height;
@@ -502,109 +399,28 @@ CompiledGraph compile_connected(const std::vector<PassDecl>& passes, const std::
   // its fold gave), until a pass that runs writes them.
   KnownValues known;
   for (int i : order) {
-    const PassDecl& decl = passes[i];
+    const PassDecl& decl = deps.passes[i];
     CompiledPass compiled;
     compiled.decl = &decl;
     compiled.params = resolve_params(decl, settings.params);
-    compiled.clears_if_skipped = clears_if_skipped[i];
+    compiled.clears_if_skipped = deps.clears_if_skipped[i];
     position[i] = static_cast<int>(graph.passes.size());
     if (!needed[i]) {
       compiled.culled = true;
       compiled.reason = "culled: no pass consumes its outputs";
-    } else if (std::find(settings.keep.begin(), settings.keep.end(), decl.name) != settings.keep.end()) {
-      // Kept passes are re-executions of what a capture says ran: skip conditions do not apply.
-      compiled.runs = true;
     } else {
-      compiled.runs = true;
-      for (const std::string& f : decl.features)
-        if (!settings.frame.features.count(f)) {
-          compiled.runs = false;
-          compiled.reason = "scene has no " + f;
-          break;
-        }
-      if (compiled.runs && !decl.disabled_reason.empty() && compiled.params.at("enabled") == 0) {
-        compiled.runs = false;
-        compiled.reason = decl.disabled_reason + " (" + override_key(decl, *decl.find_param("enabled")) + ".enabled=0)";
-      }
-      if (compiled.runs && decl.skip_if) {
-        compiled.reason = decl.skip_if(frame);
-        compiled.runs = compiled.reason.empty();
-      }
-      if (compiled.runs && !decl.cleared_skips.empty())
-        if (const auto* skip = decl.cleared_skip(cleared_resources(decl, known, graph.resources), compiled.params)) {
-          compiled.runs = false;
-          compiled.inputs_known = true;
-          compiled.reason = skip->reason();
-        }
-      // A NaN injected into its output would leave it uniform no longer.
-      const bool injected = std::any_of(settings.nan_injections.begin(), settings.nan_injections.end(),
-                                        [&](const NanInjection& nan) { return nan.pass == decl.name; });
-      if (compiled.runs && !injected)
-        for (const PassDecl::UniformFold& fold : decl.uniform_folds)
-          if (auto values = folded_outputs(decl, fold, known, graph.resources, compiled.params)) {
-            compiled.runs = false;
-            compiled.inputs_known = true;
-            compiled.reason = fold.reason();
-            compiled.folded = std::move(*values);
-            break;
-          }
-      if (compiled.runs)
-        for (const ResourceUse& in : decl.inputs)
-          if (!in.history && !in.prefix && known_over(known, in.resource, in.range, graph.resources))
-            compiled.uniform_inputs.insert(in.resource);
-    }
-    if (!compiled.culled) {
-      for (size_t k = 0; k < decl.inputs.size(); ++k) {
-        const ResourceUse& in = decl.inputs[k];
-        if (in.history && !imported.count(previous(in.resource))) {
-          // Its description is the resource's, known once its writer is placed (below).
-          compiled.inputs.push_back({previous(in.resource), in.use, false, true, {}, -1, in.range});
-          continue;
-        }
-        for (const std::string& r : reads[i]) {
-          const bool matches =
-              in.prefix ? r.rfind(in.resource, 0) == 0 : r == (in.history ? previous(in.resource) : in.resource);
-          if (!matches) continue;
-          int w = version_read_by(i, r);
-          compiled.inputs.push_back({r, in.use, false, in.history, graph.resources.at(r), w < 0 ? -1 : position.at(w),
-                                     in.prefix ? Subresources{} : in.range});
-        }
-      }
-      for (const ResourceUse& out : decl.outputs) {
-        BoundUse bound{out.resource, out.use, out.modifies, false, {}, -1, out.range};
-        if (out.modifies) {
-          int w = writer_before_modifier(out.resource, i);
-          bound.producer = w < 0 ? -1 : position.at(w);
-          bound.desc = graph.resources.at(out.resource);
-          // A modifier reads the previous version too: that is an input of the pass (once, when
-          // the pass also reads other subresources of it).
-          const bool read = std::any_of(compiled.inputs.begin(), compiled.inputs.end(),
-                                        [&](const BoundUse& in) { return in.resource == out.resource; });
-          if (!read) compiled.inputs.push_back(bound);
-          bound.producer = -1;
-        } else {
-          bound.desc = resolve(out, settings, graph.resources, decl, compiled.params);
-          graph.resources[out.resource] = bound.desc;
-        }
-        compiled.outputs.push_back(bound);
-      }
-    }
-    // A fresh output starts at its declared clear value; what the pass writes is then unknown if
-    // it runs, or the fold's value.
-    for (const ResourceUse& out : decl.outputs) {
-      if (compiled.culled) continue;
-      const ResourceDesc& desc = graph.resources.at(out.resource);
-      if (!out.modifies) known.set(out.resource, whole_range(desc), desc.clear);
-      auto folded = compiled.folded.find(out.resource);
-      if (compiled.runs)
-        known.forget(out.resource, resolve_range(out.range, desc, decl.name, out.resource));
-      else if (folded != compiled.folded.end())
-        known.set(out.resource, resolve_range(out.range, desc, decl.name, out.resource), folded->second);
+      decide_whether_runs(compiled, settings, frame, known, graph.resources);
+      bind_inputs(compiled, i, deps, graph.resources, position);
+      bind_outputs(compiled, i, deps, graph, position);
+      update_known_values(known, compiled, graph.resources);
     }
     graph.passes.push_back(std::move(compiled));
   }
-  // History inputs take the description of the resource they remember, known now that every
-  // writer is placed.
+}
+
+// History inputs take the description of the resource they remember, known now that every
+// writer is placed.
+void describe_history_inputs(CompiledGraph& graph, const std::set<std::string>& imported) {
   for (CompiledPass& pass : graph.passes)
     for (BoundUse& in : pass.inputs) {
       if (!in.history || imported.count(in.resource)) continue;
@@ -612,17 +428,34 @@ CompiledGraph compile_connected(const std::vector<PassDecl>& passes, const std::
       // is the kept bytes', known when the frame runs.
       in.desc = graph.resources[in.resource] = graph.resources.at(history_source(in.resource));
     }
-  // Only a pass that runs, or a fold's write, touches its ranges (a skipped pass clears whole
-  // fresh outputs): a level that does not exist at this output size may be skipped rather than
-  // be an error.
+}
+
+// Only a pass that runs, or a fold's write, touches its ranges (a skipped pass clears whole
+// fresh outputs): a level that does not exist at this output size may be skipped rather than
+// be an error.
+void resolve_ranges(CompiledGraph& graph) {
   for (CompiledPass& pass : graph.passes)
     for (auto* uses : {&pass.inputs, &pass.outputs})
       for (BoundUse& u : *uses)
         u.range = pass.runs || pass.folded.count(u.resource)
                       ? resolve_range(u.range, u.desc, pass.decl->name, u.resource)
                       : resolve_range({}, u.desc, pass.decl->name, u.resource);
+}
+
+CompiledGraph compile_connected(const std::vector<PassDecl>& passes, const std::vector<ImportedResource>& imports,
+                                const GraphSettings& settings) {
+  check_overrides(passes, settings.params);
+  const Dependencies deps(passes, imports, std::set<std::string>(settings.sinks.begin(), settings.sinks.end()));
+  const std::vector<int> order = execution_order(deps);
+  const std::vector<bool> needed = needed_passes(deps, settings);
+  CompiledGraph graph;
+  graph.settings = settings;
+  for (const ImportedResource& r : imports) graph.resources[r.name] = r.desc;
+  compile_passes(graph, deps, order, needed);
+  describe_history_inputs(graph, deps.imported);
+  resolve_ranges(graph);
   for (const NanInjection& nan : settings.nan_injections) check_nan_injection(graph, nan);
-  plan_synchronisation(graph, imported);
+  plan_synchronisation(graph, deps.imported);
   return graph;
 }
 
