@@ -11,11 +11,6 @@
 namespace nightcap {
 namespace {
 
-struct Version {
-  int writer = -1;  // declaration index; -1 imported
-  ResourceDesc desc;
-};
-
 // A size a pass's parameter gives (SizeRule::tile_param and square_param, ImageDecl::depth_param):
 // the parameter is declared an int from 1, or an enum of such values, so its checked value is one.
 uint32_t size_from_param(const PassDecl& pass, const ParamValues& params, const std::string& param,
