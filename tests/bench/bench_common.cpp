@@ -1,0 +1,92 @@
+// What the benchmarks share: the figures sink, medians and the clock, passes' times and inputs, spot lights in view.
+#include "tests/bench/bench_common.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <iostream>
+#include <memory>
+#include <random>
+#include <utility>
+
+namespace nc = nightcap;
+
+namespace nightcap::bench {
+
+bool g_json = false;
+std::map<std::string, double> g_figures;
+
+std::ostream& table() { return g_json ? std::cerr : std::cout; }
+
+void figure(const std::string& name, double value) { g_figures[name] = value; }
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  return values[values.size() / 2];
+}
+
+double now_ms() {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+nc::IsolatedInput image(VkFormat format, nc::ResourceKind kind, uint32_t w, uint32_t h, std::vector<uint8_t> bytes) {
+  nc::IsolatedInput in;
+  in.desc.format = format;
+  in.desc.kind = kind;
+  in.desc.extent.width = w;
+  in.desc.extent.height = h;
+  in.bytes = std::make_shared<const std::vector<uint8_t>>(std::move(bytes));
+  return in;
+}
+
+nc::IsolatedInput constants_input(const nc::GpuFrameConstants& constants) {
+  nc::IsolatedInput input;
+  input.desc.is_buffer = true;
+  input.desc.kind = nc::kinds::buffer;
+  input.desc.buffer_size = sizeof(constants);
+  auto bytes = std::make_shared<std::vector<uint8_t>>(sizeof(constants));
+  std::memcpy(bytes->data(), &constants, sizeof(constants));
+  input.bytes = bytes;
+  return input;
+}
+
+double gpu_ms(const nc::IsolatedRun& run) { return run.execution.passes.at(0).gpu_ms.value_or(0.0); }
+
+double frame_pass_ms(const nc::RenderedFrame& frame, const std::string& pass) {
+  for (size_t i = 0; i < frame.graph.passes.size(); ++i)
+    if (frame.graph.passes[i].decl->name == pass && frame.graph.passes[i].runs) {
+      const nc::PassExecution& exec = frame.execution.passes[i];
+      return exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms;
+    }
+  return 0.0;
+}
+
+void add_spots_in_view(nc::Scene& scene, uint32_t width, uint32_t height, int count) {
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  const nc::Camera camera = nc::base_camera(scene, settings);
+  const glm::dvec3 eye = glm::dvec3(camera.world[3]);
+  const double tan_x = std::tan(camera.yfov / 2) * width / height;
+  std::mt19937 rng{uint32_t(count)};
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int i = 0; i < count; ++i) {
+    const double depth = 10.0 + 50.0 * unit(rng);
+    const glm::dvec3 local((unit(rng) * 2 - 1) * tan_x * depth * 0.8, 0.0, -depth);
+    nc::Light spot;
+    spot.type = nc::LightType::spot;
+    spot.position = eye + glm::dvec3(camera.world * glm::dvec4(local, 0.0));
+    spot.position.y = 8.0;
+    spot.direction = glm::normalize(glm::vec3(glm::dvec3(camera.world * glm::dvec4(0.0, 0.0, -0.3, 0.0))) +
+                                    glm::vec3(0.0f, -1.0f, 0.0f));
+    spot.intensity = 2000.0f;
+    spot.range = 25.0f;
+    spot.inner_cone = 0.4f;
+    spot.outer_cone = 0.7f;
+    scene.lights.push_back(spot);
+  }
+}
+
+}  // namespace nightcap::bench

@@ -1,0 +1,50 @@
+// What the benchmarks share: the figures sink, medians and the clock, passes' times and inputs, spot lights in view.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <map>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "passes/assembly/renderer.h"
+#include "passes/core/isolated.h"
+#include "passes/core/resource_kind.h"
+#include "passes/frame/gpu_types.h"
+#include "passes/scene/scene.h"
+
+namespace nightcap::bench {
+
+// Tables for a person go to stdout; with --json they go to stderr and stdout carries only
+// {"figures": {NAME: NUMBER}}, every number of the tables under a stable name.
+extern bool g_json;
+extern std::map<std::string, double> g_figures;
+
+std::ostream& table();
+
+void figure(const std::string& name, double value);
+
+double median(std::vector<double> values);
+
+double now_ms();
+
+// An image input of a pass run on its own.
+IsolatedInput image(VkFormat format, ResourceKind kind, uint32_t w, uint32_t h, std::vector<uint8_t> bytes);
+
+// frame.constants as an input of a pass run on its own.
+IsolatedInput constants_input(const GpuFrameConstants& constants);
+
+// The GPU time of a pass run on its own, by timestamps; 0 without them.
+double gpu_ms(const IsolatedRun& run);
+
+// A pass's time in a frame: by timestamps on the GPU, on the clock for a CPU pass; 0 when it did
+// not run.
+double frame_pass_ms(const RenderedFrame& frame, const std::string& pass);
+
+// `count` spot lights 8 m up, pointing down and ahead, 25 m range, spread over the first 60 m of
+// the view of frame 0 (seeded): street lamps over the part of the scene the maps cover.
+void add_spots_in_view(Scene& scene, uint32_t width, uint32_t height, int count);
+
+}  // namespace nightcap::bench

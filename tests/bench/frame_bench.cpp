@@ -1,0 +1,192 @@
+// Whole frames, pass by pass: the built-in city, the glTF models, the 16 km map's shots, an empty scene.
+#include <cstdint>
+#include <cstring>
+#include <iomanip>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "passes/assembly/renderer.h"
+#include "passes/core/isolated.h"
+#include "passes/cull/cull_stats.h"
+#include "passes/cull/stage.h"
+#include "passes/frame/scene_resources.h"
+#include "passes/scene/scene.h"
+#include "tests/bench/bench_common.h"
+#include "tests/bench/benchmarks.h"
+
+namespace nc = nightcap;
+
+namespace nightcap::bench {
+
+// Per-pass medians over `repeats` frames, capture off, and the frame's GPU memory; with
+// `capture_figures`, frame time off/on and capture size too, and the unsuffixed figures.
+void bench_scene(nc::GpuDevice& gpu, const std::string& key, const std::string& label, nc::Scene scene, uint32_t width,
+                 uint32_t height, int repeats, bool capture_figures) {
+  nc::add_default_lighting(scene);
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  nc::Renderer renderer(gpu, scene, settings);
+  renderer.render_frame(0, false);  // pipelines compiled outside the measurement
+  std::map<std::string, std::vector<double>> pass_ms;
+  std::vector<std::string> order;
+  std::vector<double> frame_off, frame_on;
+  uint64_t memory = 0, memory_without_aliasing = 0;
+  for (int r = 0; r < repeats; ++r) {
+    double start = now_ms();
+    nc::RenderedFrame frame = renderer.render_frame(0, false);
+    frame_off.push_back(now_ms() - start);
+    memory = frame.execution.memory_bytes;
+    memory_without_aliasing = frame.execution.memory_bytes_without_aliasing;
+    for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
+      const std::string& name = frame.graph.passes[i].decl->name;
+      if (r == 0) order.push_back(name);
+      const auto& exec = frame.execution.passes[i];
+      if (!frame.graph.passes[i].runs) continue;
+      pass_ms[name].push_back(exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms);
+    }
+  }
+  table() << "\n## " << label << " (" << width << "x" << height << ", " << scene.indices.size() / 3 << " triangles, "
+          << scene.lights.size() << " lights; median of " << repeats << ")\n";
+  table() << std::left << std::setw(22) << "pass" << std::right << std::setw(12) << "ms"
+          << "\n";
+  for (const std::string& name : order) {
+    table() << std::left << std::setw(22) << name << std::right << std::setw(12);
+    if (pass_ms[name].empty())
+      table() << "skipped";
+    else
+      table() << std::fixed << std::setprecision(3) << median(pass_ms[name]);
+    table() << "\n";
+    if (!pass_ms[name].empty()) figure("pass_ms." + key + "." + name, median(pass_ms[name]));
+  }
+  figure("frame_ms." + key, median(frame_off));
+  table() << std::left << std::setw(22) << "frame (capture off)" << std::right << std::setw(12) << median(frame_off)
+          << "\n";
+  // Device memory of the frame's resources: transients sharing memory where their lifetimes
+  // allow, and each in its own.
+  const double mib = memory / 1048576.0, mib_apart = memory_without_aliasing / 1048576.0;
+  table() << std::left << std::setw(22) << "GPU memory (MiB)" << std::right << std::setw(12) << std::setprecision(1)
+          << mib << "  (" << mib_apart << " without aliasing)\n";
+  figure("peak_gpu_mib." + key, mib);
+  figure("peak_gpu_mib_no_aliasing." + key, mib_apart);
+  if (!capture_figures) return;
+  figure("peak_gpu_mib", mib);
+  figure("peak_gpu_mib_no_aliasing", mib_apart);
+  bench_capture_cost(renderer, settings, repeats);
+}
+
+// The built-in 16 km map, one shot at a time: cull.main alone (median of 5 runs on this
+// thread, so one core: hierarchy walk, occlusion raster, tests and sort), then frames of the
+// shot at the output size (the first one warms the pipelines; the camera walks), per pass.
+void bench_map(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height, int repeats,
+               bool frames) {
+  for (nc::Shot shot : {nc::Shot::street, nc::Shot::rooftop, nc::Shot::aerial}) {
+    const std::string name = nc::shot_name(shot);
+    const nc::Scene scene = nc::build_map({1, 16.0, shot});
+    const nc::Imports imports = nc::scene_imports(scene);
+    std::map<std::string, nc::IsolatedInput> inputs;
+    for (const char* resource :
+         {"scene.instances", "scene.meshes", "scene.hierarchy", "scene.materials", "scene.geometry", "scene.decals"})
+      inputs[resource] = {imports.at(resource).desc, imports.at(resource).bytes};
+    const nc::ImportedData camera =
+        nc::camera_import(*scene.camera, *scene.camera, width, height, 0, false).at("frame.camera");
+    inputs["frame.camera"] = {camera.desc, camera.bytes};
+    const nc::PassDecl cull = nc::cull_main_pass();
+    std::vector<double> cull_ms;
+    nc::CullStats stats{};
+    for (int r = 0; r < 5; ++r) {
+      nc::IsolatedRun run =
+          nc::run_isolated(gpu, cache, cull, inputs, cull.default_params(), width, height, nc::builtin_shaders());
+      cull_ms.push_back(run.execution.passes.at(0).cpu_ms);
+      std::memcpy(&stats, run.outputs.at("cull.stats")->data(), sizeof(stats));
+    }
+    table() << "\n## map " << name << " shot (16 km, " << scene.instances.size() << " instances)\n"
+            << "cull.main " << std::fixed << std::setprecision(3) << median(cull_ms)
+            << " ms (median of 5): " << stats.visible << " visible, " << stats.culled_frustum << " culled by frustum, "
+            << stats.culled_occlusion << " by occlusion, " << stats.culled_distance << " by distance; "
+            << stats.occluders << " occluders (" << stats.occluder_triangles << " triangles); "
+            << stats.draws_gbuffer + stats.draws_dynamic << " draws, "
+            << stats.triangles_gbuffer + stats.triangles_dynamic << " triangles; levels of detail "
+            << stats.lod_histogram[0] << "/" << stats.lod_histogram[1] << "/" << stats.lod_histogram[2] << "\n";
+    figure("cull_ms_" + name, median(cull_ms));
+    figure("instances_visible_" + name, stats.visible);
+    figure("triangles_" + name, stats.triangles_gbuffer + stats.triangles_dynamic);
+    figure("draws_" + name, stats.draws_gbuffer + stats.draws_dynamic);
+    if (!frames) continue;
+    nc::RenderSettings settings;
+    settings.width = width;
+    settings.height = height;
+    settings.frames = uint32_t(repeats) + 1;
+    nc::Renderer renderer(gpu, scene, settings);
+    renderer.render_frame(0, false);
+    std::map<std::string, std::vector<double>> pass_ms;
+    std::vector<std::string> order;
+    std::vector<double> frame_ms;
+    for (int r = 1; r <= repeats; ++r) {
+      const double start = now_ms();
+      nc::RenderedFrame frame = renderer.render_frame(uint32_t(r), false);
+      frame_ms.push_back(now_ms() - start);
+      for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
+        if (r == 1) order.push_back(frame.graph.passes[i].decl->name);
+        if (!frame.graph.passes[i].runs) continue;
+        const auto& exec = frame.execution.passes[i];
+        pass_ms[frame.graph.passes[i].decl->name].push_back(exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms);
+      }
+    }
+    table() << "frames at " << width << "x" << height << " (" << scene.lights.size() << " lights; median of " << repeats
+            << ")\n";
+    for (const std::string& pass : order) {
+      table() << std::left << std::setw(22) << pass << std::right << std::setw(12);
+      if (pass_ms[pass].empty())
+        table() << "skipped";
+      else
+        table() << std::fixed << std::setprecision(3) << median(pass_ms[pass]);
+      table() << "\n";
+      if (!pass_ms[pass].empty()) figure("pass_ms.map_" + name + "." + pass, median(pass_ms[pass]));
+    }
+    table() << std::left << std::setw(22) << "frame" << std::right << std::setw(12) << median(frame_ms) << "\n";
+    figure("frame_ms_" + name, median(frame_ms));
+  }
+}
+
+// An empty scene (no mesh, no light): what a frame costs when there is nothing to draw. The
+// second frame is measured (frame 0 compiles the pipelines); each repeat renders the next frame,
+// the camera walking, with the history of the one before.
+void bench_empty(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) {
+  const nc::Scene scene;
+  nc::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  nc::Renderer renderer(gpu, scene, settings);
+  std::vector<double> frame_ms;
+  std::map<std::string, std::vector<double>> pass_ms;
+  std::vector<std::string> order;
+  for (int r = 0; r <= repeats; ++r) {
+    const double start = now_ms();
+    const nc::RenderedFrame frame = renderer.render_frame(uint32_t(r), false);
+    if (r == 0) continue;
+    frame_ms.push_back(now_ms() - start);
+    for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
+      const nc::CompiledPass& pass = frame.graph.passes[i];
+      if (r == 1) order.push_back(pass.decl->name + (pass.runs ? "" : " (skipped: " + pass.reason + ")"));
+      if (!pass.runs) continue;
+      const auto& exec = frame.execution.passes[i];
+      pass_ms[pass.decl->name].push_back(exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms);
+    }
+  }
+  table() << "\n## empty scene at " << width << "x" << height << " (frames 1.." << repeats << ", median)\n";
+  for (const std::string& line : order) {
+    const std::string pass = line.substr(0, line.find(' '));
+    table() << std::left << std::setw(22) << pass << std::right << std::setw(12);
+    if (pass_ms[pass].empty())
+      table() << line.substr(pass.size() + 1);
+    else
+      table() << std::fixed << std::setprecision(3) << median(pass_ms[pass]);
+    table() << "\n";
+  }
+  table() << std::left << std::setw(22) << "frame" << std::right << std::setw(12) << median(frame_ms) << "\n";
+  figure("frame_ms_empty", median(frame_ms));
+}
+
+}  // namespace nightcap::bench
