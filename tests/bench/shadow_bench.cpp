@@ -90,8 +90,7 @@ void bench_shadows(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repe
           << "\n";
   for (int resolution : {512, 1024, 2048}) {
     for (int radius : {0, 1, 2, 3}) {
-      settings.params["shadow.cull"]["resolution"] = resolution;
-      settings.params["shadow.cascades_static"]["resolution"] = resolution;
+      settings.params["shadow"]["resolution"] = resolution;  // shared by the cascades' passes
       settings.params["shadow.sun_resolve"]["filter_radius"] = radius;
       nc::Renderer renderer(gpu, city, settings);
       std::vector<double> cascades, resolve;
