@@ -26,6 +26,7 @@
 #include "passes/core/contract.h"
 #include "passes/core/format.h"
 #include "passes/core/params.h"
+#include "passes/core/pass_time.h"
 #include "passes/core/resource_kind.h"
 
 namespace nightcap {
@@ -83,10 +84,15 @@ struct InjectedNanRecord {
 
 struct PassRecord {
   std::string name;
+  std::string stage;  // PassDecl::stage; empty in captures made before stages were recorded
   bool ran = false;
   std::string reason;            // why it was skipped
-  std::optional<double> gpu_ms;  // null for CPU passes and skipped ones
+  std::optional<double> gpu_ms;  // the device's timestamps; null for CPU passes and skipped ones
   double cpu_ms = 0.0;
+  // The pass's time as the tools show it, measured by `clock` (ExecutionOptions::pass_timing):
+  // on a CPU device the timestamps absorb other work, so a pass is timed alone there.
+  double time_ms = 0.0;
+  PassClock clock = PassClock::host;
   std::map<std::string, double> params;
   // How each parameter is declared: its type, range or choices and group (not its help); absent
   // in captures made before parameters had types.
@@ -111,7 +117,10 @@ struct FrameRecord {
   uint32_t width = 0, height = 0;  // output size the graph resolved relative sizes against
   std::vector<std::string> sinks;  // resources the frame had to produce
   double time = 0.0;               // seconds since frame 0
-  bool camera_cut = false;         // the view jumped here: every history restarted
+  // The host's wall clock from the frame's first command to its last result (execute_graph);
+  // absent in captures made before it was recorded.
+  std::optional<double> wall_ms;
+  bool camera_cut = false;  // the view jumped here: every history restarted
   // History resources that started from their initial value in this frame, and why.
   std::map<std::string, std::string> history_reset;
   CameraRecord camera;

@@ -227,9 +227,12 @@ json to_json(const CaptureManifest& m) {
     json passes = json::array();
     for (const PassRecord& p : f.passes) {
       json pass = {{"name", p.name}, {"status", p.ran ? "ran" : "skipped"}};
+      if (!p.stage.empty()) pass["stage"] = p.stage;
       if (!p.ran) pass["reason"] = p.reason;
       pass["gpu_ms"] = p.gpu_ms ? json(*p.gpu_ms) : json(nullptr);
       pass["cpu_ms"] = p.cpu_ms;
+      pass["time_ms"] = p.time_ms;
+      pass["clock"] = pass_clock_name(p.clock);
       pass["params"] = p.params;
       if (!p.param_types.empty()) {
         json types = json::object();
@@ -268,6 +271,7 @@ json to_json(const CaptureManifest& m) {
                       {"output", {{"width", f.width}, {"height", f.height}}},
                       {"sinks", f.sinks},
                       {"time", f.time},
+                      {"wall_ms", f.wall_ms ? json(*f.wall_ms) : json(nullptr)},
                       {"camera_cut", f.camera_cut},
                       {"history_reset", f.history_reset},
                       {"camera",
@@ -339,6 +343,8 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
     for (const std::string& sink : f.sinks)
       if (!safe_name(sink)) fail(file, fw, "bad sink name");
     f.time = field<double>(frames[fi], "time", file, fw);
+    if (frames[fi].contains("wall_ms") && !frames[fi].at("wall_ms").is_null())
+      f.wall_ms = field<double>(frames[fi], "wall_ms", file, fw);
     f.camera_cut = field<bool>(frames[fi], "camera_cut", file, fw);
     f.history_reset = field<std::map<std::string, std::string>>(frames[fi], "history_reset", file, fw);
     for (const auto& [resource, reason] : f.history_reset)
@@ -370,8 +376,21 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
       if (status != "ran" && status != "skipped") fail(file, pw, "status must be ran or skipped");
       p.ran = status == "ran";
       p.reason = pj.value("reason", "");
+      if (pj.contains("stage")) {
+        p.stage = field<std::string>(pj, "stage", file, pw);
+        if (!safe_name(p.stage)) fail(file, pw, "bad stage name");
+      }
       if (pj.contains("gpu_ms") && !pj.at("gpu_ms").is_null()) p.gpu_ms = field<double>(pj, "gpu_ms", file, pw);
       p.cpu_ms = pj.value("cpu_ms", 0.0);
+      // Captures made before pass times had a clock were timed by the device's timestamps.
+      p.clock = p.gpu_ms ? PassClock::device : PassClock::host;
+      p.time_ms = p.gpu_ms.value_or(p.cpu_ms);
+      if (pj.contains("clock")) {
+        const auto clock = pass_clock_from_name(field<std::string>(pj, "clock", file, pw));
+        if (!clock) fail(file, pw, "\"clock\" must be device, host-alone or host");
+        p.clock = *clock;
+        p.time_ms = field<double>(pj, "time_ms", file, pw);
+      }
       try {
         p.params = pj.value("params", json::object()).get<std::map<std::string, double>>();
       } catch (const json::exception&) {

@@ -71,7 +71,8 @@ nc::RenderMonitor render_monitor() {
 }
 
 struct RenderFlags {
-  std::string scene_path, out, size = "1280x720", device, orbit, target, codec = "auto", motion = "walk", record, shot;
+  std::string scene_path, out, size = "1280x720", device, orbit, target, codec = "auto", motion = "walk", record, shot,
+                               pass_times = "auto";
   uint32_t frames = 1, seed = 1;
   double map_size = 0.0;  // 0: not given
   double fov = 45.0;
@@ -111,6 +112,11 @@ int run_render(const RenderFlags& flags) {
                        "': expected auto, none, rle, zips, zip, piz or pxr24 (zip1 … zip9: a zlib level)");
   }
   std::tie(settings.width, settings.height) = parse_size(size);
+  if (flags.pass_times != "auto") {
+    settings.pass_timing = nc::pass_timing_from_name(flags.pass_times);
+    if (!settings.pass_timing)
+      throw UsageError("--pass-times '" + flags.pass_times + "': expected auto, alone or overlapped");
+  }
   if (frames < 1 || frames > 1000) throw UsageError("--frames " + std::to_string(frames) + ": expected 1 to 1000");
   settings.frames = frames;
   settings.path.motion = nc::CameraPath::parse_motion(flags.motion);
@@ -176,7 +182,8 @@ int run_render(const RenderFlags& flags) {
                           {"target", target},
                           {"fov", fov},
                           {"codec", codec},
-                          {"inject_nan", flags.inject_nan}};
+                          {"inject_nan", flags.inject_nan},
+                          {"pass_times", flags.pass_times}};
   if (flags.hour) settings.description["hour"] = *flags.hour;
   if (!flags.tod.empty()) settings.description["tod"] = flags.tod;
   nc::GpuDevice gpu({flags.device, validation_requested()});
@@ -258,6 +265,12 @@ Command add_render_command(CLI::App& app) {
   render->add_option("--inject-nan", r.inject_nan,
                      "PASS:X,Y: after PASS runs, write a NaN into its first float output at output pixel (X, Y), "
                      "to test `inspect` (nan) and the passes after it (repeatable, one per pass)");
+  render
+      ->add_option("--pass-times", r.pass_times,
+                   "how pass times are measured: alone (each GPU pass submitted by itself, timed by the host's "
+                   "clock; encoding waits for the frame), overlapped (the device's timestamps, the frame as a whole) "
+                   "or auto (alone on a CPU device such as lavapipe, overlapped on a GPU)")
+      ->capture_default_str();
   render->add_flag("--force", r.force, "replace an existing capture");
   return {render, [flags] { return run_render(*flags); }};
 }

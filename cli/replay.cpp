@@ -35,6 +35,10 @@ int run_replay(const std::string& path, uint32_t frame, const std::vector<std::s
     for (const nc::PassReplay& p : report.passes) {
       nlohmann::json pass = {{"name", p.name}, {"replayed", p.replayed}, {"notes", p.notes}};
       if (!p.replayed) pass["reason"] = p.reason;
+      if (p.replayed) {
+        pass["time_ms"] = p.time_ms;
+        pass["clock"] = nc::pass_clock_name(p.clock);
+      }
       pass["gpu_ms"] = p.gpu_ms ? nlohmann::json(*p.gpu_ms) : nlohmann::json(nullptr);
       pass["cpu_ms"] = p.cpu_ms;
       if (verify) {
@@ -66,7 +70,8 @@ int run_replay(const std::string& path, uint32_t frame, const std::vector<std::s
         std::cout << "not replayed: " << p.reason << "\n";
         continue;
       }
-      std::cout << "gpu " << ms(p.gpu_ms) << " ms, cpu " << ms(p.cpu_ms) << " ms\n";
+      std::cout << ms(p.time_ms) << " ms (" << nc::pass_clock_name(p.clock) << " clock; gpu timestamps " << ms(p.gpu_ms)
+                << " ms)\n";
       for (const std::string& note : p.notes) std::cout << "      note: " << note << "\n";
       if (!verify) continue;
       for (const nc::OutputCheck& o : p.outputs) {

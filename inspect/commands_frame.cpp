@@ -1,5 +1,6 @@
 // `passes`, `goto`, `next`, `prev`, `frame`, `info`, `pipeline` and `shader`: the frame, its passes
 // and what the current one read, wrote and bound.
+#include <algorithm>
 #include <iomanip>
 
 #include "inspect/command_runner.h"
@@ -14,6 +15,8 @@ void Runner::passes(const CommandSpec& spec, const Arguments& args) {
   for (const PassRecord& p : frame.passes) {
     ojson pass = {{"name", p.name}, {"status", p.ran ? "ran" : "skipped"}};
     if (!p.ran) pass["reason"] = p.reason;
+    pass["time_ms"] = p.time_ms;
+    pass["clock"] = pass_clock_name(p.clock);
     pass["gpu_ms"] = p.gpu_ms ? ojson(*p.gpu_ms) : ojson(nullptr);
     pass["cpu_ms"] = p.cpu_ms;
     ojson outputs = ojson::array();
@@ -23,11 +26,14 @@ void Runner::passes(const CommandSpec& spec, const Arguments& args) {
   }
   if (json_) return emit({{"frame", frame.index}, {"current", session_.pass().name}, {"passes", list}});
   out_ << "frame " << frame.index << "\n";
+  size_t name_width = 20;
+  for (const PassRecord& p : frame.passes) name_width = std::max(name_width, p.name.size() + 1);
   for (size_t i = 0; i < frame.passes.size(); ++i) {
     const PassRecord& p = frame.passes[i];
-    out_ << (i == session_.pass_index() ? "> " : "  ") << std::left << std::setw(20) << p.name << std::setw(9)
-         << (p.ran ? "ran" : "skipped") << std::right << std::setw(10) << format_ms(p.gpu_ms) << std::setw(10)
-         << format_ms(p.cpu_ms) << "  ";
+    out_ << (i == session_.pass_index() ? "> " : "  ") << std::left << std::setw(int(name_width)) << p.name
+         << std::setw(9) << (p.ran ? "ran" : "skipped") << std::right << std::setw(10)
+         << (p.ran ? format_ms(p.time_ms) : std::string("-")) << " ms  " << std::left << std::setw(11)
+         << (p.ran ? pass_clock_name(p.clock) : "") << std::right;
     if (!p.ran) out_ << "(" << p.reason << ") ";
     for (const ResourceRecord& r : p.outputs) out_ << r.resource << " ";
     out_ << "\n";
@@ -61,6 +67,7 @@ void Runner::frame(const CommandSpec& spec, const Arguments& args) {
   if (json_) {
     ojson j = where();
     j["time"] = f.time;
+    j["wall_ms"] = f.wall_ms ? ojson(*f.wall_ms) : ojson(nullptr);
     j["camera_cut"] = f.camera_cut;
     j["width"] = f.width;
     j["height"] = f.height;
@@ -77,6 +84,8 @@ void Runner::info(const CommandSpec& spec, const Arguments& args) {
   ojson j = where();
   j["status"] = p.ran ? "ran" : "skipped";
   if (!p.ran) j["reason"] = p.reason;
+  j["time_ms"] = p.time_ms;
+  j["clock"] = pass_clock_name(p.clock);
   j["gpu_ms"] = p.gpu_ms ? ojson(*p.gpu_ms) : ojson(nullptr);
   j["cpu_ms"] = p.cpu_ms;
   j["params"] = p.params;
@@ -86,7 +95,9 @@ void Runner::info(const CommandSpec& spec, const Arguments& args) {
   for (const ResourceRecord& r : p.outputs) j["outputs"].push_back(resource_json(r, true));
   if (json_) return emit(j);
   show_current();
-  out_ << "  gpu " << format_ms(p.gpu_ms) << " ms, cpu " << format_ms(p.cpu_ms) << " ms\n";
+  if (p.ran)
+    out_ << "  " << format_ms(p.time_ms) << " ms by the " << pass_clock_name(p.clock) << " clock; gpu timestamps "
+         << format_ms(p.gpu_ms) << " ms, cpu " << format_ms(p.cpu_ms) << " ms\n";
   for (const auto& [name, value] : p.params) {
     out_ << "  param " << name << " = " << value;
     for (const ParamDecl& type : p.param_types)

@@ -152,13 +152,18 @@ void Runner::replay(const CommandSpec& spec, const Arguments& args) {
   }
   ojson j = where();
   j["device"] = report.device;
+  j["time_ms"] = result.time_ms;
+  j["clock"] = pass_clock_name(result.clock);
+  j["recorded_time_ms"] = pass.time_ms;
+  j["recorded_clock"] = pass_clock_name(pass.clock);
   j["gpu_ms"] = result.gpu_ms ? ojson(*result.gpu_ms) : ojson(nullptr);
   j["recorded_gpu_ms"] = pass.gpu_ms ? ojson(*pass.gpu_ms) : ojson(nullptr);
   j["notes"] = result.notes;
   j["outputs"] = outputs;
   if (json_) return emit(j);
-  out_ << "replayed " << pass.name << " on " << report.device << ": gpu " << format_ms(result.gpu_ms)
-       << " ms (recorded " << format_ms(pass.gpu_ms) << " ms)\n";
+  out_ << "replayed " << pass.name << " on " << report.device << ": " << format_ms(result.time_ms) << " ms by the "
+       << pass_clock_name(result.clock) << " clock (recorded " << format_ms(pass.time_ms) << " ms by the "
+       << pass_clock_name(pass.clock) << " clock)\n";
   for (const std::string& note : result.notes) out_ << "  note: " << note << "\n";
   for (const ojson& o : outputs) {
     out_ << "  " << std::left << std::setw(24) << o["resource"].get<std::string>();

@@ -94,7 +94,7 @@ class FrameGraph {
     const std::string node = "p" + std::to_string(index);
     const std::string heading = std::to_string(index) + ". " + pass.name;
     if (pass.ran) {
-      const std::string time = pass.gpu_ms ? "GPU " + milliseconds(*pass.gpu_ms) : "CPU " + milliseconds(pass.cpu_ms);
+      const std::string time = milliseconds(pass.time_ms) + " (" + std::string(pass_clock_name(pass.clock)) + ")";
       out_ << "  " << node << " [shape=box, style=\"bold\", label=" << label({heading, "ran, " + time}) << "];\n";
     } else {
       out_ << "  " << node << " [shape=box, style=\"dashed\", color=\"grey55\", fontcolor=\"grey40\", label="

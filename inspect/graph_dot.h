@@ -8,7 +8,7 @@
 
 namespace nightcap {
 
-// One node per pass (name, status, GPU or CPU time; skipped and culled ones dashed and grey with
+// One node per pass (name, status, its time and clock; skipped and culled ones dashed and grey with
 // their reason) and one per resource version (name, format and size or buffer bytes, content
 // hash), with edges writer → version → readers. A history input (previous(name)) is a blue
 // dashed node saying whether it came from the previous frame or is the initial value (and why),

@@ -216,6 +216,8 @@ ReplayReport replay_capture(GpuDevice& gpu, const Capture& capture, const Replay
     result.replayed = true;
     result.gpu_ms = execution.passes.at(0).gpu_ms;
     result.cpu_ms = execution.passes.at(0).cpu_ms;
+    result.time_ms = execution.passes.at(0).time_ms;
+    result.clock = execution.passes.at(0).clock;
     result.outputs = check_outputs(capture, record, execution, &replayed_by_recorded_hash);
     report.passes.push_back(std::move(result));
   }
@@ -246,6 +248,8 @@ PassReplay replay_across(GpuDevice& gpu, const Capture& a, const Capture& b, uin
   result.replayed = true;
   result.gpu_ms = run.execution.passes.at(0).gpu_ms;
   result.cpu_ms = run.execution.passes.at(0).cpu_ms;
+  result.time_ms = run.execution.passes.at(0).time_ms;
+  result.clock = run.execution.passes.at(0).clock;
   result.outputs = check_outputs(a, *record_a, run.execution, nullptr);
   return result;
 }

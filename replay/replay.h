@@ -45,6 +45,8 @@ struct PassReplay {
   std::string reason;  // why not replayed
   std::optional<double> gpu_ms;
   double cpu_ms = 0.0;
+  double time_ms = 0.0;  // PassExecution::time_ms of the replay, by `clock`
+  PassClock clock = PassClock::host;
   std::vector<OutputCheck> outputs;
   std::vector<std::string> notes;  // e.g. shader overridden
 };

@@ -57,6 +57,27 @@ void resource_figure(std::ostream& html, const ResourceRecord& r, const Thumbnai
   html << "</figcaption></figure>\n";
 }
 
+// The id of a pass's section: its index in the frame (a pass name is not a safe id).
+std::string pass_anchor(const FrameRecord& frame, const std::string& name) {
+  for (size_t i = 0; i < frame.passes.size(); ++i)
+    if (frame.passes[i].name == name) return "pass-" + std::to_string(i);
+  return "";
+}
+
+// What the passes' times add up to against the frame's wall clock, and what the difference is.
+std::string timings_summary(const FrameRecord& frame) {
+  std::ostringstream html;
+  const double sum = pass_time_sum(frame);
+  html << "<p>The passes that ran add up to <b>" << format_number(sum, 3) << " ms</b>";
+  if (frame.wall_ms)
+    html << " of the frame's " << format_number(*frame.wall_ms, 3) << " ms on the host's wall clock; the other "
+         << format_number(std::max(0.0, *frame.wall_ms - sum), 3)
+         << " ms recorded commands, created pipelines on their first use, ran barriers and clears, and copied what "
+            "the capture keeps back to the host";
+  html << ".</p>\n";
+  return html.str();
+}
+
 void pass_section(std::ostream& html, size_t index, const PassRecord& p, const Capture& capture,
                   const ThumbnailSet& thumbnails, std::map<std::string, std::string>& sources) {
   html << "<section class=\"pass" << (p.ran ? "" : " skipped") << "\" id=\"pass-" << index << "\" data-pass=\""
@@ -65,8 +86,11 @@ void pass_section(std::ostream& html, size_t index, const PassRecord& p, const C
   if (!p.ran)
     html << "not run: " << escape_markup(p.reason);
   else
-    html << (p.gpu_ms ? "GPU " + format_number(*p.gpu_ms, 3) + " ms"
-                      : "CPU pass, " + format_number(p.cpu_ms, 3) + " ms");
+    html << (p.gpu_ms ? "GPU pass, " : "CPU pass, ") << format_number(p.time_ms, 3) << " ms ("
+         << pass_clock_name(p.clock) << " clock)"
+         << (p.gpu_ms && p.clock != PassClock::device
+                 ? "; the device's timestamps " + format_number(*p.gpu_ms, 3) + " ms"
+                 : "");
   if (p.injected_nan)
     html << " · NaN injected into " << escape_markup(p.injected_nan->resource) << " at (" << p.injected_nan->x << ", "
          << p.injected_nan->y << ")";
@@ -121,14 +145,12 @@ void write_capture_report(const Capture& capture, const fs::path& folder, const 
        << "<header>\n<h1>Capture <span class=\"name\">" << escape_markup(capture_name) << "</span>, frame "
        << frame.index << "</h1>\n";
   size_t ran = 0;
-  double gpu_total = 0.0;
-  for (const PassRecord& p : frame.passes) {
-    ran += p.ran;
-    gpu_total += p.gpu_ms.value_or(0.0);
-  }
+  for (const PassRecord& p : frame.passes) ran += p.ran;
   html << "<p class=\"summary\">" << frame.width << "×" << frame.height << " · " << frame.passes.size() << " passes, "
-       << ran << " run, " << frame.passes.size() - ran << " skipped or culled · GPU " << format_number(gpu_total, 3)
-       << " ms · frames recorded:";
+       << ran << " run, " << frame.passes.size() - ran << " skipped or culled · passes "
+       << format_number(pass_time_sum(frame), 3) << " ms";
+  if (frame.wall_ms) html << " of the frame's " << format_number(*frame.wall_ms, 3) << " ms wall clock";
+  html << " · frames recorded:";
   for (const FrameRecord& f : m.frames) html << " " << f.index;
   html << (frame.camera_cut ? " · camera cut in this frame" : "") << "</p>\n<div class=\"fact-tables\">\n";
   fact_table(html, "Scene", m.scene);
@@ -144,7 +166,9 @@ void write_capture_report(const Capture& capture, const fs::path& folder, const 
        << "<a href=\"graph.svg\"><img class=\"graph\" src=\"graph.svg\" alt=\"render graph of frame " << frame.index
        << "\"></a>\n</section>\n"
        << "<section id=\"timings\"><h2>Timings</h2>\n"
-       << timing_chart_svg(frame) << "</section>\n"
+       << timings_summary(frame) << timing_chart_svg(frame)
+       << frame_times_table(m, frame, [&](const std::string& name) { return pass_anchor(frame, name); })
+       << "</section>\n"
        << "<section id=\"not-run\"><h2>Skipped and culled passes</h2>\n";
   if (ran == frame.passes.size())
     html << "<p>Every pass ran.</p>\n";

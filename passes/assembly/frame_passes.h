@@ -19,11 +19,14 @@ enum class FrameLighting { tiled, deferred };
 // stages below, and the names of what flows between them. A frame assembled otherwise (a pass
 // put between two stages) calls the stages itself.
 std::vector<PassDecl> frame_passes(FrameLighting lighting = FrameLighting::tiled);
-// Frame constants, culling, shadows, depth, G-buffer, decals, light lists and the sun's shadow.
+// Each function adds a stage (PassDecl::stage) or two.
+// Frame constants and culling ("setup"), shadow maps ("shadows"), depth, G-buffer, decals and
+// what is derived from them ("geometry").
 void add_scene_passes(std::vector<PassDecl>& passes);
-// Diffuse and specular light, and lighting.composite's lit colour, lighting.lit.
+// "lighting": light lists, the sun's shadow mask, diffuse and specular light, and
+// lighting.composite's lit colour, lighting.lit.
 void add_lighting_passes(std::vector<PassDecl>& passes, FrameLighting lighting);
-// Bloom, exposure and tonemap, reading the HDR colour `lit`; tonemap writes final.ldr.
+// "post": bloom, exposure and tonemap, reading the HDR colour `lit`; tonemap writes final.ldr.
 void add_post_passes(std::vector<PassDecl>& passes, const std::string& lit);
 // Every pass a frame of either lighting runs: where replay finds a recorded pass's declaration.
 std::vector<PassDecl> all_passes();

@@ -19,47 +19,46 @@ std::vector<std::string> frame_sinks() {
           "lights.cluster_stats"};
 }
 
+namespace {
+
+// Appends `stage_passes`, in order, as part of `stage`.
+void add_stage(std::vector<PassDecl>& passes, const char* stage, std::vector<PassDecl> stage_passes) {
+  for (PassDecl& pass : stage_passes) {
+    pass.stage = stage;
+    passes.push_back(std::move(pass));
+  }
+}
+
+}  // namespace
+
 void add_scene_passes(std::vector<PassDecl>& passes) {
-  passes.push_back(frame_constants_pass());
-  passes.push_back(cull_main_pass());
-  passes.push_back(shadow_distant_plan_pass());
-  passes.push_back(shadow_distant_pass());
-  passes.push_back(shadow_cull_pass());
-  passes.push_back(shadow_cascades_static_pass());
-  passes.push_back(shadow_cascades_pass());
-  passes.push_back(shadow_local_plan_pass());
-  passes.push_back(shadow_local_static_pass());
-  passes.push_back(shadow_local_pass());
-  passes.push_back(shadow_local_moments_pass());
-  passes.push_back(depth_prepass_pass());
-  passes.push_back(gbuffer_opaque_pass());
-  passes.push_back(gbuffer_dynamic_pass());
-  passes.push_back(decals_normal_copy_pass());
-  passes.push_back(decals_mesh_pass());
-  passes.push_back(decals_projected_pass());
-  passes.push_back(depth_convert_pass());
-  passes.push_back(motion_stencil_pass());
-  passes.push_back(normals_bfn_lut_pass());
-  passes.push_back(normals_pack_pass());
-  passes.push_back(depth_pyramid_pass());
-  passes.push_back(lights_cluster_pass());
-  passes.push_back(shadow_sun_resolve_pass());
+  add_stage(passes, "setup", {frame_constants_pass(), cull_main_pass()});
+  add_stage(passes, "shadows",
+            {shadow_distant_plan_pass(), shadow_distant_pass(), shadow_cull_pass(), shadow_cascades_static_pass(),
+             shadow_cascades_pass(), shadow_local_plan_pass(), shadow_local_static_pass(), shadow_local_pass(),
+             shadow_local_moments_pass()});
+  add_stage(passes, "geometry",
+            {depth_prepass_pass(), gbuffer_opaque_pass(), gbuffer_dynamic_pass(), decals_normal_copy_pass(),
+             decals_mesh_pass(), decals_projected_pass(), depth_convert_pass(), motion_stencil_pass(),
+             normals_bfn_lut_pass(), normals_pack_pass(), depth_pyramid_pass()});
 }
 
 void add_lighting_passes(std::vector<PassDecl>& passes, FrameLighting lighting) {
-  if (lighting == FrameLighting::tiled) {
-    passes.push_back(lighting_ltc_table_pass());
-    passes.push_back(lighting_tiled_pass());
-  } else {
-    passes.push_back(lighting_deferred_pass());
-  }
-  passes.push_back(lighting_composite_pass());
+  // The light lists and the sun's shadow mask are read by lighting alone.
+  add_stage(passes, "lighting", {lights_cluster_pass(), shadow_sun_resolve_pass()});
+  if (lighting == FrameLighting::tiled)
+    add_stage(passes, "lighting", {lighting_ltc_table_pass(), lighting_tiled_pass()});
+  else
+    add_stage(passes, "lighting", {lighting_deferred_pass()});
+  add_stage(passes, "lighting", {lighting_composite_pass()});
 }
 
 void add_post_passes(std::vector<PassDecl>& passes, const std::string& lit) {
-  for (uint32_t level = 0; level < kBloomLevels; ++level) passes.push_back(bloom_level_pass(level, lit));
-  passes.push_back(exposure_pass(lit));
-  passes.push_back(tonemap_pass(lit));
+  std::vector<PassDecl> post;
+  for (uint32_t level = 0; level < kBloomLevels; ++level) post.push_back(bloom_level_pass(level, lit));
+  post.push_back(exposure_pass(lit));
+  post.push_back(tonemap_pass(lit));
+  add_stage(passes, "post", std::move(post));
 }
 
 std::vector<PassDecl> frame_passes(FrameLighting lighting) {
@@ -73,7 +72,7 @@ std::vector<PassDecl> frame_passes(FrameLighting lighting) {
 
 std::vector<PassDecl> all_passes() {
   std::vector<PassDecl> passes = frame_passes(FrameLighting::tiled);
-  passes.push_back(lighting_deferred_pass());
+  add_stage(passes, "lighting", {lighting_deferred_pass()});
   return passes;
 }
 

@@ -242,6 +242,9 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture, CaptureWriter
   options.shaders = shaders_;
   options.history = &history_;
   options.alias_memory = settings_.alias_memory;
+  options.pass_timing = pass_timing();
+  // No encoding of earlier frames may run beside a pass timed alone.
+  if (capture && writer && options.pass_timing == PassTiming::alone) writer->flush();
   if (capture && writer)
     options.on_read_back = [writer](const VersionData& version) {
       ResourceRecord record = describe(version);
@@ -271,6 +274,7 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
   record.height = frame.graph.settings.height;
   record.sinks = frame.graph.settings.sinks;
   record.time = frame.time;
+  record.wall_ms = frame.execution.wall_ms;
   record.camera_cut = frame.graph.settings.frame.camera_cut;
   record.history_reset = frame.execution.history_reset;
   const CameraRecordGpu* camera = nullptr;
@@ -293,10 +297,13 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
     const PassExecution& exec = frame.execution.passes[i];
     PassRecord p;
     p.name = pass.decl->name;
+    p.stage = pass.decl->stage;
     p.ran = pass.runs && !pass.culled;
     p.reason = pass.reason;
     p.gpu_ms = exec.gpu_ms;
     p.cpu_ms = exec.cpu_ms;
+    p.time_ms = exec.time_ms;
+    p.clock = exec.clock;
     p.params = pass.params;
     p.param_types = pass.decl->params;
     for (const auto& [path, code] : exec.spirv) p.shaders.push_back(writer.add_shader(path, code, shader_source(path)));
@@ -361,7 +368,8 @@ RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const Render
                                    {"motion", CameraPath::motion_name(settings.path.motion)},
                                    {"speed_m_per_s", settings.path.speed()},
                                    {"cuts", settings.path.cuts},
-                                   {"sinks", frame_sinks()}};
+                                   {"sinks", frame_sinks()},
+                                   {"pass_times", pass_timing_name(renderer.pass_timing())}};
   manifest.scene = {{"source", scene.source},
                     {"instances", scene.instances.size()},
                     {"triangles", scene.indices.size() / 3},

@@ -52,6 +52,8 @@ struct RenderSettings {
   // benchmark or test of the passes before lighting).
   std::vector<std::string> sinks;
   FrameLighting lighting = FrameLighting::tiled;  // deferred: the baseline a benchmark compares with
+  // How pass times are measured; unset: default_pass_timing of the device (alone on a CPU).
+  std::optional<PassTiming> pass_timing;
 };
 
 // Parses "PASS:X,Y"; throws SceneError naming the flag.
@@ -90,10 +92,13 @@ class Renderer {
            ShaderProvider shaders);
   // Frame `index`, reading the history the previous render_frame left (render them in order).
   // With `capture`, every version is read back; a `writer` starts encoding each one as soon as
-  // it reaches the host, while the rest of the frame runs (record_frame completes the record).
+  // it reaches the host, while the rest of the frame runs (record_frame completes the record),
+  // or, when passes are timed alone, once the frame has run and the writer has finished the
+  // frames before it.
   RenderedFrame render_frame(uint32_t index, bool capture, CaptureWriter* writer = nullptr);
   const std::vector<PassDecl>& passes() const { return passes_; }
   GpuDevice& gpu() { return gpu_; }
+  PassTiming pass_timing() const { return settings_.pass_timing.value_or(default_pass_timing(gpu_.is_cpu())); }
 
  private:
   GpuDevice& gpu_;

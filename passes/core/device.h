@@ -62,6 +62,7 @@ class GpuDevice {
   VkQueue queue() const { return queue_; }
   uint32_t queue_family() const { return queue_family_; }
   const VkPhysicalDeviceProperties& properties() const { return properties_; }
+  bool is_cpu() const { return properties_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }  // lavapipe
   std::string name() const { return properties_.deviceName; }
   std::string driver() const { return driver_; }
   float timestamp_period_ns() const { return properties_.limits.timestampPeriod; }

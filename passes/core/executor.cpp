@@ -23,6 +23,10 @@ const VersionData* Execution::final_version(const std::string& resource) const {
 
 namespace {
 
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
 Subresources whole(const ResourceDesc& d) { return {0, d.extent.mips, 0, d.extent.layers}; }
 
 bool same_shape(const ResourceDesc& a, const ResourceDesc& b) {
@@ -98,7 +102,8 @@ struct FrameRun {
   FrameMemory memory;
   Cleanup cleanup;
   std::string frame_name;
-  size_t harvested = 0;  // staging buffers copied into their versions
+  size_t harvested = 0;        // staging buffers copied into their versions
+  std::vector<int> held_back;  // versions read back, for on_read_back after the frame (alone)
 
   int add_version(const std::string& name, const ResourceDesc& desc, HostBytes bytes) {
     result.versions.push_back({name, desc, std::move(bytes)});
@@ -236,8 +241,19 @@ struct FrameRun {
       VersionData& v = result.versions[s.version];
       const auto* begin = static_cast<const uint8_t*>(s.buffer.mapped);
       v.bytes = std::make_shared<std::vector<uint8_t>>(begin, begin + v.desc.raw_bytes());
-      if (options.on_read_back) options.on_read_back(v);
+      if (!options.on_read_back) continue;
+      if (alone())
+        held_back.push_back(s.version);
+      else
+        options.on_read_back(v);
     }
+  }
+
+  bool alone() const { return options.pass_timing == PassTiming::alone; }
+
+  // The versions PassTiming::alone held back from on_read_back, now that the frame has run.
+  void hand_over_read_backs() {
+    for (int version : held_back) options.on_read_back(result.versions[version]);
   }
 
   void wait_oldest() {
@@ -259,6 +275,23 @@ struct FrameRun {
     submit(wait_all);
     shared.cmd = gpu.begin_commands(frame_name + " after " + pass.decl->name);
     ++result.submits;
+  }
+
+  // PassTiming::alone: what came before the pass has run; the pass's own commands then run by
+  // themselves, timed by the host from their submit to their fence.
+  void run_alone(size_t i) {
+    CompiledPass& pass = graph.passes[i];
+    submit(true);
+    shared.cmd = gpu.begin_commands(frame_name + ": " + pass.decl->name);
+    issue_step(pass.sync.before_pass);
+    record_commands(i);
+    const auto start = std::chrono::steady_clock::now();
+    const GpuDevice::Submission submission = gpu.submit(std::exchange(shared.cmd, VK_NULL_HANDLE));
+    gpu.wait(submission);
+    result.passes[i].time_ms = ms_since(start);
+    result.passes[i].clock = PassClock::host_alone;
+    shared.cmd = gpu.begin_commands(frame_name + " after " + pass.decl->name);
+    result.submits += 2;
   }
 
   void upload(const std::string& name) {
@@ -406,7 +439,8 @@ struct FrameRun {
       PassContext ctx(shared, pass);
       auto start = std::chrono::steady_clock::now();
       pass.decl->execute(ctx);
-      exec.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      exec.cpu_ms = ms_since(start);
+      exec.time_ms = exec.cpu_ms;
     }
     for (BoundUse& out : pass.outputs) {
       auto bytes = std::make_shared<std::vector<uint8_t>>(std::move(shared.cpu_outputs[out.resource]));
@@ -454,8 +488,12 @@ struct FrameRun {
         clear_to(shared.cmd, shared.resources.at(clear.resource), clear.range, clear.value);
     // A pass skipped for cleared inputs records them too: a replay runs it on them.
     if (pass.runs || pass.inputs_known) record_input_versions(pass, exec);
-    if (planned_to_run) issue_step(pass.sync.before_pass);
-    if (pass.runs) record_commands(i);
+    if (pass.runs && alone()) {
+      run_alone(i);
+    } else {
+      if (planned_to_run) issue_step(pass.sync.before_pass);
+      if (pass.runs) record_commands(i);
+    }
     if (planned_to_run) issue_step(pass.sync.before_injections);
     if (pass.runs)
       for (const NanInjection& nan : pass.sync.injections) inject_nan(nan);
@@ -522,7 +560,7 @@ struct FrameRun {
     for (const std::string& resource : pass.sync.readback)
       if (written.count(resource))
         read_back(shared.resources.at(resource), written.at(resource), resource + " from " + pass.decl->name);
-    if (options.on_read_back && !pass.sync.readback.empty() && i + 1 < graph.passes.size())
+    if (options.on_read_back && !alone() && !pass.sync.readback.empty() && i + 1 < graph.passes.size())
       split_frame_after(pass, false);
   }
 
@@ -561,6 +599,10 @@ struct FrameRun {
                                      stamps, sizeof stamps[0], VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
                "vkGetQueryPoolResults");
       result.passes[i].gpu_ms = double(stamps[1] - stamps[0]) * gpu.timestamp_period_ns() / 1e6;
+      if (result.passes[i].clock == PassClock::host) {
+        result.passes[i].time_ms = *result.passes[i].gpu_ms;
+        result.passes[i].clock = PassClock::device;
+      }
     }
   }
 };
@@ -570,6 +612,7 @@ struct FrameRun {
 Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& graph,
                         const std::map<std::string, std::shared_ptr<const std::vector<uint8_t>>>& imports,
                         const ExecutionOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
   FrameRun run(gpu, cache, graph, options);
   run.add_imports(imports);
   run.bind_host_history(imports);
@@ -593,6 +636,8 @@ Execution execute_graph(GpuDevice& gpu, PipelineCache& cache, CompiledGraph& gra
   run.submit(true);
   run.keep_history();
   run.read_timestamps();
+  run.result.wall_ms = ms_since(start);
+  run.hand_over_read_backs();
   return std::move(run.result);
 }
 

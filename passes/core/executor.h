@@ -16,6 +16,7 @@
 
 #include "passes/core/context.h"
 #include "passes/core/graph.h"
+#include "passes/core/pass_time.h"
 
 namespace nightcap {
 
@@ -36,8 +37,12 @@ struct ExecutionOptions {
   // Called on this thread with each version as soon as its bytes reach the host, while later
   // passes may still run: a capture writer starts encoding it there. When set (and the graph
   // reads back), the frame is submitted in parts, one after each pass whose outputs are read
-  // back, with one part in flight while the next is recorded.
+  // back, with one part in flight while the next is recorded. With PassTiming::alone it is
+  // called once the frame has run, so that no encoding runs beside a timed pass.
   std::function<void(const VersionData&)> on_read_back;
+  // How each pass's time_ms is measured (passes/core/pass_time.h). `alone` submits every GPU
+  // pass that runs by itself, once what came before it has finished: slower, for pass times.
+  PassTiming pass_timing = PassTiming::overlapped;
 };
 
 struct VersionData {
@@ -48,8 +53,13 @@ struct VersionData {
 
 struct PassExecution {
   std::vector<int> inputs, outputs;  // indices into Execution::versions
-  std::optional<double> gpu_ms;
-  double cpu_ms = 0.0;
+  std::optional<double> gpu_ms;      // the device's timestamps, for a GPU pass that ran
+  double cpu_ms = 0.0;               // a CPU pass's run on the host
+  // Its time as ExecutionOptions::pass_timing measures it: gpu_ms (PassClock::device) when
+  // overlapped, the host's clock around its own submit (host_alone) when alone; cpu_ms (host)
+  // for a CPU pass.
+  double time_ms = 0.0;
+  PassClock clock = PassClock::host;
   std::map<std::string, std::vector<uint32_t>> spirv;  // path -> code the pass ran
   nlohmann::json pipelines = nlohmann::json::array();  // describe() of each pipeline it bound
   nlohmann::json samplers = nlohmann::json::array();   // and of each distinct sampler it used
@@ -65,6 +75,9 @@ struct Execution {
   // as it would be with every transient resource in memory of its own.
   uint64_t memory_bytes = 0, memory_bytes_without_aliasing = 0;
   uint32_t submits = 0;  // command buffers the frame ran as (a CPU pass reading GPU results splits it)
+  // The host's wall clock from the frame's first command to its last result, without the
+  // on_read_back calls that PassTiming::alone holds until the end.
+  double wall_ms = 0.0;
   const VersionData* final_version(const std::string& resource) const;
 };
 

@@ -26,6 +26,7 @@ IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& p
   ExecutionOptions options;
   options.shaders = shaders;
   options.name = "isolated " + pass.name;
+  options.pass_timing = default_pass_timing(gpu.is_cpu());
   run.execution = execute_graph(gpu, cache, run.graph, bytes, options);
   for (int v : run.execution.passes.at(0).outputs) {
     const VersionData& version = run.execution.versions[v];

@@ -26,7 +26,8 @@ struct IsolatedRun {
 
 // Runs `pass` (whatever its skip conditions say) at output size width×height with `params`
 // (some or all of its parameters; the rest take their defaults), then writes the NaNs of `nan_injections` (those a
-// capture recorded for it) as the render did.
+// capture recorded for it) as the render did. Timed as a frame on `gpu` times its passes
+// (default_pass_timing), so that its time_ms compares with a recorded one.
 IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& pass,
                          const std::map<std::string, IsolatedInput>& inputs, const ParamValues& params, uint32_t width,
                          uint32_t height, const ShaderProvider& shaders,

@@ -151,6 +151,9 @@ struct SkipContext {
 struct PassDecl {
   std::string name;
   PassType type = PassType::graphics;
+  // The part of the frame it belongs to ("shadows", "geometry", "lighting", "post"), set by the
+  // frame's assembly: the report's overview groups passes by it. Empty outside a frame.
+  std::string stage;
   std::vector<ResourceUse> inputs, outputs;
   std::vector<ParamDecl> params;
   std::vector<std::string> features;  // all must be present, or the pass is skipped

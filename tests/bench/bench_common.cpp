@@ -57,8 +57,7 @@ double gpu_ms(const nc::IsolatedRun& run) { return run.execution.passes.at(0).gp
 double frame_pass_ms(const nc::RenderedFrame& frame, const std::string& pass) {
   for (size_t i = 0; i < frame.graph.passes.size(); ++i)
     if (frame.graph.passes[i].decl->name == pass && frame.graph.passes[i].runs) {
-      const nc::PassExecution& exec = frame.execution.passes[i];
-      return exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms;
+      return frame.execution.passes[i].time_ms;
     }
   return 0.0;
 }

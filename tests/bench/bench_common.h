@@ -39,8 +39,8 @@ IsolatedInput constants_input(const GpuFrameConstants& constants);
 // The GPU time of a pass run on its own, by timestamps; 0 without them.
 double gpu_ms(const IsolatedRun& run);
 
-// A pass's time in a frame: by timestamps on the GPU, on the clock for a CPU pass; 0 when it did
-// not run.
+// A pass's time in a frame (PassExecution::time_ms: on a CPU device, with the renderer's default
+// timing, the pass timed alone); 0 when it did not run.
 double frame_pass_ms(const RenderedFrame& frame, const std::string& pass);
 
 // `count` spot lights 8 m up, pointing down and ahead, 25 m range, spread over the first 60 m of

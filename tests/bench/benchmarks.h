@@ -17,6 +17,9 @@ void bench_scene(GpuDevice& gpu, const std::string& key, const std::string& labe
 void bench_map(GpuDevice& gpu, PipelineCache& cache, uint32_t width, uint32_t height, int repeats, bool frames);
 void bench_empty(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
 
+// pass_time_bench.cpp: recorded pass times against the same passes replayed alone.
+void bench_pass_times(GpuDevice& gpu, uint32_t width, uint32_t height, int runs);
+
 // capture_bench.cpp: what capturing costs (bench_scene runs bench_capture_cost for the city).
 void bench_capture_cost(Renderer& renderer, const RenderSettings& settings, int repeats);
 void bench_extra_frames(GpuDevice& gpu, uint32_t width, uint32_t height);

@@ -19,6 +19,67 @@ namespace nc = nightcap;
 
 namespace nightcap::bench {
 
+namespace {
+
+// Frames measured two ways, alternating so that both see the same machine: the frame's wall
+// clock from a renderer that runs the frame as a whole (PassTiming::overlapped, as a frame
+// runs when its passes are not being timed), and each pass's time from one that times its
+// passes alone (the renderer's default on a CPU device; overlapped too on a GPU).
+struct FrameMeasures {
+  std::vector<double> frame_ms;
+  std::map<std::string, std::vector<double>> pass_ms;  // passes that ran
+  std::vector<std::string> order;                      // every pass, in frame order
+  std::map<std::string, std::string> skipped;          // pass -> why, in the first measured frame
+  uint64_t memory = 0, memory_without_aliasing = 0;
+};
+
+// Renders frame 0 on both renderers first (pipelines compiled outside the measurement), then
+// each of `frames` on one, then on the other.
+FrameMeasures measure_frames(nc::Renderer& whole, nc::Renderer& timed, const std::vector<uint32_t>& frames) {
+  whole.render_frame(0, false);
+  timed.render_frame(0, false);
+  FrameMeasures m;
+  for (size_t r = 0; r < frames.size(); ++r) {
+    const double start = now_ms();
+    const nc::RenderedFrame frame = whole.render_frame(frames[r], false);
+    m.frame_ms.push_back(now_ms() - start);
+    m.memory = frame.execution.memory_bytes;
+    m.memory_without_aliasing = frame.execution.memory_bytes_without_aliasing;
+    const nc::RenderedFrame passes = timed.render_frame(frames[r], false);
+    for (size_t i = 0; i < passes.graph.passes.size(); ++i) {
+      const nc::CompiledPass& pass = passes.graph.passes[i];
+      if (r == 0) {
+        m.order.push_back(pass.decl->name);
+        if (!pass.runs) m.skipped[pass.decl->name] = pass.reason;
+      }
+      if (pass.runs) m.pass_ms[pass.decl->name].push_back(passes.execution.passes[i].time_ms);
+    }
+  }
+  return m;
+}
+
+// One row per pass (its median, or why it was skipped), each recorded as `prefix`.PASS.
+void pass_table(const FrameMeasures& m, const std::string& prefix) {
+  for (const std::string& name : m.order) {
+    table() << std::left << std::setw(22) << name << std::right << std::setw(12);
+    const auto times = m.pass_ms.find(name);
+    if (times == m.pass_ms.end()) {
+      const auto reason = m.skipped.find(name);
+      table() << "skipped" << (reason == m.skipped.end() ? "" : " (" + reason->second + ")") << "\n";
+      continue;
+    }
+    table() << std::fixed << std::setprecision(3) << median(times->second) << "\n";
+    figure(prefix + "." + name, median(times->second));
+  }
+}
+
+nc::RenderSettings overlapped(nc::RenderSettings settings) {
+  settings.pass_timing = nc::PassTiming::overlapped;
+  return settings;
+}
+
+}  // namespace
+
 // Per-pass medians over `repeats` frames, capture off, and the frame's GPU memory; with
 // `capture_figures`, frame time off/on and capture size too, and the unsuffixed figures.
 void bench_scene(nc::GpuDevice& gpu, const std::string& key, const std::string& label, nc::Scene scene, uint32_t width,
@@ -27,45 +88,20 @@ void bench_scene(nc::GpuDevice& gpu, const std::string& key, const std::string& 
   nc::RenderSettings settings;
   settings.width = width;
   settings.height = height;
-  nc::Renderer renderer(gpu, scene, settings);
-  renderer.render_frame(0, false);  // pipelines compiled outside the measurement
-  std::map<std::string, std::vector<double>> pass_ms;
-  std::vector<std::string> order;
-  std::vector<double> frame_off, frame_on;
-  uint64_t memory = 0, memory_without_aliasing = 0;
-  for (int r = 0; r < repeats; ++r) {
-    double start = now_ms();
-    nc::RenderedFrame frame = renderer.render_frame(0, false);
-    frame_off.push_back(now_ms() - start);
-    memory = frame.execution.memory_bytes;
-    memory_without_aliasing = frame.execution.memory_bytes_without_aliasing;
-    for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
-      const std::string& name = frame.graph.passes[i].decl->name;
-      if (r == 0) order.push_back(name);
-      const auto& exec = frame.execution.passes[i];
-      if (!frame.graph.passes[i].runs) continue;
-      pass_ms[name].push_back(exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms);
-    }
-  }
+  nc::Renderer whole(gpu, scene, overlapped(settings)), timed(gpu, scene, settings);
+  const FrameMeasures m = measure_frames(whole, timed, std::vector<uint32_t>(size_t(repeats), 0));
   table() << "\n## " << label << " (" << width << "x" << height << ", " << scene.indices.size() / 3 << " triangles, "
-          << scene.lights.size() << " lights; median of " << repeats << ")\n";
+          << scene.lights.size() << " lights; median of " << repeats << "; passes timed "
+          << nc::pass_timing_name(timed.pass_timing()) << ")\n";
   table() << std::left << std::setw(22) << "pass" << std::right << std::setw(12) << "ms"
           << "\n";
-  for (const std::string& name : order) {
-    table() << std::left << std::setw(22) << name << std::right << std::setw(12);
-    if (pass_ms[name].empty())
-      table() << "skipped";
-    else
-      table() << std::fixed << std::setprecision(3) << median(pass_ms[name]);
-    table() << "\n";
-    if (!pass_ms[name].empty()) figure("pass_ms." + key + "." + name, median(pass_ms[name]));
-  }
-  figure("frame_ms." + key, median(frame_off));
-  table() << std::left << std::setw(22) << "frame (capture off)" << std::right << std::setw(12) << median(frame_off)
+  pass_table(m, "pass_ms." + key);
+  figure("frame_ms." + key, median(m.frame_ms));
+  table() << std::left << std::setw(22) << "frame (capture off)" << std::right << std::setw(12) << median(m.frame_ms)
           << "\n";
   // Device memory of the frame's resources: transients sharing memory where their lifetimes
   // allow, and each in its own.
-  const double mib = memory / 1048576.0, mib_apart = memory_without_aliasing / 1048576.0;
+  const double mib = m.memory / 1048576.0, mib_apart = m.memory_without_aliasing / 1048576.0;
   table() << std::left << std::setw(22) << "GPU memory (MiB)" << std::right << std::setw(12) << std::setprecision(1)
           << mib << "  (" << mib_apart << " without aliasing)\n";
   figure("peak_gpu_mib." + key, mib);
@@ -73,7 +109,7 @@ void bench_scene(nc::GpuDevice& gpu, const std::string& key, const std::string& 
   if (!capture_figures) return;
   figure("peak_gpu_mib", mib);
   figure("peak_gpu_mib_no_aliasing", mib_apart);
-  bench_capture_cost(renderer, settings, repeats);
+  bench_capture_cost(whole, overlapped(settings), repeats);
 }
 
 // The built-in 16 km map, one shot at a time: cull.main alone (median of 5 runs on this
@@ -118,35 +154,15 @@ void bench_map(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uin
     settings.width = width;
     settings.height = height;
     settings.frames = uint32_t(repeats) + 1;
-    nc::Renderer renderer(gpu, scene, settings);
-    renderer.render_frame(0, false);
-    std::map<std::string, std::vector<double>> pass_ms;
-    std::vector<std::string> order;
-    std::vector<double> frame_ms;
-    for (int r = 1; r <= repeats; ++r) {
-      const double start = now_ms();
-      nc::RenderedFrame frame = renderer.render_frame(uint32_t(r), false);
-      frame_ms.push_back(now_ms() - start);
-      for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
-        if (r == 1) order.push_back(frame.graph.passes[i].decl->name);
-        if (!frame.graph.passes[i].runs) continue;
-        const auto& exec = frame.execution.passes[i];
-        pass_ms[frame.graph.passes[i].decl->name].push_back(exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms);
-      }
-    }
+    nc::Renderer whole(gpu, scene, overlapped(settings)), timed(gpu, scene, settings);
+    std::vector<uint32_t> walk;
+    for (int r = 1; r <= repeats; ++r) walk.push_back(uint32_t(r));
+    const FrameMeasures m = measure_frames(whole, timed, walk);
     table() << "frames at " << width << "x" << height << " (" << scene.lights.size() << " lights; median of " << repeats
             << ")\n";
-    for (const std::string& pass : order) {
-      table() << std::left << std::setw(22) << pass << std::right << std::setw(12);
-      if (pass_ms[pass].empty())
-        table() << "skipped";
-      else
-        table() << std::fixed << std::setprecision(3) << median(pass_ms[pass]);
-      table() << "\n";
-      if (!pass_ms[pass].empty()) figure("pass_ms.map_" + name + "." + pass, median(pass_ms[pass]));
-    }
-    table() << std::left << std::setw(22) << "frame" << std::right << std::setw(12) << median(frame_ms) << "\n";
-    figure("frame_ms_" + name, median(frame_ms));
+    pass_table(m, "pass_ms.map_" + name);
+    table() << std::left << std::setw(22) << "frame" << std::right << std::setw(12) << median(m.frame_ms) << "\n";
+    figure("frame_ms_" + name, median(m.frame_ms));
   }
 }
 
@@ -158,35 +174,14 @@ void bench_empty(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
   nc::RenderSettings settings;
   settings.width = width;
   settings.height = height;
-  nc::Renderer renderer(gpu, scene, settings);
-  std::vector<double> frame_ms;
-  std::map<std::string, std::vector<double>> pass_ms;
-  std::vector<std::string> order;
-  for (int r = 0; r <= repeats; ++r) {
-    const double start = now_ms();
-    const nc::RenderedFrame frame = renderer.render_frame(uint32_t(r), false);
-    if (r == 0) continue;
-    frame_ms.push_back(now_ms() - start);
-    for (size_t i = 0; i < frame.graph.passes.size(); ++i) {
-      const nc::CompiledPass& pass = frame.graph.passes[i];
-      if (r == 1) order.push_back(pass.decl->name + (pass.runs ? "" : " (skipped: " + pass.reason + ")"));
-      if (!pass.runs) continue;
-      const auto& exec = frame.execution.passes[i];
-      pass_ms[pass.decl->name].push_back(exec.gpu_ms ? *exec.gpu_ms : exec.cpu_ms);
-    }
-  }
+  nc::Renderer whole(gpu, scene, overlapped(settings)), timed(gpu, scene, settings);
+  std::vector<uint32_t> walk;
+  for (int r = 1; r <= repeats; ++r) walk.push_back(uint32_t(r));
+  const FrameMeasures m = measure_frames(whole, timed, walk);
   table() << "\n## empty scene at " << width << "x" << height << " (frames 1.." << repeats << ", median)\n";
-  for (const std::string& line : order) {
-    const std::string pass = line.substr(0, line.find(' '));
-    table() << std::left << std::setw(22) << pass << std::right << std::setw(12);
-    if (pass_ms[pass].empty())
-      table() << line.substr(pass.size() + 1);
-    else
-      table() << std::fixed << std::setprecision(3) << median(pass_ms[pass]);
-    table() << "\n";
-  }
-  table() << std::left << std::setw(22) << "frame" << std::right << std::setw(12) << median(frame_ms) << "\n";
-  figure("frame_ms_empty", median(frame_ms));
+  pass_table(m, "pass_ms.empty");
+  table() << std::left << std::setw(22) << "frame" << std::right << std::setw(12) << median(m.frame_ms) << "\n";
+  figure("frame_ms_empty", median(m.frame_ms));
 }
 
 }  // namespace nightcap::bench

@@ -336,8 +336,8 @@ void bench_decals(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repea
     for (int r = 0; r <= repeats; ++r) {
       const nc::RenderedFrame frame = renderer.render_frame(uint32_t(r), false);
       for (size_t i = 0; r > 0 && i < frame.graph.passes.size(); ++i)
-        if (frame.graph.passes[i].runs && frame.execution.passes[i].gpu_ms)
-          ms[frame.graph.passes[i].decl->name].push_back(*frame.execution.passes[i].gpu_ms);
+        if (frame.graph.passes[i].runs)
+          ms[frame.graph.passes[i].decl->name].push_back(frame.execution.passes[i].time_ms);
     }
     const double mesh = median(ms["decals.mesh"]), projected = median(ms["decals.projected"]);
     table() << std::left << std::setw(10) << count << std::right << std::fixed << std::setprecision(3) << std::setw(18)

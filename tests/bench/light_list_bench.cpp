@@ -116,7 +116,7 @@ void bench_cluster(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width,
       const nc::RenderedFrame frame = renderer.render_frame(uint32_t(r), false);
       for (size_t i = 0; i < frame.graph.passes.size(); ++i)
         if (frame.graph.passes[i].decl->name == "lights.cluster" && frame.graph.passes[i].runs)
-          ms.push_back(frame.execution.passes[i].gpu_ms.value_or(0.0));
+          ms.push_back(frame.execution.passes[i].time_ms);
     }
     const nc::RenderedFrame captured = renderer.render_frame(uint32_t(repeats) + 1, true);
     std::map<std::string, nc::IsolatedInput> inputs;

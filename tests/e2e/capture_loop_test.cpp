@@ -205,6 +205,25 @@ TEST(CaptureLoop, TheSeedDeterminesTheCity) {
   EXPECT_EQ(final_blob(a), final_blob(same));
 }
 
+nlohmann::json listing_settings(const fs::path& capture) { return read_json(capture / "manifest.json").at("settings"); }
+
+// `--pass-times overlapped` keeps the device's timestamps as the passes' times.
+TEST(CaptureLoop, OverlappedPassTimesAreTheDevicesTimestamps) {
+  const fs::path dir = scratch("overlapped");
+  const CliResult r = run_cli("render --city-block --size 64x36 --pass-times overlapped -o " + quote(dir / "cap"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json manifest = read_json(dir / "cap" / "manifest.json");
+  EXPECT_EQ(manifest.at("settings").at("resolved").at("pass_times"), "overlapped");
+  for (const auto& p : manifest.at("frames")[0].at("passes")) {
+    if (p.at("status") != "ran" || p.at("gpu_ms").is_null()) continue;
+    EXPECT_EQ(p.at("clock"), "device") << p.at("name");
+    EXPECT_EQ(p.at("time_ms"), p.at("gpu_ms")) << p.at("name");
+  }
+  const CliResult bad = run_cli("render --city-block --size 64x36 --pass-times fast -o " + quote(dir / "bad"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("--pass-times 'fast'"), std::string::npos) << bad.err;
+}
+
 TEST(CaptureLoop, PassesJsonDescribesEveryPassAndResource) {
   const nlohmann::json listing = passes_json(shared_capture("city", kCity));
   ASSERT_EQ(listing.at("frames").size(), 2u);
@@ -235,6 +254,25 @@ TEST(CaptureLoop, PassesJsonDescribesEveryPassAndResource) {
       EXPECT_GT(p.at("gpu_ms").get<double>(), 0.0) << p.at("name");
     }
   }
+  // On lavapipe (a CPU device) `render` times each GPU pass alone by the host's clock; a CPU
+  // pass's time is its own run on the host. Each pass names its stage of the frame, and the
+  // passes' times fit in the frame's wall clock.
+  EXPECT_EQ(listing_settings(shared_capture("city", kCity)).at("resolved").at("pass_times"), "alone");
+  double sum = 0.0;
+  std::set<std::string> stages;
+  for (const auto& p : frame.at("passes")) {
+    stages.insert(p.at("stage").get<std::string>());
+    if (p.at("status") != "ran") continue;
+    EXPECT_EQ(p.at("clock"), p.at("gpu_ms").is_null() ? "host" : "host-alone") << p.at("name");
+    if (p.at("gpu_ms").is_null()) EXPECT_EQ(p.at("time_ms"), p.at("cpu_ms")) << p.at("name");
+    EXPECT_GT(p.at("time_ms").get<double>(), 0.0) << p.at("name");
+    sum += p.at("time_ms").get<double>();
+  }
+  EXPECT_EQ(stages, (std::set<std::string>{"setup", "shadows", "geometry", "lighting", "post"}));
+  EXPECT_EQ(find_pass(frame, "shadow.cascades").at("stage"), "shadows");
+  EXPECT_EQ(find_pass(frame, "tonemap").at("stage"), "post");
+  ASSERT_TRUE(frame.at("wall_ms").is_number());
+  EXPECT_GE(frame.at("wall_ms").get<double>(), sum);
   // Exact formats of frame.md.
   std::map<std::string, std::string> formats;
   for (const auto& o : find_pass(frame, "gbuffer.opaque").at("outputs")) formats[o.at("resource")] = o.at("format");

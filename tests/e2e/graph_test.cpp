@@ -88,7 +88,8 @@ void expect_frame_drawn(const Dot& dot, const nlohmann::json& frame) {
     const std::string heading = std::to_string(i) + ". " + escaped(name) + "\\n";
     EXPECT_EQ(node.label.rfind(heading, 0), 0u) << name << ": " << node.label;
     if (p.at("status") == "ran") {
-      EXPECT_NE(node.label.find(p.at("gpu_ms").is_null() ? "ran, CPU " : "ran, GPU "), std::string::npos) << name;
+      EXPECT_NE(node.label.find("ran, "), std::string::npos) << name;
+      EXPECT_NE(node.label.find(" ms (" + p.at("clock").get<std::string>() + ")"), std::string::npos) << name;
     } else {
       EXPECT_NE(node.label.find("skipped: "), std::string::npos) << name;
       EXPECT_NE(node.attributes.find("dashed"), std::string::npos) << name;
