@@ -93,6 +93,7 @@ struct PassRecord {
   // on a CPU device the timestamps absorb other work, so a pass is timed alone there.
   double time_ms = 0.0;
   PassClock clock = PassClock::host;
+  double record_ms = 0.0;  // PassExecution::record_ms; 0 in captures made before it was recorded
   std::map<std::string, double> params;
   // How each parameter is declared: its type, range or choices and group (not its help); absent
   // in captures made before parameters had types.

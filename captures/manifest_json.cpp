@@ -233,6 +233,7 @@ json to_json(const CaptureManifest& m) {
       pass["cpu_ms"] = p.cpu_ms;
       pass["time_ms"] = p.time_ms;
       pass["clock"] = pass_clock_name(p.clock);
+      if (p.gpu_ms) pass["record_ms"] = p.record_ms;
       pass["params"] = p.params;
       if (!p.param_types.empty()) {
         json types = json::object();
@@ -391,6 +392,7 @@ CaptureManifest manifest_from_json(const json& j, const std::string& file) {
         p.clock = *clock;
         p.time_ms = field<double>(pj, "time_ms", file, pw);
       }
+      if (pj.contains("record_ms")) p.record_ms = field<double>(pj, "record_ms", file, pw);
       try {
         p.params = pj.value("params", json::object()).get<std::map<std::string, double>>();
       } catch (const json::exception&) {

@@ -304,6 +304,7 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
     p.cpu_ms = exec.cpu_ms;
     p.time_ms = exec.time_ms;
     p.clock = exec.clock;
+    p.record_ms = exec.record_ms;
     p.params = pass.params;
     p.param_types = pass.decl->params;
     for (const auto& [path, code] : exec.spirv) p.shaders.push_back(writer.add_shader(path, code, shader_source(path)));

@@ -525,7 +525,9 @@ struct FrameRun {
     vkCmdWriteTimestamp2(shared.cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, cleanup.queries,
                          static_cast<uint32_t>(2 * i));
     PassContext ctx(shared, pass);
+    const auto start = std::chrono::steady_clock::now();
     pass.decl->execute(ctx);
+    result.passes[i].record_ms = ms_since(start);
     vkCmdWriteTimestamp2(shared.cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, cleanup.queries,
                          static_cast<uint32_t>(2 * i + 1));
     gpu.end_label(shared.cmd);

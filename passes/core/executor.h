@@ -60,6 +60,9 @@ struct PassExecution {
   // for a CPU pass.
   double time_ms = 0.0;
   PassClock clock = PassClock::host;
+  // A GPU pass: the host's time recording its commands, which includes creating each pipeline
+  // the first time it is bound (on lavapipe, compiling its shaders: most of a first frame).
+  double record_ms = 0.0;
   std::map<std::string, std::vector<uint32_t>> spirv;  // path -> code the pass ran
   nlohmann::json pipelines = nlohmann::json::array();  // describe() of each pipeline it bound
   nlohmann::json samplers = nlohmann::json::array();   // and of each distinct sampler it used

@@ -22,6 +22,7 @@ CaptureManifest two_passes() {
   gpu.gpu_ms = 0.25;
   gpu.time_ms = 4.5;
   gpu.clock = PassClock::host_alone;
+  gpu.record_ms = 30.25;
   PassRecord cpu;
   cpu.name = "cull.main";
   cpu.stage = "setup";
@@ -43,13 +44,14 @@ TEST(ManifestPassTime, TimesClocksStagesAndTheWallClockRoundTrip) {
   EXPECT_EQ(frame.passes[1].clock, PassClock::host_alone);
   EXPECT_EQ(frame.passes[1].time_ms, 4.5);
   EXPECT_EQ(frame.passes[1].gpu_ms, 0.25);
+  EXPECT_EQ(frame.passes[1].record_ms, 30.25);
 }
 
 TEST(ManifestPassTime, AnEarlierManifestReadsAsTimedByTheDevice) {
   nlohmann::json json = to_json(two_passes());
   json["frames"][0].erase("wall_ms");
   for (auto& pass : json["frames"][0]["passes"])
-    for (const char* key : {"time_ms", "clock", "stage"}) pass.erase(key);
+    for (const char* key : {"time_ms", "clock", "stage", "record_ms"}) pass.erase(key);
   const FrameRecord frame = manifest_from_json(json, "manifest.json").frames.at(0);
   EXPECT_FALSE(frame.wall_ms);
   EXPECT_EQ(frame.passes[0].clock, PassClock::host);
@@ -57,6 +59,7 @@ TEST(ManifestPassTime, AnEarlierManifestReadsAsTimedByTheDevice) {
   EXPECT_EQ(frame.passes[1].clock, PassClock::device);
   EXPECT_EQ(frame.passes[1].time_ms, 0.25);
   EXPECT_EQ(frame.passes[1].stage, "");
+  EXPECT_EQ(frame.passes[1].record_ms, 0.0);
 }
 
 TEST(ManifestPassTime, AnUnknownClockOrAHostileStageIsRefused) {

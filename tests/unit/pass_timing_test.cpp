@@ -49,17 +49,16 @@ std::vector<PassDecl> passes(int& recorded) {
                   }));
   for (const char* step : {"b", "c"}) {
     const std::string source = step == std::string("b") ? "a" : "b";
-    p.push_back(
-        PassDecl(std::string("add_") + step, PassType::compute)
-            .read(source, Use::storage_read)
-            .write(step, Use::storage_write, BufferDecl{kinds::buffer, kCount * 4})
-            .shader("test/add.comp")
-            .run([&recorded, source, step](PassContext& ctx) {
-              ++recorded;
-              ctx.bind_pipeline();
-              ctx.push({Binding::storage(ctx.slot(source), source), Binding::storage(ctx.slot(step), step)});
-              vkCmdDispatch(ctx.cmd(), kCount / 64, 1, 1);
-            }));
+    p.push_back(PassDecl(std::string("add_") + step, PassType::compute)
+                    .read(source, Use::storage_read)
+                    .write(step, Use::storage_write, BufferDecl{kinds::buffer, kCount * 4})
+                    .shader("test/add.comp")
+                    .run([&recorded, source, step](PassContext& ctx) {
+                      ++recorded;
+                      ctx.bind_pipeline();
+                      ctx.push({Binding::storage(ctx.slot(source), source), Binding::storage(ctx.slot(step), step)});
+                      vkCmdDispatch(ctx.cmd(), kCount / 64, 1, 1);
+                    }));
   }
   return p;
 }
@@ -98,7 +97,8 @@ TEST_F(PassTimingTest, AloneTimesEachGpuPassByTheHostAndHandsOverReadBacksAfterT
     EXPECT_EQ(e.passes[i].clock, PassClock::host_alone) << i;
     EXPECT_GT(e.passes[i].time_ms, 0.0) << i;
     EXPECT_TRUE(e.passes[i].gpu_ms) << "the timestamps are kept beside the host's time";
-    sum += e.passes[i].time_ms;
+    EXPECT_GT(e.passes[i].record_ms, 0.0) << i;
+    sum += e.passes[i].time_ms + e.passes[i].record_ms;
   }
   EXPECT_GE(e.wall_ms, sum) << "the frame's wall clock holds every pass's time";
   // Each GPU pass a submit of its own, and one before it for what came earlier.
