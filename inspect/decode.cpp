@@ -153,6 +153,14 @@ PixelReading read_pixel(const ResourceRecord& record, std::span<const uint8_t> r
 
 uint64_t buffer_elements(const BufferSchema& schema, uint64_t bytes) { return bytes / schema.stride; }
 
+const BufferSchema* schema_of(const ResourceRecord& record, const FrameRecord& frame) {
+  if (record.schema) return &*record.schema;
+  for (const PassRecord& p : frame.passes)
+    for (const ResourceRecord& r : p.outputs)
+      if (r.resource == record.resource && r.hash == record.hash && r.schema) return &*r.schema;
+  return nullptr;
+}
+
 nlohmann::ordered_json decode_buffer_element(const BufferSchema& schema, std::span<const uint8_t> raw,
                                              uint64_t element) {
   nlohmann::ordered_json fields = nlohmann::ordered_json::object();

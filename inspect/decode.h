@@ -89,5 +89,8 @@ PixelReading read_pixel(const ResourceRecord& record, std::span<const uint8_t> r
 nlohmann::ordered_json decode_buffer_element(const BufferSchema& schema, std::span<const uint8_t> raw,
                                              uint64_t element);
 uint64_t buffer_elements(const BufferSchema& schema, uint64_t bytes);
+// The schema of the buffer version `record`: its own, or the one recorded with the output of
+// `frame` that wrote it (inputs carry none); null when its writer declared none.
+const BufferSchema* schema_of(const ResourceRecord& record, const FrameRecord& frame);
 
 }  // namespace nightcap

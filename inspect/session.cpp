@@ -84,11 +84,7 @@ const ResourceRecord* InspectSession::resource_in_frame(const FrameRecord& other
 }
 
 const BufferSchema* InspectSession::schema_of(const ResourceRecord& record) const {
-  if (record.schema) return &*record.schema;
-  for (const PassRecord& p : frame().passes)
-    for (const ResourceRecord& r : p.outputs)
-      if (r.resource == record.resource && r.hash == record.hash && r.schema) return &*r.schema;
-  return nullptr;
+  return nightcap::schema_of(record, frame());
 }
 
 const std::vector<uint8_t>& InspectSession::load(const ResourceRecord& record) {

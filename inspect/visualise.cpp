@@ -42,7 +42,37 @@ std::array<double, 3> wheel(double hue, double amount) {
   return rgb;
 }
 
+TexelPicture picture_of(const KindInfo& kind, const TexelValues& values, const KindFrame& frame) {
+  if (kind.draw) return kind.draw(values, frame);
+  const std::vector<double>& v = values.raw;
+  return {TexelPicture::Scale::display,
+          {v[0], v[std::min<size_t>(1, v.size() - 1)], v[std::min<size_t>(2, v.size() - 1)]}};
+}
+
+bool drawn_distance(double d) { return std::isfinite(d) && d > 0; }
+
 }  // namespace
+
+std::optional<DistanceRange> distance_range(const ResourceRecord& record, std::span<const uint8_t> raw,
+                                            const FrameRecord& frame, const Subimage& subimage) {
+  const SubresourceReader reader(record, raw, subimage.mip, subimage.layer);
+  const KindInfo& kind = kind_info(record.kind);
+  const KindFrame kind_frame_of_record = kind_frame(frame);
+  DistanceRange range{INFINITY, 0};
+  TexelValues values;
+  for (uint32_t y = 0; y < reader.height(); ++y)
+    for (uint32_t x = 0; x < reader.width(); ++x) {
+      reader.read(x, y, subimage.slice, values);
+      const TexelPicture picture = picture_of(kind, values, kind_frame_of_record);
+      // A kind draws all its texels on one scale: the first tells whether it is a distance.
+      if (picture.scale != TexelPicture::Scale::distance) return std::nullopt;
+      if (!drawn_distance(picture.value[0])) continue;
+      range.nearest = std::min(range.nearest, picture.value[0]);
+      range.farthest = std::max(range.farthest, picture.value[0]);
+    }
+  if (range.farthest == 0) return std::nullopt;
+  return range;
+}
 
 uint8_t srgb_code(float x) {
   static const std::array<float, 256> first = [] {
@@ -74,7 +104,7 @@ uint8_t srgb_code(float x) {
 }
 
 Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw, const FrameRecord& frame,
-                     const Subimage& subimage, VisualAspect aspect) {
+                     const Subimage& subimage, VisualAspect aspect, const std::optional<DistanceRange>& shown) {
   const FormatInfo format = *format_info(record.format);
   if (aspect == VisualAspect::stencil && !format.has_stencil) throw InspectError(record.resource + " has no stencil");
   const SubresourceReader reader(record, raw, subimage.mip, subimage.layer);
@@ -110,11 +140,7 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
         std::copy(colour.begin(), colour.end(), image.pixels.begin() + 4 * i);
         continue;
       }
-      const std::vector<double>& v = values.raw;
-      const TexelPicture picture =
-          kind.draw ? kind.draw(values, kind_frame_of_record)
-                    : TexelPicture{Scale::display,
-                                   {v[0], v[std::min<size_t>(1, v.size() - 1)], v[std::min<size_t>(2, v.size() - 1)]}};
+      const TexelPicture picture = picture_of(kind, values, kind_frame_of_record);
       const std::array<double, 3>& p = picture.value;
       switch (picture.scale) {
         case Scale::display:
@@ -126,7 +152,7 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
           break;
         case Scale::distance:
           if (distances.empty()) distances.assign(texels, 0.0);
-          if (std::isfinite(p[0]) && p[0] > 0) {
+          if (drawn_distance(p[0])) {
             distances[i] = p[0];
             nearest = std::min(nearest, p[0]);
             farthest = std::max(farthest, p[0]);
@@ -140,6 +166,10 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
       }
     }
   if (!distances.empty()) {
+    if (shown) {
+      nearest = shown->nearest;
+      farthest = shown->farthest;
+    }
     const double range = farthest > nearest ? std::log(farthest / nearest) : 1.0;
     for (uint64_t i = 0; i < texels; ++i) {
       const double grey = distances[i] > 0 ? 1.0 - std::log(distances[i] / nearest) / range : 0.0;

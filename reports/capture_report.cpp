@@ -5,9 +5,12 @@
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
+#include "inspect/decode.h"
 #include "inspect/graph_dot.h"
 #include "reports/assets.h"
+#include "reports/buffer_figure.h"
 #include "reports/graph_layout.h"
 #include "reports/html.h"
 #include "reports/thumbnails.h"
@@ -41,19 +44,82 @@ std::string describe(const ResourceRecord& r) {
   return text;
 }
 
-void resource_figure(std::ostream& html, const ResourceRecord& r, const ThumbnailSet& thumbnails) {
-  html << "<figure class=\"resource\">";
-  if (const Thumbnail* t = thumbnails.find(r)) {
-    // Tiny images (1x1 tables, small mips) are shown enlarged, with their texels kept square.
-    const uint32_t enlarge = std::max(1u, std::min(16u, 64u / std::max(t->width, t->height)));
-    html << "<img src=\"" << t->file << "\" width=\"" << t->width * enlarge << "\" height=\"" << t->height * enlarge
-         << "\"" << (enlarge > 1 ? " class=\"enlarged\"" : "") << " alt=\"" << escape_markup(r.resource) << "\">";
-  } else
-    html << "<div class=\"no-picture\">" << (r.is_buffer ? "buffer" : "image") << "</div>";
+// An image's picture, at most 256 pixels on a side; tiny images (1x1 tables, small mips) are
+// shown enlarged, with their texels kept square.
+void picture(std::ostream& html, const Thumbnail::Picture& p, const std::string& alt) {
+  const uint32_t enlarge = std::max(1u, std::min(16u, 64u / std::max(p.width, p.height)));
+  html << "<img src=\"" << p.file << "\" width=\"" << p.width * enlarge << "\" height=\"" << p.height * enlarge << "\""
+       << (enlarge > 1 ? " class=\"enlarged\"" : "") << " alt=\"" << escape_markup(alt) << "\">";
+}
+
+// What of an image its pictures show, where that is not all of it, and the distances they are
+// drawn between.
+std::string shown_part(const ResourceRecord& r, const Thumbnail& t) {
+  std::vector<std::string> parts;
+  if (r.extent.mips > 1) parts.push_back("mip 0");
+  if (r.extent.layers > 1 && t.pictures.size() < r.extent.layers)
+    parts.push_back("layers 0–" + std::to_string(t.pictures.size() - 1));
+  if (r.extent.depth > 1) parts.push_back("slice 0");
+  if (t.distances)
+    parts.push_back("<span class=\"range\">" + format_number(t.distances->nearest) + " … " +
+                    format_number(t.distances->farthest) + "</span> (white to black, log scale)");
+  std::string text;
+  for (const std::string& part : parts) text += (text.empty() ? "" : " · ") + part;
+  return text;
+}
+
+void image_figure(std::ostream& html, const ResourceRecord& r, const Thumbnail* t) {
+  if (!t) {
+    html << "<div class=\"no-picture\">image</div>";
+    return;
+  }
+  if (t->pictures.size() == 1)
+    picture(html, t->pictures.front(), r.resource);
+  else {
+    html << "<div class=\"layer-strip\">";
+    for (const Thumbnail::Picture& p : t->pictures) {
+      html << "<div class=\"layer\">";
+      picture(html, p, r.resource + " layer " + std::to_string(p.layer));
+      html << "<span class=\"layer-index\">" << p.layer << "</span></div>";
+    }
+    html << "</div>";
+    if (t->pictures.size() < r.extent.layers)
+      html << "<p class=\"more\">… " << r.extent.layers - t->pictures.size() << " more layers</p>";
+  }
+}
+
+// The figure of each distinct buffer version, by resource and content hash: a frame shows the same
+// version as one pass's output and the next one's input.
+using BufferFigures = std::map<std::pair<std::string, std::string>, BufferFigure>;
+
+BufferFigures buffer_figures(const Capture& capture, const FrameRecord& frame) {
+  BufferFigures figures;
+  for (const PassRecord& p : frame.passes)
+    for (const auto* list : {&p.inputs, &p.outputs})
+      for (const ResourceRecord& r : *list) {
+        if (!r.is_buffer || figures.count({r.resource, r.hash})) continue;
+        const BufferSchema* schema = schema_of(r, frame);
+        const std::vector<uint8_t> raw = schema && r.buffer_size > 0 ? capture.load(r) : std::vector<uint8_t>{};
+        figures[{r.resource, r.hash}] = buffer_figure(r, schema, raw);
+      }
+  return figures;
+}
+
+void resource_figure(std::ostream& html, const ResourceRecord& r, const ThumbnailSet& thumbnails,
+                     const BufferFigures& buffers) {
+  const Thumbnail* t = r.is_buffer ? nullptr : thumbnails.find(r);
+  const BufferFigure* buffer = r.is_buffer ? &buffers.at({r.resource, r.hash}) : nullptr;
+  const bool wide = buffer ? buffer->wide : t && t->pictures.size() > 1;
+  html << "<figure class=\"resource" << (wide ? " wide" : "") << "\" data-resource=\"" << escape_markup(r.resource)
+       << "\">";
+  if (buffer)
+    html << buffer->html;
+  else
+    image_figure(html, r, t);
   html << "<figcaption><b>" << escape_markup(r.resource) << "</b><br>" << escape_markup(std::string(r.kind.name()))
        << " · " << escape_markup(describe(r));
-  if (!r.is_buffer && (r.extent.mips > 1 || r.extent.layers > 1 || r.extent.depth > 1))
-    html << "<br><i>shown: mip 0, layer 0" << (r.extent.depth > 1 ? ", slice 0" : "") << "</i>";
+  if (t)
+    if (const std::string part = shown_part(r, *t); !part.empty()) html << "<br><i>shown: " << part << "</i>";
   html << "</figcaption></figure>\n";
 }
 
@@ -83,7 +149,8 @@ std::string timings_summary(const FrameRecord& frame) {
 }
 
 void pass_section(std::ostream& html, size_t index, const PassRecord& p, const Capture& capture,
-                  const ThumbnailSet& thumbnails, std::map<std::string, std::string>& sources) {
+                  const ThumbnailSet& thumbnails, const BufferFigures& buffers,
+                  std::map<std::string, std::string>& sources) {
   html << "<section class=\"pass" << (p.ran ? "" : " skipped") << "\" id=\"pass-" << index << "\" data-pass=\""
        << escape_markup(p.name) << "\">\n<h3>" << index << ". " << escape_markup(p.name)
        << "</h3>\n<p class=\"status\">";
@@ -102,7 +169,7 @@ void pass_section(std::ostream& html, size_t index, const PassRecord& p, const C
   for (const auto& [title, list] : {std::pair{"Inputs", &p.inputs}, std::pair{"Outputs", &p.outputs}}) {
     if (list->empty()) continue;
     html << "<h4>" << title << "</h4>\n<div class=\"resources\">\n";
-    for (const ResourceRecord& r : *list) resource_figure(html, r, thumbnails);
+    for (const ResourceRecord& r : *list) resource_figure(html, r, thumbnails, buffers);
     html << "</div>\n";
   }
   if (!p.params.empty()) {
@@ -140,6 +207,7 @@ void write_capture_report(const Capture& capture, const fs::path& folder, const 
     for (const ResourceRecord& r : p.outputs) thumbnails.add(r);
   }
   thumbnails.write(capture, frame, folder);
+  const BufferFigures buffers = buffer_figures(capture, frame);
   layout_graph(frame_to_dot(frame), folder / "graph.dot", folder / "graph.svg");
   write_file(folder / "report.css", report_stylesheet());
 
@@ -186,7 +254,8 @@ void write_capture_report(const Capture& capture, const fs::path& folder, const 
   }
   html << "</section>\n<section id=\"passes\"><h2>Passes</h2>\n";
   std::map<std::string, std::string> sources;  // escaped GLSL by source hash, shared between passes
-  for (size_t i = 0; i < frame.passes.size(); ++i) pass_section(html, i, frame.passes[i], capture, thumbnails, sources);
+  for (size_t i = 0; i < frame.passes.size(); ++i)
+    pass_section(html, i, frame.passes[i], capture, thumbnails, buffers, sources);
   html << "</section>\n</main>\n</body>\n</html>\n";
 
   publish_page(folder, html.str());

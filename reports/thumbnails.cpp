@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "compare/parallel.h"
-#include "inspect/visualise.h"
 
 namespace nightcap {
 
@@ -44,7 +43,8 @@ Rgba8Image shrink(const Rgba8Image& picture, uint32_t max_side, bool srgb) {
 }
 
 ThumbnailSet::Key ThumbnailSet::key_of(const ResourceRecord& record) {
-  return {record.hash, int(record.format), record.kind.name()};
+  const ImageExtent& e = record.extent;
+  return {record.hash, int(record.format), record.kind.name(), e.width, e.height, e.depth, e.mips, e.layers};
 }
 
 void ThumbnailSet::add(const ResourceRecord& record) {
@@ -52,7 +52,11 @@ void ThumbnailSet::add(const ResourceRecord& record) {
   const Key key = key_of(record);
   if (thumbnails_.count(key)) return;
   // Numbered files: a hash read from a manifest never becomes part of a path.
-  thumbnails_[key].file = "images/" + std::to_string(thumbnails_.size()) + ".png";
+  const std::string name = "images/" + std::to_string(thumbnails_.size() + 1);
+  Thumbnail& thumbnail = thumbnails_[key];
+  const uint32_t layers = std::min(record.extent.layers, kMaxLayersShown);
+  for (uint32_t layer = 0; layer < layers; ++layer)
+    thumbnail.pictures.push_back({name + (layers > 1 ? "-" + std::to_string(layer) : "") + ".png", layer});
   pending_.push_back(&record);
 }
 
@@ -62,19 +66,33 @@ void ThumbnailSet::write(const Capture& capture, const FrameRecord& frame, const
     const ResourceRecord& record = *pending_[i];
     Thumbnail& thumbnail = thumbnails_.at(key_of(record));
     const std::vector<uint8_t> raw = capture.load(record);
-    const Rgba8Image picture = visualise(record, raw, frame, {}, VisualAspect::depth_or_colour);
+    for (const Thumbnail::Picture& picture : thumbnail.pictures) {
+      const std::optional<DistanceRange> range = distance_range(record, raw, frame, {0, picture.layer, 0});
+      if (!range) continue;
+      if (!thumbnail.distances)
+        thumbnail.distances = range;
+      else
+        thumbnail.distances = DistanceRange{std::min(thumbnail.distances->nearest, range->nearest),
+                                            std::max(thumbnail.distances->farthest, range->farthest)};
+    }
+    // Layers side by side at half the side, four to a row.
+    const uint32_t side = thumbnail.pictures.size() > 1 ? max_side_ / 2 : max_side_;
     const bool light = kind_info(record.kind).light;
-    const Rgba8Image small = shrink(picture, max_side_, light);
-    write_png(folder / thumbnail.file, small.pixels, small.width, small.height);
-    thumbnail.width = small.width;
-    thumbnail.height = small.height;
+    for (Thumbnail::Picture& picture : thumbnail.pictures) {
+      const Rgba8Image drawn =
+          visualise(record, raw, frame, {0, picture.layer, 0}, VisualAspect::depth_or_colour, thumbnail.distances);
+      const Rgba8Image small = shrink(drawn, side, light);
+      write_png(folder / picture.file, small.pixels, small.width, small.height);
+      picture.width = small.width;
+      picture.height = small.height;
+    }
   });
   pending_.clear();
 }
 
 const Thumbnail* ThumbnailSet::find(const ResourceRecord& record) const {
   const auto it = thumbnails_.find(key_of(record));
-  return it == thumbnails_.end() || it->second.width == 0 ? nullptr : &it->second;
+  return it == thumbnails_.end() || it->second.pictures.front().width == 0 ? nullptr : &it->second;
 }
 
 }  // namespace nightcap

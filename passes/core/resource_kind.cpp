@@ -58,9 +58,13 @@ std::vector<KindInfo> core_kinds() {
   core.push_back({.kind = kinds::linear_depth,
                   .describe = [](const TexelValues& t, const KindFrame&,
                                  nlohmann::ordered_json& out) { out["linear_m"] = t.raw[0]; },
+                  // The sky (nothing drawn) is a far finite depth, 1e6 m by default (depth.convert's
+                  // sky_depth), clamped at half precision to its largest finite value: drawn as
+                  // nothing there, so that it does not squeeze the surfaces into one grey.
                   .draw =
                       [](const TexelValues& t, const KindFrame&) {
-                        return TexelPicture{TexelPicture::Scale::distance, {t.raw[0], 0, 0}};
+                        const double shown = t.raw[0] < 65504.0 ? t.raw[0] : 0.0;
+                        return TexelPicture{TexelPicture::Scale::distance, {shown, 0, 0}};
                       },
                   .measure = KindMeasure::depth});
   // Their raw values are what they hold; none lies over the output.

@@ -18,9 +18,11 @@ const KindRegistration kDepthMinMax({
           out["min_m"] = t.raw[0];
           out["max_m"] = t.raw[1];
         },
+    // A footprint of sky alone (depth.linear's default sky depth) is drawn as nothing there, as
+    // linear_depth draws the sky.
     .draw =
         [](const TexelValues& t, const KindFrame&) {
-          return TexelPicture{TexelPicture::Scale::distance, {t.raw[0], 0, 0}};
+          return TexelPicture{TexelPicture::Scale::distance, {t.raw[0] < kSkyDepth ? t.raw[0] : 0.0, 0, 0}};
         },
 });
 

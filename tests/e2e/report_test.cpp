@@ -5,11 +5,15 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cmath>
+#include <cstring>
 #include <fstream>
+#include <functional>
 #include <regex>
 #include <set>
 #include <sstream>
 
+#include "captures/capture.h"
 #include "reports/html.h"
 #include "tests/e2e/browser.h"
 #include "tests/e2e/cli.h"
@@ -105,6 +109,212 @@ TEST(Report, ShowsEveryPassOfTheFrameWithItsPicturesGraphAndTimings) {
   EXPECT_NE(html.find("<th>intensity_scale</th>"), std::string::npos);
   EXPECT_LT(folder_bytes(out) * 5, folder_bytes(capture)) << "thumbnails too large";
   EXPECT_FALSE(fs::exists(out / "index.html.partial"));
+}
+
+// The figure of `resource` where the page first shows it, up to its end.
+std::string figure_of(const std::string& html, const std::string& resource) {
+  const size_t at = html.find("data-resource=\"" + resource + "\"");
+  if (at == std::string::npos) return "";
+  return html.substr(at, html.find("</figure>", at) - at);
+}
+
+const ResourceRecord& output_of(const FrameRecord& frame, const std::string& resource) {
+  for (const PassRecord& p : frame.passes)
+    for (const ResourceRecord& r : p.outputs)
+      if (r.resource == resource) return r;
+  throw std::runtime_error("no output " + resource);
+}
+
+// The components of a schema field, read from the buffer's bytes here rather than by inspect's
+// decoding: integers as their decimal text, floats as their value.
+struct Component {
+  bool integer = false;
+  std::string text;
+  double value = 0;
+};
+std::vector<Component> components(const std::vector<uint8_t>& raw, uint64_t element, uint32_t stride,
+                                  const SchemaField& field) {
+  std::vector<Component> out;
+  for (uint32_t c = 0; c < field.count; ++c) {
+    const uint8_t* at = raw.data() + element * stride + field.offset + c * (field.scalar == Scalar::f64 ? 8 : 4);
+    Component component;
+    if (field.scalar == Scalar::u32 || field.scalar == Scalar::i32) {
+      uint32_t u;
+      std::memcpy(&u, at, 4);
+      component = {true, field.scalar == Scalar::u32 ? std::to_string(u) : std::to_string(int32_t(u))};
+    } else if (field.scalar == Scalar::f32) {
+      float f;
+      std::memcpy(&f, at, 4);
+      component.value = f;
+    } else
+      std::memcpy(&component.value, at, 8);
+    out.push_back(component);
+  }
+  return out;
+}
+
+// `shown` (a table cell: a value, or values in parentheses) holds exactly the components: floats
+// read back to the same float or double, bit for bit.
+void expect_shows(const std::string& shown, const std::vector<Component>& expected, const SchemaField& field,
+                  const std::string& where) {
+  std::string text = shown;
+  if (field.count > 1) {
+    ASSERT_TRUE(text.size() > 2 && text.front() == '(' && text.back() == ')') << where << ": " << shown;
+    text = text.substr(1, text.size() - 2);
+  }
+  std::vector<std::string> parts;
+  for (size_t from = 0;;) {
+    const size_t comma = text.find(", ", from);
+    parts.push_back(text.substr(from, comma - from));
+    if (comma == std::string::npos) break;
+    from = comma + 2;
+  }
+  ASSERT_EQ(parts.size(), expected.size()) << where << ": " << shown;
+  for (size_t c = 0; c < parts.size(); ++c) {
+    if (expected[c].integer) {
+      EXPECT_EQ(parts[c], expected[c].text) << where << "[" << c << "]";
+    } else if (field.scalar == Scalar::f32) {
+      const float read = std::strtof(parts[c].c_str(), nullptr), stored = float(expected[c].value);
+      EXPECT_EQ(std::memcmp(&read, &stored, 4), 0) << where << "[" << c << "]: " << parts[c] << " vs " << stored;
+    } else {
+      const double read = std::strtod(parts[c].c_str(), nullptr);
+      EXPECT_EQ(std::memcmp(&read, &expected[c].value, 8), 0) << where << "[" << c << "]: " << parts[c];
+    }
+  }
+}
+
+// What the cell after `<th>NAME</th>` in `html` holds.
+std::string cell_after(const std::string& html, const std::string& name) {
+  const std::string head = "<th>" + name + "</th><td>";
+  const size_t at = html.find(head);
+  if (at == std::string::npos) return "";
+  const size_t from = at + head.size();
+  return html.substr(from, html.find("</td>", from) - from);
+}
+
+// The nearest and farthest texel of `layers` layers of a one-channel float depth image (the depth
+// plane of a depth-stencil one) that `draw` keeps (nothing drawn: it gives 0), as the caption
+// prints them.
+std::string range_of(const std::vector<uint8_t>& raw, const ResourceRecord& r, uint32_t layers,
+                     const std::function<double(float)>& draw) {
+  const size_t texels = size_t(r.extent.width) * r.extent.height * layers;
+  double nearest = INFINITY, farthest = 0;
+  for (size_t i = 0; i < texels; ++i) {
+    float d;
+    std::memcpy(&d, raw.data() + 4 * i, 4);
+    const double shown = draw(d);
+    if (!std::isfinite(shown) || shown <= 0) continue;
+    nearest = std::min(nearest, shown);
+    farthest = std::max(farthest, shown);
+  }
+  return "<span class=\"range\">" + format_number(nearest) + " … " + format_number(farthest) + "</span>";
+}
+
+// Buffers are shown by their recorded schemas, with values read from their blobs here: a record
+// as its fields, a list as its count and first entries, a draw list as its draws and triangles.
+// Depth and shadow maps are drawn between the nearest and farthest depth present, which the
+// caption states, and every layer of a shadow map array is a picture of its own.
+TEST(Report, ShowsBuffersByTheirSchemaAndDepthByItsRangeAndEveryLayerOfAShadowMap) {
+  const fs::path folder = shared_capture("city", kCity);
+  const fs::path out = scratch("report-pictures") / "city";
+  ASSERT_EQ(run_cli("report " + quote(folder) + " -o " + quote(out)).code, 0);
+  const std::string html = slurp(out / "index.html");
+  const Capture capture = Capture::open(folder);
+  const FrameRecord& frame = capture.frame(0);
+
+  for (const char* name : {"frame.constants", "cull.stats", "lights.cluster_stats"}) {
+    const ResourceRecord& r = output_of(frame, name);
+    ASSERT_TRUE(r.schema) << name;
+    ASSERT_EQ(r.buffer_size, r.schema->stride) << name << " is a record";
+    const std::string figure = figure_of(html, name);
+    ASSERT_NE(figure.find("<table class=\"record\">"), std::string::npos) << name;
+    const std::vector<uint8_t> raw = capture.load(r);
+    for (const SchemaField& field : r.schema->fields)
+      expect_shows(cell_after(figure, field.name), components(raw, 0, r.schema->stride, field), field,
+                   std::string(name) + "." + field.name);
+  }
+
+  const ResourceRecord& lights = output_of(frame, "frame.lights");
+  const uint64_t light_count = lights.buffer_size / lights.schema->stride;
+  ASSERT_GT(light_count, 8u);
+  const std::string lights_figure = figure_of(html, "frame.lights");
+  EXPECT_NE(
+      lights_figure.find(std::to_string(light_count) + " elements of " + std::to_string(lights.schema->stride) + " B"),
+      std::string::npos)
+      << lights_figure;
+  EXPECT_NE(lights_figure.find("… " + std::to_string(light_count - 8) + " more"), std::string::npos);
+  const SchemaField& first_field = lights.schema->fields.front();
+  const size_t row = lights_figure.find("<tr><th>0</th><td>");
+  ASSERT_NE(row, std::string::npos);
+  const size_t value = row + std::string("<tr><th>0</th><td>").size();
+  expect_shows(lights_figure.substr(value, lights_figure.find("</td>", value) - value),
+               components(capture.load(lights), 0, lights.schema->stride, first_field), first_field,
+               "frame.lights[0]." + first_field.name);
+  EXPECT_EQ(lights_figure.find("<tr><th>8</th>"), std::string::npos) << "only the first 8 entries";
+
+  for (const char* name : {"draws.depth.prepass", "draws.shadow.cascades"}) {
+    const ResourceRecord& r = output_of(frame, name);
+    uint32_t index_count_at = 0;
+    for (const SchemaField& field : r.schema->fields)
+      if (field.name == "index_count") index_count_at = field.offset;
+    ASSERT_GT(index_count_at, 0u) << name;
+    const std::vector<uint8_t> raw = capture.load(r);
+    const uint64_t draws = raw.size() / r.schema->stride;
+    uint64_t triangles = 0;
+    for (uint64_t d = 0; d < draws; ++d) {
+      uint32_t indices;
+      std::memcpy(&indices, raw.data() + d * r.schema->stride + index_count_at, 4);
+      triangles += indices / 3;
+    }
+    EXPECT_GT(draws, 0u) << name;
+    EXPECT_NE(
+        figure_of(html, name).find(std::to_string(draws) + " draws · " + std::to_string(triangles) + " triangles"),
+        std::string::npos)
+        << figure_of(html, name);
+  }
+
+  // A buffer without a schema: its size.
+  const ResourceRecord& occlusion = output_of(frame, "cull.occlusion");
+  ASSERT_FALSE(occlusion.schema);
+  EXPECT_NE(figure_of(html, "cull.occlusion").find(std::to_string(occlusion.buffer_size) + " bytes</div>"),
+            std::string::npos);
+
+  // Reversed-Z device depth d is znear / distance, and 0 where nothing was drawn: the caption
+  // states the distances drawn.
+  const ResourceRecord& depth = output_of(frame, "scene.depth");
+  const double znear = frame.camera.znear;
+  EXPECT_NE(figure_of(html, "scene.depth")
+                .find(range_of(capture.load(depth), depth, 1, [&](float d) { return d > 0 ? znear / d : 0.0; })),
+            std::string::npos)
+      << figure_of(html, "scene.depth");
+
+  // The cascades: a picture per layer, labelled, all drawn between the depths their casters left
+  // (1: none).
+  const ResourceRecord& cascades = output_of(frame, "shadow.cascades");
+  ASSERT_EQ(cascades.extent.layers, 4u);
+  const std::string cascades_figure = figure_of(html, "shadow.cascades");
+  std::set<std::string> layer_files;
+  for (uint32_t layer = 0; layer < 4; ++layer) {
+    const std::regex picture("<img src=\"([^\"]+)\"[^>]*alt=\"shadow.cascades layer " + std::to_string(layer) +
+                             "\"><span class=\"layer-index\">" + std::to_string(layer) + "</span>");
+    std::smatch found;
+    ASSERT_TRUE(std::regex_search(cascades_figure, found, picture)) << "layer " << layer << ": " << cascades_figure;
+    layer_files.insert(found[1]);
+    EXPECT_TRUE(fs::is_regular_file(out / found[1].str())) << found[1];
+  }
+  EXPECT_EQ(layer_files.size(), 4u);
+  EXPECT_NE(cascades_figure.find(
+                range_of(capture.load(cascades), cascades, 4, [](float d) { return d < 1.0f ? double(d) : 0.0; })),
+            std::string::npos)
+      << cascades_figure;
+  // Local shadow maps, 16 layers: the first 8, and how many more there are.
+  const ResourceRecord& local = output_of(frame, "shadow.local");
+  ASSERT_EQ(local.extent.layers, 16u);
+  const std::string local_figure = figure_of(html, "shadow.local");
+  EXPECT_NE(local_figure.find("alt=\"shadow.local layer 7\""), std::string::npos);
+  EXPECT_EQ(local_figure.find("alt=\"shadow.local layer 8\""), std::string::npos);
+  EXPECT_NE(local_figure.find("… 8 more layers"), std::string::npos);
+  EXPECT_LT(folder_bytes(out) * 5, folder_bytes(folder)) << "thumbnails too large";
 }
 
 // The page as a browser shows it: no console error, every pass's section laid out in order,
