@@ -7,51 +7,11 @@
 #include <utility>
 #include <vector>
 
+#include "inspect/dot_text.h"
 #include "passes/core/history_name.h"
 
 namespace nightcap {
 namespace {
-
-// Text for a double-quoted DOT label. Graphviz reads it twice: the DOT lexer, where only \" is
-// special, then the label itself, where a backslash starts an escape (\n, \l, \N, ...) and HTML
-// entities such as &lt; are replaced. Nodes are plain boxes and ellipses, never records, so
-// braces, '|' and '<>' need nothing; nor does the SVG renderer, which escapes its own output.
-std::string escape(std::string_view text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      default:
-        // Other control characters (a reason is free text) are shown, not interpreted.
-        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
-          char hex[8];
-          std::snprintf(hex, sizeof hex, "\\\\x%02x", unsigned(static_cast<unsigned char>(c)));
-          out += hex;
-        } else {
-          out += c;
-        }
-    }
-  }
-  return out;
-}
-
-// A quoted label of several lines, each escaped.
-std::string label(const std::vector<std::string>& lines) {
-  std::string out = "\"";
-  for (size_t i = 0; i < lines.size(); ++i) out += (i ? "\\n" : "") + escape(lines[i]);
-  return out + "\"";
-}
 
 std::string milliseconds(double value) {
   char text[32];
@@ -76,7 +36,7 @@ class FrameGraph {
  public:
   explicit FrameGraph(const FrameRecord& frame) : frame_(frame) {
     out_ << "digraph frame_" << frame.index << " {\n"
-         << "  label=" << label({"frame " + std::to_string(frame.index)}) << ";\n  labelloc=t;\n"
+         << "  label=" << dot_label({"frame " + std::to_string(frame.index)}) << ";\n  labelloc=t;\n"
          << "  node [fontname=\"Helvetica\", fontsize=10];\n  edge [color=\"grey30\"];\n";
     for (size_t i = 0; i < frame.passes.size(); ++i) add_pass(i, frame.passes[i]);
     add_history_kept();
@@ -95,10 +55,10 @@ class FrameGraph {
     const std::string heading = std::to_string(index) + ". " + pass.name;
     if (pass.ran) {
       const std::string time = milliseconds(pass.time_ms) + " (" + std::string(pass_clock_name(pass.clock)) + ")";
-      out_ << "  " << node << " [shape=box, style=\"bold\", label=" << label({heading, "ran, " + time}) << "];\n";
+      out_ << "  " << node << " [shape=box, style=\"bold\", label=" << dot_label({heading, "ran, " + time}) << "];\n";
     } else {
       out_ << "  " << node << " [shape=box, style=\"dashed\", color=\"grey55\", fontcolor=\"grey40\", label="
-           << label({heading, "skipped: " + pass.reason}) << "];\n";
+           << dot_label({heading, "skipped: " + pass.reason}) << "];\n";
     }
     const std::string edge_style = pass.ran ? "" : " [style=\"dashed\", color=\"grey55\"]";
     // Inputs first: a pass that reads and writes a resource reads the version before its own.
@@ -116,8 +76,8 @@ class FrameGraph {
 
   std::string add_version(const ResourceRecord& r) {
     const std::string node = "r" + std::to_string(versions_++);
-    out_ << "  " << node << " [shape=ellipse, label=" << label({r.resource, shape_text(r), "#" + r.hash.substr(0, 8)})
-         << "];\n";
+    out_ << "  " << node
+         << " [shape=ellipse, label=" << dot_label({r.resource, shape_text(r), "#" + r.hash.substr(0, 8)}) << "];\n";
     return node;
   }
 
@@ -138,7 +98,7 @@ class FrameGraph {
                                                                      : "initial value (" + reset->second + ")";
       it->second = "r" + std::to_string(versions_++);
       out_ << "  " << it->second << " [shape=ellipse, style=\"dashed\", color=\"blue\", label="
-           << label({input.resource, shape_text(input), origin, "#" + input.hash.substr(0, 8)}) << "];\n";
+           << dot_label({input.resource, shape_text(input), origin, "#" + input.hash.substr(0, 8)}) << "];\n";
       history_read_.push_back(remembered);
     }
     return it->second;
@@ -151,7 +111,7 @@ class FrameGraph {
       if (it == written_.end()) continue;
       const std::string node = "h" + std::to_string(kept_++);
       out_ << "  " << node << " [shape=plaintext, fontcolor=\"blue\", label="
-           << label({"history of frame " + std::to_string(frame_.index + 1)}) << "];\n";
+           << dot_label({"history of frame " + std::to_string(frame_.index + 1)}) << "];\n";
       out_ << "  " << it->second.node << " -> " << node << kHistoryEdge << ";\n";
     }
   }

@@ -8,10 +8,9 @@
 #include <vector>
 
 #include "inspect/decode.h"
-#include "inspect/graph_dot.h"
 #include "reports/assets.h"
 #include "reports/buffer_figure.h"
-#include "reports/graph_layout.h"
+#include "reports/frame_graphs.h"
 #include "reports/html.h"
 #include "reports/thumbnails.h"
 #include "reports/timing_chart.h"
@@ -149,7 +148,7 @@ std::string timings_summary(const FrameRecord& frame) {
 }
 
 void pass_section(std::ostream& html, size_t index, const PassRecord& p, const Capture& capture,
-                  const ThumbnailSet& thumbnails, const BufferFigures& buffers,
+                  const ThumbnailSet& thumbnails, const BufferFigures& buffers, const std::string& graph,
                   std::map<std::string, std::string>& sources) {
   html << "<section class=\"pass" << (p.ran ? "" : " skipped") << "\" id=\"pass-" << index << "\" data-pass=\""
        << escape_markup(p.name) << "\">\n<h3>" << index << ". " << escape_markup(p.name)
@@ -166,6 +165,8 @@ void pass_section(std::ostream& html, size_t index, const PassRecord& p, const C
     html << " · NaN injected into " << escape_markup(p.injected_nan->resource) << " at (" << p.injected_nan->x << ", "
          << p.injected_nan->y << ")";
   html << "</p>\n";
+  // A pass that recorded nothing it read or wrote (skipped for what the scene lacks) has no graph.
+  if (!p.inputs.empty() || !p.outputs.empty()) html << "<div class=\"pass-graph\">" << graph << "</div>\n";
   for (const auto& [title, list] : {std::pair{"Inputs", &p.inputs}, std::pair{"Outputs", &p.outputs}}) {
     if (list->empty()) continue;
     html << "<h4>" << title << "</h4>\n<div class=\"resources\">\n";
@@ -208,7 +209,8 @@ void write_capture_report(const Capture& capture, const fs::path& folder, const 
   }
   thumbnails.write(capture, frame, folder);
   const BufferFigures buffers = buffer_figures(capture, frame);
-  layout_graph(frame_to_dot(frame), folder / "graph.dot", folder / "graph.svg");
+  const FrameGraphs graphs =
+      draw_frame_graphs(frame, folder, [](size_t index) { return "pass-" + std::to_string(index); });
   write_file(folder / "report.css", report_stylesheet());
 
   const std::string capture_name = capture.folder().filename().string();
@@ -232,11 +234,13 @@ void write_capture_report(const Capture& capture, const fs::path& folder, const 
     html << "<li" << (frame.passes[i].ran ? "" : " class=\"skipped\"") << "><a href=\"#pass-" << i << "\">"
          << escape_markup(frame.passes[i].name) << "</a></li>\n";
   html << "</ol></nav>\n</header>\n<main>\n"
-       << "<section id=\"graph\"><h2>Render graph</h2>\n<p>Passes in execution order and the versions of the "
-          "resources they read and write (Graphviz; the same graph as <code>nightcap graph --dot</code>, in "
-          "<a href=\"graph.dot\">graph.dot</a>).</p>\n"
-       << "<a href=\"graph.svg\"><img class=\"graph\" src=\"graph.svg\" alt=\"render graph of frame " << frame.index
-       << "\"></a>\n</section>\n"
+       << "<section id=\"graph\"><h2>Render graph</h2>\n<p>The frame's passes by stage, an arrow from each pass to "
+          "each one that reads what it wrote (the resources in its tooltip); a click on a pass opens its section, "
+          "which has "
+          "its own graph. What no pass wrote (the scene, the camera, the previous frame's history) is in those. The "
+          "whole graph, every version of every resource: <a href=\"graph.svg\">graph.svg</a> (the same as "
+          "<code>nightcap graph --dot</code>, in <a href=\"graph.dot\">graph.dot</a>).</p>\n"
+       << "<div class=\"overview\">" << graphs.overview << "</div>\n</section>\n"
        << "<section id=\"timings\"><h2>Timings</h2>\n"
        << timings_summary(frame) << timing_chart_svg(frame)
        << frame_times_table(m, frame, [&](const std::string& name) { return pass_anchor(frame, name); })
@@ -255,7 +259,7 @@ void write_capture_report(const Capture& capture, const fs::path& folder, const 
   html << "</section>\n<section id=\"passes\"><h2>Passes</h2>\n";
   std::map<std::string, std::string> sources;  // escaped GLSL by source hash, shared between passes
   for (size_t i = 0; i < frame.passes.size(); ++i)
-    pass_section(html, i, frame.passes[i], capture, thumbnails, buffers, sources);
+    pass_section(html, i, frame.passes[i], capture, thumbnails, buffers, graphs.passes[i], sources);
   html << "</section>\n</main>\n</body>\n</html>\n";
 
   publish_page(folder, html.str());
