@@ -105,8 +105,8 @@ std::string frame_times_table(const CaptureManifest& manifest, const FrameRecord
   html << "</tr>\n";
   for (const std::string& name : names) {
     html << "<tr><th>";
-    if (std::any_of(shown.passes.begin(), shown.passes.end(), [&](const PassRecord& p) { return p.name == name; }))
-      html << "<a href=\"#" << anchor_of(name) << "\">" << escape_markup(name) << "</a>";
+    if (const std::string anchor = anchor_of(name); !anchor.empty())
+      html << "<a href=\"#" << anchor << "\">" << escape_markup(name) << "</a>";
     else
       html << escape_markup(name);
     html << "</th>";

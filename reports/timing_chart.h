@@ -18,7 +18,7 @@ std::string timing_chart_svg(const FrameRecord& frame);
 // A table of every recorded frame's pass times (time_ms; blank where a pass did not run), a column
 // per frame, with each frame's sum and wall clock; "" when one frame is recorded. Pass names link
 // to their sections of the report of `shown` (the frame the page is about), anchors given by
-// `anchor_of(pass name)`.
+// `anchor_of(pass name)`, "" for a pass `shown` does not have (no link).
 std::string frame_times_table(const CaptureManifest& manifest, const FrameRecord& shown,
                               const std::function<std::string(const std::string&)>& anchor_of);
 
