@@ -285,6 +285,7 @@ struct FrameRun {
     shared.cmd = gpu.begin_commands(frame_name + ": " + pass.decl->name);
     issue_step(pass.sync.before_pass);
     record_commands(i);
+    if (options.cold_caches) flush_host_caches();
     const auto start = std::chrono::steady_clock::now();
     const GpuDevice::Submission submission = gpu.submit(std::exchange(shared.cmd, VK_NULL_HANDLE));
     gpu.wait(submission);

@@ -43,6 +43,9 @@ struct ExecutionOptions {
   // How each pass's time_ms is measured (passes/core/pass_time.h). `alone` submits every GPU
   // pass that runs by itself, once what came before it has finished: slower, for pass times.
   PassTiming pass_timing = PassTiming::overlapped;
+  // With PassTiming::alone: the host's caches are flushed before each timed pass
+  // (flush_host_caches), as replay does on a CPU device to time a pass as the frame found it.
+  bool cold_caches = false;
 };
 
 struct VersionData {

@@ -27,6 +27,9 @@ IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& p
   options.shaders = shaders;
   options.name = "isolated " + pass.name;
   options.pass_timing = default_pass_timing(gpu.is_cpu());
+  // A frame's pass reads inputs that later passes have pushed out of a CPU device's caches;
+  // this run has just uploaded them.
+  options.cold_caches = gpu.is_cpu();
   run.execution = execute_graph(gpu, cache, run.graph, bytes, options);
   for (int v : run.execution.passes.at(0).outputs) {
     const VersionData& version = run.execution.versions[v];

@@ -264,7 +264,9 @@ TEST(CaptureLoop, PassesJsonDescribesEveryPassAndResource) {
     stages.insert(p.at("stage").get<std::string>());
     if (p.at("status") != "ran") continue;
     EXPECT_EQ(p.at("clock"), p.at("gpu_ms").is_null() ? "host" : "host-alone") << p.at("name");
-    if (p.at("gpu_ms").is_null()) EXPECT_EQ(p.at("time_ms"), p.at("cpu_ms")) << p.at("name");
+    if (p.at("gpu_ms").is_null()) {
+      EXPECT_EQ(p.at("time_ms"), p.at("cpu_ms")) << p.at("name");
+    }
     EXPECT_GT(p.at("time_ms").get<double>(), 0.0) << p.at("name");
     sum += p.at("time_ms").get<double>();
   }
