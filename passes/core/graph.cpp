@@ -11,7 +11,7 @@
 namespace nightcap {
 namespace {
 
-// A size a pass's parameter gives (SizeRule::tile_param and square_param, ImageDecl::depth_param):
+// A size a pass's parameter gives (SizeRule::tile_param, square_param and params, ImageDecl::depth_param):
 // the parameter is declared an int from 1, or an enum of such values, so its checked value is one.
 uint32_t size_from_param(const PassDecl& pass, const ParamValues& params, const std::string& param,
                          const std::string& what) {
@@ -78,6 +78,10 @@ ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
     case SizeRule::Mode::square_param:
       desc.extent.width = desc.extent.height =
           size_from_param(decl, params, d.size.param, pass + ": output '" + out.resource + "'");
+      break;
+    case SizeRule::Mode::params:
+      desc.extent.width = size_from_param(decl, params, d.size.param, pass + ": output '" + out.resource + "'");
+      desc.extent.height = size_from_param(decl, params, d.size.height_param, pass + ": output '" + out.resource + "'");
       break;
   }
   const std::string what = pass + ": output '" + out.resource + "'";
@@ -251,8 +255,9 @@ uint32_t full_mip_count(uint32_t width, uint32_t height) {
 
 namespace {
 
-// `passes` without the optional inputs that no pass writes and nothing imports; nullopt when
-// every optional input is connected.
+// `passes` without the optional inputs that no pass writes and nothing imports, nor those inputs
+// in their fold conditions (the pass computes without them, as a pass whose input holds a known
+// value does); nullopt when every optional input is connected.
 std::optional<std::vector<PassDecl>> without_unconnected_inputs(const std::vector<PassDecl>& passes,
                                                                 const std::vector<ImportedResource>& imports) {
   std::set<std::string> produced;
@@ -265,7 +270,14 @@ std::optional<std::vector<PassDecl>> without_unconnected_inputs(const std::vecto
       }))
     return std::nullopt;
   std::vector<PassDecl> connected = passes;
-  for (PassDecl& pass : connected) std::erase_if(pass.inputs, unconnected);
+  for (PassDecl& pass : connected) {
+    std::set<std::string> dropped;
+    for (const ResourceUse& in : pass.inputs)
+      if (unconnected(in)) dropped.insert(in.resource);
+    std::erase_if(pass.inputs, unconnected);
+    for (PassDecl::UniformFold& fold : pass.uniform_folds)
+      std::erase_if(fold.inputs, [&](const std::string& r) { return dropped.count(r) > 0; });
+  }
   return connected;
 }
 

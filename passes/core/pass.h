@@ -52,12 +52,13 @@ using UniformValues = std::map<std::string, VkClearValue>;
 bool same_value(VkFormat format, const VkClearValue& a, const VkClearValue& b);
 
 struct SizeRule {
-  enum class Mode { output, output_half, output_tiles, absolute, like, square_param } mode = Mode::output;
+  enum class Mode { output, output_half, output_tiles, absolute, like, square_param, params } mode = Mode::output;
   uint32_t width = 0, height = 0;  // absolute
   std::string like;                // like: same size as this resource
   std::string param{};             // square_param: a square whose side is this parameter of the writing pass
   uint32_t tile = 1;               // output_tiles: a texel per tile of tile×tile output pixels, rounded up
   std::string tile_param{};        // output_tiles: when named, the writing pass's parameter gives `tile`
+  std::string height_param{};      // params: the writing pass's parameters `param` and this give width and height
 };
 
 struct ImageDecl {
