@@ -10,6 +10,7 @@
 #include "passes/normals/stage.h"
 #include "passes/post/stage.h"
 #include "passes/shadow/stage.h"
+#include "passes/sky/stage.h"
 
 namespace nightcap {
 
@@ -46,6 +47,9 @@ void add_scene_passes(std::vector<PassDecl>& passes) {
 void add_lighting_passes(std::vector<PassDecl>& passes, FrameLighting lighting) {
   // The light lists and the sun's shadow mask are read by lighting alone.
   add_stage(passes, "lighting", {lights_cluster_pass(), shadow_sun_resolve_pass()});
+  // The sky's LUTs, which the composite (and, to come, image-based light and the probes) read.
+  add_stage(passes, "lighting",
+            {sky_atmosphere_pass(), sky_transmittance_pass(), sky_multiscattering_pass(), sky_view_pass()});
   if (lighting == FrameLighting::tiled)
     add_stage(passes, "lighting", {lighting_ltc_table_pass(), lighting_tiled_pass()});
   else

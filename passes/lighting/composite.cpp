@@ -1,9 +1,12 @@
 // lighting.composite: direct diffuse + specular + emission + a uniform ambient term into the
-// lit HDR colour. The indirect terms of frame.md join as optional inputs, each read when its
-// pass is in the frame: ao.bent's visibility (alpha, sampled bilinearly: AO may be half size)
-// darkens the ambient term. SSR, probes, the GI volume and fog are to join the same way, a
-// read_optional and an `#ifdef NC_BINDING_<name>` block in the shader each, with the passes that
-// define their formats.
+// lit HDR colour; where nothing was drawn, the sky: sky.view's radiance by the pixel's view
+// direction when sky.atmosphere holds a record (it, sky.view and frame.constants are optional
+// inputs, read together), the constant `sky` otherwise (no directional light, the sky switched
+// off, or a frame without the sky's passes). The indirect terms of
+// frame.md join as optional inputs, each read when its pass is in the frame: ao.bent's visibility (alpha, sampled
+// bilinearly: AO may be half size) darkens the ambient term. SSR, probes, the GI volume and fog are to join the same
+// way, a read_optional and an `#ifdef NC_BINDING_<name>` block in the shader each, with the passes that define their
+// formats.
 #include "passes/core/context.h"
 #include "passes/lighting/composite.glsl.h"
 #include "passes/lighting/stage.h"
@@ -31,6 +34,10 @@ PassDecl lighting_composite_pass() {
       .read("gbuffer.material", Use::sampled)
       .read("gbuffer.emissive", Use::sampled)
       .read("scene.depth", Use::sampled)
+      .read_optional("frame.constants", Use::uniform_buffer)
+      .read_optional("sky.atmosphere", Use::uniform_buffer)
+      .read_optional("sky.view", Use::sampled)
+      .sampler("sky.view", bilinear_clamp_sampler())
       .read_optional("ao.bent", Use::sampled)
       .as("ao")
       .sampler("ao.bent", bilinear_clamp_sampler())
@@ -41,8 +48,10 @@ PassDecl lighting_composite_pass() {
                                                           "the nearest half to the sum "
                                                           "(tests/unit/lighting_composite_test.cpp): "
                                                           "two devices within one half ULP"))
-      // Nothing drawn (depth 0 everywhere): the sky at every pixel, as the shader stores it.
-      .fold_when_uniform({"scene.depth"},
+      // Nothing drawn (depth 0 everywhere) and no sky.view (skipped: cleared; sky.atmosphere, which
+      // the sky's passes skip with, is then empty too): the constant sky at every pixel, as the
+      // shader stores it.
+      .fold_when_uniform({"scene.depth", "sky.view"},
                          [](const UniformValues& inputs, const ParamValues& params) -> std::optional<UniformValues> {
                            if (!(inputs.at("scene.depth").depthStencil.depth <= 0.0f)) return std::nullopt;
                            const glm::vec4 sky = sky_radiance(params.at("sky"));
@@ -52,7 +61,10 @@ PassDecl lighting_composite_pass() {
                            return UniformValues{{"lighting.lit", lit}};
                          })
       .fullscreen("lighting/composite.frag", [](const PassContext& ctx) {
-        return CompositeConstants{ambient_radiance(ctx.param_float("ambient")), sky_radiance(ctx.param_float("sky"))};
+        // The record decides, not whether sky.view ran: a replay sees the record, not the frame.
+        const bool has_sky = !ctx.inputs_with_prefix("sky.atmosphere").empty() && !ctx.host("sky.atmosphere").empty();
+        return CompositeConstants{ambient_radiance(ctx.param_float("ambient")), sky_radiance(ctx.param_float("sky")),
+                                  glm::uvec4(has_sky ? 1u : 0u, 0u, 0u, 0u)};
       });
 }
 

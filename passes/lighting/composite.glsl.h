@@ -9,7 +9,10 @@
   /* rgb radiance of the uniform ambient term */ \
   F(vec4, ambient)                               \
   /* rgb radiance where nothing was drawn */     \
-  F(vec4, sky)
+  F(vec4, sky)                                                       \
+  /* x: 1 when sky.atmosphere holds a record (the sky's passes ran) \
+     and sky.view is drawn, 0 for the constant `sky` */              \
+  F(uvec4, sky_source)
 NC_PUSH_CONSTANTS(CompositeConstants, NC_COMPOSITE_CONSTANTS_FIELDS)
 
 #endif

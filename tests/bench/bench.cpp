@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
       "city",    "models", "map",     "empty",        "frames",   "normals",      "tubes",
       "depth",   "motion", "streams", "bloom",        "exposure", "startup",      "diff",
       "report",  "decals", "ltc",     "cluster",      "tiled",    "tube_quality", "cluster_shape",
-      "shadows", "tod",    "distant", "shadow_cache", "local",    "pass_times"};
+      "shadows", "tod",    "distant", "shadow_cache", "local",    "pass_times", "sky"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -119,6 +119,7 @@ int main(int argc, char** argv) {
     }
     if (wanted("local")) bench_local(gpu, width, height, int(repeats));
     if (wanted("pass_times")) bench_pass_times(gpu, width, height, 3);
+    if (wanted("sky")) bench_sky(gpu, cache);
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

@@ -17,6 +17,9 @@ void bench_scene(GpuDevice& gpu, const std::string& key, const std::string& labe
 void bench_map(GpuDevice& gpu, PipelineCache& cache, uint32_t width, uint32_t height, int repeats, bool frames);
 void bench_empty(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
 
+// sky_bench.cpp: the sky's LUTs, time against error.
+void bench_sky(GpuDevice& gpu, PipelineCache& cache);
+
 // pass_time_bench.cpp: recorded pass times against the same passes replayed alone.
 void bench_pass_times(GpuDevice& gpu, uint32_t width, uint32_t height, int runs);
 

@@ -1,0 +1,41 @@
+// The atmosphere the sky's passes share with their shaders (passes/core/gpu_layout.glsl.h says
+// how this header is read by both compilers): a planet of radius `ground_km` under a shell up to
+// `top_km`, holding Rayleigh and Mie scattering that fall off exponentially with height, and
+// ozone, which absorbs only, in a layer shaped as a tent around `ozone_centre_km` (Hillaire 2020,
+// after Bruneton and Neyret 2008). Lengths in kilometres, coefficients per kilometre.
+#ifndef NIGHTCAP_SKY_ATMOSPHERE_GLSL_H
+#define NIGHTCAP_SKY_ATMOSPHERE_GLSL_H
+
+#include "../core/gpu_layout.glsl.h"
+
+// Invocations on a side of the workgroups that fill the LUTs.
+NC_CONST(uint, kSkyGroupSide, 8u)
+
+#define NC_GPU_ATMOSPHERE_FIELDS(F, A, P)                                                         \
+  /* rgb: Rayleigh scattering at sea level; w: its scale height */                                \
+  F(vec4, rayleigh)                                                                               \
+  /* rgb: Mie scattering at sea level; w: its scale height */                                     \
+  F(vec4, mie_scattering)                                                                         \
+  /* rgb: Mie extinction (scattering and absorption) at sea level; w: the Cornette-Shanks g */    \
+  F(vec4, mie_extinction)                                                                         \
+  /* rgb: ozone absorption at the layer's peak; w: the height of the peak */                      \
+  F(vec4, ozone)                                                                                  \
+  /* x: the ground's radius, y: the atmosphere's top, z: ozone's half width, w: ground albedo */  \
+  F(vec4, radii)                                                                                  \
+  /* x: 1 when this frame's atmosphere differs from the previous frame's (or there was none): the \
+     LUTs that depend on it alone are computed again, else kept; yzw: unused */                   \
+  F(uvec4, changed)
+NC_STRUCT(GpuAtmosphere, NC_GPU_ATMOSPHERE_FIELDS)
+
+#define NC_SKY_LUT_CONSTANTS_FIELDS(F, A, P)                          \
+  /* samples along each ray (sky.view: per ray; sky.transmittance:    \
+     midpoints; sky.multiscattering: per direction) */                \
+  F(uint, samples)                                                    \
+  /* sky.multiscattering: directions per side of its sphere grid */   \
+  F(uint, directions)                                                 \
+  /* 0 when sky.atmosphere wrote no record (no directional light):    \
+     the LUT is left at its clear value, 0, as a skipped pass's is */ \
+  F(uint, has_atmosphere)
+NC_PUSH_CONSTANTS(SkyLutConstants, NC_SKY_LUT_CONSTANTS_FIELDS)
+
+#endif

@@ -1,0 +1,26 @@
+#include "passes/sky/luts.h"
+
+#include "passes/core/context.h"
+#include "passes/sky/atmosphere.glsl.h"
+
+namespace nightcap {
+
+ImageDecl sky_lut_image() {
+  ImageDecl lut{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::lookup_table};
+  lut.size.mode = SizeRule::Mode::params;
+  lut.size.param = "width";
+  lut.size.height_param = "height";
+  return lut;
+}
+
+void dispatch_sky_lut(PassContext& ctx, const std::string& lut) {
+  const ImageExtent size = ctx.desc(lut).extent;
+  SkyLutConstants constants{uint32_t(ctx.param_int("samples")), 0u, ctx.host("sky.atmosphere").empty() ? 0u : 1u};
+  if (ctx.declaration().find_param("directions")) constants.directions = uint32_t(ctx.param_int("directions"));
+  ctx.bind_pipeline();
+  ctx.push_declared();
+  ctx.push_constants(constants);
+  vkCmdDispatch(ctx.cmd(), group_count(size.width, kSkyGroupSide), group_count(size.height, kSkyGroupSide), 1);
+}
+
+}  // namespace nightcap

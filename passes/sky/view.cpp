@@ -1,0 +1,32 @@
+// sky.view (frame.md section 4, `sky.luts`): the sky's radiance around the camera, per view
+// direction relative to the frame's directional light, as view.comp computes it; what the
+// composite draws where nothing was. 192×108 by default, Hillaire's (2020) size. Follows the
+// camera and the light: computed every frame. Skipped with no directional light (the composite
+// then draws its constant sky).
+#include "passes/core/context.h"
+#include "passes/sky/atmosphere.glsl.h"
+#include "passes/sky/luts.h"
+#include "passes/sky/stage.h"
+
+namespace nightcap {
+
+PassDecl sky_view_pass() {
+  return PassDecl("sky.view", PassType::compute)
+      .read("frame.constants", Use::uniform_buffer)
+      .read("sky.atmosphere", Use::uniform_buffer)
+      .read("sky.transmittance", Use::sampled)
+      .sampler("sky.transmittance", bilinear_clamp_sampler())
+      .read("sky.multiscattering", Use::sampled)
+      .sampler("sky.multiscattering", bilinear_clamp_sampler())
+      .write("sky.view", Use::storage_write, sky_lut_image())
+      .param_int("width", 192, 2, 4096, "texels across: the azimuth from the light")
+      .param_int("height", 108, 2, 4096, "texels down: the zenith angle, half above the horizon")
+      .param_int("samples", 32, 1, 4096, "steps along each texel's view ray")
+      .can_disable("sky disabled by settings (the composite draws its constant sky)", "sky")
+      .needs("sun")
+      .push_constants<SkyLutConstants>()
+      .shader("sky/view.comp")
+      .run([](PassContext& ctx) { dispatch_sky_lut(ctx, "sky.view"); });
+}
+
+}  // namespace nightcap

@@ -1,0 +1,177 @@
+// CPU references for the sky's LUTs (passes/sky/), shared by their unit test and the benchmark.
+// Written in double precision from the atmosphere's definition (passes/sky/atmosphere.glsl.h)
+// and Hillaire's (2020) model, not from the shaders: the transmittance by adaptive Simpson
+// quadrature of each constituent's optical depth, the sky's radiance by a midpoint ray march
+// whose transmittance toward the light is its own sum, not the LUT.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <glm/gtc/constants.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "passes/core/format.h"
+#include "passes/sky/atmosphere.glsl.h"
+
+namespace nightcap::reference {
+
+using glm::dvec3;
+
+struct Model {
+  double ground, top, ozone_centre, ozone_half_width, rayleigh_height, mie_height, g;
+  dvec3 rayleigh, mie, mie_extinction, ozone;
+
+  explicit Model(const GpuAtmosphere& a)
+      : ground(a.radii.x),
+        top(a.radii.y),
+        ozone_centre(a.ozone.w),
+        ozone_half_width(a.radii.z),
+        rayleigh_height(a.rayleigh.w),
+        mie_height(a.mie_scattering.w),
+        g(a.mie_extinction.w),
+        rayleigh(a.rayleigh),
+        mie(a.mie_scattering),
+        mie_extinction(a.mie_extinction),
+        ozone(a.ozone) {}
+
+  double rayleigh_density(double h) const { return std::exp(-std::max(h, 0.0) / rayleigh_height); }
+  double mie_density(double h) const { return std::exp(-std::max(h, 0.0) / mie_height); }
+  double ozone_density(double h) const {
+    return std::max(0.0, 1.0 - std::abs(std::max(h, 0.0) - ozone_centre) / ozone_half_width);
+  }
+  dvec3 extinction(double h) const {
+    return rayleigh * rayleigh_density(h) + mie_extinction * mie_density(h) + ozone * ozone_density(h);
+  }
+  // Height above the ground after t km along a ray from radius r with zenith cosine mu.
+  double height(double r, double mu, double t) const { return std::sqrt(t * t + 2 * r * mu * t + r * r) - ground; }
+  double distance_out(double r, double mu) const {
+    return std::max(0.0, -r * mu + std::sqrt(std::max(r * r * (mu * mu - 1) + top * top, 0.0)));
+  }
+  bool meets_ground(double r, double mu) const { return mu < 0 && r * r * (mu * mu - 1) + ground * ground >= 0; }
+};
+
+inline double simpson(const std::function<double(double)>& f, double a, double b, double fa, double fm, double fb,
+               double whole, double tolerance, int depth) {
+  const double m = 0.5 * (a + b), lm = 0.5 * (a + m), rm = 0.5 * (m + b);
+  const double flm = f(lm), frm = f(rm);
+  const double left = (m - a) / 6 * (fa + 4 * flm + fm), right = (b - m) / 6 * (fm + 4 * frm + fb);
+  if (depth <= 0 || std::abs(left + right - whole) <= 15 * tolerance) return left + right + (left + right - whole) / 15;
+  return simpson(f, a, m, fa, flm, fm, left, tolerance / 2, depth - 1) +
+         simpson(f, m, b, fm, frm, fb, right, tolerance / 2, depth - 1);
+}
+
+// ∫ f over [a, b] to `tolerance`, started from 16 panels so that no feature hides between samples.
+inline double integrate(const std::function<double(double)>& f, double a, double b, double tolerance) {
+  double sum = 0;
+  const int panels = 16;
+  for (int k = 0; k < panels; ++k) {
+    const double x0 = a + (b - a) * k / panels, x1 = a + (b - a) * (k + 1) / panels, xm = 0.5 * (x0 + x1);
+    const double f0 = f(x0), fm = f(xm), f1 = f(x1);
+    sum += simpson(f, x0, x1, f0, fm, f1, (x1 - x0) / 6 * (f0 + 4 * fm + f1), tolerance / panels, 30);
+  }
+  return sum;
+}
+
+inline dvec3 transmittance_reference(const Model& m, double r, double mu) {
+  const double d = m.distance_out(r, mu);
+  const auto along = [&](double (Model::*density)(double) const) {
+    return integrate([&](double t) { return (m.*density)(m.height(r, mu, t)); }, 0.0, d, 1e-9);
+  };
+  const double rayleigh = along(&Model::rayleigh_density), mie = along(&Model::mie_density),
+               ozone = along(&Model::ozone_density);
+  return glm::exp(-(m.rayleigh * rayleigh + m.mie_extinction * mie + m.ozone * ozone));
+}
+
+// A midpoint sum of `samples` steps: the reference's own transmittance toward the light.
+inline dvec3 transmittance_sum(const Model& m, double r, double mu, int samples) {
+  if (m.meets_ground(r, mu)) return dvec3(0.0);
+  const double step = m.distance_out(r, mu) / samples;
+  dvec3 depth(0.0);
+  for (int i = 0; i < samples; ++i) depth += m.extinction(m.height(r, mu, (i + 0.5) * step));
+  return glm::exp(-depth * step);
+}
+
+inline double texel_coordinate(double x, double n) { return 0.5 / n + x * (1.0 - 1.0 / n); }
+inline double unit_of_texel_coordinate(double u, double n) { return (u - 0.5 / n) / (1.0 - 1.0 / n); }
+
+// The transmittance LUT's parameterisation (Bruneton 2017), in double.
+inline void transmittance_r_mu(const Model& m, double u, double v, double w, double h, double& r, double& mu) {
+  const double x_mu = unit_of_texel_coordinate(u, w), x_r = unit_of_texel_coordinate(v, h);
+  const double horizon = std::sqrt(m.top * m.top - m.ground * m.ground);
+  const double rho = horizon * x_r;
+  r = std::sqrt(rho * rho + m.ground * m.ground);
+  const double d_min = m.top - r, d_max = rho + horizon, d = d_min + x_mu * (d_max - d_min);
+  mu = d == 0 ? 1.0 : std::clamp((horizon * horizon - rho * rho - d * d) / (2 * r * d), -1.0, 1.0);
+}
+
+inline dvec3 texel_of(const std::vector<uint8_t>& bytes, uint32_t width, uint32_t x, uint32_t y) {
+  float t[4];
+  decode_texel(*format_info(VK_FORMAT_R16G16B16A16_SFLOAT), 0, bytes, uint64_t(y) * width + x, t);
+  return dvec3(t[0], t[1], t[2]);
+}
+
+// Bilinear lookup with clamp-to-edge, as the sampler reads a W×H RGBA16F LUT at uv.
+inline dvec3 bilinear(const std::vector<uint8_t>& lut, uint32_t w, uint32_t h, double u, double v) {
+  const double x = u * w - 0.5, y = v * h - 0.5;
+  const double x0 = std::floor(x), y0 = std::floor(y), fx = x - x0, fy = y - y0;
+  const auto at = [&](double xi, double yi) {
+    return texel_of(lut, w, uint32_t(std::clamp(xi, 0.0, w - 1.0)), uint32_t(std::clamp(yi, 0.0, h - 1.0)));
+  };
+  return glm::mix(glm::mix(at(x0, y0), at(x0 + 1, y0), fx), glm::mix(at(x0, y0 + 1), at(x0 + 1, y0 + 1), fx), fy);
+}
+
+// The view direction of sky.view's texel (x, y) of a W×H LUT seen from radius r, in the LUT's
+// frame (y up, the light in the xy plane toward +x): its parameterisation in double.
+inline dvec3 sky_view_direction(const Model& m, uint32_t x, uint32_t y, uint32_t w, uint32_t h, double r) {
+  const double u = unit_of_texel_coordinate((x + 0.5) / w, w), v = unit_of_texel_coordinate((y + 0.5) / h, h);
+  const double from_nadir = std::acos(std::sqrt(r * r - m.ground * m.ground) / r);
+  const double zenith_to_horizon = glm::pi<double>() - from_nadir;
+  double zenith;
+  if (v < 0.5) {
+    const double s = 1 - 2 * v;
+    zenith = zenith_to_horizon * (1 - s * s);
+  } else {
+    const double s = 2 * v - 1;
+    zenith = zenith_to_horizon + from_nadir * s * s;
+  }
+  const double cos_azimuth = 1 - 2 * u * u, cz = std::cos(zenith), sz = std::sin(zenith);
+  return dvec3(sz * cos_azimuth, cz, sz * std::sqrt(std::max(0.0, 1 - cos_azimuth * cos_azimuth)));
+}
+
+// The sky's radiance along `direction` from radius r for a light of unit radiance toward
+// `light` (unit vectors in a frame whose y is the camera's zenith): `steps` midpoint steps to the
+// ground or the top, single scattering with Rayleigh's and Cornette-Shanks's phase functions and
+// a `steps`-sample transmittance toward the light, plus the multiple scattering LUT `ms`
+// (W×H RGBA16F, as sky.multiscattering writes it) sampled bilinearly.
+inline dvec3 sky_radiance(const Model& m, const std::vector<uint8_t>& ms, uint32_t ms_width, uint32_t ms_height,
+                          double r, const dvec3& direction, const dvec3& light, int steps) {
+  const double c = glm::dot(direction, light), pi = glm::pi<double>();
+  const double rayleigh_phase = 3.0 / (16 * pi) * (1 + c * c);
+  const double mie_phase =
+      3.0 / (8 * pi) * (1 - m.g * m.g) / (2 + m.g * m.g) * (1 + c * c) / std::pow(1 + m.g * m.g - 2 * m.g * c, 1.5);
+  const double cz = direction.y;
+  const double length =
+      m.meets_ground(r, cz) ? -r * cz - std::sqrt(std::max(r * r * (cz * cz - 1) + m.ground * m.ground, 0.0))
+                            : m.distance_out(r, cz);
+  const double dt = length / steps;
+  dvec3 throughput(1.0), radiance(0.0);
+  for (int i = 0; i < steps; ++i) {
+    const dvec3 p = dvec3(0, r, 0) + direction * ((i + 0.5) * dt);
+    const double r_p = glm::length(p), h = r_p - m.ground, mu_p = glm::dot(p, light) / r_p;
+    const dvec3 sun = transmittance_sum(m, r_p, mu_p, steps);
+    const dvec3 multiple = bilinear(ms, ms_width, ms_height, texel_coordinate(std::clamp(mu_p * 0.5 + 0.5, 0.0, 1.0), ms_width),
+                                    texel_coordinate(std::clamp(h / (m.top - m.ground), 0.0, 1.0), ms_height));
+    const dvec3 source = m.rayleigh * m.rayleigh_density(h) * (sun * rayleigh_phase + multiple) +
+                         m.mie * m.mie_density(h) * (sun * mie_phase + multiple);
+    // The midpoint rule: the throughput to the step's middle.
+    const dvec3 half_step = glm::exp(-m.extinction(h) * (0.5 * dt));
+    radiance += throughput * half_step * source * dt;
+    throughput *= half_step * half_step;
+  }
+  return radiance;
+}
+
+}  // namespace nightcap::reference
