@@ -122,7 +122,8 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
   // second pass.
   std::vector<double> distances;              // 0: nothing there
   std::vector<std::array<double, 2>> motion;  // pixels
-  double nearest = INFINITY, farthest = 0, longest = 0;
+  std::vector<std::array<double, 3>> relative;
+  double nearest = INFINITY, farthest = 0, longest = 0, largest = 0;
   const KindInfo& kind = kind_info(record.kind);
   const KindFrame kind_frame_of_record = kind_frame(frame);
   using Scale = TexelPicture::Scale;
@@ -163,6 +164,12 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
           motion[i] = {p[0], p[1]};
           if (std::isfinite(p[0]) && std::isfinite(p[1])) longest = std::max(longest, std::hypot(p[0], p[1]));
           break;
+        case Scale::relative:
+          if (relative.empty()) relative.resize(texels);
+          relative[i] = p;
+          for (double c : p)
+            if (std::isfinite(c)) largest = std::max(largest, c);
+          break;
       }
     }
   if (!distances.empty()) {
@@ -184,6 +191,13 @@ Rgba8Image visualise(const ResourceRecord& record, std::span<const uint8_t> raw,
                            : std::array<double, 3>{0, 0, 0};
       put(i, rgb[0], rgb[1], rgb[2]);
     }
+  if (!relative.empty())
+    for (uint64_t i = 0; i < texels; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const double x = relative[i][c];
+        image.pixels[4 * i + c] =
+            srgb_code(float(largest > 0 && std::isfinite(x) ? std::clamp(x / largest, 0.0, 1.0) : 0.0));
+      }
   return image;
 }
 

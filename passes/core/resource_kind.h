@@ -54,6 +54,8 @@ struct TexelPicture {
                // (black); 0: nothing there (black)
     motion,    // value[0..1] in pixels: hue from the direction, brightness from the length
                // against the image's longest
+    relative,  // linear RGB ≥ 0 divided by the image's largest channel, sRGB-encoded (a table
+               // whose values span any range)
   };
   Scale scale = Scale::display;
   std::array<double, 3> value{};

@@ -2,11 +2,28 @@
 
 #include "passes/core/context.h"
 #include "passes/sky/atmosphere.glsl.h"
+#include "passes/sky/kinds.h"
 
 namespace nightcap {
+namespace {
+
+const KindRegistration kSkyLut({
+    .kind = kinds::sky_lut,
+    .describe =
+        [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
+          out["rgb"] = {t.raw.at(0), t.raw.at(1), t.raw.at(2)};
+        },
+    .draw =
+        [](const TexelValues& t, const KindFrame&) {
+          return TexelPicture{TexelPicture::Scale::relative, {t.raw.at(0), t.raw.at(1), t.raw.at(2)}};
+        },
+    .over_output = false,
+});
+
+}  // namespace
 
 ImageDecl sky_lut_image() {
-  ImageDecl lut{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::lookup_table};
+  ImageDecl lut{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut};
   lut.size.mode = SizeRule::Mode::params;
   lut.size.param = "width";
   lut.size.height_param = "height";

@@ -10,6 +10,7 @@
 
 #include "passes/core/history_name.h"
 #include "passes/sky/atmosphere.h"
+#include "passes/sky/kinds.h"
 #include "passes/sky/stage.h"
 #include "tests/bench/bench_common.h"
 #include "tests/bench/benchmarks.h"
@@ -36,7 +37,7 @@ IsolatedInput buffer_input(const void* data, size_t size) {
 }
 
 IsolatedInput lut_input(uint32_t w, uint32_t h, std::vector<uint8_t> bytes) {
-  return image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::lookup_table, w, h, std::move(bytes));
+  return image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut, w, h, std::move(bytes));
 }
 
 struct Timed {

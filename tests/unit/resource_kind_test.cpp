@@ -12,6 +12,7 @@
 #include "inspect/decode.h"
 #include "inspect/visualise.h"
 #include "passes/assembly/frame_passes.h"
+#include "passes/sky/kinds.h"
 #include "tests/unit/image_record.h"
 
 namespace nightcap {
@@ -68,6 +69,18 @@ const KindRegistration kHemisphere({
     .measure = KindMeasure::unit_vector,
     .compression = {KindCompression::Method::wavelet, 1},
 });
+
+// A table of any range (the sky's LUTs) is drawn relative to its largest channel.
+TEST(ResourceKinds, ASkyLutIsDrawnRelativeToItsLargestValue) {
+  const ResourceRecord record = image_record(VK_FORMAT_R32G32B32A32_SFLOAT, kinds::sky_lut, 2, 1, 1, "sky.view");
+  const std::vector<uint8_t> raw = floats({400.0f, 100.0f, 0.0f, 1.0f, 800.0f, 200.0f, 50.0f, 1.0f});
+  const Rgba8Image picture = visualise(record, raw, FrameRecord{}, {}, VisualAspect::depth_or_colour);
+  EXPECT_EQ(picture.pixels[0], srgb_code(0.5f));
+  EXPECT_EQ(picture.pixels[1], srgb_code(0.125f));
+  EXPECT_EQ(picture.pixels[2], srgb_code(0.0f));
+  EXPECT_EQ(picture.pixels[4], srgb_code(1.0f));
+  EXPECT_EQ(picture.pixels[6], srgb_code(0.0625f));
+}
 
 TEST(ResourceKinds, ANewKindIsDecodedDrawnMeasuredAndCompressedAsItsRegistrationSays) {
   const ResourceRecord record =

@@ -21,6 +21,7 @@
 #include "passes/core/history_name.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/sky/atmosphere.h"
+#include "passes/sky/kinds.h"
 #include "passes/sky/stage.h"
 #include "tests/reference/sky_reference.h"
 #include "tests/unit/gpu_fixture.h"
@@ -55,7 +56,7 @@ TEST_F(SkyTest, TransmittanceMatchesQuadratureOfOpticalDepth) {
       run(sky_transmittance_pass(),
           {{"sky.atmosphere", atmosphere_input(true)},
            {previous("sky.transmittance"),
-            image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::lookup_table, 256, 64, std::vector<uint8_t>(256 * 64 * 8, 0))}},
+            image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut, 256, 64, std::vector<uint8_t>(256 * 64 * 8, 0))}},
           1, 1);
   ASSERT_TRUE(first_non_finite(result.execution).empty());
   const std::vector<uint8_t>& lut = *result.outputs.at("sky.transmittance");
@@ -84,17 +85,17 @@ TEST_F(SkyTest, TransmittanceMatchesQuadratureOfOpticalDepth) {
 TEST_F(SkyTest, UnchangedAtmosphereKeepsThePreviousLuts) {
   std::vector<uint8_t> previous_bytes(256 * 64 * 8);
   for (size_t i = 0; i < previous_bytes.size(); ++i) previous_bytes[i] = uint8_t(i * 7 % 61);  // finite halves
-  const IsolatedRun kept = run(sky_transmittance_pass(),
-                               {{"sky.atmosphere", atmosphere_input(false)},
-                                {previous("sky.transmittance"),
-                                 image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::lookup_table, 256, 64, previous_bytes)}},
-                               1, 1);
+  const IsolatedRun kept = run(
+      sky_transmittance_pass(),
+      {{"sky.atmosphere", atmosphere_input(false)},
+       {previous("sky.transmittance"), image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut, 256, 64, previous_bytes)}},
+      1, 1);
   EXPECT_EQ(*kept.outputs.at("sky.transmittance"), previous_bytes);
-  const IsolatedRun none = run(sky_transmittance_pass(),
-                               {{"sky.atmosphere", buffer_of(nullptr, 0)},
-                                {previous("sky.transmittance"),
-                                 image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::lookup_table, 256, 64, previous_bytes)}},
-                               1, 1);
+  const IsolatedRun none = run(
+      sky_transmittance_pass(),
+      {{"sky.atmosphere", buffer_of(nullptr, 0)},
+       {previous("sky.transmittance"), image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut, 256, 64, previous_bytes)}},
+      1, 1);
   EXPECT_EQ(*none.outputs.at("sky.transmittance"), std::vector<uint8_t>(previous_bytes.size(), 0));
 }
 
@@ -133,17 +134,17 @@ TEST_F(SkyTest, SkyViewMatchesADoubleRayMarch) {
       run(sky_transmittance_pass(),
           {{"sky.atmosphere", atmosphere},
            {previous("sky.transmittance"),
-            image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::lookup_table, 256, 64, std::vector<uint8_t>(256 * 64 * 8, 0))}},
+            image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut, 256, 64, std::vector<uint8_t>(256 * 64 * 8, 0))}},
           1, 1);
   const auto lut = [](const IsolatedRun& r, const char* name, uint32_t w, uint32_t h) {
-    return image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::lookup_table, w, h, *r.outputs.at(name));
+    return image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut, w, h, *r.outputs.at(name));
   };
   const IsolatedRun multiscattering =
       run(sky_multiscattering_pass(),
           {{"sky.atmosphere", atmosphere},
            {"sky.transmittance", lut(transmittance, "sky.transmittance", 256, 64)},
            {previous("sky.multiscattering"),
-            image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::lookup_table, 32, 32, std::vector<uint8_t>(32 * 32 * 8, 0))}},
+            image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut, 32, 32, std::vector<uint8_t>(32 * 32 * 8, 0))}},
           1, 1);
   const std::vector<uint8_t>& ms = *multiscattering.outputs.at("sky.multiscattering");
   for (const double elevation_degrees : {30.0, 2.0, -3.0}) {
