@@ -38,7 +38,9 @@ vec3 sky_radiance() {
   float cos_azimuth = 1.0;
   if (dot(view_flat, view_flat) > 1e-12 && dot(light_flat, light_flat) > 1e-12)
     cos_azimuth = dot(normalize(view_flat), normalize(light_flat));
-  return textureLod(sky_view_lut, sky_view_uv(camera_height_km(frame.camera_world.y), direction.y, cos_azimuth, vec2(textureSize(sky_view_lut, 0))), 0.0).rgb;
+  vec2 uv = sky_view_uv(camera_height_km(frame.camera_world.y), direction.y, cos_azimuth,
+                        vec2(textureSize(sky_view_lut, 0)));
+  return textureLod(sky_view_lut, uv, 0.0).rgb;
 }
 #endif
 

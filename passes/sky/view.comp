@@ -2,10 +2,11 @@
 // sky.view: the sky's radiance around the camera (Hillaire 2020, section 5.3), parameterised by
 // sky_view_uv around the direction of the frame's directional light (the sun, or the moon at
 // night). Each texel marches its view ray through the atmosphere in `samples` steps growing
-// quadratically from the camera, to the ground or the atmosphere's top: single scattering of the light through sky.transmittance, with
-// Rayleigh's and Cornette-Shanks's phase functions, plus sky.multiscattering's every further
-// order. Radiance: the light's (frame.constants' sun_radiance) times the LUTs' unit-illuminance
-// figures. The ground's own radiance is not in it (the scene draws the ground).
+// quadratically from the camera, to the ground or the atmosphere's top: single scattering of the
+// light through sky.transmittance, with Rayleigh's and Cornette-Shanks's phase functions, plus
+// sky.multiscattering's every further order. Radiance: the light's (frame.constants'
+// sun_radiance) times the LUTs' unit-illuminance figures. The ground's own radiance is not in it
+// (the scene draws the ground).
 #include "../frame/types.glsl"
 #include "../frame/half.glsl"
 #include "atmosphere.glsl.h"
@@ -48,7 +49,8 @@ void main() {
   float cos_zenith, cos_azimuth;
   sky_view_angles((vec2(texel) + 0.5) / vec2(size), vec2(size), h, cos_zenith, cos_azimuth);
   float sin_zenith = sqrt(max(1.0 - cos_zenith * cos_zenith, 0.0));
-  vec3 direction = vec3(sin_zenith * cos_azimuth, cos_zenith, sin_zenith * sqrt(max(1.0 - cos_azimuth * cos_azimuth, 0.0)));
+  vec3 direction =
+      vec3(sin_zenith * cos_azimuth, cos_zenith, sin_zenith * sqrt(max(1.0 - cos_azimuth * cos_azimuth, 0.0)));
   vec3 to_light_world = -frame.sun_direction.xyz;
   vec3 light = vec3(sqrt(max(1.0 - to_light_world.y * to_light_world.y, 0.0)), to_light_world.y, 0.0);
   float cos_phase = dot(direction, light);
