@@ -85,6 +85,11 @@ std::span<const uint8_t> PassContext::host(const std::string& resource) const {
   return *it->second;
 }
 
+bool PassContext::reads(const std::string& resource) const {
+  return std::any_of(pass_.inputs.begin(), pass_.inputs.end(),
+                     [&](const BoundUse& u) { return u.resource == resource; });
+}
+
 std::vector<std::string> PassContext::inputs_with_prefix(const std::string& prefix) const {
   std::vector<std::string> names;
   for (const BoundUse& u : pass_.inputs)

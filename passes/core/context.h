@@ -44,6 +44,9 @@ class PassContext {
   // Bytes of a resource known on the host (scene data, CPU pass outputs). Throws otherwise.
   std::span<const uint8_t> host(const std::string& resource) const;
   std::vector<std::string> inputs_with_prefix(const std::string& prefix) const;
+  // Whether the pass reads `resource` here: false for an optional input the frame lacks (the
+  // C++ side of a shader's `#ifdef NC_BINDING_<name>`).
+  bool reads(const std::string& resource) const;
 
   // CPU passes fill their outputs here.
   std::vector<uint8_t>& output(const std::string& resource);

@@ -2,6 +2,15 @@
 
 namespace nightcap {
 
+IsolatedInput buffer_input(std::span<const uint8_t> bytes) {
+  IsolatedInput input;
+  input.desc.is_buffer = true;
+  input.desc.kind = kinds::buffer;
+  input.desc.buffer_size = bytes.size();
+  input.bytes = std::make_shared<const std::vector<uint8_t>>(bytes.begin(), bytes.end());
+  return input;
+}
+
 IsolatedRun run_isolated(GpuDevice& gpu, PipelineCache& cache, const PassDecl& pass,
                          const std::map<std::string, IsolatedInput>& inputs, const ParamValues& params, uint32_t width,
                          uint32_t height, const ShaderProvider& shaders,

@@ -3,7 +3,9 @@
 
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "passes/core/executor.h"
@@ -14,6 +16,14 @@ struct IsolatedInput {
   ResourceDesc desc;
   std::shared_ptr<const std::vector<uint8_t>> bytes;
 };
+
+// A buffer input holding `bytes` (empty: what a skipped CPU pass leaves), and one holding a record.
+IsolatedInput buffer_input(std::span<const uint8_t> bytes);
+template <typename Record>
+IsolatedInput record_input(const Record& record) {
+  static_assert(std::is_trivially_copyable_v<Record>);
+  return buffer_input({reinterpret_cast<const uint8_t*>(&record), sizeof record});
+}
 
 struct IsolatedRun {
   std::shared_ptr<const std::vector<PassDecl>> declaration;  // the one pass graph.passes' decl names

@@ -62,7 +62,7 @@ PassDecl lighting_composite_pass() {
                          })
       .fullscreen("lighting/composite.frag", [](const PassContext& ctx) {
         // The record decides, not whether sky.view ran: a replay sees the record, not the frame.
-        const bool has_sky = !ctx.inputs_with_prefix("sky.atmosphere").empty() && !ctx.host("sky.atmosphere").empty();
+        const bool has_sky = ctx.reads("sky.atmosphere") && !ctx.host("sky.atmosphere").empty();
         return CompositeConstants{ambient_radiance(ctx.param_float("ambient")), sky_radiance(ctx.param_float("sky")),
                                   glm::uvec4(has_sky ? 1u : 0u, 0u, 0u, 0u)};
       });

@@ -14,6 +14,7 @@
 #include "passes/core/history_name.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/scene_resources.h"
+#include "passes/sky/luts.h"
 #include "passes/sky/stage.h"
 
 namespace nightcap {
@@ -34,7 +35,7 @@ GpuAtmosphere earth_atmosphere(const AtmosphereFactors& factors) {
 }
 
 PassDecl sky_atmosphere_pass() {
-  return PassDecl("sky.atmosphere", PassType::cpu)
+  return sky_pass("sky.atmosphere", PassType::cpu)
       .read("frame.constants", Use::host)
       .read_previous("sky.atmosphere", Use::host)
       .write("sky.atmosphere", Use::host, BufferDecl{kinds::buffer})
@@ -44,8 +45,6 @@ PassDecl sky_atmosphere_pass() {
       .param_float("ozone", 1.0, 0.0, 100.0, "density of ozone (absorption), Earth's = 1")
       .param_float("mie_g", 0.8, -0.999, 0.999, "asymmetry of the aerosols' phase function (Cornette-Shanks g)")
       .param_float("ground_albedo", 0.3, 0.0, 1.0, "the ground's albedo in the multiple scattering LUT")
-      .can_disable("sky disabled by settings (the composite draws its constant sky)", "sky")
-      .needs("sun")
       .run([](PassContext& ctx) {
         // No directional light to light a sky, or the sky switched off: no record, what skipping
         // the pass leaves (a replay runs the skipped pass to check that).

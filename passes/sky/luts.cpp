@@ -22,6 +22,12 @@ const KindRegistration kSkyLut({
 
 }  // namespace
 
+PassDecl sky_pass(std::string name, PassType type) {
+  return PassDecl(std::move(name), type)
+      .can_disable("sky disabled by settings (the composite draws its constant sky)", "sky")
+      .needs("sun");
+}
+
 ImageDecl sky_lut_image() {
   ImageDecl lut{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut};
   lut.size.mode = SizeRule::Mode::params;

@@ -12,7 +12,7 @@
 namespace nightcap {
 
 PassDecl sky_multiscattering_pass() {
-  return PassDecl("sky.multiscattering", PassType::compute)
+  return sky_pass("sky.multiscattering", PassType::compute)
       .read("sky.atmosphere", Use::uniform_buffer)
       .read("sky.transmittance", Use::sampled)
       .sampler("sky.transmittance", bilinear_clamp_sampler())
@@ -22,8 +22,6 @@ PassDecl sky_multiscattering_pass() {
       .param_int("height", 32, 2, 1024, "texels down: the height")
       .param_int("samples", 20, 1, 4096, "steps along each direction's ray")
       .param_int("directions", 8, 1, 64, "directions per side of the sphere's grid (their square in all)")
-      .can_disable("sky disabled by settings (the composite draws its constant sky)", "sky")
-      .needs("sun")
       .push_constants<SkyLutConstants>()
       .shader("sky/multiscattering.comp")
       .run([](PassContext& ctx) { dispatch_sky_lut(ctx, "sky.multiscattering"); });

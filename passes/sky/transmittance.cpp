@@ -11,15 +11,13 @@
 namespace nightcap {
 
 PassDecl sky_transmittance_pass() {
-  return PassDecl("sky.transmittance", PassType::compute)
+  return sky_pass("sky.transmittance", PassType::compute)
       .read("sky.atmosphere", Use::uniform_buffer)
       .read_previous("sky.transmittance", Use::sampled)
       .write("sky.transmittance", Use::storage_write, sky_lut_image())
       .param_int("width", 256, 2, 4096, "texels across: the distance to the atmosphere's top")
       .param_int("height", 64, 2, 4096, "texels down: the height")
       .param_int("samples", 256, 1, 65536, "midpoint samples of the extinction along each texel's ray")
-      .can_disable("sky disabled by settings (the composite draws its constant sky)", "sky")
-      .needs("sun")
       .push_constants<SkyLutConstants>()
       .shader("sky/transmittance.comp")
       .run([](PassContext& ctx) { dispatch_sky_lut(ctx, "sky.transmittance"); });

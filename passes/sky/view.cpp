@@ -11,7 +11,7 @@
 namespace nightcap {
 
 PassDecl sky_view_pass() {
-  return PassDecl("sky.view", PassType::compute)
+  return sky_pass("sky.view", PassType::compute)
       .read("frame.constants", Use::uniform_buffer)
       .read("sky.atmosphere", Use::uniform_buffer)
       .read("sky.transmittance", Use::sampled)
@@ -22,8 +22,6 @@ PassDecl sky_view_pass() {
       .param_int("width", 192, 2, 4096, "texels across: the azimuth from the light")
       .param_int("height", 108, 2, 4096, "texels down: the zenith angle, half above the horizon")
       .param_int("samples", 32, 1, 4096, "steps along each texel's view ray")
-      .can_disable("sky disabled by settings (the composite draws its constant sky)", "sky")
-      .needs("sun")
       .push_constants<SkyLutConstants>()
       .shader("sky/view.comp")
       .run([](PassContext& ctx) { dispatch_sky_lut(ctx, "sky.view"); });

@@ -41,16 +41,7 @@ nc::IsolatedInput image(VkFormat format, nc::ResourceKind kind, uint32_t w, uint
   return in;
 }
 
-nc::IsolatedInput constants_input(const nc::GpuFrameConstants& constants) {
-  nc::IsolatedInput input;
-  input.desc.is_buffer = true;
-  input.desc.kind = nc::kinds::buffer;
-  input.desc.buffer_size = sizeof(constants);
-  auto bytes = std::make_shared<std::vector<uint8_t>>(sizeof(constants));
-  std::memcpy(bytes->data(), &constants, sizeof(constants));
-  input.bytes = bytes;
-  return input;
-}
+nc::IsolatedInput constants_input(const nc::GpuFrameConstants& constants) { return nc::record_input(constants); }
 
 double gpu_ms(const nc::IsolatedRun& run) { return run.execution.passes.at(0).gpu_ms.value_or(0.0); }
 

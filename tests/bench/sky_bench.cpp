@@ -26,16 +26,6 @@ using glm::dvec3;
 
 constexpr int kTimedRuns = 5;
 
-IsolatedInput buffer_input(const void* data, size_t size) {
-  IsolatedInput input;
-  input.desc.is_buffer = true;
-  input.desc.buffer_size = size;
-  auto bytes = std::make_shared<std::vector<uint8_t>>(size);
-  std::memcpy(bytes->data(), data, size);
-  input.bytes = bytes;
-  return input;
-}
-
 IsolatedInput lut_input(uint32_t w, uint32_t h, std::vector<uint8_t> bytes) {
   return image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut, w, h, std::move(bytes));
 }
@@ -107,7 +97,7 @@ void print_rows(const std::string& title, const std::string& prefix, const std::
 void bench_sky(GpuDevice& gpu, PipelineCache& cache) {
   GpuAtmosphere atmosphere = earth_atmosphere({});
   atmosphere.changed.x = 1;
-  const IsolatedInput atmosphere_in = buffer_input(&atmosphere, sizeof atmosphere);
+  const IsolatedInput atmosphere_in = record_input(atmosphere);
   const ref::Model model(atmosphere);
 
   struct Point {
@@ -125,12 +115,9 @@ void bench_sky(GpuDevice& gpu, PipelineCache& cache) {
   }
   const auto transmittance_error = [&](const std::vector<uint8_t>& lut, uint32_t w, uint32_t h) {
     double worst = 0;
-    const double horizon = std::sqrt(model.top * model.top - model.ground * model.ground);
     for (const Point& p : points) {
-      const double rho = std::sqrt(std::max(p.r * p.r - model.ground * model.ground, 0.0));
-      const double d = model.distance_out(p.r, p.mu), d_min = model.top - p.r, d_max = rho + horizon;
-      const dvec3 got = ref::bilinear(lut, w, h, ref::texel_coordinate((d - d_min) / (d_max - d_min), w),
-                                      ref::texel_coordinate(rho / horizon, h));
+      const glm::dvec2 uv = ref::transmittance_uv(model, p.r, p.mu, w, h);
+      const dvec3 got = ref::bilinear(lut, w, h, uv.x, uv.y);
       for (int c = 0; c < 3; ++c)
         if (p.expected[c] >= 0x1p-14) worst = std::max(worst, std::abs(got[c] - p.expected[c]) / p.expected[c]);
     }

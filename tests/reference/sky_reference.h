@@ -5,12 +5,12 @@
 // whose transmittance toward the light is its own sum, not the LUT.
 #pragma once
 
-#include <glm/glm.hpp>
-#include <glm/gtc/constants.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <glm/glm.hpp>
+#include <glm/gtc/constants.hpp>
 #include <vector>
 
 #include "passes/core/format.h"
@@ -54,7 +54,7 @@ struct Model {
 };
 
 inline double simpson(const std::function<double(double)>& f, double a, double b, double fa, double fm, double fb,
-               double whole, double tolerance, int depth) {
+                      double whole, double tolerance, int depth) {
   const double m = 0.5 * (a + b), lm = 0.5 * (a + m), rm = 0.5 * (m + b);
   const double flm = f(lm), frm = f(rm);
   const double left = (m - a) / 6 * (fa + 4 * flm + fm), right = (b - m) / 6 * (fm + 4 * frm + fb);
@@ -107,6 +107,14 @@ inline void transmittance_r_mu(const Model& m, double u, double v, double w, dou
   mu = d == 0 ? 1.0 : std::clamp((horizon * horizon - rho * rho - d * d) / (2 * r * d), -1.0, 1.0);
 }
 
+// Its inverse: where a W×H transmittance LUT holds radius r and zenith cosine mu.
+inline glm::dvec2 transmittance_uv(const Model& m, double r, double mu, double w, double h) {
+  const double horizon = std::sqrt(m.top * m.top - m.ground * m.ground);
+  const double rho = std::sqrt(std::max(r * r - m.ground * m.ground, 0.0));
+  const double d = m.distance_out(r, mu), d_min = m.top - r, d_max = rho + horizon;
+  return {texel_coordinate((d - d_min) / (d_max - d_min), w), texel_coordinate(rho / horizon, h)};
+}
+
 inline dvec3 texel_of(const std::vector<uint8_t>& bytes, uint32_t width, uint32_t x, uint32_t y) {
   float t[4];
   decode_texel(*format_info(VK_FORMAT_R16G16B16A16_SFLOAT), 0, bytes, uint64_t(y) * width + x, t);
@@ -153,8 +161,8 @@ inline dvec3 sky_radiance(const Model& m, const std::vector<uint8_t>& ms, uint32
   const double mie_phase =
       3.0 / (8 * pi) * (1 - m.g * m.g) / (2 + m.g * m.g) * (1 + c * c) / std::pow(1 + m.g * m.g - 2 * m.g * c, 1.5);
   const double cz = direction.y;
-  const double length =
-      m.meets_ground(r, cz) ? -r * cz - std::sqrt(std::max(r * r * (cz * cz - 1) + m.ground * m.ground, 0.0))
+  const double length = m.meets_ground(r, cz)
+                            ? -r * cz - std::sqrt(std::max(r * r * (cz * cz - 1) + m.ground * m.ground, 0.0))
                             : m.distance_out(r, cz);
   const double dt = length / steps;
   dvec3 throughput(1.0), radiance(0.0);
@@ -162,8 +170,9 @@ inline dvec3 sky_radiance(const Model& m, const std::vector<uint8_t>& ms, uint32
     const dvec3 p = dvec3(0, r, 0) + direction * ((i + 0.5) * dt);
     const double r_p = glm::length(p), h = r_p - m.ground, mu_p = glm::dot(p, light) / r_p;
     const dvec3 sun = transmittance_sum(m, r_p, mu_p, steps);
-    const dvec3 multiple = bilinear(ms, ms_width, ms_height, texel_coordinate(std::clamp(mu_p * 0.5 + 0.5, 0.0, 1.0), ms_width),
-                                    texel_coordinate(std::clamp(h / (m.top - m.ground), 0.0, 1.0), ms_height));
+    const dvec3 multiple =
+        bilinear(ms, ms_width, ms_height, texel_coordinate(std::clamp(mu_p * 0.5 + 0.5, 0.0, 1.0), ms_width),
+                 texel_coordinate(std::clamp(h / (m.top - m.ground), 0.0, 1.0), ms_height));
     const dvec3 source = m.rayleigh * m.rayleigh_density(h) * (sun * rayleigh_phase + multiple) +
                          m.mie * m.mie_density(h) * (sun * mie_phase + multiple);
     // The midpoint rule: the throughput to the step's middle.

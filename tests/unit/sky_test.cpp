@@ -33,20 +33,10 @@ namespace NIGHTCAP_FILE_ID {
 using glm::dvec3;
 using reference::texel_of;
 
-IsolatedInput buffer_of(const void* data, size_t size) {
-  IsolatedInput input;
-  input.desc.is_buffer = true;
-  input.desc.buffer_size = size;
-  auto bytes = std::make_shared<std::vector<uint8_t>>(size);
-  std::memcpy(bytes->data(), data, size);
-  input.bytes = bytes;
-  return input;
-}
-
 IsolatedInput atmosphere_input(bool changed) {
   GpuAtmosphere a = earth_atmosphere({});
   a.changed = glm::uvec4(changed ? 1u : 0u, 0u, 0u, 0u);
-  return buffer_of(&a, sizeof a);
+  return record_input(a);
 }
 
 class SkyTest : public GpuTest {};
@@ -93,7 +83,7 @@ TEST_F(SkyTest, UnchangedAtmosphereKeepsThePreviousLuts) {
   EXPECT_EQ(*kept.outputs.at("sky.transmittance"), previous_bytes);
   const IsolatedRun none = run(
       sky_transmittance_pass(),
-      {{"sky.atmosphere", buffer_of(nullptr, 0)},
+      {{"sky.atmosphere", buffer_input({})},
        {previous("sky.transmittance"), image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut, 256, 64, previous_bytes)}},
       1, 1);
   EXPECT_EQ(*none.outputs.at("sky.transmittance"), std::vector<uint8_t>(previous_bytes.size(), 0));
@@ -104,11 +94,11 @@ TEST_F(SkyTest, AtmosphereRecordSaysWhenItChangedAndIsEmptyWithoutALight) {
   GpuFrameConstants frame{};
   frame.sun_direction = glm::vec4(0.0f, -1.0f, 0.0f, 1.0f);
   const auto record = [&](const ParamValues& params, std::optional<GpuAtmosphere> previous_record) {
-    std::map<std::string, IsolatedInput> inputs{{"frame.constants", buffer_of(&frame, sizeof frame)}};
+    std::map<std::string, IsolatedInput> inputs{{"frame.constants", record_input(frame)}};
     if (previous_record)
-      inputs.emplace(previous("sky.atmosphere"), buffer_of(&*previous_record, sizeof(GpuAtmosphere)));
+      inputs.emplace(previous("sky.atmosphere"), record_input(*previous_record));
     else
-      inputs.emplace(previous("sky.atmosphere"), buffer_of(nullptr, 0));
+      inputs.emplace(previous("sky.atmosphere"), buffer_input({}));
     const IsolatedRun result = run(sky_atmosphere_pass(), inputs, 1, 1, params);
     return *result.outputs.at("sky.atmosphere");
   };
@@ -155,7 +145,7 @@ TEST_F(SkyTest, SkyViewMatchesADoubleRayMarch) {
     frame.sun_radiance = glm::vec4(1.0f);
     frame.camera_world = glm::vec4(0.0f, 1.7f, 0.0f, 1.0f);
     const IsolatedRun view = run(sky_view_pass(),
-                                 {{"frame.constants", buffer_of(&frame, sizeof frame)},
+                                 {{"frame.constants", record_input(frame)},
                                   {"sky.atmosphere", atmosphere},
                                   {"sky.transmittance", lut(transmittance, "sky.transmittance", 256, 64)},
                                   {"sky.multiscattering", lut(multiscattering, "sky.multiscattering", 32, 32)}},
