@@ -1,5 +1,6 @@
 #include "inspect/command_line.h"
 
+#include <cctype>
 #include <sstream>
 
 namespace nightcap::inspect_cli {
@@ -25,6 +26,11 @@ const std::vector<CommandSpec>& specs() {
         "recorded frame. lights.clusters: the froxel the pixel falls in at its depth.linear (or --slice) and that "
         "froxel's list of frame.lights indices"},
        {{"--mip", 1}, {"--layer", 1}, {"--slice", 1}, {"--frames", 0}}},
+      {{"direction", "direction DX DY DZ [RESOURCE] [--mip M]",
+        "the texel of a cube map (sky.cubemap, sky.specular; default: the current pass's first output) that the "
+        "world direction (DX, DY, DZ) looks along, found by Vulkan's face selection, decoded with its face and "
+        "raw values"},
+       {{"--mip", 1}}},
       {{"history", "history X Y [RESOURCE]",
         "output pixel (X, Y) through the frame: each pass that wrote a screen-space resource (depth and stencil "
         "included; every mip of a pyramid), in order, with the texel before and after, and 'unchanged' where the pass "
@@ -95,7 +101,8 @@ Arguments parse_arguments(const CommandSpec& spec, const std::vector<std::string
   Arguments args;
   for (size_t i = 1; i < words.size(); ++i) {
     const std::string& word = words[i];
-    if (word.size() < 2 || word[0] != '-') {
+    // Options are words; a negative number (a direction's component) is a positional.
+    if (word.size() < 2 || word[0] != '-' || std::isdigit(static_cast<unsigned char>(word[1])) || word[1] == '.') {
       args.positional.push_back(word);
       continue;
     }

@@ -49,6 +49,7 @@ class Runner {
   // --slice, and that texel's list from the kind's buffer (lights.cluster_indices).
   void listed(const ResourceRecord& record, uint32_t x, uint32_t y, Subimage subimage, bool slice_given);
   void pixel(const CommandSpec& spec, const Arguments& args);
+  void direction(const CommandSpec& spec, const Arguments& args);
   void history(const CommandSpec& spec, const Arguments& args);
   void pick_draw(const CommandSpec& spec, const Arguments& args);
 

@@ -10,12 +10,25 @@ namespace inspect_cli {
 
 void Runner::run(const CommandSpec& spec, const Arguments& args) {
   static const std::map<std::string, void (Runner::*)(const CommandSpec&, const Arguments&)> handlers = {
-      {"passes", &Runner::passes},     {"goto", &Runner::go},        {"next", &Runner::go},
-      {"prev", &Runner::go},           {"frame", &Runner::frame},    {"info", &Runner::info},
-      {"pipeline", &Runner::pipeline}, {"shader", &Runner::shader},  {"pixel", &Runner::pixel},
-      {"buffer", &Runner::buffer},     {"stats", &Runner::stats},    {"export", &Runner::export_files},
-      {"history", &Runner::history},   {"pick", &Runner::pick_draw}, {"replay", &Runner::replay},
-      {"nan", &Runner::nan_origin},    {"help", &Runner::help},      {"quit", &Runner::quit}};
+      {"passes", &Runner::passes},
+      {"goto", &Runner::go},
+      {"next", &Runner::go},
+      {"prev", &Runner::go},
+      {"frame", &Runner::frame},
+      {"info", &Runner::info},
+      {"pipeline", &Runner::pipeline},
+      {"shader", &Runner::shader},
+      {"pixel", &Runner::pixel},
+      {"direction", &Runner::direction},
+      {"buffer", &Runner::buffer},
+      {"stats", &Runner::stats},
+      {"export", &Runner::export_files},
+      {"history", &Runner::history},
+      {"pick", &Runner::pick_draw},
+      {"replay", &Runner::replay},
+      {"nan", &Runner::nan_origin},
+      {"help", &Runner::help},
+      {"quit", &Runner::quit}};
   (this->*handlers.at(spec.help.name))(spec, args);
 }
 

@@ -1,5 +1,6 @@
 // `pixel`, `history` and `pick`: a texel decoded by its kind, a pixel through the frame, and the draw
 // under a pixel.
+#include <array>
 #include <cstring>
 #include <iomanip>
 
@@ -37,7 +38,8 @@ ojson Runner::reading_json(const ResourceRecord& record, const FrameRecord& fram
 void Runner::print_reading(const ojson& j) {
   out_ << j["resource"].get<std::string>() << " (" << j["kind"].get<std::string>() << ", "
        << j["format"].get<std::string>() << ") frame " << j["frame"] << " texel " << brief(j["texel"]) << " mip "
-       << j["mip"] << " layer " << j["layer"] << (j.contains("slice") ? " slice " + j["slice"].dump() : "") << "\n";
+       << j["mip"] << " layer " << j["layer"] << (j.contains("slice") ? " slice " + j["slice"].dump() : "")
+       << (j.contains("face") ? " (face " + j["face"].get<std::string>() + ")" : "") << "\n";
   out_ << "  raw: " << brief(j["raw"]) << "\n";
   if (j.contains("codes")) out_ << "  codes: " << brief(j["codes"]) << "\n";
   for (const auto& [name, value] : j["decoded"].items()) out_ << "  " << name << ": " << brief(value) << "\n";
@@ -78,6 +80,42 @@ void Runner::listed(const ResourceRecord& record, uint32_t x, uint32_t y, Subima
   decoded["froxel"] = {j["texel"][0], j["texel"][1], subimage.slice};
   if (depth) decoded["depth_m"] = *depth;
   decoded[lists.entries] = list;
+  return json_ ? emit(j) : print_reading(j);
+}
+
+void Runner::direction(const CommandSpec& spec, const Arguments& args) {
+  expect_positionals(spec, args, 3, 4);
+  std::array<double, 3> d{};
+  for (int i = 0; i < 3; ++i) {
+    const std::string& text = args.positional[size_t(i)];
+    size_t used = 0;
+    try {
+      d[size_t(i)] = std::stod(text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != text.size() || text.empty())
+      throw InspectError(std::string("D") + "XYZ"[i] + " '" + text + "': expected a number");
+  }
+  const std::string name = args.positional.size() == 4 ? args.positional[3] : [&] {
+    const PassRecord& p = session_.pass();
+    if (p.outputs.empty()) throw InspectError(p.name + " has no output: name a resource");
+    return p.outputs[0].resource;
+  }();
+  const ResourceRecord& record = session_.resource(name);
+  const FrameRecord& frame = session_.frame();
+  const TexelAddress texel = cube_texel(record, d, option_index(args, "--mip", 0));
+  static const char* const faces[] = {"+X", "-X", "+Y", "-Y", "+Z", "-Z"};
+  ojson j = {{"frame", frame.index},
+             {"resource", record.resource},
+             {"kind", record.kind.name()},
+             {"format", format_info(record.format)->name},
+             {"direction", d},
+             {"face", faces[texel.layer]},
+             {"texel", {texel.x, texel.y}},
+             {"mip", texel.mip},
+             {"layer", texel.layer}};
+  j.update(texel_json(record, frame, texel));
   return json_ ? emit(j) : print_reading(j);
 }
 

@@ -1,5 +1,6 @@
 #include "inspect/decode.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <utility>
@@ -75,6 +76,38 @@ void check_subimage(const ResourceRecord& record, const Subimage& subimage) {
   if (subimage.slice >= slices)
     throw InspectError(record.resource + " has " + std::to_string(slices) + " slice(s) at mip " +
                        std::to_string(subimage.mip) + ": no slice " + std::to_string(subimage.slice));
+}
+
+TexelAddress cube_texel(const ResourceRecord& record, const std::array<double, 3>& d, uint32_t mip) {
+  if (!record.cube) throw InspectError(record.resource + " is not a cube map: use `pixel`");
+  check_subimage(record, {mip, 0, 0});
+  const double ax = std::abs(d[0]), ay = std::abs(d[1]), az = std::abs(d[2]);
+  if (!(std::isfinite(ax) && std::isfinite(ay) && std::isfinite(az)) || std::max({ax, ay, az}) == 0.0)
+    throw InspectError("direction: expected a finite direction that is not zero");
+  // Vulkan's table: the face, then sc and tc over the major axis's magnitude.
+  uint32_t face;
+  double sc, tc, major;
+  if (ax >= ay && ax >= az) {
+    face = d[0] >= 0 ? 0 : 1;
+    sc = d[0] >= 0 ? -d[2] : d[2];
+    tc = -d[1];
+    major = ax;
+  } else if (ay >= az) {
+    face = d[1] >= 0 ? 2 : 3;
+    sc = d[0];
+    tc = d[1] >= 0 ? d[2] : -d[2];
+    major = ay;
+  } else {
+    face = d[2] >= 0 ? 4 : 5;
+    sc = d[2] >= 0 ? d[0] : -d[0];
+    tc = -d[1];
+    major = az;
+  }
+  const uint32_t side = mip_size(record.extent.width, mip);
+  const auto texel = [&](double c) {
+    return std::min(uint32_t(std::max(0.5 * (c / major + 1.0) * side, 0.0)), side - 1);
+  };
+  return {texel(sc), texel(tc), mip, face, 0};
 }
 
 const PassRecord* writer_of(const ResourceRecord& record, const FrameRecord& frame) {

@@ -38,6 +38,11 @@ struct TexelAddress {
   uint32_t x = 0, y = 0, mip = 0, layer = 0, slice = 0;
 };
 
+// The texel of cube map `record` (its layers cube faces) at `mip` that world direction `direction`
+// falls in, by Vulkan's cube map face selection: the major axis picks the face (the layer). Throws
+// InspectError when `record` is no cube map or the direction is zero or not finite.
+TexelAddress cube_texel(const ResourceRecord& record, const std::array<double, 3>& direction, uint32_t mip);
+
 // The pass of `frame` that wrote this version of `record`; null if none did.
 const PassRecord* writer_of(const ResourceRecord& record, const FrameRecord& frame);
 

@@ -47,9 +47,11 @@ void add_scene_passes(std::vector<PassDecl>& passes) {
 void add_lighting_passes(std::vector<PassDecl>& passes, FrameLighting lighting) {
   // The light lists and the sun's shadow mask are read by lighting alone.
   add_stage(passes, "lighting", {lights_cluster_pass(), shadow_sun_resolve_pass()});
-  // The sky's LUTs, which the composite (and, to come, image-based light and the probes) read.
+  // The sky's LUTs and cube maps and the DFG table, which the composite's sky and image-based light
+  // (and, to come, the probes) read.
   add_stage(passes, "lighting",
-            {sky_atmosphere_pass(), sky_transmittance_pass(), sky_multiscattering_pass(), sky_view_pass()});
+            {sky_atmosphere_pass(), sky_transmittance_pass(), sky_multiscattering_pass(), sky_view_pass(),
+             sky_cubemap_pass(), sky_irradiance_pass(), sky_specular_pass(), lighting_dfg_pass()});
   if (lighting == FrameLighting::tiled)
     add_stage(passes, "lighting", {lighting_ltc_table_pass(), lighting_tiled_pass()});
   else

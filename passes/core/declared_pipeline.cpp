@@ -146,6 +146,12 @@ SamplerDesc bilinear_clamp_sampler() {
   return desc;
 }
 
+SamplerDesc trilinear_clamp_sampler() {
+  SamplerDesc desc = bilinear_clamp_sampler();
+  desc.mipmap_mode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
+  return desc;
+}
+
 std::vector<std::string> colour_targets(const PassDecl& decl) {
   std::vector<std::string> targets;
   for (const ResourceUse& out : decl.outputs)

@@ -82,6 +82,7 @@ DeclaredSlot prefix_slot(const PassDecl& decl, const DescOf& desc_of);
 SamplerDesc nearest_clamp_sampler();
 // Bilinear between the four nearest texels of the base level, clamped to the edge.
 SamplerDesc bilinear_clamp_sampler();
+SamplerDesc trilinear_clamp_sampler();  // bilinear, and linear between mips
 // The colour attachments in declaration order, and the depth attachment ("" when none).
 std::vector<std::string> colour_targets(const PassDecl& decl);
 std::string depth_target(const PassDecl& decl);

@@ -182,7 +182,8 @@ PassDecl& PassDecl::aspects(const std::string& resource, std::vector<ViewAspect>
 PassDecl& PassDecl::level_mips(const std::string& resource, std::vector<int> offsets) {
   for (std::vector<ResourceUse>* uses : {&inputs, &outputs})
     for (ResourceUse& use : *uses)
-      if (use.resource == resource &&
+      // By the name it binds: an image the pass reads from the previous frame and writes is two.
+      if (use.bound_name() == resource &&
           (use.use == Use::sampled || use.use == Use::storage_read || use.use == Use::storage_write)) {
         use.slots = uint32_t(offsets.size());
         use.level_mips = std::move(offsets);

@@ -16,3 +16,12 @@ vec3 nearest_half(vec3 x) {
 
 // Signed two-channel targets (motion vectors): the same rounding, limited to ±65504.
 vec2 nearest_half(vec2 x) { return nearest_half(vec3(max(x, vec2(-HALF_MAX)), 0.0)).xy; }
+
+// B10G11R11_UFLOAT targets: the same rounding to their 6-bit (red, green) and 5-bit (blue)
+// mantissas over half's exponent range, for non-negative x at most 65024, their largest value.
+vec3 nearest_b10g11r11(vec3 x) {
+  ivec3 e;
+  frexp(x, e);
+  vec3 ulp = ldexp(vec3(1.0), max(e - 1, ivec3(-14)) - ivec3(6, 6, 5));
+  return roundEven(x / ulp) * ulp;
+}

@@ -1,12 +1,17 @@
-// lighting.composite: direct diffuse + specular + emission + a uniform ambient term into the
-// lit HDR colour; where nothing was drawn, the sky: sky.view's radiance by the pixel's view
-// direction when sky.atmosphere holds a record (it, sky.view and frame.constants are optional
-// inputs, read together), the constant `sky` otherwise (no directional light, the sky switched
-// off, or a frame without the sky's passes). The indirect terms of
-// frame.md join as optional inputs, each read when its pass is in the frame: ao.bent's visibility (alpha, sampled
-// bilinearly: AO may be half size) darkens the ambient term. SSR, probes, the GI volume and fog are to join the same
-// way, a read_optional and an `#ifdef NC_BINDING_<name>` block in the shader each, with the passes that define their
-// formats.
+// lighting.composite: direct diffuse + specular + emission + indirect light into the lit HDR
+// colour (lighting.lit), and direct + indirect specular alone into lighting.lit_specular (what
+// SSR and TAA are to read). Indirect light: a uniform `ambient` radiance (a stand-in for the
+// city's own bounce light until the probes and the GI volume arrive) and, when sky.atmosphere
+// holds a record, the sky's image-based light: diffuse from sky.irradiance by the normal,
+// specular from sky.specular by the reflection (split sum with lighting.dfg, multiple-scattering
+// compensation, horizon occlusion; composite.frag). Where nothing was drawn, the sky: sky.view's
+// radiance by the pixel's view direction with a record, the constant `sky` otherwise (no
+// directional light, the sky switched off, or a frame without the sky's passes). The sky's
+// resources and frame.constants are optional inputs, read together. The indirect terms of frame.md
+// join as optional inputs, each read when its pass is in the frame: ao.bent's visibility (alpha,
+// sampled bilinearly: AO may be half size) darkens the indirect terms. SSR, probes, the GI volume
+// and fog are to join the same way, a read_optional and an `#ifdef NC_BINDING_<name>` block in
+// the shader each, with the passes that define their formats.
 #include "passes/core/context.h"
 #include "passes/lighting/composite.glsl.h"
 #include "passes/lighting/stage.h"
@@ -31,6 +36,7 @@ PassDecl lighting_composite_pass() {
       .read("lighting.diffuse", Use::sampled)
       .read("lighting.specular", Use::sampled)
       .read("gbuffer.albedo", Use::sampled)
+      .read("gbuffer.normal", Use::sampled)
       .read("gbuffer.material", Use::sampled)
       .read("gbuffer.emissive", Use::sampled)
       .read("scene.depth", Use::sampled)
@@ -38,19 +44,30 @@ PassDecl lighting_composite_pass() {
       .read_optional("sky.atmosphere", Use::uniform_buffer)
       .read_optional("sky.view", Use::sampled)
       .sampler("sky.view", bilinear_clamp_sampler())
+      .read_optional("sky.irradiance", Use::storage_read)
+      .read_optional("sky.specular", Use::sampled)
+      .sampler("sky.specular", trilinear_clamp_sampler())
+      .read_optional("lighting.dfg", Use::sampled)
+      .sampler("lighting.dfg", bilinear_clamp_sampler())
       .read_optional("ao.bent", Use::sampled)
       .as("ao")
       .sampler("ao.bent", bilinear_clamp_sampler())
       .write("lighting.lit", Use::color_attachment, ImageDecl{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour})
+      .write("lighting.lit_specular", Use::color_attachment,
+             ImageDecl{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour})
       .param_float("ambient", 0.02, 0.0, 1e6, "uniform ambient radiance (a stand-in for the indirect light to come)")
+      .flag("multiple_scattering", true,
+            "add the energy single scattering loses to the image-based specular (Fdez-Agüera 2019)")
       .param_float("sky", 0.004, 0.0, 1e6, "radiance of the night sky where nothing was drawn")
       .compare("lighting.lit", ComparisonContract::floats(0x1p-24, 0x1p-10,
                                                           "the nearest half to the sum "
                                                           "(tests/unit/lighting_composite_test.cpp): "
                                                           "two devices within one half ULP"))
+      .compare("lighting.lit_specular",
+               ComparisonContract::floats(0x1p-24, 0x1p-10, "the nearest half to the sum, as lighting.lit"))
       // Nothing drawn (depth 0 everywhere) and no sky.view (skipped: cleared; sky.atmosphere, which
       // the sky's passes skip with, is then empty too): the constant sky at every pixel, as the
-      // shader stores it.
+      // shader stores it, and no specular light.
       .fold_when_uniform({"scene.depth", "sky.view"},
                          [](const UniformValues& inputs, const ParamValues& params) -> std::optional<UniformValues> {
                            if (!(inputs.at("scene.depth").depthStencil.depth <= 0.0f)) return std::nullopt;
@@ -58,13 +75,15 @@ PassDecl lighting_composite_pass() {
                            VkClearValue lit{};
                            for (int c = 0; c < 3; ++c) lit.color.float32[c] = half_rounded(sky[c]);
                            lit.color.float32[3] = 1.0f;
-                           return UniformValues{{"lighting.lit", lit}};
+                           VkClearValue specular{};
+                           specular.color.float32[3] = 1.0f;
+                           return UniformValues{{"lighting.lit", lit}, {"lighting.lit_specular", specular}};
                          })
       .fullscreen("lighting/composite.frag", [](const PassContext& ctx) {
         // The record decides, not whether sky.view ran: a replay sees the record, not the frame.
         const bool has_sky = ctx.reads("sky.atmosphere") && !ctx.host("sky.atmosphere").empty();
         return CompositeConstants{ambient_radiance(ctx.param_float("ambient")), sky_radiance(ctx.param_float("sky")),
-                                  glm::uvec4(has_sky ? 1u : 0u, 0u, 0u, 0u)};
+                                  glm::uvec4(has_sky ? 1u : 0u, ctx.flag("multiple_scattering") ? 1u : 0u, 0u, 0u)};
       });
 }
 

@@ -6,6 +6,7 @@
 layout(set = 0, binding = NC_BINDING(lighting_diffuse)) uniform sampler2D diffuse_map;
 layout(set = 0, binding = NC_BINDING(lighting_specular)) uniform sampler2D specular_map;
 layout(set = 0, binding = NC_BINDING(gbuffer_albedo)) uniform sampler2D albedo_map;
+layout(set = 0, binding = NC_BINDING(gbuffer_normal)) uniform sampler2D normal_map;
 layout(set = 0, binding = NC_BINDING(gbuffer_material)) uniform sampler2D material_map;
 layout(set = 0, binding = NC_BINDING(gbuffer_emissive)) uniform sampler2D emissive_map;
 layout(set = 0, binding = NC_BINDING(scene_depth)) uniform sampler2D depth_map;
@@ -21,49 +22,140 @@ layout(std140, set = 0, binding = NC_BINDING(sky_atmosphere)) uniform Atmosphere
 layout(set = 0, binding = NC_BINDING(sky_view)) uniform sampler2D sky_view_lut;
 #endif
 
+#if defined(NC_SKY_VIEW) && defined(NC_BINDING_sky_irradiance) && defined(NC_BINDING_sky_specular) && \
+    defined(NC_BINDING_lighting_dfg)
+#define NC_IMAGE_BASED
+#include "../sky/ibl.glsl.h"
+layout(std430, set = 0, binding = NC_BINDING(sky_irradiance)) readonly buffer IrradianceBlock {
+  GpuSkyIrradiance irradiance;
+};
+layout(set = 0, binding = NC_BINDING(sky_specular)) uniform samplerCube specular_cube;
+layout(set = 0, binding = NC_BINDING(lighting_dfg)) uniform sampler2D dfg_lut;
+#endif
+
 layout(push_constant) uniform CompositeConstants { NC_BLOCK_MEMBERS(NC_COMPOSITE_CONSTANTS_FIELDS) };
 
 #ifdef NC_SKY_VIEW
 #include "../sky/atmosphere.glsl"
 #include "../sky/camera_height.glsl"
+#include "../sky/view_lookup.glsl"
 
-// The sky seen through the pixel: sky.view looked up by the view ray's zenith angle and its
-// azimuth from the light.
-vec3 sky_radiance() {
-  vec2 ndc = gl_FragCoord.xy * frame.viewport.zw * 2.0 - 1.0;
+// The view ray through a pixel, camera-relative.
+vec3 view_ray(vec2 pixel_centre) {
+  vec2 ndc = pixel_centre * frame.viewport.zw * 2.0 - 1.0;
   vec4 near_point = frame.inverse_view_projection * vec4(ndc, 1.0, 1.0);
-  vec3 direction = normalize(near_point.xyz / near_point.w);
-  vec3 to_light = -frame.sun_direction.xyz;
-  vec2 view_flat = direction.xz, light_flat = to_light.xz;
-  float cos_azimuth = 1.0;
-  if (dot(view_flat, view_flat) > 1e-12 && dot(light_flat, light_flat) > 1e-12)
-    cos_azimuth = dot(normalize(view_flat), normalize(light_flat));
-  vec2 uv = sky_view_uv(camera_height_km(frame.camera_world.y), direction.y, cos_azimuth,
-                        vec2(textureSize(sky_view_lut, 0)));
-  return textureLod(sky_view_lut, uv, 0.0).rgb;
+  return normalize(near_point.xyz / near_point.w);
+}
+#endif
+
+#ifdef NC_IMAGE_BASED
+#include "../sky/sh.glsl"
+
+// The camera-relative position drawn at `pixel`, from its depth.
+vec3 position_at(ivec2 pixel, float depth) {
+  vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
+  vec4 p = frame.inverse_view_projection * vec4(ndc, depth, 1.0);
+  return p.xyz / p.w;
+}
+
+// The surface's own orientation (not the normal map's) from the depth of the neighbours: along
+// each axis the side whose depth is nearer this pixel's, so that an edge does not bend it.
+vec3 geometric_normal(ivec2 pixel, float depth, vec3 position) {
+  ivec2 last = textureSize(depth_map, 0) - 1;
+  vec3 axis[2];
+  for (int a = 0; a < 2; ++a) {
+    ivec2 step_to = a == 0 ? ivec2(1, 0) : ivec2(0, 1);
+    ivec2 after = min(pixel + step_to, last), before = max(pixel - step_to, ivec2(0));
+    float depth_after = texelFetch(depth_map, after, 0).r, depth_before = texelFetch(depth_map, before, 0).r;
+    bool use_after = abs(depth_after - depth) <= abs(depth_before - depth) && depth_after > 0.0;
+    if (!use_after && depth_before <= 0.0) return vec3(0.0);
+    axis[a] = use_after ? position_at(after, depth_after) - position : position - position_at(before, depth_before);
+  }
+  vec3 n = cross(axis[1], axis[0]);
+  return dot(n, n) > 0.0 ? normalize(n) : vec3(0.0);
+}
+
+vec3 irradiance_over_pi(vec3 n) {
+  float y[9];
+  sh_basis(n, y);
+  vec3 sum = vec3(0.0);
+  for (int i = 0; i < 9; ++i) sum += irradiance.coefficients[i].rgb * y[i];
+  return max(sum, vec3(0.0));
+}
+
+float table_coordinate(float x, float n) { return 0.5 / n + x * (1.0 - 1.0 / n); }
+
+struct Indirect {
+  vec3 diffuse, specular;
+};
+
+// The sky's light reflected toward the camera (world directions: the cube maps are world-aligned,
+// camera-relative positions are world-oriented). Split sum with the project's DFG table, the
+// multiple-scattering compensation of Fdez-Agüera (2019), and horizon occlusion (a reflection
+// below the surface's geometric plane is cut, Jimenez et al. 2016).
+Indirect image_based(ivec2 pixel, float depth, vec3 albedo, float metallic, float roughness, float visibility) {
+  vec3 position = position_at(pixel, depth);
+  vec3 v = normalize(-position);
+  vec3 n = normalize(texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0);
+  float n_v = clamp(dot(n, v), 1e-4, 1.0);
+  vec3 r = reflect(-v, n);
+  vec2 dfg_size = vec2(textureSize(dfg_lut, 0));
+  vec2 dfg = textureLod(dfg_lut, vec2(table_coordinate(n_v, dfg_size.x), table_coordinate(roughness, dfg_size.y)), 0.0).rg;
+  vec3 f0 = mix(vec3(0.04), albedo, metallic);
+  vec3 single = f0 * dfg.x + dfg.y;
+  float single_albedo = dfg.x + dfg.y;
+  vec3 fresnel_average = f0 + (1.0 - f0) / 21.0;
+  vec3 multiple = sky_source.y == 0u ? vec3(0.0)
+                  : single * fresnel_average * (1.0 - single_albedo) / (1.0 - (1.0 - single_albedo) * fresnel_average);
+  vec3 geometric = geometric_normal(pixel, depth, position);
+  if (dot(geometric, v) < 0.0) geometric = -geometric;  // the side the camera sees
+  float horizon = dot(geometric, geometric) > 0.0 ? clamp(1.0 + dot(r, geometric), 0.0, 1.0) : 1.0;
+  // Lagarde and de Rousiers (2014): the specular share of an ambient visibility.
+  float specular_visibility =
+      clamp(pow(n_v + visibility, exp2(-16.0 * roughness - 1.0)) - 1.0 + visibility, 0.0, 1.0);
+  vec3 prefiltered = textureLod(specular_cube, r, roughness * float(kSkySpecularMips - 1u)).rgb;
+  vec3 irradiance_n = irradiance_over_pi(n);
+  Indirect result;
+  result.specular = (single * prefiltered * horizon * horizon + multiple * irradiance_n) * specular_visibility;
+  result.diffuse = albedo * (1.0 - metallic) * (1.0 - single - multiple) * irradiance_n * visibility;
+  return result;
 }
 #endif
 
 layout(location = 0) in vec2 in_uv;
 layout(location = 0) out vec4 out_lit;
+layout(location = 1) out vec4 out_specular;
 
-vec3 radiance(ivec2 pixel) {
-  if (texelFetch(depth_map, pixel, 0).r <= 0.0) {
-#ifdef NC_SKY_VIEW
-    if (sky_source.x != 0u) return sky_radiance();
-#endif
-    return sky.rgb;
-  }
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  vec3 lit = sky.rgb, specular = vec3(0.0);
+  float depth = texelFetch(depth_map, pixel, 0).r;
   vec4 albedo = texelFetch(albedo_map, pixel, 0);
   vec3 emitted = texelFetch(emissive_map, pixel, 0).rgb;
-  if (albedo.a > 0.0) return albedo.rgb + emitted;  // unlit: the base colour is the result
-  float metallic = texelFetch(material_map, pixel, 0).r;
-  vec3 indirect = ambient.rgb;
-#ifdef NC_BINDING_ao
-  indirect *= textureLod(ao_map, in_uv, 0.0).a;
+  if (depth <= 0.0) {
+#ifdef NC_SKY_VIEW
+    if (sky_source.x != 0u) lit = sky_view_radiance(view_ray(gl_FragCoord.xy));
 #endif
-  return texelFetch(diffuse_map, pixel, 0).rgb + texelFetch(specular_map, pixel, 0).rgb + emitted +
-         indirect * albedo.rgb * (1.0 - metallic);
+  } else if (albedo.a > 0.0) {
+    lit = albedo.rgb + emitted;  // unlit: the base colour is the result
+  } else {
+    vec4 material = texelFetch(material_map, pixel, 0);
+    float metallic = material.r;
+    float visibility = 1.0;
+#ifdef NC_BINDING_ao
+    visibility = textureLod(ao_map, in_uv, 0.0).a;
+#endif
+    specular = texelFetch(specular_map, pixel, 0).rgb;
+    vec3 indirect_diffuse = ambient.rgb * albedo.rgb * (1.0 - metallic) * visibility;
+#ifdef NC_IMAGE_BASED
+    if (sky_source.x != 0u) {
+      Indirect sky_light = image_based(pixel, depth, albedo.rgb, metallic, material.g, visibility);
+      indirect_diffuse += sky_light.diffuse;
+      specular += sky_light.specular;
+    }
+#endif
+    lit = texelFetch(diffuse_map, pixel, 0).rgb + specular + emitted + indirect_diffuse;
+  }
+  out_lit = vec4(nearest_half(lit), 1.0);
+  out_specular = vec4(nearest_half(specular), 1.0);
 }
-
-void main() { out_lit = vec4(nearest_half(radiance(ivec2(gl_FragCoord.xy))), 1.0); }

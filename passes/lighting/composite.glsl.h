@@ -5,13 +5,14 @@
 
 #include "../core/gpu_layout.glsl.h"
 
-#define NC_COMPOSITE_CONSTANTS_FIELDS(F, A, P)   \
-  /* rgb radiance of the uniform ambient term */ \
-  F(vec4, ambient)                               \
-  /* rgb radiance where nothing was drawn */     \
-  F(vec4, sky)                                                       \
+#define NC_COMPOSITE_CONSTANTS_FIELDS(F, A, P)                      \
+  /* rgb radiance of the uniform ambient term */                    \
+  F(vec4, ambient)                                                  \
+  /* rgb radiance where nothing was drawn */                        \
+  F(vec4, sky)                                                      \
   /* x: 1 when sky.atmosphere holds a record (the sky's passes ran) \
-     and sky.view is drawn, 0 for the constant `sky` */              \
+     and sky.view is drawn, 0 for the constant `sky`; y: 1 to add   \
+     the image-based specular's multiple scattering */              \
   F(uvec4, sky_source)
 NC_PUSH_CONSTANTS(CompositeConstants, NC_COMPOSITE_CONSTANTS_FIELDS)
 

@@ -7,6 +7,7 @@
 namespace nightcap {
 
 PassDecl lighting_ltc_table_pass();
+PassDecl lighting_dfg_pass();
 PassDecl lighting_tiled_pass();
 PassDecl lighting_deferred_pass();
 PassDecl lighting_composite_pass();

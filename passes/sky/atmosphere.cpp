@@ -1,13 +1,17 @@
 // sky.atmosphere (CPU): the atmosphere the sky's LUTs are computed for, as a record the sky's
 // passes read (atmosphere.glsl.h, schema atmosphere_schema), from the pass's parameters. It reads
 // its own previous record (history: empty on frame 0 and after a camera cut) and sets `changed`
-// when this frame's differs: sky.transmittance and sky.multiscattering, which depend on the
-// atmosphere alone, are computed on such a frame and copied from the previous frame's otherwise,
-// and the record in the capture says which. (The LUT passes' own parameters cannot change
+// when this frame's differs: x for the atmosphere, on which sky.transmittance and
+// sky.multiscattering alone depend; y for the sky seen from the camera (the atmosphere, the
+// frame's directional light and its radiance, the camera's height), on which sky.view and the
+// cube maps depend. Each is computed on a frame whose flag is set and copied from the previous
+// frame's otherwise (a walking camera under a fixed sun keeps them all), and the record in the
+// capture says which. (The LUT passes' own parameters cannot change
 // between a render's frames: a Renderer's settings are fixed.) Skipped with no directional light to light a sky
 // (frame.constants' sun): the record is then empty, and the sky's other passes write zeros.
 #include "passes/sky/atmosphere.h"
 
+#include <cstddef>
 #include <cstring>
 
 #include "passes/core/context.h"
@@ -48,23 +52,27 @@ PassDecl sky_atmosphere_pass() {
       .run([](PassContext& ctx) {
         // No directional light to light a sky, or the sky switched off: no record, what skipping
         // the pass leaves (a replay runs the skipped pass to check that).
-        if (!ctx.flag("enabled") ||
-            host_records<GpuFrameConstants>(ctx.host("frame.constants")).at(0).sun_direction.w == 0.0f) {
+        const GpuFrameConstants frame = host_records<GpuFrameConstants>(ctx.host("frame.constants")).at(0);
+        if (!ctx.flag("enabled") || frame.sun_direction.w == 0.0f) {
           ctx.output("sky.atmosphere").clear();
           return;
         }
         GpuAtmosphere atmosphere =
             earth_atmosphere({ctx.param_float("rayleigh"), ctx.param_float("mie"), ctx.param_float("ozone"),
                               ctx.param_float("mie_g"), ctx.param_float("ground_albedo")});
+        atmosphere.light = glm::vec4(glm::vec3(frame.sun_direction), frame.camera_world.y);
+        atmosphere.light_radiance = frame.sun_radiance;
         const std::span<const uint8_t> previous_bytes = ctx.host(previous("sky.atmosphere"));
-        bool same = previous_bytes.size() == sizeof(GpuAtmosphere);
-        if (same) {
+        bool same_air = false, same_view = false;
+        if (previous_bytes.size() == sizeof(GpuAtmosphere)) {
           GpuAtmosphere before;
           std::memcpy(&before, previous_bytes.data(), sizeof before);
-          before.changed = atmosphere.changed;
-          same = std::memcmp(&before, &atmosphere, sizeof before) == 0;
+          // The air is everything up to `light`; the view adds the light and the camera's height.
+          same_air = std::memcmp(&before, &atmosphere, offsetof(GpuAtmosphere, light)) == 0;
+          same_view =
+              same_air && before.light == atmosphere.light && before.light_radiance == atmosphere.light_radiance;
         }
-        atmosphere.changed = glm::uvec4(same ? 0u : 1u, 0u, 0u, 0u);
+        atmosphere.changed = glm::uvec4(same_air ? 0u : 1u, same_view ? 0u : 1u, 0u, 0u);
         ctx.store("sky.atmosphere", std::span<const GpuAtmosphere>(&atmosphere, 1));
       });
 }

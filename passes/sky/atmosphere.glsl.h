@@ -22,8 +22,15 @@ NC_CONST(uint, kSkyGroupSide, 8u)
   F(vec4, ozone)                                                                                  \
   /* x: the ground's radius, y: the atmosphere's top, z: ozone's half width, w: ground albedo */  \
   F(vec4, radii)                                                                                  \
+  /* xyz: the way the frame's directional light travels; w: the camera's height in metres (what   \
+     the sky seen from the camera depends on, with the light's radiance and the atmosphere) */    \
+  F(vec4, light)                                                                                  \
+  /* rgb: the directional light's radiance (frame.constants' sun_radiance) */                     \
+  F(vec4, light_radiance)                                                                         \
   /* x: 1 when this frame's atmosphere differs from the previous frame's (or there was none): the \
-     LUTs that depend on it alone are computed again, else kept; yzw: unused */                   \
+     LUTs that depend on it alone are computed again, else kept; y: 1 when the sky seen from the  \
+     camera may differ (x, or the light, its radiance or the camera's height changed): sky.view   \
+     and the cube maps are computed again, else kept; zw: unused */                               \
   F(uvec4, changed)
 NC_STRUCT(GpuAtmosphere, NC_GPU_ATMOSPHERE_FIELDS)
 

@@ -7,7 +7,7 @@
 
 namespace nightcap {
 
-static_assert(sizeof(GpuAtmosphere) == 6 * 16);
+static_assert(sizeof(GpuAtmosphere) == 8 * 16);
 
 BufferSchema atmosphere_schema();
 

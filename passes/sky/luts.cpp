@@ -7,18 +7,23 @@
 namespace nightcap {
 namespace {
 
-const KindRegistration kSkyLut({
-    .kind = kinds::sky_lut,
-    .describe =
-        [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
-          out["rgb"] = {t.raw.at(0), t.raw.at(1), t.raw.at(2)};
-        },
-    .draw =
-        [](const TexelValues& t, const KindFrame&) {
-          return TexelPicture{TexelPicture::Scale::relative, {t.raw.at(0), t.raw.at(1), t.raw.at(2)}};
-        },
-    .over_output = false,
-});
+// An RGB table or cube map of radiance or transmittance, drawn relative to its largest value.
+KindRegistration sky_table(ResourceKind kind) {
+  return KindRegistration({
+      .kind = kind,
+      .describe =
+          [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
+            out["rgb"] = {t.raw.at(0), t.raw.at(1), t.raw.at(2)};
+          },
+      .draw =
+          [](const TexelValues& t, const KindFrame&) {
+            return TexelPicture{TexelPicture::Scale::relative, {t.raw.at(0), t.raw.at(1), t.raw.at(2)}};
+          },
+      .over_output = false,
+  });
+}
+const KindRegistration kSkyLut = sky_table(kinds::sky_lut);
+const KindRegistration kSkyCube = sky_table(kinds::sky_cube);
 
 }  // namespace
 

@@ -17,6 +17,7 @@ layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBloc
 layout(std140, set = 0, binding = NC_BINDING(sky_atmosphere)) uniform AtmosphereBlock { GpuAtmosphere atmosphere; };
 layout(set = 0, binding = NC_BINDING(sky_transmittance)) uniform sampler2D transmittance_lut;
 layout(set = 0, binding = NC_BINDING(sky_multiscattering)) uniform sampler2D multiscattering_lut;
+layout(set = 0, binding = NC_BINDING(sky_view_previous)) uniform sampler2D previous_lut;
 layout(set = 0, binding = NC_BINDING(sky_view), rgba16f) uniform writeonly image2D lut;
 layout(push_constant) uniform SkyLutConstants { NC_BLOCK_MEMBERS(NC_SKY_LUT_CONSTANTS_FIELDS) };
 
@@ -43,6 +44,10 @@ void main() {
   if (any(greaterThanEqual(texel, size))) return;
   if (has_atmosphere == 0u) {
     imageStore(lut, texel, vec4(0.0));
+    return;
+  }
+  if (atmosphere.changed.y == 0u) {
+    imageStore(lut, texel, texelFetch(previous_lut, texel, 0));
     return;
   }
   float h = camera_height_km(frame.camera_world.y), r = ground_km() + h;

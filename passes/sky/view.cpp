@@ -1,8 +1,9 @@
 // sky.view (frame.md section 4, `sky.luts`): the sky's radiance around the camera, per view
 // direction relative to the frame's directional light, as view.comp computes it; what the
 // composite draws where nothing was. 192×108 by default, Hillaire's (2020) size. Follows the
-// camera and the light: computed every frame. Skipped with no directional light (the composite
-// then draws its constant sky).
+// camera and the light: computed on a frame whose sky.atmosphere record says the sky seen from
+// the camera changed (changed.y), copied from the previous frame's otherwise. Skipped with no directional light (the
+// composite then draws its constant sky).
 #include "passes/core/context.h"
 #include "passes/sky/atmosphere.glsl.h"
 #include "passes/sky/luts.h"
@@ -18,6 +19,7 @@ PassDecl sky_view_pass() {
       .sampler("sky.transmittance", bilinear_clamp_sampler())
       .read("sky.multiscattering", Use::sampled)
       .sampler("sky.multiscattering", bilinear_clamp_sampler())
+      .read_previous("sky.view", Use::sampled)
       .write("sky.view", Use::storage_write, sky_lut_image())
       .param_int("width", 192, 2, 4096, "texels across: the azimuth from the light")
       .param_int("height", 108, 2, 4096, "texels down: the zenith angle, half above the horizon")

@@ -47,10 +47,10 @@ int main(int argc, char** argv) {
   bool skip_models = false, map_frames = true;
   std::vector<std::string> only;
   const std::vector<std::string> sections = {
-      "city",    "models", "map",     "empty",        "frames",   "normals",      "tubes",
-      "depth",   "motion", "streams", "bloom",        "exposure", "startup",      "diff",
-      "report",  "decals", "ltc",     "cluster",      "tiled",    "tube_quality", "cluster_shape",
-      "shadows", "tod",    "distant", "shadow_cache", "local",    "pass_times", "sky"};
+      "city",         "models",  "map",        "empty",        "frames",        "normals", "tubes",  "depth",
+      "motion",       "streams", "bloom",      "exposure",     "startup",       "diff",    "report", "decals",
+      "ltc",          "cluster", "tiled",      "tube_quality", "cluster_shape", "shadows", "tod",    "distant",
+      "shadow_cache", "local",   "pass_times", "sky",          "sky_ibl"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -120,6 +120,7 @@ int main(int argc, char** argv) {
     if (wanted("local")) bench_local(gpu, width, height, int(repeats));
     if (wanted("pass_times")) bench_pass_times(gpu, width, height, 3);
     if (wanted("sky")) bench_sky(gpu, cache);
+    if (wanted("sky_ibl")) bench_sky_ibl_cost(gpu, width, height, int(repeats));
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

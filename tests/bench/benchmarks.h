@@ -15,6 +15,8 @@ namespace nightcap::bench {
 void bench_scene(GpuDevice& gpu, const std::string& key, const std::string& label, Scene scene, uint32_t width,
                  uint32_t height, int repeats, bool capture_figures);
 void bench_map(GpuDevice& gpu, PipelineCache& cache, uint32_t width, uint32_t height, int repeats, bool frames);
+// frame_bench.cpp: the sky and image-based light on/off in the map's street frame (sky_ibl_on_off_ratio).
+void bench_sky_ibl_cost(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
 void bench_empty(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
 
 // sky_bench.cpp: the sky's LUTs, time against error.

@@ -12,6 +12,7 @@
 #include "passes/cull/stage.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/scene/scene.h"
+#include "passes/scene/time_of_day.h"
 #include "tests/bench/bench_common.h"
 #include "tests/bench/benchmarks.h"
 
@@ -182,6 +183,47 @@ void bench_empty(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeat
   pass_table(m, "pass_ms.empty");
   table() << std::left << std::setw(22) << "frame" << std::right << std::setw(12) << median(m.frame_ms) << "\n";
   figure("frame_ms_empty", median(m.frame_ms));
+}
+
+// The sky and its image-based light on against off (`--set sky.enabled=0`: the composite's constant
+// sky and ambient alone) in the frame frame_ms_street measures, the map's street shot walking, at
+// the default night and at --hour 17: two renderers warmed up by frame 0, then frames 1..repeats
+// on each in turn, so that both see the same machine. The ratio of the medians of the whole
+// frame's wall clock, per hour, and the larger as sky_ibl_on_off_ratio.
+void bench_sky_ibl_cost(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) {
+  table() << "\n## sky and image-based light on/off, map street shot at " << width << "x" << height << " (median of "
+          << repeats << " alternating frames)\n";
+  double largest = 0;
+  for (const auto& [key, hour] : std::vector<std::pair<std::string, double>>{{"night", -1.0}, {"hour17", 17.0}}) {
+    nc::Scene scene = nc::build_map({1, 16.0, nc::Shot::street});
+    if (hour >= 0) nc::set_hour(scene, hour);
+    nc::RenderSettings on;
+    on.width = width;
+    on.height = height;
+    on.frames = uint32_t(repeats) + 1;
+    on = overlapped(on);
+    nc::RenderSettings off = on;
+    off.params["sky"]["enabled"] = 0.0;
+    nc::Renderer with(gpu, scene, on), without(gpu, scene, off);
+    with.render_frame(0, false);
+    without.render_frame(0, false);
+    std::vector<double> on_ms, off_ms;
+    for (int r = 1; r <= repeats; ++r) {
+      for (const bool sky : {r % 2 == 1, r % 2 == 0}) {
+        const double start = now_ms();
+        (sky ? with : without).render_frame(uint32_t(r), false);
+        (sky ? on_ms : off_ms).push_back(now_ms() - start);
+      }
+    }
+    const double ratio = median(on_ms) / median(off_ms);
+    largest = std::max(largest, ratio);
+    table() << std::left << std::setw(10) << key << std::right << std::fixed << std::setprecision(1) << "on "
+            << median(on_ms) << " ms, off " << median(off_ms) << " ms, ratio " << std::setprecision(3) << ratio << "\n";
+    figure("sky_ibl_on_off_ratio." + key, ratio);
+    figure("frame_ms_street_sky_on." + key, median(on_ms));
+    figure("frame_ms_street_sky_off." + key, median(off_ms));
+  }
+  figure("sky_ibl_on_off_ratio", largest);
 }
 
 }  // namespace nightcap::bench

@@ -1,5 +1,6 @@
-// The sky's LUTs: time against error for the transmittance LUT's size and samples and for
-// sky.view's steps, each against the double-precision references of tests/reference/sky_reference.h.
+// The sky's LUTs and cube maps: time against error for the transmittance LUT's size and samples,
+// sky.view's steps and sky.specular's samples, each against the double-precision references of
+// tests/reference/sky_reference.h and ibl_reference.h.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -10,10 +11,12 @@
 
 #include "passes/core/history_name.h"
 #include "passes/sky/atmosphere.h"
+#include "passes/sky/ibl.glsl.h"
 #include "passes/sky/kinds.h"
 #include "passes/sky/stage.h"
 #include "tests/bench/bench_common.h"
 #include "tests/bench/benchmarks.h"
+#include "tests/reference/ibl_reference.h"
 #include "tests/reference/sky_reference.h"
 
 namespace nc = nightcap;
@@ -28,6 +31,16 @@ constexpr int kTimedRuns = 5;
 
 IsolatedInput lut_input(uint32_t w, uint32_t h, std::vector<uint8_t> bytes) {
   return image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut, w, h, std::move(bytes));
+}
+
+// A cube map of `side` texels a face and `mips` mips holding `bytes` (zeros when empty).
+IsolatedInput cube_input(VkFormat format, uint32_t side, uint32_t mips, std::vector<uint8_t> bytes) {
+  const ImageExtent extent{side, side, 1, mips, 6};
+  if (bytes.empty()) bytes.resize(raw_image_bytes(*format_info(format), extent));
+  IsolatedInput input = image(format, kinds::sky_cube, side, side, std::move(bytes));
+  input.desc.extent = extent;
+  input.desc.cube = true;
+  return input;
 }
 
 struct Timed {
@@ -62,12 +75,15 @@ struct Row {
   double ms = 0, error = 0, mean = 0;
 };
 
+// `error` names the error column's figure (its heading, with spaces for underscores).
 void print_rows(const std::string& title, const std::string& prefix, const std::vector<Row>& rows,
-                const std::string& default_key, bool with_mean) {
+                const std::string& default_key, bool with_mean, std::string error = "max_rel_err") {
   const std::vector<bool> front = pareto_front(rows);
+  std::string heading = error;
+  std::replace(heading.begin(), heading.end(), '_', ' ');
   table() << "\n## " << title << "\n"
           << std::left << std::setw(16) << "setting" << std::right << std::setw(10) << "ms" << std::setw(14)
-          << (with_mean ? "mean rel err" : "") << std::setw(14) << "max rel err" << std::setw(8) << "front\n";
+          << (with_mean ? "mean rel err" : "") << std::setw(14) << heading << std::setw(8) << "front\n";
   for (size_t i = 0; i < rows.size(); ++i) {
     const Row& row = rows[i];
     table() << std::left << std::setw(16) << (row.label + (row.key == default_key ? " *" : "")) << std::right
@@ -79,7 +95,7 @@ void print_rows(const std::string& title, const std::string& prefix, const std::
       table() << "";
     table() << std::setw(14) << row.error << std::setw(7) << (front[i] ? "yes" : "") << std::defaultfloat << "\n";
     figure(prefix + row.key + ".ms", row.ms);
-    figure(prefix + row.key + ".max_rel_err", row.error);
+    figure(prefix + row.key + "." + error, row.error);
     if (with_mean) figure(prefix + row.key + ".mean_rel_err", row.mean);
     figure(prefix + row.key + ".pareto", front[i] ? 1 : 0);
   }
@@ -96,7 +112,7 @@ void print_rows(const std::string& title, const std::string& prefix, const std::
 // scattering LUT.
 void bench_sky(GpuDevice& gpu, PipelineCache& cache) {
   GpuAtmosphere atmosphere = earth_atmosphere({});
-  atmosphere.changed.x = 1;
+  atmosphere.changed = glm::uvec4(1u, 1u, 0u, 0u);
   const IsolatedInput atmosphere_in = record_input(atmosphere);
   const ref::Model model(atmosphere);
 
@@ -194,7 +210,8 @@ void bench_sky(GpuDevice& gpu, PipelineCache& cache) {
                               {{"frame.constants", constants_input(frame)},
                                {"sky.atmosphere", atmosphere_in},
                                {"sky.transmittance", lut_input(256, 64, transmittance_bytes)},
-                               {"sky.multiscattering", lut_input(32, 32, ms)}},
+                               {"sky.multiscattering", lut_input(32, 32, ms)},
+                               {previous("sky.view"), lut_input(192, 108, std::vector<uint8_t>(192 * 108 * 8, 0))}},
                               {{"samples", double(samples)}});
     const std::vector<uint8_t>& sky = *t.run.outputs.at("sky.view");
     double sum = 0, worst = 0;
@@ -213,6 +230,72 @@ void bench_sky(GpuDevice& gpu, PipelineCache& cache) {
   }
   print_rows("sky.view: steps (192x108) against a 512-step double ray march, 252 texels", "sky.view.samples_", rows,
              "32", true);
+
+  // sky.specular against the split sum's prefilter from 65536 samples in double (every third
+  // texel across and down of each mip), on the sky cube of the same sky: for each sample count
+  // the largest over the mips of the RMSE over the reference's RMS.
+  const IsolatedRun view =
+      run_isolated(gpu, cache, sky_view_pass(),
+                   {{"frame.constants", constants_input(frame)},
+                    {"sky.atmosphere", atmosphere_in},
+                    {"sky.transmittance", lut_input(256, 64, transmittance_bytes)},
+                    {"sky.multiscattering", lut_input(32, 32, ms)},
+                    {previous("sky.view"), lut_input(192, 108, std::vector<uint8_t>(192 * 108 * 8, 0))}},
+                   {}, 1, 1, builtin_shaders());
+  const IsolatedRun cube_run =
+      run_isolated(gpu, cache, sky_cubemap_pass(),
+                   {{"frame.constants", constants_input(frame)},
+                    {"sky.atmosphere", atmosphere_in},
+                    {"sky.view", lut_input(192, 108, *view.outputs.at("sky.view"))},
+                    {previous("sky.cubemap"), cube_input(VK_FORMAT_B10G11R11_UFLOAT_PACK32, 128, 8, {})}},
+                   {}, 1, 1, builtin_shaders());
+  const std::vector<uint8_t>& cube = *cube_run.outputs.at("sky.cubemap");
+  const ImageExtent cube_extent = cube_run.output_descs.at("sky.cubemap").extent;
+  const IsolatedInput cube_in =
+      cube_input(VK_FORMAT_B10G11R11_UFLOAT_PACK32, cube_extent.width, cube_extent.mips, cube);
+  const IsolatedInput no_specular = cube_input(VK_FORMAT_R16G16B16A16_SFLOAT, 64, kSkySpecularMips, {});
+  const ref::CubeLevel source =
+      ref::cube_level(cube, VK_FORMAT_B10G11R11_UFLOAT_PACK32, cube_extent.width, cube_extent.mips, 0);
+  struct Probe {
+    uint32_t mip, index;  // index: face-major, rows down, in the mip
+    dvec3 expected;
+  };
+  std::vector<Probe> probes;
+  constexpr uint32_t specular_side = 64;
+  for (uint32_t mip = 1; mip < kSkySpecularMips; ++mip) {
+    const uint32_t side = mip_size(specular_side, mip);
+    const double roughness = double(mip) / (kSkySpecularMips - 1);
+    for (uint32_t face = 0; face < 6; ++face)
+      for (uint32_t y = 0; y < side; y += 3)
+        for (uint32_t x = 0; x < side; x += 3)
+          probes.push_back({mip, (face * side + y) * side + x,
+                            ref::prefiltered(source, ref::texel_direction(face, x, y, side), roughness, 65536)});
+  }
+  rows.clear();
+  for (uint32_t samples : {16u, 32u, 64u, 128u, 256u, 512u}) {
+    const Timed t = run_timed(
+        gpu, cache, sky_specular_pass(),
+        {{"sky.atmosphere", atmosphere_in}, {"sky.cubemap", cube_in}, {previous("sky.specular"), no_specular}},
+        {{"samples", double(samples)}});
+    const std::vector<uint8_t>& bytes = *t.run.outputs.at("sky.specular");
+    std::vector<double> squares(kSkySpecularMips, 0), signal(kSkySpecularMips, 0);
+    std::vector<ref::CubeLevel> levels;
+    for (uint32_t mip = 0; mip < kSkySpecularMips; ++mip)
+      levels.push_back(ref::cube_level(bytes, VK_FORMAT_R16G16B16A16_SFLOAT, specular_side, kSkySpecularMips, mip));
+    for (const Probe& p : probes) {
+      const dvec3 error = levels[p.mip].texels[p.index] - p.expected;
+      squares[p.mip] += glm::dot(error, error);
+      signal[p.mip] += glm::dot(p.expected, p.expected);
+    }
+    double worst = 0;
+    for (uint32_t mip = 1; mip < kSkySpecularMips; ++mip)
+      worst = std::max(worst, std::sqrt(squares[mip] / signal[mip]));
+    rows.push_back({std::to_string(samples), std::to_string(samples) + " samples", t.ms, worst});
+  }
+  print_rows(
+      "sky.specular: samples at mip 1 (4x more each mip down) against a 65536-sample double prefilter, "
+      "worst mip",
+      "sky.specular.samples_", rows, "128", false, "rmse");
 }
 
 }  // namespace nightcap::bench

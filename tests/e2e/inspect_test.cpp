@@ -204,6 +204,49 @@ TEST_F(InspectTest, HdrLuminanceAndHalfResolutionMips) {
   EXPECT_EQ(j["decoded"]["max_m"].get<double>(), float_at(pyramid_raw, texel + 4));
 }
 
+// An 11- or 10-bit unsigned float of B10G11R11 by its definition: 5-bit exponent (bias 15) over a
+// `mantissa_bits` mantissa.
+double small_float(uint32_t bits, int mantissa_bits) {
+  const uint32_t exponent = bits >> mantissa_bits, mantissa = bits & ((1u << mantissa_bits) - 1);
+  if (exponent == 0) return std::ldexp(mantissa, -14 - mantissa_bits);
+  return std::ldexp((1u << mantissa_bits) + mantissa, int(exponent) - 15 - mantissa_bits);
+}
+
+TEST_F(InspectTest, CubeMapTexelAlongADirection) {
+  const ResourceRecord& cube = output_named(pass_named(frame0(), "sky.cubemap"), "sky.cubemap");
+  const ResourceRecord& specular = output_named(pass_named(frame0(), "sky.specular"), "sky.specular");
+  const Inspected run = inspect(path_,
+                                "goto sky.specular --json; direction 0 -1 0.3 sky.cubemap --json; "
+                                "direction 1 0.2 -0.1 --mip 3 --json; direction 0 0 0 sky.cubemap --json");
+  EXPECT_EQ(run.result.code, 2) << "a zero direction looks nowhere";
+  ASSERT_EQ(run.objects.size(), 3u) << run.result.err;
+  EXPECT_NE(run.result.err.find("not zero"), std::string::npos) << run.result.err;
+
+  // (0, −1, 0.3): −Y is the major axis, face 3; s = (x / 1 + 1) / 2 = 0.5, t = (−z / 1 + 1) / 2 = 0.35.
+  const json& down = run.objects[1];
+  EXPECT_EQ(down["face"], "-Y");
+  EXPECT_EQ(down["layer"], 3);
+  const uint32_t side = cube.extent.width, x = side / 2, y = uint32_t(0.35 * side);
+  EXPECT_EQ(down["texel"], json::array({x, y}));
+  const uint32_t word = word_at(capture_->load(cube), 4 * (uint64_t(3) * side * side + uint64_t(y) * side + x));
+  EXPECT_EQ(down["decoded"]["rgb"], json::array({small_float(word & 0x7FF, 6), small_float((word >> 11) & 0x7FF, 6),
+                                                 small_float(word >> 22, 5)}));
+
+  // (1, 0.2, −0.1) at mip 3 of the current pass's output: +X, face 0; s = (0.1 + 1) / 2, t = (−0.2 + 1) / 2.
+  const json& side_texel = run.objects[2];
+  EXPECT_EQ(side_texel["face"], "+X");
+  const uint32_t base = specular.extent.width, at_mip = base >> 3;
+  const uint32_t sx = uint32_t(0.55 * at_mip), sy = uint32_t(0.4 * at_mip);
+  EXPECT_EQ(side_texel["texel"], json::array({sx, sy}));
+  EXPECT_EQ(side_texel["mip"], 3);
+  uint64_t offset = 0;
+  for (uint32_t m = 0; m < 3; ++m) offset += uint64_t(base >> m) * (base >> m) * 8 * 6;
+  offset += 8 * (uint64_t(sy) * at_mip + sx);
+  const std::vector<uint8_t> raw = capture_->load(specular);
+  EXPECT_EQ(side_texel["decoded"]["rgb"],
+            json::array({half_at(raw, offset), half_at(raw, offset + 2), half_at(raw, offset + 4)}));
+}
+
 TEST_F(InspectTest, NavigationInfoPipelineAndShader) {
   const std::vector<PassRecord>& passes = frame0().passes;
   size_t gbuffer = 0;

@@ -4,6 +4,7 @@
 // - unlit (albedo alpha code 1, the G-buffer's unlit flag): albedo + emissive;
 // - sky (device depth 0): the `sky` parameter × (0.5, 0.7, 1.6);
 // - with ao.bent connected (an optional input), the ambient term × its alpha, the visibility;
+// - without the sky's inputs, no image-based light (lighting_composite_ibl_test.cpp tests it);
 // then limited to 65504, the largest finite half float (see below). Inputs are decoded from
 // their formats as the GPU reads them (half floats, A2B10G10R10 and R8G8B8A8 UNORM codes,
 // B10G11R11 floats, D32 depth) by decode_texel.
@@ -148,6 +149,10 @@ TEST_P(Composite, IsTheNearestHalfOfTheDoubleReferenceUpToFloatError) {
       {"lighting.diffuse", hdr(diffuse)},
       {"lighting.specular", hdr(specular)},
       {"gbuffer.albedo", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::colour, width, height, albedo)},
+      // Read by the image-based light alone, which needs the sky's inputs
+      // (lighting_composite_ibl_test.cpp).
+      {"gbuffer.normal",
+       image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::normal, width, height, std::vector<uint8_t>(count * 4, 0))},
       {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, kinds::material, width, height, material)},
       {"gbuffer.emissive", image(VK_FORMAT_B10G11R11_UFLOAT_PACK32, kinds::colour, width, height, emissive)},
       {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil, width, height, depth)}};

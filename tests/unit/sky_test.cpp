@@ -4,7 +4,8 @@
 //   constituent integrated by adaptive Simpson to 1e-9 km (an error below 1e-10 in the optical
 //   depth, whose coefficients are at most 0.04 per km); within 1e-3 relative where the
 //   reference is at least 2^-14 (half floats' normal range), 2^-24 absolute + 1e-3 relative below;
-// - kept: with the atmosphere unchanged the LUTs are the previous frame's, bit for bit; without a
+// - kept: with the atmosphere unchanged the LUTs are the previous frame's, bit for bit (the record
+//   says when the air changed, and when the sky seen from the camera did); without a
 //   record (no directional light) they are zeros, their clear value;
 // - sky.view: texels on a grid against a ray march of 512 steps whose transmittance toward the
 //   light is a 512-sample quadrature (not the LUT); the multiple scattering term is
@@ -35,7 +36,7 @@ using reference::texel_of;
 
 IsolatedInput atmosphere_input(bool changed) {
   GpuAtmosphere a = earth_atmosphere({});
-  a.changed = glm::uvec4(changed ? 1u : 0u, 0u, 0u, 0u);
+  a.changed = glm::uvec4(changed ? 1u : 0u, changed ? 1u : 0u, 0u, 0u);
   return record_input(a);
 }
 
@@ -107,13 +108,23 @@ TEST_F(SkyTest, AtmosphereRecordSaysWhenItChangedAndIsEmptyWithoutALight) {
     GpuAtmosphere now;
     EXPECT_EQ(bytes.size(), sizeof now);
     std::memcpy(&now, bytes.data(), std::min(bytes.size(), sizeof now));
-    return now.changed.x;
+    return glm::uvec2(now.changed);
   };
-  EXPECT_EQ(changed({}, std::nullopt), 1u) << "no previous frame";
-  EXPECT_EQ(changed({}, before), 0u) << "the same atmosphere";
-  before.changed.x = 1;
-  EXPECT_EQ(changed({}, before), 0u) << "the flag itself is not a change";
-  EXPECT_EQ(changed({{"mie", 2.0}}, before), 1u) << "a parameter changed";
+  // The previous record as this frame's would be: the same light seen from the same height.
+  before.light = glm::vec4(0.0f, -1.0f, 0.0f, 1.7f);
+  before.light_radiance = glm::vec4(2.0f);
+  frame.camera_world.y = 1.7f;
+  frame.sun_radiance = glm::vec4(2.0f);
+  EXPECT_EQ(changed({}, std::nullopt), glm::uvec2(1u, 1u)) << "no previous frame";
+  EXPECT_EQ(changed({}, before), glm::uvec2(0u, 0u)) << "the same atmosphere, light and height";
+  before.changed = glm::uvec4(1u);
+  EXPECT_EQ(changed({}, before), glm::uvec2(0u, 0u)) << "the flags themselves are not a change";
+  EXPECT_EQ(changed({{"mie", 2.0}}, before), glm::uvec2(1u, 1u)) << "a parameter changed";
+  frame.camera_world.y = 30.0f;
+  EXPECT_EQ(changed({}, before), glm::uvec2(0u, 1u)) << "the camera climbed: the sky it sees, not the air";
+  frame.camera_world.y = 1.7f;
+  frame.sun_direction = glm::vec4(0.0f, -0.8f, 0.6f, 1.0f);
+  EXPECT_EQ(changed({}, before), glm::uvec2(0u, 1u)) << "the light moved";
   frame.sun_direction.w = 0.0f;
   EXPECT_TRUE(record({}, before).empty()) << "no directional light: no record, as when the pass is skipped";
 }
@@ -148,7 +159,9 @@ TEST_F(SkyTest, SkyViewMatchesADoubleRayMarch) {
                                  {{"frame.constants", record_input(frame)},
                                   {"sky.atmosphere", atmosphere},
                                   {"sky.transmittance", lut(transmittance, "sky.transmittance", 256, 64)},
-                                  {"sky.multiscattering", lut(multiscattering, "sky.multiscattering", 32, 32)}},
+                                  {"sky.multiscattering", lut(multiscattering, "sky.multiscattering", 32, 32)},
+                                  {previous("sky.view"), image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut, 192, 108,
+                                                               std::vector<uint8_t>(192 * 108 * 8, 0))}},
                                  1, 1);
     ASSERT_TRUE(first_non_finite(view.execution).empty());
     const std::vector<uint8_t>& sky = *view.outputs.at("sky.view");
