@@ -18,6 +18,7 @@ PassDecl gbuffer_dynamic_pass() {
       .modify("gbuffer.material", Use::color_attachment)
       .modify("gbuffer.motion", Use::color_attachment)
       .modify("gbuffer.emissive", Use::color_attachment)
+      .modify("gbuffer.occlusion", Use::color_attachment)
       // No prepass covers moving instances: plain GREATER, and the stencil takes each draw's class.
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_GREATER, true).writing_stencil())
       .needs("moving_geometry")

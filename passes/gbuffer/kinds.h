@@ -10,4 +10,7 @@ inline constexpr ResourceKind normal{"normal"};
 inline constexpr ResourceKind material{"material"};
 // Screen-space motion, current − previous position, in UV units.
 inline constexpr ResourceKind motion{"motion"};
+// The material's ambient occlusion (glTF's occlusion texture): the share of indirect light that
+// reaches the surface, 1 where nothing was drawn.
+inline constexpr ResourceKind occlusion{"occlusion"};
 }  // namespace nightcap::kinds

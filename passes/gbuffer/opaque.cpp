@@ -5,6 +5,10 @@
 // emitted radiance. The seeds keep emission as one 8-bit scalar in RT2.a, which cannot carry
 // glTF's emissive colour and texture apart from the base colour; RT2.a still holds the
 // emissive intensity (log-encoded) as the seeds describe.
+//
+// Deviation from frame.md: another, gbuffer.occlusion (R8_UNORM, 1 where nothing was drawn), holds
+// glTF's occlusion texture, which the composite applies to indirect light alone (multiplied into
+// the albedo it would darken direct light too). No RT of frame.md has a free 8-bit channel.
 #include <cmath>
 
 #include "passes/core/context.h"
@@ -42,6 +46,12 @@ const KindRegistration kMaterial({
         },
 });
 
+const KindRegistration kOcclusion({
+    .kind = kinds::occlusion,
+    .describe = [](const TexelValues& t, const KindFrame&,
+                   nlohmann::ordered_json& out) { out["occlusion"] = t.raw[0]; },
+});
+
 const KindRegistration kMotion({
     .kind = kinds::motion,
     .describe =
@@ -60,12 +70,15 @@ const KindRegistration kMotion({
 
 PassDecl gbuffer_opaque_pass() {
   auto target = [](VkFormat format, ResourceKind kind) { return ImageDecl{format, kind}; };
+  ImageDecl unoccluded = target(VK_FORMAT_R8_UNORM, kinds::occlusion);
+  unoccluded.clear.color = {{1.0f, 0.0f, 0.0f, 0.0f}};
   return surface_pass("gbuffer.opaque", "draws.gbuffer.opaque")
       .write("gbuffer.albedo", Use::color_attachment, target(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::colour))
       .write("gbuffer.normal", Use::color_attachment, target(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::normal))
       .write("gbuffer.material", Use::color_attachment, target(VK_FORMAT_R8G8B8A8_UNORM, kinds::material))
       .write("gbuffer.motion", Use::color_attachment, target(VK_FORMAT_R16G16_SFLOAT, kinds::motion))
       .write("gbuffer.emissive", Use::color_attachment, target(VK_FORMAT_B10G11R11_UFLOAT_PACK32, kinds::hdr_colour))
+      .write("gbuffer.occlusion", Use::color_attachment, unoccluded)
       // GREATER_OR_EQUAL: what the prepass drew passes at its own depth. The stencil takes each
       // draw's material class.
       .depth_stencil(DepthStencilState::depth(VK_COMPARE_OP_GREATER_OR_EQUAL, true).writing_stencil())

@@ -25,6 +25,7 @@ layout(location = 1) out vec4 out_normal;    // A2B10G10R10: 0.5n+0.5, a: hair m
 layout(location = 2) out vec4 out_material;  // metalness, roughness, translucency, emissive
 layout(location = 3) out vec2 out_motion;    // uv(current) - uv(previous)
 layout(location = 4) out vec3 out_emissive;  // B10G11R11: emitted radiance
+layout(location = 5) out float out_occlusion;  // R8: the material's occlusion, for indirect light alone
 
 const float FLAG_UNLIT = 1.0 / 3.0;  // 2-bit alpha of RT0
 
@@ -86,7 +87,8 @@ void write_gbuffer(vec3 previous_position) {
   emitted = min(emitted, vec3(64512.0));
 
   bool unlit = (int(m.extra.w) & 1) != 0;
-  out_albedo = vec4(clamp(base.rgb * (unlit ? 1.0 : occlusion), 0.0, 1.0), unlit ? FLAG_UNLIT : 0.0);
+  out_albedo = vec4(clamp(base.rgb, 0.0, 1.0), unlit ? FLAG_UNLIT : 0.0);
+  out_occlusion = unlit ? 1.0 : clamp(occlusion, 0.0, 1.0);
   out_normal = vec4(n * 0.5 + 0.5, 0.0);
   // Emissive intensity as log2(1 + luminance) / 16: the seeds' RT2.a, a mask for later passes.
   float luminance = dot(emitted, vec3(0.2126, 0.7152, 0.0722));

@@ -9,7 +9,8 @@
 // directional light, the sky switched off, or a frame without the sky's passes). The sky's
 // resources and frame.constants are optional inputs, read together. The indirect terms of frame.md
 // join as optional inputs, each read when its pass is in the frame: ao.bent's visibility (alpha,
-// sampled bilinearly: AO may be half size) darkens the indirect terms. SSR, probes, the GI volume
+// sampled bilinearly: AO may be half size) darkens the indirect terms, as the material's own
+// occlusion (gbuffer.occlusion) does. SSR, probes, the GI volume
 // and fog are to join the same way, a read_optional and an `#ifdef NC_BINDING_<name>` block in
 // the shader each, with the passes that define their formats.
 #include "passes/core/context.h"
@@ -39,6 +40,7 @@ PassDecl lighting_composite_pass() {
       .read("gbuffer.normal", Use::sampled)
       .read("gbuffer.material", Use::sampled)
       .read("gbuffer.emissive", Use::sampled)
+      .read("gbuffer.occlusion", Use::sampled)
       .read("scene.depth", Use::sampled)
       .read_optional("frame.constants", Use::uniform_buffer)
       .read_optional("sky.atmosphere", Use::uniform_buffer)

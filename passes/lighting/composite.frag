@@ -9,6 +9,7 @@ layout(set = 0, binding = NC_BINDING(gbuffer_albedo)) uniform sampler2D albedo_m
 layout(set = 0, binding = NC_BINDING(gbuffer_normal)) uniform sampler2D normal_map;
 layout(set = 0, binding = NC_BINDING(gbuffer_material)) uniform sampler2D material_map;
 layout(set = 0, binding = NC_BINDING(gbuffer_emissive)) uniform sampler2D emissive_map;
+layout(set = 0, binding = NC_BINDING(gbuffer_occlusion)) uniform sampler2D occlusion_map;
 layout(set = 0, binding = NC_BINDING(scene_depth)) uniform sampler2D depth_map;
 #ifdef NC_BINDING_ao
 layout(set = 0, binding = NC_BINDING(ao)) uniform sampler2D ao_map;  // ao.bent; alpha: the visibility
@@ -141,9 +142,10 @@ void main() {
   } else {
     vec4 material = texelFetch(material_map, pixel, 0);
     float metallic = material.r;
-    float visibility = 1.0;
+    // The material's occlusion and the frame's AO both say how much indirect light arrives.
+    float visibility = texelFetch(occlusion_map, pixel, 0).r;
 #ifdef NC_BINDING_ao
-    visibility = textureLod(ao_map, in_uv, 0.0).a;
+    visibility *= textureLod(ao_map, in_uv, 0.0).a;
 #endif
     specular = texelFetch(specular_map, pixel, 0).rgb;
     vec3 indirect_diffuse = ambient.rgb * albedo.rgb * (1.0 - metallic) * visibility;

@@ -1,5 +1,5 @@
-// gbuffer.normal, gbuffer.motion, gbuffer.material (metalness, roughness) and the occlusion in
-// gbuffer.albedo of the Khronos sample models against the independent reference of
+// gbuffer.normal, gbuffer.motion, gbuffer.material (metalness, roughness), gbuffer.occlusion and
+// the unoccluded gbuffer.albedo of the Khronos sample models against the independent reference of
 // gltf_reference.h, and KHR_lights_punctual as loaded against the file.
 // (Over 600 lines: one case per G-buffer output, sharing the models and the reference.)
 #include <algorithm>
@@ -383,10 +383,10 @@ struct MaterialStats {
   size_t textured = 0;           // … of them through the metal-rough texture
   size_t texture_telling = 0;    // … where the factors alone would be off by > 2 codes
   size_t channels_telling = 0;   // … where metalness and roughness differ by > 2 codes
-  size_t occlusion = 0;          // pixels whose occluded albedo is predicted
-  size_t occlusion_telling = 0;  // … where ignoring occlusion would be off by > 4 codes
+  size_t occlusion = 0;          // pixels whose occlusion is predicted
+  size_t occlusion_telling = 0;  // … where no occlusion (1) would be off by > 2 codes
   size_t strength_telling = 0;   // … where strength 1 instead of the material's would be
-  double worst_metal = 0, worst_rough = 0, worst_albedo = 0;
+  double worst_metal = 0, worst_rough = 0, worst_albedo = 0, worst_occlusion = 0;
   void add(const MaterialStats& o) {
     metal_rough += o.metal_rough;
     textured += o.textured;
@@ -398,15 +398,16 @@ struct MaterialStats {
     worst_metal = std::max(worst_metal, o.worst_metal);
     worst_rough = std::max(worst_rough, o.worst_rough);
     worst_albedo = std::max(worst_albedo, o.worst_albedo);
+    worst_occlusion = std::max(worst_occlusion, o.worst_occlusion);
   }
   void print(const char* what) const {
     std::printf(
         "%s: metal/rough at %zu pixels (%zu through the texture, %zu where the factors alone would be off by > 2 "
         "codes, %zu where swapped channels would be), worst metalness %.3f codes, roughness %.3f codes; occlusion "
-        "at %zu pixels (%zu where ignoring it would be off by > 4 codes, %zu where strength 1 would be), worst "
-        "albedo %.3f codes\n",
+        "at %zu pixels (%zu where none would be off by > 2 codes, %zu where strength 1 would be), worst %.3f "
+        "codes; worst albedo %.3f codes\n",
         what, metal_rough, textured, texture_telling, channels_telling, worst_metal, worst_rough, occlusion,
-        occlusion_telling, strength_telling, worst_albedo);
+        occlusion_telling, strength_telling, worst_occlusion, worst_albedo);
   }
 };
 
@@ -414,7 +415,7 @@ struct MaterialStats {
 constexpr double kMaterialCodes = 1.0;
 constexpr double kAlbedoCodes = 2.0;
 
-// gbuffer.material.rg and the occlusion-darkened gbuffer.albedo at every clean pixel where the
+// gbuffer.material.rg, gbuffer.occlusion and the unoccluded gbuffer.albedo at every clean pixel where the
 // textures involved are locally constant (window() of gltf_reference.h, over the channels the
 // shader reads). Non-colour textures are used as stored: no sRGB decode (glTF 2.0, 3.9.3/3.9.4).
 MaterialStats compare_material(const Reference& ref, const View& view, const GBuffer& g,
@@ -468,54 +469,55 @@ MaterialStats compare_material(const Reference& ref, const View& view, const GBu
                         << ", " << expected_rough;
       }
 
-      // Occlusion multiplies the albedo of lit materials (KHR_materials_unlit ignores it):
-      // 1 + strength · (R − 1), glTF 2.0's occlusionTexture.strength.
+      // gbuffer.occlusion holds 1 + strength · (R − 1), glTF 2.0's occlusionTexture.strength, for
+      // lit materials (KHR_materials_unlit ignores it: 1), and the albedo is the base colour
+      // alone (occlusion is for indirect light).
       if (m.occlusion_map.image < 0 || m.unlit) continue;
-      const auto base = o ? std::optional(m.factor * view.footprint(p.tri, x, y).color) : view.base_color(p.tri, x, y);
-      if (!base) continue;
       const RefImage& image = ref.image(m.occlusion_map.image);
       const RefSampler& sampler = m.occlusion_map.sampler;
       const Footprint f = view.footprint(p.tri, x, y, m.occlusion_map.texcoord);
       const Window w =
           window(image, sampler.wrap_s, sampler.wrap_t, f.uv, window_radius(image, sampler, f), false, 0x000000ffu);
       if (!w.constant) continue;
-      const double occlusion = 1.0 + m.occlusion_map.scale * (w.unorm.r - 1.0);
-      const glm::dvec3 got = g.albedo_codes(i);
-      double error = 0, unoccluded = 0, full_strength = 0;
-      glm::dvec3 expected;
-      for (int c = 0; c < 3; ++c) {
-        expected[c] = std::clamp((*base)[c] * occlusion, 0.0, 1.0) * 1023.0;
-        error = std::max(error, std::abs(got[c] - expected[c]));
-        unoccluded = std::max(unoccluded, std::abs(std::clamp((*base)[c], 0.0, 1.0) * 1023.0 - expected[c]));
-        full_strength =
-            std::max(full_strength, std::abs(std::clamp((*base)[c] * w.unorm.r, 0.0, 1.0) * 1023.0 - expected[c]));
-      }
+      const double occlusion = std::clamp(1.0 + m.occlusion_map.scale * (w.unorm.r - 1.0), 0.0, 1.0);
+      const double expected_code = occlusion * 255.0, got_code = g.occlusion[i];
       ++s.occlusion;
-      s.occlusion_telling += unoccluded > 2 * kAlbedoCodes;
-      s.strength_telling += full_strength > 2 * kAlbedoCodes;
-      s.worst_albedo = std::max(s.worst_albedo, error);
-      if (error > kAlbedoCodes && ++failures <= 8)
+      s.occlusion_telling += std::abs(255.0 - expected_code) > 2 * kMaterialCodes;
+      s.strength_telling += std::abs(w.unorm.r * 255.0 - expected_code) > 2 * kMaterialCodes;
+      const double error = std::abs(got_code - expected_code);
+      s.worst_occlusion = std::max(s.worst_occlusion, error);
+      if (error > kMaterialCodes && ++failures <= 8)
+        ADD_FAILURE() << m.name << " at (" << x << ", " << y << "): occlusion code " << got_code << ", predicted "
+                      << expected_code;
+      const auto base = o ? std::optional(m.factor * view.footprint(p.tri, x, y).color) : view.base_color(p.tri, x, y);
+      if (!base) continue;
+      const glm::dvec3 got = g.albedo_codes(i);
+      double albedo_error = 0;
+      for (int c = 0; c < 3; ++c)
+        albedo_error = std::max(albedo_error, std::abs(got[c] - std::clamp((*base)[c], 0.0, 1.0) * 1023.0));
+      s.worst_albedo = std::max(s.worst_albedo, albedo_error);
+      if (albedo_error > kAlbedoCodes && ++failures <= 8)
         ADD_FAILURE() << m.name << " at (" << x << ", " << y << "): albedo codes " << got.r << " " << got.g << " "
-                      << got.b << ", predicted " << expected.r << " " << expected.g << " " << expected.b
-                      << " (occlusion " << occlusion << ")";
+                      << got.b << ", predicted the base colour " << (*base)[0] * 1023.0 << " " << (*base)[1] * 1023.0
+                      << " " << (*base)[2] * 1023.0;
     }
   return s;
 }
 
 // gbuffer.material.r (metalness) and .g (roughness) against metallicFactor · B and
-// roughnessFactor · G of the metal-rough texture, and gbuffer.albedo against base colour ×
-// (1 + strength · (occlusion R − 1)), at clean pixels where every texture involved is locally
-// constant over the channels the shader reads (the window of gltf_gbuffer_test.cpp).
-// Bounds: metalness and roughness within one 8-bit code (half a code of UNORM rounding; the
-// texel, exact through the 8-bit mip chain of a constant window, times a float factor adds
-// nothing near another half); albedo within gltf_gbuffer_test.cpp's 2 ten-bit codes (rounding,
-// lavapipe's cubic sRGB decode of the base colour, float products).
-// DamagedHelmet as the file has it (factors 1, strength 1), then with factors 0.6 and 0.35,
-// strength 0.5 and no base colour texture, so the products and the strength formula tell: the
-// JPEG base colour is practically never constant where the JPEG occlusion is constant and below
-// 1, so with the file's base colour occlusion is only checked where predictable (none or few
-// pixels, not required). Close-ups on patches of the maps that are constant. Then EmissiveStrengthTest and UnlitTest,
-// where the factors alone decide (roughness 0.5 and 0.8 with metalness 0; the defaults 1 and 1).
+// roughnessFactor · G of the metal-rough texture, gbuffer.occlusion against
+// 1 + strength · (occlusion R − 1) and gbuffer.albedo against the base colour alone (the
+// occlusion is for indirect light: frame.md's deviations), at clean pixels where every texture
+// involved is locally constant over the channels the shader reads (the window of
+// gltf_gbuffer_test.cpp). Bounds: metalness, roughness and occlusion within one 8-bit code (half a code of UNORM
+// rounding; the texel, exact through the 8-bit mip chain of a constant window, times a float factor adds nothing near
+// another half); albedo within gltf_gbuffer_test.cpp's 2 ten-bit codes (rounding, lavapipe's cubic sRGB decode of the
+// base colour, float products). DamagedHelmet as the file has it (factors 1, strength 1), then with factors 0.6 and
+// 0.35, strength 0.5 and no base colour texture, so the products and the strength formula tell: the JPEG base colour is
+// practically never constant where the JPEG occlusion is constant and below 1, so with the file's base colour the
+// albedo there is only checked where predictable (none or few pixels, not required). Close-ups on patches of the maps
+// that are constant. Then EmissiveStrengthTest and UnlitTest, where the factors alone decide (roughness 0.5 and 0.8
+// with metalness 0; the defaults 1 and 1).
 TEST_F(GltfGBufferOutputs, MetalRoughnessAndOcclusion) {
   const std::string path = model_path("DamagedHelmet");
   const Scene scene = load_gltf(path);
@@ -565,6 +567,7 @@ TEST_F(GltfGBufferOutputs, MetalRoughnessAndOcclusion) {
     EXPECT_LE(s->worst_metal, kMaterialCodes);
     EXPECT_LE(s->worst_rough, kMaterialCodes);
     EXPECT_LE(s->worst_albedo, kAlbedoCodes);
+    EXPECT_LE(s->worst_occlusion, kMaterialCodes);
   }
   EXPECT_GT(as_file.textured, 1000u);
   EXPECT_GT(as_file.texture_telling, 500u);

@@ -750,7 +750,8 @@ struct GBuffer {
   uint32_t width = 0, height = 0;
   Camera camera;  // the frame's
   std::vector<uint32_t> albedo, normal;
-  std::vector<uint8_t> material;  // RGBA8
+  std::vector<uint8_t> material;   // RGBA8
+  std::vector<uint8_t> occlusion;  // R8: the material's occlusion
   std::vector<float> depth;
   std::vector<uint8_t> emissive_bytes, motion_bytes;
 
@@ -812,6 +813,7 @@ inline GBuffer render_gbuffer(GpuDevice& gpu, const Scene& scene, const Camera& 
   g.emissive_bytes = *output(frame, "gbuffer.opaque", "gbuffer.emissive").bytes;
   g.motion_bytes = *output(frame, "gbuffer.opaque", "gbuffer.motion").bytes;
   g.material = as<uint8_t>(output(frame, "gbuffer.opaque", "gbuffer.material"), n * 4);
+  g.occlusion = as<uint8_t>(output(frame, "gbuffer.opaque", "gbuffer.occlusion"), n);
   g.depth = as<float>(output(frame, "gbuffer.opaque", "scene.depth"), n);
   return g;
 }

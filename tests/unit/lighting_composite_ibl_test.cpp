@@ -125,6 +125,8 @@ class CompositeIbl : public GpuTest {
                 {"gbuffer.albedo", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::colour, kSide, kSide, f.albedo)},
                 {"gbuffer.normal", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::normal, kSide, kSide, f.normal)},
                 {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, kinds::material, kSide, kSide, f.material)},
+                {"gbuffer.occlusion",
+                 image(VK_FORMAT_R8_UNORM, kinds::occlusion, kSide, kSide, std::vector<uint8_t>(count, 255))},
                 {"gbuffer.emissive", image(VK_FORMAT_B10G11R11_UFLOAT_PACK32, kinds::colour, kSide, kSide,
                                            std::vector<uint8_t>(count * 4, 0))},
                 {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil, kSide, kSide, f.depth)},

@@ -3,6 +3,7 @@
 //   the `ambient` parameter × (0.8, 0.9, 1.2);
 // - unlit (albedo alpha code 1, the G-buffer's unlit flag): albedo + emissive;
 // - sky (device depth 0): the `sky` parameter × (0.5, 0.7, 1.6);
+// - the ambient term × the material's occlusion (gbuffer.occlusion, random codes);
 // - with ao.bent connected (an optional input), the ambient term × its alpha, the visibility;
 // - without the sky's inputs, no image-based light (lighting_composite_ibl_test.cpp tests it);
 // then limited to 65504, the largest finite half float (see below). Inputs are decoded from
@@ -10,15 +11,15 @@
 // B10G11R11 floats, D32 depth) by decode_texel.
 //
 // Bound, with u = 2⁻²⁴ and A the ambient colour channel:
-//   |GPU − reference| ≤ ½ half-float ULP of the reference + 12u·reference + 3u·A.
+//   |GPU − reference| ≤ ½ half-float ULP of the reference + 12u·reference + 6u·A (9u·A with ao.bent).
 // The half ULP is the R16G16B16A16_SFLOAT rounding (2⁻¹¹ relative at most; 2⁻²⁵ absolute among
 // subnormals). The rest is the float arithmetic ahead of it: the ambient colour (parameter to
 // float, × a float factor, product: 3u), UNORM decodes (2u each, allowing a multiply by a
 // rounded 1/1023), two products and three sums of non-negative terms — 10u·reference — plus the
 // error of 1 − metallic, absolute rather than relative (≤ 2u, times A·albedo ≤ A); 1u of margin
 // for second-order terms, and 1u·reference + 1u·A for decode_texel's own float decode of the
-// UNORM codes. A connected ao.bent adds a product and a UNORM decode to the ambient term: 3u·A
-// more.
+// UNORM codes. The material's occlusion adds a product and a UNORM decode to the ambient term,
+// 3u·A more, and a connected ao.bent as many again.
 //
 // The RGBA16F store: Vulkan leaves the rounding of a float to half open, and lavapipe truncates
 // (Mesa's lp_build_float_to_half), so before the pass rounded to the nearest half itself it was
@@ -47,6 +48,7 @@ struct Pixel {
   uint16_t diffuse[3] = {}, specular[3] = {};
   uint32_t albedo = 0;       // A2B10G10R10: r | g << 10 | b << 20 | flags << 30
   uint8_t material[4] = {};  // metallic, roughness, translucency, emissive
+  uint8_t occlusion = 255;   // the material's, R8_UNORM
   uint32_t emissive = 0;     // B10G11R11: r (11 bits) | g (11) << 11 | b (10) << 22
   float depth = 0.5f;
 };
@@ -106,6 +108,7 @@ std::vector<Pixel> sweep(size_t count) {
     const uint32_t kind = rng.below(16);  // 1 sky, 2 unlit, 13 lit
     p.albedo = albedo_word(rng.below(1024), rng.below(1024), rng.below(1024), kind >= 1 && kind <= 2);
     for (uint8_t& m : p.material) m = uint8_t(rng.below(256));
+    p.occlusion = uint8_t(rng.below(256));
     p.emissive = emissive_word(rng.small_float(6), rng.small_float(6), rng.small_float(5));
     // Device depths of drawn surfaces are normal floats in (0, 1]; 0 is the sky.
     p.depth = kind == 0 ? 0.0f : std::ldexp(1.0f + float(rng.below(1u << 23)) * 0x1p-23f, -int(rng.below(30)) - 1);
@@ -128,6 +131,7 @@ TEST_P(Composite, IsTheNearestHalfOfTheDoubleReferenceUpToFloatError) {
   const uint32_t width = 256, height = 256;
   const size_t count = size_t(width) * height;
   const std::vector<Pixel> pixels = sweep(count);
+  std::vector<uint8_t> occlusion(count);
   std::vector<uint8_t> diffuse(count * 8), specular(count * 8), albedo(count * 4), material(count * 4),
       emissive(count * 4), depth(count * 5, 0);
   for (size_t i = 0; i < count; ++i) {
@@ -139,6 +143,7 @@ TEST_P(Composite, IsTheNearestHalfOfTheDoubleReferenceUpToFloatError) {
     std::memcpy(&specular[8 * i], s, 8);
     std::memcpy(&albedo[4 * i], &p.albedo, 4);
     std::memcpy(&material[4 * i], p.material, 4);
+    occlusion[i] = p.occlusion;
     std::memcpy(&emissive[4 * i], &p.emissive, 4);
     std::memcpy(&depth[4 * i], &p.depth, 4);  // the depth plane; the stencil plane follows
   }
@@ -151,6 +156,7 @@ TEST_P(Composite, IsTheNearestHalfOfTheDoubleReferenceUpToFloatError) {
       {"gbuffer.albedo", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::colour, width, height, albedo)},
       // Read by the image-based light alone, which needs the sky's inputs
       // (lighting_composite_ibl_test.cpp).
+      {"gbuffer.occlusion", image(VK_FORMAT_R8_UNORM, kinds::occlusion, width, height, occlusion)},
       {"gbuffer.normal",
        image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::normal, width, height, std::vector<uint8_t>(count * 4, 0))},
       {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, kinds::material, width, height, material)},
@@ -186,6 +192,7 @@ TEST_P(Composite, IsTheNearestHalfOfTheDoubleReferenceUpToFloatError) {
     decode(VK_FORMAT_R16G16B16A16_SFLOAT, specular, i, s);
     decode(VK_FORMAT_A2B10G10R10_UNORM_PACK32, albedo, i, a);
     decode(VK_FORMAT_R8G8B8A8_UNORM, material, i, m);
+    const double occluded = occlusion[i] / 255.0;
     decode(VK_FORMAT_B10G11R11_UFLOAT_PACK32, emissive, i, e);
     decode(VK_FORMAT_D32_SFLOAT_S8_UINT, depth, i, z);
     uint16_t lit[4];
@@ -193,13 +200,13 @@ TEST_P(Composite, IsTheNearestHalfOfTheDoubleReferenceUpToFloatError) {
     for (int c = 0; c < 3; ++c) {
       const double sum = z[0] <= 0  ? sky_colour[c]
                          : a[3] > 0 ? a[c] + e[c]
-                                    : d[c] + s[c] + e[c] + ambient_colour[c] * a[c] * (1.0 - m[0]);
+                                    : d[c] + s[c] + e[c] + ambient_colour[c] * occluded * a[c] * (1.0 - m[0]);
       const double expected = std::min(sum, HALF_MAX);
       limited += sum > HALF_MAX;
       const double gpu = half_to_float(lit[c]);
       ASSERT_TRUE(std::isfinite(gpu)) << "pixel " << i << " channel " << c << ": expected " << expected;
       const double error = std::abs(gpu - expected);
-      const double bound = half_ulp(expected) + 12 * U * sum + (ao_code >= 0 ? 6 : 3) * U * ambient_colour[c];
+      const double bound = half_ulp(expected) + 12 * U * sum + (ao_code >= 0 ? 9 : 6) * U * ambient_colour[c];
       worst_half_ulps = std::max(worst_half_ulps, error / half_ulp(expected));
       ASSERT_LE(error, bound) << "pixel " << i << " channel " << c << ": got " << gpu << ", expected " << expected;
     }
