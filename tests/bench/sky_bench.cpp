@@ -231,6 +231,47 @@ void bench_sky(GpuDevice& gpu, PipelineCache& cache) {
   print_rows("sky.view: steps (192x108) against a 512-step double ray march, 252 texels", "sky.view.samples_", rows,
              "32", true);
 
+  // sky.view's size: 600 random directions of the sky above and below the horizon against the
+  // same ray march, each LUT read bilinearly at its parameterisation's uv, as the composite and
+  // sky.cubemap read it.
+  struct Direction {
+    dvec3 d, expected;
+  };
+  std::vector<Direction> directions;
+  while (directions.size() < 600) {
+    const dvec3 d(unit(rng) * 2 - 1, unit(rng) * 2 - 1, unit(rng));
+    if (glm::length(d) > 1 || glm::length(d) < 0.1) continue;
+    const dvec3 n = glm::normalize(d);
+    const dvec3 expected = ref::sky_radiance(model, ms, 32, 32, r, n, light, 512);
+    if (std::min({expected.x, expected.y, expected.z}) < 1e-6) continue;
+    directions.push_back({n, expected});
+  }
+  rows.clear();
+  for (const auto& [w, h] : std::vector<std::pair<uint32_t, uint32_t>>{{96, 54}, {192, 108}, {384, 216}}) {
+    const Timed t = run_timed(gpu, cache, sky_view_pass(),
+                              {{"frame.constants", constants_input(frame)},
+                               {"sky.atmosphere", atmosphere_in},
+                               {"sky.transmittance", lut_input(256, 64, transmittance_bytes)},
+                               {"sky.multiscattering", lut_input(32, 32, ms)},
+                               {previous("sky.view"), lut_input(w, h, std::vector<uint8_t>(size_t(w) * h * 8, 0))}},
+                              {{"width", double(w)}, {"height", double(h)}});
+    const std::vector<uint8_t>& sky = *t.run.outputs.at("sky.view");
+    double sum = 0, worst = 0;
+    for (const Direction& dir : directions) {
+      const glm::dvec2 uv = ref::sky_view_uv(model, dir.d, r, w, h);
+      const dvec3 got = ref::bilinear(sky, w, h, uv.x, uv.y);
+      for (int c = 0; c < 3; ++c) {
+        const double relative = std::abs(got[c] - dir.expected[c]) / dir.expected[c];
+        sum += relative;
+        worst = std::max(worst, relative);
+      }
+    }
+    const std::string key = std::to_string(w) + "x" + std::to_string(h);
+    rows.push_back({key, key, t.ms, worst, sum / (3.0 * directions.size())});
+  }
+  print_rows("sky.view: size (32 steps) against a 512-step double ray march at 600 random directions, read bilinearly",
+             "sky.view.size_", rows, "192x108", true);
+
   // sky.specular against the split sum's prefilter from 65536 samples in double (every third
   // texel across and down of each mip), on the sky cube of the same sky: for each sample count
   // the largest over the mips of the RMSE over the reference's RMS.

@@ -149,6 +149,20 @@ inline dvec3 sky_view_direction(const Model& m, uint32_t x, uint32_t y, uint32_t
   return dvec3(sz * cos_azimuth, cz, sz * std::sqrt(std::max(0.0, 1 - cos_azimuth * cos_azimuth)));
 }
 
+// Where sky.view's parameterisation puts a unit direction (the LUT's frame, as above) seen from
+// radius r, as uv in [0, 1]² of a W×H LUT: sky_view_direction inverted.
+inline glm::dvec2 sky_view_uv(const Model& m, const dvec3& d, double r, uint32_t w, uint32_t h) {
+  const double from_nadir = std::acos(std::sqrt(r * r - m.ground * m.ground) / r);
+  const double zenith_to_horizon = glm::pi<double>() - from_nadir;
+  const double zenith = std::acos(std::clamp(d.y, -1.0, 1.0));
+  const double v = zenith <= zenith_to_horizon
+                       ? 0.5 * (1 - std::sqrt(std::max(1 - zenith / zenith_to_horizon, 0.0)))
+                       : 0.5 + 0.5 * std::sqrt(std::min((zenith - zenith_to_horizon) / from_nadir, 1.0));
+  const double flat = std::hypot(d.x, d.z), cos_azimuth = flat > 1e-12 ? d.x / flat : 1.0;
+  const double u = std::sqrt(std::clamp(0.5 - 0.5 * cos_azimuth, 0.0, 1.0));
+  return {texel_coordinate(u, w), texel_coordinate(v, h)};
+}
+
 // The sky's radiance along `direction` from radius r for a light of unit radiance toward
 // `light` (unit vectors in a frame whose y is the camera's zenith): `steps` midpoint steps to the
 // ground or the top, single scattering with Rayleigh's and Cornette-Shanks's phase functions and

@@ -49,8 +49,8 @@ TEST_F(FarFromOrigin, EightKilometresOutEveryGBufferTargetIsBitIdentical) {
   const auto a = outputs(near_frame, "gbuffer.opaque");
   const auto b = outputs(far_frame, "gbuffer.opaque");
 
-  const std::set<std::string> targets = {"gbuffer.albedo",   "gbuffer.normal", "gbuffer.material",
-                                         "gbuffer.emissive", "gbuffer.motion", "scene.depth"};
+  const std::set<std::string> targets = {"gbuffer.albedo", "gbuffer.normal",    "gbuffer.material", "gbuffer.emissive",
+                                         "gbuffer.motion", "gbuffer.occlusion", "scene.depth"};
   std::set<std::string> written;
   for (const auto& [name, version] : a) written.insert(name);
   EXPECT_EQ(written, targets);
@@ -98,8 +98,8 @@ TEST_F(FarFromOrigin, AtTheMapsFarCornerEveryGBufferTargetIsBitIdentical) {
   far_renderer.render_frame(0, false);
   const RenderedFrame a = near_renderer.render_frame(1, true), b = far_renderer.render_frame(1, true);
   ASSERT_GT(a.execution.final_version("draws.gbuffer.dynamic")->bytes->size(), 0u) << "no traffic in view";
-  for (const char* name :
-       {"gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "gbuffer.emissive", "gbuffer.motion", "scene.depth"})
+  for (const char* name : {"gbuffer.albedo", "gbuffer.normal", "gbuffer.material", "gbuffer.emissive", "gbuffer.motion",
+                           "gbuffer.occlusion", "scene.depth"})
     EXPECT_EQ(*a.execution.final_version(name)->bytes, *b.execution.final_version(name)->bytes)
         << name << " differs at the far corner";
 }
