@@ -11,6 +11,7 @@
 // (frame.constants' sun): the record is then empty, and the sky's other passes write zeros.
 #include "passes/sky/atmosphere.h"
 
+#include <cmath>
 #include <cstddef>
 #include <cstring>
 
@@ -60,7 +61,9 @@ PassDecl sky_atmosphere_pass() {
         GpuAtmosphere atmosphere =
             earth_atmosphere({ctx.param_float("rayleigh"), ctx.param_float("mie"), ctx.param_float("ozone"),
                               ctx.param_float("mie_g"), ctx.param_float("ground_albedo")});
-        atmosphere.light = glm::vec4(glm::vec3(frame.sun_direction), frame.camera_world.y);
+        // Whole metres: the sky changes by far less than a metre's worth between them, and a
+        // walking camera's height wanders by millimetres every frame.
+        atmosphere.light = glm::vec4(glm::vec3(frame.sun_direction), std::round(frame.camera_world.y));
         atmosphere.light_radiance = frame.sun_radiance;
         const std::span<const uint8_t> previous_bytes = ctx.host(previous("sky.atmosphere"));
         bool same_air = false, same_view = false;

@@ -22,8 +22,8 @@ NC_CONST(uint, kSkyGroupSide, 8u)
   F(vec4, ozone)                                                                                  \
   /* x: the ground's radius, y: the atmosphere's top, z: ozone's half width, w: ground albedo */  \
   F(vec4, radii)                                                                                  \
-  /* xyz: the way the frame's directional light travels; w: the camera's height in metres (what   \
-     the sky seen from the camera depends on, with the light's radiance and the atmosphere) */    \
+  /* xyz: the way the frame's directional light travels; w: the camera's height in whole metres  \
+     (the sky is computed from it: a camera that bobs by millimetres keeps the same sky) */       \
   F(vec4, light)                                                                                  \
   /* rgb: the directional light's radiance (frame.constants' sun_radiance) */                     \
   F(vec4, light_radiance)                                                                         \

@@ -50,7 +50,7 @@ void main() {
     imageStore(lut, texel, texelFetch(previous_lut, texel, 0));
     return;
   }
-  float h = camera_height_km(frame.camera_world.y), r = ground_km() + h;
+  float h = camera_height_km(atmosphere.light.w), r = ground_km() + h;
   float cos_zenith, cos_azimuth;
   sky_view_angles((vec2(texel) + 0.5) / vec2(size), vec2(size), h, cos_zenith, cos_azimuth);
   float sin_zenith = sqrt(max(1.0 - cos_zenith * cos_zenith, 0.0));

@@ -37,6 +37,7 @@ using reference::texel_of;
 IsolatedInput atmosphere_input(bool changed) {
   GpuAtmosphere a = earth_atmosphere({});
   a.changed = glm::uvec4(changed ? 1u : 0u, changed ? 1u : 0u, 0u, 0u);
+  a.light.w = 1.7f;  // the camera's height the sky is seen from
   return record_input(a);
 }
 
@@ -111,7 +112,7 @@ TEST_F(SkyTest, AtmosphereRecordSaysWhenItChangedAndIsEmptyWithoutALight) {
     return glm::uvec2(now.changed);
   };
   // The previous record as this frame's would be: the same light seen from the same height.
-  before.light = glm::vec4(0.0f, -1.0f, 0.0f, 1.7f);
+  before.light = glm::vec4(0.0f, -1.0f, 0.0f, 2.0f);  // 1.7 m to the metre
   before.light_radiance = glm::vec4(2.0f);
   frame.camera_world.y = 1.7f;
   frame.sun_radiance = glm::vec4(2.0f);
@@ -120,6 +121,8 @@ TEST_F(SkyTest, AtmosphereRecordSaysWhenItChangedAndIsEmptyWithoutALight) {
   before.changed = glm::uvec4(1u);
   EXPECT_EQ(changed({}, before), glm::uvec2(0u, 0u)) << "the flags themselves are not a change";
   EXPECT_EQ(changed({{"mie", 2.0}}, before), glm::uvec2(1u, 1u)) << "a parameter changed";
+  frame.camera_world.y = 1.9f;
+  EXPECT_EQ(changed({}, before), glm::uvec2(0u, 0u)) << "the camera bobbed within the same metre";
   frame.camera_world.y = 30.0f;
   EXPECT_EQ(changed({}, before), glm::uvec2(0u, 1u)) << "the camera climbed: the sky it sees, not the air";
   frame.camera_world.y = 1.7f;
