@@ -50,6 +50,8 @@ class Runner {
   void listed(const ResourceRecord& record, uint32_t x, uint32_t y, Subimage subimage, bool slice_given);
   void pixel(const CommandSpec& spec, const Arguments& args);
   void direction(const CommandSpec& spec, const Arguments& args);
+  // The resource the positional at `position` names, or the current pass's first output.
+  std::string named_or_first_output(const Arguments& args, size_t position);
   void history(const CommandSpec& spec, const Arguments& args);
   void pick_draw(const CommandSpec& spec, const Arguments& args);
 

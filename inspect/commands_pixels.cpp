@@ -83,6 +83,13 @@ void Runner::listed(const ResourceRecord& record, uint32_t x, uint32_t y, Subima
   return json_ ? emit(j) : print_reading(j);
 }
 
+std::string Runner::named_or_first_output(const Arguments& args, size_t position) {
+  if (args.positional.size() > position) return args.positional[position];
+  const PassRecord& p = session_.pass();
+  if (p.outputs.empty()) throw InspectError(p.name + " has no output: name a resource");
+  return p.outputs[0].resource;
+}
+
 void Runner::direction(const CommandSpec& spec, const Arguments& args) {
   expect_positionals(spec, args, 3, 4);
   std::array<double, 3> d{};
@@ -97,12 +104,7 @@ void Runner::direction(const CommandSpec& spec, const Arguments& args) {
     if (used != text.size() || text.empty())
       throw InspectError(std::string("D") + "XYZ"[i] + " '" + text + "': expected a number");
   }
-  const std::string name = args.positional.size() == 4 ? args.positional[3] : [&] {
-    const PassRecord& p = session_.pass();
-    if (p.outputs.empty()) throw InspectError(p.name + " has no output: name a resource");
-    return p.outputs[0].resource;
-  }();
-  const ResourceRecord& record = session_.resource(name);
+  const ResourceRecord& record = session_.resource(named_or_first_output(args, 3));
   const FrameRecord& frame = session_.frame();
   const TexelAddress texel = cube_texel(record, d, option_index(args, "--mip", 0));
   static const char* const faces[] = {"+X", "-X", "+Y", "-Y", "+Z", "-Z"};
@@ -123,14 +125,7 @@ void Runner::pixel(const CommandSpec& spec, const Arguments& args) {
   expect_positionals(spec, args, 2, 3);
   const uint32_t x = parse_index("X", args.positional[0]), y = parse_index("Y", args.positional[1]);
   const Subimage subimage = subimage_of(args);
-  std::string name;
-  if (args.positional.size() == 3) {
-    name = args.positional[2];
-  } else {
-    const PassRecord& p = session_.pass();
-    if (p.outputs.empty()) throw InspectError(p.name + " has no output: name a resource");
-    name = p.outputs[0].resource;
-  }
+  const std::string name = named_or_first_output(args, 2);
   const ResourceRecord& record = session_.resource(name);
   if (!args.has("--frames")) {
     if (kind_info(record.kind).lists) return listed(record, x, y, subimage, args.has("--slice"));

@@ -5,43 +5,28 @@
 // camera and the light: computed when sky.atmosphere's record says the sky seen from the camera
 // changed, copied from the previous frame's otherwise. Skipped with the sky's other passes.
 #include "passes/core/context.h"
-#include "passes/sky/atmosphere.glsl.h"
 #include "passes/sky/ibl.glsl.h"
-#include "passes/sky/kinds.h"
 #include "passes/sky/luts.h"
 #include "passes/sky/stage.h"
 
 namespace nightcap {
 
 PassDecl sky_cubemap_pass() {
-  ImageDecl cube{VK_FORMAT_B10G11R11_UFLOAT_PACK32, kinds::sky_cube};
-  cube.size.mode = SizeRule::Mode::square_param;
-  cube.size.param = "size";
-  cube.mips = 0;
-  cube.layers = 6;
-  cube.cube = true;
   return sky_pass("sky.cubemap", PassType::compute)
       .read("frame.constants", Use::uniform_buffer)
       .read("sky.atmosphere", Use::uniform_buffer)
       .read("sky.view", Use::sampled)
       .sampler("sky.view", bilinear_clamp_sampler())
       .read_previous("sky.cubemap", Use::sampled)
-      .write("sky.cubemap", Use::storage_write, cube)
+      .write("sky.cubemap", Use::storage_write, sky_cube_image(VK_FORMAT_B10G11R11_UFLOAT_PACK32, 0))
       .level_mips("sky.cubemap", {-1, 0})  // the level above the one written (level 0: unused), and that one
       .param_int("size", 128, 1, 4096, "texels on a side of each face of level 0")
       .push_constants<SkyCubeConstants>()
       .shader("sky/cubemap.comp")
       .run([](PassContext& ctx) {
-        ctx.bind_pipeline();
-        const ImageExtent extent = ctx.desc("sky.cubemap").extent;
-        const uint32_t has_atmosphere = ctx.host("sky.atmosphere").empty() ? 0u : 1u;
-        for (uint32_t level = 0; level < extent.mips; ++level) {
-          const uint32_t side = mip_size(extent.width, level);
-          ctx.push_declared(level);
-          ctx.push_constants(SkyCubeConstants{level, has_atmosphere, 0u, 0u});
-          vkCmdDispatch(ctx.cmd(), group_count(side, kSkyGroupSide), group_count(side, kSkyGroupSide), 6);
-          ctx.storage_barrier();
-        }
+        // Each level reads the one above: in order.
+        dispatch_sky_cube_levels(
+            ctx, "sky.cubemap", [](uint32_t) { return 0u; }, true);
       });
 }
 

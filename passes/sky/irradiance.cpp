@@ -27,7 +27,7 @@ PassDecl sky_irradiance_pass() {
         while (level + 1 < cube.mips && mip_size(cube.width, level) > kSkyIrradianceFace) ++level;
         ctx.bind_pipeline();
         ctx.push_declared();
-        ctx.push_constants(SkyCubeConstants{0u, ctx.host("sky.atmosphere").empty() ? 0u : 1u, 0u, level});
+        ctx.push_constants(SkyCubeConstants{0u, has_atmosphere(ctx), 0u, level});
         vkCmdDispatch(ctx.cmd(), 1, 1, 1);
       });
 }

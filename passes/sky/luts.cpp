@@ -2,6 +2,7 @@
 
 #include "passes/core/context.h"
 #include "passes/sky/atmosphere.glsl.h"
+#include "passes/sky/ibl.glsl.h"
 #include "passes/sky/kinds.h"
 
 namespace nightcap {
@@ -41,9 +42,35 @@ ImageDecl sky_lut_image() {
   return lut;
 }
 
+uint32_t has_atmosphere(const PassContext& ctx) { return ctx.host("sky.atmosphere").empty() ? 0u : 1u; }
+
+ImageDecl sky_cube_image(VkFormat format, uint32_t mips) {
+  ImageDecl cube{format, kinds::sky_cube};
+  cube.size.mode = SizeRule::Mode::square_param;
+  cube.size.param = "size";
+  cube.mips = mips;
+  cube.layers = 6;
+  cube.cube = true;
+  return cube;
+}
+
+void dispatch_sky_cube_levels(PassContext& ctx, const std::string& cube,
+                              const std::function<uint32_t(uint32_t level)>& samples, bool in_order) {
+  ctx.bind_pipeline();
+  const ImageExtent extent = ctx.desc(cube).extent;
+  const uint32_t atmosphere = has_atmosphere(ctx);
+  for (uint32_t level = 0; level < extent.mips; ++level) {
+    const uint32_t side = mip_size(extent.width, level);
+    ctx.push_declared(level);
+    ctx.push_constants(SkyCubeConstants{level, atmosphere, samples(level), 0u});
+    vkCmdDispatch(ctx.cmd(), group_count(side, kSkyGroupSide), group_count(side, kSkyGroupSide), 6);
+    if (in_order) ctx.storage_barrier();
+  }
+}
+
 void dispatch_sky_lut(PassContext& ctx, const std::string& lut) {
   const ImageExtent size = ctx.desc(lut).extent;
-  SkyLutConstants constants{uint32_t(ctx.param_int("samples")), 0u, ctx.host("sky.atmosphere").empty() ? 0u : 1u};
+  SkyLutConstants constants{uint32_t(ctx.param_int("samples")), 0u, has_atmosphere(ctx)};
   if (ctx.declaration().find_param("directions")) constants.directions = uint32_t(ctx.param_int("directions"));
   ctx.bind_pipeline();
   ctx.push_declared();

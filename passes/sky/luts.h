@@ -1,6 +1,8 @@
-// What the sky's passes share: when they run, how a LUT image is declared and how a LUT pass is
-// dispatched.
+// What the sky's passes share: when they run, how a LUT or cube map image is declared and how
+// a LUT or cube map pass is dispatched.
 #pragma once
+
+#include <functional>
 
 #include "passes/core/pass.h"
 
@@ -15,5 +17,17 @@ ImageDecl sky_lut_image();
 // `directions`) from the parameters; zeros, the LUT's clear value, when sky.atmosphere is
 // empty (no directional light), so that the pass computes what skipping it leaves.
 void dispatch_sky_lut(PassContext& ctx, const std::string& lut);
+
+// 1 when sky.atmosphere holds a record this frame (a directional light lights a sky), else 0:
+// the sky's shaders then write their outputs' clear value, zeros.
+uint32_t has_atmosphere(const PassContext& ctx);
+// A cube map of `format` whose faces are the writing pass's parameter `size` texels wide, with
+// `mips` mips (0: the whole chain).
+ImageDecl sky_cube_image(VkFormat format, uint32_t mips);
+// Fills cube map `cube` a mip level per dispatch, a thread per texel of its six faces, each level
+// bound as PassDecl::level_mips declares it, the push constants SkyCubeConstants with
+// `samples(level)`; with `in_order`, each level waits for the one before (it reads it).
+void dispatch_sky_cube_levels(PassContext& ctx, const std::string& cube,
+                              const std::function<uint32_t(uint32_t level)>& samples, bool in_order);
 
 }  // namespace nightcap

@@ -6,44 +6,30 @@
 // blue mantissa would not (tests/unit/sky_ibl_test.cpp). Computed when sky.cubemap is, copied
 // from the previous frame's otherwise; skipped with the sky's other passes.
 #include "passes/core/context.h"
-#include "passes/sky/atmosphere.glsl.h"
 #include "passes/sky/ibl.glsl.h"
-#include "passes/sky/kinds.h"
 #include "passes/sky/luts.h"
 #include "passes/sky/stage.h"
 
 namespace nightcap {
 
 PassDecl sky_specular_pass() {
-  ImageDecl cube{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_cube};
-  cube.size.mode = SizeRule::Mode::square_param;
-  cube.size.param = "size";
-  cube.mips = kSkySpecularMips;
-  cube.layers = 6;
-  cube.cube = true;
   return sky_pass("sky.specular", PassType::compute)
       .read("sky.atmosphere", Use::uniform_buffer)
       .read("sky.cubemap", Use::sampled)
       .sampler("sky.cubemap", trilinear_clamp_sampler())
       .read_previous("sky.specular", Use::sampled)
-      .write("sky.specular", Use::storage_write, cube)
+      .write("sky.specular", Use::storage_write, sky_cube_image(VK_FORMAT_R16G16B16A16_SFLOAT, kSkySpecularMips))
       .level_mips("sky.specular", {0})
       .param_int("size", 64, 32, 4096, "texels on a side of each face of mip 0 (at least 32: six mips)")
       .param_int("samples", 128, 1, 65536, "GGX samples per texel of mip 1; each later mip 4× as many")
       .push_constants<SkyCubeConstants>()
       .shader("sky/specular.comp")
       .run([](PassContext& ctx) {
-        ctx.bind_pipeline();
-        const ImageExtent extent = ctx.desc("sky.specular").extent;
-        const uint32_t has_atmosphere = ctx.host("sky.atmosphere").empty() ? 0u : 1u;
-        for (uint32_t level = 0; level < extent.mips; ++level) {
-          const uint32_t side = mip_size(extent.width, level);
-          ctx.push_declared(level);
-          // A mip has a quarter of the texels of the one above: four times the samples cost the same.
-          const uint32_t samples = level == 0 ? 1u : uint32_t(ctx.param_int("samples")) << (2 * (level - 1));
-          ctx.push_constants(SkyCubeConstants{level, has_atmosphere, samples, 0u});
-          vkCmdDispatch(ctx.cmd(), group_count(side, kSkyGroupSide), group_count(side, kSkyGroupSide), 6);
-        }
+        const uint32_t samples = uint32_t(ctx.param_int("samples"));
+        // A mip has a quarter of the texels of the one above: four times the samples cost the same.
+        // The levels read sky.cubemap alone: no order among them.
+        dispatch_sky_cube_levels(
+            ctx, "sky.specular", [&](uint32_t level) { return level == 0 ? 1u : samples << (2 * (level - 1)); }, false);
       });
 }
 
