@@ -29,7 +29,8 @@ const std::vector<CommandSpec>& specs() {
       {{"direction", "direction DX DY DZ [RESOURCE] [--mip M]",
         "the texel of a cube map (sky.cubemap, sky.specular; default: the current pass's first output) that the "
         "world direction (DX, DY, DZ) looks along, found by Vulkan's face selection, decoded with its face and "
-        "raw values"},
+        "raw values; of sky.view, the texel the composite reads along it (by the frame's sky.atmosphere record: "
+        "the light and the camera's height), with its uv"},
        {{"--mip", 1}}},
       {{"history", "history X Y [RESOURCE]",
         "output pixel (X, Y) through the frame: each pass that wrote a screen-space resource (depth and stencil "

@@ -39,7 +39,8 @@ void Runner::print_reading(const ojson& j) {
   out_ << j["resource"].get<std::string>() << " (" << j["kind"].get<std::string>() << ", "
        << j["format"].get<std::string>() << ") frame " << j["frame"] << " texel " << brief(j["texel"]) << " mip "
        << j["mip"] << " layer " << j["layer"] << (j.contains("slice") ? " slice " + j["slice"].dump() : "")
-       << (j.contains("face") ? " (face " + j["face"].get<std::string>() + ")" : "") << "\n";
+       << (j.contains("face") ? " (face " + j["face"].get<std::string>() + ")" : "")
+       << (j.contains("uv") ? " uv " + brief(j["uv"]) : "") << "\n";
   out_ << "  raw: " << brief(j["raw"]) << "\n";
   if (j.contains("codes")) out_ << "  codes: " << brief(j["codes"]) << "\n";
   for (const auto& [name, value] : j["decoded"].items()) out_ << "  " << name << ": " << brief(value) << "\n";
@@ -106,17 +107,42 @@ void Runner::direction(const CommandSpec& spec, const Arguments& args) {
   }
   const ResourceRecord& record = session_.resource(named_or_first_output(args, 3));
   const FrameRecord& frame = session_.frame();
-  const TexelAddress texel = cube_texel(record, d, option_index(args, "--mip", 0));
-  static const char* const faces[] = {"+X", "-X", "+Y", "-Y", "+Z", "-Z"};
+  const uint32_t mip = option_index(args, "--mip", 0);
   ojson j = {{"frame", frame.index},
              {"resource", record.resource},
              {"kind", record.kind.name()},
              {"format", format_info(record.format)->name},
-             {"direction", d},
-             {"face", faces[texel.layer]},
-             {"texel", {texel.x, texel.y}},
-             {"mip", texel.mip},
-             {"layer", texel.layer}};
+             {"direction", d}};
+  TexelAddress texel;
+  if (record.cube) {
+    texel = cube_texel(record, d, mip);
+    static const char* const faces[] = {"+X", "-X", "+Y", "-Y", "+Z", "-Z"};
+    j["face"] = faces[texel.layer];
+  } else {
+    // A table a pass looks up by direction, through a record of the same frame (sky.view).
+    const KindInfo& kind = kind_info(record.kind);
+    if (!kind.directions)
+      throw InspectError(record.resource + " is neither a cube map nor a table looked up by direction: use `pixel`");
+    check_subimage(record, {mip, 0, 0});
+    check_direction(d);
+    const std::string& by = kind.directions->record;
+    const ResourceRecord* lookup = session_.resource_in_frame(frame, by);
+    if (!lookup)
+      throw InspectError(record.resource + ": frame " + std::to_string(frame.index) + " recorded no " + by +
+                         " to look it up by");
+    const uint32_t width = mip_size(record.extent.width, mip), height = mip_size(record.extent.height, mip);
+    const std::optional<std::array<double, 2>> uv = kind.directions->uv_of(d, session_.load(*lookup), width, height);
+    if (!uv)
+      throw InspectError(record.resource + ": " + by + " holds no record in frame " + std::to_string(frame.index) +
+                         " (no directional light lit a sky)");
+    texel.x = std::min(uint32_t((*uv)[0] * width), width - 1);
+    texel.y = std::min(uint32_t((*uv)[1] * height), height - 1);
+    texel.mip = mip;
+    j["uv"] = *uv;
+  }
+  j["texel"] = {texel.x, texel.y};
+  j["mip"] = texel.mip;
+  j["layer"] = texel.layer;
   j.update(texel_json(record, frame, texel));
   return json_ ? emit(j) : print_reading(j);
 }

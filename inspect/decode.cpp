@@ -78,12 +78,17 @@ void check_subimage(const ResourceRecord& record, const Subimage& subimage) {
                        std::to_string(subimage.mip) + ": no slice " + std::to_string(subimage.slice));
 }
 
-TexelAddress cube_texel(const ResourceRecord& record, const std::array<double, 3>& d, uint32_t mip) {
-  if (!record.cube) throw InspectError(record.resource + " is not a cube map: use `pixel`");
-  check_subimage(record, {mip, 0, 0});
+void check_direction(const std::array<double, 3>& d) {
   const double ax = std::abs(d[0]), ay = std::abs(d[1]), az = std::abs(d[2]);
   if (!(std::isfinite(ax) && std::isfinite(ay) && std::isfinite(az)) || std::max({ax, ay, az}) == 0.0)
     throw InspectError("direction: expected a finite direction that is not zero");
+}
+
+TexelAddress cube_texel(const ResourceRecord& record, const std::array<double, 3>& d, uint32_t mip) {
+  if (!record.cube) throw InspectError(record.resource + " is not a cube map: use `pixel`");
+  check_subimage(record, {mip, 0, 0});
+  check_direction(d);
+  const double ax = std::abs(d[0]), ay = std::abs(d[1]), az = std::abs(d[2]);
   // Vulkan's table: the face, then sc and tc over the major axis's magnitude.
   uint32_t face;
   double sc, tc, major;

@@ -38,6 +38,9 @@ struct TexelAddress {
   uint32_t x = 0, y = 0, mip = 0, layer = 0, slice = 0;
 };
 
+// Throws InspectError unless `direction` is finite and not zero.
+void check_direction(const std::array<double, 3>& direction);
+
 // The texel of cube map `record` (its layers cube faces) at `mip` that world direction `direction`
 // falls in, by Vulkan's cube map face selection: the major axis picks the face (the layer). Throws
 // InspectError when `record` is no cube map or the direction is zero or not finite.

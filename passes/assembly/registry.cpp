@@ -51,7 +51,8 @@ void add_lighting_passes(std::vector<PassDecl>& passes, FrameLighting lighting) 
   // (and, to come, the probes) read.
   add_stage(passes, "lighting",
             {sky_atmosphere_pass(), sky_transmittance_pass(), sky_multiscattering_pass(), sky_view_pass(),
-             sky_cubemap_pass(), sky_irradiance_pass(), sky_specular_pass(), lighting_dfg_pass()});
+             sky_aerial_perspective_pass(), sky_cubemap_pass(), sky_irradiance_pass(), sky_specular_pass(),
+             lighting_dfg_pass()});
   if (lighting == FrameLighting::tiled)
     add_stage(passes, "lighting", {lighting_ltc_table_pass(), lighting_tiled_pass()});
   else

@@ -13,6 +13,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -101,6 +102,17 @@ struct DepthSlices {
       slice_of;
 };
 
+// For 2D kinds a pass looks up by a world direction (cube maps are looked up by Vulkan's face
+// selection instead): the buffer resource of the same frame whose record the lookup depends on,
+// and the uv in [0, 1]² where a unit direction lands in a width × height image given that record
+// (nullopt when the record does not say, e.g. empty).
+struct DirectionLookup {
+  std::string record;
+  std::function<std::optional<std::array<double, 2>>(const std::array<double, 3>& direction,
+                                                     std::span<const uint8_t> record, uint32_t width, uint32_t height)>
+      uv_of;
+};
+
 struct KindInfo {
   ResourceKind kind{""};
   // `inspect pixel`: what a texel means, as named values in order ("normal", "linear_m", …);
@@ -120,6 +132,7 @@ struct KindInfo {
   std::optional<OutputTiles> tiles{};
   std::optional<TexelLists> lists{};
   std::optional<DepthSlices> slices{};
+  std::optional<DirectionLookup> directions{};
 };
 
 // For kinds that store a vector meant to be a unit normal (before normalising): `inspect pixel`'s

@@ -4,7 +4,8 @@
 // city's own bounce light until the probes and the GI volume arrive) and, when sky.atmosphere
 // holds a record, the sky's image-based light: diffuse from sky.irradiance by the normal,
 // specular from sky.specular by the reflection (split sum with lighting.dfg, multiple-scattering
-// compensation, horizon occlusion; composite.frag). Where nothing was drawn, the sky: sky.view's
+// compensation, horizon occlusion; composite.frag), and every surface seen through the air of
+// sky.aerial_perspective (lighting.lit only). Where nothing was drawn, the sky: sky.view's
 // radiance by the pixel's view direction with a record, the constant `sky` otherwise (no
 // directional light, the sky switched off, or a frame without the sky's passes). The sky's
 // resources and frame.constants are optional inputs, read together. The indirect terms of frame.md
@@ -46,6 +47,8 @@ PassDecl lighting_composite_pass() {
       .read_optional("sky.atmosphere", Use::uniform_buffer)
       .read_optional("sky.view", Use::sampled)
       .sampler("sky.view", bilinear_clamp_sampler())
+      .read_optional("sky.aerial_perspective", Use::sampled)
+      .sampler("sky.aerial_perspective", bilinear_clamp_sampler())
       .read_optional("sky.irradiance", Use::storage_read)
       .read_optional("sky.specular", Use::sampled)
       .sampler("sky.specular", trilinear_clamp_sampler())

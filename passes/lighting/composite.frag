@@ -21,6 +21,10 @@ layout(set = 0, binding = NC_BINDING(ao)) uniform sampler2D ao_map;  // ao.bent;
 layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
 layout(std140, set = 0, binding = NC_BINDING(sky_atmosphere)) uniform AtmosphereBlock { GpuAtmosphere atmosphere; };
 layout(set = 0, binding = NC_BINDING(sky_view)) uniform sampler2D sky_view_lut;
+#ifdef NC_BINDING_sky_aerial_perspective
+#define NC_AERIAL_PERSPECTIVE
+layout(set = 0, binding = NC_BINDING(sky_aerial_perspective)) uniform sampler3D aerial_volume;
+#endif
 #endif
 
 #if defined(NC_SKY_VIEW) && defined(NC_BINDING_sky_irradiance) && defined(NC_BINDING_sky_specular) && \
@@ -47,10 +51,6 @@ vec3 view_ray(vec2 pixel_centre) {
   vec4 near_point = frame.inverse_view_projection * vec4(ndc, 1.0, 1.0);
   return normalize(near_point.xyz / near_point.w);
 }
-#endif
-
-#ifdef NC_IMAGE_BASED
-#include "../sky/sh.glsl"
 
 // The camera-relative position drawn at `pixel`, from its depth.
 vec3 position_at(ivec2 pixel, float depth) {
@@ -58,6 +58,25 @@ vec3 position_at(ivec2 pixel, float depth) {
   vec4 p = frame.inverse_view_projection * vec4(ndc, depth, 1.0);
   return p.xyz / p.w;
 }
+#endif
+
+#ifdef NC_AERIAL_PERSPECTIVE
+// The surface's radiance as it reaches the camera through the air (sky.aerial_perspective):
+// dimmed by the air's transmittance, with the light the air scatters toward the camera added.
+// Slice k of N ends at kSkyAerialDistanceKm ((k + 1) / N)² km, so a point at distance d lies at
+// slice coordinate N sqrt(d / kSkyAerialDistanceKm) - 1 (nearer than the first slice's end: the
+// first slice); the volume holds each figure per km of its slice's length.
+vec3 through_air(vec3 radiance, ivec2 pixel, float depth) {
+  float slices = float(textureSize(aerial_volume, 0).z);
+  float distance_km = length(position_at(pixel, depth)) * 1e-3;
+  float slice = slices * sqrt(distance_km / kSkyAerialDistanceKm) - 1.0;
+  vec4 air = textureLod(aerial_volume, vec3(gl_FragCoord.xy * frame.viewport.zw, (max(slice, 0.0) + 0.5) / slices), 0.0);
+  return radiance * exp(-air.a * distance_km) + air.rgb * distance_km;
+}
+#endif
+
+#ifdef NC_IMAGE_BASED
+#include "../sky/sh.glsl"
 
 // The surface's own orientation (not the normal map's) from the depth of the neighbours: along
 // each axis the side whose depth is nearer this pixel's, so that an edge does not bend it.
@@ -99,7 +118,10 @@ Indirect image_based(ivec2 pixel, float depth, vec3 albedo, float metallic, floa
   vec3 v = normalize(-position);
   vec3 n = normalize(texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0);
   float n_v = clamp(dot(n, v), 1e-4, 1.0);
-  vec3 r = reflect(-v, n);
+  // The lobe's dominant direction, between the reflection and the normal as roughness grows
+  // (Lagarde and de Rousiers 2014): where the prefiltered map is read and the horizon is judged.
+  float alpha = roughness * roughness, smoothness = 1.0 - alpha;
+  vec3 r = normalize(mix(n, reflect(-v, n), smoothness * (sqrt(smoothness) + alpha)));
   vec2 dfg_size = vec2(textureSize(dfg_lut, 0));
   vec2 dfg = textureLod(dfg_lut, vec2(table_coordinate(n_v, dfg_size.x), table_coordinate(roughness, dfg_size.y)), 0.0).rg;
   vec3 f0 = mix(vec3(0.04), albedo, metallic);
@@ -158,6 +180,9 @@ void main() {
 #endif
     lit = texelFetch(diffuse_map, pixel, 0).rgb + specular + emitted + indirect_diffuse;
   }
+#ifdef NC_AERIAL_PERSPECTIVE
+  if (depth > 0.0 && sky_source.x != 0u) lit = through_air(lit, pixel, depth);
+#endif
   out_lit = vec4(nearest_half(lit), 1.0);
   out_specular = vec4(nearest_half(specular), 1.0);
 }

@@ -22,7 +22,7 @@ NC_CONST(uint, kSkyGroupSide, 8u)
   F(vec4, ozone)                                                                                  \
   /* x: the ground's radius, y: the atmosphere's top, z: ozone's half width, w: ground albedo */  \
   F(vec4, radii)                                                                                  \
-  /* xyz: the way the frame's directional light travels; w: the camera's height in whole metres  \
+  /* xyz: the way the frame's directional light travels; w: the camera's height in whole metres   \
      (the sky is computed from it: a camera that bobs by millimetres keeps the same sky) */       \
   F(vec4, light)                                                                                  \
   /* rgb: the directional light's radiance (frame.constants' sun_radiance) */                     \
@@ -44,5 +44,10 @@ NC_STRUCT(GpuAtmosphere, NC_GPU_ATMOSPHERE_FIELDS)
      the LUT is left at its clear value, 0, as a skipped pass's is */ \
   F(uint, has_atmosphere)
 NC_PUSH_CONSTANTS(SkyLutConstants, NC_SKY_LUT_CONSTANTS_FIELDS)
+
+// sky.aerial_perspective reaches this far from the camera, along each view ray: slice k of N
+// ends at kSkyAerialDistanceKm · ((k + 1) / N)², the near slices thin, since most of what a
+// street-level frame draws is near. Beyond the last slice, the last slice's air.
+NC_CONST(float, kSkyAerialDistanceKm, 32.0f)
 
 #endif

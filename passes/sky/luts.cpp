@@ -1,16 +1,19 @@
 #include "passes/sky/luts.h"
 
+#include <cstring>
+
 #include "passes/core/context.h"
 #include "passes/sky/atmosphere.glsl.h"
 #include "passes/sky/ibl.glsl.h"
 #include "passes/sky/kinds.h"
+#include "passes/sky/view_uv.h"
 
 namespace nightcap {
 namespace {
 
 // An RGB table or cube map of radiance or transmittance, drawn relative to its largest value.
-KindRegistration sky_table(ResourceKind kind) {
-  return KindRegistration({
+KindInfo sky_table(ResourceKind kind) {
+  return KindInfo({
       .kind = kind,
       .describe =
           [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
@@ -23,8 +26,34 @@ KindRegistration sky_table(ResourceKind kind) {
       .over_output = false,
   });
 }
-const KindRegistration kSkyLut = sky_table(kinds::sky_lut);
-const KindRegistration kSkyCube = sky_table(kinds::sky_cube);
+const KindRegistration kSkyLut(sky_table(kinds::sky_lut));
+const KindRegistration kSkyCube(sky_table(kinds::sky_cube));
+const KindRegistration kSkyView([] {
+  KindInfo info = sky_table(kinds::sky_view);
+  info.directions = DirectionLookup{"sky.atmosphere",
+                                    [](const std::array<double, 3>& direction, std::span<const uint8_t> record,
+                                       uint32_t width, uint32_t height) -> std::optional<std::array<double, 2>> {
+                                      GpuAtmosphere atmosphere;
+                                      if (record.size() != sizeof atmosphere) return std::nullopt;
+                                      std::memcpy(&atmosphere, record.data(), sizeof atmosphere);
+                                      return sky_view_uv(atmosphere, direction, width, height);
+                                    }};
+  return info;
+}());
+const KindRegistration kAerialPerspective({
+    .kind = kinds::aerial_perspective,
+    .describe =
+        [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
+          out["in_scattered_per_km"] = {t.raw.at(0), t.raw.at(1), t.raw.at(2)};
+          out["optical_depth_per_km"] = t.raw.at(3);
+        },
+    .draw =
+        [](const TexelValues& t, const KindFrame&) {
+          return TexelPicture{TexelPicture::Scale::relative, {t.raw.at(0), t.raw.at(1), t.raw.at(2)}};
+        },
+    // Froxels: its texels lie over the output, so `inspect pixel X Y --slice K` reads the one under a pixel.
+    .over_output = true,
+});
 
 }  // namespace
 
@@ -34,8 +63,8 @@ PassDecl sky_pass(std::string name, PassType type) {
       .needs("sun");
 }
 
-ImageDecl sky_lut_image() {
-  ImageDecl lut{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut};
+ImageDecl sky_lut_image(ResourceKind kind) {
+  ImageDecl lut{VK_FORMAT_R16G16B16A16_SFLOAT, kind};
   lut.size.mode = SizeRule::Mode::params;
   lut.size.param = "width";
   lut.size.height_param = "height";

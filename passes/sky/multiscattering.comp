@@ -18,13 +18,7 @@ layout(set = 0, binding = NC_BINDING(sky_multiscattering), rgba16f) uniform writ
 layout(push_constant) uniform SkyLutConstants { NC_BLOCK_MEMBERS(NC_SKY_LUT_CONSTANTS_FIELDS) };
 
 #include "atmosphere.glsl"
-
-// Transmittance from a point at height h toward the light (0 where the ground is in the way).
-vec3 toward_light(float h, float mu_light) {
-  float unused;
-  if (meets_ground(h, mu_light, unused)) return vec3(0.0);
-  return textureLod(transmittance_lut, transmittance_uv(h, mu_light, vec2(textureSize(transmittance_lut, 0))), 0.0).rgb;
-}
+#include "toward_light.glsl"
 
 void main() {
   ivec2 size = imageSize(lut);

@@ -11,6 +11,7 @@ PassDecl sky_atmosphere_pass();
 PassDecl sky_transmittance_pass();
 PassDecl sky_multiscattering_pass();
 PassDecl sky_view_pass();
+PassDecl sky_aerial_perspective_pass();
 PassDecl sky_cubemap_pass();
 PassDecl sky_irradiance_pass();
 PassDecl sky_specular_pass();

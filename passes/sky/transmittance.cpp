@@ -5,6 +5,7 @@
 // it changed. Skipped with no directional light.
 #include "passes/core/context.h"
 #include "passes/sky/atmosphere.glsl.h"
+#include "passes/sky/kinds.h"
 #include "passes/sky/luts.h"
 #include "passes/sky/stage.h"
 
@@ -14,7 +15,7 @@ PassDecl sky_transmittance_pass() {
   return sky_pass("sky.transmittance", PassType::compute)
       .read("sky.atmosphere", Use::uniform_buffer)
       .read_previous("sky.transmittance", Use::sampled)
-      .write("sky.transmittance", Use::storage_write, sky_lut_image())
+      .write("sky.transmittance", Use::storage_write, sky_lut_image(kinds::sky_lut))
       .param_int("width", 256, 2, 4096, "texels across: the distance to the atmosphere's top")
       .param_int("height", 64, 2, 4096, "texels down: the height")
       .param_int("samples", 256, 1, 65536, "midpoint samples of the extinction along each texel's ray")

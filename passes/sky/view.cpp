@@ -6,6 +6,7 @@
 // composite then draws its constant sky).
 #include "passes/core/context.h"
 #include "passes/sky/atmosphere.glsl.h"
+#include "passes/sky/kinds.h"
 #include "passes/sky/luts.h"
 #include "passes/sky/stage.h"
 
@@ -20,7 +21,7 @@ PassDecl sky_view_pass() {
       .read("sky.multiscattering", Use::sampled)
       .sampler("sky.multiscattering", bilinear_clamp_sampler())
       .read_previous("sky.view", Use::sampled)
-      .write("sky.view", Use::storage_write, sky_lut_image())
+      .write("sky.view", Use::storage_write, sky_lut_image(kinds::sky_view))
       .param_int("width", 192, 2, 4096, "texels across: the azimuth from the light")
       .param_int("height", 108, 2, 4096, "texels down: the zenith angle, half above the horizon")
       .param_int("samples", 32, 1, 4096, "steps along each texel's view ray")

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "captures/capture.h"
+#include "passes/sky/atmosphere.glsl.h"
 #include "tests/e2e/cli.h"
 #include "tests/e2e/inspect_script.h"
 
@@ -245,6 +246,38 @@ TEST_F(InspectTest, CubeMapTexelAlongADirection) {
   const std::vector<uint8_t> raw = capture_->load(specular);
   EXPECT_EQ(side_texel["decoded"]["rgb"],
             json::array({half_at(raw, offset), half_at(raw, offset + 2), half_at(raw, offset + 4)}));
+}
+
+// sky.view by direction: straight up is its first texel (zenith, and no azimuth: u = 0), straight
+// down its last row's first, level and away from the light (the way it travels) its last column,
+// above the horizon's row; each decoded as the texel the capture holds there.
+TEST_F(InspectTest, SkyViewTexelAlongADirection) {
+  const ResourceRecord& view = output_named(pass_named(frame0(), "sky.view"), "sky.view");
+  const ResourceRecord& record = output_named(pass_named(frame0(), "sky.atmosphere"), "sky.atmosphere");
+  GpuAtmosphere atmosphere;
+  const std::vector<uint8_t> bytes = capture_->load(record);
+  ASSERT_EQ(bytes.size(), sizeof atmosphere);
+  std::memcpy(&atmosphere, bytes.data(), sizeof atmosphere);
+  const std::string away = std::to_string(atmosphere.light.x) + " 0 " + std::to_string(atmosphere.light.z);
+  const Inspected run =
+      inspect(path_, "goto sky.view --json; direction 0 1 0 --json; direction 0 -1 0 --json; direction " + away +
+                         " --json; goto sky.transmittance --json; direction 0 1 0 --json");
+  EXPECT_EQ(run.result.code, 2) << "the transmittance LUT is not looked up by a world direction";
+  EXPECT_NE(run.result.err.find("neither a cube map nor"), std::string::npos) << run.result.err;
+  ASSERT_EQ(run.objects.size(), 5u) << run.result.err;
+  const uint32_t w = view.extent.width, h = view.extent.height;
+  EXPECT_EQ(run.objects[1]["texel"], json::array({0, 0}));
+  EXPECT_EQ(run.objects[2]["texel"], json::array({0, h - 1}));
+  EXPECT_EQ(run.objects[3]["texel"][0], w - 1);
+  EXPECT_LT(run.objects[3]["texel"][1], h / 2) << "level is above the horizon seen from the street";
+  const std::vector<uint8_t> raw = capture_->load(view);
+  for (int i = 1; i <= 3; ++i) {
+    const uint64_t x = run.objects[i]["texel"][0], y = run.objects[i]["texel"][1];
+    const uint64_t offset = 8 * (y * w + x);
+    EXPECT_EQ(run.objects[i]["decoded"]["rgb"],
+              json::array({half_at(raw, offset), half_at(raw, offset + 2), half_at(raw, offset + 4)}))
+        << run.objects[i].dump();
+  }
 }
 
 TEST_F(InspectTest, NavigationInfoPipelineAndShader) {

@@ -72,23 +72,34 @@ inline void face_coordinates(const dvec3& d, uint32_t& face, double& s, double& 
 
 // The unit direction through the centre of texel (x, y) of `face`, found by inverting
 // face_coordinates: the major axis is the face's, the other two follow from (s, t).
-inline dvec3 texel_direction(uint32_t face, uint32_t x, uint32_t y, uint32_t side) {
-  const double sc = 2.0 * (x + 0.5) / side - 1.0, tc = 2.0 * (y + 0.5) / side - 1.0;
+// The point of `face`'s plane (at distance 1) at (sc, tc) in [-1, 1]², or beyond for a point past
+// its edge.
+inline dvec3 face_point(uint32_t face, double sc, double tc) {
   const std::array<dvec3, 6> d{dvec3(1, -tc, -sc), dvec3(-1, -tc, sc), dvec3(sc, 1, tc),
                                dvec3(sc, -1, -tc), dvec3(sc, -tc, 1),  dvec3(-sc, -tc, -1)};
-  return glm::normalize(d[face]);
+  return d[face];
 }
 
-// Bilinear within the face the direction selects, clamped at its edges.
+inline dvec3 texel_direction(uint32_t face, uint32_t x, uint32_t y, uint32_t side) {
+  return glm::normalize(face_point(face, 2.0 * (x + 0.5) / side - 1.0, 2.0 * (y + 0.5) / side - 1.0));
+}
+
+// Bilinear as a seamless cube sampler reads it (Vulkan's cube maps always are): a texel beyond the
+// face's edge is the one the adjacent face holds in the same direction (at a corner, one of the
+// three a device may average).
 inline dvec3 sample(const CubeLevel& level, const dvec3& direction) {
   uint32_t face;
   double s, t;
   face_coordinates(direction, face, s, t);
-  const double x = s * level.side - 0.5, y = t * level.side - 0.5;
+  const double side = level.side, x = s * side - 0.5, y = t * side - 0.5;
   const double x0 = std::floor(x), y0 = std::floor(y), fx = x - x0, fy = y - y0;
   const auto at = [&](double xi, double yi) {
-    return level.at(face, uint32_t(std::clamp(xi, 0.0, level.side - 1.0)),
-                    uint32_t(std::clamp(yi, 0.0, level.side - 1.0)));
+    if (xi >= 0 && yi >= 0 && xi < side && yi < side) return level.at(face, uint32_t(xi), uint32_t(yi));
+    uint32_t other;
+    double os, ot;
+    face_coordinates(face_point(face, 2.0 * (xi + 0.5) / side - 1.0, 2.0 * (yi + 0.5) / side - 1.0), other, os, ot);
+    return level.at(other, uint32_t(std::clamp(std::floor(os * side), 0.0, side - 1)),
+                    uint32_t(std::clamp(std::floor(ot * side), 0.0, side - 1)));
   };
   return glm::mix(glm::mix(at(x0, y0), at(x0 + 1, y0), fx), glm::mix(at(x0, y0 + 1), at(x0 + 1, y0 + 1), fx), fy);
 }
@@ -109,8 +120,10 @@ inline double radical_inverse(uint32_t i) {
   return result;
 }
 
-// GGX's split-sum prefilter at n = v = r and α = roughness²: Σ L(l) n·l / Σ n·l over `samples`
-// half vectors distributed as D(h) n·h (a Hammersley set), L read bilinearly from `source`.
+// GGX's split-sum prefilter at n = v = r and α = roughness²: Σ L(l) G1(l) / Σ G1(l) over `samples`
+// half vectors distributed as D(h) n·h (a Hammersley set), L read bilinearly from `source`. G1,
+// Smith's masking of l, is the height-correlated G2 at n = v, so that at normal incidence the
+// split sum is the GGX integral (Karis 2013 weights by n·l instead).
 inline dvec3 prefiltered(const CubeLevel& source, const dvec3& n, double roughness, uint32_t samples) {
   if (roughness == 0.0) return sample(source, n);
   const double a2 = std::pow(roughness, 4.0);
@@ -126,10 +139,61 @@ inline dvec3 prefiltered(const CubeLevel& source, const dvec3& n, double roughne
     const dvec3 l = 2.0 * glm::dot(n, h) * h - n;
     const double n_l = glm::dot(n, l);
     if (n_l <= 0) continue;
-    sum += sample(source, l) * n_l;
-    weight += n_l;
+    const double tan2 = (1.0 - n_l * n_l) / (n_l * n_l), masking = 2.0 / (1.0 + std::sqrt(1.0 + a2 * tan2));
+    sum += sample(source, l) * masking;
+    weight += masking;
   }
   return sum / weight;
+}
+
+// Trilinear between mips as the sampler reads a prefiltered cube (`levels`, mip 0 first) at `lod`.
+inline dvec3 sample_lod(const std::vector<CubeLevel>& levels, const dvec3& direction, double lod) {
+  const double clamped = std::clamp(lod, 0.0, double(levels.size() - 1));
+  const uint32_t below = uint32_t(std::floor(clamped)), above = std::min(below + 1, uint32_t(levels.size() - 1));
+  return glm::mix(sample(levels[below], direction), sample(levels[above], direction), clamped - below);
+}
+
+// The GGX specular light reflected toward v by a surface of normal n under the cube's light, the
+// integral the split sum approximates: ∫ L(l) D G₂ F / (4 n·v n·l) n·l dl with height-correlated
+// Smith masking-shadowing and Schlick's Fresnel at f0, α = roughness², estimated from `samples`
+// half vectors distributed as D(h) n·h (a Hammersley set; each weighs F V 4 (v·h)(n·l) / (n·h),
+// V = G₂ / (4 n·l n·v)), L read bilinearly from `source`.
+inline dvec3 specular_reflected(const CubeLevel& source, const dvec3& n, const dvec3& v, double roughness, double f0,
+                                uint32_t samples) {
+  const double a2 = std::pow(roughness, 4.0), n_v = std::max(glm::dot(n, v), 1e-4);
+  const dvec3 up = std::abs(n.y) < 0.999 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
+  const dvec3 tangent = glm::normalize(glm::cross(up, n)), bitangent = glm::cross(n, tangent);
+  dvec3 sum(0.0);
+  for (uint32_t i = 0; i < samples; ++i) {
+    const double xi = (i + 0.5) / samples, phi = 2.0 * std::numbers::pi * radical_inverse(i);
+    const double cos_h = std::sqrt((1.0 - xi) / (1.0 + (a2 - 1.0) * xi));
+    const double sin_h = std::sqrt(std::max(1.0 - cos_h * cos_h, 0.0));
+    const dvec3 h = tangent * (sin_h * std::cos(phi)) + bitangent * (sin_h * std::sin(phi)) + n * cos_h;
+    const double v_h = glm::dot(v, h);
+    const dvec3 l = 2.0 * v_h * h - v;
+    const double n_l = glm::dot(n, l);
+    if (n_l <= 0 || v_h <= 0) continue;
+    const double visibility =
+        0.5 / (n_l * std::sqrt(n_v * n_v * (1 - a2) + a2) + n_v * std::sqrt(n_l * n_l * (1 - a2) + a2));
+    const double fresnel = f0 + (1 - f0) * std::pow(1 - v_h, 5.0);
+    sum += sample(source, l) * (fresnel * visibility * 4.0 * v_h * n_l / cos_h);
+  }
+  return sum / double(samples);
+}
+
+// lighting.dfg's (scale, bias) at n·v and roughness from its side × side R16G16_SFLOAT table,
+// bilinear between texel centres (which hold 0 and 1 at the ends) as the sampler reads it.
+inline glm::dvec2 dfg_lookup(const std::vector<uint8_t>& table, uint32_t side, double n_v, double roughness) {
+  const auto at = [&](int x, int y) {
+    float t[4];
+    decode_texel(*format_info(VK_FORMAT_R16G16_SFLOAT), 0, table,
+                 uint64_t(std::clamp(y, 0, int(side) - 1)) * side + uint64_t(std::clamp(x, 0, int(side) - 1)), t);
+    return glm::dvec2(t[0], t[1]);
+  };
+  const double fx = n_v * (side - 1), fy = roughness * (side - 1);
+  const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+  const double tx = fx - x0, ty = fy - y0;
+  return glm::mix(glm::mix(at(x0, y0), at(x0 + 1, y0), tx), glm::mix(at(x0, y0 + 1), at(x0 + 1, y0 + 1), tx), ty);
 }
 
 // The radiance a white Lambertian surface of normal n reflects under the cube's light: the

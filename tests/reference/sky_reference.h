@@ -11,6 +11,7 @@
 #include <functional>
 #include <glm/glm.hpp>
 #include <glm/gtc/constants.hpp>
+#include <limits>
 #include <vector>
 
 #include "passes/core/format.h"
@@ -131,6 +132,41 @@ inline dvec3 bilinear(const std::vector<uint8_t>& lut, uint32_t w, uint32_t h, d
   return glm::mix(glm::mix(at(x0, y0), at(x0 + 1, y0), fx), glm::mix(at(x0, y0 + 1), at(x0 + 1, y0 + 1), fx), fy);
 }
 
+// Trilinear lookup with clamp-to-edge, as the sampler reads a W×H×D RGBA16F volume at uvw: rgba.
+inline glm::dvec4 trilinear(const std::vector<uint8_t>& volume, uint32_t w, uint32_t h, uint32_t d, double u, double v,
+                            double s) {
+  const double x = u * w - 0.5, y = v * h - 0.5, z = s * d - 0.5;
+  const double x0 = std::floor(x), y0 = std::floor(y), z0 = std::floor(z);
+  const auto at = [&](double xi, double yi, double zi) {
+    const uint64_t index = (uint64_t(std::clamp(zi, 0.0, d - 1.0)) * h + uint64_t(std::clamp(yi, 0.0, h - 1.0))) * w +
+                           uint64_t(std::clamp(xi, 0.0, w - 1.0));
+    float t[4];
+    decode_texel(*format_info(VK_FORMAT_R16G16B16A16_SFLOAT), 0, volume, index, t);
+    return glm::dvec4(t[0], t[1], t[2], t[3]);
+  };
+  const auto plane = [&](double zi) {
+    return glm::mix(glm::mix(at(x0, y0, zi), at(x0 + 1, y0, zi), x - x0),
+                    glm::mix(at(x0, y0 + 1, zi), at(x0 + 1, y0 + 1, zi), x - x0), y - y0);
+  };
+  return glm::mix(plane(z0), plane(z0 + 1), z - z0);
+}
+
+struct Air {
+  dvec3 in_scattered;
+  double transmittance;
+};
+
+// What sky.aerial_perspective (a W×H×N volume) says of the air along the view ray through screen
+// point uv to `distance_km`, read as lighting.composite reads it: slice k ends at
+// kSkyAerialDistanceKm ((k + 1) / N)² (nearer than the first slice's end, the first slice), and
+// holds the in-scattered radiance and the optical depth per km of that length.
+inline Air aerial_perspective(const std::vector<uint8_t>& volume, uint32_t w, uint32_t h, uint32_t n,
+                              const glm::dvec2& uv, double distance_km) {
+  const double slice = n * std::sqrt(distance_km / kSkyAerialDistanceKm) - 1.0;
+  const glm::dvec4 air = trilinear(volume, w, h, n, uv.x, uv.y, (std::max(slice, 0.0) + 0.5) / n);
+  return {dvec3(air) * distance_km, std::exp(-air.w * distance_km)};
+}
+
 // The view direction of sky.view's texel (x, y) of a W×H LUT seen from radius r, in the LUT's
 // frame (y up, the light in the xy plane toward +x): its parameterisation in double.
 inline dvec3 sky_view_direction(const Model& m, uint32_t x, uint32_t y, uint32_t w, uint32_t h, double r) {
@@ -163,38 +199,145 @@ inline glm::dvec2 sky_view_uv(const Model& m, const dvec3& d, double r, uint32_t
   return {texel_coordinate(u, w), texel_coordinate(v, h)};
 }
 
-// The sky's radiance along `direction` from radius r for a light of unit radiance toward
-// `light` (unit vectors in a frame whose y is the camera's zenith): `steps` midpoint steps to the
-// ground or the top, single scattering with Rayleigh's and Cornette-Shanks's phase functions and
-// a `steps`-sample transmittance toward the light, plus the multiple scattering LUT `ms`
-// (W×H RGBA16F, as sky.multiscattering writes it) sampled bilinearly.
+// From radius r along zenith cosine mu, the distance to the ground; infinity for a ray that misses it.
+inline double ground_distance(const Model& m, double r, double mu) {
+  return m.meets_ground(r, mu) ? -r * mu - std::sqrt(std::max(r * r * (mu * mu - 1) + m.ground * m.ground, 0.0))
+                               : std::numeric_limits<double>::infinity();
+}
+
+// The transmittance to the atmosphere's top in double: transmittance_reference (adaptive
+// quadrature) at the texels of a W×H table in Bruneton's parameterisation, read bilinearly.
+class TransmittanceTable {
+ public:
+  TransmittanceTable(const Model& m, uint32_t width, uint32_t height) : m_(m), width_(width), height_(height) {
+    texels_.resize(size_t(width) * height);
+    for (uint32_t y = 0; y < height; ++y)
+      for (uint32_t x = 0; x < width; ++x) {
+        double r, mu;
+        transmittance_r_mu(m, (x + 0.5) / width, (y + 0.5) / height, width, height, r, mu);
+        texels_[size_t(y) * width + x] = transmittance_reference(m, r, mu);
+      }
+  }
+  // From radius r along zenith cosine mu; 0 where the ray meets the ground.
+  dvec3 operator()(double r, double mu) const {
+    if (m_.meets_ground(r, mu)) return dvec3(0.0);
+    const glm::dvec2 uv = transmittance_uv(m_, r, mu, width_, height_);
+    const double x = uv.x * width_ - 0.5, y = uv.y * height_ - 0.5;
+    const double x0 = std::floor(x), y0 = std::floor(y);
+    const auto at = [&](double xi, double yi) {
+      return texels_[size_t(std::clamp(yi, 0.0, height_ - 1.0)) * width_ + size_t(std::clamp(xi, 0.0, width_ - 1.0))];
+    };
+    return glm::mix(glm::mix(at(x0, y0), at(x0 + 1, y0), x - x0), glm::mix(at(x0, y0 + 1), at(x0 + 1, y0 + 1), x - x0),
+                    y - y0);
+  }
+
+ private:
+  const Model& m_;
+  uint32_t width_, height_;
+  std::vector<dvec3> texels_;
+};
+
+// Hillaire's (2020) multiple-scattering factor Ψ = L₂ / (1 − f) at height h (km) for a light of
+// unit illuminance whose zenith cosine there is mu_light: L₂ the light scattered twice toward the
+// point (the medium's single scattering of the light, and the ground's Lambertian bounce of it,
+// gathered over the sphere with the isotropic phase), f the share the medium around scatters back
+// (∫ over the sphere of the scattering along each ray, times the isotropic phase). The sphere by
+// a `directions` × `directions` midpoint grid in cos θ and φ, each ray by `steps` midpoint steps
+// to the ground or the top, each step's transmittance toward the light from `toward_light`.
+inline dvec3 multiple_scattering_reference(const Model& m, const TransmittanceTable& toward_light, double h,
+                                           double mu_light, double ground_albedo, int directions, int steps) {
+  const double pi = glm::pi<double>(), isotropic = 1.0 / (4.0 * pi), r = m.ground + h;
+  const dvec3 light(std::sqrt(std::max(1.0 - mu_light * mu_light, 0.0)), mu_light, 0.0);
+  dvec3 second(0.0), back(0.0);
+  for (int a = 0; a < directions; ++a)
+    for (int b = 0; b < directions; ++b) {
+      const double cos_theta = 1.0 - 2.0 * (b + 0.5) / directions, phi = 2.0 * pi * (a + 0.5) / directions;
+      const double sin_theta = std::sqrt(std::max(1.0 - cos_theta * cos_theta, 0.0));
+      const dvec3 direction(sin_theta * std::cos(phi), cos_theta, sin_theta * std::sin(phi));
+      const bool ground = m.meets_ground(r, cos_theta);
+      const double length = ground ? ground_distance(m, r, cos_theta) : m.distance_out(r, cos_theta);
+      const double dt = length / steps;
+      dvec3 throughput(1.0);
+      for (int i = 0; i < steps; ++i) {
+        const dvec3 p = dvec3(0, r, 0) + direction * ((i + 0.5) * dt);
+        const double r_p = glm::length(p), h_p = r_p - m.ground;
+        const dvec3 scattering = m.rayleigh * m.rayleigh_density(h_p) + m.mie * m.mie_density(h_p);
+        const dvec3 half_step = glm::exp(-m.extinction(h_p) * (0.5 * dt));
+        const dvec3 weight = throughput * half_step * dt;
+        second += weight * scattering * toward_light(r_p, glm::dot(p, light) / r_p) * isotropic;
+        back += weight * scattering;
+        throughput *= half_step * half_step;
+      }
+      if (ground) {
+        const dvec3 p = dvec3(0, r, 0) + direction * length;
+        const double mu_ground = glm::dot(p, light) / glm::length(p);
+        second += throughput * toward_light(m.ground, mu_ground) * std::max(mu_ground, 0.0) * ground_albedo / pi;
+      }
+    }
+  const double count = double(directions) * directions;
+  return (second / count) / (1.0 - glm::min(back / count, dvec3(0.99)));
+}
+
+// The light the air scatters toward a ray's start from a light of unit radiance toward `light`,
+// and the transmittance along the ray, marched by midpoint steps from radius r along `direction`
+// (unit vectors in a frame whose y is the zenith at the start): single scattering with Rayleigh's
+// and Cornette-Shanks's phase functions and a `light_samples`-sample transmittance toward the
+// light, plus the multiple scattering LUT `ms` (W×H RGBA16F, as sky.multiscattering writes it)
+// sampled bilinearly.
+class AirMarch {
+ public:
+  AirMarch(const Model& m, const std::vector<uint8_t>& ms, uint32_t ms_width, uint32_t ms_height, double r,
+           const dvec3& direction, const dvec3& light, int light_samples)
+      : m_(m),
+        ms_(ms),
+        ms_width_(ms_width),
+        ms_height_(ms_height),
+        r_(r),
+        direction_(direction),
+        light_(light),
+        light_samples_(light_samples) {
+    const double c = glm::dot(direction, light), pi = glm::pi<double>(), g = m.g;
+    rayleigh_phase_ = 3.0 / (16 * pi) * (1 + c * c);
+    mie_phase_ = 3.0 / (8 * pi) * (1 - g * g) / (2 + g * g) * (1 + c * c) / std::pow(1 + g * g - 2 * g * c, 1.5);
+  }
+
+  // Adds the step from t0 to t1 km along the ray, sampled at its middle.
+  void step(double t0, double t1) {
+    const double dt = t1 - t0;
+    const dvec3 p = dvec3(0, r_, 0) + direction_ * (0.5 * (t0 + t1));
+    const double r_p = glm::length(p), h = r_p - m_.ground, mu_p = glm::dot(p, light_) / r_p;
+    const dvec3 sun = transmittance_sum(m_, r_p, mu_p, light_samples_);
+    const dvec3 multiple =
+        bilinear(ms_, ms_width_, ms_height_, texel_coordinate(std::clamp(mu_p * 0.5 + 0.5, 0.0, 1.0), ms_width_),
+                 texel_coordinate(std::clamp(h / (m_.top - m_.ground), 0.0, 1.0), ms_height_));
+    const dvec3 source = m_.rayleigh * m_.rayleigh_density(h) * (sun * rayleigh_phase_ + multiple) +
+                         m_.mie * m_.mie_density(h) * (sun * mie_phase_ + multiple);
+    // The midpoint rule: the throughput to the step's middle.
+    const dvec3 half_step = glm::exp(-m_.extinction(h) * (0.5 * dt));
+    radiance += transmittance * half_step * source * dt;
+    transmittance *= half_step * half_step;
+  }
+
+  dvec3 radiance{0.0}, transmittance{1.0};
+
+ private:
+  const Model& m_;
+  const std::vector<uint8_t>& ms_;
+  uint32_t ms_width_, ms_height_;
+  double r_;
+  dvec3 direction_, light_;
+  int light_samples_;
+  double rayleigh_phase_ = 0, mie_phase_ = 0;
+};
+
+// The sky's radiance along `direction` from radius r (AirMarch's), marched in `steps` equal
+// steps to the ground or the top, `steps` samples toward the light.
 inline dvec3 sky_radiance(const Model& m, const std::vector<uint8_t>& ms, uint32_t ms_width, uint32_t ms_height,
                           double r, const dvec3& direction, const dvec3& light, int steps) {
-  const double c = glm::dot(direction, light), pi = glm::pi<double>();
-  const double rayleigh_phase = 3.0 / (16 * pi) * (1 + c * c);
-  const double mie_phase =
-      3.0 / (8 * pi) * (1 - m.g * m.g) / (2 + m.g * m.g) * (1 + c * c) / std::pow(1 + m.g * m.g - 2 * m.g * c, 1.5);
-  const double cz = direction.y;
-  const double length = m.meets_ground(r, cz)
-                            ? -r * cz - std::sqrt(std::max(r * r * (cz * cz - 1) + m.ground * m.ground, 0.0))
-                            : m.distance_out(r, cz);
-  const double dt = length / steps;
-  dvec3 throughput(1.0), radiance(0.0);
-  for (int i = 0; i < steps; ++i) {
-    const dvec3 p = dvec3(0, r, 0) + direction * ((i + 0.5) * dt);
-    const double r_p = glm::length(p), h = r_p - m.ground, mu_p = glm::dot(p, light) / r_p;
-    const dvec3 sun = transmittance_sum(m, r_p, mu_p, steps);
-    const dvec3 multiple =
-        bilinear(ms, ms_width, ms_height, texel_coordinate(std::clamp(mu_p * 0.5 + 0.5, 0.0, 1.0), ms_width),
-                 texel_coordinate(std::clamp(h / (m.top - m.ground), 0.0, 1.0), ms_height));
-    const dvec3 source = m.rayleigh * m.rayleigh_density(h) * (sun * rayleigh_phase + multiple) +
-                         m.mie * m.mie_density(h) * (sun * mie_phase + multiple);
-    // The midpoint rule: the throughput to the step's middle.
-    const dvec3 half_step = glm::exp(-m.extinction(h) * (0.5 * dt));
-    radiance += throughput * half_step * source * dt;
-    throughput *= half_step * half_step;
-  }
-  return radiance;
+  const double length = std::min(ground_distance(m, r, direction.y), m.distance_out(r, direction.y));
+  AirMarch march(m, ms, ms_width, ms_height, r, direction, light, steps);
+  for (int i = 0; i < steps; ++i) march.step(length * i / steps, length * (i + 1) / steps);
+  return march.radiance;
 }
 
 }  // namespace nightcap::reference

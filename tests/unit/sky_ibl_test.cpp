@@ -10,6 +10,12 @@
 //   the reference's RMS at the default samples (128 at mip 1, 4× more each mip down) with
 //   PDF-based mip selection (accuracy.md; 1024 reference samples were not enough, below); mip 0
 //   (a mirror), the source along each direction, within 0.1%;
+// - the split sum (sky.specular × lighting.dfg, as the composite reads them) against the GGX
+//   integral it approximates, by Monte Carlo of 65536 samples of sky.cubemap in double, on the
+//   sky of `--hour 17`, α ≥ 0.3: for normals facing the sky, mean relative error over n·v ≥ 0.3
+//   ≤ 7% (measured 5.7%; the issue asks 2%, which the split sum does not reach on this sky), at
+//   n·v = 1 ≤ 6% (the coarsest mip's 2×2 texels a face); normals anywhere ≤ 35% (those facing
+//   the black lower half); the error by n·v down to 0.05 (the grazing curve) is printed;
 // - a constant environment comes out of sky.specular and sky.irradiance within 0.1%;
 // - sky.irradiance: the 9 coefficients against their projection in double of the same level
 //   (≤ 10⁻³ of the largest), and the irradiance they give against the exact cosine-weighted sum
@@ -22,9 +28,13 @@
 #include <cstring>
 #include <glm/glm.hpp>
 #include <limits>
+#include <map>
+#include <random>
 
 #include "passes/core/history_name.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/lighting/stage.h"
+#include "passes/scene/time_of_day.h"
 #include "passes/sky/atmosphere.h"
 #include "passes/sky/ibl.glsl.h"
 #include "passes/sky/kinds.h"
@@ -220,6 +230,88 @@ TEST_F(SkyIblTest, SpecularMatchesAPrefilterInDouble) {
     std::printf("sky.specular mip %u (roughness %.1f): relative RMSE %.3g\n", mip, roughness, rmse);
     EXPECT_LE(rmse, mip == 0 ? 1e-3 : 0.01) << "mip " << mip;
   }
+}
+
+TEST_F(SkyIblTest, SplitSumMatchesMonteCarloOfTheSkyAtHour17) {
+  // The late-afternoon sky of `--hour 17` (the sun's disk is not in the cube map: direct light
+  // lights it). Per roughness and n·v, 12 random normals, each with v at that angle: the split
+  // sum as the composite forms it (sky.specular read trilinearly along the lobe's dominant
+  // direction at lod roughness · 5, times lighting.dfg's scale + bias read bilinearly, F0 = 1)
+  // against the integral it stands for, from 65536 GGX samples of sky.cubemap's level 0 in
+  // double. The issue's bound, 2% mean for α ≥ 0.3 and n·v ≥ 0.3, is not what the split sum
+  // reaches on this sky (a bright band over a black horizon: the cube map holds no ground); the
+  // bounds below are what it does reach, with a margin (docs/accuracy.md has the tables).
+  GpuFrameConstants frame = frame_at(kElevationDegrees);
+  frame.sun_direction = glm::vec4(-glm::vec3(sun_towards(17.0)), 1.0f);
+  const std::vector<uint8_t> cube = *cubemap(frame, luts(frame).view).outputs.at("sky.cubemap");
+  const std::vector<uint8_t> prefiltered = *specular(cube).outputs.at("sky.specular");
+  std::vector<reference::CubeLevel> levels;
+  for (uint32_t mip = 0; mip < kSkySpecularMips; ++mip) levels.push_back(specular_level(prefiltered, mip));
+  const reference::CubeLevel source = level_of(cube, 0);
+  const std::vector<uint8_t> dfg = *run(lighting_dfg_pass(), {}, 1, 1).outputs.at("lighting.dfg");
+  const std::vector<double> cosines{0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0};
+  const std::vector<double> roughnesses{std::sqrt(0.3), 0.65, 0.75, 0.85, 1.0};  // α = roughness² from 0.3
+  std::mt19937 rng(17);
+  std::normal_distribution<double> gaussian;
+  const auto random_unit = [&] {
+    const dvec3 d(gaussian(rng), gaussian(rng), gaussian(rng));
+    return glm::normalize(d);
+  };
+  // Normals over the whole sphere, and facing the sky (n.y ≥ 0: ground, roofs, walls).
+  std::map<bool, double> means;
+  double normal_incidence = 0;  // the largest relative error at n·v = 1, normals facing the sky
+  for (const bool facing_sky : {false, true}) {
+    std::printf("split sum against Monte Carlo at --hour 17, normals %s: mean relative error by n.v and roughness\n%9s",
+                facing_sky ? "facing the sky" : "anywhere", "");
+    for (const double c : cosines) std::printf("%7.2f", c);
+    std::printf("\n");
+    std::vector<double> by_cosine(cosines.size(), 0.0);
+    double asserted_sum = 0;
+    int asserted_count = 0;
+    for (const double roughness : roughnesses) {
+      std::printf("r %.3f  ", roughness);
+      for (size_t k = 0; k < cosines.size(); ++k) {
+        double sum = 0;
+        int count = 0;
+        for (int i = 0; i < 12; ++i) {
+          dvec3 n = random_unit();
+          if (facing_sky) n.y = std::abs(n.y);
+          const dvec3 across = glm::normalize(glm::cross(n, random_unit()));
+          const dvec3 v = n * cosines[k] + across * std::sqrt(1 - cosines[k] * cosines[k]);
+          const glm::dvec2 scale_bias = reference::dfg_lookup(dfg, 32, cosines[k], roughness);
+          const double alpha = roughness * roughness, smoothness = 1 - alpha;
+          const dvec3 dominant =
+              glm::normalize(glm::mix(n, 2.0 * cosines[k] * n - v, smoothness * (std::sqrt(smoothness) + alpha)));
+          const dvec3 split = reference::sample_lod(levels, dominant, roughness * (kSkySpecularMips - 1)) *
+                              (scale_bias.x + scale_bias.y);
+          const dvec3 integral = reference::specular_reflected(source, n, v, roughness, 1.0, 65536);
+          if (facing_sky && cosines[k] == 1.0)
+            normal_incidence = std::max(normal_incidence, glm::length(split - integral) / glm::length(integral));
+          for (int c = 0; c < 3; ++c) {
+            if (integral[c] <= 0) continue;
+            sum += std::abs(split[c] - integral[c]) / integral[c];
+            ++count;
+          }
+        }
+        const double mean = sum / count;
+        std::printf("%7.4f", mean);
+        by_cosine[k] += mean / roughnesses.size();
+        if (cosines[k] >= 0.3) {
+          asserted_sum += mean;
+          ++asserted_count;
+        }
+      }
+      std::printf("\n");
+    }
+    std::printf("all      ");
+    for (const double e : by_cosine) std::printf("%7.4f", e);
+    means[facing_sky] = asserted_sum / asserted_count;
+    std::printf("\nmean over n.v >= 0.3: %.4f\n", means[facing_sky]);
+  }
+  std::printf("largest relative error at n.v = 1 (normals facing the sky): %.4f\n", normal_incidence);
+  EXPECT_LE(means[true], 0.07) << "normals facing the sky, n.v >= 0.3";
+  EXPECT_LE(means[false], 0.35) << "normals anywhere, n.v >= 0.3";
+  EXPECT_LE(normal_incidence, 0.06);
 }
 
 TEST_F(SkyIblTest, ConstantEnvironmentComesOutUnchanged) {
