@@ -70,7 +70,8 @@ vec3 through_air(vec3 radiance, ivec2 pixel, float depth) {
   float slices = float(textureSize(aerial_volume, 0).z);
   float distance_km = length(position_at(pixel, depth)) * 1e-3;
   float slice = slices * sqrt(distance_km / kSkyAerialDistanceKm) - 1.0;
-  vec4 air = textureLod(aerial_volume, vec3(gl_FragCoord.xy * frame.viewport.zw, (max(slice, 0.0) + 0.5) / slices), 0.0);
+  vec3 uvw = vec3(gl_FragCoord.xy * frame.viewport.zw, (max(slice, 0.0) + 0.5) / slices);
+  vec4 air = textureLod(aerial_volume, uvw, 0.0);
   return radiance * exp(-air.a * distance_km) + air.rgb * distance_km;
 }
 #endif

@@ -7,7 +7,8 @@
 // rgb, the light the air scatters toward the camera along the length (frame.constants'
 // sun_radiance times the march's unit-illuminance figure) over d; alpha, -ln of the mean over the
 // three channels of the transmittance along it, over d. A thread per ray marches its slices in
-// order, `samples` steps a slice; a ray that meets the planet's surface ends there. Not shadowed: the air lit behind a tower is lit as in the open.
+// order, `samples` steps a slice; a ray that meets the planet's surface ends there. Not shadowed:
+// the air behind a tower is lit as in the open.
 #include "../frame/types.glsl"
 #include "../frame/half.glsl"
 #include "atmosphere.glsl.h"
@@ -58,7 +59,7 @@ void main() {
     float y = (absorbed.r + absorbed.g + absorbed.b) / 3.0;
     float depth = y < 1e-3 ? y * (1.0 + y * (0.5 + y / 3.0)) : -log(1.0 - y);
     float length_km = max(end, 1e-9);
-    imageStore(volume, ivec3(texel, slice),
-               vec4(nearest_half(march.radiance * frame.sun_radiance.rgb / length_km), nearest_half(vec3(depth / length_km)).x));
+    vec3 in_scattered = nearest_half(march.radiance * frame.sun_radiance.rgb / length_km);
+    imageStore(volume, ivec3(texel, slice), vec4(in_scattered, nearest_half(vec3(depth / length_km)).x));
   }
 }

@@ -30,7 +30,8 @@ PassDecl sky_aerial_perspective_pass() {
       .write("sky.aerial_perspective", Use::storage_write, volume)
       .param_int("width", 32, 2, 1024, "texels across the screen")
       .param_int("height", 32, 2, 1024, "texels down the screen")
-      .param_int("slices", 32, 2, 1024, "slices along each view ray, thin near the camera")
+      // At most 256 + 256·64 loop iterations a ray: lavapipe ends a shader's loops after 65535.
+      .param_int("slices", 32, 2, 256, "slices along each view ray, thin near the camera")
       .param_int("samples", 1, 1, 64, "steps through each slice")
       .push_constants<SkyLutConstants>()
       .shader("sky/aerial_perspective.comp")

@@ -10,8 +10,8 @@
 #include "toward_light.glsl"
 
 vec3 multiple_scattering(float h, float mu_light) {
-  return textureLod(multiscattering_lut, multiscattering_uv(h, mu_light, vec2(textureSize(multiscattering_lut, 0))), 0.0)
-      .rgb;
+  vec2 uv = multiscattering_uv(h, mu_light, vec2(textureSize(multiscattering_lut, 0)));
+  return textureLod(multiscattering_lut, uv, 0.0).rgb;
 }
 
 // A ray from height h along `direction`, lit from `to_light` (unit vectors in a frame whose y is

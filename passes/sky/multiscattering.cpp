@@ -24,8 +24,9 @@ PassDecl sky_multiscattering_pass() {
       .write("sky.multiscattering", Use::storage_write, sky_lut_image(kinds::sky_lut))
       .param_int("width", 32, 2, 1024, "texels across: the cosine of the light's zenith angle")
       .param_int("height", 32, 2, 1024, "texels down: the height")
-      .param_int("samples", 20, 1, 4096, "steps along each direction's ray")
-      .param_int("directions", 16, 1, 64, "directions per side of the sphere's grid (their square in all)")
+      // At most 32 + 32² + 32²·60 loop iterations a texel: lavapipe ends a shader's loops after 65535.
+      .param_int("samples", 20, 1, 60, "steps along each direction's ray")
+      .param_int("directions", 16, 1, 32, "directions per side of the sphere's grid (their square in all)")
       .push_constants<SkyLutConstants>()
       .shader("sky/multiscattering.comp")
       .run([](PassContext& ctx) { dispatch_sky_lut(ctx, "sky.multiscattering"); });

@@ -21,7 +21,9 @@ PassDecl sky_specular_pass() {
       .write("sky.specular", Use::storage_write, sky_cube_image(VK_FORMAT_R16G16B16A16_SFLOAT, kSkySpecularMips))
       .level_mips("sky.specular", {0})
       .param_int("size", 64, 32, 4096, "texels on a side of each face of mip 0 (at least 32: six mips)")
-      .param_int("samples", 128, 1, 65536, "GGX samples per texel of mip 1; each later mip 4× as many")
+      .param_int("samples", 128, 1, 255,
+                 "GGX samples per texel of mip 1; each later mip 4× as many (mip 5: 256×, within lavapipe's "
+                 "65535 loop iterations)")
       .push_constants<SkyCubeConstants>()
       .shader("sky/specular.comp")
       .run([](PassContext& ctx) {

@@ -18,7 +18,7 @@ PassDecl sky_transmittance_pass() {
       .write("sky.transmittance", Use::storage_write, sky_lut_image(kinds::sky_lut))
       .param_int("width", 256, 2, 4096, "texels across: the distance to the atmosphere's top")
       .param_int("height", 64, 2, 4096, "texels down: the height")
-      .param_int("samples", 256, 1, 65536, "midpoint samples of the extinction along each texel's ray")
+      .param_int("samples", 256, 1, 65535, "midpoint samples of the extinction along each texel's ray")
       .push_constants<SkyLutConstants>()
       .shader("sky/transmittance.comp")
       .run([](PassContext& ctx) { dispatch_sky_lut(ctx, "sky.transmittance"); });
