@@ -4,7 +4,7 @@
 // the benchmark's table of size against error decides: 64×64 gains nothing). 16×16 directions,
 // where Hillaire takes 8×8: against a converged double reference his 64 directions were 6.2% off
 // (relative L1) and 47% at altitude, where the limb's dense air is a thin band of directions; 256
-// are 2.7% for 2.5 times the time, paid once per atmosphere. Depends on the atmosphere alone: copied
+// are 2.7% for 3.5 times the time, paid once per atmosphere. Depends on the atmosphere alone: copied
 // from the previous frame's unless sky.atmosphere says it changed. Skipped with no directional
 // light.
 #include "passes/core/context.h"
