@@ -217,8 +217,8 @@ void bench_sky(GpuDevice& gpu, PipelineCache& cache) {
     struct MsSetting {
       uint32_t side, directions, samples;
     };
-    for (const auto& [side, directions, samples] : std::vector<MsSetting>{
-             {16, 16, 20}, {32, 8, 20}, {32, 16, 20}, {64, 16, 20}, {32, 16, 40}, {32, 32, 20}}) {
+    for (const auto& [side, directions, samples] :
+         std::vector<MsSetting>{{16, 16, 20}, {32, 8, 20}, {32, 16, 20}, {64, 16, 20}, {32, 16, 40}, {32, 32, 20}}) {
       const Timed t = run_timed(
           gpu, cache, sky_multiscattering_pass(),
           {{"sky.atmosphere", atmosphere_in},
