@@ -1,4 +1,5 @@
-// Scripted `nightcap inspect` runs for the e2e tests, with each command's --json line parsed.
+// Scripted `nightcap inspect` runs for the e2e tests, with each command's --json line parsed, and
+// the checks of a whole capture the stress tests share.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -37,6 +38,23 @@ inline Inspected inspect(const std::filesystem::path& capture, const std::string
     run.objects.push_back(nlohmann::json::parse(line));
   }
   return run;
+}
+
+// A capture of frames 0 and 1: `inspect nan` searched both and found no NaN or Inf.
+inline void expect_no_nan_or_inf(const std::filesystem::path& capture) {
+  const Inspected nan = inspect(capture, "nan --json");
+  ASSERT_EQ(nan.result.code, 0) << nan.result.err;
+  EXPECT_EQ(nan.objects.at(0).at("frames"), nlohmann::json::array({0, 1})) << "every recorded frame searched";
+  EXPECT_EQ(nan.objects.at(0).at("origins"), nlohmann::json::array()) << nan.objects.at(0).dump();
+}
+
+// A capture of frames 0 and 1: `replay --verify` of each exits 0 (every pass that ran reproduces
+// what it recorded, bit for bit).
+inline void expect_replays_verify(const std::filesystem::path& capture) {
+  for (int frame : {0, 1}) {
+    const CliResult replay = run_cli("replay --verify --frame " + std::to_string(frame) + " " + quote(capture));
+    EXPECT_EQ(replay.code, 0) << "frame " << frame << ": " << replay.out << replay.err;
+  }
 }
 
 // Tests of the shared city capture, opened for each test.

@@ -34,14 +34,8 @@ TEST_P(SkyStress, FiniteEverywhereAndReplaysBitIdentically) {
     ASSERT_EQ(info.result.code, 0) << info.result.err;
     EXPECT_EQ(info.objects.at(1).at("status"), "ran") << pass << " in frame 0: " << info.objects.at(1).dump();
   }
-  const Inspected nan = inspect(capture, "nan --json");
-  ASSERT_EQ(nan.result.code, 0) << nan.result.err;
-  EXPECT_EQ(nan.objects.at(0).at("frames"), nlohmann::json::array({0, 1})) << "every recorded frame searched";
-  EXPECT_EQ(nan.objects.at(0).at("origins"), nlohmann::json::array()) << nan.objects.at(0).dump();
-  for (int frame : {0, 1}) {
-    const CliResult replay = run_cli("replay --verify --frame " + std::to_string(frame) + " " + quote(capture));
-    EXPECT_EQ(replay.code, 0) << "frame " << frame << ": " << replay.out << replay.err;
-  }
+  expect_no_nan_or_inf(capture);
+  expect_replays_verify(capture);
 }
 
 INSTANTIATE_TEST_SUITE_P(Cases, SkyStress,
