@@ -20,13 +20,7 @@ PassDecl sky_aerial_perspective_pass() {
   volume.size.param = "width";
   volume.size.height_param = "height";
   volume.depth_param = "slices";
-  return sky_pass("sky.aerial_perspective", PassType::compute)
-      .read("frame.constants", Use::uniform_buffer)
-      .read("sky.atmosphere", Use::uniform_buffer)
-      .read("sky.transmittance", Use::sampled)
-      .sampler("sky.transmittance", bilinear_clamp_sampler())
-      .read("sky.multiscattering", Use::sampled)
-      .sampler("sky.multiscattering", bilinear_clamp_sampler())
+  return sky_march_pass("sky.aerial_perspective")
       .write("sky.aerial_perspective", Use::storage_write, volume)
       .param_int("width", 32, 2, 1024, "texels across the screen")
       .param_int("height", 32, 2, 1024, "texels down the screen")

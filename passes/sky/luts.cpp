@@ -63,6 +63,16 @@ PassDecl sky_pass(std::string name, PassType type) {
       .needs("sun");
 }
 
+PassDecl sky_march_pass(std::string name) {
+  return sky_pass(std::move(name), PassType::compute)
+      .read("frame.constants", Use::uniform_buffer)
+      .read("sky.atmosphere", Use::uniform_buffer)
+      .read("sky.transmittance", Use::sampled)
+      .sampler("sky.transmittance", bilinear_clamp_sampler())
+      .read("sky.multiscattering", Use::sampled)
+      .sampler("sky.multiscattering", bilinear_clamp_sampler());
+}
+
 ImageDecl sky_lut_image(ResourceKind kind) {
   ImageDecl lut{VK_FORMAT_R16G16B16A16_SFLOAT, kind};
   lut.size.mode = SizeRule::Mode::params;

@@ -11,6 +11,9 @@ namespace nightcap {
 // A pass of the sky, skipped with no directional light to light a sky and, the four together, by
 // `--set sky.enabled=0` (the composite then draws its constant sky).
 PassDecl sky_pass(std::string name, PassType type);
+// A pass of the sky whose shader marches view rays through the air (march.glsl): compute, reading
+// frame.constants, sky.atmosphere and the transmittance and multiple-scattering LUTs (bilinear).
+PassDecl sky_march_pass(std::string name);
 // An RGBA16F lookup table of `kind` sized by its pass's parameters `width` and `height`.
 ImageDecl sky_lut_image(ResourceKind kind);
 // Fills the pass's `lut` output: a thread per texel, `samples` (and for sky.multiscattering

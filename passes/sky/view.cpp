@@ -13,13 +13,7 @@
 namespace nightcap {
 
 PassDecl sky_view_pass() {
-  return sky_pass("sky.view", PassType::compute)
-      .read("frame.constants", Use::uniform_buffer)
-      .read("sky.atmosphere", Use::uniform_buffer)
-      .read("sky.transmittance", Use::sampled)
-      .sampler("sky.transmittance", bilinear_clamp_sampler())
-      .read("sky.multiscattering", Use::sampled)
-      .sampler("sky.multiscattering", bilinear_clamp_sampler())
+  return sky_march_pass("sky.view")
       .read_previous("sky.view", Use::sampled)
       .write("sky.view", Use::storage_write, sky_lut_image(kinds::sky_view))
       .param_int("width", 192, 2, 4096, "texels across: the azimuth from the light")
