@@ -66,9 +66,9 @@ vec3 position_at(ivec2 pixel, float depth) {
 // Slice k of N ends at kSkyAerialDistanceKm ((k + 1) / N)² km, so a point at distance d lies at
 // slice coordinate N sqrt(d / kSkyAerialDistanceKm) - 1 (nearer than the first slice's end: the
 // first slice); the volume holds each figure per km of its slice's length.
-vec3 through_air(vec3 radiance, ivec2 pixel, float depth) {
+vec3 through_air(vec3 radiance, vec3 position) {
   float slices = float(textureSize(aerial_volume, 0).z);
-  float distance_km = length(position_at(pixel, depth)) * 1e-3;
+  float distance_km = length(position) * 1e-3;
   float slice = slices * sqrt(distance_km / kSkyAerialDistanceKm) - 1.0;
   vec3 uvw = vec3(gl_FragCoord.xy * frame.viewport.zw, (max(slice, 0.0) + 0.5) / slices);
   vec4 air = textureLod(aerial_volume, uvw, 0.0);
@@ -114,8 +114,8 @@ struct Indirect {
 // camera-relative positions are world-oriented). Split sum with the project's DFG table, the
 // multiple-scattering compensation of Fdez-Agüera (2019), and horizon occlusion (a reflection
 // below the surface's geometric plane is cut, Jimenez et al. 2016).
-Indirect image_based(ivec2 pixel, float depth, vec3 albedo, float metallic, float roughness, float visibility) {
-  vec3 position = position_at(pixel, depth);
+Indirect image_based(ivec2 pixel, float depth, vec3 position, vec3 albedo, float metallic, float roughness,
+                     float visibility) {
   vec3 v = normalize(-position);
   vec3 n = normalize(texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0);
   float n_v = clamp(dot(n, v), 1e-4, 1.0);
@@ -156,6 +156,10 @@ void main() {
   float depth = texelFetch(depth_map, pixel, 0).r;
   vec4 albedo = texelFetch(albedo_map, pixel, 0);
   vec3 emitted = texelFetch(emissive_map, pixel, 0).rgb;
+#ifdef NC_SKY_VIEW
+  // The camera-relative point drawn here, which the image-based light and the air both start from.
+  vec3 position = depth > 0.0 ? position_at(pixel, depth) : vec3(0.0);
+#endif
   if (depth <= 0.0) {
 #ifdef NC_SKY_VIEW
     if (sky_source.x != 0u) lit = sky_view_radiance(view_ray(gl_FragCoord.xy));
@@ -174,7 +178,7 @@ void main() {
     vec3 indirect_diffuse = ambient.rgb * albedo.rgb * (1.0 - metallic) * visibility;
 #ifdef NC_IMAGE_BASED
     if (sky_source.x != 0u) {
-      Indirect sky_light = image_based(pixel, depth, albedo.rgb, metallic, material.g, visibility);
+      Indirect sky_light = image_based(pixel, depth, position, albedo.rgb, metallic, material.g, visibility);
       indirect_diffuse += sky_light.diffuse;
       specular += sky_light.specular;
     }
@@ -182,7 +186,7 @@ void main() {
     lit = texelFetch(diffuse_map, pixel, 0).rgb + specular + emitted + indirect_diffuse;
   }
 #ifdef NC_AERIAL_PERSPECTIVE
-  if (depth > 0.0 && sky_source.x != 0u) lit = through_air(lit, pixel, depth);
+  if (depth > 0.0 && sky_source.x != 0u) lit = through_air(lit, position);
 #endif
   out_lit = vec4(nearest_half(lit), 1.0);
   out_specular = vec4(nearest_half(specular), 1.0);
