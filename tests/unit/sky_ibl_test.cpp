@@ -41,7 +41,7 @@
 #include "passes/sky/stage.h"
 #include "tests/reference/ibl_reference.h"
 #include "tests/reference/sky_reference.h"
-#include "tests/unit/gpu_fixture.h"
+#include "tests/unit/sky_fixture.h"
 
 namespace nightcap::test {
 namespace {
@@ -56,7 +56,7 @@ constexpr double kElevationDegrees = 15.0;
 // by, twice over.
 double float_ulp(double x, int mantissa) { return std::ldexp(1.0, std::max(std::ilogb(x), -14) - mantissa); }
 
-class SkyIblTest : public GpuTest {
+class SkyIblTest : public SkyLutTest {
  protected:
   static GpuFrameConstants frame_at(double elevation_degrees) {
     GpuFrameConstants frame{};
@@ -67,9 +67,6 @@ class SkyIblTest : public GpuTest {
     frame.camera_world = glm::vec4(0.0f, 1.7f, 0.0f, 1.0f);
     return frame;
   }
-  static IsolatedInput lut(const std::vector<uint8_t>& bytes, uint32_t w, uint32_t h) {
-    return image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut, w, h, bytes);
-  }
   // The record for a camera height_ metres up (the stress test sets it to the frame's).
   static inline float height_ = 1.7f;
   static IsolatedInput atmosphere(bool changed = true) {
@@ -79,30 +76,19 @@ class SkyIblTest : public GpuTest {
     return record_input(a);
   }
   // The sky's LUTs for `frame`, as the frame computes them: sky.view's and the multiple scattering's.
-  struct Luts {
+  struct ViewLuts {
     std::vector<uint8_t> view, multiscattering;
   };
-  static Luts luts(const GpuFrameConstants& frame) {
-    const IsolatedRun transmittance =
-        run(sky_transmittance_pass(),
-            {{"sky.atmosphere", atmosphere()},
-             {previous("sky.transmittance"), lut(std::vector<uint8_t>(256 * 64 * 8, 0), 256, 64)}},
-            1, 1);
-    const IsolatedRun multiscattering =
-        run(sky_multiscattering_pass(),
-            {{"sky.atmosphere", atmosphere()},
-             {"sky.transmittance", lut(*transmittance.outputs.at("sky.transmittance"), 256, 64)},
-             {previous("sky.multiscattering"), lut(std::vector<uint8_t>(32 * 32 * 8, 0), 32, 32)}},
-            1, 1);
-    const IsolatedRun view =
-        run(sky_view_pass(),
-            {{"frame.constants", record_input(frame)},
-             {"sky.atmosphere", atmosphere()},
-             {"sky.transmittance", lut(*transmittance.outputs.at("sky.transmittance"), 256, 64)},
-             {"sky.multiscattering", lut(*multiscattering.outputs.at("sky.multiscattering"), 32, 32)},
-             {previous("sky.view"), lut(std::vector<uint8_t>(192 * 108 * 8, 0), 192, 108)}},
-            1, 1);
-    return {*view.outputs.at("sky.view"), *multiscattering.outputs.at("sky.multiscattering")};
+  static ViewLuts luts(const GpuFrameConstants& frame) {
+    const Luts computed = compute_luts(atmosphere());
+    const IsolatedRun view = run(sky_view_pass(),
+                                 {{"frame.constants", record_input(frame)},
+                                  {"sky.atmosphere", atmosphere()},
+                                  {"sky.transmittance", computed.transmittance},
+                                  {"sky.multiscattering", computed.multiscattering},
+                                  {previous("sky.view"), lut(std::vector<uint8_t>(192 * 108 * 8, 0), 192, 108)}},
+                                 1, 1);
+    return {*view.outputs.at("sky.view"), computed.multiscattering_bytes};
   }
   // The previous frame's outputs: zeros unless given.
   static IsolatedRun cubemap(const GpuFrameConstants& frame, const std::vector<uint8_t>& view, bool changed = true,
@@ -153,7 +139,7 @@ class SkyIblTest : public GpuTest {
 
 TEST_F(SkyIblTest, CubemapHoldsTheSkyAlongEachTexelAndMeansBelow) {
   const GpuFrameConstants frame = frame_at(kElevationDegrees);
-  const Luts sky = luts(frame);
+  const ViewLuts sky = luts(frame);
   const IsolatedRun result = cubemap(frame, sky.view);
   ASSERT_TRUE(first_non_finite(result.execution).empty());
   const std::vector<uint8_t>& cube = *result.outputs.at("sky.cubemap");
