@@ -4,7 +4,6 @@
 // the mesh has tangents.
 #include "../frame/types.glsl"
 
-layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
 layout(std430, set = 0, binding = NC_BINDING(draws)) readonly buffer DrawBlock { GpuDraw draws[]; };
 layout(std430, set = 0, binding = NC_BINDING(scene_materials)) readonly buffer MaterialBlock { GpuMaterial materials[]; };
 layout(set = 0, binding = NC_BINDING(scene_texture)) uniform sampler2D base_color_map;

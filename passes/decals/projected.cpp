@@ -24,7 +24,7 @@
 namespace nightcap {
 PassDecl decals_projected_pass() {
   return PassDecl("decals.projected", PassType::graphics)
-      .read("frame.constants", Use::uniform_buffer)
+      .read("frame.views", Use::uniform_buffer)
       .read("draws.decals.projected", Use::storage_read)
       .read("scene.depth", Use::sampled)
       .aspects("scene.depth", {ViewAspect::depth, ViewAspect::stencil})

@@ -3,7 +3,7 @@
 // tagged moving, takes the decal's pattern (see projected.cpp for the blend).
 #include "../frame/types.glsl"
 
-layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+#include "../frame/camera.glsl"
 layout(std430, set = 0, binding = NC_BINDING(draws_decals_projected)) readonly buffer DecalBlock { GpuDecal decals[]; };
 layout(set = 0, binding = NC_BINDING(scene_depth)) uniform sampler2D depth_map;
 layout(set = 0, binding = NC_BINDING(scene_depth) + 1) uniform usampler2D stencil_map;
@@ -43,8 +43,8 @@ void main() {
   if (!(depth > 0.0)) discard;  // sky
   if ((texelFetch(stencil_map, pixel, 0).r & STENCIL_MOVING) != 0u) discard;
 
-  vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
-  vec4 p = frame.inverse_view_projection * vec4(ndc, depth, 1.0);
+  vec2 ndc = (vec2(pixel) + 0.5) * camera.viewport.zw * 2.0 - 1.0;
+  vec4 p = camera.inverse_view_projection * vec4(ndc, depth, 1.0);
   GpuDecal decal = decals[in_decal];
   vec3 local = (decal.local_from_world * vec4(p.xyz / p.w, 1.0)).xyz;
   // Outside the unit cube (a NaN fails the test too).

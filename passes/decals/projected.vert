@@ -3,7 +3,7 @@
 // counter-clockwise seen from outside (the pipeline culls front faces: the back faces are drawn).
 #include "../frame/types.glsl"
 
-layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+#include "../frame/camera.glsl"
 layout(std430, set = 0, binding = NC_BINDING(draws_decals_projected)) readonly buffer DecalBlock { GpuDecal decals[]; };
 
 layout(location = 0) flat out uint out_decal;
@@ -26,6 +26,6 @@ void main() {
   int corner = kCorner[gl_VertexIndex % 6];
   float su = corner == 1 || corner == 2 ? 1.0 : -1.0, sv = corner >= 2 ? 1.0 : -1.0;
   vec3 local = 0.5 * (n + su * u + sv * v);
-  gl_Position = frame.view_projection * (decal.model * vec4(local, 1.0));
+  gl_Position = camera.view_projection * (decal.model * vec4(local, 1.0));
   out_decal = gl_InstanceIndex;
 }

@@ -9,7 +9,7 @@
 
 layout(local_size_x = kDepthConvertGroupSide, local_size_y = kDepthConvertGroupSide) in;
 
-layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+#include "../frame/camera.glsl"
 layout(set = 0, binding = NC_BINDING(scene_depth)) uniform sampler2D depth_map;
 layout(set = 0, binding = NC_BINDING(scene_depth) + 1) uniform usampler2D stencil_map;
 layout(set = 0, binding = NC_BINDING(depth_linear), r32f) uniform writeonly image2D linear_depth;
@@ -20,7 +20,7 @@ layout(push_constant) uniform DepthConvertConstants { NC_BLOCK_MEMBERS(NC_DEPTH_
 float linear_of(float device) {
   // Reversed-Z with an infinite far plane: device = znear / distance, so the division is exact
   // to one rounding; 0 (nothing drawn) maps to a finite stand-in for infinity.
-  return device > 0.0 ? min(frame.projection_params.x / device, sky_depth) : sky_depth;
+  return device > 0.0 ? min(camera.projection_params.x / device, sky_depth) : sky_depth;
 }
 
 void main() {

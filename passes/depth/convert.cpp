@@ -44,7 +44,7 @@ PassDecl depth_convert_pass() {
   ImageDecl half_stencil{VK_FORMAT_R8_UINT, kinds::stencil};
   half_stencil.size.mode = SizeRule::Mode::output_half;
   return PassDecl("depth.convert", PassType::compute)
-      .read("frame.constants", Use::uniform_buffer)
+      .read("frame.views", Use::uniform_buffer)
       .read("scene.depth", Use::sampled)
       .aspects("scene.depth", {ViewAspect::depth, ViewAspect::stencil})
       .write("depth.linear", Use::storage_write, linear)

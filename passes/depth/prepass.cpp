@@ -39,7 +39,8 @@ PassDecl depth_prepass_pass() {
   ImageDecl depth{VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil};
   depth.clear.depthStencil = {0.0f, 0};
   return PassDecl("depth.prepass", PassType::graphics)
-      .read("frame.constants", Use::uniform_buffer)
+      .read("frame.views", Use::storage_read)
+      .as("views")
       .read("scene.geometry", Use::storage_read)
       .read("scene.geometry", Use::index_buffer)
       .read("scene.materials", Use::host)

@@ -1,5 +1,5 @@
-// frame.constants (CPU): the camera and lights turned into the per-frame constants and the
-// camera-relative light list every shading pass reads. Doubles in, floats out, so world
+// frame.constants (CPU): the camera and lights turned into the per-frame constants, the camera's
+// view (frame.views[0]) and the camera-relative light list every shading pass reads. Doubles in, floats out, so world
 // coordinates of thousands of metres lose nothing before the subtraction.
 #include <algorithm>
 #include <cstring>
@@ -10,6 +10,7 @@
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/occlusion_buffer.h"
 #include "passes/frame/scene_resources.h"
+#include "passes/frame/view.h"
 
 namespace nightcap {
 namespace {
@@ -23,24 +24,21 @@ void build_constants(PassContext& ctx) {
   const double aspect = double(camera.width) / camera.height;
   const glm::dvec3 eye = glm::dvec3(world[3]);
 
+  const GpuView camera_view =
+      perspective_view({.orientation = glm::dmat3(world),
+                        .yfov = camera.yfov,
+                        .znear = camera.znear,
+                        .width = camera.width,
+                        .height = camera.height},
+                       previous_relative_view_projection(previous, world, camera.yfov, aspect, camera.znear));
   GpuFrameConstants c{};
-  const glm::dmat4 view = relative_view(world);
-  const glm::dmat4 projection = reversed_z_projection(camera.yfov, aspect, camera.znear);
-  c.view = glm::mat4(view);
-  c.projection = glm::mat4(projection);
-  c.view_projection = glm::mat4(projection * view);
-  c.inverse_view_projection = glm::mat4(glm::inverse(projection * view));
-  c.previous_view_projection =
-      glm::mat4(previous_relative_view_projection(previous, world, camera.yfov, aspect, camera.znear));
   c.camera_world = glm::vec4(glm::vec3(eye), 1.0f);
-  c.viewport = {float(camera.width), float(camera.height), 1.0f / camera.width, 1.0f / camera.height};
-  c.projection_params = {float(camera.znear), float(camera.yfov), float(aspect), 0.0f};
   c.timing = {float(camera.time), float(camera.time_step), 0.0f, 0.0f};
 
   // A local light whose range box is outside the frustum or wholly behind cull.main's occluders
   // lights no visible surface: its window ends at its range, so dropping it changes no pixel.
   const OcclusionBuffer occlusion = OcclusionBuffer::from_record(ctx.host("cull.occlusion"));
-  const glm::dmat4 clip_from_relative = projection * view;
+  const glm::dmat4 clip_from_relative = reversed_z_projection(camera.yfov, aspect, camera.znear) * relative_view(world);
   auto lights_nothing_visible = [&](const LightRecord& l) {
     if (!(l.range > 0.0f)) return false;
     const glm::dvec3 start = glm::dvec3(l.position[0], l.position[1], l.position[2]) - eye;
@@ -102,6 +100,9 @@ void build_constants(PassContext& ctx) {
   auto& constants = ctx.output("frame.constants");
   constants.resize(sizeof(c));
   std::memcpy(constants.data(), &c, sizeof(c));
+  auto& views = ctx.output("frame.views");
+  views.resize(sizeof(camera_view));
+  std::memcpy(views.data(), &camera_view, sizeof(camera_view));
   auto& light_bytes = ctx.output("frame.lights");
   light_bytes.resize(list.size() * sizeof(GpuLight));
   if (!list.empty()) std::memcpy(light_bytes.data(), list.data(), light_bytes.size());
@@ -115,8 +116,10 @@ PassDecl frame_constants_pass() {
       .read("scene.lights", Use::host)
       .read("cull.occlusion", Use::host)
       .write("frame.constants", Use::host, BufferDecl{kinds::buffer})
+      .write("frame.views", Use::host, BufferDecl{kinds::buffer})
       .write("frame.lights", Use::host, BufferDecl{kinds::buffer})
       .layout("frame.constants", frame_constants_schema())
+      .layout("frame.views", view_schema())
       .layout("frame.lights", light_schema())
       .run(build_constants);
 }

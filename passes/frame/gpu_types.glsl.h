@@ -6,25 +6,35 @@
 
 #include "../core/gpu_layout.glsl.h"
 
+// One view of the scene: what a pass needs to place geometry on its image and to shade what it
+// sees. The frame's camera is frame.views[0]; a pass that renders elsewhere (a probe's cube
+// faces) writes its own list, and each draw names its view (GpuDraw::view). Every position is in
+// the frame's camera-relative world, so a view's eye is where it stands relative to the camera.
+#define NC_GPU_VIEW_FIELDS(F, A, P)                                                               \
+  /* camera-relative world → view space: world orientation, then the eye moved to the origin */ \
+  F(mat4, view)                                                                                   \
+  /* reversed-Z, infinite far plane, Y flipped for Vulkan */                                      \
+  F(mat4, projection)                                                                             \
+  F(mat4, view_projection)                                                                        \
+  F(mat4, inverse_view_projection)                                                                \
+  /* the previous frame's view-projection of this view, for points relative to this frame's       \
+     camera */                                                                                    \
+  F(mat4, previous_view_projection)                                                               \
+  /* xyz: the eye, camera-relative (0 for the frame's camera) */                                  \
+  F(vec4, eye)                                                                                    \
+  /* width, height, 1/width, 1/height */                                                          \
+  F(vec4, viewport)                                                                               \
+  /* znear, yfov, aspect */                                                                       \
+  F(vec4, projection_params)
+NC_STRUCT(GpuView, NC_GPU_VIEW_FIELDS)
+
 #define NC_GPU_FRAME_CONSTANTS_FIELDS(F, A, P)                                                  \
-  /* world orientation only: the camera sits at the origin */                                   \
-  F(mat4, view)                                                                                 \
-  /* reversed-Z, infinite far plane, Y flipped for Vulkan */                                    \
-  F(mat4, projection)                                                                           \
-  F(mat4, view_projection)                                                                      \
-  F(mat4, inverse_view_projection)                                                              \
-  /* previous camera, for points relative to the current one */                                 \
-  F(mat4, previous_view_projection)                                                             \
-  /* world position (float, informational) */                                                   \
+  /* the world position of the camera-relative origin (float, informational) */                 \
   F(vec4, camera_world)                                                                         \
-  /* width, height, 1/width, 1/height */                                                        \
-  F(vec4, viewport)                                                                             \
   /* xyz: the way sunlight travels; w: 1 when there is a sun */                                 \
   F(vec4, sun_direction)                                                                        \
   /* rgb × illuminance */                                                                      \
   F(vec4, sun_radiance)                                                                         \
-  /* znear, yfov, aspect */                                                                     \
-  F(vec4, projection_params)                                                                    \
   /* seconds since frame 0, seconds since the previous frame */                                 \
   F(vec4, timing)                                                                               \
   /* light count, frame index, 1 on a camera cut, lights dropped (lighting nothing visible) */  \
@@ -67,8 +77,9 @@ NC_STRUCT(GpuLight, NC_GPU_LIGHT_FIELDS)
   F(uint, instance)                                                                             \
   /* 1: the transform has a negative determinant, so front faces wind clockwise */              \
   F(uint, mirrored)                                                                             \
-  /* std430 aligns position_origin to 16 bytes, glm::vec4 to 4 */                               \
-  P(uint, pad)                                                                                  \
+  /* the index in the pass's view list (frame.views for the camera) of the view it is drawn     \
+     from */                                                                                    \
+  F(uint, view)                                                                                 \
   /* The box scene.geometry's positions are quantised in: origin + step · q, q in [0, 65535]³ \
      (xyz; see vertex_streams.h). */                                                            \
   F(vec4, position_origin)                                                                      \

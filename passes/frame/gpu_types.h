@@ -7,7 +7,8 @@
 
 namespace nightcap {
 
-static_assert(sizeof(GpuFrameConstants) == 5 * 64 + 8 * 16);
+static_assert(sizeof(GpuView) == 5 * 64 + 3 * 16);
+static_assert(sizeof(GpuFrameConstants) == 6 * 16);
 static_assert(sizeof(GpuLight) == 80);
 static_assert(sizeof(GpuDraw) == 256);
 static_assert(sizeof(GpuDecal) == 192);
@@ -23,8 +24,9 @@ inline bool same_batch(const GpuDraw& a, const GpuDraw& b) {
 // Texture slots of GpuMaterial, in order.
 enum MaterialTexture : uint32_t { base_color = 0, metallic_roughness, normal, occlusion, emissive, count };
 
-// How frame.constants, frame.lights and the draws.* lists decode (PassDecl::layout).
+// How frame.constants, frame.views, frame.lights and the draws.* lists decode (PassDecl::layout).
 BufferSchema frame_constants_schema();
+BufferSchema view_schema();
 BufferSchema light_schema();
 BufferSchema draw_schema();
 BufferSchema decal_schema();

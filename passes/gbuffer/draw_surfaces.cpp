@@ -28,7 +28,8 @@ void draw_surfaces(PassContext& ctx, const std::string& draws) {
 
 PassDecl surface_pass(std::string name, const std::string& draws) {
   return PassDecl(std::move(name), PassType::graphics)
-      .read("frame.constants", Use::uniform_buffer)
+      .read("frame.views", Use::storage_read)
+      .as("views")
       .read("scene.geometry", Use::storage_read)
       .read("scene.geometry", Use::index_buffer)
       .read(draws, Use::storage_read)

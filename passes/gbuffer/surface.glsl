@@ -4,8 +4,8 @@
 #include "../frame/half.glsl"
 #include "../frame/types.glsl"
 
-layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
 layout(std430, set = 0, binding = NC_BINDING(draws)) readonly buffer DrawBlock { GpuDraw draws[]; };
+#include "../frame/views.glsl"
 layout(std430, set = 0, binding = NC_BINDING(scene_materials)) readonly buffer MaterialBlock { GpuMaterial materials[]; };
 layout(set = 0, binding = NC_BINDING(scene_texture)) uniform sampler2D base_color_map;
 layout(set = 0, binding = NC_BINDING(scene_texture) + 1) uniform sampler2D metallic_roughness_map;
@@ -95,9 +95,10 @@ void write_gbuffer(vec3 previous_position) {
   out_material = vec4(clamp(metallic, 0.0, 1.0), clamp(roughness, 0.0, 1.0), m.extra.y,
                       clamp(log2(1.0 + luminance) / 16.0, 0.0, 1.0));
 
-  vec4 previous = frame.previous_view_projection * vec4(previous_position, 1.0);
+  GpuView view = views[draws[in_draw].view];
+  vec4 previous = view.previous_view_projection * vec4(previous_position, 1.0);
   vec2 previous_uv = previous.xy / previous.w * 0.5 + 0.5;
-  vec2 current_uv = gl_FragCoord.xy * frame.viewport.zw;
+  vec2 current_uv = gl_FragCoord.xy * view.viewport.zw;
   out_motion = nearest_half(current_uv - previous_uv);
   out_emissive = emitted;
 }

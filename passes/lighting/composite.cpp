@@ -8,7 +8,7 @@
 // sky.aerial_perspective (lighting.lit only). Where nothing was drawn, the sky: sky.view's
 // radiance by the pixel's view direction with a record, the constant `sky` otherwise (no
 // directional light, the sky switched off, or a frame without the sky's passes). The sky's
-// resources and frame.constants are optional inputs, read together. The indirect terms of frame.md
+// resources, frame.constants and frame.views are optional inputs, read together. The indirect terms of frame.md
 // join as optional inputs, each read when its pass is in the frame: ao.bent's visibility (alpha,
 // sampled bilinearly: AO may be half size) darkens the indirect terms, as the material's own
 // occlusion (gbuffer.occlusion) does. SSR, probes, the GI volume
@@ -44,6 +44,7 @@ PassDecl lighting_composite_pass() {
       .read("gbuffer.occlusion", Use::sampled)
       .read("scene.depth", Use::sampled)
       .read_optional("frame.constants", Use::uniform_buffer)
+      .read_optional("frame.views", Use::uniform_buffer)
       .read_optional("sky.atmosphere", Use::uniform_buffer)
       .read_optional("sky.view", Use::sampled)
       .sampler("sky.view", bilinear_clamp_sampler())

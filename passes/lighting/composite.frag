@@ -15,10 +15,12 @@ layout(set = 0, binding = NC_BINDING(scene_depth)) uniform sampler2D depth_map;
 layout(set = 0, binding = NC_BINDING(ao)) uniform sampler2D ao_map;  // ao.bent; alpha: the visibility
 #endif
 
-#if defined(NC_BINDING_sky_view) && defined(NC_BINDING_sky_atmosphere) && defined(NC_BINDING_frame_constants)
+#if defined(NC_BINDING_sky_view) && defined(NC_BINDING_sky_atmosphere) && defined(NC_BINDING_frame_constants) && \
+    defined(NC_BINDING_frame_views)
 #define NC_SKY_VIEW
 #include "../sky/atmosphere.glsl.h"
 layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+#include "../frame/camera.glsl"
 layout(std140, set = 0, binding = NC_BINDING(sky_atmosphere)) uniform AtmosphereBlock { GpuAtmosphere atmosphere; };
 layout(set = 0, binding = NC_BINDING(sky_view)) uniform sampler2D sky_view_lut;
 #ifdef NC_BINDING_sky_aerial_perspective
@@ -47,15 +49,15 @@ layout(push_constant) uniform CompositeConstants { NC_BLOCK_MEMBERS(NC_COMPOSITE
 
 // The view ray through a pixel, camera-relative.
 vec3 view_ray(vec2 pixel_centre) {
-  vec2 ndc = pixel_centre * frame.viewport.zw * 2.0 - 1.0;
-  vec4 near_point = frame.inverse_view_projection * vec4(ndc, 1.0, 1.0);
-  return normalize(near_point.xyz / near_point.w);
+  vec2 ndc = pixel_centre * camera.viewport.zw * 2.0 - 1.0;
+  vec4 near_point = camera.inverse_view_projection * vec4(ndc, 1.0, 1.0);
+  return normalize(near_point.xyz / near_point.w - camera.eye.xyz);
 }
 
 // The camera-relative position drawn at `pixel`, from its depth.
 vec3 position_at(ivec2 pixel, float depth) {
-  vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
-  vec4 p = frame.inverse_view_projection * vec4(ndc, depth, 1.0);
+  vec2 ndc = (vec2(pixel) + 0.5) * camera.viewport.zw * 2.0 - 1.0;
+  vec4 p = camera.inverse_view_projection * vec4(ndc, depth, 1.0);
   return p.xyz / p.w;
 }
 #endif
@@ -68,9 +70,9 @@ vec3 position_at(ivec2 pixel, float depth) {
 // first slice); the volume holds each figure per km of its slice's length.
 vec3 through_air(vec3 radiance, vec3 position) {
   float slices = float(textureSize(aerial_volume, 0).z);
-  float distance_km = length(position) * 1e-3;
+  float distance_km = length(position - camera.eye.xyz) * 1e-3;
   float slice = slices * sqrt(distance_km / kSkyAerialDistanceKm) - 1.0;
-  vec3 uvw = vec3(gl_FragCoord.xy * frame.viewport.zw, (max(slice, 0.0) + 0.5) / slices);
+  vec3 uvw = vec3(gl_FragCoord.xy * camera.viewport.zw, (max(slice, 0.0) + 0.5) / slices);
   vec4 air = textureLod(aerial_volume, uvw, 0.0);
   return radiance * exp(-air.a * distance_km) + air.rgb * distance_km;
 }
@@ -116,7 +118,7 @@ struct Indirect {
 // below the surface's geometric plane is cut, Jimenez et al. 2016).
 Indirect image_based(ivec2 pixel, float depth, vec3 position, vec3 albedo, float metallic, float roughness,
                      float visibility) {
-  vec3 v = normalize(-position);
+  vec3 v = normalize(camera.eye.xyz - position);
   vec3 n = normalize(texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0);
   float n_v = clamp(dot(n, v), 1e-4, 1.0);
   // The lobe's dominant direction, between the reflection and the normal as roughness grows

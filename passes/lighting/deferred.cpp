@@ -22,6 +22,7 @@ PassDecl lighting_deferred_pass() {
   ImageDecl hdr{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour};
   return PassDecl("lighting.deferred", PassType::graphics)
       .read("frame.constants", Use::uniform_buffer)
+      .read("frame.views", Use::uniform_buffer)
       .read("frame.lights", Use::storage_read)
       .read("gbuffer.albedo", Use::sampled)
       .read("gbuffer.normal", Use::sampled)

@@ -6,6 +6,7 @@
 #include "deferred.glsl.h"
 
 layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+#include "../frame/camera.glsl"
 layout(std430, set = 0, binding = NC_BINDING(frame_lights)) readonly buffer LightBlock { GpuLight lights[]; };
 layout(set = 0, binding = NC_BINDING(gbuffer_albedo)) uniform sampler2D albedo_map;
 layout(set = 0, binding = NC_BINDING(gbuffer_normal)) uniform sampler2D normal_map;
@@ -41,10 +42,10 @@ void main() {
   vec4 albedo_flags = texelFetch(albedo_map, pixel, 0);
   if (depth <= 0.0 || albedo_flags.a > 0.0) return;  // sky, or unlit (composite adds it)
 
-  vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
-  vec4 p = frame.inverse_view_projection * vec4(ndc, depth, 1.0);
+  vec2 ndc = (vec2(pixel) + 0.5) * camera.viewport.zw * 2.0 - 1.0;
+  vec4 p = camera.inverse_view_projection * vec4(ndc, depth, 1.0);
   vec3 position = p.xyz / p.w;  // camera-relative world
-  vec3 v = normalize(-position);
+  vec3 v = normalize(camera.eye.xyz - position);
   vec3 n = normalize(texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0);
   vec4 material = texelFetch(material_map, pixel, 0);
   vec3 albedo = albedo_flags.rgb;

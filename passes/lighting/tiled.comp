@@ -35,6 +35,7 @@ layout(constant_id = 2) const int LOCAL_MOMENTS = 4;
 layout(local_size_x = kLightingTile, local_size_y = kLightingTile) in;
 
 layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+#include "../frame/camera.glsl"
 layout(std430, set = 0, binding = NC_BINDING(frame_lights)) readonly buffer LightBlock { GpuLight lights[]; };
 layout(set = 0, binding = NC_BINDING(gbuffer_albedo)) uniform sampler2D albedo_map;
 layout(set = 0, binding = NC_BINDING(gbuffer_normal)) uniform sampler2D normal_map;
@@ -62,7 +63,7 @@ layout(constant_id = 0) const uint phase = 0u;  // one pipeline per phase (tiled
 
 layout(push_constant) uniform TiledConstants { NC_BLOCK_MEMBERS(NC_TILED_CONSTANTS_FIELDS) };
 
-bool inside(ivec2 pixel) { return all(lessThan(pixel, ivec2(frame.viewport.xy))); }
+bool inside(ivec2 pixel) { return all(lessThan(pixel, ivec2(camera.viewport.xy))); }
 
 // Sky, or unlit (lighting.composite adds emission): nothing to shade.
 bool shaded(ivec2 pixel) {
@@ -74,7 +75,7 @@ bool shaded(ivec2 pixel) {
 // float expressions), which float rounding of the logarithm could otherwise miss by one.
 uint pixel_slice(float depth) {
   int slices = int(max(cluster_stats.slices, 1u));
-  float znear = frame.projection_params.x;
+  float znear = camera.projection_params.x;
   float far = max(cluster_stats.max_distance, 2.0 * znear);
   float step = log2(far / znear) / float(slices);
   int k = clamp(int(floor(log2(depth / znear) / step)), 0, slices - 1);
@@ -325,10 +326,10 @@ void shade_tube(GpuLight light, Surface s, Lobe lobe, inout vec3 diffuse, inout 
 float contact_shadow(vec3 position, vec3 l) {
   float step_length = contact_length / float(max(contact_steps, 1u));
   for (uint i = 1u; i <= contact_steps; ++i) {
-    vec4 clip = frame.view_projection * vec4(position + l * (step_length * float(i)), 1.0);
+    vec4 clip = camera.view_projection * vec4(position + l * (step_length * float(i)), 1.0);
     if (clip.w <= 0.0) break;  // behind the camera
-    vec2 screen = (clip.xy / clip.w * 0.5 + 0.5) * frame.viewport.xy;
-    if (any(lessThan(screen, vec2(0.0))) || any(greaterThanEqual(screen, frame.viewport.xy))) break;
+    vec2 screen = (clip.xy / clip.w * 0.5 + 0.5) * camera.viewport.xy;
+    if (any(lessThan(screen, vec2(0.0))) || any(greaterThanEqual(screen, camera.viewport.xy))) break;
     float in_front = clip.w - texelFetch(linear_depth_map, ivec2(screen), 0).r;
     if (in_front > 0.5 * step_length + 1e-3 * clip.w && in_front < contact_thickness) return 0.0;
   }
@@ -359,11 +360,11 @@ void shade_tiles(uint tile_class) {
     return;
   }
 
-  vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
-  vec4 p = frame.inverse_view_projection * vec4(ndc, depth, 1.0);
+  vec2 ndc = (vec2(pixel) + 0.5) * camera.viewport.zw * 2.0 - 1.0;
+  vec4 p = camera.inverse_view_projection * vec4(ndc, depth, 1.0);
   Surface s;
   s.position = p.xyz / p.w;  // camera-relative world
-  s.v = normalize(-s.position);
+  s.v = normalize(camera.eye.xyz - s.position);
   s.n = normalize(texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0);
   vec4 material = texelFetch(material_map, pixel, 0);
   s.albedo = albedo_flags.rgb;

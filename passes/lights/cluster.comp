@@ -44,6 +44,7 @@ layout(constant_id = 1) const uint kTile = 32u;  // pixels on a side of a tile
 layout(constant_id = 2) const uint phase = 0u;   // one pipeline per phase (cluster.cpp says why)
 
 layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+#include "../frame/camera.glsl"
 layout(std430, set = 0, binding = NC_BINDING(frame_lights)) readonly buffer LightBlock { GpuLight lights[]; };
 layout(set = 0, binding = NC_BINDING(depth_pyramid)) uniform sampler2D pyramid;
 layout(set = 0, binding = NC_BINDING(lights_clusters), rg32ui) uniform uimage3D clusters;
@@ -127,8 +128,8 @@ bool reaches(uint j, vec3 lo, vec3 hi) {
 // The lateral extent per metre of depth of the pixels [first, last): x in [extent.x, extent.z]·d,
 // y in [extent.y, extent.w]·d.
 vec4 screen_extent(vec2 first, vec2 last) {
-  vec2 ndc0 = first / frame.viewport.xy * 2.0 - 1.0, ndc1 = last / frame.viewport.xy * 2.0 - 1.0;
-  float sx = 1.0 / frame.projection[0][0], sy = -1.0 / frame.projection[1][1];
+  vec2 ndc0 = first / camera.viewport.xy * 2.0 - 1.0, ndc1 = last / camera.viewport.xy * 2.0 - 1.0;
+  float sx = 1.0 / camera.projection[0][0], sy = -1.0 / camera.projection[1][1];
   return vec4(ndc0.x * sx, -ndc1.y * sy, ndc1.x * sx, -ndc0.y * sy);
 }
 
@@ -142,7 +143,7 @@ uint light_core(uint i, out vec3 a, out vec3 b, out float r) {
   if (uint(light.position_type.w) == kLightDirectional) return kNone;
   float range = light.color_range.w;
   if (range <= 0.0) return kEverywhere;
-  mat3 view = mat3(frame.view);
+  mat3 view = mat3(camera.view);
   a = view * light.position_type.xyz;
   b = uint(light.position_type.w) == kLightTube ? view * light.end_radius.xyz : a;
   r = range + exp2(-12.0) * (range + max(length(a), length(b)));
@@ -162,7 +163,7 @@ void build_block_list() {
       vec2 d = texelFetch(pyramid, min(ivec2(x, y), level_size - 1), pyramid_level).rg;
       depth_range = vec2(min(depth_range.x, d.x), max(depth_range.y, d.y));
     }
-  vec2 first = vec2(first_tile * kTile), last = min(vec2(end_tile * kTile), frame.viewport.xy);
+  vec2 first = vec2(first_tile * kTile), last = min(vec2(end_tile * kTile), camera.viewport.xy);
   vec3 lo, hi;
   cell_box(screen_extent(first, last), depth_range.x, depth_range.y, lo, hi);
 
@@ -211,7 +212,7 @@ void build_lists() {
   ivec2 level_size = textureSize(pyramid, pyramid_level);
   vec2 depth_range = texelFetch(pyramid, min(ivec2(tile), level_size - 1), pyramid_level).rg;
 
-  float znear = frame.projection_params.x;
+  float znear = camera.projection_params.x;
   float far = max(max_distance, 2.0 * znear);
   float step = log2(far / znear) / float(kSlices);
   float near = slice == 0u ? 0.0 : znear * exp2(float(slice) * step);
@@ -220,7 +221,7 @@ void build_lists() {
   deep = min(deep, depth_range.y);
   bool occupied = near <= deep;
 
-  vec2 first = vec2(tile * kTile), last = min(vec2((tile + 1u) * kTile), frame.viewport.xy);
+  vec2 first = vec2(tile * kTile), last = min(vec2((tile + 1u) * kTile), camera.viewport.xy);
   vec4 extent = screen_extent(first, last);
   // The tile's side planes through the camera, normals inward.
   vec3 planes[4] = vec3[4](normalize(vec3(1.0, 0.0, extent.x)), normalize(vec3(0.0, 1.0, extent.y)),

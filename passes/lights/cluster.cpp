@@ -79,6 +79,7 @@ PassDecl lights_cluster_pass() {
   clusters.depth_param = "slices";
   return PassDecl("lights.cluster", PassType::compute)
       .read("frame.constants", Use::uniform_buffer)
+      .read("frame.views", Use::uniform_buffer)
       .read("frame.lights", Use::storage_read)
       .read("depth.pyramid", Use::sampled)
       .write("lights.clusters", Use::storage_write, clusters)

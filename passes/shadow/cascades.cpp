@@ -25,7 +25,6 @@ PassDecl shadow_cascades_pass() {
   map.layers = kShadowCascades;
   map.clear.depthStencil = {1.0f, 0};
   return PassDecl("shadow.cascades", PassType::graphics)
-      .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
       .read("draws.shadow.cascades", Use::storage_read)
       .as("draws")

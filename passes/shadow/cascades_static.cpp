@@ -19,7 +19,6 @@ namespace nightcap {
 
 PassDecl shadow_cascades_static_pass() {
   return PassDecl("shadow.cascades_static", PassType::graphics)
-      .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
       .read("draws.shadow.cascades", Use::storage_read)
       .as("draws")

@@ -27,7 +27,6 @@ namespace nightcap {
 
 PassDecl shadow_distant_pass() {
   return PassDecl("shadow.distant", PassType::graphics)
-      .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
       .read("draws.shadow.distant", Use::storage_read)
       .as("draws")

@@ -1,6 +1,6 @@
 #version 460
 // shadow.distant: a static caster's vertex in the light clip space of the level being drawn.
-#include "../frame/geometry.glsl"
+#include "../frame/vertex_pull.glsl"
 #include "caster_draw.glsl.h"
 #include "shadow_layout.glsl.h"
 

@@ -22,7 +22,6 @@ PassDecl shadow_local_pass() {
   map.size.mode = SizeRule::Mode::like;
   map.size.like = "shadow.local_static";
   return PassDecl("shadow.local", PassType::graphics)
-      .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
       .read("draws.shadow.local", Use::storage_read)
       .as("draws")

@@ -1,7 +1,7 @@
 #version 460
 // shadow.local and shadow.local_static: a caster's vertex (its draw relative to the spot light)
 // in the clip space of the cache slot's map being drawn.
-#include "../frame/geometry.glsl"
+#include "../frame/vertex_pull.glsl"
 #include "caster_draw.glsl.h"
 #include "local_layout.glsl.h"
 

@@ -16,7 +16,6 @@ namespace nightcap {
 
 PassDecl shadow_local_static_pass() {
   return PassDecl("shadow.local_static", PassType::graphics)
-      .read("frame.constants", Use::uniform_buffer)
       .read("scene.geometry", Use::storage_read)
       .read("draws.shadow.local", Use::storage_read)
       .as("draws")

@@ -24,6 +24,7 @@ layout(constant_id = 0) const int FILTER_RADIUS = 1;
 layout(constant_id = 1) const int CHECK_TILES = 1;
 
 layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+#include "../frame/camera.glsl"
 layout(std140, set = 0, binding = NC_BINDING(shadow_cascade_data)) uniform CascadeBlock { GpuShadowCascades cascades; };
 layout(set = 0, binding = NC_BINDING(scene_depth)) uniform sampler2D depth_map;
 layout(set = 0, binding = NC_BINDING(gbuffer_normal)) uniform sampler2D normal_map;
@@ -104,12 +105,12 @@ bool cascade_holds(int k, vec3 position, bool own) {
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(pixel, ivec2(frame.viewport.xy)))) return;
+  if (any(greaterThanEqual(pixel, ivec2(camera.viewport.xy)))) return;
   float depth = texelFetch(depth_map, pixel, 0).r;
-  vec2 ndc = (vec2(pixel) + 0.5) * frame.viewport.zw * 2.0 - 1.0;
-  vec4 p = frame.inverse_view_projection * vec4(ndc, max(depth, 1e-30), 1.0);
+  vec2 ndc = (vec2(pixel) + 0.5) * camera.viewport.zw * 2.0 - 1.0;
+  vec4 p = camera.inverse_view_projection * vec4(ndc, max(depth, 1e-30), 1.0);
   vec3 position = p.xyz / p.w;  // camera-relative world, as lighting.tiled finds it
-  float view_depth = frame.projection_params.x / max(depth, 1e-30);
+  float view_depth = camera.projection_params.x / max(depth, 1e-30);
   uint cascade = (view_depth > cascades.splits.x ? 1u : 0u) + (view_depth > cascades.splits.y ? 1u : 0u) +
                  (view_depth > cascades.splits.z ? 1u : 0u);
   vec3 n = texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0;

@@ -24,6 +24,7 @@ PassDecl shadow_sun_resolve_pass() {
   sun.clear.color = {{1.0f, 1.0f, 0.0f, 0.0f}};
   return PassDecl("shadow.sun_resolve", PassType::compute)
       .read("frame.constants", Use::uniform_buffer)
+      .read("frame.views", Use::uniform_buffer)
       .read("shadow.cascade_data", Use::uniform_buffer)
       .read("scene.depth", Use::sampled)
       .read("gbuffer.normal", Use::sampled)

@@ -16,6 +16,7 @@
 layout(local_size_x = kSkyGroupSide, local_size_y = kSkyGroupSide) in;
 
 layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
+#include "../frame/camera.glsl"
 layout(std140, set = 0, binding = NC_BINDING(sky_atmosphere)) uniform AtmosphereBlock { GpuAtmosphere atmosphere; };
 layout(set = 0, binding = NC_BINDING(sky_transmittance)) uniform sampler2D transmittance_lut;
 layout(set = 0, binding = NC_BINDING(sky_multiscattering)) uniform sampler2D multiscattering_lut;
@@ -37,7 +38,7 @@ void main() {
   }
   // The view ray through the texel's centre on the screen, world-oriented (y the zenith).
   vec2 ndc = (vec2(texel) + 0.5) / vec2(size.xy) * 2.0 - 1.0;
-  vec4 near_point = frame.inverse_view_projection * vec4(ndc, 1.0, 1.0);
+  vec4 near_point = camera.inverse_view_projection * vec4(ndc, 1.0, 1.0);
   vec3 direction = normalize(near_point.xyz / near_point.w);
   ViewRay ray = view_ray_from(camera_height_km(atmosphere.light.w), direction, -frame.sun_direction.xyz);
   // A ray into the planet stops at its surface: the slices beyond hold the air up to it.

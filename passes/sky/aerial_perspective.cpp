@@ -21,6 +21,7 @@ PassDecl sky_aerial_perspective_pass() {
   volume.size.height_param = "height";
   volume.depth_param = "slices";
   return sky_march_pass("sky.aerial_perspective")
+      .read("frame.views", Use::uniform_buffer)
       .write("sky.aerial_perspective", Use::storage_write, volume)
       .param_int("width", 32, 2, 1024, "texels across the screen")
       .param_int("height", 32, 2, 1024, "texels down the screen")

@@ -44,6 +44,8 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   std::map<std::string, nc::IsolatedInput> inputs = nc::recorded_pass(frame, "lighting.deferred").inputs;
   nc::GpuFrameConstants constants;
   std::memcpy(&constants, inputs.at("frame.constants").bytes->data(), sizeof(constants));
+  nc::GpuView camera;
+  std::memcpy(&camera, inputs.at("frame.views").bytes->data(), sizeof(camera));
   const auto& light_bytes = *inputs.at("frame.lights").bytes;
   std::vector<nc::GpuLight> tubes;
   for (size_t offset = 0; offset + sizeof(nc::GpuLight) <= light_bytes.size(); offset += sizeof(nc::GpuLight)) {
@@ -87,7 +89,7 @@ void bench_tube_samples(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
       std::memcpy(&normal_word, normal.data() + 4 * t, 4);
       std::memcpy(&device_depth, depth.data() + 4 * t, 4);
       if (device_depth <= 0 || (albedo_word >> 30) != 0) continue;  // sky or unlit: not shaded
-      const ref::Surface s = ref::make_surface(ref::reconstruct_position(constants, x, y, device_depth), normal_word,
+      const ref::Surface s = ref::make_surface(ref::reconstruct_position(camera, x, y, device_depth), normal_word,
                                                albedo_word, material.data() + 4 * t, min_roughness);
       Sample sample{t, glm::dvec3(0.0)};
       for (const nc::GpuLight& tube : tubes) sample.diffuse += ref::Tube(s, tube, scale).diffuse();
@@ -156,6 +158,8 @@ void bench_tube_quality(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
   std::map<std::string, nc::IsolatedInput> inputs = nc::recorded_pass(frame, "lighting.tiled").inputs;
   nc::GpuFrameConstants constants;
   std::memcpy(&constants, inputs.at("frame.constants").bytes->data(), sizeof(constants));
+  nc::GpuView camera;
+  std::memcpy(&camera, inputs.at("frame.views").bytes->data(), sizeof(camera));
   std::vector<nc::GpuLight> lights(constants.counts.x);
   std::memcpy(lights.data(), inputs.at("frame.lights").bytes->data(), lights.size() * sizeof(nc::GpuLight));
   size_t tubes = 0;
@@ -197,7 +201,7 @@ void bench_tube_quality(nc::GpuDevice& gpu, uint32_t width, uint32_t height) {
       std::memcpy(&normal_word, normal.data() + 4 * t, 4);
       std::memcpy(&device_depth, depth.data() + 4 * t, 4);
       if (device_depth <= 0 || (albedo_word >> 30) != 0) continue;
-      const ref::Surface s = ref::make_surface(ref::reconstruct_position(constants, x, y, device_depth), normal_word,
+      const ref::Surface s = ref::make_surface(ref::reconstruct_position(camera, x, y, device_depth), normal_word,
                                                albedo_word, material.data() + 4 * t, min_roughness);
       Sample sample{t, glm::dvec3(0.0), glm::dvec3(0.0), glm::dot(s.n, s.v) >= std::cos(glm::radians(80.0))};
       for (const nc::GpuLight& light : lights) {

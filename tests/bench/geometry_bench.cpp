@@ -120,16 +120,16 @@ void bench_depth(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, u
   std::vector<uint8_t> depth_bytes(device_depth.size() * 5, 0);
   std::memcpy(depth_bytes.data(), device_depth.data(), device_depth.size() * 4);
   std::memcpy(depth_bytes.data() + device_depth.size() * 4, tags.data(), tags.size());
-  nc::GpuFrameConstants constants{};
-  constants.projection_params.x = 0.05f;
-  const nc::IsolatedInput constants_in = constants_input(constants);
+  nc::GpuView camera{};
+  camera.projection_params.x = 0.05f;
+  const nc::IsolatedInput camera_in = nc::record_input(camera);
   std::vector<double> times, wall;
   nc::IsolatedRun convert;
   for (int r = 0; r < 4; ++r) {  // the first run compiles the pipeline
     const double start = now_ms();
     convert = nc::run_isolated(
         gpu, cache, nc::depth_convert_pass(),
-        {{"frame.constants", constants_in},
+        {{"frame.views", camera_in},
          {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, nc::kinds::depth_stencil, width, height, depth_bytes)}},
         nc::depth_convert_pass().default_params(), width, height, nc::builtin_shaders());
     if (r > 0) wall.push_back(now_ms() - start);

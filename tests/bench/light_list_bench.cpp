@@ -59,8 +59,8 @@ void add_lights_in_view(nc::Scene& scene, uint32_t width, uint32_t height, int c
 // lights.cluster recorded (cluster_layout.h's formula: a pixel on a slice bound may land one
 // slice off the shader's, which moves the mean by nothing visible).
 double mean_list_per_pixel(const std::map<std::string, nc::IsolatedInput>& inputs, const nc::GpuClusterStats& stats) {
-  nc::GpuFrameConstants constants;
-  std::memcpy(&constants, inputs.at("frame.constants").bytes->data(), sizeof constants);
+  nc::GpuView camera;
+  std::memcpy(&camera, inputs.at("frame.views").bytes->data(), sizeof camera);
   const nc::IsolatedInput& clusters = inputs.at("lights.clusters");
   const auto& linear = *inputs.at("depth.linear").bytes;
   const auto& depth = *inputs.at("scene.depth").bytes;
@@ -77,7 +77,7 @@ double mean_list_per_pixel(const std::map<std::string, nc::IsolatedInput>& input
       std::memcpy(&albedo_word, albedo.data() + 4 * t, 4);
       std::memcpy(&metres, linear.data() + 4 * t, 4);
       if (device_depth <= 0 || (albedo_word >> 30) != 0) continue;
-      const uint32_t slice = nc::cluster_slice(metres, constants.projection_params.x, stats.max_distance, stats.slices);
+      const uint32_t slice = nc::cluster_slice(metres, camera.projection_params.x, stats.max_distance, stats.slices);
       const size_t froxel = (size_t(slice) * tiles.height + y / stats.tile_size) * tiles.width + x / stats.tile_size;
       uint32_t count;
       std::memcpy(&count, clusters.bytes->data() + 8 * froxel + 4, 4);
@@ -120,7 +120,7 @@ void bench_cluster(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width,
     }
     const nc::RenderedFrame captured = renderer.render_frame(uint32_t(repeats) + 1, true);
     std::map<std::string, nc::IsolatedInput> inputs;
-    for (const char* name : {"frame.constants", "frame.lights", "depth.pyramid"}) {
+    for (const char* name : {"frame.constants", "frame.views", "frame.lights", "depth.pyramid"}) {
       const nc::VersionData* v = captured.execution.final_version(name);
       inputs[name] = {v->desc, v->bytes};
     }

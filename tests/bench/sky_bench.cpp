@@ -345,8 +345,9 @@ void bench_sky(GpuDevice& gpu, PipelineCache& cache) {
         glm::lookAt(glm::vec3(0.0f), glm::vec3(std::cos(0.17f), -std::sin(0.17f), 0.4f), glm::vec3(0.0f, 1.0f, 0.0f));
     const glm::mat4 inverse_view_projection =
         glm::inverse(glm::perspective(glm::radians(70.0f), 16.0f / 9.0f, 0.1f, 1000.0f) * view_matrix);
-    GpuFrameConstants camera = frame;
+    GpuView camera{};
     camera.inverse_view_projection = inverse_view_projection;
+    GpuFrameConstants lit = frame;
     struct AirPoint {
       glm::dvec2 uv;
       double distance_km;
@@ -355,7 +356,7 @@ void bench_sky(GpuDevice& gpu, PipelineCache& cache) {
     };
     std::vector<AirPoint> air_points;
     constexpr double kRadiance = 10.0;  // the light's, of the order of the frame's sun
-    camera.sun_radiance = glm::vec4(float(kRadiance));
+    lit.sun_radiance = glm::vec4(float(kRadiance));
     while (air_points.size() < 400) {
       const glm::dvec2 uv(unit(rng), unit(rng));
       const double distance_km = 0.01 * std::pow(3000.0, unit(rng));
@@ -376,7 +377,8 @@ void bench_sky(GpuDevice& gpu, PipelineCache& cache) {
     for (const Setting& setting :
          std::vector<Setting>{{16, 16, 1}, {32, 32, 1}, {32, 32, 2}, {32, 32, 4}, {64, 64, 1}, {32, 64, 1}}) {
       const Timed t = run_timed(gpu, cache, sky_aerial_perspective_pass(),
-                                {{"frame.constants", constants_input(camera)},
+                                {{"frame.constants", constants_input(lit)},
+                                 {"frame.views", record_input(camera)},
                                  {"sky.atmosphere", atmosphere_in},
                                  {"sky.transmittance", lut_input(256, 64, transmittance_bytes)},
                                  {"sky.multiscattering", lut_input(32, 32, ms)}},

@@ -46,7 +46,7 @@ struct ClusterView {
   std::vector<std::array<double, 2>> tile_depth;  // per tile (row-major): pyramid min, max
 };
 
-inline ClusterView cluster_view(const GpuFrameConstants& frame, std::span<const uint8_t> pyramid,
+inline ClusterView cluster_view(const GpuView& frame, std::span<const uint8_t> pyramid,
                                 const ImageExtent& pyramid_extent, double max_distance, uint32_t tile = kClusterTile,
                                 uint32_t slices = kClusterSlices) {
   ClusterView v;

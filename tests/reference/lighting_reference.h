@@ -31,7 +31,7 @@ inline dvec3 decode_normal(uint32_t word) { return glm::normalize(decode_unorm10
 
 // The camera-relative position the pixel centre and its device depth stand for, through the
 // recorded inverse view-projection.
-inline dvec3 reconstruct_position(const GpuFrameConstants& frame, uint32_t x, uint32_t y, float depth) {
+inline dvec3 reconstruct_position(const GpuView& frame, uint32_t x, uint32_t y, float depth) {
   const double ndc_x = (x + 0.5) * double(frame.viewport.z) * 2.0 - 1.0;
   const double ndc_y = (y + 0.5) * double(frame.viewport.w) * 2.0 - 1.0;
   const glm::dvec4 p = glm::dmat4(frame.inverse_view_projection) * glm::dvec4(ndc_x, ndc_y, depth, 1.0);

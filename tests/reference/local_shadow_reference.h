@@ -1,6 +1,6 @@
 // A CPU reference for the spot lights' shadows (shadow.local_plan, shadow.local,
 // shadow.local_moments and lighting.tiled's lookup), shared by the unit test and the benchmark:
-// a pixel's surface point (from the depth, normal and constants lighting.tiled read) is lit when
+// a pixel's surface point (from the depth, normal and camera view lighting.tiled read) is lit when
 // the segment from it to the light meets none of the scene's opaque triangles (in double
 // precision, shadow_reference.h's triangles). The pass's visibility is lighting.diffuse with
 // the maps over lighting.diffuse of the same frame without them (shadow.local_plan.max_maps 0).
@@ -116,8 +116,8 @@ inline LocalComparison compare_local_shadow(const Scene& scene, const glm::dvec3
     return out;
   };
   const uint32_t width = shadowed.desc.extent.width, height = shadowed.desc.extent.height;
-  GpuFrameConstants constants{};
-  std::memcpy(&constants, inputs.at("frame.constants").bytes->data(), sizeof(constants));
+  GpuView camera{};
+  std::memcpy(&camera, inputs.at("frame.views").bytes->data(), sizeof(camera));
   const IsolatedInput &depth = inputs.at("scene.depth"), &normal = inputs.at("gbuffer.normal");
   const Light& light = scene.lights.at(0);
   const glm::dvec3 origin = light.position - eye, axis = glm::normalize(glm::dvec3(light.direction));
@@ -131,11 +131,11 @@ inline LocalComparison compare_local_shadow(const Scene& scene, const glm::dvec3
       const double z = texel(depth, i)[0], open_diffuse = texel(open, i)[0];
       if (z <= 0 || open_diffuse < 0.02 * brightest) continue;
       const double ndc_x = (x + 0.5) / width * 2 - 1, ndc_y = (y + 0.5) / height * 2 - 1;
-      const glm::dvec4 h = glm::dmat4(constants.inverse_view_projection) * glm::dvec4(ndc_x, ndc_y, z, 1.0);
+      const glm::dvec4 h = glm::dmat4(camera.inverse_view_projection) * glm::dvec4(ndc_x, ndc_y, z, 1.0);
       const glm::dvec3 p = glm::dvec3(h) / h.w;
       const auto nt = texel(normal, i);
       const glm::dvec3 n = glm::normalize(glm::dvec3(nt[0], nt[1], nt[2]) * 2.0 - 1.0);
-      const double view_depth = double(constants.projection_params.x) / z;
+      const double view_depth = double(camera.projection_params.x) / z;
       // Off the surface by 2 mm + 10⁻⁴ of the view depth, as shadow_reference.h's sun rays.
       auto ray_lit = [&](const glm::dvec3& at) {
         return !segment_blocked(triangles, at + n * (2e-3 + 1e-4 * view_depth), origin);

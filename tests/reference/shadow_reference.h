@@ -77,7 +77,7 @@ struct ShadowTriangles {
 // What shadow.sun_resolve read and wrote, decoded.
 struct ShadowView {
   uint32_t width = 0, height = 0;
-  GpuFrameConstants constants{};
+  GpuView camera{};
   GpuShadowCascades cascades{};
   IsolatedInput depth, normal, sun;
 
@@ -90,7 +90,7 @@ struct ShadowView {
       : depth(inputs.at("scene.depth")), normal(inputs.at("gbuffer.normal")), sun(sun_output) {
     width = sun.desc.extent.width;
     height = sun.desc.extent.height;
-    std::memcpy(&constants, inputs.at("frame.constants").bytes->data(), sizeof(constants));
+    std::memcpy(&camera, inputs.at("frame.views").bytes->data(), sizeof(camera));
     std::memcpy(&cascades, inputs.at("shadow.cascade_data").bytes->data(), sizeof(cascades));
   }
 
@@ -106,10 +106,10 @@ struct ShadowView {
     const double z = texel(depth, i)[0];
     if (z <= 0) return std::nullopt;
     const double nx = (x + 0.5) / width * 2 - 1, ny = (y + 0.5) / height * 2 - 1;
-    const glm::dvec4 p = glm::dmat4(constants.inverse_view_projection) * glm::dvec4(nx, ny, z, 1.0);
+    const glm::dvec4 p = glm::dmat4(camera.inverse_view_projection) * glm::dvec4(nx, ny, z, 1.0);
     const auto n = texel(normal, i);
     return Surface{glm::dvec3(p) / p.w, glm::normalize(glm::dvec3(n[0], n[1], n[2]) * 2.0 - 1.0),
-                   double(constants.projection_params.x) / z};
+                   double(camera.projection_params.x) / z};
   }
   uint32_t cascade_of(double view_depth) const {
     uint32_t c = 0;

@@ -32,14 +32,18 @@ TEST(BufferSchema, OffsetsAndTypesComeFromTheStruct) {
   EXPECT_EQ(type_name(field_named(draws, "stencil")), "u32");
   const BufferSchema constants = frame_constants_schema();
   EXPECT_EQ(constants.stride, sizeof(GpuFrameConstants));
-  EXPECT_EQ(type_name(field_named(constants, "viewport")), "vec4");
+  EXPECT_EQ(type_name(field_named(constants, "sun_direction")), "vec4");
+  const BufferSchema views = view_schema();
+  EXPECT_EQ(views.stride, sizeof(GpuView));
+  EXPECT_EQ(field_named(views, "viewport").offset, offsetof(GpuView, viewport));
+  EXPECT_EQ(field_named(draws, "view").offset, offsetof(GpuDraw, view));
   EXPECT_EQ(type_name(field_named(constants, "counts")), "uvec4");
   EXPECT_EQ(field_named(constants, "counts").offset, offsetof(GpuFrameConstants, counts));
   EXPECT_EQ(light_schema().stride, sizeof(GpuLight));
   // A schema generated from a struct's field list (gpu_layout.glsl.h) names every member in
-  // order but the padding (GpuDraw::pad).
-  for (const auto& [schema, padding] :
-       {std::pair{draws, 4u}, std::pair{constants, 0u}, std::pair{light_schema(), 0u}, std::pair{decal_schema(), 0u}}) {
+  // order but the padding.
+  for (const auto& [schema, padding] : {std::pair{draws, 0u}, std::pair{constants, 0u}, std::pair{views, 0u},
+                                        std::pair{light_schema(), 0u}, std::pair{decal_schema(), 0u}}) {
     uint32_t end = 0, bytes = 0;
     for (const SchemaField& f : schema.fields) {
       EXPECT_GE(f.offset, end) << f.name;
@@ -151,7 +155,9 @@ TEST_F(DrawListComparison, FloatsHoldToTheContractIntegersAndPaddingExactly) {
   EXPECT_TRUE(std::isinf(check.worst));
 
   set(0, offsetof(GpuDraw, instance), 0u);
-  set(0, offsetof(GpuDraw, pad), 5u);  // padding: not a field, still compared
+  // Bytes no field covers (padding) are still compared: the schema without `view` leaves a gap.
+  std::erase_if(record.schema->fields, [](const SchemaField& f) { return f.name == "view"; });
+  set(0, offsetof(GpuDraw, view), 5u);
   EXPECT_FALSE(check_contract(contract, record, a, record, b).holds);
   EXPECT_EQ(compare_resource(record, a, record, b).first_difference, "element 0 byte 220 outside the fields: 0 vs 5");
 }

@@ -366,6 +366,7 @@ class FrameConstants : public GpuTest {
  protected:
   struct Result {
     GpuFrameConstants constants{};
+    GpuView camera{};
     std::vector<GpuLight> lights;
   };
 
@@ -387,6 +388,9 @@ class FrameConstants : public GpuTest {
     const auto constants = records<GpuFrameConstants>(run_result.outputs.at("frame.constants"));
     EXPECT_EQ(constants.size(), 1u);
     if (!constants.empty()) r.constants = constants[0];
+    const auto views = records<GpuView>(run_result.outputs.at("frame.views"));
+    EXPECT_EQ(views.size(), 1u) << "frame.views holds the camera alone";
+    if (!views.empty()) r.camera = views[0];
     r.lights = records<GpuLight>(run_result.outputs.at("frame.lights"));
     return r;
   }
@@ -410,6 +414,7 @@ class FrameConstants : public GpuTest {
   static void check(const Scene& scene, const Camera& camera, const Camera& previous, uint32_t width, uint32_t height) {
     const Result r = build(scene, camera, previous, width, height, 7, true);
     const GpuFrameConstants& c = r.constants;
+    const GpuView& v = r.camera;
     const glm::dvec3 eye(camera.world[3]);
     // The view only rotates: the transpose of the camera's orthonormal basis.
     glm::dmat4 view(1.0);
@@ -422,19 +427,20 @@ class FrameConstants : public GpuTest {
     projection[1][1] = -f;
     projection[2][3] = -1.0;
     projection[3][2] = camera.znear;
-    expect_matrix(c.view, view, "view");
-    expect_matrix(c.projection, projection, "projection");
-    expect_matrix(c.view_projection, projection * view, "view_projection");
-    expect_matrix(c.inverse_view_projection, glm::inverse(projection * view), "inverse_view_projection");
+    expect_matrix(v.view, view, "view");
+    expect_matrix(v.projection, projection, "projection");
+    expect_matrix(v.view_projection, projection * view, "view_projection");
+    expect_matrix(v.inverse_view_projection, glm::inverse(projection * view), "inverse_view_projection");
     glm::dmat4 previous_view(1.0);
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) previous_view[j][i] = previous.world[i][j];
     const glm::dvec3 moved = eye - glm::dvec3(previous.world[3]);
-    expect_matrix(c.previous_view_projection, projection * previous_view * glm::translate(glm::dmat4(1.0), moved),
+    expect_matrix(v.previous_view_projection, projection * previous_view * glm::translate(glm::dmat4(1.0), moved),
                   "previous_view_projection");
     for (int k = 0; k < 3; ++k) EXPECT_EQ(c.camera_world[k], float(eye[k]));
-    EXPECT_EQ(c.viewport, glm::vec4(float(width), float(height), 1.0f / width, 1.0f / height));
-    EXPECT_EQ(c.projection_params, glm::vec4(camera.znear, camera.yfov, float(aspect), 0.0f));
+    EXPECT_EQ(v.eye, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f)) << "the camera's view stands at the origin";
+    EXPECT_EQ(v.viewport, glm::vec4(float(width), float(height), 1.0f / width, 1.0f / height));
+    EXPECT_EQ(v.projection_params, glm::vec4(camera.znear, camera.yfov, float(aspect), 0.0f));
     EXPECT_EQ(c.timing, glm::vec4(float(7 * kFrameSeconds), float(kFrameSeconds), 0.0f, 0.0f));
     EXPECT_EQ(c.counts.y, 7u);
     EXPECT_EQ(c.counts.z, 1u) << "frame 7 was built as a camera cut";

@@ -68,19 +68,12 @@ TEST_P(DepthConvert, MatchesTheDoubleReferenceWithinOneUlp) {
   std::vector<uint8_t> depth_bytes(pixels * 5, 0);
   std::memcpy(depth_bytes.data(), device.data(), pixels * 4);
 
-  GpuFrameConstants constants{};
-  constants.projection_params = {znear, 1.0f, 1.0f, 0.0f};
-  IsolatedInput frame;
-  frame.desc.is_buffer = true;
-  frame.desc.kind = kinds::buffer;
-  frame.desc.buffer_size = sizeof(constants);
-  auto constant_bytes = std::make_shared<std::vector<uint8_t>>(sizeof(constants));
-  std::memcpy(constant_bytes->data(), &constants, sizeof(constants));
-  frame.bytes = constant_bytes;
+  GpuView camera{};
+  camera.projection_params = {znear, 1.0f, 1.0f, 0.0f};
 
   const IsolatedRun result =
       run(depth_convert_pass(),
-          {{"frame.constants", frame},
+          {{"frame.views", record_input(camera)},
            {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil, width, height, depth_bytes)}},
           width, height, {{"sky_depth", sky_depth}});
   const std::vector<uint8_t>& out = *result.outputs.at("depth.linear");

@@ -71,17 +71,10 @@ Inputs crafted(uint32_t width, uint32_t height, bool all_sky) {
   return in;
 }
 
-IsolatedInput constants_input() {
-  GpuFrameConstants constants{};
-  constants.projection_params = {kZnear, 1.0f, 1.0f, 0.0f};
-  IsolatedInput frame;
-  frame.desc.is_buffer = true;
-  frame.desc.kind = kinds::buffer;
-  frame.desc.buffer_size = sizeof(constants);
-  auto bytes = std::make_shared<std::vector<uint8_t>>(sizeof(constants));
-  std::memcpy(bytes->data(), &constants, sizeof(constants));
-  frame.bytes = bytes;
-  return frame;
+IsolatedInput camera_input() {
+  GpuView camera{};
+  camera.projection_params = {kZnear, 1.0f, 1.0f, 0.0f};
+  return record_input(camera);
 }
 
 double half_ulp(double x) { return std::ldexp(1.0, std::max(std::ilogb(x), -14) - 10); }
@@ -100,7 +93,7 @@ TEST_P(DepthHalf, MatchesTheNearestTexelDownsample) {
 
   const IsolatedRun result =
       run(depth_convert_pass(),
-          {{"frame.constants", constants_input()},
+          {{"frame.views", camera_input()},
            {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil, width, height, depth_bytes)}},
           width, height, {{"sky_depth", kSkyDepth}});
   const reference::HalfDepthStencil expected =

@@ -103,9 +103,10 @@ class CompositeIbl : public GpuTest {
   static IsolatedRun composite(const Frame& f, bool multiple_scattering,
                                std::map<std::string, IsolatedInput> more_inputs = {}) {
     const size_t count = size_t(kSide) * kSide;
+    GpuView camera{};
+    camera.inverse_view_projection = glm::mat4(glm::inverse(projection()));
+    camera.viewport = glm::vec4(kSide, kSide, 1.0f / kSide, 1.0f / kSide);
     GpuFrameConstants constants{};
-    constants.inverse_view_projection = glm::mat4(glm::inverse(projection()));
-    constants.viewport = glm::vec4(kSide, kSide, 1.0f / kSide, 1.0f / kSide);
     constants.camera_world = glm::vec4(0.0f, 1.7f, 0.0f, 1.0f);
     constants.sun_direction = glm::vec4(0.0f, -1.0f, 0.0f, 1.0f);
     GpuSkyIrradiance irradiance{};
@@ -137,6 +138,7 @@ class CompositeIbl : public GpuTest {
          image(VK_FORMAT_B10G11R11_UFLOAT_PACK32, kinds::colour, kSide, kSide, std::vector<uint8_t>(count * 4, 0))},
         {"scene.depth", image(VK_FORMAT_D32_SFLOAT_S8_UINT, kinds::depth_stencil, kSide, kSide, f.depth)},
         {"frame.constants", record_input(constants)},
+        {"frame.views", record_input(camera)},
         {"sky.atmosphere", record_input(earth_atmosphere({}))},
         {"sky.view",
          image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::sky_lut, 192, 108, std::vector<uint8_t>(192 * 108 * 8, 0))},

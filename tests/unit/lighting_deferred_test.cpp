@@ -85,6 +85,7 @@ dvec3 at_cosine(const dvec3& d, double c, Random& random) {
 struct Inputs {
   uint32_t width = 64, height = 64;
   GpuFrameConstants frame{};
+  GpuView camera{};
   glm::dmat4 view_projection{1.0};
   std::vector<GpuLight> lights;
   std::vector<uint32_t> albedo, normal;
@@ -110,12 +111,12 @@ void set_camera(Inputs& in, const dvec3& forward, double yfov) {
   projection[2][3] = -1;
   projection[3][2] = znear;
   in.view_projection = projection * view;
-  in.frame.view = glm::mat4(view);
-  in.frame.projection = glm::mat4(projection);
-  in.frame.view_projection = glm::mat4(in.view_projection);
-  in.frame.inverse_view_projection = glm::mat4(glm::inverse(in.view_projection));
-  in.frame.viewport = {float(in.width), float(in.height), 1.0f / in.width, 1.0f / in.height};
-  in.frame.projection_params = {float(znear), float(yfov), float(aspect), 0};
+  in.camera.view = glm::mat4(view);
+  in.camera.projection = glm::mat4(projection);
+  in.camera.view_projection = glm::mat4(in.view_projection);
+  in.camera.inverse_view_projection = glm::mat4(glm::inverse(in.view_projection));
+  in.camera.viewport = {float(in.width), float(in.height), 1.0f / in.width, 1.0f / in.height};
+  in.camera.projection_params = {float(znear), float(yfov), float(aspect), 0};
 }
 
 dvec3 pixel_ray(const Inputs& in, uint32_t x, uint32_t y) {
@@ -215,6 +216,7 @@ class LightingDeferred : public GpuTest {
     const IsolatedRun run = GpuTest::run(
         lighting_deferred_pass(),
         {{"frame.constants", buffer(std::vector<GpuFrameConstants>{in.frame})},
+         {"frame.views", buffer(std::vector<GpuView>{in.camera})},
          {"frame.lights", buffer(lights)},
          {"gbuffer.albedo", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::colour, w, h, bytes_of(in.albedo))},
          {"gbuffer.normal", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::normal, w, h, bytes_of(in.normal))},
@@ -238,7 +240,7 @@ class LightingDeferred : public GpuTest {
 
 ref::Surface surface_at(const Inputs& in, uint32_t x, uint32_t y, double min_roughness) {
   const size_t i = size_t(y) * in.width + x;
-  return ref::make_surface(ref::reconstruct_position(in.frame, x, y, in.depth[i]), in.normal[i], in.albedo[i],
+  return ref::make_surface(ref::reconstruct_position(in.camera, x, y, in.depth[i]), in.normal[i], in.albedo[i],
                            &in.material[4 * i], min_roughness);
 }
 

@@ -84,10 +84,11 @@ IsolatedInput buffer(const std::vector<T>& values) {
   return input;
 }
 
-// The G-buffer, constants and lights a lighting pass reads, decoded.
+// The G-buffer, constants, camera and lights a lighting pass reads, decoded.
 struct Frame {
   uint32_t width = 0, height = 0;
   GpuFrameConstants constants{};
+  GpuView camera{};
   std::vector<GpuLight> lights;
   std::vector<uint32_t> albedo, normal;
   std::vector<uint8_t> material;
@@ -97,8 +98,8 @@ struct Frame {
   bool shaded(size_t i) const { return depth[i] > 0 && (albedo[i] >> 30) == 0; }
   ref::Surface surface(uint32_t x, uint32_t y) const {
     const size_t i = index(x, y);
-    return ref::make_surface(ref::reconstruct_position(constants, x, y, depth[i]), normal[i], albedo[i],
-                             &material[4 * i], kMinRoughness);
+    return ref::make_surface(ref::reconstruct_position(camera, x, y, depth[i]), normal[i], albedo[i], &material[4 * i],
+                             kMinRoughness);
   }
 };
 
@@ -109,6 +110,7 @@ Frame decode(const Inputs& in) {
   f.height = extent.height;
   const size_t n = size_t(f.width) * f.height;
   std::memcpy(&f.constants, in.at("frame.constants").bytes->data(), sizeof(f.constants));
+  std::memcpy(&f.camera, in.at("frame.views").bytes->data(), sizeof(f.camera));
   f.lights = records<GpuLight>(*in.at("frame.lights").bytes, f.constants.counts.x);
   f.albedo = records<uint32_t>(*in.at("gbuffer.albedo").bytes, n);
   f.normal = records<uint32_t>(*in.at("gbuffer.normal").bytes, n);
@@ -654,7 +656,7 @@ TEST_F(LightingTiled, SunContactShadowAgreesWithADoublePrecisionMarch) {
   const Inputs in = with_lights(r.inputs, lights);
   const Output off = shade(lighting_tiled_pass(), in, kNoContact);
   const std::vector<float> linear = records<float>(*in.at("depth.linear").bytes, size_t(f.width) * f.height);
-  const glm::dmat4 view_projection(f.constants.view_projection);
+  const glm::dmat4 view_projection(f.camera.view_projection);
   const dvec3 l = -glm::normalize(dvec3(glm::vec3(f.constants.sun_direction)));
   // The defaults, and a march long enough to reach across the street's kerbs and steps.
   size_t shadowed_by_default = 0;
@@ -682,7 +684,7 @@ TEST_F(LightingTiled, SunContactShadowAgreesWithADoublePrecisionMarch) {
         ++lit;
         const bool gpu = on.diffuse[4 * i + 1] == 0;
         EXPECT_TRUE(gpu || on.diffuse[4 * i + 1] == off.diffuse[4 * i + 1]) << "all or nothing at " << x << "," << y;
-        const bool cpu = march_occluded(ref::reconstruct_position(f.constants, x, y, f.depth[i]));
+        const bool cpu = march_occluded(ref::reconstruct_position(f.camera, x, y, f.depth[i]));
         shadowed += cpu;
         if (gpu != cpu && disagree++ == 0) where = std::to_string(x) + "," + std::to_string(y);
       }
@@ -799,7 +801,7 @@ TEST_F(LightingTiled, TileListsAgreeWithTheClasses) {
   const auto clusters = records<glm::uvec2>(*r.inputs.at("lights.clusters").bytes, 10 * 6 * 64);
   const auto indices = records<uint32_t>(*r.inputs.at("lights.cluster_indices").bytes, 1u << 20);
   const std::vector<float> linear = records<float>(*r.inputs.at("depth.linear").bytes, size_t(f.width) * f.height);
-  const double znear = f.constants.projection_params.x, far = 2000.0;
+  const double znear = f.camera.projection_params.x, far = 2000.0;
   const uint32_t tiles_x = (f.width + 15) / 16, tiles = tiles_x * ((f.height + 15) / 16);
   std::vector<uint32_t> lists[kLightingTileClasses + 1];
   for (uint32_t t = 0; t < tiles; ++t) {

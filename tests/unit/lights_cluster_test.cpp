@@ -49,6 +49,7 @@ const double kMarginalShare = 0.001;
 // What lights.cluster read and wrote in one frame.
 struct ClusterFrame {
   GpuFrameConstants frame{};
+  GpuView camera{};
   std::vector<GpuLight> lights;
   std::shared_ptr<const std::vector<uint8_t>> pyramid, clusters;
   ImageExtent pyramid_extent, cluster_extent;
@@ -81,6 +82,7 @@ ClusterFrame cluster_frame(const Versions& v, const ParamValues& params = {}) {
   const ParamValues all = resolve_params(lights_cluster_pass(), {{"lights.cluster", params}});
   ClusterFrame c;
   std::memcpy(&c.frame, v.at("frame.constants").second->data(), sizeof(c.frame));
+  std::memcpy(&c.camera, v.at("frame.views").second->data(), sizeof(c.camera));
   c.lights = records<GpuLight>(*v.at("frame.lights").second);
   c.lights.resize(c.frame.counts.x);  // an empty list is a 16-byte buffer on the GPU
   c.pyramid = v.at("depth.pyramid").second;
@@ -101,8 +103,8 @@ const std::vector<std::string> kClusterOutputs = {"lights.clusters", "lights.clu
 
 Versions frame_versions(const RenderedFrame& frame) {
   Versions v;
-  for (const std::string& name :
-       {std::string("frame.constants"), std::string("frame.lights"), std::string("depth.pyramid")})
+  for (const std::string& name : {std::string("frame.constants"), std::string("frame.views"),
+                                  std::string("frame.lights"), std::string("depth.pyramid")})
     if (const VersionData* d = frame.execution.final_version(name)) v[name] = {d->desc, d->bytes};
   for (const std::string& name : kClusterOutputs)
     if (const VersionData* d = frame.execution.final_version(name)) v[name] = {d->desc, d->bytes};
@@ -162,7 +164,7 @@ void check_marginal(const ref::ClusterView& view, const std::vector<ref::LightCo
 // the caps on their own).
 Comparison compare(const ClusterFrame& c, bool truly = true) {
   const ref::ClusterView view =
-      ref::cluster_view(c.frame, *c.pyramid, c.pyramid_extent, c.max_distance, c.tile, c.slices);
+      ref::cluster_view(c.camera, *c.pyramid, c.pyramid_extent, c.max_distance, c.tile, c.slices);
   EXPECT_EQ(c.cluster_extent.width, view.tiles_x);
   EXPECT_EQ(c.cluster_extent.height, view.tiles_y);
   EXPECT_EQ(c.cluster_extent.depth, c.slices);
@@ -335,13 +337,14 @@ class LightsCluster : public GpuTest {
         run(depth_pyramid_pass(),
             {{"depth.linear", image(VK_FORMAT_R32_SFLOAT, kinds::linear_depth, s.width, s.height, depth_bytes)}},
             s.width, s.height);
-    GpuFrameConstants frame{};
+    GpuView camera{};
     const double aspect = double(s.width) / s.height;
-    frame.view = glm::mat4(1.0f);
-    frame.projection = glm::mat4(reversed_z_projection(s.yfov, aspect, s.znear));
-    frame.view_projection = frame.projection;
-    frame.viewport = {float(s.width), float(s.height), 1.0f / s.width, 1.0f / s.height};
-    frame.projection_params = {float(s.znear), float(s.yfov), float(aspect), 0};
+    camera.view = glm::mat4(1.0f);
+    camera.projection = glm::mat4(reversed_z_projection(s.yfov, aspect, s.znear));
+    camera.view_projection = camera.projection;
+    camera.viewport = {float(s.width), float(s.height), 1.0f / s.width, 1.0f / s.height};
+    camera.projection_params = {float(s.znear), float(s.yfov), float(aspect), 0};
+    GpuFrameConstants frame{};
     frame.counts = {uint32_t(s.lights.size()), 0, 0, 0};
     auto buffer = [](const void* data, size_t bytes) {
       IsolatedInput in;
@@ -353,6 +356,7 @@ class LightsCluster : public GpuTest {
     };
     std::map<std::string, IsolatedInput> inputs;
     inputs["frame.constants"] = buffer(&frame, sizeof(frame));
+    inputs["frame.views"] = buffer(&camera, sizeof(camera));
     inputs["frame.lights"] = buffer(s.lights.data(), s.lights.size() * sizeof(GpuLight));
     inputs["depth.pyramid"] = {pyramid.output_descs.at("depth.pyramid"), pyramid.outputs.at("depth.pyramid")};
     const IsolatedRun result = run(lights_cluster_pass(), inputs, s.width, s.height, params);
@@ -687,7 +691,7 @@ TEST_F(LightsCluster, TenThousandLightsOverflowIsCountedNotSilent) {
   EXPECT_NE(st.entries_wanted, 0xffffffffu) << "no sum saturated";
 
   // Each list against the reference: a prefix of its conservative list (edge lights aside).
-  const ref::ClusterView view = ref::cluster_view(c.frame, *c.pyramid, c.pyramid_extent, c.max_distance);
+  const ref::ClusterView view = ref::cluster_view(c.camera, *c.pyramid, c.pyramid_extent, c.max_distance);
   std::vector<ref::LightCore> cores;
   for (const GpuLight& l : c.lights) cores.push_back(ref::light_core(view, l));
   bool cut_seen = false;

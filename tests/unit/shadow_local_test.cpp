@@ -222,8 +222,8 @@ TEST_F(LocalShadows, MomentReconstructionMatchesClosedForm) {
   ASSERT_EQ(shadowed.record.maps, 1u);
   ASSERT_FALSE(open.lighting.outputs.empty());
   const auto& inputs = shadowed.lighting.inputs;
-  GpuFrameConstants constants{};
-  std::memcpy(&constants, inputs.at("frame.constants").bytes->data(), sizeof constants);
+  GpuView camera{};
+  std::memcpy(&camera, inputs.at("frame.views").bytes->data(), sizeof camera);
   GpuLocalShadows data{};
   std::memcpy(&data, inputs.at("shadow.local_data").bytes->data(), sizeof data);
   ASSERT_EQ(data.counts.y, 4u) << "4 moments are the default";
@@ -282,7 +282,7 @@ TEST_F(LocalShadows, MomentReconstructionMatchesClosedForm) {
         const uint64_t i = uint64_t(y) * width + x;
         const double z = diffuse(depth, i), open_diffuse = diffuse(unshadowed, i);
         if (z <= 0.0 || open_diffuse < 0.002 * brightest) continue;
-        const glm::dvec4 h = glm::dmat4(constants.inverse_view_projection) *
+        const glm::dvec4 h = glm::dmat4(camera.inverse_view_projection) *
                              glm::dvec4((x + 0.5) / width * 2 - 1, (y + 0.5) / height * 2 - 1, z, 1.0);
         const glm::dvec4 p(glm::dvec3(h) / h.w, 1.0);
         const glm::dvec4 clip(glm::dot(glm::dvec4(data.clip_x[0]), p), glm::dot(glm::dvec4(data.clip_y[0]), p),

@@ -212,9 +212,11 @@ TEST_F(SkyTest, AerialPerspectiveMatchesADoubleRayMarch) {
       frame.sun_direction = glm::vec4(-glm::vec3(to_light), 1.0f);
       frame.sun_radiance = glm::vec4(float(kRadiance));
       frame.camera_world = glm::vec4(0.0f, height_m, 0.0f, 1.0f);
-      frame.inverse_view_projection = inverse_view_projection;
+      GpuView camera{};
+      camera.inverse_view_projection = inverse_view_projection;
       const IsolatedRun air = run(sky_aerial_perspective_pass(),
                                   {{"frame.constants", record_input(frame)},
+                                   {"frame.views", record_input(camera)},
                                    {"sky.atmosphere", atmosphere},
                                    {"sky.transmittance", luts.transmittance},
                                    {"sky.multiscattering", luts.multiscattering}},
