@@ -24,6 +24,12 @@ IsolatedInput record_input(const Record& record) {
   static_assert(std::is_trivially_copyable_v<Record>);
   return buffer_input({reinterpret_cast<const uint8_t*>(&record), sizeof record});
 }
+// One holding `records` back to back.
+template <typename Record>
+IsolatedInput records_input(std::span<const Record> records) {
+  static_assert(std::is_trivially_copyable_v<Record>);
+  return buffer_input({reinterpret_cast<const uint8_t*>(records.data()), records.size_bytes()});
+}
 
 struct IsolatedRun {
   std::shared_ptr<const std::vector<PassDecl>> declaration;  // the one pass graph.passes' decl names
