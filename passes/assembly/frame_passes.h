@@ -20,8 +20,8 @@ enum class FrameLighting { tiled, deferred };
 // put between two stages) calls the stages itself.
 std::vector<PassDecl> frame_passes(FrameLighting lighting = FrameLighting::tiled);
 // Each function adds a stage (PassDecl::stage) or two.
-// Frame constants and culling ("setup"), shadow maps ("shadows"), depth, G-buffer, decals and
-// what is derived from them ("geometry").
+// Frame constants and culling ("setup"), shadow maps ("shadows"), the reflection probes' captures
+// ("probes"), depth, G-buffer, decals and what is derived from them ("geometry").
 void add_scene_passes(std::vector<PassDecl>& passes);
 // "lighting": light lists, the sun's shadow mask, diffuse and specular light, and
 // lighting.composite's lit colour, lighting.lit.

@@ -9,15 +9,25 @@
 #include "passes/motion/stage.h"
 #include "passes/normals/stage.h"
 #include "passes/post/stage.h"
+#include "passes/probes/stage.h"
 #include "passes/shadow/stage.h"
 #include "passes/sky/stage.h"
 
 namespace nightcap {
 
 std::vector<std::string> frame_sinks() {
-  return {"final.ldr",           "normals.packed", "depth.pyramid",  "depth.half",      "stencil.half",
-          "motion.mask",         "cull.stats",     "cull.occlusion", "lights.clusters", "lights.cluster_indices",
-          "lights.cluster_stats"};
+  return {"final.ldr",
+          "normals.packed",
+          "depth.pyramid",
+          "depth.half",
+          "stencil.half",
+          "motion.mask",
+          "cull.stats",
+          "cull.occlusion",
+          "lights.clusters",
+          "lights.cluster_indices",
+          "lights.cluster_stats",
+          "probes.plan"};
 }
 
 namespace {
@@ -38,6 +48,7 @@ void add_scene_passes(std::vector<PassDecl>& passes) {
             {shadow_distant_plan_pass(), shadow_distant_pass(), shadow_cull_pass(), shadow_cascades_static_pass(),
              shadow_cascades_pass(), shadow_local_plan_pass(), shadow_local_static_pass(), shadow_local_pass(),
              shadow_local_moments_pass()});
+  add_stage(passes, "probes", {probes_plan_pass()});
   add_stage(passes, "geometry",
             {depth_prepass_pass(), gbuffer_opaque_pass(), gbuffer_dynamic_pass(), decals_normal_copy_pass(),
              decals_mesh_pass(), decals_projected_pass(), depth_convert_pass(), motion_stencil_pass(),

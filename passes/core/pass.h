@@ -152,7 +152,7 @@ struct SkipContext {
 struct PassDecl {
   std::string name;
   PassType type = PassType::graphics;
-  // The part of the frame it belongs to ("shadows", "geometry", "lighting", "post"), set by the
+  // The part of the frame it belongs to ("shadows", "probes", "geometry", "lighting", "post"), set by the
   // frame's assembly: the report's overview groups passes by it. Empty outside a frame.
   std::string stage;
   std::vector<ResourceUse> inputs, outputs;

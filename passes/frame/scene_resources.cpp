@@ -208,6 +208,18 @@ Imports scene_imports(const Scene& scene) {
   }
   imports["scene.decals"] = buffer(kinds::buffer, bytes_of(decals));
 
+  std::vector<ProbeRecord> probes;
+  for (const ReflectionProbe& p : scene.probes) {
+    ProbeRecord r{};
+    for (int k = 0; k < 3; ++k) {
+      r.position[k] = p.position[k];
+      r.box_min[k] = p.box_min[k];
+      r.box_max[k] = p.box_max[k];
+    }
+    probes.push_back(r);
+  }
+  imports["scene.probes"] = buffer(kinds::buffer, bytes_of(probes));
+
   std::vector<uint32_t> tod;
   if (!scene.tod_visible.empty()) {
     const TodRecordHeader header{float(scene.tod_hour), uint32_t(scene.tod_visible.size())};

@@ -67,6 +67,11 @@ struct DecalRecord {
 };
 static_assert(sizeof(DecalRecord) == 168);
 
+// scene.probes: the reflection probes (host-side, read by probes.plan), as Scene::probes holds them.
+struct ProbeRecord {
+  double position[3], box_min[3], box_max[3];
+};
+
 // scene.tod: the time-of-day table of Scene::tod_visible (nothing when none is loaded): this
 // header, then one uint32 per instance (bit k: it casts a visible shadow at 2k:00). shadow.cull
 // keeps a static caster only when it is visible at a baked hour tod_hour_bits(hour) names.
@@ -93,7 +98,7 @@ struct ImportedData {
 using Imports = std::map<std::string, ImportedData>;
 
 // scene.geometry (pack_geometry), scene.meshes, scene.instances, scene.hierarchy
-// (passes/frame/hierarchy.h), scene.materials, scene.lights, scene.decals, scene.tod and scene.texture.<n> (mip chains
+// (passes/frame/hierarchy.h), scene.materials, scene.lights, scene.decals, scene.probes, scene.tod and scene.texture.<n> (mip chains
 // built here; the last texture is 1×1 white, bound where a material has none).
 Imports scene_imports(const Scene& scene);
 // frame.camera of frame `frame_index` (at frame_index × kFrameSeconds); `cut`: the view jumped.

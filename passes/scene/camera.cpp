@@ -63,6 +63,12 @@ std::pair<glm::dvec3, glm::dvec3> world_bounds(const Scene& scene) {
 
 }  // namespace
 
+std::vector<ReflectionProbe> probe_in_bounds(const Scene& scene) {
+  if (scene.instances.empty()) return {};
+  const auto [lo, hi] = world_bounds(scene);
+  return {ReflectionProbe{(lo + hi) * 0.5, lo, hi}};
+}
+
 glm::dvec3 Scene::bounds_min() const { return world_bounds(*this).first; }
 glm::dvec3 Scene::bounds_max() const { return world_bounds(*this).second; }
 

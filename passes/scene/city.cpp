@@ -128,6 +128,7 @@ Scene build_city(uint32_t seed) {
   camera.yfov = glm::radians(60.0f);
   camera.znear = 0.1f;
   scene.camera = camera;
+  scene.probes = probe_in_bounds(scene);
   return scene;
 }
 

@@ -492,7 +492,9 @@ Scene load_gltf(const std::string& path) {
     while (!error.empty() && error.back() == '\n') error.pop_back();
     throw SceneError(path + ": malformed glTF: " + (error.empty() ? "unreadable" : error));
   }
-  return Loader(path, model).load();
+  Scene scene = Loader(path, model).load();
+  scene.probes = probe_in_bounds(scene);
+  return scene;
 }
 
 }  // namespace nightcap

@@ -375,6 +375,12 @@ Scene build_map(const MapOptions& options) {
               neon_tube(mid - along * (length / 2), mid + along * (length / 2), kNeon[colour], 30.0f));
         }
       }
+      // A reflection probe in the street along the block's +z side (where the street shot stands):
+      // 3 m up its middle, its box the street between the lots (kStreet wide), the block long and
+      // the block's tallest building high (12 m at least).
+      scene.probes.push_back({glm::dvec3(c.x, 3.0, c.y + kBlock / 2),
+                              glm::dvec3(c.x - kBlock / 2, 0.0, c.y + kLot / 2),
+                              glm::dvec3(c.x + kBlock / 2, std::max(tallest, 12.0), c.y + kBlock - kLot / 2)});
       // Street lamps on the four kerbs, each a pole and a point light with a hand-set range.
       for (int side = 0; side < 4; ++side) {
         const glm::dvec2 kerb = side == 0   ? glm::dvec2(kLot / 2 + 1.0, 0)

@@ -157,6 +157,13 @@ struct Decal {
   float draw_distance = INFINITY;
 };
 
+// A reflection probe: where its cube is captured from, and the box its reflections are
+// parallax-corrected against (the walls around it, roughly), in world space.
+struct ReflectionProbe {
+  glm::dvec3 position{0.0};
+  glm::dvec3 box_min{0.0}, box_max{0.0};
+};
+
 // A pinhole camera: camera-to-world transform (looks down -Z, +Y up), vertical FOV.
 struct Camera {
   glm::dmat4 world{1.0};
@@ -174,6 +181,7 @@ struct Scene {
   std::vector<Instance> instances;
   std::vector<Light> lights;
   std::vector<Decal> decals;       // projected decals
+  std::vector<ReflectionProbe> probes;
   std::optional<Camera> camera;    // the first glTF camera, if any
   std::vector<std::string> notes;  // what was approximated, e.g. BLEND drawn as opaque
   // A table of `nightcap bake-tod` for `tod_hour` (passes/scene/time_of_day.h): per instance, bit
@@ -219,5 +227,9 @@ Scene build_map(const MapOptions& options);
 Camera orbit_camera(double theta_degrees, double phi_degrees, double radius, glm::dvec3 target, double yfov_degrees);
 // A camera that frames the whole scene (used when the scene has none).
 Camera framing_camera(const Scene& scene, double aspect);
+
+// One probe for a scene without a placement of its own (a glTF file, the one-block city): at the
+// centre of its bounds, in a box of its bounds. None for a scene with nothing in it.
+std::vector<ReflectionProbe> probe_in_bounds(const Scene& scene);
 
 }  // namespace nightcap

@@ -29,6 +29,7 @@ const std::vector<std::string> kFramePasses = {"cull.main",
                                                "shadow.local_static",
                                                "shadow.local",
                                                "shadow.local_moments",
+                                               "probes.plan",
                                                "depth.prepass",
                                                "gbuffer.opaque",
                                                "depth.convert",
@@ -279,7 +280,7 @@ TEST(CaptureLoop, PassesJsonDescribesEveryPassAndResource) {
     EXPECT_GT(p.at("time_ms").get<double>(), 0.0) << p.at("name");
     sum += p.at("time_ms").get<double>();
   }
-  EXPECT_EQ(stages, (std::set<std::string>{"setup", "shadows", "geometry", "lighting", "post"}));
+  EXPECT_EQ(stages, (std::set<std::string>{"setup", "shadows", "probes", "geometry", "lighting", "post"}));
   EXPECT_EQ(find_pass(frame, "shadow.cascades").at("stage"), "shadows");
   EXPECT_EQ(find_pass(frame, "tonemap").at("stage"), "post");
   ASSERT_TRUE(frame.at("wall_ms").is_number());

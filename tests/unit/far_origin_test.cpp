@@ -1,9 +1,10 @@
-// Camera-relative rendering: the city block moved 8 km from the origin (camera, lights and all)
+// Camera-relative rendering: the city block moved 8 km from the origin (camera, lights, probes and all)
 // renders the same G-buffer as at the origin. Stated tolerance: none. Every target of
 // gbuffer.opaque (albedo, normal, material, emissive, motion, depth and stencil) is bit-identical:
 // the offset cancels exactly in the double-precision camera-relative transforms, so the GPU sees
 // the same floats. The second frame is compared, so the camera has moved and the motion vectors
-// are not zero. The stencil holds only the material classes of frame.md.
+// are not zero. The stencil holds only the material classes of frame.md. The probes' face views
+// (probes.views) are bit-identical too.
 #include <cmath>
 #include <cstring>
 #include <set>
@@ -31,13 +32,18 @@ Scene moved(Scene scene, const glm::dvec3& offset) {
     light.position += offset;
     light.end += offset;
   }
+  for (ReflectionProbe& probe : scene.probes) {
+    probe.position += offset;
+    probe.box_min += offset;
+    probe.box_max += offset;
+  }
   if (scene.camera) scene.camera->world[3] += glm::dvec4(offset, 0.0);
   return scene;
 }
 
 class FarFromOrigin : public GpuTest {};
 
-TEST_F(FarFromOrigin, EightKilometresOutEveryGBufferTargetIsBitIdentical) {
+TEST_F(FarFromOrigin, EightKilometresOutEveryGBufferTargetAndProbeViewIsBitIdentical) {
   const Scene near = build_city(3);
   const Scene far = moved(near, {8000.0, 0.0, -8000.0});
   RenderSettings settings;
@@ -58,6 +64,13 @@ TEST_F(FarFromOrigin, EightKilometresOutEveryGBufferTargetIsBitIdentical) {
     ASSERT_TRUE(b.count(name)) << name;
     EXPECT_EQ(*version->bytes, *b.at(name)->bytes) << name << " differs 8 km out";
   }
+
+  // The probes' cube faces are views relative to the camera too.
+  const auto near_probes = outputs(near_frame, "probes.plan"), far_probes = outputs(far_frame, "probes.plan");
+  ASSERT_TRUE(near_probes.count("probes.views") && far_probes.count("probes.views"));
+  EXPECT_FALSE(near_probes.at("probes.views")->bytes->empty()) << "the city's probe is captured on its first frame";
+  EXPECT_EQ(*near_probes.at("probes.views")->bytes, *far_probes.at("probes.views")->bytes)
+      << "probes.views differs 8 km out";
 
   // What is compared is not trivially equal: the camera moved, depth covers the view, and the
   // stencil carries the classes of frame.md, roads among them.
