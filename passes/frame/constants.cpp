@@ -1,6 +1,6 @@
 // frame.constants (CPU): the camera and lights turned into the per-frame constants, the camera's
-// view (frame.views[0]) and the camera-relative light list every shading pass reads. Doubles in, floats out, so world
-// coordinates of thousands of metres lose nothing before the subtraction.
+// view (frame.views[0]) and the camera-relative light list every shading pass reads. Doubles in,
+// floats out, so world coordinates of thousands of metres lose nothing before the subtraction.
 #include <algorithm>
 #include <cstring>
 

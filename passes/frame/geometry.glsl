@@ -1,6 +1,6 @@
 // Scene geometry drawn from a view: vertex pulling (vertex_pull.glsl) and the view each draw
-// names (views.glsl). clip_position() is `precise` like the decode, so the prepass and the G-buffer pass agree bit
-// for bit.
+// names (views.glsl). clip_position() is `precise` like the decode, so the prepass and the
+// G-buffer pass agree bit for bit.
 #include "vertex_pull.glsl"
 
 #include "views.glsl"

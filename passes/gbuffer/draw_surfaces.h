@@ -12,9 +12,9 @@ namespace nightcap {
 // Binds what the pass declares (decals.mesh adds its normal copy), then draws.
 void draw_surfaces(PassContext& ctx, const std::string& draws);
 
-// A graphics pass that reads the views (frame.views), the scene's geometry, materials and textures and the
-// draw list `draws`, depth-tests against scene.depth, culls back faces per draw and runs
-// draw_surfaces; the caller adds its targets, depth state, skip condition and shaders.
+// A graphics pass that reads the views (frame.views), the scene's geometry, materials and
+// textures and the draw list `draws`, depth-tests against scene.depth, culls back faces per draw
+// and runs draw_surfaces; the caller adds its targets, depth state, skip condition and shaders.
 PassDecl surface_pass(std::string name, const std::string& draws);
 
 }  // namespace nightcap

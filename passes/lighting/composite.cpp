@@ -8,11 +8,11 @@
 // sky.aerial_perspective (lighting.lit only). Where nothing was drawn, the sky: sky.view's
 // radiance by the pixel's view direction with a record, the constant `sky` otherwise (no
 // directional light, the sky switched off, or a frame without the sky's passes). The sky's
-// resources, frame.constants and frame.views are optional inputs, read together. The indirect terms of frame.md
-// join as optional inputs, each read when its pass is in the frame: ao.bent's visibility (alpha,
-// sampled bilinearly: AO may be half size) darkens the indirect terms, as the material's own
-// occlusion (gbuffer.occlusion) does. SSR, probes, the GI volume
-// and fog are to join the same way, a read_optional and an `#ifdef NC_BINDING_<name>` block in
+// resources, frame.constants and frame.views are optional inputs, read together. The indirect
+// terms of frame.md join as optional inputs, each read when its pass is in the frame: ao.bent's
+// visibility (alpha, sampled bilinearly: AO may be half size) darkens the indirect terms, as the
+// material's own occlusion (gbuffer.occlusion) does. SSR, probes, the GI volume and fog are to
+// join the same way, a read_optional and an `#ifdef NC_BINDING_<name>` block in
 // the shader each, with the passes that define their formats.
 #include "passes/core/context.h"
 #include "passes/lighting/composite.glsl.h"

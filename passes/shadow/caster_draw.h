@@ -37,8 +37,8 @@ void sort_for_batching(std::vector<GpuDraw>& draws);
 // cleared to 1 (no caster; forward depth, LESS).
 ImageDecl shadow_depth_array(uint32_t layers);
 
-// Binds the pass's declared pipeline and bindings (vertex_pull.glsl's
-// streams and draw list, and the maps' matrices) and `layer` as the push constant that picks a map.
+// Binds the pass's declared pipeline and bindings (vertex_pull.glsl's vertex streams and draw
+// list, and the maps' matrices) and `layer` as the push constant that picks a map.
 void bind_casters(PassContext& ctx, uint32_t layer);
 
 // Draws `range` of `draws` with what bind_casters bound: depth only, no material.
