@@ -41,13 +41,6 @@ uint8_t stencil_at(const std::vector<uint8_t>& raw, uint32_t width, uint32_t hei
 
 class InspectRerunTest : public CityCaptureTest {};
 
-template <typename T>
-std::vector<T> records(const std::vector<uint8_t>& raw) {
-  std::vector<T> out(raw.size() / sizeof(T));
-  std::memcpy(out.data(), raw.data(), out.size() * sizeof(T));
-  return out;
-}
-
 // How far the depth gbuffer.opaque wrote may be from the reference's at a pixel centre: 2^-18 of
 // it, 32 float ulps. The GPU transforms the float vertex positions with float matrices and
 // interpolates z/w in float (lavapipe's depth plane comes from the float positions, not from
@@ -109,8 +102,8 @@ TEST_F(InspectRerunTest, PickNamesTheNearestDrawCoveringThePixel) {
   const FrameRecord& frame = frame0();
   const PassRecord& geometry_pass = pass_named(frame, "gbuffer.opaque");
   const std::vector<uint8_t> draw_bytes = capture_->load(input_named(geometry_pass, "draws.gbuffer.opaque"));
-  const auto draws = records<GpuDraw>(draw_bytes);
-  const auto materials = records<GpuMaterial>(capture_->load(input_named(geometry_pass, "scene.materials")));
+  const auto draws = host_records<GpuDraw>(draw_bytes);
+  const auto materials = host_records<GpuMaterial>(capture_->load(input_named(geometry_pass, "scene.materials")));
   const std::vector<uint8_t> geometry = capture_->load(input_named(geometry_pass, "scene.geometry"));
   const std::vector<uint8_t> depth = capture_->load(output_named(geometry_pass, "scene.depth"));
   // Geometry alone decides only where no alpha test cuts holes.

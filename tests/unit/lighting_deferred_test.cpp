@@ -184,18 +184,6 @@ void fill_surfaces(Inputs& in, Random& random, const dvec3& target, Distance dis
 }
 
 template <class T>
-IsolatedInput buffer(const std::vector<T>& values) {
-  IsolatedInput input;
-  input.desc.is_buffer = true;
-  input.desc.kind = kinds::buffer;
-  input.desc.buffer_size = values.size() * sizeof(T);
-  auto bytes = std::make_shared<std::vector<uint8_t>>(input.desc.buffer_size);
-  std::memcpy(bytes->data(), values.data(), bytes->size());
-  input.bytes = bytes;
-  return input;
-}
-
-template <class T>
 std::vector<uint8_t> bytes_of(const std::vector<T>& values, size_t extra = 0) {
   std::vector<uint8_t> bytes(values.size() * sizeof(T) + extra, 0);
   std::memcpy(bytes.data(), values.data(), values.size() * sizeof(T));
@@ -215,9 +203,9 @@ class LightingDeferred : public GpuTest {
     if (lights.empty()) lights.push_back(GpuLight{});
     const IsolatedRun run = GpuTest::run(
         lighting_deferred_pass(),
-        {{"frame.constants", buffer(std::vector<GpuFrameConstants>{in.frame})},
-         {"frame.views", buffer(std::vector<GpuView>{in.camera})},
-         {"frame.lights", buffer(lights)},
+        {{"frame.constants", record_input(in.frame)},
+         {"frame.views", record_input(in.camera)},
+         {"frame.lights", records_input<GpuLight>(lights)},
          {"gbuffer.albedo", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::colour, w, h, bytes_of(in.albedo))},
          {"gbuffer.normal", image(VK_FORMAT_A2B10G10R10_UNORM_PACK32, kinds::normal, w, h, bytes_of(in.normal))},
          {"gbuffer.material", image(VK_FORMAT_R8G8B8A8_UNORM, kinds::material, w, h, in.material)},

@@ -70,27 +70,20 @@ struct ClusterFrame {
 
 using Versions = std::map<std::string, std::pair<ResourceDesc, std::shared_ptr<const std::vector<uint8_t>>>>;
 
-template <typename T>
-std::vector<T> records(const std::vector<uint8_t>& bytes) {
-  std::vector<T> out(bytes.size() / sizeof(T));
-  if (!out.empty()) std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
-  return out;
-}
-
 // `params`: lights.cluster's, defaults where not given.
 ClusterFrame cluster_frame(const Versions& v, const ParamValues& params = {}) {
   const ParamValues all = resolve_params(lights_cluster_pass(), {{"lights.cluster", params}});
   ClusterFrame c;
   std::memcpy(&c.frame, v.at("frame.constants").second->data(), sizeof(c.frame));
   std::memcpy(&c.camera, v.at("frame.views").second->data(), sizeof(c.camera));
-  c.lights = records<GpuLight>(*v.at("frame.lights").second);
+  c.lights = host_records<GpuLight>(*v.at("frame.lights").second);
   c.lights.resize(c.frame.counts.x);  // an empty list is a 16-byte buffer on the GPU
   c.pyramid = v.at("depth.pyramid").second;
   c.pyramid_extent = v.at("depth.pyramid").first.extent;
   c.clusters = v.at("lights.clusters").second;
   c.cluster_extent = v.at("lights.clusters").first.extent;
-  c.indices = records<uint32_t>(*v.at("lights.cluster_indices").second);
-  c.blocks = records<uint32_t>(*v.at("lights.cluster_blocks").second);
+  c.indices = host_records<uint32_t>(*v.at("lights.cluster_indices").second);
+  c.blocks = host_records<uint32_t>(*v.at("lights.cluster_blocks").second);
   std::memcpy(&c.stats, v.at("lights.cluster_stats").second->data(), sizeof(c.stats));
   c.max_distance = all.at("max_distance");
   c.tile = uint32_t(all.at("tile_size"));
@@ -346,18 +339,10 @@ class LightsCluster : public GpuTest {
     camera.projection_params = {float(s.znear), float(s.yfov), float(aspect), 0};
     GpuFrameConstants frame{};
     frame.counts = {uint32_t(s.lights.size()), 0, 0, 0};
-    auto buffer = [](const void* data, size_t bytes) {
-      IsolatedInput in;
-      in.desc.is_buffer = true;
-      in.desc.kind = kinds::buffer;
-      in.desc.buffer_size = bytes;
-      in.bytes = std::make_shared<const std::vector<uint8_t>>((const uint8_t*)data, (const uint8_t*)data + bytes);
-      return in;
-    };
     std::map<std::string, IsolatedInput> inputs;
-    inputs["frame.constants"] = buffer(&frame, sizeof(frame));
-    inputs["frame.views"] = buffer(&camera, sizeof(camera));
-    inputs["frame.lights"] = buffer(s.lights.data(), s.lights.size() * sizeof(GpuLight));
+    inputs["frame.constants"] = record_input(frame);
+    inputs["frame.views"] = record_input(camera);
+    inputs["frame.lights"] = records_input<GpuLight>(s.lights);
     inputs["depth.pyramid"] = {pyramid.output_descs.at("depth.pyramid"), pyramid.outputs.at("depth.pyramid")};
     const IsolatedRun result = run(lights_cluster_pass(), inputs, s.width, s.height, params);
     EXPECT_EQ(first_non_finite(result.execution), "");
