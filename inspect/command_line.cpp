@@ -26,12 +26,13 @@ const std::vector<CommandSpec>& specs() {
         "recorded frame. lights.clusters: the froxel the pixel falls in at its depth.linear (or --slice) and that "
         "froxel's list of frame.lights indices"},
        {{"--mip", 1}, {"--layer", 1}, {"--slice", 1}, {"--frames", 0}}},
-      {{"direction", "direction DX DY DZ [RESOURCE] [--mip M]",
+      {{"direction", "direction DX DY DZ [RESOURCE] [--mip M] [--slot S]",
         "the texel of a cube map (sky.cubemap, sky.specular; default: the current pass's first output) that the "
         "world direction (DX, DY, DZ) looks along, found by Vulkan's face selection, decoded with its face and "
         "raw values; of sky.view, the texel the composite reads along it (by the frame's sky.atmosphere record: "
-        "the light and the camera's height), with its uv"},
-       {{"--mip", 1}}},
+        "the light and the camera's height), with its uv; of probes.array, the texel of slot S's hemisphere "
+        "(dual paraboloid) the direction is read at"},
+       {{"--mip", 1}, {"--slot", 1}}},
       {{"history", "history X Y [RESOURCE]",
         "output pixel (X, Y) through the frame: each pass that wrote a screen-space resource (depth and stencil "
         "included; every mip of a pyramid), in order, with the texel before and after, and 'unchanged' where the pass "

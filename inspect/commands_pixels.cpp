@@ -16,6 +16,13 @@ ojson Runner::texel_json(const ResourceRecord& record, const FrameRecord& frame,
   ojson j = {{"hash", record.hash}, {"raw", reading.values.raw}};
   if (!reading.values.codes.empty()) j["codes"] = reading.values.codes;
   j["decoded"] = reading.decoded;
+  if (const auto& layers = kind_info(record.kind).layer_directions) {
+    const double u = (texel.x + 0.5) / mip_size(record.extent.width, texel.mip);
+    const double v = (texel.y + 0.5) / mip_size(record.extent.height, texel.mip);
+    j["decoded"]["slot"] = texel.layer / 2;
+    j["decoded"]["hemisphere"] = texel.layer % 2 == 0 ? "upper" : "lower";
+    j["decoded"]["direction"] = layers->direction_of(texel.layer, u, v);
+  }
   return j;
 }
 
@@ -114,13 +121,27 @@ void Runner::direction(const CommandSpec& spec, const Arguments& args) {
              {"format", format_info(record.format)->name},
              {"direction", d}};
   TexelAddress texel;
-  if (record.cube) {
+  const KindInfo& info = kind_info(record.kind);
+  if (info.layer_directions) {
+    check_direction(d);
+    if (!args.has("--slot")) throw InspectError(record.resource + " holds two layers a slot: name one with --slot S");
+    const uint32_t slot = option_index(args, "--slot", 0);
+    const auto [layer, uv] = info.layer_directions->texel_of(slot, d);
+    check_subimage(record, {mip, layer, 0});
+    const uint32_t width = mip_size(record.extent.width, mip), height = mip_size(record.extent.height, mip);
+    texel.x = std::min(uint32_t(uv[0] * width), width - 1);
+    texel.y = std::min(uint32_t(uv[1] * height), height - 1);
+    texel.mip = mip;
+    texel.layer = layer;
+    j["slot"] = slot;
+    j["uv"] = uv;
+  } else if (record.cube) {
     texel = cube_texel(record, d, mip);
     static const char* const faces[] = {"+X", "-X", "+Y", "-Y", "+Z", "-Z"};
     j["face"] = faces[texel.layer];
   } else {
     // A table a pass looks up by direction, through a record of the same frame (sky.view).
-    const KindInfo& kind = kind_info(record.kind);
+    const KindInfo& kind = info;
     if (!kind.directions)
       throw InspectError(record.resource + " is neither a cube map nor a table looked up by direction: use `pixel`");
     check_subimage(record, {mip, 0, 0});

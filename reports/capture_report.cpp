@@ -56,7 +56,9 @@ void picture(std::ostream& html, const Thumbnail::Picture& p, const std::string&
 std::string shown_part(const ResourceRecord& r, const Thumbnail& t) {
   std::vector<std::string> parts;
   if (r.extent.mips > 1) parts.push_back("mip 0");
-  if (r.extent.layers > 1 && t.pictures.size() < r.extent.layers)
+  if (kind_info(r.kind).layer_directions)
+    parts.push_back("each slot's upper and lower hemispheres, the slots never captured left out");
+  else if (r.extent.layers > 1 && t.pictures.size() < r.extent.layers)
     parts.push_back("layers 0–" + std::to_string(t.pictures.size() - 1));
   if (r.extent.depth > 1) parts.push_back("slice 0");
   if (t.distances)
@@ -76,13 +78,16 @@ void image_figure(std::ostream& html, const ResourceRecord& r, const Thumbnail* 
     picture(html, t->pictures.front(), r.resource);
   else {
     html << "<div class=\"layer-strip\">";
+    const bool by_slot = kind_info(r.kind).layer_directions.has_value();
     for (const Thumbnail::Picture& p : t->pictures) {
+      const std::string label = by_slot ? "slot " + std::to_string(p.layer / 2) + (p.layer % 2 ? " lower" : " upper")
+                                        : std::to_string(p.layer);
       html << "<div class=\"layer\">";
       picture(html, p, r.resource + " layer " + std::to_string(p.layer));
-      html << "<span class=\"layer-index\">" << p.layer << "</span></div>";
+      html << "<span class=\"layer-index\">" << label << "</span></div>";
     }
     html << "</div>";
-    if (t->pictures.size() < r.extent.layers)
+    if (!by_slot && t->pictures.size() < r.extent.layers)
       html << "<p class=\"more\">… " << r.extent.layers - t->pictures.size() << " more layers</p>";
   }
 }

@@ -42,6 +42,29 @@ Rgba8Image shrink(const Rgba8Image& picture, uint32_t max_side, bool srgb) {
   return out;
 }
 
+namespace {
+
+// Drops the pictures of a probe array's slots whose two layers hold nothing but zeros (never
+// captured), keeping the first slot's when every slot is empty.
+void drop_empty_slots(const ResourceRecord& record, const std::vector<uint8_t>& raw, Thumbnail& thumbnail) {
+  const FormatInfo f = *format_info(record.format);
+  const uint64_t bytes = raw_subresource_bytes(f, record.extent, 0, 0);
+  auto empty = [&](uint32_t layer) {
+    const uint64_t offset = raw_subresource_offset(f, record.extent, 0, 0, layer);
+    if (offset + bytes > raw.size()) return false;
+    return std::all_of(raw.begin() + offset, raw.begin() + offset + bytes, [](uint8_t b) { return b == 0; });
+  };
+  std::vector<Thumbnail::Picture> kept;
+  for (const Thumbnail::Picture& p : thumbnail.pictures)
+    if (!empty(p.layer / 2 * 2) || !empty(p.layer / 2 * 2 + 1)) kept.push_back(p);
+  if (kept.empty())
+    kept.assign(thumbnail.pictures.begin(),
+                thumbnail.pictures.begin() + std::min<size_t>(2, thumbnail.pictures.size()));
+  thumbnail.pictures = std::move(kept);
+}
+
+}  // namespace
+
 ThumbnailSet::Key ThumbnailSet::key_of(const ResourceRecord& record) {
   const ImageExtent& e = record.extent;
   return {record.hash, int(record.format), record.kind.name(), e.width, e.height, e.depth, e.mips, e.layers};
@@ -54,7 +77,9 @@ void ThumbnailSet::add(const ResourceRecord& record) {
   // Numbered files: a hash read from a manifest never becomes part of a path.
   const std::string name = "images/" + std::to_string(thumbnails_.size() + 1);
   Thumbnail& thumbnail = thumbnails_[key];
-  const uint32_t layers = std::min(record.extent.layers, kMaxLayersShown);
+  // A probe array shows each slot's two hemispheres (those left empty are dropped in write()).
+  const bool by_slot = kind_info(record.kind).layer_directions.has_value();
+  const uint32_t layers = by_slot ? record.extent.layers : std::min(record.extent.layers, kMaxLayersShown);
   for (uint32_t layer = 0; layer < layers; ++layer)
     thumbnail.pictures.push_back({name + (layers > 1 ? "-" + std::to_string(layer) : "") + ".png", layer});
   pending_.push_back(&record);
@@ -66,6 +91,7 @@ void ThumbnailSet::write(const Capture& capture, const FrameRecord& frame, const
     const ResourceRecord& record = *pending_[i];
     Thumbnail& thumbnail = thumbnails_.at(key_of(record));
     const std::vector<uint8_t> raw = capture.load(record);
+    if (kind_info(record.kind).layer_directions) drop_empty_slots(record, raw, thumbnail);
     for (const Thumbnail::Picture& picture : thumbnail.pictures) {
       const std::optional<DistanceRange> range = distance_range(record, raw, frame, {0, picture.layer, 0});
       if (!range) continue;

@@ -17,7 +17,8 @@
 namespace nightcap {
 
 // The pictures of one image: mip 0 of its one layer, or of each layer of an array shown (the
-// first kMaxLayersShown), those at half the side so that four make a row.
+// first kMaxLayersShown; of a probe array, both layers of each slot that holds a capture), those
+// at half the side so that four make a row.
 struct Thumbnail {
   struct Picture {
     std::string file;  // relative to the report folder

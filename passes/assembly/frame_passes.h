@@ -23,7 +23,7 @@ std::vector<PassDecl> frame_passes(FrameLighting lighting = FrameLighting::tiled
 // Frame constants and culling ("setup"), shadow maps ("shadows"), the reflection probes' captures
 // ("probes"), depth, G-buffer, decals and what is derived from them ("geometry").
 void add_scene_passes(std::vector<PassDecl>& passes);
-// "lighting": light lists, the sun's shadow mask, diffuse and specular light, and
+// "lighting": light lists, the sun's shadow mask, the sky, diffuse and specular light, and
 // lighting.composite's lit colour, lighting.lit.
 void add_lighting_passes(std::vector<PassDecl>& passes, FrameLighting lighting);
 // "post": bloom, exposure and tonemap, reading the HDR colour `lit`; tonemap writes final.ldr.

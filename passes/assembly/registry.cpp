@@ -27,7 +27,8 @@ std::vector<std::string> frame_sinks() {
           "lights.clusters",
           "lights.cluster_indices",
           "lights.cluster_stats",
-          "probes.plan"};
+          "probes.plan",
+          "probes.array"};
 }
 
 namespace {
@@ -48,7 +49,7 @@ void add_scene_passes(std::vector<PassDecl>& passes) {
             {shadow_distant_plan_pass(), shadow_distant_pass(), shadow_cull_pass(), shadow_cascades_static_pass(),
              shadow_cascades_pass(), shadow_local_plan_pass(), shadow_local_static_pass(), shadow_local_pass(),
              shadow_local_moments_pass()});
-  add_stage(passes, "probes", {probes_plan_pass()});
+  add_stage(passes, "probes", {probes_plan_pass(), probes_cull_pass(), probes_gbuffer_pass()});
   add_stage(passes, "geometry",
             {depth_prepass_pass(), gbuffer_opaque_pass(), gbuffer_dynamic_pass(), decals_normal_copy_pass(),
              decals_mesh_pass(), decals_projected_pass(), depth_convert_pass(), motion_stencil_pass(),
@@ -64,6 +65,8 @@ void add_lighting_passes(std::vector<PassDecl>& passes, FrameLighting lighting) 
             {sky_atmosphere_pass(), sky_transmittance_pass(), sky_multiscattering_pass(), sky_view_pass(),
              sky_aerial_perspective_pass(), sky_cubemap_pass(), sky_irradiance_pass(), sky_specular_pass(),
              lighting_dfg_pass()});
+  // The probes' captures are lit as the composite lights the frame, from the sky's tables.
+  add_stage(passes, "probes", {probes_light_pass(), probes_keep_pass(), probes_convert_pass()});
   if (lighting == FrameLighting::tiled)
     add_stage(passes, "lighting", {lighting_ltc_table_pass(), lighting_tiled_pass()});
   else

@@ -373,12 +373,40 @@ void PassContext::copy_layer(const std::string& from, uint32_t from_layer, const
   copied_layers_.insert({to, to_layer});
 }
 
+void PassContext::copy_image(const std::string& from, const std::string& to) {
+  auto whole = [](const BoundUse& u) {
+    const ImageExtent& e = u.desc.extent;
+    return !u.desc.is_buffer && u.range.contains(0, 0) && u.range.contains(e.mips - 1, e.layers - 1);
+  };
+  const BoundUse* source = nullptr;
+  const BoundUse* target = nullptr;
+  for (const BoundUse& u : pass_.inputs)
+    if (u.resource == from && whole(u)) source = &u;
+  for (const BoundUse& u : pass_.outputs)
+    if (u.resource == to && whole(u)) target = &u;
+  if (!source || !target || from == to)
+    throw GraphError(pass() + ": copies '" + from + "' into '" + to +
+                     "' without reading the whole of the one and writing the whole of the other");
+  const PhysicalResource& src = shared_.resources.at(from);
+  const PhysicalResource& dst = shared_.resources.at(to);
+  if (src.desc.format != dst.desc.format || src.desc.extent != dst.desc.extent)
+    throw GraphError(pass() + ": copies '" + from + "' into '" + to + "', which differ in format or size");
+  const bool depth = is_depth(dst.desc);
+  const AccessState read = required_state(source->use, pass_.decl->type, depth);
+  const AccessState written = required_state(target->use, pass_.decl->type, depth);
+  const AccessState copy_from = transfer_state(false), copy_to = transfer_state(true);
+  const Subresources all{};
+  issue(cmd(), shared_.resources, {{from, all, {read, copy_from}}, {to, all, {written, copy_to}}}, {});
+  copy_whole(cmd(), src, dst);
+  issue(cmd(), shared_.resources, {{from, all, {copy_from, read}}, {to, all, {copy_to, written}}}, {});
+}
+
 void PassContext::clear_layers(const std::string& to, uint32_t first_layer, uint32_t count, const VkClearValue& value) {
   if (count == 0) return;
   const BoundUse* target = nullptr;
   for (const BoundUse& u : pass_.outputs)
     if (u.resource == to && !u.desc.is_buffer && u.range.contains(0, first_layer) &&
-        u.range.contains(0, first_layer + count - 1))
+        u.range.contains(u.desc.extent.mips - 1, first_layer + count - 1))
       target = &u;
   if (!target)
     throw GraphError(pass() + ": clears layers " + std::to_string(first_layer) + "+" + std::to_string(count) + " of '" +
@@ -386,7 +414,7 @@ void PassContext::clear_layers(const std::string& to, uint32_t first_layer, uint
   const PhysicalResource& dst = shared_.resources.at(to);
   const AccessState written = required_state(target->use, pass_.decl->type, is_depth(dst.desc));
   const AccessState clearing = transfer_state(true);
-  const Subresources layers{0, 1, first_layer, count};
+  const Subresources layers{0, dst.desc.extent.mips, first_layer, count};
   issue(cmd(), shared_.resources, {{to, layers, {written, clearing}}}, {});
   clear_to(cmd(), dst, layers, value);
   issue(cmd(), shared_.resources, {{to, layers, {clearing, written}}}, {});

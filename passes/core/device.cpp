@@ -269,6 +269,7 @@ GpuDevice::GpuDevice(const Options& options) {
   features.features.fragmentStoresAndAtomics = VK_TRUE;
   features.features.depthBiasClamp = VK_TRUE;  // RasterState's depth bias may be limited
   features.features.shaderStorageImageWriteWithoutFormat = VK_TRUE;
+  features.features.imageCubeArray = VK_TRUE;  // the reflection probes' faces, a cube per probe
 
   const char* device_extensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
   auto device_info = vk_struct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);

@@ -57,6 +57,7 @@ const std::vector<FormatInfo>& all_formats();
 // rows of tightly packed texels.
 struct ImageExtent {
   uint32_t width = 1, height = 1, depth = 1, mips = 1, layers = 1;
+  bool operator==(const ImageExtent&) const = default;
 };
 uint32_t mip_size(uint32_t base, uint32_t mip);
 uint64_t raw_image_bytes(const FormatInfo& format, const ImageExtent& extent);

@@ -113,6 +113,16 @@ struct DirectionLookup {
       uv_of;
 };
 
+// Layers that hold radiance by direction, two to a slot (the reflection probes' dual-paraboloid
+// hemispheres): `inspect pixel` says which direction a texel stands for, and `inspect direction
+// --slot S` finds the texel a direction of slot S is read at.
+struct LayerDirections {
+  // The direction at (u, v) in [0, 1]² of `layer`, and the layer and (u, v) of `direction` in `slot`.
+  std::function<std::array<double, 3>(uint32_t layer, double u, double v)> direction_of;
+  std::function<std::pair<uint32_t, std::array<double, 2>>(uint32_t slot, const std::array<double, 3>& direction)>
+      texel_of;
+};
+
 struct KindInfo {
   ResourceKind kind{""};
   // `inspect pixel`: what a texel means, as named values in order ("normal", "linear_m", …);
@@ -133,6 +143,7 @@ struct KindInfo {
   std::optional<TexelLists> lists{};
   std::optional<DepthSlices> slices{};
   std::optional<DirectionLookup> directions{};
+  std::optional<LayerDirections> layer_directions{};
 };
 
 // For kinds that store a vector meant to be a unit normal (before normalising): `inspect pixel`'s

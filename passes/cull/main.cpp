@@ -70,16 +70,6 @@ Containment box_in_frustum(const std::array<Plane, 5>& planes, const glm::dvec3&
   return result;
 }
 
-// clip_from_box × (x, y, z, 1) at the box's eight corners (bit k of a corner's index: the max
-// on axis k). The sum is glm's mat4 × vec4, ((m0·x + m1·y) + (m2·z + m3)), so the corners are the
-// same bits as one product each; the products corners share are computed once.
-void box_corners(const glm::dmat4& m, const glm::dvec3& lo, const glm::dvec3& hi, glm::dvec4 (&out)[8]) {
-  const glm::dvec4 x[2] = {m[0] * lo.x, m[0] * hi.x};
-  const glm::dvec4 y[2] = {m[1] * lo.y, m[1] * hi.y};
-  const glm::dvec4 zw[2] = {m[2] * lo.z + m[3], m[2] * hi.z + m[3]};
-  for (int k = 0; k < 8; ++k) out[k] = (x[k & 1] + y[(k >> 1) & 1]) + zw[(k >> 2) & 1];
-}
-
 glm::dvec3 mesh_min(const MeshRecord& m) { return {m.bounds_min[0], m.bounds_min[1], m.bounds_min[2]}; }
 glm::dvec3 mesh_max(const MeshRecord& m) { return {m.bounds_max[0], m.bounds_max[1], m.bounds_max[2]}; }
 

@@ -42,8 +42,7 @@ PassDecl decals_mesh_pass() {
       .needs("mesh_decals")
       .skip_when_cleared({"draws.decals.mesh"})
       .shader("gbuffer/opaque.vert")
-      .shader("decals/mesh.frag")
-      .run([](PassContext& ctx) { draw_surfaces(ctx, "draws.decals.mesh"); });
+      .shader("decals/mesh.frag");
 }
 
 }  // namespace nightcap

@@ -71,15 +71,7 @@ void build_constants(PassContext& ctx) {
       ++dropped;
       continue;
     }
-    GpuLight g{};
-    const glm::dvec3 start = glm::dvec3(l.position[0], l.position[1], l.position[2]) - eye;
-    const glm::dvec3 end = glm::dvec3(l.end[0], l.end[1], l.end[2]) - eye;
-    g.position_type = glm::vec4(glm::vec3(start), float(l.type));
-    g.end_radius = glm::vec4(glm::vec3(end), l.radius);
-    g.color_range = glm::vec4(radiance, l.range);
-    g.direction_cos_outer = glm::vec4(direction, std::cos(l.outer_cone));
-    g.cos_inner = glm::vec4(std::cos(l.inner_cone), float(index), 0, 0);
-    list.push_back(g);
+    list.push_back(relative_light(l, index, eye));
   }
   // Grouped so that a shader loops over each kind of light apart: lavapipe runs both sides of a
   // branch, so one loop over mixed kinds pays for the costliest kind at every light.
@@ -109,6 +101,19 @@ void build_constants(PassContext& ctx) {
 }
 
 }  // namespace
+
+GpuLight relative_light(const LightRecord& l, uint32_t index, const glm::dvec3& eye) {
+  GpuLight g{};
+  const glm::dvec3 start = glm::dvec3(l.position[0], l.position[1], l.position[2]) - eye;
+  const glm::dvec3 end = glm::dvec3(l.end[0], l.end[1], l.end[2]) - eye;
+  const glm::vec3 direction = glm::normalize(glm::vec3(l.direction[0], l.direction[1], l.direction[2]));
+  g.position_type = glm::vec4(glm::vec3(start), float(l.type));
+  g.end_radius = glm::vec4(glm::vec3(end), l.radius);
+  g.color_range = glm::vec4(glm::vec3(l.color[0], l.color[1], l.color[2]) * l.intensity, l.range);
+  g.direction_cos_outer = glm::vec4(direction, std::cos(l.outer_cone));
+  g.cos_inner = glm::vec4(std::cos(l.inner_cone), float(index), 0, 0);
+  return g;
+}
 
 PassDecl frame_constants_pass() {
   return PassDecl("frame.constants", PassType::cpu)

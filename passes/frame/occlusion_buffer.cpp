@@ -42,6 +42,15 @@ OcclusionBuffer OcclusionBuffer::from_record(std::span<const uint8_t> bytes) {
   return buffer;
 }
 
+// The sum is glm's mat4 × vec4, ((m0·x + m1·y) + (m2·z + m3)), so the corners are the
+// same bits as one product each; the products corners share are computed once.
+void box_corners(const glm::dmat4& m, const glm::dvec3& lo, const glm::dvec3& hi, glm::dvec4 (&out)[8]) {
+  const glm::dvec4 x[2] = {m[0] * lo.x, m[0] * hi.x};
+  const glm::dvec4 y[2] = {m[1] * lo.y, m[1] * hi.y};
+  const glm::dvec4 zw[2] = {m[2] * lo.z + m[3], m[2] * hi.z + m[3]};
+  for (int k = 0; k < 8; ++k) out[k] = (x[k & 1] + y[(k >> 1) & 1]) + zw[(k >> 2) & 1];
+}
+
 bool outside_frustum(const glm::dvec4 (&c)[8]) {
   int outside[5] = {0, 0, 0, 0, 0};
   for (const glm::dvec4& p : c) {

@@ -56,4 +56,8 @@ class OcclusionBuffer {
 // right, bottom, top, or in front of the near plane; the far plane is at infinity).
 bool outside_frustum(const glm::dvec4 (&corners)[8]);
 
+// clip_from_box × (x, y, z, 1) at the box's eight corners (bit k of a corner's index: the max
+// on axis k), as outside_frustum() and OcclusionBuffer::hidden() take them.
+void box_corners(const glm::dmat4& clip_from_box, const glm::dvec3& lo, const glm::dvec3& hi, glm::dvec4 (&out)[8]);
+
 }  // namespace nightcap

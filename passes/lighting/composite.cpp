@@ -1,37 +1,29 @@
 // lighting.composite: direct diffuse + specular + emission + indirect light into the lit HDR
 // colour (lighting.lit), and direct + indirect specular alone into lighting.lit_specular (what
 // SSR and TAA are to read). Indirect light: a uniform `ambient` radiance (a stand-in for the
-// city's own bounce light until the probes and the GI volume arrive) and, when sky.atmosphere
-// holds a record, the sky's image-based light: diffuse from sky.irradiance by the normal,
-// specular from sky.specular by the reflection (split sum with lighting.dfg, multiple-scattering
-// compensation, horizon occlusion; composite.frag), and every surface seen through the air of
+// city's own bounce light until the GI volume arrives) and, when sky.atmosphere holds a record,
+// the sky's image-based light: diffuse from sky.irradiance by the normal, specular from
+// sky.specular by the reflection (split sum with lighting.dfg, multiple-scattering compensation,
+// horizon occlusion; composite.frag), and every surface seen through the air of
 // sky.aerial_perspective (lighting.lit only). Where nothing was drawn, the sky: sky.view's
 // radiance by the pixel's view direction with a record, the constant `sky` otherwise (no
 // directional light, the sky switched off, or a frame without the sky's passes). The sky's
 // resources, frame.constants and frame.views are optional inputs, read together. The indirect
 // terms of frame.md join as optional inputs, each read when its pass is in the frame: ao.bent's
 // visibility (alpha, sampled bilinearly: AO may be half size) darkens the indirect terms, as the
-// material's own occlusion (gbuffer.occlusion) does. SSR, probes, the GI volume and fog are to
-// join the same way, a read_optional and an `#ifdef NC_BINDING_<name>` block in
-// the shader each, with the passes that define their formats.
+// material's own occlusion (gbuffer.occlusion) does; the reflection probes (probes.slots,
+// probes.array) take the specular's place of the sky's cube map inside their boxes, each read
+// along its parallax-corrected direction and weighted by how deep in its box the point lies
+// (probes/reflection.glsl), the sky making up the rest. SSR, the GI volume and fog are to join
+// the same way, a read_optional and an `#ifdef NC_BINDING_<name>` block in the shader each, with
+// the passes that define their formats.
 #include "passes/core/context.h"
 #include "passes/lighting/composite.glsl.h"
+#include "passes/lighting/shared_params.h"
 #include "passes/lighting/stage.h"
+#include "passes/probes/capture_layout.h"
 
 namespace nightcap {
-namespace {
-
-// A cool night ambient and a deep blue sky.
-glm::vec4 ambient_radiance(double ambient) {
-  const float a = float(ambient);
-  return {a * 0.8f, a * 0.9f, a * 1.2f, 0.0f};
-}
-glm::vec4 sky_radiance(double sky) {
-  const float s = float(sky);
-  return {s * 0.5f, s * 0.7f, s * 1.6f, 0.0f};
-}
-
-}  // namespace
 
 PassDecl lighting_composite_pass() {
   return PassDecl("lighting.composite", PassType::graphics)
@@ -55,16 +47,20 @@ PassDecl lighting_composite_pass() {
       .sampler("sky.specular", trilinear_clamp_sampler())
       .read_optional("lighting.dfg", Use::sampled)
       .sampler("lighting.dfg", bilinear_clamp_sampler())
+      .read_optional("probes.slots", Use::uniform_buffer)
+      .read_optional("probes.array", Use::sampled)
+      .sampler("probes.array", trilinear_clamp_sampler())
       .read_optional("ao.bent", Use::sampled)
       .as("ao")
       .sampler("ao.bent", bilinear_clamp_sampler())
       .write("lighting.lit", Use::color_attachment, ImageDecl{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour})
       .write("lighting.lit_specular", Use::color_attachment,
              ImageDecl{VK_FORMAT_R16G16B16A16_SFLOAT, kinds::hdr_colour})
-      .param_float("ambient", 0.02, 0.0, 1e6, "uniform ambient radiance (a stand-in for the indirect light to come)")
-      .flag("multiple_scattering", true,
-            "add the energy single scattering loses to the image-based specular (Fdez-Agüera 2019)")
-      .param_float("sky", 0.004, 0.0, 1e6, "radiance of the night sky where nothing was drawn")
+      .param(ambient_param())
+      .param(multiple_scattering_param())
+      .param(night_sky_param())
+      .param_float("probe_fade_metres", 4.0, 0.0, 1000.0,
+                   "a reflection probe's weight falls to 0 over this distance inside its box's faces")
       .compare("lighting.lit", ComparisonContract::floats(0x1p-24, 0x1p-10,
                                                           "the nearest half to the sum "
                                                           "(tests/unit/lighting_composite_test.cpp): "
@@ -88,8 +84,12 @@ PassDecl lighting_composite_pass() {
       .fullscreen("lighting/composite.frag", [](const PassContext& ctx) {
         // The record decides, not whether sky.view ran: a replay sees the record, not the frame.
         const bool has_sky = ctx.reads("sky.atmosphere") && !ctx.host("sky.atmosphere").empty();
-        return CompositeConstants{ambient_radiance(ctx.param_float("ambient")), sky_radiance(ctx.param_float("sky")),
-                                  glm::uvec4(has_sky ? 1u : 0u, ctx.flag("multiple_scattering") ? 1u : 0u, 0u, 0u)};
+        const size_t probe_slots =
+            ctx.reads("probes.slots") ? ctx.host("probes.slots").size() / sizeof(GpuProbeSlot) : 0;
+        return CompositeConstants{
+            ambient_radiance(ctx.param_float("ambient")), sky_radiance(ctx.param_float("sky")),
+            glm::uvec4(has_sky ? 1u : 0u, ctx.flag("multiple_scattering") ? 1u : 0u, 0u, 0u),
+            glm::vec4(float(ctx.param_float("probe_fade_metres")), float(probe_slots), 0.0f, 0.0f)};
       });
 }
 

@@ -40,6 +40,15 @@ layout(set = 0, binding = NC_BINDING(sky_specular)) uniform samplerCube specular
 layout(set = 0, binding = NC_BINDING(lighting_dfg)) uniform sampler2D dfg_lut;
 #endif
 
+#if defined(NC_IMAGE_BASED) && defined(NC_BINDING_probes_slots) && defined(NC_BINDING_probes_array)
+#define NC_PROBES
+#include "../probes/capture_layout.glsl.h"
+#include "../probes/paraboloid.glsl.h"
+layout(std140, set = 0, binding = NC_BINDING(probes_slots)) uniform ProbeSlotBlock { GpuProbeSlot slots[kProbeSlots]; };
+layout(set = 0, binding = NC_BINDING(probes_array)) uniform sampler2DArray probe_array;
+#include "../probes/reflection.glsl"
+#endif
+
 layout(push_constant) uniform CompositeConstants { NC_BLOCK_MEMBERS(NC_COMPOSITE_CONSTANTS_FIELDS) };
 
 #ifdef NC_SKY_VIEW
@@ -80,6 +89,7 @@ vec3 through_air(vec3 radiance, vec3 position) {
 
 #ifdef NC_IMAGE_BASED
 #include "../sky/sh.glsl"
+#include "environment_light.glsl"
 
 // The surface's own orientation (not the normal map's) from the depth of the neighbours: along
 // each axis the side whose depth is nearer this pixel's, so that an edge does not bend it.
@@ -98,53 +108,30 @@ vec3 geometric_normal(ivec2 pixel, float depth, vec3 position) {
   return dot(n, n) > 0.0 ? normalize(n) : vec3(0.0);
 }
 
-vec3 irradiance_over_pi(vec3 n) {
-  float y[9];
-  sh_basis(n, y);
-  vec3 sum = vec3(0.0);
-  for (int i = 0; i < 9; ++i) sum += irradiance.coefficients[i].rgb * y[i];
-  return max(sum, vec3(0.0));
-}
-
-float table_coordinate(float x, float n) { return 0.5 / n + x * (1.0 - 1.0 / n); }
-
-struct Indirect {
-  vec3 diffuse, specular;
-};
-
-// The sky's light reflected toward the camera (world directions: the cube maps are world-aligned,
-// camera-relative positions are world-oriented). Split sum with the project's DFG table, the
-// multiple-scattering compensation of Fdez-Agüera (2019), and horizon occlusion (a reflection
-// below the surface's geometric plane is cut, Jimenez et al. 2016).
+// The sky's light reflected toward the camera at `pixel` (environment_light()), with the
+// surface's geometric normal from the depth of its neighbours.
 Indirect image_based(ivec2 pixel, float depth, vec3 position, vec3 albedo, float metallic, float roughness,
                      float visibility) {
   vec3 v = normalize(camera.eye.xyz - position);
   vec3 n = normalize(texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0);
-  float n_v = clamp(dot(n, v), 1e-4, 1.0);
-  // The lobe's dominant direction, between the reflection and the normal as roughness grows
-  // (Lagarde and de Rousiers 2014): where the prefiltered map is read and the horizon is judged.
-  float alpha = roughness * roughness, smoothness = 1.0 - alpha;
-  vec3 r = normalize(mix(n, reflect(-v, n), smoothness * (sqrt(smoothness) + alpha)));
-  vec2 dfg_size = vec2(textureSize(dfg_lut, 0));
-  vec2 dfg = textureLod(dfg_lut, vec2(table_coordinate(n_v, dfg_size.x), table_coordinate(roughness, dfg_size.y)), 0.0).rg;
-  vec3 f0 = mix(vec3(0.04), albedo, metallic);
-  vec3 single = f0 * dfg.x + dfg.y;
-  float single_albedo = dfg.x + dfg.y;
-  vec3 fresnel_average = f0 + (1.0 - f0) / 21.0;
-  vec3 multiple = sky_source.y == 0u ? vec3(0.0)
-                  : single * fresnel_average * (1.0 - single_albedo) / (1.0 - (1.0 - single_albedo) * fresnel_average);
-  vec3 geometric = geometric_normal(pixel, depth, position);
-  if (dot(geometric, v) < 0.0) geometric = -geometric;  // the side the camera sees
-  float horizon = dot(geometric, geometric) > 0.0 ? clamp(1.0 + dot(r, geometric), 0.0, 1.0) : 1.0;
-  // Lagarde and de Rousiers (2014): the specular share of an ambient visibility.
-  float specular_visibility =
-      clamp(pow(n_v + visibility, exp2(-16.0 * roughness - 1.0)) - 1.0 + visibility, 0.0, 1.0);
+  vec3 r = dominant_direction(n, v, roughness);
   vec3 prefiltered = textureLod(specular_cube, r, roughness * float(kSkySpecularMips - 1u)).rgb;
-  vec3 irradiance_n = irradiance_over_pi(n);
-  Indirect result;
-  result.specular = (single * prefiltered * horizon * horizon + multiple * irradiance_n) * specular_visibility;
-  result.diffuse = albedo * (1.0 - metallic) * (1.0 - single - multiple) * irradiance_n * visibility;
-  return result;
+#ifdef NC_PROBES
+  // The probes whose boxes hold the point, each along its parallax-corrected direction, weighted
+  // by how deep inside its box the point lies; the sky makes up what their weights leave.
+  vec3 probe_sum = vec3(0.0);
+  float total = 0.0;
+  for (uint k = 0u; k < uint(probes.y); ++k) {
+    float w = probe_weight(slots[k], position, probes.x);
+    if (w <= 0.0) continue;
+    vec3 d = parallax_direction(position, r, slots[k].box_min.xyz, slots[k].box_max.xyz, slots[k].position.xyz);
+    probe_sum += w * probe_radiance(k, d, roughness * float(kProbeArrayMips - 1u));
+    total += w;
+  }
+  prefiltered = total > 1.0 ? probe_sum / total : probe_sum + (1.0 - total) * prefiltered;
+#endif
+  return environment_light(n, v, r, geometric_normal(pixel, depth, position), albedo, metallic, roughness, visibility,
+                           sky_source.y != 0u, prefiltered, irradiance_over_pi(n));
 }
 #endif
 

@@ -13,7 +13,11 @@
   /* x: 1 when sky.atmosphere holds a record (the sky's passes ran) \
      and sky.view is drawn, 0 for the constant `sky`; y: 1 to add   \
      the image-based specular's multiple scattering */              \
-  F(uvec4, sky_source)
+  F(uvec4, sky_source)                                              \
+  /* x: metres over which a reflection probe's weight fades to 0 at \
+     the faces of its box; y: the slots probes.slots holds (0 when  \
+     probes.plan did not run) */                                    \
+  F(vec4, probes)
 NC_PUSH_CONSTANTS(CompositeConstants, NC_COMPOSITE_CONSTANTS_FIELDS)
 
 #endif

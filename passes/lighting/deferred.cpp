@@ -3,6 +3,7 @@
 // (lighting.tiled) replaces it once lights.cluster exists.
 #include "passes/core/context.h"
 #include "passes/lighting/deferred.glsl.h"
+#include "passes/lighting/shared_params.h"
 #include "passes/lighting/stage.h"
 
 namespace nightcap {
@@ -31,8 +32,8 @@ PassDecl lighting_deferred_pass() {
       .write("lighting.diffuse", Use::color_attachment, hdr)
       .write("lighting.specular", Use::color_attachment, hdr)
       .param_float("intensity_scale", 1.0, 0.0, 1e6, "multiplies every light's intensity")
-      .param_float("min_roughness", 0.03, 0.0, 1.0, "roughness floor: keeps point highlights finite in half floats")
-      .param_int("tube_samples", 8, 1, 256, "samples along each tube light for its diffuse term")
+      .param(min_roughness_param())
+      .param(tube_samples_param())
       .compare("lighting.diffuse", lighting_contract())
       .compare("lighting.specular", lighting_contract())
       .skip_when([](const SkipContext& frame) {

@@ -16,9 +16,12 @@
 // captures nothing.
 //
 // Views: six per captured probe in probes.views, the cube's faces in Vulkan's order, 90° square
-// `face_size` views from the probe's position relative to the camera (perspective_view()).
+// `face_size` views from the probe's position relative to the camera (perspective_view()), each
+// the face seen as a camera sees it (kFaceAxes: the cube's texels mirrored left to right).
 // What each slot holds and did is in the record (ProbePlan, ProbeSlotState), which the next
-// frame reads back as its history.
+// frame reads back as its history; probes.slots says it again for the GPU passes that read
+// probes.array: each slot's probe and box relative to the camera, and whether it holds a capture.
+// `--set probes.enabled=0` leaves every output empty (no probes: the composite reflects the sky).
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -29,23 +32,26 @@
 #include "passes/core/history_name.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/frame/view.h"
+#include "passes/probes/capture_layout.h"
 #include "passes/probes/plan.h"
 #include "passes/probes/stage.h"
 
 namespace nightcap {
 namespace {
 
-// The axes of each cube face as a camera's (columns: right, up, back), so that the face's pixel
-// (x, y) looks along cube.glsl's cube_direction(face, st): Vulkan's cube map faces. A cube map is
-// left-handed: on every face right × up is the front, not the back, so a face's view mirrors the
-// world (what draws it must wind its triangles the other way).
+// The axes of each cube face's view as a camera's (columns: right, up, back). A cube map is
+// left-handed: on every face the texel to the right of another (s growing) lies to the left of it
+// as a camera facing the face sees it. The views are ordinary cameras (right × up is the back: no
+// winding flipped, screen-space derivatives as the frame's), so view pixel (x, y) looks along cube
+// texel (face_size − 1 − x, y), cube.glsl's cube_direction(face, st): probes.light mirrors x as
+// it writes the cube.
 const std::array<glm::dmat3, 6> kFaceAxes = {
-    glm::dmat3(glm::dvec3(0, 0, -1), glm::dvec3(0, 1, 0), glm::dvec3(-1, 0, 0)),  // +X
-    glm::dmat3(glm::dvec3(0, 0, 1), glm::dvec3(0, 1, 0), glm::dvec3(1, 0, 0)),    // −X
-    glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 0, -1), glm::dvec3(0, -1, 0)),  // +Y
-    glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, 1, 0)),    // −Y
-    glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, -1)),   // +Z
-    glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)),   // −Z
+    glm::dmat3(glm::dvec3(0, 0, 1), glm::dvec3(0, 1, 0), glm::dvec3(-1, 0, 0)),    // +X
+    glm::dmat3(glm::dvec3(0, 0, -1), glm::dvec3(0, 1, 0), glm::dvec3(1, 0, 0)),    // −X
+    glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, 0, -1), glm::dvec3(0, -1, 0)),  // +Y
+    glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, 1, 0)),    // −Y
+    glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, -1)),   // +Z
+    glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)),     // −Z
 };
 
 glm::dvec3 probe_position(const ProbeRecord& p) { return {p.position[0], p.position[1], p.position[2]}; }
@@ -60,6 +66,14 @@ class ProbePlanner {
   }
 
   void run() {
+    // Disabled (the group's other passes skip), it plans nothing: no slot, no capture. It still
+    // runs, so a replay of it reproduces the record.
+    if (!ctx_.flag("enabled")) {
+      ctx_.store<ProbePlan>("probes.plan", {});
+      ctx_.store<GpuView>("probes.views", {});
+      ctx_.store<GpuProbeSlot>("probes.slots", {});
+      return;
+    }
     ProbePlan plan{};
     std::fill(std::begin(plan.slot_probe), std::end(plan.slot_probe), kNoProbe);
     const std::vector<uint32_t> nearest = in_range(plan);
@@ -87,6 +101,20 @@ class ProbePlanner {
     }
     ctx_.store<ProbePlan>("probes.plan", {&plan, 1});
     ctx_.store<GpuView>("probes.views", views);
+    std::vector<GpuProbeSlot> slots(kProbeSlots);
+    for (uint32_t slot = 0; slot < kProbeSlots; ++slot) {
+      if (plan.slot_probe[slot] == kNoProbe) continue;
+      const ProbeRecord& probe = probes_[plan.slot_probe[slot]];
+      const bool captured = plan.slot_state[slot] != uint32_t(ProbeSlotState::waiting);
+      auto relative = [&](const double(&p)[3]) {
+        return glm::vec4(glm::vec3(glm::dvec3(p[0], p[1], p[2]) - eye_), 0.0f);
+      };
+      slots[slot].position = relative(probe.position);
+      slots[slot].position.w = captured ? 1.0f : 0.0f;
+      slots[slot].box_min = relative(probe.box_min);
+      slots[slot].box_max = relative(probe.box_max);
+    }
+    ctx_.store<GpuProbeSlot>("probes.slots", slots);
   }
 
  private:
@@ -188,6 +216,20 @@ class ProbePlanner {
 
 }  // namespace
 
+ProbePlan read_probe_plan(std::span<const uint8_t> record) {
+  ProbePlan plan{};
+  std::fill(std::begin(plan.slot_probe), std::end(plan.slot_probe), kNoProbe);
+  if (record.empty()) return plan;
+  if (record.size() != sizeof(plan))
+    throw GraphError("probes.plan holds " + std::to_string(record.size()) + " bytes, not " +
+                     std::to_string(sizeof(plan)));
+  std::memcpy(&plan, record.data(), sizeof(plan));
+  return plan;
+}
+
+BufferSchema probe_face_schema() { return NC_SCHEMA_OF(GpuProbeFace, NC_GPU_PROBE_FACE_FIELDS); }
+BufferSchema probe_slot_schema() { return NC_SCHEMA_OF(GpuProbeSlot, NC_GPU_PROBE_SLOT_FIELDS); }
+
 PassDecl probes_plan_pass() {
   return PassDecl("probes.plan", PassType::cpu)
       .read("frame.camera", Use::host)
@@ -195,16 +237,20 @@ PassDecl probes_plan_pass() {
       .read_previous("probes.plan", Use::host)
       .write("probes.plan", Use::host, BufferDecl{kinds::buffer})
       .write("probes.views", Use::host, BufferDecl{kinds::buffer})
+      .write("probes.slots", Use::host, BufferDecl{kinds::buffer})
       .layout("probes.plan", probe_plan_schema())
       .layout("probes.views", view_schema())
+      .layout("probes.slots", probe_slot_schema())
       .param_float("range_metres", 150.0, 1.0, 10000.0, "probes within this distance of the camera are in range")
       .param_int("max_updates", 2, 0, kProbeSlots,
                  "probes captured per frame at most after a reset (a frame without history captures every probe "
                  "in range)")
       .param_int("refresh_frames", 0, 0, 100000,
                  "frames after which a capture is stale and captured again as the budget allows (0: never)")
-      .param_int("face_size", 64, 8, 512, "texels on a side of a captured cube face")
+      .param(probe_face_size())
       .param_float("near_metres", 0.05, 0.001, 10.0, "the captures' near plane")
+      .param(ParamDecl::boolean("enabled", true, "0 skips the pass (reflection probes disabled by settings)")
+                 .shared_by("probes"))
       .run([](PassContext& ctx) { ProbePlanner(ctx).run(); });
 }
 

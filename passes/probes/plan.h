@@ -2,13 +2,19 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 
 #include "passes/core/buffer_schema.h"
+#include "passes/core/params.h"
+#include "passes/probes/capture_layout.glsl.h"
 
 namespace nightcap {
+// The captures' face size: probes.plan's views and probes.gbuffer's targets agree on it
+// (`--set probes.face_size=N` sets both).
+inline ParamDecl probe_face_size() {
+  return ParamDecl::integer("face_size", 64, 8, 512, "texels on a side of a captured cube face").shared_by("probes");
+}
 
-// Probes in one texture array [000]: the nearest this many in range hold a slot.
-constexpr uint32_t kProbeSlots = 32;
 // scene.probes index of an empty slot.
 constexpr uint32_t kNoProbe = 0xffffffffu;
 
@@ -32,6 +38,10 @@ struct ProbePlan {
   uint32_t capture_slot[kProbeSlots];   // the slots captured this frame, in order
 };
 static_assert(sizeof(ProbePlan) == (4 + 4 * kProbeSlots) * 4);
+
+// The plan a record holds; an empty record (probes.plan skipped: no probes, or disabled) is a
+// plan that captures nothing.
+ProbePlan read_probe_plan(std::span<const uint8_t> record);
 
 inline BufferSchema probe_plan_schema() {
   using S = ProbePlan;

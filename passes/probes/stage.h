@@ -7,5 +7,10 @@
 namespace nightcap {
 
 PassDecl probes_plan_pass();
+PassDecl probes_cull_pass();
+PassDecl probes_gbuffer_pass();
+PassDecl probes_light_pass();
+PassDecl probes_keep_pass();
+PassDecl probes_convert_pass();
 
 }  // namespace nightcap

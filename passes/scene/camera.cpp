@@ -85,6 +85,7 @@ std::set<std::string> Scene::features() const {
     if (m.emissive != glm::vec3(0.0f)) f.insert("emissive");
   }
   if (!decals.empty()) f.insert("projected_decals");
+  if (!probes.empty()) f.insert("reflection_probes");
   for (const Light& l : lights) f.insert(l.type == LightType::directional ? "sun" : "local_lights");
   // Spot lights are the local lights with shadow maps (shadow.local_plan).
   for (const Light& l : lights)

@@ -16,6 +16,7 @@
 #include "../frame/types.glsl"
 #include "shadow_layout.glsl.h"
 #include "sun_resolve.glsl.h"
+#include "sun_filter.glsl"
 
 layout(local_size_x = kSunResolveGroupSide, local_size_y = kSunResolveGroupSide) in;
 layout(constant_id = 0) const int FILTER_RADIUS = 1;
@@ -34,43 +35,6 @@ layout(set = 0, binding = NC_BINDING(shadow_distant)) uniform sampler2DArray dis
 layout(set = 0, binding = NC_BINDING(shadow_sun), rg8) uniform writeonly image2D sun_out;
 
 layout(push_constant) uniform ResolveConstants { NC_BLOCK_MEMBERS(NC_SUN_RESOLVE_CONSTANTS_FIELDS) };
-
-// Where a pixel reads its shadow: a layer of the cascades or of the distant levels, its
-// projection, a texel's side and the light depth [0, 1] spans in metres, texels per side.
-struct ShadowMap {
-  int layer;
-  mat4 m;
-  float texel_m, depth_m, resolution;
-};
-
-// The receiver's depth, its plane's slope per texel and the bias, carried to the texels the filter reads.
-struct Receiver {
-  vec2 at;  // in texels
-  float depth, bias;
-  vec2 per_texel;
-};
-
-Receiver receiver_in(ShadowMap map, vec3 position, vec3 n) {
-  Receiver r;
-  vec3 clip = (map.m * vec4(position, 1.0)).xyz;
-  r.at = (clip.xy * 0.5 + 0.5) * map.resolution;
-  r.depth = clip.z;
-  // The receiver's plane in light clip space: its depth change per texel along x and y.
-  vec3 plane = transpose(inverse(mat3(map.m))) * n;
-  float limit = max_slope * map.texel_m / map.depth_m;
-  vec2 per_texel = abs(plane.z) > 1e-12 ? -plane.xy / plane.z * (2.0 / map.resolution) : vec2(0.0);
-  r.per_texel = clamp(per_texel, vec2(-limit), vec2(limit));
-  r.bias = depth_bias * map.texel_m / map.depth_m;
-  return r;
-}
-
-// Whether the filter's tap at `texel` is lit: outside the map, no caster (1) or the receiver not
-// behind the stored depth.
-bool tap_lit(Receiver r, ivec2 texel, float stored, int last) {
-  float expected = r.depth + dot(vec2(texel) + 0.5 - r.at, r.per_texel);
-  bool inside = all(greaterThanEqual(texel, ivec2(0))) && all(lessThanEqual(texel, ivec2(last)));
-  return !inside || stored >= 1.0 || expected - r.bias <= stored;
-}
 
 const int kSide = 2 * FILTER_RADIUS + 1;
 
@@ -118,12 +82,7 @@ void main() {
   // Beyond the last split: the finest distant level that holds every texel the filter reads,
   // with a texel to spare (4: none, unshadowed).
   float distant_resolution = distant.light_direction.w;
-  float reach = 2.0 * float(FILTER_RADIUS + 2) / max(distant_resolution, 1.0);
-  int level = 4;
-  for (int k = 3; k >= 0; --k) {
-    vec2 clip = (distant.light_from_world[k] * vec4(position, 1.0)).xy;
-    if (all(lessThanEqual(abs(clip), vec2(1.0 - reach)))) level = k;
-  }
+  int level = distant_level(distant, position, FILTER_RADIUS);
   // The pixel's own cascade when it is complete; else a search that only the pixels needing it
   // enter (a loop, which lavapipe runs once when no lane of a row enters it; an if it would run
   // whole), and that is not compiled at all when every cascade is complete.
@@ -143,7 +102,7 @@ void main() {
     map = ShadowMap(k, cascades.light_from_world[k], cascades.texel_metres[k], cascades.depth_metres[k],
                     cascades.light_direction.w);
   }
-  Receiver r = receiver_in(map, position, n);
+  Receiver r = receiver_in(map, position, n, max_slope, depth_bias);
   ivec2 base = ivec2(floor(r.at));
   int last = int(map.resolution) - 1;
   // One loop per kind of map, run for the pixels that read it: lavapipe runs a loop's body once

@@ -65,4 +65,9 @@ void bench_cascade_budget(GpuDevice& gpu, uint32_t width, uint32_t height);
 // local_shadow_bench.cpp: spot light shadows.
 void bench_local(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
 
+// probe_bench.cpp: the reflection probes' cost (probes_on_off_ratio, probe_update_ms) and their
+// time against error (prefilter samples, probes per frame).
+void bench_probes(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
+void bench_probe_tradeoffs(GpuDevice& gpu, PipelineCache& cache, uint32_t width, uint32_t height);
+
 }  // namespace nightcap::bench

@@ -1,6 +1,7 @@
 // The capture loop end to end on lavapipe with validation: render → passes → replay → diff.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <set>
@@ -30,6 +31,8 @@ const std::vector<std::string> kFramePasses = {"cull.main",
                                                "shadow.local",
                                                "shadow.local_moments",
                                                "probes.plan",
+                                               "probes.cull",
+                                               "probes.gbuffer",
                                                "depth.prepass",
                                                "gbuffer.opaque",
                                                "depth.convert",
@@ -48,6 +51,9 @@ const std::vector<std::string> kFramePasses = {"cull.main",
                                                "sky.irradiance",
                                                "sky.specular",
                                                "lighting.dfg",
+                                               "probes.light",
+                                               "probes.keep",
+                                               "probes.convert",
                                                "lighting.ltc_table",
                                                "lighting.tiled",
                                                "lighting.composite",
@@ -62,10 +68,22 @@ const std::vector<std::string> kFramePasses = {"cull.main",
 // clang-format on
 
 // The passes that run in frame `frame` of kCity: the city has no moving geometry and the camera
-// walks from frame 1 on, so motion.stencil is skipped in frame 0 only.
+// walks from frame 1 on, so motion.stencil is skipped in frame 0 only; its one reflection probe
+// is captured in frame 0 and stays valid, so frame 1 captures nothing.
 std::vector<std::string> passes_that_run(int frame) {
   std::vector<std::string> passes = kFramePasses;
   if (frame == 0) std::erase(passes, "motion.stencil");
+  if (frame > 0)
+    for (const char* capture : {"probes.gbuffer", "probes.light", "probes.convert"}) std::erase(passes, capture);
+  return passes;
+}
+
+// The passes a replay of frame `frame` of kCity runs: those that ran, and probes.convert when it
+// skipped for want of captures: it only modifies the probe array, so its capture records its
+// inputs and the replay checks it left the array as it was.
+std::vector<std::string> passes_that_replay(int frame) {
+  std::vector<std::string> passes = passes_that_run(frame);
+  if (frame > 0) passes.insert(std::find(passes.begin(), passes.end(), "lighting.ltc_table"), "probes.convert");
   return passes;
 }
 
@@ -384,7 +402,7 @@ TEST(CaptureLoop, EveryPassThatRanReplaysBitIdentically) {
       for (const auto& o : p.at("outputs"))
         EXPECT_EQ(o.at("verdict"), "identical") << p.at("name") << " " << o.at("resource");
     }
-    EXPECT_EQ(replayed, ran) << "frame " << frame;
+    EXPECT_EQ(replayed, passes_that_replay(frame)) << "frame " << frame;
   }
 }
 

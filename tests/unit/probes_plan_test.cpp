@@ -198,7 +198,8 @@ TEST_F(ProbesPlan, FaceViewsAreTheCubeMapsFaces) {
       const glm::dvec4 clip = glm::dmat4(view.view_projection) * glm::dvec4(probe - camera + d, 1.0);
       ASSERT_GT(clip.w, 0.0);
       const glm::dvec2 ndc = glm::dvec2(clip) / clip.w;
-      worst = std::max({worst, std::abs(ndc.x - (2 * s - 1)), std::abs(ndc.y - (2 * t - 1))});
+      // The view sees the face as a camera does: its x runs against the cube's s.
+      worst = std::max({worst, std::abs(-ndc.x - (2 * s - 1)), std::abs(ndc.y - (2 * t - 1))});
       EXPECT_GT(clip.z / clip.w, 0.0);
       EXPECT_LT(clip.z / clip.w, 1.0);
     }

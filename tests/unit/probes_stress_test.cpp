@@ -1,0 +1,143 @@
+// The reflection probes under stress: a probe inside a building, a camera cut, no probe in range
+// and more than 32 in range. Each renders into a capture whose every float output stays finite,
+// and whose probe passes replay from their records bit for bit (`replay --verify`), every frame.
+// The probes at the map's far corner are in tests/unit/far_origin_test.cpp (the captures of a
+// city 8 km out are the captures at the origin, bit for bit).
+#include <cmath>
+#include <cstring>
+
+#include "passes/assembly/renderer.h"
+#include "passes/probes/plan.h"
+#include "replay/replay.h"
+#include "tests/unit/gpu_fixture.h"
+#include "tests/unit/scratch_folder.h"
+
+namespace nightcap::test {
+namespace {
+namespace NIGHTCAP_FILE_ID {
+
+const std::vector<std::string> kProbePasses = {"probes.plan",  "probes.cull", "probes.gbuffer",
+                                               "probes.light", "probes.keep", "probes.convert"};
+
+class ProbesStress : public GpuTest {
+ protected:
+  // Renders `frames` of `scene` into a capture, checks every float output of every frame finite
+  // and every probe pass that ran replayed bit for bit, and returns each frame's plan.
+  std::vector<ProbePlan> render_and_verify(const Scene& scene, RenderSettings settings, uint32_t frames) {
+    ScratchFolder folder("probes-stress");
+    settings.frames = frames;
+    render_to_capture(*gpu_, scene, settings, folder.path / "cap", false);
+    const Capture capture = Capture::open(folder.path / "cap");
+    std::vector<ProbePlan> plans;
+    for (uint32_t f = 0; f < frames; ++f) {
+      const FrameRecord& frame = capture.frame(f);
+      for (const PassRecord& pass : frame.passes)
+        for (const ResourceRecord& out : pass.outputs) {
+          if (out.is_buffer || !is_float(*format_info(out.format))) continue;
+          const std::vector<uint8_t> raw = capture.load(out);
+          EXPECT_TRUE(all_finite(out, raw))
+              << "frame " << f << ": " << pass.name << " wrote a NaN or Inf to " << out.resource;
+        }
+      ReplayOptions options;
+      options.frame = f;
+      options.passes = kProbePasses;
+      const ReplayReport report = replay_capture(*gpu_, capture, options);
+      for (const PassReplay& pass : report.passes)
+        for (const OutputCheck& check : pass.outputs)
+          EXPECT_EQ(check.verdict, Verdict::identical) << "frame " << f << ": " << pass.name << " " << check.resource;
+      for (const PassRecord& pass : frame.passes)
+        if (pass.name == "probes.plan")
+          for (const ResourceRecord& out : pass.outputs)
+            if (out.resource == "probes.plan") plans.push_back(host_records<ProbePlan>(capture.load(out)).at(0));
+    }
+    return plans;
+  }
+
+  static bool all_finite(const ResourceRecord& record, const std::vector<uint8_t>& raw) {
+    const FormatInfo f = *format_info(record.format);
+    const uint64_t texels = raw_subresource_offset(f, record.extent, 1, 0, 0) / f.texel_bytes;
+    for (uint64_t i = 0; i < texels; ++i) {
+      float t[4];
+      decode_texel(f, 0, raw, i, t);
+      for (uint32_t c = 0; c < f.channels; ++c)
+        if (!std::isfinite(t[c])) return false;
+    }
+    return true;
+  }
+
+  static RenderSettings small() {
+    RenderSettings settings;
+    settings.width = 160;
+    settings.height = 90;
+    return settings;
+  }
+};
+
+TEST_F(ProbesStress, AProbeInsideABuildingStaysFinite) {
+  Scene scene = build_city(1);
+  ASSERT_EQ(scene.probes.size(), 1u);
+  // The middle of the tallest instance's box: inside a building, every face sees its walls from
+  // within (back faces, culled: the faces see through them to the street).
+  double tallest = 0;
+  glm::dvec3 inside(0.0);
+  for (const Instance& instance : scene.instances) {
+    const Primitive& p = scene.primitives.at(instance.primitive);
+    glm::dvec3 lo(INFINITY), hi(-INFINITY);
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec3 corner(k & 1 ? p.bounds_max.x : p.bounds_min.x, k & 2 ? p.bounds_max.y : p.bounds_min.y,
+                              k & 4 ? p.bounds_max.z : p.bounds_min.z);
+      const glm::dvec3 world(instance.world * glm::dvec4(corner, 1.0));
+      lo = glm::min(lo, world);
+      hi = glm::max(hi, world);
+    }
+    if (hi.y - lo.y > tallest) {
+      tallest = hi.y - lo.y;
+      inside = 0.5 * (lo + hi);
+    }
+  }
+  ASSERT_GT(tallest, 10.0);
+  scene.probes[0].position = inside;
+  const std::vector<ProbePlan> plans = render_and_verify(scene, small(), 2);
+  ASSERT_EQ(plans.size(), 2u);
+  EXPECT_EQ(plans[0].captured, 1u);
+}
+
+TEST_F(ProbesStress, ACutCapturesEveryProbeInRangeAgain) {
+  RenderSettings settings = small();
+  settings.path.cuts = {2};
+  const std::vector<ProbePlan> plans = render_and_verify(build_city(1), settings, 3);
+  ASSERT_EQ(plans.size(), 3u);
+  EXPECT_EQ(plans[0].reset, 1u);
+  EXPECT_EQ(plans[1].reset, 0u);
+  EXPECT_EQ(plans[1].captured, 0u) << "the probe stays captured while walking";
+  EXPECT_EQ(plans[2].reset, 1u) << "a cut empties the plan's history";
+  EXPECT_EQ(plans[2].captured, plans[2].in_range);
+}
+
+TEST_F(ProbesStress, MoreThanThirtyTwoInRangeFillEverySlot) {
+  RenderSettings settings = small();
+  settings.params["probes.plan"]["range_metres"] = 2000.0;
+  const std::vector<ProbePlan> plans = render_and_verify(build_map({1, 16.0, Shot::street}), settings, 2);
+  ASSERT_EQ(plans.size(), 2u);
+  EXPECT_GT(plans[0].in_range, kProbeSlots);
+  EXPECT_EQ(plans[0].captured, kProbeSlots);
+  EXPECT_EQ(plans[1].captured, 0u);
+}
+
+// With no probe in range the composite's reflections are the sky's: the frame is the frame with
+// the probes switched off, bit for bit.
+TEST_F(ProbesStress, NoProbeInRangeReflectsTheSkyAsWithProbesOff) {
+  const Scene scene = build_map({1, 16.0, Shot::street});
+  RenderSettings none = small(), off = small();
+  none.params["probes.plan"]["range_metres"] = 1.0;
+  off.params["probes"]["enabled"] = 0.0;
+  Renderer with_none(*gpu_, scene, none), without(*gpu_, scene, off);
+  const RenderedFrame a = with_none.render_frame(0, true), b = without.render_frame(0, true);
+  const ProbePlan plan = host_records<ProbePlan>(*a.execution.final_version("probes.plan")->bytes).at(0);
+  EXPECT_EQ(plan.in_range, 0u);
+  EXPECT_EQ(*a.execution.final_version("lighting.lit")->bytes, *b.execution.final_version("lighting.lit")->bytes);
+}
+
+}  // namespace NIGHTCAP_FILE_ID
+}  // namespace
+}  // namespace nightcap::test
