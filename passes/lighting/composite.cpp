@@ -12,7 +12,8 @@
 // terms of frame.md join as optional inputs, each read when its pass is in the frame: ao.bent's
 // visibility (alpha, sampled bilinearly: AO may be half size) darkens the indirect terms, as the
 // material's own occlusion (gbuffer.occlusion) does; the reflection probes (probes.slots,
-// probes.array) take the specular's place of the sky's cube map inside their boxes, each read
+// probes.array) take the specular's place of the sky's cube map inside their boxes, the two
+// nearest a point read
 // along its parallax-corrected direction and weighted by how deep in its box the point lies
 // (probes/reflection.glsl), the sky making up the rest. SSR, the GI volume and fog are to join
 // the same way, a read_optional and an `#ifdef NC_BINDING_<name>` block in the shader each, with
@@ -47,7 +48,7 @@ PassDecl lighting_composite_pass() {
       .sampler("sky.specular", trilinear_clamp_sampler())
       .read_optional("lighting.dfg", Use::sampled)
       .sampler("lighting.dfg", bilinear_clamp_sampler())
-      .read_optional("probes.slots", Use::uniform_buffer)
+      .read_optional("probes.slots", Use::storage_read)
       .read_optional("probes.array", Use::sampled)
       .sampler("probes.array", trilinear_clamp_sampler())
       .read_optional("ao.bent", Use::sampled)

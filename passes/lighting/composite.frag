@@ -44,7 +44,7 @@ layout(set = 0, binding = NC_BINDING(lighting_dfg)) uniform sampler2D dfg_lut;
 #define NC_PROBES
 #include "../probes/capture_layout.glsl.h"
 #include "../probes/paraboloid.glsl.h"
-layout(std140, set = 0, binding = NC_BINDING(probes_slots)) uniform ProbeSlotBlock { GpuProbeSlot slots[kProbeSlots]; };
+layout(std430, set = 0, binding = NC_BINDING(probes_slots)) readonly buffer ProbeSlotBlock { GpuProbeSlot slots[]; };
 layout(set = 0, binding = NC_BINDING(probes_array)) uniform sampler2DArray probe_array;
 #include "../probes/reflection.glsl"
 #endif
@@ -117,16 +117,32 @@ Indirect image_based(ivec2 pixel, float depth, vec3 position, vec3 albedo, float
   vec3 r = dominant_direction(n, v, roughness);
   vec3 prefiltered = textureLod(specular_cube, r, roughness * float(kSkySpecularMips - 1u)).rgb;
 #ifdef NC_PROBES
-  // The probes whose boxes hold the point, each along its parallax-corrected direction, weighted
-  // by how deep inside its box the point lies; the sky makes up what their weights leave.
-  vec3 probe_sum = vec3(0.0);
-  float total = 0.0;
+  // The two nearest probes whose boxes hold the point, each read along its parallax-corrected
+  // direction and weighted by how deep inside its box the point lies; the sky makes up what their
+  // weights leave. Choosing first and reading after keeps the reads at two a pixel: lavapipe
+  // would run a read in the loop for every slot. probes.slots lists the slots holding a capture.
+  uint nearest[2] = uint[2](0u, 0u);
+  float weights[2] = float[2](0.0, 0.0), distances[2] = float[2](1e30, 1e30);
   for (uint k = 0u; k < uint(probes.y); ++k) {
     float w = probe_weight(slots[k], position, probes.x);
-    if (w <= 0.0) continue;
-    vec3 d = parallax_direction(position, r, slots[k].box_min.xyz, slots[k].box_max.xyz, slots[k].position.xyz);
-    probe_sum += w * probe_radiance(k, d, roughness * float(kProbeArrayMips - 1u));
-    total += w;
+    float d = length(position - slots[k].position.xyz);
+    if (w <= 0.0 || d >= distances[1]) continue;
+    bool first = d < distances[0];
+    nearest[1] = first ? nearest[0] : k;
+    weights[1] = first ? weights[0] : w;
+    distances[1] = first ? distances[0] : d;
+    nearest[0] = first ? k : nearest[0];
+    weights[0] = first ? w : weights[0];
+    distances[0] = first ? d : distances[0];
+  }
+  vec3 probe_sum = vec3(0.0);
+  float total = 0.0;
+  for (int i = 0; i < 2; ++i) {
+    if (weights[i] <= 0.0) continue;
+    GpuProbeSlot slot = slots[nearest[i]];
+    vec3 d = parallax_direction(position, r, slot.box_min.xyz, slot.box_max.xyz, slot.position.xyz);
+    probe_sum += weights[i] * probe_radiance(uint(slot.position.w), d, roughness * float(kProbeArrayMips - 1u));
+    total += weights[i];
   }
   prefiltered = total > 1.0 ? probe_sum / total : probe_sum + (1.0 - total) * prefiltered;
 #endif

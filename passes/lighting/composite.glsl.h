@@ -15,8 +15,8 @@
      the image-based specular's multiple scattering */              \
   F(uvec4, sky_source)                                              \
   /* x: metres over which a reflection probe's weight fades to 0 at \
-     the faces of its box; y: the slots probes.slots holds (0 when  \
-     probes.plan did not run) */                                    \
+     the faces of its box; y: the slots probes.slots lists (those   \
+     holding a capture) */                                          \
   F(vec4, probes)
 NC_PUSH_CONSTANTS(CompositeConstants, NC_COMPOSITE_CONSTANTS_FIELDS)
 

@@ -18,13 +18,12 @@ NC_CONST(uint, kProbeSlots, 32u)
   F(uint, lights)
 NC_STRUCT(GpuProbeFace, NC_GPU_PROBE_FACE_FIELDS)
 
-// probes.slots: what each slot of probes.array holds, for the passes that read the array.
-#define NC_GPU_PROBE_SLOT_FIELDS(F, A, P)                                              \
-  /* xyz: the probe's position relative to the camera; w: 1 when the slot holds a      \
-     capture (captured this frame or before), 0 when it is empty or waiting for one */ \
-  F(vec4, position)                                                                    \
-  /* the probe's parallax box, relative to the camera (w unused) */                    \
-  F(vec4, box_min)                                                                     \
+// probes.slots: the slots of probes.array that hold a capture, for the passes that read it.
+#define NC_GPU_PROBE_SLOT_FIELDS(F, A, P)                                    \
+  /* xyz: the probe's position relative to the camera; w: its slot */       \
+  F(vec4, position)                                                          \
+  /* the probe's parallax box, relative to the camera (w unused) */          \
+  F(vec4, box_min)                                                           \
   F(vec4, box_max)
 NC_STRUCT(GpuProbeSlot, NC_GPU_PROBE_SLOT_FIELDS)
 

@@ -19,8 +19,8 @@
 // `face_size` views from the probe's position relative to the camera (perspective_view()), each
 // the face seen as a camera sees it (kFaceAxes: the cube's texels mirrored left to right).
 // What each slot holds and did is in the record (ProbePlan, ProbeSlotState), which the next
-// frame reads back as its history; probes.slots says it again for the GPU passes that read
-// probes.array: each slot's probe and box relative to the camera, and whether it holds a capture.
+// frame reads back as its history; probes.slots lists the slots holding a capture for the GPU
+// passes that read probes.array: each one's probe and box relative to the camera.
 // `--set probes.enabled=0` leaves every output empty (no probes: the composite reflects the sky).
 #include <algorithm>
 #include <array>
@@ -101,18 +101,18 @@ class ProbePlanner {
     }
     ctx_.store<ProbePlan>("probes.plan", {&plan, 1});
     ctx_.store<GpuView>("probes.views", views);
-    std::vector<GpuProbeSlot> slots(kProbeSlots);
+    // The slots holding a capture (captured now or before), in slot order: what the composite
+    // loops over at every pixel.
+    std::vector<GpuProbeSlot> slots;
     for (uint32_t slot = 0; slot < kProbeSlots; ++slot) {
-      if (plan.slot_probe[slot] == kNoProbe) continue;
+      if (plan.slot_probe[slot] == kNoProbe || plan.slot_state[slot] == uint32_t(ProbeSlotState::waiting)) continue;
       const ProbeRecord& probe = probes_[plan.slot_probe[slot]];
-      const bool captured = plan.slot_state[slot] != uint32_t(ProbeSlotState::waiting);
       auto relative = [&](const double(&p)[3]) {
         return glm::vec4(glm::vec3(glm::dvec3(p[0], p[1], p[2]) - eye_), 0.0f);
       };
-      slots[slot].position = relative(probe.position);
-      slots[slot].position.w = captured ? 1.0f : 0.0f;
-      slots[slot].box_min = relative(probe.box_min);
-      slots[slot].box_max = relative(probe.box_max);
+      GpuProbeSlot record{relative(probe.position), relative(probe.box_min), relative(probe.box_max)};
+      record.position.w = float(slot);
+      slots.push_back(record);
     }
     ctx_.store<GpuProbeSlot>("probes.slots", slots);
   }

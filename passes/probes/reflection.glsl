@@ -15,12 +15,12 @@ vec3 parallax_direction(vec3 position, vec3 r, vec3 box_min, vec3 box_max, vec3 
   return normalize(position + r * t - probe);
 }
 
-// How much the probe of `slot` lights a point: 0 outside its box or without a capture, rising
-// linearly to 1 over `fade_metres` inside the box's faces.
+// How much the probe of `slot` lights a point: 0 outside its box, rising linearly to 1 over
+// `fade_metres` inside the box's faces.
 float probe_weight(GpuProbeSlot slot, vec3 position, float fade_metres) {
   vec3 inside = min(position - slot.box_min.xyz, slot.box_max.xyz - position);
   float margin = min(min(inside.x, inside.y), inside.z);
-  return slot.position.w > 0.0 && margin > 0.0 ? clamp(margin / max(fade_metres, 1e-6), 0.0, 1.0) : 0.0;
+  return margin > 0.0 ? clamp(margin / max(fade_metres, 1e-6), 0.0, 1.0) : 0.0;
 }
 
 // Texel coordinates (uv) and layer of probes.array that the direction d of slot `slot` is at.
