@@ -19,11 +19,11 @@ NC_CONST(uint, kProbeSlots, 32u)
 NC_STRUCT(GpuProbeFace, NC_GPU_PROBE_FACE_FIELDS)
 
 // probes.slots: the slots of probes.array that hold a capture, for the passes that read it.
-#define NC_GPU_PROBE_SLOT_FIELDS(F, A, P)                                    \
-  /* xyz: the probe's position relative to the camera; w: its slot */       \
-  F(vec4, position)                                                          \
-  /* the probe's parallax box, relative to the camera (w unused) */          \
-  F(vec4, box_min)                                                           \
+#define NC_GPU_PROBE_SLOT_FIELDS(F, A, P)                             \
+  /* xyz: the probe's position relative to the camera; w: its slot */ \
+  F(vec4, position)                                                   \
+  /* the probe's parallax box, relative to the camera (w unused) */   \
+  F(vec4, box_min)                                                    \
   F(vec4, box_max)
 NC_STRUCT(GpuProbeSlot, NC_GPU_PROBE_SLOT_FIELDS)
 
