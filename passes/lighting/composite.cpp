@@ -12,12 +12,11 @@
 // terms of frame.md join as optional inputs, each read when its pass is in the frame: ao.bent's
 // visibility (alpha, sampled bilinearly: AO may be half size) darkens the indirect terms, as the
 // material's own occlusion (gbuffer.occlusion) does; the reflection probes (probes.slots,
-// probes.array) take the specular's place of the sky's cube map inside their boxes, the two
-// nearest a point read
-// along its parallax-corrected direction and weighted by how deep in its box the point lies
-// (probes/reflection.glsl), the sky making up the rest. SSR, the GI volume and fog are to join
-// the same way, a read_optional and an `#ifdef NC_BINDING_<name>` block in the shader each, with
-// the passes that define their formats.
+// probes.array) take the specular's place of the sky's cube map inside their boxes: the two
+// nearest a point, each read along its parallax-corrected direction and weighted by how deep in
+// its box the point lies (probes/reflection.glsl), the sky making up the rest. SSR, the GI
+// volume and fog are to join the same way, a read_optional and an `#ifdef NC_BINDING_<name>`
+// block in the shader each, with the passes that define their formats.
 #include "passes/core/context.h"
 #include "passes/lighting/composite.glsl.h"
 #include "passes/lighting/shared_params.h"
