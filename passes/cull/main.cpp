@@ -28,6 +28,7 @@
 #include "passes/cull/cull_stats.h"
 #include "passes/cull/stage.h"
 #include "passes/frame/camera_math.h"
+#include "passes/frame/draw_scene.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/hierarchy.h"
 #include "passes/frame/occlusion_buffer.h"
@@ -72,15 +73,6 @@ Containment box_in_frustum(const std::array<Plane, 5>& planes, const glm::dvec3&
 
 glm::dvec3 mesh_min(const MeshRecord& m) { return {m.bounds_min[0], m.bounds_min[1], m.bounds_min[2]}; }
 glm::dvec3 mesh_max(const MeshRecord& m) { return {m.bounds_max[0], m.bounds_max[1], m.bounds_max[2]}; }
-
-// The seeds' order inside gbuffer.opaque [001]: static meshes, then ground and emissive, then
-// foliage (destructibles have no class of their own here).
-uint32_t draw_order_class(const GpuMaterial& m) {
-  const uint32_t stencil_class = uint32_t(m.textures2.z);
-  if (stencil_class == stencil::foliage) return 2;
-  if ((stencil_class & stencil::road) || m.emissive.x > 0 || m.emissive.y > 0 || m.emissive.z > 0) return 1;
-  return 0;
-}
 
 // What a draw list holds of an instance until its record is written: enough to sort it and to
 // build its GpuDraw (draw_record), a fraction of the record's 256 bytes.

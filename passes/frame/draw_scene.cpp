@@ -4,8 +4,16 @@
 #include <cstring>
 
 #include "passes/frame/scene_resources.h"
+#include "passes/scene/scene.h"
 
 namespace nightcap {
+
+uint32_t draw_order_class(const GpuMaterial& m) {
+  const uint32_t stencil_class = uint32_t(m.textures2.z);
+  if (stencil_class == stencil::foliage) return 2;
+  if ((stencil_class & stencil::road) || m.emissive.x > 0 || m.emissive.y > 0 || m.emissive.z > 0) return 1;
+  return 0;
+}
 namespace {
 
 GeometryHeader geometry_header(PassContext& ctx) {

@@ -14,6 +14,10 @@
 
 namespace nightcap {
 
+// The seeds' order inside gbuffer.opaque [001], the class draw lists sort by first: static meshes
+// (0), then ground and emissive (1), then foliage (2); destructibles have no class of their own.
+uint32_t draw_order_class(const GpuMaterial& m);
+
 // Records [first, first + count) of the list (all by default): a list packing several views'
 // draws (shadow.cascades) draws each view's range.
 struct DrawRange {

@@ -20,6 +20,7 @@
 
 #include "passes/core/context.h"
 #include "passes/frame/constants.h"
+#include "passes/frame/draw_scene.h"
 #include "passes/frame/hierarchy.h"
 #include "passes/frame/occlusion_buffer.h"
 #include "passes/frame/scene_resources.h"
@@ -110,10 +111,9 @@ class ProbeCuller {
                 std::array<std::vector<FaceDraw>, 6>& lists) {
     const InstanceRecord& r = instances_[index];
     if (r.material >= materials_.size() || (int(materials_[r.material].extra.w) & 4) != 0) return;  // decal
-    glm::dmat4 model(1.0);
-    for (int c = 0; c < 3; ++c)
-      for (int row = 0; row < 3; ++row) model[c][row] = r.basis[c * 3 + row];
-    model[3] = glm::dvec4(world_position(r.position) - eye_, 1.0);
+    // Static: where it stands at time 0, relative to the camera (subtracted in double).
+    glm::dmat4 model = instance_model(r, 0.0);
+    model[3] -= glm::dvec4(eye_, 0.0);
     const double determinant = glm::determinant(glm::dmat3(model));
     if (!std::isfinite(determinant) || determinant == 0.0) return;
     const MeshRecord* mesh = mesh_at(r.primitive, index);
@@ -132,10 +132,7 @@ class ProbeCuller {
     if (distance > mesh->draw_distance || mesh->index_count == 0) return;
     const GpuMaterial& m = materials_[r.material];
     const uint32_t stencil_class = uint32_t(m.textures2.z);
-    const bool emissive = m.emissive.x > 0 || m.emissive.y > 0 || m.emissive.z > 0;
-    const uint64_t draw_class = stencil_class == stencil::foliage             ? 2
-                                : (stencil_class & stencil::road) || emissive ? 1
-                                                                              : 0;
+    const uint64_t draw_class = draw_order_class(m);
     const glm::dvec3 lo(mesh->bounds_min[0], mesh->bounds_min[1], mesh->bounds_min[2]);
     const glm::dvec3 hi(mesh->bounds_max[0], mesh->bounds_max[1], mesh->bounds_max[2]);
     for (uint32_t f = 0; f < 6; ++f) {
