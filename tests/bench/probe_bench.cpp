@@ -87,10 +87,9 @@ void bench_probes(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repea
 // Time against error. Prefilter samples: probes.convert alone on a synthetic capture (64 texels
 // a face, tests/reference/probe_capture.h) against GGX's prefilter converged in double (32768
 // samples), RMSE over 128 texels of each prefiltered mip relative to the reference's RMS, the
-// worst mip; time: the pass's, as the frame times it (alone, by the host's clock, on a CPU device). Probes captured per
-// frame (max_updates): the street shot driving, a frame every second (14 m apart, so probes come in range), each
-// frame's capture passes timed alone (their mean over the frames) against the share of the probes in range still
-// waiting for a capture (their reflections show the sky), over 12 frames after the reset.
+// worst mip; time: the pass's, as the frame times it (alone, by the host's clock, on a CPU
+// device). Then face resolution and probes captured per frame, in the map's street shot, each
+// frame's capture passes timed alone.
 void bench_probe_tradeoffs(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_t width, uint32_t height) {
   table() << "\n## probes.convert: prefilter samples against error (synthetic capture, 64 texels a face)\n"
           << "samples at mip 1   ms   worst mip RMSE\n";
@@ -127,22 +126,69 @@ void bench_probe_tradeoffs(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_
     figure("probe_prefilter_rmse." + std::to_string(samples), worst);
   }
 
-  table() << "\n## probes captured per frame: street shot driving, a frame a second, 12 frames after the reset\n"
-          << "max_updates   capture ms/frame (mean)   probes waiting\n";
   const nc::Scene scene = nc::build_map({1, 16.0, nc::Shot::street});
+  nc::RenderSettings still;
+  still.width = width;
+  still.height = height;
+  still.path.motion = nc::CameraPath::Motion::still;
+  still.pass_timing.reset();  // each pass timed alone on a CPU device
+
+  // Face resolution: the reset frame of the still street shot (every probe in range captured) at
+  // each face_size; time: its capture passes per probe captured; error: lighting.lit against the
+  // finest setting's, RMS over the frame relative to the RMS of what the probes add to it (the
+  // finest setting's lighting.lit less that of probes off), so 1 would be as wrong as no probes.
+  table() << "\n## probe face resolution: street shot at " << width << "x" << height
+          << ", the reset frame\nface_size   ms/probe   lighting.lit error (share of the probes' contribution)\n";
+  const auto lit = [&](const nc::RenderSettings& settings, double* ms_per_probe) {
+    nc::Renderer renderer(gpu, scene, settings);
+    const nc::RenderedFrame frame = renderer.render_frame(0, true);
+    if (ms_per_probe) *ms_per_probe = update_ms(frame) / std::max(1u, plan_of(frame).captured);
+    return *frame.execution.final_version("lighting.lit")->bytes;
+  };
+  const auto pixels_rms = [&](const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+    double squares = 0;
+    for (uint64_t p = 0; p < uint64_t(width) * height; ++p) {
+      const glm::dvec3 d = reference::half4_at(a, p * 8) - reference::half4_at(b, p * 8);
+      squares += glm::dot(d, d);
+    }
+    return std::sqrt(squares / (double(width) * height));
+  };
+  nc::RenderSettings off = still;
+  off.params["probes"]["enabled"] = 0.0;
+  const std::vector<uint8_t> without = lit(off, nullptr);
+  const std::vector<uint32_t> face_sizes = {16, 32, 64, 128, 256};
+  std::vector<std::vector<uint8_t>> images;
+  std::vector<double> ms(face_sizes.size());
+  for (size_t k = 0; k < face_sizes.size(); ++k) {
+    nc::RenderSettings settings = still;
+    settings.params["probes"]["face_size"] = double(face_sizes[k]);
+    images.push_back(lit(settings, &ms[k]));
+  }
+  const double contribution = pixels_rms(images.back(), without);
+  for (size_t k = 0; k < face_sizes.size(); ++k) {
+    const double error = pixels_rms(images[k], images.back()) / std::max(contribution, 1e-30);
+    table() << std::setw(9) << face_sizes[k] << std::setw(11) << std::fixed << std::setprecision(1) << ms[k]
+            << std::setw(12) << std::setprecision(4) << error << (face_sizes[k] == 64 ? "   (default)" : "")
+            << (k + 1 == face_sizes.size() ? "   (the reference)" : "") << "\n";
+    figure("probe_face_ms." + std::to_string(face_sizes[k]), ms[k]);
+    figure("probe_face_error." + std::to_string(face_sizes[k]), error);
+  }
+
+  // Probes captured per frame: the street shot driving, 84 m between frames (a frame every 6 s),
+  // so that several probes (one a 100 m block) come in range each frame.
+  table() << "\n## probes captured per frame: street shot driving, a frame every 6 s, 12 frames after the reset\n"
+          << "max_updates   capture ms/frame (mean)   probes waiting\n";
   for (const uint32_t budget : {1u, 2u, 4u, 8u}) {
-    nc::RenderSettings settings;
-    settings.width = width;
-    settings.height = height;
+    nc::RenderSettings settings = still;
     settings.path.motion = nc::CameraPath::Motion::drive;
     settings.params["probes.plan"]["max_updates"] = double(budget);
     nc::Renderer renderer(gpu, scene, settings);
     renderer.render_frame(0, false);
-    std::vector<double> ms;
+    std::vector<double> frame_ms;
     double waiting = 0, in_range = 0;
     for (uint32_t k = 1; k <= 12; ++k) {
-      const nc::RenderedFrame frame = renderer.render_frame(60 * k, false);
-      ms.push_back(update_ms(frame));
+      const nc::RenderedFrame frame = renderer.render_frame(360 * k, false);
+      frame_ms.push_back(update_ms(frame));
       const nc::ProbePlan plan = plan_of(frame);
       for (uint32_t s = 0; s < kProbeSlots; ++s) {
         in_range += plan.slot_probe[s] != kNoProbe;
@@ -151,7 +197,7 @@ void bench_probe_tradeoffs(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_
     }
     const double share = in_range > 0 ? waiting / in_range : 0.0;
     double mean = 0;
-    for (double m : ms) mean += m / double(ms.size());
+    for (double m : frame_ms) mean += m / double(frame_ms.size());
     table() << std::setw(11) << budget << std::setw(26) << std::fixed << std::setprecision(1) << mean << std::setw(17)
             << std::setprecision(3) << share << (budget == 2 ? "   (default)" : "") << "\n";
     figure("probe_budget_ms." + std::to_string(budget), mean);

@@ -11,6 +11,7 @@
 
 #include "passes/assembly/renderer.h"
 #include "tests/unit/gpu_fixture.h"
+#include "tests/unit/moved_scene.h"
 
 namespace nightcap::test {
 namespace {
@@ -23,22 +24,6 @@ std::map<std::string, const VersionData*> outputs(const RenderedFrame& frame, co
       for (int v : frame.execution.passes[i].outputs)
         result[frame.execution.versions[v].resource] = &frame.execution.versions[v];
   return result;
-}
-
-Scene moved(Scene scene, const glm::dvec3& offset) {
-  for (Instance& instance : scene.instances) instance.world[3] += glm::dvec4(offset, 0.0);
-  for (Decal& decal : scene.decals) decal.world[3] += glm::dvec4(offset, 0.0);
-  for (Light& light : scene.lights) {
-    light.position += offset;
-    light.end += offset;
-  }
-  for (ReflectionProbe& probe : scene.probes) {
-    probe.position += offset;
-    probe.box_min += offset;
-    probe.box_max += offset;
-  }
-  if (scene.camera) scene.camera->world[3] += glm::dvec4(offset, 0.0);
-  return scene;
 }
 
 class FarFromOrigin : public GpuTest {};

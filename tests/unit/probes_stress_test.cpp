@@ -1,8 +1,7 @@
-// The reflection probes under stress: a probe inside a building, a camera cut, no probe in range
-// and more than 32 in range. Each renders into a capture whose every float output stays finite,
-// and whose probe passes replay from their records bit for bit (`replay --verify`), every frame.
-// The probes at the map's far corner are in tests/unit/far_origin_test.cpp (the captures of a
-// city 8 km out are the captures at the origin, bit for bit).
+// The reflection probes under stress: a probe inside a building, probes at the map's far corner,
+// a camera cut, no probe in range and more than 32 in range. Each renders into a capture whose
+// every float output stays finite, and whose probe passes replay from their records bit for bit
+// (`replay --verify`), every frame.
 #include <cmath>
 #include <cstring>
 
@@ -10,6 +9,7 @@
 #include "passes/probes/plan.h"
 #include "replay/replay.h"
 #include "tests/unit/gpu_fixture.h"
+#include "tests/unit/moved_scene.h"
 #include "tests/unit/scratch_folder.h"
 
 namespace nightcap::test {
@@ -100,6 +100,42 @@ TEST_F(ProbesStress, AProbeInsideABuildingStaysFinite) {
   const std::vector<ProbePlan> plans = render_and_verify(scene, small(), 2);
   ASSERT_EQ(plans.size(), 2u);
   EXPECT_EQ(plans[0].captured, 1u);
+}
+
+// The map's far corner, 10.6 km out: the faces' G-buffer is the one captured at the origin, bit
+// for bit (camera-relative views, tests/unit/far_origin_test.cpp), and their light within 10⁻³
+// RMS of the origin's, relative to its RMS: the sun's shadow maps are snapped to world-space
+// texels (so that they do not shimmer as the camera moves), so a few shadow edges fall elsewhere
+// (2.8 × 10⁻⁴ measured; the frame's own lighting.lit differs by 6 × 10⁻⁵).
+TEST_F(ProbesStress, AtTheMapsFarCornerTheCapturesAreTheOriginsUpToShadowSnapping) {
+  const Scene near = build_map({1, 1.0, Shot::street});
+  const Scene far = moved(near, {7500.0, 0.0, 7500.0});
+  const std::vector<ProbePlan> plans = render_and_verify(far, small(), 2);
+  ASSERT_EQ(plans.size(), 2u);
+  EXPECT_GT(plans[0].captured, 0u);
+
+  Renderer near_renderer(*gpu_, near, small()), far_renderer(*gpu_, far, small());
+  const RenderedFrame a = near_renderer.render_frame(0, true), b = far_renderer.render_frame(0, true);
+  for (const char* name : {"probes.gbuffer.albedo", "probes.gbuffer.normal", "probes.gbuffer.material",
+                           "probes.gbuffer.emissive", "probes.depth"})
+    EXPECT_EQ(*a.execution.final_version(name)->bytes, *b.execution.final_version(name)->bytes) << name;
+  for (const char* name : {"probes.faces", "probes.array"}) {
+    const std::vector<uint8_t>&at_origin = *a.execution.final_version(name)->bytes,
+          &at_corner = *b.execution.final_version(name)->bytes;
+    ASSERT_EQ(at_origin.size(), at_corner.size()) << name;
+    double squares = 0, signal = 0;
+    for (size_t i = 0; i + 2 <= at_origin.size(); i += 2) {
+      uint16_t x, y;
+      std::memcpy(&x, at_origin.data() + i, 2);
+      std::memcpy(&y, at_corner.data() + i, 2);
+      const double origin = half_to_float(x), corner = half_to_float(y);
+      squares += (corner - origin) * (corner - origin);
+      signal += origin * origin;
+    }
+    EXPECT_GT(signal, 0.0) << name;
+    std::printf("%s at the far corner: %.3g RMS of the origin's, relative\n", name, std::sqrt(squares / signal));
+    EXPECT_LE(std::sqrt(squares / signal), 1e-3) << name;
+  }
 }
 
 TEST_F(ProbesStress, ACutCapturesEveryProbeInRangeAgain) {
