@@ -93,6 +93,24 @@ inline ProbeCapture synthetic_capture(uint32_t side) {
   return c;
 }
 
+// Cube `cube` of a frame's probes.faces (`extent`: the cube array's), as probes.light left it.
+inline ProbeCapture capture_of(const std::vector<uint8_t>& faces, const ImageExtent& extent, uint32_t cube) {
+  ProbeCapture c;
+  c.extent = ImageExtent{extent.width, extent.height, 1, extent.mips, 6};
+  const FormatInfo f = *format_info(kHalf4);
+  c.bytes.assign(raw_image_bytes(f, c.extent), 0);
+  for (uint32_t mip = 0; mip < extent.mips; ++mip) {
+    const uint64_t from = raw_subresource_offset(f, extent, 0, mip, 6 * cube);
+    const uint64_t bytes = raw_subresource_offset(f, extent, 0, mip, 6 * cube + 6) - from;
+    std::memcpy(c.bytes.data() + raw_subresource_offset(f, c.extent, 0, mip, 0), faces.data() + from, bytes);
+  }
+  const uint32_t side = extent.width;
+  c.level0.side = side;
+  c.level0.texels.resize(6 * side * side);
+  for (uint32_t i = 0; i < 6 * side * side; ++i) c.level0.texels[i] = half4_at(c.bytes, uint64_t(i) * 8);
+  return c;
+}
+
 // probes.convert's inputs for `capture` alone, into `slot` of an array of `array_side` texels
 // that held `before` everywhere: the capture as the first of two cubes of probes.faces (a cube
 // array, as the frame's), the plan capturing it, six views (read only for the skip).
