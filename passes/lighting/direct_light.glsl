@@ -1,21 +1,8 @@
 // Direct light from one light at a surface point, as lighting.deferred shades every light at
 // every pixel and the reflection probes' captures shade their lights: the light's and the
-// point's positions relative to the same origin. Needs brdf.glsl and light_type.glsl.h.
+// point's positions relative to the same origin. Needs brdf.glsl, types.glsl and light_type.glsl.h.
 
-// glTF's recommended smooth window so a light's reach ends at its range.
-float range_window(float distance, float range) {
-  if (range <= 0.0) return 1.0;
-  float r = distance / range;
-  float w = clamp(1.0 - r * r * r * r, 0.0, 1.0);
-  return w * w;
-}
-
-float spot_factor(GpuLight light, vec3 to_light) {
-  float cos_outer = light.direction_cos_outer.w, cos_inner = light.cos_inner.x;
-  float cd = dot(light.direction_cos_outer.xyz, -to_light);
-  float t = clamp((cd - cos_outer) / max(cos_inner - cos_outer, 1e-4), 0.0, 1.0);
-  return t * t;
-}
+#include "light_falloff.glsl"
 
 // Adds what `light` (its radiance times `scale`) reflects toward v from the point at `position`
 // with normal n to `diffuse` and `specular`; a tube's diffuse is integrated with `tube_samples`

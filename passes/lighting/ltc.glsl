@@ -6,7 +6,8 @@
 // M⁻¹ travels as those four values. Both weigh Schlick's Fresnel at the light's own directions
 // rather than as the lobe's average (the table's fresnel, which only a sphere around the shading
 // point uses). Lines take a range: glTF's window (1 − (d/range)⁴)² along them, which ltc.h
-// leaves out (tests/unit/lighting_tiled_test.cpp holds it to the double-precision reference).
+// leaves out (tests/unit/lighting_tiled_test.cpp holds it to the double-precision reference):
+// range_window() of light_falloff.glsl, which the includer includes first.
 
 const float LTC_PI = 3.14159265358979;
 const float LTC_MIN_ROUGHNESS = 0.02;  // ltc.h's kMinRoughness: the table's first column
@@ -50,13 +51,6 @@ void ltc_lookup(sampler2D inverse, sampler2D magnitude, float roughness, float n
              mix(texelFetch(magnitude, c + ivec2(0, 1), 0).rg, texelFetch(magnitude, c + ivec2(1, 1), 0).rg, f.x), f.y);
 }
 
-// glTF's range window: 1 without a range.
-float ltc_range_window(float distance, float range) {
-  if (range <= 0.0) return 1.0;
-  float r = distance / range;
-  float w = clamp(1.0 - r * r * r * r, 0.0, 1.0);
-  return w * w;
-}
 
 // World offsets → the frame n = +z, v in the xz-plane: ltc_frame(n, v) * offset.
 mat3 ltc_frame(vec3 n, vec3 v) {
@@ -147,7 +141,7 @@ vec2 ltc_line(vec4 minv, vec3 v, vec3 p1, vec3 p2, float range) {
     float len = sqrt(max(nn * c * c + 2.0 * nt * c * s + tt * s * s, 1e-30));
     vec3 l = (mn * c + mt * s) / len;
     float v_h = clamp(dot(v, normalize(v + l)), 0.0, 1.0);
-    float window = range > 0.0 ? ltc_range_window(moment / max(length(cross(l, e)), 1e-30), range) : 1.0;
+    float window = range > 0.0 ? range_window(moment / max(length(cross(l, e)), 1e-30), range) : 1.0;
     sum += node.y * cosine * len * window * vec2(1.0, pow(1.0 - v_h, 5.0));
   }
   float det = minv.x * minv.w - minv.y * minv.z;
@@ -174,7 +168,7 @@ float ltc_lambert_line(vec3 p1, vec3 p2, float range) {
       float angle = middle + half_width * node.x;
       float c = cos(angle);
       float cosine = max(toward.z * c + along.z * sin(angle), 0.0);
-      integral += node.y * cosine * ltc_range_window(distance / max(c, 1e-30), range);
+      integral += node.y * cosine * range_window(distance / max(c, 1e-30), range);
     }
     integral *= half_width;
   }

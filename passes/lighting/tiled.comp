@@ -24,6 +24,7 @@
 #include "../lights/cluster_layout.glsl.h"
 #include "brdf.glsl"
 layout(constant_id = 1) const int LTC_LINE_NODES = 8;  // the tube_nodes parameter
+#include "light_falloff.glsl"
 #include "ltc.glsl"
 #include "../shadow/local_moments.glsl"
 #include "../shadow/local_layout.glsl.h"
@@ -171,12 +172,6 @@ void place() {
 }
 
 // Phases 2 to 6.
-float spot_factor(GpuLight light, vec3 to_light) {
-  float cos_outer = light.direction_cos_outer.w, cos_inner = light.cos_inner.x;
-  float cd = dot(light.direction_cos_outer.xyz, -to_light);
-  float t = clamp((cd - cos_outer) / max(cos_inner - cos_outer, 1e-4), 0.0, 1.0);
-  return t * t;
-}
 
 // Lambert's illuminance from a sphere of unit radiance whose centre is at cosine `cos_theta` to
 // the normal and whose angular radius σ has sin²σ = `sin2_sigma`, the part below the horizon
@@ -281,7 +276,7 @@ void shade_punctual(uint index, Surface s, inout vec3 diffuse, inout vec3 specul
   if (range > 0.0 && d2 >= range * range) return;
   float d = sqrt(d2);
   vec3 l = to_light / d;
-  float attenuation = ltc_range_window(d, range) / d2;
+  float attenuation = range_window(d, range) / d2;
   if (uint(light.position_type.w) == kLightSpot) attenuation *= spot_factor(light, l) * local_visibility(index, s.position);
   if (attenuation <= 0.0) return;
   diffuse += diffuse_term(s.n, l, radiance * attenuation, s.albedo, s.metallic);
@@ -295,7 +290,7 @@ void shade_sphere(GpuLight light, Surface s, Lobe lobe, inout vec3 diffuse, inou
   float d2 = max(dot(to_light, to_light), 1e-8);
   if (range > 0.0 && d2 >= range * range) return;
   float d = sqrt(d2);
-  float window = ltc_range_window(d, range);
+  float window = range_window(d, range);
   if (window <= 0.0) return;
   vec3 unit = light.color_range.rgb * intensity_scale * (window / (PI * radius * radius));
   float e = sphere_illuminance(dot(s.n, to_light / d), min(radius * radius / d2, 1.0));
