@@ -61,15 +61,8 @@ float sun_visibility(vec3 position, vec3 n) {
   ShadowMap map = ShadowMap(level, distant.light_from_world[level], distant.texel_metres[level],
                             distant.depth_metres[level], resolution);
   Receiver r = receiver_in(map, position, n, max_slope, depth_bias);
-  ivec2 base = ivec2(floor(r.at));
-  int last = int(resolution) - 1, side = 2 * filter_radius + 1;
-  float lit = 0.0;
-  for (int i = 0; i < side * side; ++i) {
-    ivec2 texel = base + ivec2(i % side, i / side) - filter_radius;
-    float stored = texelFetch(distant_maps, ivec3(clamp(texel, ivec2(0), ivec2(last)), map.layer), 0).r;
-    lit += tap_lit(r, texel, stored, last) ? 1.0 : 0.0;
-  }
-  return lit / float(side * side);
+  int side = 2 * filter_radius + 1;
+  return lit_taps(distant_maps, map.layer, r, filter_radius, int(resolution) - 1, side * side) / float(side * side);
 }
 
 void main() {

@@ -42,6 +42,21 @@ bool tap_lit(Receiver r, ivec2 texel, float stored, int last) {
   return !inside || stored >= 1.0 || expected - r.bias <= stored;
 }
 
+// How many of the filter's `taps` around the receiver are lit, on layer `layer` of `maps`: taps
+// is (2·radius + 1)², or 0 where the point reads another map (a loop of 0 iterations, whose body
+// lavapipe skips for a row of pixels that none enters; an if would run it whole).
+float lit_taps(sampler2DArray maps, int layer, Receiver r, int radius, int last, int taps) {
+  ivec2 base = ivec2(floor(r.at));
+  int side = 2 * radius + 1;
+  float lit = 0.0;
+  for (int i = 0; i < taps; ++i) {
+    ivec2 texel = base + ivec2(i % side, i / side) - radius;
+    float stored = texelFetch(maps, ivec3(clamp(texel, ivec2(0), ivec2(last)), layer), 0).r;
+    lit += tap_lit(r, texel, stored, last) ? 1.0 : 0.0;
+  }
+  return lit;
+}
+
 // The finest of shadow.distant's levels whose map holds every texel a filter of `radius` reads
 // around the point, with a texel to spare; kDistantLevels when none does (unshadowed).
 int distant_level(GpuDistantLevels levels, vec3 position, int radius) {

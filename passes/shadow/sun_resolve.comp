@@ -103,24 +103,11 @@ void main() {
                     cascades.light_direction.w);
   }
   Receiver r = receiver_in(map, position, n, max_slope, depth_bias);
-  ivec2 base = ivec2(floor(r.at));
   int last = int(map.resolution) - 1;
-  // One loop per kind of map, run for the pixels that read it: lavapipe runs a loop's body once
-  // when no lane of a row enters it, not (2r + 1)² times, so a row of cascade pixels does not
-  // pay for the distant levels' taps, nor a row of sky for either.
-  float lit = 0.0;
-  int cascade_taps = in_cascades ? kSide * kSide : 0;
-  for (int i = 0; i < cascade_taps; ++i) {
-    ivec2 texel = base + ivec2(i % kSide, i / kSide) - FILTER_RADIUS;
-    float stored = texelFetch(cascade_maps, ivec3(clamp(texel, ivec2(0), ivec2(last)), map.layer), 0).r;
-    lit += tap_lit(r, texel, stored, last) ? 1.0 : 0.0;
-  }
-  int distant_taps = in_distant ? kSide * kSide : 0;
-  for (int i = 0; i < distant_taps; ++i) {
-    ivec2 texel = base + ivec2(i % kSide, i / kSide) - FILTER_RADIUS;
-    float stored = texelFetch(distant_maps, ivec3(clamp(texel, ivec2(0), ivec2(last)), map.layer), 0).r;
-    lit += tap_lit(r, texel, stored, last) ? 1.0 : 0.0;
-  }
+  // One loop per kind of map, run for the pixels that read it (lit_taps): a row of cascade pixels
+  // does not pay for the distant levels' taps, nor a row of sky for either.
+  float lit = lit_taps(cascade_maps, map.layer, r, FILTER_RADIUS, last, in_cascades ? kSide * kSide : 0) +
+              lit_taps(distant_maps, map.layer, r, FILTER_RADIUS, last, in_distant ? kSide * kSide : 0);
   float visibility = in_cascades || in_distant ? lit / float(kSide * kSide) : 1.0;
   imageStore(sun_out, pixel, vec4(visibility, 1.0, 0.0, 0.0));
 }
