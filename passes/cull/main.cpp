@@ -31,6 +31,7 @@
 #include "passes/frame/draw_scene.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/hierarchy.h"
+#include "passes/frame/level_of_detail.h"
 #include "passes/frame/occlusion_buffer.h"
 #include "passes/frame/scene_resources.h"
 
@@ -196,24 +197,18 @@ class Culler {
     const MeshRecord* mesh = mesh_at(r.primitive, index);
     if (!std::isfinite(determinant) || determinant == 0.0 || mesh->index_count == 0 || r.material >= materials_.size())
       return Refusal::degenerate;
-    // Level of detail by the distance to the centre of the finest level's box.
-    const glm::dvec3 centre(model * glm::dvec4(0.5 * (mesh->bounds_min[0] + mesh->bounds_max[0]),
-                                               0.5 * (mesh->bounds_min[1] + mesh->bounds_max[1]),
-                                               0.5 * (mesh->bounds_min[2] + mesh->bounds_max[2]), 1.0));
-    const double distance = glm::length(centre);
-    uint32_t lod = 0;
-    while (mesh->coarser >= 0 && distance > mesh->lod_distance) {
-      if (++lod > meshes_.size()) throw GraphError("cull.main: mesh levels of detail form a cycle");
-      mesh = mesh_at(uint32_t(mesh->coarser), index);
-    }
-    if (distance > mesh->draw_distance) return Refusal::distance;
+    const double distance = glm::length(box_centre(model, *mesh));
+    const LevelOfDetail level = level_of_detail(*mesh, distance, meshes_.size(), "cull.main",
+                                                [&](uint32_t coarser) { return mesh_at(coarser, index); });
+    if (!level.drawn) return Refusal::distance;
+    mesh = level.mesh;
     box_corners(view_projection_ * model, mesh_min(*mesh), mesh_max(*mesh), c.corners);
     c.in_frustum = !outside_frustum(c.corners);
     const GpuMaterial& m = materials_[r.material];
     c.drawn = {mesh, translation, previous_translation, index, (r.flags & kInstanceMoving) != 0};
     c.model = model;
     c.material = r.material;
-    c.lod = lod;
+    c.lod = level.steps;
     c.decal = (int(m.extra.w) & 4) != 0;
     const glm::dvec3 size(mesh->bounds_max[0] - mesh->bounds_min[0], mesh->bounds_max[1] - mesh->bounds_min[1],
                           mesh->bounds_max[2] - mesh->bounds_min[2]);

@@ -22,6 +22,7 @@
 #include "passes/frame/constants.h"
 #include "passes/frame/draw_scene.h"
 #include "passes/frame/hierarchy.h"
+#include "passes/frame/level_of_detail.h"
 #include "passes/frame/occlusion_buffer.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/probes/capture_layout.h"
@@ -116,20 +117,13 @@ class ProbeCuller {
     model[3] -= glm::dvec4(eye_, 0.0);
     const double determinant = glm::determinant(glm::dmat3(model));
     if (!std::isfinite(determinant) || determinant == 0.0) return;
-    const MeshRecord* mesh = mesh_at(r.primitive, index);
-    auto centre = [&](const MeshRecord& m) {
-      return glm::dvec3(model * glm::dvec4(0.5 * (m.bounds_min[0] + m.bounds_max[0]),
-                                           0.5 * (m.bounds_min[1] + m.bounds_max[1]),
-                                           0.5 * (m.bounds_min[2] + m.bounds_max[2]), 1.0));
-    };
-    const double distance = glm::length(centre(*mesh) - (probe - eye_));
+    const MeshRecord& finest = *mesh_at(r.primitive, index);
+    const double distance = glm::length(box_centre(model, finest) - (probe - eye_));
     if (distance > reach_) return;
-    uint32_t levels = 0;
-    while (mesh->coarser >= 0 && distance > mesh->lod_distance) {
-      if (++levels > meshes_.size()) throw GraphError("probes.cull: mesh levels of detail form a cycle");
-      mesh = mesh_at(uint32_t(mesh->coarser), index);
-    }
-    if (distance > mesh->draw_distance || mesh->index_count == 0) return;
+    const LevelOfDetail level = level_of_detail(finest, distance, meshes_.size(), "probes.cull",
+                                                [&](uint32_t coarser) { return mesh_at(coarser, index); });
+    const MeshRecord* mesh = level.mesh;
+    if (!level.drawn || mesh->index_count == 0) return;
     const GpuMaterial& m = materials_[r.material];
     const uint32_t stencil_class = uint32_t(m.textures2.z);
     const uint64_t draw_class = draw_order_class(m);

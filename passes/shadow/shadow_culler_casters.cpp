@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "passes/frame/level_of_detail.h"
 #include "passes/shadow/caster_draw.h"
 
 namespace nightcap::shadow_cull {
@@ -180,16 +181,9 @@ const MeshRecord* ShadowCuller::drawn_mesh(uint32_t index, const glm::dmat4& mod
   const double determinant = glm::determinant(glm::dmat3(model));
   const MeshRecord* mesh = mesh_at(r.primitive);
   if (!std::isfinite(determinant) || determinant == 0.0 || mesh->index_count == 0) return nullptr;
-  const dvec3 centre(model * glm::dvec4(0.5 * (mesh->bounds_min[0] + mesh->bounds_max[0]),
-                                        0.5 * (mesh->bounds_min[1] + mesh->bounds_max[1]),
-                                        0.5 * (mesh->bounds_min[2] + mesh->bounds_max[2]), 1.0));
-  const double distance = glm::length(centre);
-  uint32_t steps = 0;
-  while (mesh->coarser >= 0 && distance > mesh->lod_distance) {
-    if (++steps > meshes_.size()) throw GraphError("shadow.cull: mesh levels of detail form a cycle");
-    mesh = mesh_at(uint32_t(mesh->coarser));
-  }
-  return distance > mesh->draw_distance ? nullptr : mesh;
+  const LevelOfDetail level = level_of_detail(*mesh, glm::length(box_centre(model, *mesh)), meshes_.size(),
+                                              "shadow.cull", [&](uint32_t coarser) { return mesh_at(coarser); });
+  return level.drawn ? level.mesh : nullptr;
 }
 
 bool ShadowCuller::world_box(uint32_t index, Box& box, const MeshRecord** drawn, const dvec3& eye, double time) const {
