@@ -48,7 +48,7 @@ void add_scene_passes(std::vector<PassDecl>& passes) {
   add_stage(passes, "shadows",
             {shadow_distant_plan_pass(), shadow_distant_pass(), shadow_cull_pass(), shadow_cascades_static_pass(),
              shadow_cascades_pass(), shadow_local_plan_pass(), shadow_local_static_pass(), shadow_local_pass(),
-             shadow_local_moments_pass()});
+             shadow_local_moments_pass(), shadow_topdown_plan_pass(), shadow_topdown_pass()});
   add_stage(passes, "probes", {probes_plan_pass(), probes_cull_pass(), probes_gbuffer_pass()});
   add_stage(passes, "geometry",
             {depth_prepass_pass(), gbuffer_opaque_pass(), gbuffer_dynamic_pass(), decals_normal_copy_pass(),

@@ -14,7 +14,8 @@
 // material's own occlusion (gbuffer.occlusion) does; the reflection probes (probes.slots,
 // probes.array) take the specular's place of the sky's cube map inside their boxes: the two
 // nearest a point, each read along its parallax-corrected direction and weighted by how deep in
-// its box the point lies (probes/reflection.glsl), the sky making up the rest. SSR, the GI
+// its box the point lies (probes/reflection.glsl), the sky making up the rest; the sky's diffuse
+// light reaches only where shadow.topdown finds nothing straight above (shadow/topdown.glsl). SSR, the GI
 // volume and fog are to join the same way, a read_optional and an `#ifdef NC_BINDING_<name>`
 // block in the shader each, with the passes that define their formats.
 #include "passes/core/context.h"
@@ -50,6 +51,8 @@ PassDecl lighting_composite_pass() {
       .read_optional("probes.slots", Use::storage_read)
       .read_optional("probes.array", Use::sampled)
       .sampler("probes.array", trilinear_clamp_sampler())
+      .read_optional("shadow.topdown", Use::sampled)
+      .read_optional("shadow.topdown_data", Use::uniform_buffer)
       .read_optional("ao.bent", Use::sampled)
       .as("ao")
       .sampler("ao.bent", bilinear_clamp_sampler())

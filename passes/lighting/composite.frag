@@ -49,6 +49,14 @@ layout(set = 0, binding = NC_BINDING(probes_array)) uniform sampler2DArray probe
 #include "../probes/reflection.glsl"
 #endif
 
+#if defined(NC_IMAGE_BASED) && defined(NC_BINDING_shadow_topdown) && defined(NC_BINDING_shadow_topdown_data)
+#define NC_TOPDOWN
+#include "../shadow/topdown_layout.glsl.h"
+layout(std140, set = 0, binding = NC_BINDING(shadow_topdown_data)) uniform TopdownBlock { GpuTopdown topdown; };
+layout(set = 0, binding = NC_BINDING(shadow_topdown)) uniform sampler2D topdown_map;
+#include "../shadow/topdown.glsl"
+#endif
+
 layout(push_constant) uniform CompositeConstants { NC_BLOCK_MEMBERS(NC_COMPOSITE_CONSTANTS_FIELDS) };
 
 #ifdef NC_SKY_VIEW
@@ -146,8 +154,12 @@ Indirect image_based(ivec2 pixel, float depth, vec3 position, vec3 albedo, float
   }
   prefiltered = total > 1.0 ? probe_sum / total : probe_sum + (1.0 - total) * prefiltered;
 #endif
+  vec3 sky_irradiance = irradiance_over_pi(n);
+#ifdef NC_TOPDOWN
+  sky_irradiance *= topdown_sky_visibility(position, n);
+#endif
   return environment_light(n, v, r, geometric_normal(pixel, depth, position), albedo, metallic, roughness, visibility,
-                           sky_source.y != 0u, prefiltered, irradiance_over_pi(n));
+                           sky_source.y != 0u, prefiltered, sky_irradiance);
 }
 #endif
 

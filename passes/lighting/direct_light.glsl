@@ -1,6 +1,6 @@
 // Direct light from one light at a surface point, as lighting.deferred shades every light at
 // every pixel and the reflection probes' captures shade their lights: the light's and the
-// point's positions relative to the same origin. Needs brdf.glsl, types.glsl and light_type.glsl.h.
+// point's positions relative to the same origin. Needs brdf.glsl and light_type.glsl.h.
 
 #include "light_falloff.glsl"
 
@@ -52,7 +52,8 @@ void add_direct_light(GpuLight light, vec3 position, vec3 n, vec3 v, vec3 albedo
     float d = sqrt(d2);
     vec3 l = to_light / d;
     float attenuation = range_window(d, range) / d2;
-    if (type == kLightSpot) attenuation *= spot_factor(light, l);
+    if (type == kLightSpot)
+      attenuation *= spot_cone(light.direction_cos_outer.xyz, light.direction_cos_outer.w, light.cos_inner.x, l);
     if (attenuation <= 0.0) return;
     diffuse += diffuse_term(n, l, radiance * attenuation, albedo, metallic);
     specular += specular_term(n, v, l, radiance * attenuation, albedo, metallic, alpha);

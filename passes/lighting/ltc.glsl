@@ -7,7 +7,9 @@
 // rather than as the lobe's average (the table's fresnel, which only a sphere around the shading
 // point uses). Lines take a range: glTF's window (1 − (d/range)⁴)² along them, which ltc.h
 // leaves out (tests/unit/lighting_tiled_test.cpp holds it to the double-precision reference):
-// range_window() of light_falloff.glsl, which the includer includes first.
+// light_falloff.glsl's range_window().
+
+#include "light_falloff.glsl"
 
 const float LTC_PI = 3.14159265358979;
 const float LTC_MIN_ROUGHNESS = 0.02;  // ltc.h's kMinRoughness: the table's first column

@@ -24,7 +24,6 @@
 #include "../lights/cluster_layout.glsl.h"
 #include "brdf.glsl"
 layout(constant_id = 1) const int LTC_LINE_NODES = 8;  // the tube_nodes parameter
-#include "light_falloff.glsl"
 #include "ltc.glsl"
 #include "../shadow/local_moments.glsl"
 #include "../shadow/local_layout.glsl.h"
@@ -277,7 +276,9 @@ void shade_punctual(uint index, Surface s, inout vec3 diffuse, inout vec3 specul
   float d = sqrt(d2);
   vec3 l = to_light / d;
   float attenuation = range_window(d, range) / d2;
-  if (uint(light.position_type.w) == kLightSpot) attenuation *= spot_factor(light, l) * local_visibility(index, s.position);
+  if (uint(light.position_type.w) == kLightSpot)
+    attenuation *= spot_cone(light.direction_cos_outer.xyz, light.direction_cos_outer.w, light.cos_inner.x, l) *
+                   local_visibility(index, s.position);
   if (attenuation <= 0.0) return;
   diffuse += diffuse_term(s.n, l, radiance * attenuation, s.albedo, s.metallic);
   specular += specular_term(s.n, s.v, l, radiance * attenuation, s.albedo, s.metallic, s.alpha);

@@ -16,6 +16,7 @@
 #include "../shadow/shadow_layout.glsl.h"
 #include "../shadow/sun_filter.glsl"
 #include "../sky/ibl.glsl.h"
+#include "../shadow/topdown_layout.glsl.h"
 #include "capture_layout.glsl.h"
 #include "light.glsl.h"
 
@@ -49,6 +50,9 @@ layout(set = 0, binding = NC_BINDING(probes_faces) + 1, rgba16f) uniform writeon
 
 layout(push_constant) uniform ProbeLightConstants { NC_BLOCK_MEMBERS(NC_PROBE_LIGHT_CONSTANTS_FIELDS) };
 
+layout(std140, set = 0, binding = NC_BINDING(shadow_topdown_data)) uniform TopdownBlock { GpuTopdown topdown; };
+layout(set = 0, binding = NC_BINDING(shadow_topdown)) uniform sampler2D topdown_map;
+#include "../shadow/topdown.glsl"
 #include "../sky/sh.glsl"
 #include "../lighting/environment_light.glsl"
 
@@ -124,7 +128,8 @@ void main() {
     vec3 r = dominant_direction(n, v, material.g);
     vec3 prefiltered = textureLod(specular_cube, r, material.g * float(kSkySpecularMips - 1u)).rgb;
     Indirect sky_light = environment_light(n, v, r, vec3(0.0), albedo, metallic, material.g, visibility,
-                                           multiple_scattering != 0u, prefiltered, irradiance_over_pi(n));
+                                           multiple_scattering != 0u, prefiltered,
+                                           irradiance_over_pi(n) * topdown_sky_visibility(position, n));
     indirect_diffuse += sky_light.diffuse;
     specular += sky_light.specular;
   }

@@ -36,6 +36,8 @@ PassDecl probes_light_pass() {
       .read("probes.depth", Use::sampled)
       .read("shadow.distant_data", Use::uniform_buffer)
       .read("shadow.distant", Use::sampled)
+      .read("shadow.topdown_data", Use::uniform_buffer)
+      .read("shadow.topdown", Use::sampled)
       .read("sky.atmosphere", Use::host)
       .read("sky.cubemap", Use::sampled)
       .sampler("sky.cubemap", bilinear_clamp_sampler())

@@ -14,8 +14,8 @@
 // drop cascade casters the sun cannot see [004 §2.2.3]. A layer of its own because level 0
 // holds every static caster at its coarsest level whatever its draw distance, which the
 // cascades need not draw: a caster hidden behind one of those could still cast there.
-// Not done: shadow.topdown (frame.md may merge it with the last level) does not exist yet, so
-// nothing shares the last level.
+// Nothing shares the last level: shadow.topdown, which frame.md allows to merge with it, looks
+// straight down, not along the sun.
 #include "passes/core/context.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/shadow/caster_draw.h"

@@ -22,4 +22,10 @@ inline ParamDecl distant_shadow_resolution() {
       .shared_by("shadow.distant");
 }
 
+// Texels per side of the top-down map (shadow.topdown_plan projects it, shadow.topdown sizes it).
+inline ParamDecl topdown_resolution() {
+  return ParamDecl::integer("resolution", 2048, 64, 8192, "texels per side of the top-down map (a multiple of 8)")
+      .shared_by("shadow.topdown");
+}
+
 }  // namespace nightcap

@@ -8,6 +8,8 @@ namespace nightcap {
 
 PassDecl shadow_distant_plan_pass();
 PassDecl shadow_distant_pass();
+PassDecl shadow_topdown_plan_pass();
+PassDecl shadow_topdown_pass();
 PassDecl shadow_cull_pass();
 PassDecl shadow_cascades_pass();
 PassDecl shadow_cascades_static_pass();

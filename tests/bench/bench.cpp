@@ -46,13 +46,38 @@ int main(int argc, char** argv) {
   std::string size = "1280x720", device, data = NIGHTCAP_SHARED_DATA;
   bool skip_models = false, map_frames = true;
   std::vector<std::string> only;
-  const std::vector<std::string> sections = {"city",           "models",     "map",     "empty",   "frames",
-                                             "normals",        "tubes",      "depth",   "motion",  "streams",
-                                             "bloom",          "exposure",   "startup", "diff",    "report",
-                                             "decals",         "ltc",        "cluster", "tiled",   "tube_quality",
-                                             "cluster_shape",  "shadows",    "tod",     "distant", "shadow_cache",
-                                             "local",          "pass_times", "sky",     "sky_ibl", "probes",
-                                             "probe_tradeoffs"};
+  const std::vector<std::string> sections = {"city",
+                                             "models",
+                                             "map",
+                                             "empty",
+                                             "frames",
+                                             "normals",
+                                             "tubes",
+                                             "depth",
+                                             "motion",
+                                             "streams",
+                                             "bloom",
+                                             "exposure",
+                                             "startup",
+                                             "diff",
+                                             "report",
+                                             "decals",
+                                             "ltc",
+                                             "cluster",
+                                             "tiled",
+                                             "tube_quality",
+                                             "cluster_shape",
+                                             "shadows",
+                                             "tod",
+                                             "distant",
+                                             "shadow_cache",
+                                             "local",
+                                             "pass_times",
+                                             "sky",
+                                             "sky_ibl",
+                                             "probes",
+                                             "probe_tradeoffs",
+                                             "topdown"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -125,6 +150,7 @@ int main(int argc, char** argv) {
     if (wanted("sky_ibl")) bench_sky_ibl_cost(gpu, width, height, int(repeats));
     if (wanted("probes")) bench_probes(gpu, width, height, int(repeats));
     if (wanted("probe_tradeoffs")) bench_probe_tradeoffs(gpu, cache, width, height);
+    if (wanted("topdown")) bench_topdown(gpu, width, height, int(repeats));
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

@@ -69,5 +69,6 @@ void bench_local(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
 // time against error (prefilter samples, probes per frame).
 void bench_probes(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
 void bench_probe_tradeoffs(GpuDevice& gpu, PipelineCache& cache, uint32_t width, uint32_t height);
+void bench_topdown(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
 
 }  // namespace nightcap::bench
