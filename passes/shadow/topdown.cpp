@@ -16,8 +16,36 @@
 
 namespace nightcap {
 
+namespace kinds {
+// Heights seen from above: depth 0 at the static scene's top, 1 at its bottom or where nothing is.
+inline constexpr ResourceKind height_from_above{"height_from_above"};
+}  // namespace kinds
+
+namespace {
+
+const KindRegistration kHeightFromAbove({
+    .kind = kinds::height_from_above,
+    .describe =
+        [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
+          out["depth"] = t.raw[0];
+          out["covered"] = t.raw[0] < 1.0;
+          // shadow.topdown_plan's top and bottom turn it into metres.
+          out["height_share"] = 1.0 - t.raw[0];
+        },
+    // Height as brightness, against the map's tallest: its roofs white, the ground near black.
+    .draw =
+        [](const TexelValues& t, const KindFrame&) {
+          const double height = 1.0 - t.raw[0];
+          return TexelPicture{TexelPicture::Scale::relative, {height, height, height}};
+        },
+    .over_output = false,
+    .measure = KindMeasure::depth,
+});
+
+}  // namespace
+
 PassDecl shadow_topdown_pass() {
-  ImageDecl map{VK_FORMAT_D16_UNORM, kinds::light_depth};
+  ImageDecl map{VK_FORMAT_D16_UNORM, kinds::height_from_above};
   map.size.mode = SizeRule::Mode::square_param;
   map.size.param = "resolution";
   map.clear.depthStencil = {1.0f, 0};

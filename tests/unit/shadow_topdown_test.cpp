@@ -6,11 +6,13 @@
 // ≥ 99% of the points away from the map's edges, those whose answer changes within 2 texels
 // across (a map cannot place an edge closer than its texels). Then the plan: a still camera
 // redraws the map on frame 0 alone and carries it (bit for bit) after; a camera that crosses
-// an eighth of the map's side redraws it; a cut redraws it.
+// an eighth of the map's side redraws it; a cut redraws it. And the map's kind, as inspect and the
+// report read it.
 #include <cmath>
 #include <cstring>
 
 #include "passes/assembly/renderer.h"
+#include "passes/core/resource_kind.h"
 #include "passes/core/shader.h"
 #include "passes/scene/scene_kit.h"
 #include "passes/shadow/topdown_layout.h"
@@ -219,6 +221,22 @@ TEST_F(TopdownSky, ADrivingCameraRedrawsTheMapAsItCrossesAnEighth) {
   }
   EXPECT_GE(moved, 2u);
   EXPECT_GE(kept, 2u);
+}
+
+// What `inspect pixel` says of a texel of the map, and how the report draws it.
+TEST(TopdownKind, ATexelReadsAsTheShareOfTheHeightRangeAndDrawsByHeight) {
+  const std::optional<ResourceKind> kind = kind_by_name("height_from_above");
+  ASSERT_TRUE(kind);
+  const KindInfo& info = kind_info(*kind);
+  nlohmann::ordered_json roof, nothing;
+  info.describe(TexelValues{{0.25}, {}}, KindFrame{}, roof);
+  info.describe(TexelValues{{1.0}, {}}, KindFrame{}, nothing);
+  EXPECT_EQ(roof["covered"], true);
+  EXPECT_DOUBLE_EQ(roof["height_share"].get<double>(), 0.75);
+  EXPECT_EQ(nothing["covered"], false);
+  const TexelPicture picture = info.draw(TexelValues{{0.25}, {}}, KindFrame{});
+  EXPECT_EQ(picture.scale, TexelPicture::Scale::relative);
+  EXPECT_DOUBLE_EQ(picture.value[1], 0.75);
 }
 
 }  // namespace NIGHTCAP_FILE_ID
