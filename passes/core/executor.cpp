@@ -409,6 +409,7 @@ struct FrameRun {
         pass.runs && std::any_of(pass.inputs.begin(), pass.inputs.end(),
                                  [&](const BoundUse& in) { return !result.versions[latest.at(in.resource)].bytes; });
     if (needs_gpu_results) bring_gpu_results_to_host(pass);
+    if (pass.runs) hand_inputs_to_host(pass);
     execute_on_host(i);
     for (const BoundUse& out : pass.outputs)
       if (!pass.runs || (out.desc.is_buffer && shared.host.at(out.resource)->empty()))
@@ -424,6 +425,12 @@ struct FrameRun {
     for (const std::string& resource : pass.sync.host_reads)
       read_back(shared.resources.at(resource), latest.at(resource), resource + " for " + pass.decl->name);
     split_frame_after(pass, true);
+  }
+
+  // What the pass reads on the host: each input's latest version, whether this pass brought it
+  // over or an earlier readback did (a capture reads outputs back as soon as their part of the
+  // frame has run, so a GPU result a few passes old may already be there).
+  void hand_inputs_to_host(const CompiledPass& pass) {
     for (const BoundUse& in : pass.inputs) {
       shared.host[in.resource] = result.versions[latest.at(in.resource)].bytes;
       if (!shared.host[in.resource])

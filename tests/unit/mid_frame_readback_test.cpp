@@ -104,6 +104,37 @@ TEST_P(MidFrameReadback, CpuPassReadsWhatTheGpuComputedEarlierInTheFrame) {
 INSTANTIATE_TEST_SUITE_P(CaptureOffAndOn, MidFrameReadback, ::testing::Bool(),
                          [](const auto& info) { return info.param ? "capture" : "no_capture"; });
 
+class MidFrameReadbackTimedAlone : public GpuTest {};
+
+// A GPU pass between the one that computes and the CPU pass that reads: with a capture and each
+// pass timed alone, the capture's readback has brought the squares over before the CPU pass
+// runs, and the CPU pass must still find them on the host.
+TEST_F(MidFrameReadbackTimedAlone, AGpuPassBetweenLeavesTheCpuPassItsInput) {
+  std::vector<PassDecl> decls = passes();
+  decls.insert(decls.begin() + 1, PassDecl("between", PassType::compute)
+                                      .write("between", Use::storage_write, BufferDecl{kinds::buffer, kCount * 4})
+                                      .shader("test/squares.comp")
+                                      .run([](PassContext& ctx) {
+                                        ctx.bind_pipeline();
+                                        ctx.push({Binding::storage(ctx.slot("between"), "between")});
+                                        vkCmdDispatch(ctx.cmd(), 1, 1, 1);
+                                      }));
+  GraphSettings settings;
+  settings.sinks = {"result", "between"};
+  settings.capture = true;
+  settings.readback = {"result"};
+  CompiledGraph graph = compile_graph(decls, {}, settings);
+  ExecutionOptions options;
+  options.shaders = test_shaders();
+  options.pass_timing = PassTiming::alone;
+  const Execution run = execute_graph(*gpu_, *cache_, graph, {}, options);
+  const VersionData* result = run.final_version("result");
+  ASSERT_TRUE(result && result->bytes);
+  uint32_t last;
+  std::memcpy(&last, result->bytes->data() + 4 * (kCount - 1), 4);
+  EXPECT_EQ(last, (kCount - 1) * kCount * (2 * kCount - 1) / 6 + 1000);
+}
+
 class FrameSubmits : public GpuTest {};
 
 TEST_F(FrameSubmits, OnlyTheSunsOccludersSplitTheFrame) {
