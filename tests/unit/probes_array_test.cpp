@@ -184,7 +184,8 @@ TEST_F(ProbesArrayTest, PrefiltersTheStreetProbesCapture) {
   RenderSettings settings;
   settings.width = 160;
   settings.height = 90;
-  Renderer renderer(*gpu_, build_map({1, 16.0, Shot::street}), settings);
+  const Scene scene = build_map({1, 16.0, Shot::street});
+  Renderer renderer(*gpu_, scene, settings);
   const RenderedFrame frame = renderer.render_frame(0, true);
   const VersionData& faces = *frame.execution.final_version("probes.faces");
   const reference::ProbeCapture capture = reference::capture_of(*faces.bytes, faces.desc.extent, 0);

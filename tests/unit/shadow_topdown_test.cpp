@@ -186,7 +186,8 @@ TEST_F(TopdownSky, AStillCameraDrawsTheMapOnceAndCarriesItOver) {
   settings.height = 90;
   settings.path.motion = CameraPath::Motion::still;
   settings.path.cuts = {3};
-  Renderer renderer(*gpu_, street_with_covers(), settings);
+  const Scene scene = street_with_covers();
+  Renderer renderer(*gpu_, scene, settings);
   std::vector<uint8_t> first;
   for (uint32_t f = 0; f < 4; ++f) {
     const RenderedFrame frame = renderer.render_frame(f, true);
@@ -207,7 +208,8 @@ TEST_F(TopdownSky, ADrivingCameraRedrawsTheMapAsItCrossesAnEighth) {
   settings.width = 160;
   settings.height = 90;
   settings.path.motion = CameraPath::Motion::drive;
-  Renderer renderer(*gpu_, build_map({1, 2.0, Shot::street}), settings);
+  const Scene scene = build_map({1, 2.0, Shot::street});
+  Renderer renderer(*gpu_, scene, settings);
   uint32_t moved = 0, kept = 0;
   for (uint32_t k = 0; k < 8; ++k) {
     const TopdownPlan plan = plan_of(renderer.render_frame(120 * k, false));
