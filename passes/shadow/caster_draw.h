@@ -24,6 +24,12 @@ namespace kinds {
 inline constexpr ResourceKind light_depth{"light_depth"};
 }  // namespace kinds
 
+// Whether instances of material `m` are drawn into shadow maps: opaque ones alone (a depth-only
+// draw has no alpha test, and a blended surface casts no hard shadow), and no decal.
+inline bool casts_shadow(const GpuMaterial& m) {
+  return m.extra.z == float(AlphaMode::opaque) && (int(m.extra.w) & 4) == 0;
+}
+
 // A shadow map holds no motion, so the previous model is the model. `relative_model`: the
 // instance's model matrix relative to the camera, as every draw list.
 GpuDraw caster_draw(uint32_t instance, const InstanceRecord& record, const glm::dmat4& relative_model,

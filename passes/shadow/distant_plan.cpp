@@ -260,7 +260,7 @@ class DistantPlanner {
     const InstanceRecord& r = instances_[index];
     if (r.material >= materials_.size()) return nullptr;
     const GpuMaterial& m = materials_[r.material];
-    if (m.extra.z != float(AlphaMode::opaque) || (int(m.extra.w) & 4) != 0) return nullptr;
+    if (!casts_shadow(m)) return nullptr;
     const double determinant = glm::determinant(glm::dmat3(model));
     const MeshRecord* mesh = mesh_at(r.primitive);
     uint32_t steps = 0;
@@ -283,11 +283,7 @@ class DistantPlanner {
       const glm::dmat4 model = model_of(index);
       const MeshRecord* mesh = caster_mesh(index, model);
       if (!mesh) return;
-      LightRect box;
-      for (int c = 0; c < 8; ++c)
-        box.grow(axes_.across(dvec3(model * glm::dvec4(c & 1 ? mesh->bounds_max[0] : mesh->bounds_min[0],
-                                                       c & 2 ? mesh->bounds_max[1] : mesh->bounds_min[1],
-                                                       c & 4 ? mesh->bounds_max[2] : mesh->bounds_min[2], 1.0))));
+      const LightRect box = across_sun(axes_, model, *mesh);
       for (size_t t = 0; t < tiles.size(); ++t)
         if (box.meets(tiles[t])) visit(t, index, model, *mesh);
     });

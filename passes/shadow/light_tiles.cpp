@@ -20,6 +20,15 @@ LightRect across_sun(const LightAxes& axes, const glm::dvec3& lo, const glm::dve
   return r;
 }
 
+LightRect across_sun(const LightAxes& axes, const glm::dmat4& model, const MeshRecord& mesh) {
+  LightRect r;
+  for (int k = 0; k < 8; ++k)
+    r.grow(axes.across(glm::dvec3(model * glm::dvec4(k & 1 ? mesh.bounds_max[0] : mesh.bounds_min[0],
+                                                     k & 2 ? mesh.bounds_max[1] : mesh.bounds_min[1],
+                                                     k & 4 ? mesh.bounds_max[2] : mesh.bounds_min[2], 1.0))));
+  return r;
+}
+
 uint64_t TiledMap::meeting(const LightRect& r) const {
   const double side = texel * (resolution / tiles);
   const glm::dvec2 lo = glm::floor((r.lo - origin + texel) / side), hi = glm::floor((r.hi - origin - texel) / side);

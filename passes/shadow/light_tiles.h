@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "passes/frame/hierarchy.h"
+#include "passes/frame/scene_resources.h"
 
 namespace nightcap {
 
@@ -33,6 +34,9 @@ struct LightRect {
 
 // The rectangle a world box covers across the sun.
 LightRect across_sun(const LightAxes& axes, const glm::dvec3& lo, const glm::dvec3& hi);
+// The rectangle a mesh's box under `model` covers across the sun (its 8 corners, not the world
+// box around them).
+LightRect across_sun(const LightAxes& axes, const glm::dmat4& model, const MeshRecord& mesh);
 
 // Texels [x0, x1) × [y0, y1) of a map.
 struct MapTexels {

@@ -329,7 +329,7 @@ class LocalPlanner {
     const InstanceRecord& r = instances_[index];
     if (r.material >= materials_.size()) return nullptr;
     const GpuMaterial& m = materials_[r.material];
-    if (m.extra.z != float(AlphaMode::opaque) || (int(m.extra.w) & 4) != 0) return nullptr;
+    if (!casts_shadow(m)) return nullptr;
     if (r.primitive >= meshes_.size())
       throw GraphError("shadow.local_plan: an instance names mesh " + std::to_string(r.primitive));
     const MeshRecord* mesh = &meshes_[r.primitive];

@@ -177,7 +177,7 @@ const MeshRecord* ShadowCuller::drawn_mesh(uint32_t index, const glm::dmat4& mod
   const InstanceRecord& r = instances_[index];
   if (r.material >= materials_.size()) return nullptr;
   const GpuMaterial& m = materials_[r.material];
-  if (m.extra.z != float(AlphaMode::opaque) || (int(m.extra.w) & 4) != 0) return nullptr;
+  if (!casts_shadow(m)) return nullptr;
   const double determinant = glm::determinant(glm::dmat3(model));
   const MeshRecord* mesh = mesh_at(r.primitive);
   if (!std::isfinite(determinant) || determinant == 0.0 || mesh->index_count == 0) return nullptr;

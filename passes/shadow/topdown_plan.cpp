@@ -106,9 +106,7 @@ class TopdownPlanner {
       const LightRect square{centre - half - texel, centre + half + texel};
       visit_static_across_sun(hierarchy_, kDown, std::span<const LightRect>(&square, 1), [&](uint32_t index) {
         const InstanceRecord& r = instances_[index];
-        if (r.material >= materials_.size()) return;
-        const GpuMaterial& material = materials_[r.material];
-        if (material.extra.z != float(AlphaMode::opaque) || (int(material.extra.w) & 4) != 0) return;  // decal
+        if (r.material >= materials_.size() || !casts_shadow(materials_[r.material])) return;
         const glm::dmat4 model = instance_model(r, 0.0);
         const double determinant = glm::determinant(glm::dmat3(model));
         if (r.primitive >= meshes_.size())
@@ -116,12 +114,7 @@ class TopdownPlanner {
                            std::to_string(r.primitive) + " of " + std::to_string(meshes_.size()));
         const MeshRecord& mesh = meshes_[r.primitive];
         if (!std::isfinite(determinant) || determinant == 0.0 || mesh.index_count == 0) return;
-        LightRect box;
-        for (int c = 0; c < 8; ++c)
-          box.grow(kDown.across(dvec3(model * glm::dvec4(c & 1 ? mesh.bounds_max[0] : mesh.bounds_min[0],
-                                                         c & 2 ? mesh.bounds_max[1] : mesh.bounds_min[1],
-                                                         c & 4 ? mesh.bounds_max[2] : mesh.bounds_min[2], 1.0))));
-        if (!box.meets(square)) return;
+        if (!across_sun(kDown, model, mesh).meets(square)) return;
         glm::dmat4 relative = model;
         relative[3] -= glm::dvec4(eye, 0.0);  // camera-relative, as every draw list
         draws.push_back(caster_draw(index, r, relative, mesh));
