@@ -10,6 +10,8 @@
 #include <random>
 #include <utility>
 
+#include <glm/gtc/packing.hpp>
+
 namespace nc = nightcap;
 
 namespace nightcap::bench {
@@ -77,6 +79,35 @@ void add_spots_in_view(nc::Scene& scene, uint32_t width, uint32_t height, int co
     spot.outer_cone = 0.7f;
     scene.lights.push_back(spot);
   }
+}
+
+OnOffMedians alternate_frames(GpuDevice& gpu, const Scene& scene, const RenderSettings& on, const RenderSettings& off,
+                              int repeats) {
+  Renderer with(gpu, scene, on), without(gpu, scene, off);
+  with.render_frame(0, false);
+  without.render_frame(0, false);
+  std::vector<double> on_ms, off_ms;
+  for (int r = 1; r <= repeats; ++r)
+    for (const bool feature : {r % 2 == 1, r % 2 == 0}) {
+      const double start = now_ms();
+      (feature ? with : without).render_frame(uint32_t(r), false);
+      (feature ? on_ms : off_ms).push_back(now_ms() - start);
+    }
+  return {median(on_ms), median(off_ms)};
+}
+
+double rgba16f_rms_difference(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, uint64_t texels) {
+  double squares = 0;
+  for (uint64_t t = 0; t < texels; ++t) {
+    uint16_t x[3], y[3];
+    std::memcpy(x, a.data() + t * 8, sizeof x);
+    std::memcpy(y, b.data() + t * 8, sizeof y);
+    for (int c = 0; c < 3; ++c) {
+      const double d = double(glm::unpackHalf1x16(x[c])) - double(glm::unpackHalf1x16(y[c]));
+      squares += d * d;
+    }
+  }
+  return std::sqrt(squares / double(texels));
 }
 
 }  // namespace nightcap::bench

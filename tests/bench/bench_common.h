@@ -43,6 +43,19 @@ double gpu_ms(const IsolatedRun& run);
 // timing, the pass timed alone); 0 when it did not run.
 double frame_pass_ms(const RenderedFrame& frame, const std::string& pass);
 
+// A feature's cost in the whole frame: a renderer with it (`on`) and one without (`off`) on the
+// same scene, each warmed up by frame 0, then frames 1..repeats on each in turn so that both see
+// the same machine; the medians of each frame's wall clock.
+struct OnOffMedians {
+  double on_ms = 0, off_ms = 0;
+  double ratio() const { return on_ms / off_ms; }
+};
+OnOffMedians alternate_frames(GpuDevice& gpu, const Scene& scene, const RenderSettings& on, const RenderSettings& off,
+                              int repeats);
+
+// The RMS over `texels` of the difference of two RGBA16F images (RGB only).
+double rgba16f_rms_difference(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, uint64_t texels);
+
 // `count` spot lights 8 m up, pointing down and ahead, 25 m range, spread over the first 60 m of
 // the view of frame 0 (seeded): street lamps over the part of the scene the maps cover.
 void add_spots_in_view(Scene& scene, uint32_t width, uint32_t height, int count);

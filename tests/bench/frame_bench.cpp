@@ -204,24 +204,14 @@ void bench_sky_ibl_cost(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int
     on = overlapped(on);
     nc::RenderSettings off = on;
     off.params["sky"]["enabled"] = 0.0;
-    nc::Renderer with(gpu, scene, on), without(gpu, scene, off);
-    with.render_frame(0, false);
-    without.render_frame(0, false);
-    std::vector<double> on_ms, off_ms;
-    for (int r = 1; r <= repeats; ++r) {
-      for (const bool sky : {r % 2 == 1, r % 2 == 0}) {
-        const double start = now_ms();
-        (sky ? with : without).render_frame(uint32_t(r), false);
-        (sky ? on_ms : off_ms).push_back(now_ms() - start);
-      }
-    }
-    const double ratio = median(on_ms) / median(off_ms);
+    const OnOffMedians cost = alternate_frames(gpu, scene, on, off, repeats);
+    const double ratio = cost.ratio();
     largest = std::max(largest, ratio);
     table() << std::left << std::setw(10) << key << std::right << std::fixed << std::setprecision(1) << "on "
-            << median(on_ms) << " ms, off " << median(off_ms) << " ms, ratio " << std::setprecision(3) << ratio << "\n";
+            << cost.on_ms << " ms, off " << cost.off_ms << " ms, ratio " << std::setprecision(3) << ratio << "\n";
     figure("sky_ibl_on_off_ratio." + key, ratio);
-    figure("frame_ms_street_sky_on." + key, median(on_ms));
-    figure("frame_ms_street_sky_off." + key, median(off_ms));
+    figure("frame_ms_street_sky_on." + key, cost.on_ms);
+    figure("frame_ms_street_sky_off." + key, cost.off_ms);
   }
   figure("sky_ibl_on_off_ratio", largest);
 }

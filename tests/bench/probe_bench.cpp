@@ -50,24 +50,12 @@ void bench_probes(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repea
   on.pass_timing = nc::PassTiming::overlapped;
   nc::RenderSettings off = on;
   off.params["probes"]["enabled"] = 0.0;
-  {
-    nc::Renderer with(gpu, scene, on), without(gpu, scene, off);
-    with.render_frame(0, false);
-    without.render_frame(0, false);
-    std::vector<double> on_ms, off_ms;
-    for (int r = 1; r <= repeats; ++r)
-      for (const bool probes : {r % 2 == 1, r % 2 == 0}) {
-        const double start = now_ms();
-        (probes ? with : without).render_frame(uint32_t(r), false);
-        (probes ? on_ms : off_ms).push_back(now_ms() - start);
-      }
-    const double ratio = median(on_ms) / median(off_ms);
-    table() << "on " << std::fixed << std::setprecision(1) << median(on_ms) << " ms, off " << median(off_ms)
-            << " ms, ratio " << std::setprecision(3) << ratio << "\n";
-    figure("probes_on_off_ratio", ratio);
-    figure("frame_ms_street_probes_on", median(on_ms));
-    figure("frame_ms_street_probes_off", median(off_ms));
-  }
+  const OnOffMedians cost = alternate_frames(gpu, scene, on, off, repeats);
+  table() << "on " << std::fixed << std::setprecision(1) << cost.on_ms << " ms, off " << cost.off_ms << " ms, ratio "
+          << std::setprecision(3) << cost.ratio() << "\n";
+  figure("probes_on_off_ratio", cost.ratio());
+  figure("frame_ms_street_probes_on", cost.on_ms);
+  figure("frame_ms_street_probes_off", cost.off_ms);
   nc::RenderSettings one = on;
   one.pass_timing.reset();  // each pass timed alone on a CPU device
   one.params["probes.plan"]["refresh_frames"] = 1.0;
@@ -145,14 +133,6 @@ void bench_probe_tradeoffs(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_
     if (ms_per_probe) *ms_per_probe = update_ms(frame) / std::max(1u, plan_of(frame).captured);
     return *frame.execution.final_version("lighting.lit")->bytes;
   };
-  const auto pixels_rms = [&](const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
-    double squares = 0;
-    for (uint64_t p = 0; p < uint64_t(width) * height; ++p) {
-      const glm::dvec3 d = reference::half4_at(a, p * 8) - reference::half4_at(b, p * 8);
-      squares += glm::dot(d, d);
-    }
-    return std::sqrt(squares / (double(width) * height));
-  };
   nc::RenderSettings off = still;
   off.params["probes"]["enabled"] = 0.0;
   const std::vector<uint8_t> without = lit(off, nullptr);
@@ -164,9 +144,10 @@ void bench_probe_tradeoffs(nc::GpuDevice& gpu, nc::PipelineCache& cache, uint32_
     settings.params["probes"]["face_size"] = double(face_sizes[k]);
     images.push_back(lit(settings, &ms[k]));
   }
-  const double contribution = pixels_rms(images.back(), without);
+  const uint64_t texels = uint64_t(width) * height;
+  const double contribution = rgba16f_rms_difference(images.back(), without, texels);
   for (size_t k = 0; k < face_sizes.size(); ++k) {
-    const double error = pixels_rms(images[k], images.back()) / std::max(contribution, 1e-30);
+    const double error = rgba16f_rms_difference(images[k], images.back(), texels) / std::max(contribution, 1e-30);
     table() << std::setw(9) << face_sizes[k] << std::setw(11) << std::fixed << std::setprecision(1) << ms[k]
             << std::setw(12) << std::setprecision(4) << error << (face_sizes[k] == 64 ? "   (default)" : "")
             << (k + 1 == face_sizes.size() ? "   (the reference)" : "") << "\n";

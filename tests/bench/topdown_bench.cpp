@@ -9,7 +9,6 @@
 #include "passes/shadow/topdown_layout.h"
 #include "tests/bench/bench_common.h"
 #include "tests/bench/benchmarks.h"
-#include "tests/reference/probe_capture.h"
 
 namespace nc = nightcap;
 
@@ -33,24 +32,12 @@ void bench_topdown(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repe
   on.pass_timing = nc::PassTiming::overlapped;
   nc::RenderSettings off = on;
   off.params["shadow.topdown"]["enabled"] = 0.0;
-  {
-    nc::Renderer with(gpu, scene, on), without(gpu, scene, off);
-    with.render_frame(0, false);
-    without.render_frame(0, false);
-    std::vector<double> on_ms, off_ms;
-    for (int r = 1; r <= repeats; ++r)
-      for (const bool map : {r % 2 == 1, r % 2 == 0}) {
-        const double start = now_ms();
-        (map ? with : without).render_frame(uint32_t(r), false);
-        (map ? on_ms : off_ms).push_back(now_ms() - start);
-      }
-    const double ratio = median(on_ms) / median(off_ms);
-    table() << "on " << std::fixed << std::setprecision(1) << median(on_ms) << " ms, off " << median(off_ms)
-            << " ms, ratio " << std::setprecision(3) << ratio << "\n";
-    figure("topdown_on_off_ratio", ratio);
-    figure("frame_ms_street_topdown_on", median(on_ms));
-    figure("frame_ms_street_topdown_off", median(off_ms));
-  }
+  const OnOffMedians cost = alternate_frames(gpu, scene, on, off, repeats);
+  table() << "on " << std::fixed << std::setprecision(1) << cost.on_ms << " ms, off " << cost.off_ms << " ms, ratio "
+          << std::setprecision(3) << cost.ratio() << "\n";
+  figure("topdown_on_off_ratio", cost.ratio());
+  figure("frame_ms_street_topdown_on", cost.on_ms);
+  figure("frame_ms_street_topdown_off", cost.off_ms);
 
   table() << "resolution   redraw ms   lighting.lit error (share of what the map changes)\n";
   nc::Scene day = scene;
@@ -66,14 +53,6 @@ void bench_topdown(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repe
     if (redraw_ms) *redraw_ms = frame_pass_ms(frame, "shadow.topdown_plan") + frame_pass_ms(frame, "shadow.topdown");
     return *frame.execution.final_version("lighting.lit")->bytes;
   };
-  const auto rms = [&](const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
-    double squares = 0;
-    for (uint64_t p = 0; p < uint64_t(width) * height; ++p) {
-      const glm::dvec3 d = reference::half4_at(a, p * 8) - reference::half4_at(b, p * 8);
-      squares += glm::dot(d, d);
-    }
-    return std::sqrt(squares / (double(width) * height));
-  };
   nc::RenderSettings without_map = still;
   without_map.params["shadow.topdown"]["enabled"] = 0.0;
   const std::vector<uint8_t> none = render(without_map, nullptr);
@@ -85,9 +64,10 @@ void bench_topdown(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repe
     settings.params["shadow.topdown"]["resolution"] = double(resolutions[k]);
     images.push_back(render(settings, &ms[k]));
   }
-  const double change = rms(images.back(), none);
+  const uint64_t texels = uint64_t(width) * height;
+  const double change = rgba16f_rms_difference(images.back(), none, texels);
   for (size_t k = 0; k < resolutions.size(); ++k) {
-    const double error = rms(images[k], images.back()) / std::max(change, 1e-30);
+    const double error = rgba16f_rms_difference(images[k], images.back(), texels) / std::max(change, 1e-30);
     table() << std::setw(10) << resolutions[k] << std::setw(12) << std::fixed << std::setprecision(1) << ms[k]
             << std::setw(12) << std::setprecision(4) << error << (resolutions[k] == 2048 ? "   (default)" : "")
             << (k + 1 == resolutions.size() ? "   (the reference)" : "") << "\n";
