@@ -373,10 +373,10 @@ void PassContext::copy_layer(const std::string& from, uint32_t from_layer, const
   copied_layers_.insert({to, to_layer});
 }
 
-void PassContext::copy_image(const std::string& from, const std::string& to) {
+void PassContext::copy_resource(const std::string& from, const std::string& to) {
   auto whole = [](const BoundUse& u) {
     const ImageExtent& e = u.desc.extent;
-    return !u.desc.is_buffer && u.range.contains(0, 0) && u.range.contains(e.mips - 1, e.layers - 1);
+    return u.desc.is_buffer || (u.range.contains(0, 0) && u.range.contains(e.mips - 1, e.layers - 1));
   };
   const BoundUse* source = nullptr;
   const BoundUse* target = nullptr;
@@ -389,7 +389,8 @@ void PassContext::copy_image(const std::string& from, const std::string& to) {
                      "' without reading the whole of the one and writing the whole of the other");
   const PhysicalResource& src = shared_.resources.at(from);
   const PhysicalResource& dst = shared_.resources.at(to);
-  if (src.desc.format != dst.desc.format || src.desc.extent != dst.desc.extent)
+  if (src.desc.is_buffer != dst.desc.is_buffer || src.desc.format != dst.desc.format ||
+      src.desc.extent != dst.desc.extent || src.desc.buffer_size != dst.desc.buffer_size)
     throw GraphError(pass() + ": copies '" + from + "' into '" + to + "', which differ in format or size");
   const bool depth = is_depth(dst.desc);
   const AccessState read = required_state(source->use, pass_.decl->type, depth);

@@ -108,10 +108,10 @@ class PassContext {
   // clearing it. Called before the pass renders to or reads those layers.
   void copy_layer(const std::string& from, uint32_t from_layer, const std::string& to, uint32_t to_layer,
                   int32_t dx = 0, int32_t dy = 0);
-  // Copies the whole of `from`, an image the pass reads, into `to`, one of the same format, size,
-  // mips and layers it writes (every subresource), by transfer commands between the states the
-  // graph planned for the pass: a history carried into this frame's version.
-  void copy_image(const std::string& from, const std::string& to);
+  // Copies the whole of `from`, an image or buffer the pass reads, into `to`, one of the same
+  // format, size, mips and layers (or bytes) it writes (every subresource), by transfer commands
+  // between the states the graph planned for the pass: a history carried into this frame's version.
+  void copy_resource(const std::string& from, const std::string& to);
   // Sets layers [first_layer, first_layer + count) (every mip) of `to`, an image the pass writes, to
   // `value` by a transfer clear between the states the graph planned for the pass, before the
   // pass writes them otherwise.

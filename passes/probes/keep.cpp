@@ -1,17 +1,18 @@
-// probes.keep: this frame's probes.array starts as the previous frame's (a transfer copy of the
-// whole array, every slot and mip), which probes.convert then writes this frame's captures into:
-// the array is history, and a frame that captures nothing (probes.convert skipped) shows the
-// probes captured before. probes.array: RGBA16F, two square `size` layers per slot of
+// probes.keep: this frame's probes.array and probes.irradiance start as the previous frame's (a
+// transfer copy of each, every slot and mip), which probes.convert and probes.irradiance then write
+// this frame's captures into: both are history, and a frame that captures nothing (the two skipped)
+// keeps the probes captured before. probes.array: RGBA16F, two square `size` layers per slot of
 // probes.plan (paraboloid.glsl.h: the upper and the lower hemisphere; the seeds' 512×256 texture
-// per probe, its halves as layers so that each clamps at its own edge), kProbeArrayMips mips,
-// level m prefiltered for roughness m / (kProbeArrayMips − 1). Without history (the first frame,
-// a camera cut) the previous array is cleared, and probes.plan captures every probe in range.
-// Skipped in a scene without probes.
+// per probe, its halves as layers so that each clamps at its own edge), kProbeArrayMips mips, level
+// m prefiltered for roughness m / (kProbeArrayMips − 1). Without history (the first frame, a camera
+// cut) the previous array is cleared, and probes.plan captures every probe in range. Skipped in a
+// scene without probes.
 #include "passes/core/context.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/probes/paraboloid.glsl.h"
 #include "passes/probes/plan.h"
 #include "passes/probes/stage.h"
+#include "passes/sky/ibl.glsl.h"
 
 namespace nightcap {
 
@@ -52,11 +53,17 @@ PassDecl probes_keep_pass() {
   array.mips = kProbeArrayMips;
   return PassDecl("probes.keep", PassType::compute)
       .read_previous("probes.array", Use::sampled)
+      .read_previous("probes.irradiance", Use::storage_read)
       .write("probes.array", Use::storage_write, array)
+      .write("probes.irradiance", Use::storage_write, BufferDecl(kinds::buffer, kProbeSlots * sizeof(GpuSkyIrradiance)))
+      .layout("probes.irradiance", NC_SCHEMA_OF(GpuSkyIrradiance, NC_GPU_SKY_IRRADIANCE_FIELDS))
       .param_int("size", 256, 32, 2048, "texels on a side of each hemisphere of a probe (the seeds' 512×256: 256)")
       .can_disable("reflection probes disabled by settings", "probes")
       .needs("reflection_probes")
-      .run([](PassContext& ctx) { ctx.copy_image(previous("probes.array"), "probes.array"); });
+      .run([](PassContext& ctx) {
+        ctx.copy_resource(previous("probes.array"), "probes.array");
+        ctx.copy_resource(previous("probes.irradiance"), "probes.irradiance");
+      });
 }
 
 }  // namespace nightcap

@@ -23,6 +23,34 @@ float probe_weight(GpuProbeSlot slot, vec3 position, float fade_metres) {
   return margin > 0.0 ? clamp(margin / max(fade_metres, 1e-6), 0.0, 1.0) : 0.0;
 }
 
+#ifdef NC_PROBE_SLOTS
+// The two probes nearest a point among those whose boxes hold it, of the `count` that `slots`
+// (probes.slots, declared with NC_PROBE_SLOTS defined) lists: their indices in it and how much
+// each lights the point (probe_weight(); 0: none). Choosing first and reading after keeps a
+// caller's texture reads at two: lavapipe would run a read in the loop for every slot.
+struct NearestProbes {
+  uint index[2];
+  float weight[2];
+};
+NearestProbes nearest_probes(vec3 position, uint count, float fade_metres) {
+  NearestProbes nearest = NearestProbes(uint[2](0u, 0u), float[2](0.0, 0.0));
+  float distances[2] = float[2](1e30, 1e30);
+  for (uint k = 0u; k < count; ++k) {
+    float w = probe_weight(slots[k], position, fade_metres);
+    float d = length(position - slots[k].position.xyz);
+    if (w <= 0.0 || d >= distances[1]) continue;
+    bool first = d < distances[0];
+    nearest.index[1] = first ? nearest.index[0] : k;
+    nearest.weight[1] = first ? nearest.weight[0] : w;
+    distances[1] = first ? distances[0] : d;
+    nearest.index[0] = first ? k : nearest.index[0];
+    nearest.weight[0] = first ? w : nearest.weight[0];
+    distances[0] = first ? d : distances[0];
+  }
+  return nearest;
+}
+#endif
+
 // Texel coordinates (uv) and layer of probes.array that the direction d of slot `slot` is at.
 vec3 probe_texel(uint slot, vec3 d) {
   return vec3(paraboloid_point(d) * 0.5 + 0.5, float(2u * slot + paraboloid_hemisphere(d)));

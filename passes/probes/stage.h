@@ -12,5 +12,6 @@ PassDecl probes_gbuffer_pass();
 PassDecl probes_light_pass();
 PassDecl probes_keep_pass();
 PassDecl probes_convert_pass();
+PassDecl probes_irradiance_pass();
 
 }  // namespace nightcap

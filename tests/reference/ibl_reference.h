@@ -28,15 +28,15 @@ struct CubeLevel {
   const dvec3& at(uint32_t face, uint32_t x, uint32_t y) const { return texels[(size_t(face) * side + y) * side + x]; }
 };
 
-// Level `mip` of a 6-layer cube image of `format` stored as the capture lays it out.
-inline CubeLevel cube_level(const std::vector<uint8_t>& bytes, VkFormat format, uint32_t side0, uint32_t mips,
-                            uint32_t mip) {
+// Level `mip` of cube `cube` (layers 6·cube to 6·cube + 5) of a cube or cube-array image of
+// `format` and `extent` stored as the capture lays it out.
+inline CubeLevel cube_array_level(const std::vector<uint8_t>& bytes, VkFormat format, const ImageExtent& extent,
+                                  uint32_t cube, uint32_t mip) {
   const FormatInfo f = *format_info(format);
-  const ImageExtent extent{side0, side0, 1, mips, 6};
   CubeLevel level;
-  level.side = mip_size(side0, mip);
+  level.side = mip_size(extent.width, mip);
   level.texels.resize(size_t(level.side) * level.side * 6);
-  const uint64_t offset = raw_subresource_offset(f, extent, 0, mip, 0);
+  const uint64_t offset = raw_subresource_offset(f, extent, 0, mip, 6 * cube);
   const std::span<const uint8_t> plane(bytes.data() + offset, bytes.size() - offset);
   for (size_t i = 0; i < level.texels.size(); ++i) {
     float t[4];
@@ -44,6 +44,12 @@ inline CubeLevel cube_level(const std::vector<uint8_t>& bytes, VkFormat format, 
     level.texels[i] = dvec3(t[0], t[1], t[2]);
   }
   return level;
+}
+
+// Level `mip` of a 6-layer cube image of `format` stored as the capture lays it out.
+inline CubeLevel cube_level(const std::vector<uint8_t>& bytes, VkFormat format, uint32_t side0, uint32_t mips,
+                            uint32_t mip) {
+  return cube_array_level(bytes, format, ImageExtent{side0, side0, 1, mips, 6}, 0, mip);
 }
 
 // Vulkan's cube map face selection: the face of the direction's major axis and (s, t) in [0, 1]².

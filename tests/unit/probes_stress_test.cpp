@@ -7,62 +7,29 @@
 
 #include "passes/assembly/renderer.h"
 #include "passes/probes/plan.h"
-#include "replay/replay.h"
 #include "tests/unit/gpu_fixture.h"
 #include "tests/unit/moved_scene.h"
 #include "tests/unit/scratch_folder.h"
+#include "tests/unit/verified_capture.h"
 
 namespace nightcap::test {
 namespace {
 namespace NIGHTCAP_FILE_ID {
 
-const std::vector<std::string> kProbePasses = {"probes.plan",  "probes.cull", "probes.gbuffer",
-                                               "probes.light", "probes.keep", "probes.convert"};
+const std::vector<std::string> kProbePasses = {"probes.plan", "probes.cull",    "probes.gbuffer",   "probes.light",
+                                               "probes.keep", "probes.convert", "probes.irradiance"};
 
 class ProbesStress : public GpuTest {
  protected:
-  // Renders `frames` of `scene` into a capture, checks every float output of every frame finite
-  // and every probe pass that ran replayed bit for bit, and returns each frame's plan.
+  // Renders `frames` of `scene` into a checked capture (verified_capture.h) and returns each
+  // frame's plan.
   std::vector<ProbePlan> render_and_verify(const Scene& scene, RenderSettings settings, uint32_t frames) {
     ScratchFolder folder("probes-stress");
-    settings.frames = frames;
-    render_to_capture(*gpu_, scene, settings, folder.path / "cap", false);
-    const Capture capture = Capture::open(folder.path / "cap");
+    const Capture capture = render_verified(*gpu_, scene, settings, frames, kProbePasses, folder.path / "cap");
     std::vector<ProbePlan> plans;
-    for (uint32_t f = 0; f < frames; ++f) {
-      const FrameRecord& frame = capture.frame(f);
-      for (const PassRecord& pass : frame.passes)
-        for (const ResourceRecord& out : pass.outputs) {
-          if (out.is_buffer || !is_float(*format_info(out.format))) continue;
-          const std::vector<uint8_t> raw = capture.load(out);
-          EXPECT_TRUE(all_finite(out, raw))
-              << "frame " << f << ": " << pass.name << " wrote a NaN or Inf to " << out.resource;
-        }
-      ReplayOptions options;
-      options.frame = f;
-      options.passes = kProbePasses;
-      const ReplayReport report = replay_capture(*gpu_, capture, options);
-      for (const PassReplay& pass : report.passes)
-        for (const OutputCheck& check : pass.outputs)
-          EXPECT_EQ(check.verdict, Verdict::identical) << "frame " << f << ": " << pass.name << " " << check.resource;
-      for (const PassRecord& pass : frame.passes)
-        if (pass.name == "probes.plan")
-          for (const ResourceRecord& out : pass.outputs)
-            if (out.resource == "probes.plan") plans.push_back(host_records<ProbePlan>(capture.load(out)).at(0));
-    }
+    for (uint32_t f = 0; f < frames; ++f)
+      for (const ProbePlan& plan : recorded<ProbePlan>(capture, f, "probes.plan", "probes.plan")) plans.push_back(plan);
     return plans;
-  }
-
-  static bool all_finite(const ResourceRecord& record, const std::vector<uint8_t>& raw) {
-    const FormatInfo f = *format_info(record.format);
-    const uint64_t texels = raw_subresource_offset(f, record.extent, 1, 0, 0) / f.texel_bytes;
-    for (uint64_t i = 0; i < texels; ++i) {
-      float t[4];
-      decode_texel(f, 0, raw, i, t);
-      for (uint32_t c = 0; c < f.channels; ++c)
-        if (!std::isfinite(t[c])) return false;
-    }
-    return true;
   }
 
   static RenderSettings small() {
