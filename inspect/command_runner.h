@@ -48,6 +48,7 @@ class Runner {
   // the depth slice where the kind's linear depth resource (depth.linear) puts the pixel or at
   // --slice, and that texel's list from the kind's buffer (lights.cluster_indices).
   void listed(const ResourceRecord& record, uint32_t x, uint32_t y, Subimage subimage, bool slice_given);
+  void cell(const ResourceRecord& record, uint32_t x, uint32_t y, const Subimage& subimage);
   void pixel(const CommandSpec& spec, const Arguments& args);
   void direction(const CommandSpec& spec, const Arguments& args);
   // The resource the positional at `position` names, or the current pass's first output.

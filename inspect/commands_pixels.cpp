@@ -91,6 +91,32 @@ void Runner::listed(const ResourceRecord& record, uint32_t x, uint32_t y, Subima
   return json_ ? emit(j) : print_reading(j);
 }
 
+// A cell of a kind whose cells span blocks of slices (the GI volume): the texel at --slice Z of the
+// first block, and what the kind reads in all the cell's texels together.
+void Runner::cell(const ResourceRecord& record, uint32_t x, uint32_t y, const Subimage& subimage) {
+  const FrameRecord& frame = session_.frame();
+  const SliceBlocks& blocks = *kind_info(record.kind).slice_blocks;
+  const uint32_t per_block = record.extent.depth / blocks.blocks;
+  if (subimage.slice >= per_block)
+    throw InspectError(record.resource + ": slice " + std::to_string(subimage.slice) + " is past its " +
+                       std::to_string(per_block) + " cells along z (each cell spans " + std::to_string(blocks.blocks) +
+                       " blocks of slices)");
+  ojson j = reading_json(record, frame, x, y, subimage);
+  const std::vector<uint8_t>& raw = session_.load(record);
+  std::vector<std::vector<double>> texels;
+  for (uint32_t k = 0; k < blocks.blocks; ++k) {
+    Subimage block = subimage;
+    block.slice = subimage.slice + k * per_block;
+    texels.push_back(read_pixel(record, raw, frame, texel_for_output_pixel(record, frame, x, y, block)).values.raw);
+  }
+  const ResourceRecord* lookup = blocks.record.empty() ? nullptr : session_.resource_in_frame(frame, blocks.record);
+  ojson decoded;
+  blocks.describe_cell(texels, lookup ? std::span<const uint8_t>(session_.load(*lookup)) : std::span<const uint8_t>(),
+                       decoded);
+  j["decoded"] = decoded;
+  return json_ ? emit(j) : print_reading(j);
+}
+
 std::string Runner::named_or_first_output(const Arguments& args, size_t position) {
   if (args.positional.size() > position) return args.positional[position];
   const PassRecord& p = session_.pass();
@@ -176,6 +202,7 @@ void Runner::pixel(const CommandSpec& spec, const Arguments& args) {
   const ResourceRecord& record = session_.resource(name);
   if (!args.has("--frames")) {
     if (kind_info(record.kind).lists) return listed(record, x, y, subimage, args.has("--slice"));
+    if (kind_info(record.kind).slice_blocks) return cell(record, x, y, subimage);
     const ojson j = reading_json(record, session_.frame(), x, y, subimage);
     return json_ ? emit(j) : print_reading(j);
   }

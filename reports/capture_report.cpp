@@ -60,7 +60,12 @@ std::string shown_part(const ResourceRecord& r, const Thumbnail& t) {
     parts.push_back("each slot's upper and lower hemispheres, the slots never captured left out");
   else if (r.extent.layers > 1 && t.pictures.size() < r.extent.layers)
     parts.push_back("layers 0–" + std::to_string(t.pictures.size() - 1));
-  if (r.extent.depth > 1) parts.push_back("slice 0");
+  if (r.extent.depth > 1) {
+    std::string slices;
+    for (const Thumbnail::Picture& p : t.pictures) slices += (slices.empty() ? "" : ", ") + std::to_string(p.slice);
+    parts.push_back("slices " + slices + " of " + std::to_string(shown_depth(r)) +
+                    (kind_info(r.kind).slice_blocks ? " (each cell's first texel)" : ""));
+  }
   if (t.distances)
     parts.push_back("<span class=\"range\">" + format_number(t.distances->nearest) + " … " +
                     format_number(t.distances->farthest) + "</span> (white to black, log scale)");
@@ -78,16 +83,18 @@ void image_figure(std::ostream& html, const ResourceRecord& r, const Thumbnail* 
     picture(html, t->pictures.front(), r.resource);
   else {
     html << "<div class=\"layer-strip\">";
-    const bool by_slot = kind_info(r.kind).layer_directions.has_value();
+    const bool by_slot = kind_info(r.kind).layer_directions.has_value(), by_slice = r.extent.depth > 1;
     for (const Thumbnail::Picture& p : t->pictures) {
-      const std::string label = by_slot ? "slot " + std::to_string(p.layer / 2) + (p.layer % 2 ? " lower" : " upper")
-                                        : std::to_string(p.layer);
+      const std::string label = by_slot    ? "slot " + std::to_string(p.layer / 2) + (p.layer % 2 ? " lower" : " upper")
+                                : by_slice ? "slice " + std::to_string(p.slice)
+                                           : std::to_string(p.layer);
       html << "<div class=\"layer\">";
-      picture(html, p, r.resource + " layer " + std::to_string(p.layer));
+      picture(html, p,
+              r.resource + (by_slice ? " slice " + std::to_string(p.slice) : " layer " + std::to_string(p.layer)));
       html << "<span class=\"layer-index\">" << label << "</span></div>";
     }
     html << "</div>";
-    if (!by_slot && t->pictures.size() < r.extent.layers)
+    if (!by_slot && !by_slice && t->pictures.size() < r.extent.layers)
       html << "<p class=\"more\">… " << r.extent.layers - t->pictures.size() << " more layers</p>";
   }
 }

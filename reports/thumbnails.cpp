@@ -65,6 +65,11 @@ void drop_empty_slots(const ResourceRecord& record, const std::vector<uint8_t>& 
 
 }  // namespace
 
+uint32_t shown_depth(const ResourceRecord& record) {
+  const std::optional<SliceBlocks>& blocks = kind_info(record.kind).slice_blocks;
+  return blocks ? record.extent.depth / blocks->blocks : record.extent.depth;
+}
+
 ThumbnailSet::Key ThumbnailSet::key_of(const ResourceRecord& record) {
   const ImageExtent& e = record.extent;
   return {record.hash, int(record.format), record.kind.name(), e.width, e.height, e.depth, e.mips, e.layers};
@@ -80,8 +85,14 @@ void ThumbnailSet::add(const ResourceRecord& record) {
   // A probe array shows each slot's two hemispheres (those left empty are dropped in write()).
   const bool by_slot = kind_info(record.kind).layer_directions.has_value();
   const uint32_t layers = by_slot ? record.extent.layers : std::min(record.extent.layers, kMaxLayersShown);
-  for (uint32_t layer = 0; layer < layers; ++layer)
-    thumbnail.pictures.push_back({name + (layers > 1 ? "-" + std::to_string(layer) : "") + ".png", layer});
+  if (const uint32_t depth = shown_depth(record); depth > 1) {
+    const uint32_t slices = std::min(depth, kMaxLayersShown);
+    for (uint32_t k = 0; k < slices; ++k)
+      thumbnail.pictures.push_back({name + "-" + std::to_string(k) + ".png", 0, k * depth / slices});
+  } else {
+    for (uint32_t layer = 0; layer < layers; ++layer)
+      thumbnail.pictures.push_back({name + (layers > 1 ? "-" + std::to_string(layer) : "") + ".png", layer});
+  }
   pending_.push_back(&record);
 }
 
@@ -93,7 +104,7 @@ void ThumbnailSet::write(const Capture& capture, const FrameRecord& frame, const
     const std::vector<uint8_t> raw = capture.load(record);
     if (kind_info(record.kind).layer_directions) drop_empty_slots(record, raw, thumbnail);
     for (const Thumbnail::Picture& picture : thumbnail.pictures) {
-      const std::optional<DistanceRange> range = distance_range(record, raw, frame, {0, picture.layer, 0});
+      const std::optional<DistanceRange> range = distance_range(record, raw, frame, {0, picture.layer, picture.slice});
       if (!range) continue;
       if (!thumbnail.distances)
         thumbnail.distances = range;
@@ -105,8 +116,8 @@ void ThumbnailSet::write(const Capture& capture, const FrameRecord& frame, const
     const uint32_t side = thumbnail.pictures.size() > 1 ? max_side_ / 2 : max_side_;
     const bool light = kind_info(record.kind).light;
     for (Thumbnail::Picture& picture : thumbnail.pictures) {
-      const Rgba8Image drawn =
-          visualise(record, raw, frame, {0, picture.layer, 0}, VisualAspect::depth_or_colour, thumbnail.distances);
+      const Rgba8Image drawn = visualise(record, raw, frame, {0, picture.layer, picture.slice},
+                                         VisualAspect::depth_or_colour, thumbnail.distances);
       const Rgba8Image small = shrink(drawn, side, light);
       write_png(folder / picture.file, small.pixels, small.width, small.height);
       picture.width = small.width;

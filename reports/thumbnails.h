@@ -16,13 +16,14 @@
 
 namespace nightcap {
 
-// The pictures of one image: mip 0 of its one layer, or of each layer of an array shown (the
-// first kMaxLayersShown; of a probe array, both layers of each slot that holds a capture), those
-// at half the side so that four make a row.
+// The pictures of one image: mip 0 of its one layer, of each layer of an array shown (the first
+// kMaxLayersShown; of a probe array, both layers of each slot that holds a capture), or of
+// kMaxLayersShown slices of a 3D image spread through its depth (of a kind whose cells span
+// blocks of slices, through the first block), those at half the side so that four make a row.
 struct Thumbnail {
   struct Picture {
     std::string file;  // relative to the report folder
-    uint32_t layer = 0, width = 0, height = 0;
+    uint32_t layer = 0, slice = 0, width = 0, height = 0;
   };
   std::vector<Picture> pictures;
   // Of kinds drawn as distances (depth, shadow maps): the range every picture is drawn between.
@@ -33,6 +34,10 @@ struct Thumbnail {
 // the longest thing on a page of sixty passes: the first eight (two rows of four, all of a
 // cascade set) show what they hold, and `inspect export --layer` shows any other.
 inline constexpr uint32_t kMaxLayersShown = 8;
+
+// The slices a 3D image's pictures are spread through: its depth, or of a kind whose cells span
+// blocks of slices, a block's.
+uint32_t shown_depth(const ResourceRecord& record);
 
 // An RGBA8 picture shrunk to fit `max_side` by averaging the source pixels each target pixel
 // covers. `srgb`: the codes are sRGB-encoded light, averaged as linear light and encoded again

@@ -4,6 +4,7 @@
 #include "passes/depth/stage.h"
 #include "passes/frame/constants.h"
 #include "passes/gbuffer/stage.h"
+#include "passes/gi/stage.h"
 #include "passes/lighting/stage.h"
 #include "passes/lights/stage.h"
 #include "passes/motion/stage.h"
@@ -66,7 +67,10 @@ void add_lighting_passes(std::vector<PassDecl>& passes, FrameLighting lighting) 
              sky_aerial_perspective_pass(), sky_cubemap_pass(), sky_irradiance_pass(), sky_specular_pass(),
              lighting_dfg_pass()});
   // The probes' captures are lit as the composite lights the frame, from the sky's tables.
-  add_stage(passes, "probes", {probes_light_pass(), probes_keep_pass(), probes_convert_pass()});
+  add_stage(passes, "probes",
+            {probes_light_pass(), probes_keep_pass(), probes_convert_pass(), probes_irradiance_pass()});
+  // The GI volume gathers the probes' irradiance and the sky's for the composite's indirect diffuse.
+  add_stage(passes, "gi", {gi_plan_pass(), gi_volume_pass()});
   if (lighting == FrameLighting::tiled)
     add_stage(passes, "lighting", {lighting_ltc_table_pass(), lighting_tiled_pass()});
   else

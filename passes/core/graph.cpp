@@ -85,7 +85,7 @@ ResourceDesc resolve(const ResourceUse& out, const GraphSettings& settings,
       break;
   }
   const std::string what = pass + ": output '" + out.resource + "'";
-  const uint32_t depth = d.depth_param.empty() ? d.depth : size_from_param(decl, params, d.depth_param, what);
+  const uint32_t depth = d.depth_param.empty() ? d.depth : d.depth * size_from_param(decl, params, d.depth_param, what);
   if (d.layers == 0 || depth == 0) throw GraphError(what + " has no layers or no depth");
   if (depth > 1 && d.layers > 1) throw GraphError(what + " is 3D and layered: Vulkan has no 3D arrays");
   if (d.cube && (d.layers % 6 != 0 || desc.extent.width != desc.extent.height))

@@ -70,7 +70,7 @@ struct ImageDecl {
   uint32_t mips = 1;        // at most this many (a small image has fewer); 0: the whole chain down to 1x1
   uint32_t layers = 1;      // more than 1: a 2D array
   uint32_t depth = 1;       // more than 1: a 3D image of that many slices (one layer)
-  std::string depth_param;  // when named, the writing pass's parameter gives `depth`
+  std::string depth_param;  // when named, the writing pass's parameter times `depth` gives the slices
   bool cube = false;        // layers are cube faces (a multiple of 6, square): sampled as a cube
   VkClearValue clear{};     // contents when the writer is skipped, and the attachment clear
 };

@@ -123,6 +123,20 @@ struct LayerDirections {
       texel_of;
 };
 
+// 3D kinds whose cells span blocks of slices (the GI volume: cell (x, y, z)'s texel k at slice
+// z + k · depth / blocks): `inspect pixel X Y --slice Z` reads every texel of cell (X, Y, Z) and
+// says what the cell holds, and the report draws slices of the first block.
+struct SliceBlocks {
+  uint32_t blocks = 1;
+  // A buffer resource of the same frame the cell's meaning depends on ("" for none).
+  std::string record;
+  // The cell's values from its texels' channel values in block order, given `record`'s bytes
+  // (empty where the frame holds none).
+  std::function<void(const std::vector<std::vector<double>>& texels, std::span<const uint8_t> record,
+                     nlohmann::ordered_json& out)>
+      describe_cell;
+};
+
 struct KindInfo {
   ResourceKind kind{""};
   // `inspect pixel`: what a texel means, as named values in order ("normal", "linear_m", …);
@@ -144,6 +158,7 @@ struct KindInfo {
   std::optional<DepthSlices> slices{};
   std::optional<DirectionLookup> directions{};
   std::optional<LayerDirections> layer_directions{};
+  std::optional<SliceBlocks> slice_blocks{};
 };
 
 // For kinds that store a vector meant to be a unit normal (before normalising): `inspect pixel`'s

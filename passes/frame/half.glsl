@@ -14,8 +14,13 @@ vec3 nearest_half(vec3 x) {
   return roundEven(x / ulp) * ulp;
 }
 
-// Signed two-channel targets (motion vectors): the same rounding, limited to ±65504.
+// Signed targets (motion vectors, spherical-harmonic coefficients): the same rounding, limited to
+// ±65504.
 vec2 nearest_half(vec2 x) { return nearest_half(vec3(max(x, vec2(-HALF_MAX)), 0.0)).xy; }
+vec4 nearest_half(vec4 x) {
+  x = max(x, vec4(-HALF_MAX));
+  return vec4(nearest_half(x.xyz), nearest_half(vec3(x.w, 0.0, 0.0)).x);
+}
 
 // B10G11R11_UFLOAT targets: the same rounding to their 6-bit (red, green) and 5-bit (blue)
 // mantissas over half's exponent range, for non-negative x at most 65024, their largest value.

@@ -1,23 +1,24 @@
-// lighting.composite: direct diffuse + specular + emission + indirect light into the lit HDR
-// colour (lighting.lit), and direct + indirect specular alone into lighting.lit_specular (what
-// SSR and TAA are to read). Indirect light: a uniform `ambient` radiance (a stand-in for the
-// city's own bounce light until the GI volume arrives) and, when sky.atmosphere holds a record,
-// the sky's image-based light: diffuse from sky.irradiance by the normal, specular from
-// sky.specular by the reflection (split sum with lighting.dfg, multiple-scattering compensation,
-// horizon occlusion; composite.frag), and every surface seen through the air of
-// sky.aerial_perspective (lighting.lit only). Where nothing was drawn, the sky: sky.view's
-// radiance by the pixel's view direction with a record, the constant `sky` otherwise (no
-// directional light, the sky switched off, or a frame without the sky's passes). The sky's
-// resources, frame.constants and frame.views are optional inputs, read together. The indirect
-// terms of frame.md join as optional inputs, each read when its pass is in the frame: ao.bent's
-// visibility (alpha, sampled bilinearly: AO may be half size) darkens the indirect terms, as the
-// material's own occlusion (gbuffer.occlusion) does; the reflection probes (probes.slots,
-// probes.array) take the specular's place of the sky's cube map inside their boxes: the two
-// nearest a point, each read along its parallax-corrected direction and weighted by how deep in
-// its box the point lies (probes/reflection.glsl), the sky making up the rest; the sky's diffuse
-// light reaches only where shadow.topdown finds nothing straight above (shadow/topdown.glsl). SSR, the GI
-// volume and fog are to join the same way, a read_optional and an `#ifdef NC_BINDING_<name>`
-// block in the shader each, with the passes that define their formats.
+// lighting.composite: direct diffuse + specular + emission + indirect light into the lit HDR colour
+// (lighting.lit), and direct + indirect specular alone into lighting.lit_specular (what SSR and TAA
+// are to read). Indirect light: a uniform `ambient` radiance (a floor under the city's bounce
+// light) and, when sky.atmosphere holds a record, the sky's image-based light: diffuse from
+// sky.irradiance by the normal, specular from sky.specular by the reflection (split sum with
+// lighting.dfg, multiple-scattering compensation, horizon occlusion; composite.frag), and every
+// surface seen through the air of sky.aerial_perspective (lighting.lit only). Where nothing was
+// drawn, the sky: sky.view's radiance by the pixel's view direction with a record, the constant
+// `sky` otherwise (no directional light, the sky switched off, or a frame without the sky's
+// passes). The sky's resources, frame.constants and frame.views are optional inputs, read together.
+// The indirect terms of frame.md join as optional inputs, each read when its pass is in the frame:
+// ao.bent's visibility (alpha, sampled bilinearly: AO may be half size) darkens the indirect terms,
+// as the material's own occlusion (gbuffer.occlusion) does; the reflection probes (probes.slots,
+// probes.array) take the specular's place of the sky's cube map inside their boxes: the two nearest
+// a point, each read along its parallax-corrected direction and weighted by how deep in its box the
+// point lies (probes/reflection.glsl), the sky making up the rest; the sky's diffuse light reaches
+// only where shadow.topdown finds nothing straight above (shadow/topdown.glsl); inside the GI
+// volume (gi.volume, gi.volume_data) the indirect diffuse is the volume's irradiance instead,
+// trilinear between its cells (gi/volume_lookup.glsl), mixed with the sky's over the volume's outer
+// half cell. SSR and fog are to join the same way, a read_optional and an `#ifdef
+// NC_BINDING_<name>` block in the shader each, with the passes that define their formats.
 #include "passes/core/context.h"
 #include "passes/lighting/composite.glsl.h"
 #include "passes/lighting/shared_params.h"
@@ -53,6 +54,8 @@ PassDecl lighting_composite_pass() {
       .sampler("probes.array", trilinear_clamp_sampler())
       .read_optional("shadow.topdown", Use::sampled)
       .read_optional("shadow.topdown_data", Use::uniform_buffer)
+      .read_optional("gi.volume", Use::sampled)
+      .read_optional("gi.volume_data", Use::uniform_buffer)
       .read_optional("ao.bent", Use::sampled)
       .as("ao")
       .sampler("ao.bent", bilinear_clamp_sampler())
@@ -62,8 +65,7 @@ PassDecl lighting_composite_pass() {
       .param(ambient_param())
       .param(multiple_scattering_param())
       .param(night_sky_param())
-      .param_float("probe_fade_metres", 4.0, 0.0, 1000.0,
-                   "a reflection probe's weight falls to 0 over this distance inside its box's faces")
+      .param(probe_fade_param())
       .compare("lighting.lit", ComparisonContract::floats(0x1p-24, 0x1p-10,
                                                           "the nearest half to the sum "
                                                           "(tests/unit/lighting_composite_test.cpp): "
@@ -87,11 +89,12 @@ PassDecl lighting_composite_pass() {
       .fullscreen("lighting/composite.frag", [](const PassContext& ctx) {
         // The record decides, not whether sky.view ran: a replay sees the record, not the frame.
         const bool has_sky = ctx.reads("sky.atmosphere") && !ctx.host("sky.atmosphere").empty();
+        const bool has_gi = ctx.reads("gi.volume_data") && !ctx.host("gi.volume_data").empty();
         const size_t probe_slots =
             ctx.reads("probes.slots") ? ctx.host("probes.slots").size() / sizeof(GpuProbeSlot) : 0;
         return CompositeConstants{
             ambient_radiance(ctx.param_float("ambient")), sky_radiance(ctx.param_float("sky")),
-            glm::uvec4(has_sky ? 1u : 0u, ctx.flag("multiple_scattering") ? 1u : 0u, 0u, 0u),
+            glm::uvec4(has_sky ? 1u : 0u, ctx.flag("multiple_scattering") ? 1u : 0u, has_gi ? 1u : 0u, 0u),
             glm::vec4(float(ctx.param_float("probe_fade_metres")), float(probe_slots), 0.0f, 0.0f)};
       });
 }

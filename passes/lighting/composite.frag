@@ -42,6 +42,7 @@ layout(set = 0, binding = NC_BINDING(lighting_dfg)) uniform sampler2D dfg_lut;
 
 #if defined(NC_IMAGE_BASED) && defined(NC_BINDING_probes_slots) && defined(NC_BINDING_probes_array)
 #define NC_PROBES
+#define NC_PROBE_SLOTS
 #include "../probes/capture_layout.glsl.h"
 #include "../probes/paraboloid.glsl.h"
 layout(std430, set = 0, binding = NC_BINDING(probes_slots)) readonly buffer ProbeSlotBlock { GpuProbeSlot slots[]; };
@@ -55,6 +56,13 @@ layout(set = 0, binding = NC_BINDING(probes_array)) uniform sampler2DArray probe
 layout(std140, set = 0, binding = NC_BINDING(shadow_topdown_data)) uniform TopdownBlock { GpuTopdown topdown; };
 layout(set = 0, binding = NC_BINDING(shadow_topdown)) uniform sampler2D topdown_map;
 #include "../shadow/topdown.glsl"
+#endif
+
+#if defined(NC_IMAGE_BASED) && defined(NC_BINDING_gi_volume) && defined(NC_BINDING_gi_volume_data)
+#define NC_GI_VOLUME
+#include "../gi/volume_layout.glsl.h"
+layout(std140, set = 0, binding = NC_BINDING(gi_volume_data)) uniform GiVolumeBlock { GpuGiVolume gi; };
+layout(set = 0, binding = NC_BINDING(gi_volume)) uniform sampler3D gi_cells;
 #endif
 
 layout(push_constant) uniform CompositeConstants { NC_BLOCK_MEMBERS(NC_COMPOSITE_CONSTANTS_FIELDS) };
@@ -98,6 +106,9 @@ vec3 through_air(vec3 radiance, vec3 position) {
 #ifdef NC_IMAGE_BASED
 #include "../sky/sh.glsl"
 #include "environment_light.glsl"
+#ifdef NC_GI_VOLUME
+#include "../gi/volume_lookup.glsl"
+#endif
 
 // The surface's own orientation (not the normal map's) from the depth of the neighbours: along
 // each axis the side whose depth is nearer this pixel's, so that an edge does not bend it.
@@ -127,39 +138,36 @@ Indirect image_based(ivec2 pixel, float depth, vec3 position, vec3 albedo, float
 #ifdef NC_PROBES
   // The two nearest probes whose boxes hold the point, each read along its parallax-corrected
   // direction and weighted by how deep inside its box the point lies; the sky makes up what their
-  // weights leave. Choosing first and reading after keeps the reads at two a pixel: lavapipe
-  // would run a read in the loop for every slot. probes.slots lists the slots holding a capture.
-  uint nearest[2] = uint[2](0u, 0u);
-  float weights[2] = float[2](0.0, 0.0), distances[2] = float[2](1e30, 1e30);
-  for (uint k = 0u; k < uint(probes.y); ++k) {
-    float w = probe_weight(slots[k], position, probes.x);
-    float d = length(position - slots[k].position.xyz);
-    if (w <= 0.0 || d >= distances[1]) continue;
-    bool first = d < distances[0];
-    nearest[1] = first ? nearest[0] : k;
-    weights[1] = first ? weights[0] : w;
-    distances[1] = first ? distances[0] : d;
-    nearest[0] = first ? k : nearest[0];
-    weights[0] = first ? w : weights[0];
-    distances[0] = first ? d : distances[0];
-  }
+  // weights leave. probes.slots lists the slots holding a capture.
+  NearestProbes nearest = nearest_probes(position, uint(probes.y), probes.x);
   vec3 probe_sum = vec3(0.0);
   float total = 0.0;
   for (int i = 0; i < 2; ++i) {
-    if (weights[i] <= 0.0) continue;
-    GpuProbeSlot slot = slots[nearest[i]];
+    if (nearest.weight[i] <= 0.0) continue;
+    GpuProbeSlot slot = slots[nearest.index[i]];
     vec3 d = parallax_direction(position, r, slot.box_min.xyz, slot.box_max.xyz, slot.position.xyz);
-    probe_sum += weights[i] * probe_radiance(uint(slot.position.w), d, roughness * float(kProbeArrayMips - 1u));
-    total += weights[i];
+    probe_sum += nearest.weight[i] * probe_radiance(uint(slot.position.w), d, roughness * float(kProbeArrayMips - 1u));
+    total += nearest.weight[i];
   }
   prefiltered = total > 1.0 ? probe_sum / total : probe_sum + (1.0 - total) * prefiltered;
 #endif
-  vec3 sky_irradiance = irradiance_over_pi(n);
+  // Indirect diffuse: the GI volume's where it holds the point, the sky's irradiance where the
+  // sky is straight above it elsewhere (and across the volume's outer half cell, the two mixed).
+  vec3 irradiance_n = irradiance_over_pi(n);
 #ifdef NC_TOPDOWN
-  sky_irradiance *= topdown_sky_visibility(position, n);
+  irradiance_n *= topdown_sky_visibility(position, n);
+#endif
+#ifdef NC_GI_VOLUME
+  if (sky_source.z != 0u) {
+    // Read half a cell off the surface along its normal: a floor midway between the cells above
+    // and below it would otherwise take half its light from the cell under the ground.
+    vec3 gathered;
+    float inside = gi_volume_irradiance(position + n * (0.5 * gi.origin.w), n, gathered);
+    irradiance_n = mix(irradiance_n, gathered, inside);
+  }
 #endif
   return environment_light(n, v, r, geometric_normal(pixel, depth, position), albedo, metallic, roughness, visibility,
-                           sky_source.y != 0u, prefiltered, sky_irradiance);
+                           sky_source.y != 0u, prefiltered, irradiance_n);
 }
 #endif
 

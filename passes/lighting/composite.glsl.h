@@ -12,7 +12,8 @@
   F(vec4, sky)                                                      \
   /* x: 1 when sky.atmosphere holds a record (the sky's passes ran) \
      and sky.view is drawn, 0 for the constant `sky`; y: 1 to add   \
-     the image-based specular's multiple scattering */              \
+     the image-based specular's multiple scattering; z: 1 when      \
+     gi.volume_data holds a record (the GI volume's passes ran) */  \
   F(uvec4, sky_source)                                              \
   /* x: metres over which a reflection probe's weight fades to 0 at \
      the faces of its box; y: the slots probes.slots lists (those   \

@@ -1,7 +1,7 @@
-// The lighting parameters the reflection probes' captures (probes.light) share with the frame's
-// passes, so a face is lit as the frame would light the same view: each declared once here and
-// set under its frame pass's name for both (`--set lighting.composite.ambient=…` sets the probes'
-// too; ParamDecl::group).
+// The lighting parameters the reflection probes' captures (probes.light) and the GI volume share
+// with the frame's passes, so a face or a cell is lit as the frame would light the same point:
+// each declared once here and set under its frame pass's name for all (`--set
+// lighting.composite.ambient=…` sets the probes' too; ParamDecl::group).
 #pragma once
 
 #include <glm/glm.hpp>
@@ -23,6 +23,13 @@ inline ParamDecl night_sky_param() {
 inline ParamDecl multiple_scattering_param() {
   return ParamDecl::boolean("multiple_scattering", true,
                             "add the energy single scattering loses to the image-based specular (Fdez-Agüera 2019)")
+      .shared_by("lighting.composite");
+}
+// How the reflection probes' boxes weigh them, for the composite's reflections and the GI
+// volume's gather alike (probes/reflection.glsl).
+inline ParamDecl probe_fade_param() {
+  return ParamDecl::real("probe_fade_metres", 4.0, 0.0, 1000.0,
+                         "a reflection probe's weight falls to 0 over this distance inside its box's faces")
       .shared_by("lighting.composite");
 }
 // The radiances the two set: a cool night ambient and a deep blue sky.

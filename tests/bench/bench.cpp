@@ -77,7 +77,8 @@ int main(int argc, char** argv) {
                                              "sky_ibl",
                                              "probes",
                                              "probe_tradeoffs",
-                                             "topdown"};
+                                             "topdown",
+                                             "gi"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -151,6 +152,7 @@ int main(int argc, char** argv) {
     if (wanted("probes")) bench_probes(gpu, width, height, int(repeats));
     if (wanted("probe_tradeoffs")) bench_probe_tradeoffs(gpu, cache, width, height);
     if (wanted("topdown")) bench_topdown(gpu, width, height, int(repeats));
+    if (wanted("gi")) bench_gi(gpu, width, height, int(repeats));
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

@@ -69,6 +69,10 @@ void bench_local(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
 // time against error (prefilter samples, probes per frame).
 void bench_probes(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
 void bench_probe_tradeoffs(GpuDevice& gpu, PipelineCache& cache, uint32_t width, uint32_t height);
+// topdown_bench.cpp: the top-down map's cost (topdown_on_off_ratio) and its resolution.
 void bench_topdown(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
+// gi_bench.cpp: the GI volume's cost (gi_volume_on_off_ratio) and time against error for its
+// spherical-harmonic order and its resolution.
+void bench_gi(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
 
 }  // namespace nightcap::bench

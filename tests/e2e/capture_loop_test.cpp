@@ -56,6 +56,9 @@ const std::vector<std::string> kFramePasses = {"cull.main",
                                                "probes.light",
                                                "probes.keep",
                                                "probes.convert",
+                                               "probes.irradiance",
+                                               "gi.plan",
+                                               "gi.volume",
                                                "lighting.ltc_table",
                                                "lighting.tiled",
                                                "lighting.composite",
@@ -71,21 +74,25 @@ const std::vector<std::string> kFramePasses = {"cull.main",
 
 // The passes that run in frame `frame` of kCity: the city has no moving geometry and the camera
 // walks from frame 1 on, so motion.stencil is skipped in frame 0 only; its one reflection probe
-// is captured in frame 0 and stays valid, so frame 1 captures nothing.
+// is captured in frame 0 and stays valid, so frame 1 captures nothing (and the GI volume, walking
+// less than a cell, gathers nothing: it still runs, to carry the volume over).
 std::vector<std::string> passes_that_run(int frame) {
   std::vector<std::string> passes = kFramePasses;
   if (frame == 0) std::erase(passes, "motion.stencil");
   if (frame > 0)
-    for (const char* capture : {"probes.gbuffer", "probes.light", "probes.convert"}) std::erase(passes, capture);
+    for (const char* capture : {"probes.gbuffer", "probes.light", "probes.convert", "probes.irradiance"})
+      std::erase(passes, capture);
   return passes;
 }
 
-// The passes a replay of frame `frame` of kCity runs: those that ran, and probes.convert when it
-// skipped for want of captures: it only modifies the probe array, so its capture records its
-// inputs and the replay checks it left the array as it was.
+// The passes a replay of frame `frame` of kCity runs: those that ran, and probes.convert and
+// probes.irradiance when they skipped for want of captures: they only modify the probe array and
+// irradiance, so their capture records their inputs and the replay checks they left them as they
+// were.
 std::vector<std::string> passes_that_replay(int frame) {
   std::vector<std::string> passes = passes_that_run(frame);
-  if (frame > 0) passes.insert(std::find(passes.begin(), passes.end(), "lighting.ltc_table"), "probes.convert");
+  if (frame > 0)
+    passes.insert(std::find(passes.begin(), passes.end(), "gi.plan"), {"probes.convert", "probes.irradiance"});
   return passes;
 }
 
@@ -300,7 +307,7 @@ TEST(CaptureLoop, PassesJsonDescribesEveryPassAndResource) {
     EXPECT_GT(p.at("time_ms").get<double>(), 0.0) << p.at("name");
     sum += p.at("time_ms").get<double>();
   }
-  EXPECT_EQ(stages, (std::set<std::string>{"setup", "shadows", "probes", "geometry", "lighting", "post"}));
+  EXPECT_EQ(stages, (std::set<std::string>{"setup", "shadows", "probes", "geometry", "lighting", "gi", "post"}));
   EXPECT_EQ(find_pass(frame, "shadow.cascades").at("stage"), "shadows");
   EXPECT_EQ(find_pass(frame, "tonemap").at("stage"), "post");
   ASSERT_TRUE(frame.at("wall_ms").is_number());

@@ -248,6 +248,46 @@ TEST_F(InspectTest, CubeMapTexelAlongADirection) {
             json::array({half_at(raw, offset), half_at(raw, offset + 2), half_at(raw, offset + 4)}));
 }
 
+// The GI volume's cell under a pixel at a slice: its 27 coefficients gathered from the 7 blocks of
+// slices (volume_layout.glsl.h: four to a texel, coefficient-major, block k at slice z + 64k),
+// decoded here from the raw halves, and the irradiance about each axis from the real spherical
+// harmonics' definitions (Y00 = √(1/4π), Y1m = √(3/4π) × the axis, Y20 and Y22's zonal parts).
+TEST_F(InspectTest, GiVolumeCellAndItsIrradianceAboutEachAxis) {
+  const ResourceRecord& volume = output_named(pass_named(frame0(), "gi.volume"), "gi.volume");
+  const Inspected run = inspect(path_,
+                                "goto gi.volume --json; pixel 160 90 gi.volume --slice 20 --json; "
+                                "pixel 160 90 gi.volume --slice 64 --json");
+  EXPECT_EQ(run.result.code, 2) << "slice 64 is past the 64 cells along z";
+  ASSERT_EQ(run.objects.size(), 2u) << run.result.err;
+  EXPECT_NE(run.result.err.find("past its 64 cells"), std::string::npos) << run.result.err;
+  const json& cell = run.objects[1];
+  const uint32_t cells = volume.extent.width, x = 160 * cells / 320, y = 90 * cells / 180;
+  ASSERT_EQ(volume.extent.depth, 7 * cells);
+  EXPECT_EQ(cell["texel"], json::array({x, y}));
+  const std::vector<uint8_t> raw = capture_->load(volume);
+  double c[28];
+  for (uint32_t k = 0; k < 7; ++k)
+    for (uint32_t m = 0; m < 4; ++m)
+      c[4 * k + m] = half_at(raw, 8 * ((uint64_t(20 + k * cells) * cells + y) * cells + x) + 2 * m);
+  const json& coefficients = cell["decoded"]["coefficients"];
+  ASSERT_EQ(coefficients.size(), 9u);
+  for (int i = 0; i < 9; ++i)
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(coefficients[i][k].get<double>(), c[3 * i + k]) << i;
+  const double pi = 3.14159265358979323846;
+  const double y00 = std::sqrt(1 / (4 * pi)), y1 = std::sqrt(3 / (4 * pi)), y20 = std::sqrt(5 / (16 * pi)),
+               y22 = std::sqrt(15 / (16 * pi));
+  // About +y: Y1−1 = y1, Y20 = −y20 (3z² − 1 at z = 0), Y22 = −y22 (x² − y²); about −z: Y10 = −y1, Y20 = 2 y20.
+  for (int k = 0; k < 3; ++k) {
+    const double up = c[k] * y00 + c[3 + k] * y1 - c[18 + k] * y20 - c[24 + k] * y22;
+    const double back = c[k] * y00 - c[6 + k] * y1 + 2 * c[18 + k] * y20;
+    EXPECT_NEAR(cell["decoded"]["irradiance_over_pi"]["+y"][k].get<double>(), std::max(up, 0.0),
+                1e-6 * std::abs(up) + 1e-9);
+    EXPECT_NEAR(cell["decoded"]["irradiance_over_pi"]["-z"][k].get<double>(), std::max(back, 0.0),
+                1e-6 * std::abs(back) + 1e-9);
+  }
+  EXPECT_EQ(cell["decoded"]["cell_metres"], 2.0);
+}
+
 // sky.view by direction: straight up is its first texel (zenith, and no azimuth: u = 0), straight
 // down its last row's first, level and away from the light (the way it travels) its last column,
 // above the horizon's row; each decoded as the texel the capture holds there.

@@ -316,6 +316,19 @@ TEST(Report, ShowsBuffersByTheirSchemaAndDepthByItsRangeAndEveryLayerOfAShadowMa
   EXPECT_NE(local_figure.find("alt=\"shadow.local layer 7\""), std::string::npos);
   EXPECT_EQ(local_figure.find("alt=\"shadow.local layer 8\""), std::string::npos);
   EXPECT_NE(local_figure.find("… 8 more layers"), std::string::npos);
+  // The GI volume: 8 slices of its cells' first texels (of 64 cells along z, each cell 7 blocks
+  // of slices deep), labelled, and the caption says which.
+  const ResourceRecord& volume = output_of(frame, "gi.volume");
+  ASSERT_EQ(volume.extent.depth, 7u * 64u);
+  const std::string volume_figure = figure_of(html, "gi.volume");
+  for (uint32_t slice = 0; slice < 64; slice += 8)
+    EXPECT_NE(volume_figure.find("alt=\"gi.volume slice " + std::to_string(slice) +
+                                 "\"><span class=\"layer-index\">slice " + std::to_string(slice) + "</span>"),
+              std::string::npos)
+        << slice << ": " << volume_figure;
+  EXPECT_NE(volume_figure.find("slices 0, 8, 16, 24, 32, 40, 48, 56 of 64 (each cell's first texel)"),
+            std::string::npos)
+      << volume_figure;
   EXPECT_LT(folder_bytes(out) * 5, folder_bytes(folder)) << "thumbnails too large";
 }
 
