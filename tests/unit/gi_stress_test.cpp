@@ -1,7 +1,7 @@
 // The GI volume under stress: the camera 8 km up (the volume far above the scene, out of every
-// probe's reach), at the map's far corner, a cut (the volume refills) and the probe nearest the
-// camera missing. Each renders into a capture whose float outputs stay finite and whose GI and
-// probe-irradiance passes replay from their records bit for bit, every frame
+// probe's reach), at the map's far corner, a cut (the volume refills), the probe nearest the
+// camera missing and the sky switched off (nothing to gather). Each renders into a capture whose float outputs stay
+// finite and whose GI and probe-irradiance passes replay from their records bit for bit, every frame
 // (verified_capture.h).
 #include <algorithm>
 
@@ -69,6 +69,15 @@ TEST_F(GiStress, TheNearestProbeMissing) {
   scene.probes.erase(nearest);
   const std::vector<GiPlan> plans = render_and_verify(scene, {}, 2);
   ASSERT_EQ(plans.size(), 2u);
+}
+
+// The sky switched off with the sun still up: gi.plan records nothing and gi.volume clears the
+// volume (nothing to gather), every frame; the composite lights without it.
+TEST_F(GiStress, TheSkySwitchedOff) {
+  RenderSettings settings;
+  settings.params["sky"]["enabled"] = 0.0;
+  const std::vector<GiPlan> plans = render_and_verify(build_map({1, 16.0, Shot::street}), settings, 2);
+  EXPECT_TRUE(plans.empty());
 }
 
 }  // namespace NIGHTCAP_FILE_ID
