@@ -18,11 +18,10 @@
 // (no directional light, `--set sky.enabled=0`) or with `--set gi.enabled=0`.
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <optional>
 
 #include "passes/core/context.h"
-#include "passes/core/history_name.h"
+#include "passes/core/previous_record.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/gi/stage.h"
 #include "passes/gi/volume_layout.h"
@@ -97,13 +96,8 @@ class GiPlanner {
 
  private:
   GiRefresh whole_refresh(const GiPlan& plan) {
-    const std::span<const uint8_t> bytes = ctx_.host(previous("gi.plan"));
-    if (bytes.empty()) return GiRefresh::no_history;
-    if (bytes.size() != sizeof(GiPlan))
-      throw GraphError("gi.plan: the previous frame's record holds " + std::to_string(bytes.size()) + " bytes, not " +
-                       std::to_string(sizeof(GiPlan)));
-    previous_.emplace();
-    std::memcpy(&*previous_, bytes.data(), sizeof(GiPlan));
+    previous_ = previous_record<GiPlan>(ctx_, "gi.plan");
+    if (!previous_) return GiRefresh::no_history;
     if (previous_->cells != plan.cells || previous_->cell_metres != plan.cell_metres) return GiRefresh::changed;
     if (ctx_.reads("sky.atmosphere")) {
       const std::span<const uint8_t> sky = ctx_.host("sky.atmosphere");

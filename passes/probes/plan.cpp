@@ -29,7 +29,7 @@
 #include <tuple>
 
 #include "passes/core/context.h"
-#include "passes/core/history_name.h"
+#include "passes/core/previous_record.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/frame/view.h"
 #include "passes/probes/capture_layout.h"
@@ -77,8 +77,8 @@ class ProbePlanner {
     ProbePlan plan{};
     std::fill(std::begin(plan.slot_probe), std::end(plan.slot_probe), kNoProbe);
     const std::vector<uint32_t> nearest = in_range(plan);
-    ProbePlan before{};
-    plan.reset = read_history(before) ? 0u : 1u;
+    const std::optional<ProbePlan> before = previous_record<ProbePlan>(ctx_, "probes.plan");
+    plan.reset = before ? 0u : 1u;
     plan.max_updates = uint32_t(ctx_.param_int("max_updates"));
 
     std::vector<uint32_t> to_capture;  // slots, in the order they are captured
@@ -89,7 +89,7 @@ class ProbePlanner {
         to_capture.push_back(slot);
       }
     } else {
-      keep_slots(before, nearest, plan);
+      keep_slots(*before, nearest, plan);
       to_capture = choose_updates(plan);
     }
 
@@ -185,17 +185,6 @@ class ProbePlanner {
       chosen.push_back(need.slot);
     }
     return chosen;
-  }
-
-  // The previous frame's record; false when there is none (the first frame, a cut).
-  bool read_history(ProbePlan& plan) const {
-    const std::span<const uint8_t> record = ctx_.host(previous("probes.plan"));
-    if (record.empty()) return false;
-    if (record.size() != sizeof(plan))
-      throw GraphError("probes.plan: the previous frame's record holds " + std::to_string(record.size()) +
-                       " bytes, not " + std::to_string(sizeof(plan)));
-    std::memcpy(&plan, record.data(), sizeof(plan));
-    return true;
   }
 
   GpuView face_view(const ProbeRecord& probe, const glm::dmat3& axes) const {

@@ -19,10 +19,9 @@
 // kept for many frames.
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 #include "passes/core/context.h"
-#include "passes/core/history_name.h"
+#include "passes/core/previous_record.h"
 #include "passes/frame/gpu_types.h"
 #include "passes/frame/hierarchy.h"
 #include "passes/frame/scene_resources.h"
@@ -75,7 +74,7 @@ class TopdownPlanner {
     const glm::ivec2 centre_texels(glm::round(centre / texel));
     plan.centre[0] = centre_texels.x;
     plan.centre[1] = centre_texels.y;
-    const std::optional<TopdownPlan> before = previous_plan();
+    const std::optional<TopdownPlan> before = previous_record<TopdownPlan>(ctx_, "shadow.topdown_plan");
     if (!before)
       plan.refresh = uint32_t(TopdownRefresh::no_history);
     else if (before->resolution != plan.resolution || before->side_metres != plan.side_metres ||
@@ -129,18 +128,6 @@ class TopdownPlanner {
   }
 
  private:
-  // The previous frame's record; none on frame 0 and after a cut.
-  std::optional<TopdownPlan> previous_plan() const {
-    const std::span<const uint8_t> bytes = ctx_.host(previous("shadow.topdown_plan"));
-    if (bytes.empty()) return std::nullopt;
-    if (bytes.size() != sizeof(TopdownPlan))
-      throw GraphError("shadow.topdown_plan: the previous frame's record holds " + std::to_string(bytes.size()) +
-                       " bytes, not " + std::to_string(sizeof(TopdownPlan)));
-    TopdownPlan plan;
-    std::memcpy(&plan, bytes.data(), sizeof plan);
-    return plan;
-  }
-
   PassContext& ctx_;
   CameraRecordGpu camera_;
   std::span<const InstanceRecord> instances_;

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <random>
@@ -94,6 +95,22 @@ OnOffMedians alternate_frames(GpuDevice& gpu, const Scene& scene, const RenderSe
       (feature ? on_ms : off_ms).push_back(now_ms() - start);
     }
   return {median(on_ms), median(off_ms)};
+}
+
+void street_on_off(GpuDevice& gpu, const Scene& scene, uint32_t width, uint32_t height, int repeats,
+                   const std::string& group, const std::string& ratio_figure, const std::string& key) {
+  RenderSettings on;
+  on.width = width;
+  on.height = height;
+  on.pass_timing = PassTiming::overlapped;
+  RenderSettings off = on;
+  off.params[group]["enabled"] = 0.0;
+  const OnOffMedians cost = alternate_frames(gpu, scene, on, off, repeats);
+  table() << "on " << std::fixed << std::setprecision(1) << cost.on_ms << " ms, off " << cost.off_ms << " ms, ratio "
+          << std::setprecision(3) << cost.ratio() << "\n";
+  figure(ratio_figure, cost.ratio());
+  figure("frame_ms_street_" + key + "_on", cost.on_ms);
+  figure("frame_ms_street_" + key + "_off", cost.off_ms);
 }
 
 double rgba16f_rms_difference(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, uint64_t texels) {

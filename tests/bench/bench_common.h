@@ -53,6 +53,13 @@ struct OnOffMedians {
 OnOffMedians alternate_frames(GpuDevice& gpu, const Scene& scene, const RenderSettings& on, const RenderSettings& off,
                               int repeats);
 
+// The cost of a feature that `--set GROUP.enabled=0` switches off, in the frame frame_ms_street
+// measures: `scene` walking at width × height, the passes overlapped, alternate_frames with the
+// feature on and off. Prints the table's line and records `ratio_figure` and
+// frame_ms_street_<key>_{on,off}.
+void street_on_off(GpuDevice& gpu, const Scene& scene, uint32_t width, uint32_t height, int repeats,
+                   const std::string& group, const std::string& ratio_figure, const std::string& key);
+
 // The RMS over `texels` of the difference of two RGBA16F images (RGB only).
 double rgba16f_rms_difference(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, uint64_t texels);
 

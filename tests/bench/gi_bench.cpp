@@ -59,18 +59,7 @@ void bench_gi(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) 
   table() << "\n## GI volume, map street shot at " << width << "x" << height << " (median of " << repeats
           << " alternating frames)\n";
   const nc::Scene scene = nc::build_map({1, 16.0, nc::Shot::street});
-  nc::RenderSettings on;
-  on.width = width;
-  on.height = height;
-  on.pass_timing = nc::PassTiming::overlapped;
-  nc::RenderSettings off = on;
-  off.params["gi"]["enabled"] = 0.0;
-  const OnOffMedians cost = alternate_frames(gpu, scene, on, off, repeats);
-  table() << "on " << std::fixed << std::setprecision(1) << cost.on_ms << " ms, off " << cost.off_ms << " ms, ratio "
-          << std::setprecision(3) << cost.ratio() << "\n";
-  figure("gi_volume_on_off_ratio", cost.ratio());
-  figure("frame_ms_street_gi_on", cost.on_ms);
-  figure("frame_ms_street_gi_off", cost.off_ms);
+  street_on_off(gpu, scene, width, height, repeats, "gi", "gi_volume_on_off_ratio", "gi");
 
   nc::Scene day = scene;
   nc::set_hour(day, 10.0);

@@ -44,20 +44,10 @@ void bench_probes(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repea
   table() << "\n## reflection probes, map street shot at " << width << "x" << height << " (median of " << repeats
           << " alternating frames)\n";
   const nc::Scene scene = nc::build_map({1, 16.0, nc::Shot::street});
-  nc::RenderSettings on;
-  on.width = width;
-  on.height = height;
-  on.pass_timing = nc::PassTiming::overlapped;
-  nc::RenderSettings off = on;
-  off.params["probes"]["enabled"] = 0.0;
-  const OnOffMedians cost = alternate_frames(gpu, scene, on, off, repeats);
-  table() << "on " << std::fixed << std::setprecision(1) << cost.on_ms << " ms, off " << cost.off_ms << " ms, ratio "
-          << std::setprecision(3) << cost.ratio() << "\n";
-  figure("probes_on_off_ratio", cost.ratio());
-  figure("frame_ms_street_probes_on", cost.on_ms);
-  figure("frame_ms_street_probes_off", cost.off_ms);
-  nc::RenderSettings one = on;
-  one.pass_timing.reset();  // each pass timed alone on a CPU device
+  street_on_off(gpu, scene, width, height, repeats, "probes", "probes_on_off_ratio", "probes");
+  nc::RenderSettings one;  // each pass timed alone on a CPU device
+  one.width = width;
+  one.height = height;
   one.params["probes.plan"]["refresh_frames"] = 1.0;
   one.params["probes.plan"]["max_updates"] = 1.0;
   nc::Renderer renderer(gpu, scene, one);

@@ -26,18 +26,7 @@ void bench_topdown(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repe
   table() << "\n## top-down sky visibility, map street shot at " << width << "x" << height << " (median of " << repeats
           << " alternating frames)\n";
   const nc::Scene scene = nc::build_map({1, 16.0, nc::Shot::street});
-  nc::RenderSettings on;
-  on.width = width;
-  on.height = height;
-  on.pass_timing = nc::PassTiming::overlapped;
-  nc::RenderSettings off = on;
-  off.params["shadow.topdown"]["enabled"] = 0.0;
-  const OnOffMedians cost = alternate_frames(gpu, scene, on, off, repeats);
-  table() << "on " << std::fixed << std::setprecision(1) << cost.on_ms << " ms, off " << cost.off_ms << " ms, ratio "
-          << std::setprecision(3) << cost.ratio() << "\n";
-  figure("topdown_on_off_ratio", cost.ratio());
-  figure("frame_ms_street_topdown_on", cost.on_ms);
-  figure("frame_ms_street_topdown_off", cost.off_ms);
+  street_on_off(gpu, scene, width, height, repeats, "shadow.topdown", "topdown_on_off_ratio", "topdown");
 
   table() << "resolution   redraw ms   lighting.lit error (share of what the map changes)\n";
   nc::Scene day = scene;

@@ -174,25 +174,17 @@ class GiVolume : public GpuTest {
                           ctx.push_declared();
                           vkCmdDispatch(ctx.cmd(), uint32_t(cases.size() + 63) / 64, 1, 1);
                         });
-    GraphSettings settings;
-    settings.sinks = {"gi.results"};
-    settings.readback = {"gi.results"};
-    const std::vector<PassDecl> decls{pass};
     const IsolatedInput data = record_input(volume);
     IsolatedInput image = GpuTest::image(VK_FORMAT_R16G16B16A16_SFLOAT, kinds::colour, cells, cells, cells_bytes);
     image.desc.extent.depth = cells * kGiVolumeTexels;
-    const IsolatedInput case_input = records_input(std::span<const float>(packed));
-    CompiledGraph graph = compile_graph(
-        decls, {{"gi.volume_data", data.desc}, {"gi.volume", image.desc}, {"gi.cases", case_input.desc}}, settings);
-    ExecutionOptions options;
-    options.shaders = [](const std::string&, const std::string& path, const std::string& bindings) {
-      return compile_glsl(path, kLookupShader, bindings);
-    };
-    const Execution run = execute_graph(
-        *gpu_, *cache_, graph,
-        {{"gi.volume_data", data.bytes}, {"gi.volume", image.bytes}, {"gi.cases", case_input.bytes}}, options);
+    const IsolatedRun run = run_isolated(
+        *gpu_, *cache_, pass,
+        {{"gi.volume_data", data}, {"gi.volume", image}, {"gi.cases", records_input(std::span<const float>(packed))}},
+        {}, 1, 1, [](const std::string&, const std::string& path, const std::string& bindings) {
+          return compile_glsl(path, kLookupShader, bindings);
+        });
     std::vector<glm::vec4> out(cases.size());
-    std::memcpy(out.data(), run.final_version("gi.results")->bytes->data(), bytes);
+    std::memcpy(out.data(), run.outputs.at("gi.results")->data(), bytes);
     return out;
   }
 };

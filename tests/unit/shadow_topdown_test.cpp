@@ -85,25 +85,16 @@ class TopdownSky : public GpuTest {
                           ctx.push_declared();
                           vkCmdDispatch(ctx.cmd(), uint32_t(points.size() + 63) / 64, 1, 1);
                         });
-    GraphSettings settings;
-    settings.sinks = {"topdown.results"};
-    settings.readback = {"topdown.results"};
-    const std::vector<PassDecl> decls{pass};
-    const IsolatedInput cases = records_input(std::span<const float>(packed));
-    CompiledGraph graph = compile_graph(
-        decls, {{"shadow.topdown_data", data.desc}, {"shadow.topdown", map.desc}, {"topdown.cases", cases.desc}},
-        settings);
-    ExecutionOptions options;
-    options.shaders = [](const std::string&, const std::string& path, const std::string& bindings) {
-      std::string source = kVisibilityShader;
-      return compile_glsl(path, source, bindings);
-    };
-    const Execution run = execute_graph(
-        *gpu_, *cache_, graph,
-        {{"shadow.topdown_data", data.bytes}, {"shadow.topdown", map.bytes}, {"topdown.cases", cases.bytes}}, options);
-    const VersionData* results = run.final_version("topdown.results");
+    const IsolatedRun run =
+        run_isolated(*gpu_, *cache_, pass,
+                     {{"shadow.topdown_data", {data.desc, data.bytes}},
+                      {"shadow.topdown", {map.desc, map.bytes}},
+                      {"topdown.cases", records_input(std::span<const float>(packed))}},
+                     {}, 1, 1, [](const std::string&, const std::string& path, const std::string& bindings) {
+                       return compile_glsl(path, kVisibilityShader, bindings);
+                     });
     std::vector<float> out(points.size());
-    std::memcpy(out.data(), results->bytes->data(), bytes);
+    std::memcpy(out.data(), run.outputs.at("topdown.results")->data(), bytes);
     return out;
   }
 };
