@@ -26,13 +26,15 @@ void add_scene_passes(std::vector<PassDecl>& passes);
 // "lighting": light lists, the sun's shadow mask, the sky, diffuse and specular light, and
 // lighting.composite's lit colour, lighting.lit.
 void add_lighting_passes(std::vector<PassDecl>& passes, FrameLighting lighting);
+// frame_passes() puts "taa" between them: taa resolves lighting.lit into taa.resolved, the `lit`
+// post reads.
 // "post": bloom, exposure and tonemap, reading the HDR colour `lit`; tonemap writes final.ldr.
 void add_post_passes(std::vector<PassDecl>& passes, const std::string& lit);
 // Every pass a frame of either lighting runs: where replay finds a recorded pass's declaration.
 std::vector<PassDecl> all_passes();
 
 // What the frame must produce: the displayed image, and the depth-summary and light-list
-// resources whose consumers (SSR, AO, TAA) have not landed yet, so they are rendered and
+// resources whose consumers (SSR, AO, fog) have not landed yet, so they are rendered and
 // recorded.
 std::vector<std::string> frame_sinks();
 

@@ -13,6 +13,7 @@
 #include "passes/probes/stage.h"
 #include "passes/shadow/stage.h"
 #include "passes/sky/stage.h"
+#include "passes/taa/stage.h"
 
 namespace nightcap {
 
@@ -22,7 +23,6 @@ std::vector<std::string> frame_sinks() {
           "depth.pyramid",
           "depth.half",
           "stencil.half",
-          "motion.mask",
           "cull.stats",
           "cull.occlusion",
           "lights.clusters",
@@ -90,8 +90,9 @@ std::vector<PassDecl> frame_passes(FrameLighting lighting) {
   std::vector<PassDecl> passes;
   add_scene_passes(passes);
   add_lighting_passes(passes, lighting);
-  // The post chain reads the composite's colour; TAA's resolve goes between them (frame.md).
-  add_post_passes(passes, "lighting.lit");
+  // TAA resolves the composite's colour, and post reads the resolved colour (frame.md).
+  add_stage(passes, "taa", {taa_pass()});
+  add_post_passes(passes, "taa.resolved");
   return passes;
 }
 

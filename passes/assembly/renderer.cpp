@@ -136,7 +136,7 @@ CameraPath::Motion CameraPath::parse_motion(const std::string& name) {
 
 std::string CameraPath::motion_name(Motion motion) { return info(motion).name; }
 
-double CameraPath::speed() const { return info(motion).speed; }
+double CameraPath::speed() const { return speed_override.value_or(info(motion).speed); }
 
 Camera frame_camera(const Camera& base, const Scene& scene, const CameraPath& path, uint32_t frame) {
   const auto cuts_so_far = std::distance(path.cuts.begin(), path.cuts.upper_bound(frame));
@@ -228,7 +228,8 @@ RenderedFrame Renderer::render_frame(uint32_t index, bool capture, CaptureWriter
   graph_settings.sinks = settings_.sinks.empty() ? frame_sinks() : settings_.sinks;
   graph_settings.params = settings_.params;
   graph_settings.capture = capture;
-  graph_settings.readback = {"final.ldr"};
+  graph_settings.readback = settings_.readback;
+  graph_settings.readback.insert("final.ldr");
   for (const PassDecl& pass : passes_)
     for (const PassDecl::OutputWarning& warning : pass.warnings) graph_settings.readback.insert(warning.output);
   frame.graph = compile_graph(passes_, as_graph_imports(imports), graph_settings);

@@ -22,10 +22,12 @@ namespace nightcap {
 struct CameraPath {
   enum class Motion { still, walk, drive } motion = Motion::walk;
   std::set<uint32_t> cuts;  // frames that start from another view: every history resets
+  // In place of the motion's speed (a stress test's camera jumping 100 m a frame).
+  std::optional<double> speed_override;
 
   static Motion parse_motion(const std::string& name);  // "static", "walk", "drive"; throws SceneError
   static std::string motion_name(Motion motion);
-  double speed() const;  // 0, 1.4 or 14 m/s
+  double speed() const;  // 0, 1.4 or 14 m/s, or speed_override
   bool cut_at(uint32_t frame) const { return cuts.count(frame) != 0; }
 };
 
@@ -51,6 +53,9 @@ struct RenderSettings {
   // What the frame must produce; empty: frame_sinks(). Fewer sinks run part of the frame (a
   // benchmark or test of the passes before lighting).
   std::vector<std::string> sinks;
+  // Resources whose last version each frame copies to the host besides final.ldr (a test or a
+  // benchmark reading one image without capturing the frame).
+  std::set<std::string> readback;
   FrameLighting lighting = FrameLighting::tiled;  // deferred: the baseline a benchmark compares with
   // How pass times are measured; unset: default_pass_timing of the device (alone on a CPU).
   std::optional<PassTiming> pass_timing;

@@ -1,6 +1,7 @@
 // frame.constants (CPU): the camera and lights turned into the per-frame constants, the camera's
-// view (frame.views[0]) and the camera-relative light list every shading pass reads. Doubles in,
-// floats out, so world coordinates of thousands of metres lose nothing before the subtraction.
+// view (frame.views[0], with TAA's jitter of this frame: passes/frame/jitter.h) and the
+// camera-relative light list every shading pass reads. Doubles in, floats out, so world
+// coordinates of thousands of metres lose nothing before the subtraction.
 #include <algorithm>
 #include <cstring>
 
@@ -8,6 +9,7 @@
 #include "passes/frame/camera_math.h"
 #include "passes/frame/constants.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/frame/jitter.h"
 #include "passes/frame/occlusion_buffer.h"
 #include "passes/frame/scene_resources.h"
 #include "passes/frame/view.h"
@@ -24,12 +26,17 @@ void build_constants(PassContext& ctx) {
   const double aspect = double(camera.width) / camera.height;
   const glm::dvec3 eye = glm::dvec3(world[3]);
 
+  const uint32_t supersample = uint32_t(ctx.param_int("supersample"));
+  const glm::dvec2 jitter = supersample > 0       ? supersample_offset(camera.frame_index, supersample)
+                            : ctx.flag("enabled") ? taa_jitter(camera.frame_index)
+                                                  : glm::dvec2(0.0);
   const GpuView camera_view =
       perspective_view({.orientation = glm::dmat3(world),
                         .yfov = camera.yfov,
                         .znear = camera.znear,
                         .width = camera.width,
-                        .height = camera.height},
+                        .height = camera.height,
+                        .jitter = jitter},
                        previous_relative_view_projection(previous, world, camera.yfov, aspect, camera.znear));
   GpuFrameConstants c{};
   c.camera_world = glm::vec4(glm::vec3(eye), 1.0f);
@@ -126,6 +133,11 @@ PassDecl frame_constants_pass() {
       .layout("frame.constants", frame_constants_schema())
       .layout("frame.views", view_schema())
       .layout("frame.lights", light_schema())
+      .param(taa_enabled_param())
+      .param_int("supersample", 0, 0, 64,
+                 "n > 0: frame k's projection is offset to the centre of cell k mod n² of an n×n sub-pixel grid in "
+                 "place of TAA's jitter; n² still frames rendered so with taa.enabled=0 and averaged supersample "
+                 "the frame")
       .run(build_constants);
 }
 

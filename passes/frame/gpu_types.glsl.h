@@ -25,7 +25,10 @@
   /* width, height, 1/width, 1/height */                                                          \
   F(vec4, viewport)                                                                               \
   /* znear, yfov, aspect */                                                                       \
-  F(vec4, projection_params)
+  F(vec4, projection_params)                                                                      \
+  /* xy: TAA's sub-pixel jitter in pixels, already in projection (what is drawn at pixel p sits   \
+     at p - xy unjittered); zw: the same in uv units. 0 for a view TAA does not resolve */        \
+  F(vec4, jitter)
 NC_STRUCT(GpuView, NC_GPU_VIEW_FIELDS)
 
 #define NC_GPU_FRAME_CONSTANTS_FIELDS(F, A, P)                                                  \

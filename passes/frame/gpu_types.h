@@ -7,7 +7,7 @@
 
 namespace nightcap {
 
-static_assert(sizeof(GpuView) == 5 * 64 + 3 * 16);
+static_assert(sizeof(GpuView) == 5 * 64 + 4 * 16);
 static_assert(sizeof(GpuFrameConstants) == 6 * 16);
 static_assert(sizeof(GpuLight) == 80);
 static_assert(sizeof(GpuDraw) == 256);

@@ -18,10 +18,13 @@ struct ViewPlacement {
   glm::dmat3 orientation{1.0};
   double yfov = 0, znear = 0;
   uint32_t width = 0, height = 0;
+  // TAA's sub-pixel offset of the projection, in pixels (GpuView::jitter).
+  glm::dvec2 jitter{0.0};
 };
 
 // A perspective view. `previous_view_projection`: where the view was a frame ago, for points
-// relative to this frame's camera; a view that does not move (none given) reuses this frame's.
+// relative to this frame's camera, unjittered; a view that does not move (none given) reuses this
+// frame's unjittered one, so motion vectors hold no jitter.
 GpuView perspective_view(const ViewPlacement& placement,
                          const std::optional<glm::dmat4>& previous_view_projection = std::nullopt);
 

@@ -98,7 +98,8 @@ void write_gbuffer(vec3 previous_position) {
   GpuView view = views[draws[in_draw].view];
   vec4 previous = view.previous_view_projection * vec4(previous_position, 1.0);
   vec2 previous_uv = previous.xy / previous.w * 0.5 + 0.5;
-  vec2 current_uv = gl_FragCoord.xy * view.viewport.zw;
+  // Where this pixel's surface point sits unjittered: motion vectors hold no jitter.
+  vec2 current_uv = gl_FragCoord.xy * view.viewport.zw - view.jitter.zw;
   out_motion = nearest_half(current_uv - previous_uv);
   out_emissive = emitted;
 }

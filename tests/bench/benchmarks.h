@@ -75,4 +75,7 @@ void bench_topdown(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats)
 // spherical-harmonic order and its resolution.
 void bench_gi(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
 
+// taa_bench.cpp: TAA's cost in the street frame, and time against error for its settings.
+void bench_taa(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
+
 }  // namespace nightcap::bench

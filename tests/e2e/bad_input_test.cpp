@@ -117,9 +117,9 @@ nlohmann::json& first_output(nlohmann::json& manifest, const std::string& pass) 
 TEST(BadInput, BlobWhoseContentDoesNotMatchItsHash) {
   const fs::path capture = copy_of_city("hash");
   nlohmann::json manifest = read_json(capture / "manifest.json");
-  const std::string lit = first_output(manifest, "lighting.composite")["blob"];
+  const std::string lit = first_output(manifest, "taa")["blob"];
   const std::string diffuse = first_output(manifest, "lighting.tiled")["blob"];
-  // tonemap reads lighting.lit: give its file another valid blob of the same format and size,
+  // tonemap reads taa.resolved: give its file another valid blob of the same format and size,
   // which decodes fine but hashes differently.
   fs::copy_file(capture / diffuse, capture / lit, fs::copy_options::overwrite_existing);
   const CliResult r = run_cli("replay --verify --pass tonemap " + quote(capture));

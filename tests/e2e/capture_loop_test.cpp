@@ -62,6 +62,7 @@ const std::vector<std::string> kFramePasses = {"cull.main",
                                                "lighting.ltc_table",
                                                "lighting.tiled",
                                                "lighting.composite",
+                                               "taa",
                                                "bloom.level0",
                                                "bloom.level1",
                                                "bloom.level2",
@@ -307,7 +308,7 @@ TEST(CaptureLoop, PassesJsonDescribesEveryPassAndResource) {
     EXPECT_GT(p.at("time_ms").get<double>(), 0.0) << p.at("name");
     sum += p.at("time_ms").get<double>();
   }
-  EXPECT_EQ(stages, (std::set<std::string>{"setup", "shadows", "probes", "geometry", "lighting", "gi", "post"}));
+  EXPECT_EQ(stages, (std::set<std::string>{"setup", "shadows", "probes", "geometry", "lighting", "gi", "taa", "post"}));
   EXPECT_EQ(find_pass(frame, "shadow.cascades").at("stage"), "shadows");
   EXPECT_EQ(find_pass(frame, "tonemap").at("stage"), "post");
   ASSERT_TRUE(frame.at("wall_ms").is_number());

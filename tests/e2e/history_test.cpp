@@ -84,8 +84,8 @@ TEST(History, TheAdaptedExposureMatchesACpuComputationOverTheRecordedFrames) {
     const PassRecord& exposure = find(capture.frame(k), "exposure");
     const double log2_min = exposure.params.at("log2_min"), log2_max = exposure.params.at("log2_max");
     const double tau = exposure.params.at("adapt_seconds");
-    // The histogram of the recorded lit image, in double precision.
-    const std::vector<uint8_t> lit = capture.load(find(exposure.inputs, "lighting.lit"));
+    // The histogram of the recorded resolved image, in double precision.
+    const std::vector<uint8_t> lit = capture.load(find(exposure.inputs, "taa.resolved"));
     std::vector<std::array<double, 3>> rgb;
     for (size_t p = 0; p + 8 <= lit.size(); p += 8) {
       uint16_t h[3];

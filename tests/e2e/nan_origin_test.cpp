@@ -121,7 +121,7 @@ TEST(NanOrigin, APassThatCarriesTheNanOnIsNotItsOrigin) {
   ASSERT_EQ(r.code, 0) << r.err;
   const json j = json::parse(r.out.substr(r.out.find('\n') + 1));
   EXPECT_EQ(j.at("origin").at("pass"), "bloom.level0") << "from any current pass";
-  // exposure's injection is the other origin: it reads bloom.chain's mip 5 and lighting.lit,
+  // exposure's injection is the other origin: it reads bloom.chain's mip 5 and taa.resolved,
   // which hold no NaN (bloom.chain's is in mip 0).
   std::vector<std::string> origins;
   for (const json& o : j.at("origins")) origins.push_back(o.at("pass"));
@@ -183,7 +183,7 @@ TEST(NanOrigin, HalfResolutionOutputMapsThePixelToItsTexel) {
   EXPECT_EQ(texel.at("pixel"), json::array({100, 50}));
   const std::vector<json> inputs = texel.at("inputs");
   ASSERT_EQ(inputs.size(), 1u);
-  EXPECT_EQ(inputs[0].at("resource"), "lighting.lit");
+  EXPECT_EQ(inputs[0].at("resource"), "taa.resolved");
   EXPECT_EQ(inputs[0].at("texel"), json::array({100, 50}));
 }
 

@@ -29,6 +29,7 @@
 #include "passes/frame/camera_math.h"
 #include "passes/frame/constants.h"
 #include "passes/frame/gpu_types.h"
+#include "passes/frame/jitter.h"
 #include "passes/frame/occlusion_buffer.h"
 #include "tests/unit/gpu_fixture.h"
 
@@ -427,6 +428,13 @@ class FrameConstants : public GpuTest {
     projection[1][1] = -f;
     projection[2][3] = -1.0;
     projection[3][2] = camera.znear;
+    // TAA's jitter of frame 7 (its sequence: TaaJitter in taa_test.cpp) moves what is drawn by
+    // that many pixels: NDC spans 2 over the viewport, and w is −z in view space.
+    const glm::dvec2 jitter = taa_jitter(7);
+    const glm::dmat4 unjittered = projection;
+    projection[2][0] = -2.0 * jitter.x / width;
+    projection[2][1] = -2.0 * jitter.y / height;
+    EXPECT_EQ(v.jitter, glm::vec4(float(jitter.x), float(jitter.y), float(jitter.x / width), float(jitter.y / height)));
     expect_matrix(v.view, view, "view");
     expect_matrix(v.projection, projection, "projection");
     expect_matrix(v.view_projection, projection * view, "view_projection");
@@ -435,7 +443,7 @@ class FrameConstants : public GpuTest {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) previous_view[j][i] = previous.world[i][j];
     const glm::dvec3 moved = eye - glm::dvec3(previous.world[3]);
-    expect_matrix(v.previous_view_projection, projection * previous_view * glm::translate(glm::dmat4(1.0), moved),
+    expect_matrix(v.previous_view_projection, unjittered * previous_view * glm::translate(glm::dmat4(1.0), moved),
                   "previous_view_projection");
     for (int k = 0; k < 3; ++k) EXPECT_EQ(c.camera_world[k], float(eye[k]));
     EXPECT_EQ(v.eye, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f)) << "the camera's view stands at the origin";

@@ -17,6 +17,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "passes/assembly/renderer.h"
+#include "passes/frame/gpu_types.h"
 #include "tests/unit/gpu_fixture.h"
 
 namespace nightcap::test {
@@ -62,6 +63,10 @@ TEST_F(GBufferDynamic, MotionVectorsMatchAnalyticReprojection) {
   const auto& draws = *frame.execution.final_version("draws.gbuffer.dynamic")->bytes;
   ASSERT_GT(draws.size(), 0u) << "no moving instance in view";
 
+  // Frame 3 is jittered: pixel (x, y) shows what lies at (x + 0.5, y + 0.5) − jitter, and its
+  // motion vector is that position's, unjittered.
+  const glm::vec4 jitter = host_records<GpuView>(*frame.execution.final_version("frame.views")->bytes).at(0).jitter;
+  ASSERT_NE(glm::vec2(jitter), glm::vec2(0.0f));
   const double aspect = double(settings.width) / settings.height;
   const double t = std::tan(double(frame.camera.yfov) / 2);
   const glm::dvec3 eye(frame.camera.world[3]);
@@ -77,8 +82,9 @@ TEST_F(GBufferDynamic, MotionVectorsMatchAnalyticReprojection) {
       if (!(d < 1e5f)) continue;
       const uint8_t stencil = stencil_depth[4 * texels + i];
       const bool moving = (stencil & stencil::moving) != 0;
-      const double u = (2.0 * (x + 0.5) / settings.width - 1.0) * t * aspect;
-      const double w = (1.0 - 2.0 * (y + 0.5) / settings.height) * t;
+      const double px = x + 0.5 - jitter.x, py = y + 0.5 - jitter.y;
+      const double u = (2.0 * px / settings.width - 1.0) * t * aspect;
+      const double w = (1.0 - 2.0 * py / settings.height) * t;
       const glm::dvec3 p = eye + basis * glm::dvec3(u * d, w * d, -double(d));
       glm::dvec3 before = p;
       if (moving) {
@@ -93,7 +99,7 @@ TEST_F(GBufferDynamic, MotionVectorsMatchAnalyticReprojection) {
         ++static_pixels;
       }
       const glm::dvec2 expected =
-          glm::dvec2((x + 0.5) / settings.width, (y + 0.5) / settings.height) - project(previous, aspect, before);
+          glm::dvec2(px / settings.width, py / settings.height) - project(previous, aspect, before);
       uint16_t h[2];
       std::memcpy(h, motion.data() + 4 * i, 4);
       for (int c = 0; c < 2; ++c) {

@@ -280,17 +280,21 @@ TEST_F(GltfGBufferOutputs, MotionIsAnalyticReprojection) {
   EXPECT_GT(glm::length(moved), 0.0);
   EXPECT_LT(glm::length(glm::cross(moved, glm::dvec3(previous.world[2]))), 1e-12 * glm::length(moved));
 
-  const View view(ref, g.camera, w, h);
+  // Frame 1 is jittered: pixel (x, y) shows what lies at (x + 0.5, y + 0.5) − jitter, and its
+  // motion vector is that position's, unjittered.
+  ASSERT_NE(g.jitter, glm::dvec2(0.0));
+  const View view(ref, g.camera, w, h, g.jitter);
   const Rays before(previous, w, h);
   size_t compared = 0, telling = 0, failures = 0;
   double worst = 0, worst_excess = 0, largest = 0;
   for (uint32_t y = 0; y < h; ++y)
     for (uint32_t x = 0; x < w; ++x) {
       if (!view.clean(x, y) || view.at(x, y).state != PixelRef::visible) continue;
-      const glm::dvec3 hit = view.rays.eye + view.rays.direction(x + 0.5, y + 0.5) * view.at(x, y).depth;
+      const glm::dvec2 at(x + 0.5 - g.jitter.x, y + 0.5 - g.jitter.y);
+      const glm::dvec3 hit = view.rays.eye + view.rays.direction(at.x, at.y) * view.at(x, y).depth;
       const glm::dvec2 then = before.pixel_of(hit);
       // UV units, current − previous, v down like the image rows.
-      const glm::dvec2 expected((x + 0.5 - then.x) / w, (y + 0.5 - then.y) / h);
+      const glm::dvec2 expected((at.x - then.x) / w, (at.y - then.y) / h);
       const glm::dvec2 got = g.motion(size_t(y) * w + x);
       ++compared;
       // Far above the bound: a wrong sign or camera would show.

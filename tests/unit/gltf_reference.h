@@ -33,6 +33,7 @@
 
 #include "passes/assembly/renderer.h"
 #include "passes/core/format.h"
+#include "passes/frame/gpu_types.h"
 #include "passes/frame/vertex_streams.h"
 #include "tests/unit/gpu_fixture.h"
 
@@ -580,11 +581,14 @@ class View {
   const Reference& ref_;  // first: the members below are built from it
 
  public:
-  View(const Reference& ref, const Camera& camera, uint32_t width, uint32_t height)
+  // `jitter`: the frame's TAA offset (GpuView::jitter), in pixels: pixel (x, y) shows what lies at
+  // (x + 0.5, y + 0.5) − jitter unjittered.
+  View(const Reference& ref, const Camera& camera, uint32_t width, uint32_t height, glm::dvec2 jitter = glm::dvec2(0.0))
       : ref_(ref), rays(camera, width, height), pixels(size_t(width) * height) {
     bin_triangles();
     for (uint32_t y = 0; y < height; ++y)
-      for (uint32_t x = 0; x < width; ++x) pixels[size_t(y) * width + x] = resolve(x + 0.5, y + 0.5);
+      for (uint32_t x = 0; x < width; ++x)
+        pixels[size_t(y) * width + x] = resolve(x + 0.5 - jitter.x, y + 0.5 - jitter.y);
   }
 
   // `set`: the TEXCOORD set; -1 for the base colour texture's.
@@ -748,7 +752,8 @@ class View {
 
 struct GBuffer {
   uint32_t width = 0, height = 0;
-  Camera camera;  // the frame's
+  Camera camera;        // the frame's
+  glm::dvec2 jitter{};  // the frame's TAA offset in pixels (frame.views)
   std::vector<uint32_t> albedo, normal;
   std::vector<uint8_t> material;   // RGBA8
   std::vector<uint8_t> occlusion;  // R8: the material's occlusion
@@ -815,6 +820,8 @@ inline GBuffer render_gbuffer(GpuDevice& gpu, const Scene& scene, const Camera& 
   g.material = as<uint8_t>(output(frame, "gbuffer.opaque", "gbuffer.material"), n * 4);
   g.occlusion = as<uint8_t>(output(frame, "gbuffer.opaque", "gbuffer.occlusion"), n);
   g.depth = as<float>(output(frame, "gbuffer.opaque", "scene.depth"), n);
+  const GpuView view = host_records<GpuView>(*output(frame, "frame.constants", "frame.views").bytes).at(0);
+  g.jitter = {view.jitter.x, view.jitter.y};
   return g;
 }
 
