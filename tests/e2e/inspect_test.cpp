@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "captures/capture.h"
+#include "passes/frame/jitter.h"
 #include "passes/sky/atmosphere.glsl.h"
 #include "tests/e2e/cli.h"
 #include "tests/e2e/inspect_script.h"
@@ -246,6 +247,39 @@ TEST_F(InspectTest, CubeMapTexelAlongADirection) {
   const std::vector<uint8_t> raw = capture_->load(specular);
   EXPECT_EQ(side_texel["decoded"]["rgb"],
             json::array({half_at(raw, offset), half_at(raw, offset + 2), half_at(raw, offset + 4)}));
+}
+
+// TAA at a pixel of frame 1 (the first with history): taa.history's frames (its alpha) and the
+// weight the history had in the resolve, 1 − 1/frames; taa.resolved's clip (its alpha), and
+// whether clipping moved the history; the frame's jitter in the camera view of frame.views.
+TEST_F(InspectTest, TaaHistoryWeightClipAndTheFramesJitter) {
+  const PassRecord& taa = pass_named(capture_->frame(1), "taa");
+  const std::vector<uint8_t> history = capture_->load(output_named(taa, "taa.history"));
+  const std::vector<uint8_t> resolved = capture_->load(output_named(taa, "taa.resolved"));
+  const Inspected run = inspect(path_, "frame 1 --json; goto taa --json" + pixel_commands("taa.history") +
+                                           pixel_commands("taa.resolved") + "; buffer frame.views --json");
+  ASSERT_EQ(run.result.code, 0) << run.result.err;
+  ASSERT_EQ(run.objects.size(), 2 * kPixels.size() + 3);
+  for (size_t i = 0; i < kPixels.size(); ++i) {
+    const auto [x, y] = kPixels[i];
+    const uint64_t texel = 8 * (uint64_t(y) * 320 + x);
+    const double frames = half_at(history, texel + 6), clip = half_at(resolved, texel + 6);
+    const json& h = run.objects[2 + i]["decoded"];
+    EXPECT_EQ(h["frames"].get<double>(), frames);
+    EXPECT_GE(frames, 1.0);
+    EXPECT_LE(frames, 2.0) << "frame 1 averages two frames at most";
+    EXPECT_DOUBLE_EQ(h["history_weight"].get<double>(), 1.0 - 1.0 / frames);
+    const json& r = run.objects[2 + kPixels.size() + i]["decoded"];
+    EXPECT_EQ(r["clip_removed"].get<double>(), clip);
+    EXPECT_EQ(r["history_clipped"].get<bool>(), clip > 0.0);
+    EXPECT_EQ(r["rgb"][0].get<double>(), half_at(history, texel)) << "the resolved colour is the history's";
+  }
+  // Frame 1's jitter (passes/frame/jitter.h), in pixels and in uv units.
+  const glm::dvec2 jitter = taa_jitter(1);
+  const json& recorded = run.objects.back()["values"][0]["fields"]["jitter"];
+  ASSERT_EQ(recorded.size(), 4u) << run.objects.back();
+  const float expected[4] = {float(jitter.x), float(jitter.y), float(jitter.x / 320), float(jitter.y / 180)};
+  for (int c = 0; c < 4; ++c) EXPECT_EQ(recorded[c].get<float>(), expected[c]) << c;
 }
 
 // The GI volume's cell under a pixel at a slice: its 27 coefficients gathered from the 7 blocks of
