@@ -135,9 +135,9 @@ PassDecl frame_constants_pass() {
       .layout("frame.lights", light_schema())
       .param(taa_enabled_param())
       .param_int("supersample", 0, 0, 64,
-                 "n > 0: frame k's projection is offset to the centre of cell k mod n² of an n×n sub-pixel grid in "
-                 "place of TAA's jitter; n² still frames rendered so with taa.enabled=0 and averaged supersample "
-                 "the frame")
+                 "n > 0: frame k's projection is offset to sample k mod n² of an n×n multi-jittered pattern over "
+                 "the pixel in place of TAA's jitter; n² still frames rendered so with taa.enabled=0 and averaged "
+                 "supersample the frame")
       .run(build_constants);
 }
 
