@@ -19,8 +19,12 @@
 namespace nightcap {
 namespace {
 
+// Both kinds hold HDR colour in rgb: described and drawn as hdr_colour is, alpha aside.
 void describe_colour(const TexelValues& t, nlohmann::ordered_json& out) {
   kind_info(kinds::hdr_colour).describe(t, KindFrame{}, out);
+}
+TexelPicture draw_colour(const TexelValues& t, const KindFrame& frame) {
+  return kind_info(kinds::hdr_colour).draw(t, frame);
 }
 
 const KindRegistration kTaaResolved({
@@ -31,7 +35,7 @@ const KindRegistration kTaaResolved({
           out["history_clipped"] = t.raw.at(3) > 0.0;
           out["clip_removed"] = t.raw.at(3);
         },
-    .draw = [](const TexelValues& t, const KindFrame& f) { return kind_info(kinds::hdr_colour).draw(t, f); },
+    .draw = draw_colour,
     .light = true,
 });
 
@@ -45,7 +49,7 @@ const KindRegistration kTaaHistory({
           // The resolve that wrote it gave the current frame 1/frames of the result.
           out["history_weight"] = frames >= 1.0 ? 1.0 - 1.0 / frames : 0.0;
         },
-    .draw = [](const TexelValues& t, const KindFrame& f) { return kind_info(kinds::hdr_colour).draw(t, f); },
+    .draw = draw_colour,
     .light = true,
 });
 

@@ -35,8 +35,8 @@ inline RenderSettings still_settings(RenderSettings settings, uint32_t frames) {
 }
 
 // The supersampled lit colour: the mean, in double, of lighting.lit's RGB over n² frames of a
-// still camera, TAA off, frame k's projection offset to the centre of cell k of an n×n grid over
-// the pixel (frame.constants.supersample): a box filter of n² samples per pixel.
+// still camera, TAA off, frame k's projection offset to sample k of an n×n multi-jittered pattern
+// over the pixel (frame.constants.supersample): a box filter of n² samples per pixel.
 inline std::vector<double> supersampled_lit(GpuDevice& gpu, const Scene& scene, RenderSettings settings, uint32_t n) {
   settings = still_settings(settings, n * n);
   settings.params["taa"]["enabled"] = 0.0;

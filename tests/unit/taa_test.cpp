@@ -2,17 +2,16 @@
 // use them:
 // - convergence: 32 still frames of the city block and of the map's street shot, 640×360,
 //   resolved by TAA, against the same still frame supersampled by the renderer itself (256
-//   frames offset over a 16×16 sub-pixel grid, TAA off, lighting.lit averaged in double, then the
-//   frame's post): final.ldr within 40 dB PSNR (8-bit codes, peak 255); LDR-FLIP against it and
-//   between the last two frames printed;
+//   frames offset over a 16×16 multi-jittered pattern, TAA off, lighting.lit averaged in double,
+//   then the frame's post): final.ldr within 40 dB PSNR (8-bit codes, peak 255); LDR-FLIP against
+//   it and between the last two frames printed;
 // - ghosting: a bright square moving 4 pixels a frame over a textured background leaves less
 //   than 1/255 of its contrast 8 frames after it left a pixel, where plain 10% blending keeps
 //   0.9⁸ = 43%;
 // - non-finite light: a NaN and a +Inf in one frame's lit colour leave every resolved and history
 //   texel finite for 100 frames, and bloom after them;
 // - the jitter: Halton (2, 3) of period 32 centred on the pixel, frame 0 unjittered, recorded in
-//   frame.views;
-//   motion vectors of a still camera stay zero under it;
+//   frame.views; motion vectors of a still camera stay zero under it;
 // - off: with taa.enabled=0 every resource of the frame is bit for bit what a frame assembled
 //   without taa computes.
 #include <algorithm>
@@ -23,7 +22,6 @@
 #include "passes/frame/jitter.h"
 #include "passes/post/stage.h"
 #include "passes/taa/stage.h"
-#include "passes/taa/taa.glsl.h"
 #include "tests/reference/taa_reference.h"
 #include "tests/unit/gpu_fixture.h"
 #include "tests/unit/scratch_folder.h"
@@ -63,9 +61,9 @@ std::vector<uint8_t> rgba16f(const std::vector<glm::vec3>& rgb, float alpha) {
 }
 
 glm::vec4 texel16f(const std::vector<uint8_t>& bytes, size_t i) {
-  uint16_t h[4];
-  std::memcpy(h, bytes.data() + i * 8, 8);
-  return {half_to_float(h[0]), half_to_float(h[1]), half_to_float(h[2]), half_to_float(h[3])};
+  glm::vec4 texel;
+  decode_texel(*format_info(VK_FORMAT_R16G16B16A16_SFLOAT), 0, bytes, i, &texel[0]);
+  return texel;
 }
 
 class Taa : public GpuTest {
