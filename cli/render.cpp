@@ -11,6 +11,7 @@
 
 #include "cli/command.h"
 #include "passes/assembly/renderer.h"
+#include "passes/assembly/supersample.h"
 #include "passes/scene/time_of_day.h"
 
 namespace nc = nightcap;
@@ -73,14 +74,14 @@ nc::RenderMonitor render_monitor() {
 struct RenderFlags {
   std::string scene_path, out, size = "1280x720", device, orbit, target, codec = "auto", motion = "walk", record, shot,
                                pass_times = "auto";
-  uint32_t frames = 1, seed = 1;
+  uint32_t frames = 1, seed = 1, supersample = 0;
   double map_size = 0.0;  // 0: not given
   double fov = 45.0;
   std::optional<double> hour;
   std::string tod;
   std::vector<std::string> sets, inject_nan;
   std::vector<uint32_t> cuts;
-  bool force = false, city_block = false;
+  bool force = false, city_block = false, freeze = false;
 };
 
 // "A..B" or "A": the frames to record, inclusive.
@@ -165,6 +166,12 @@ int run_render(const RenderFlags& flags) {
     scene.tod_hour = *flags.hour;
   }
   nc::add_default_lighting(scene);
+  if (flags.freeze) scene = nc::frozen(std::move(scene));
+  if (flags.supersample &&
+      (!flags.freeze || settings.path.motion != nc::CameraPath::Motion::still || !flags.cuts.empty()))
+    throw UsageError("--supersample " + std::to_string(flags.supersample) +
+                     " averages renders of one still frame: give it with --motion static and --freeze, without "
+                     "--cut-at (and render the capture to compare with so too)");
   settings.description = {{"width", settings.width},
                           {"height", settings.height},
                           {"frames", frames},
@@ -185,10 +192,24 @@ int run_render(const RenderFlags& flags) {
                           {"inject_nan", flags.inject_nan},
                           {"pass_times", flags.pass_times}};
   if (flags.hour) settings.description["hour"] = *flags.hour;
+  if (flags.freeze) settings.description["freeze"] = true;
+  if (flags.supersample) settings.description["supersample"] = flags.supersample;
   if (!flags.tod.empty()) settings.description["tod"] = flags.tod;
   nc::GpuDevice gpu({flags.device, validation_requested()});
   stop_on_signals();
-  nc::RenderSummary summary = nc::render_to_capture(gpu, scene, settings, flags.out, flags.force, render_monitor());
+  nc::RenderSummary summary;
+  if (flags.supersample) {
+    const uint32_t n = flags.supersample;
+    // taa.supersampled reads nothing: asking for lighting.lit keeps the passes before it running and
+    // recorded, as in the TAA capture it is compared with.
+    settings.sinks = nc::frame_sinks();
+    settings.sinks.push_back("lighting.lit");
+    const std::vector<double> lit = nc::supersampled_lit(gpu, scene, settings, n, render_monitor());
+    summary = nc::render_to_capture(gpu, scene, settings, nc::supersampled_frame_passes(lit, n * n), flags.out,
+                                    flags.force, render_monitor());
+  } else {
+    summary = nc::render_to_capture(gpu, scene, settings, flags.out, flags.force, render_monitor());
+  }
   if (isatty(STDERR_FILENO)) std::cerr << "\r\033[K";
   const uint32_t recorded = std::min(settings.last_recorded, frames - 1) - settings.first_recorded + 1;
   std::cout << "capture written to " << flags.out << " (" << recorded << " frame" << (recorded > 1 ? "s" : "") << ", "
@@ -271,6 +292,14 @@ Command add_render_command(CLI::App& app) {
                    "clock; encoding waits for the frame), overlapped (the device's timestamps, the frame as a whole) "
                    "or auto (alone on a CPU device such as lavapipe, overlapped on a GPU)")
       ->capture_default_str();
+  render->add_flag("--freeze", r.freeze,
+                   "cars and pedestrians stand still, drawn as static geometry (a still frame for --supersample)");
+  render
+      ->add_option("--supersample", r.supersample,
+                   "N: the reference TAA is measured against: taa.supersampled writes, in place of taa, the lit colour "
+                   "averaged over N² renders of the frame offset across the pixel, TAA off (needs --motion static "
+                   "--freeze)")
+      ->check(CLI::Range(1, 16));
   render->add_flag("--force", r.force, "replace an existing capture");
   return {render, [flags] { return run_render(*flags); }};
 }

@@ -19,6 +19,9 @@ enum class FrameLighting { tiled, deferred };
 // stages below, and the names of what flows between them. A frame assembled otherwise (a pass
 // put between two stages) calls the stages itself.
 std::vector<PassDecl> frame_passes(FrameLighting lighting = FrameLighting::tiled);
+// frame_passes() with `resolve` in the "taa" stage in place of taa: it writes taa.resolved, which
+// post reads (the supersampled reference, passes/assembly/supersample.h).
+std::vector<PassDecl> frame_passes_resolved_by(PassDecl resolve, FrameLighting lighting = FrameLighting::tiled);
 // Each function adds a stage (PassDecl::stage) or two.
 // Frame constants and culling ("setup"), shadow maps ("shadows"), the reflection probes' captures
 // ("probes"), depth, G-buffer, decals and what is derived from them ("geometry").

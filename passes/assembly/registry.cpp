@@ -86,12 +86,14 @@ void add_post_passes(std::vector<PassDecl>& passes, const std::string& lit) {
   add_stage(passes, "post", std::move(post));
 }
 
-std::vector<PassDecl> frame_passes(FrameLighting lighting) {
+std::vector<PassDecl> frame_passes(FrameLighting lighting) { return frame_passes_resolved_by(taa_pass(), lighting); }
+
+std::vector<PassDecl> frame_passes_resolved_by(PassDecl resolve, FrameLighting lighting) {
   std::vector<PassDecl> passes;
   add_scene_passes(passes);
   add_lighting_passes(passes, lighting);
   // TAA resolves the composite's colour, and post reads the resolved colour (frame.md).
-  add_stage(passes, "taa", {taa_pass()});
+  add_stage(passes, "taa", {std::move(resolve)});
   add_post_passes(passes, "taa.resolved");
   return passes;
 }

@@ -345,13 +345,19 @@ FrameRecord record_frame(CaptureWriter& writer, const RenderedFrame& frame, uint
 
 RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const RenderSettings& settings,
                                 const std::filesystem::path& out, bool force, const RenderMonitor& monitor) {
+  return render_to_capture(gpu, scene, settings, frame_passes(settings.lighting), out, force, monitor);
+}
+
+RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const RenderSettings& settings,
+                                std::vector<PassDecl> passes, const std::filesystem::path& out, bool force,
+                                const RenderMonitor& monitor) {
   RenderSummary summary;
   const uint32_t first = settings.first_recorded, last = std::min(settings.last_recorded, settings.frames - 1);
   if (first > last)
     throw SceneError("--record-frames: frame " + std::to_string(first) + " is past the last frame, " +
                      std::to_string(settings.frames - 1));
   CaptureWriter writer(out, force, settings.capture);
-  Renderer renderer(gpu, scene, settings);
+  Renderer renderer(gpu, scene, settings, std::move(passes), builtin_shaders());
   CaptureManifest manifest;
   manifest.device = {{"name", gpu.name()},
                      {"driver", gpu.driver()},

@@ -147,5 +147,10 @@ struct RenderInterrupted : std::runtime_error {
 // RenderInterrupted when the monitor asks to stop; nothing is left at or beside `out` then.
 RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const RenderSettings& settings,
                                 const std::filesystem::path& out, bool force, const RenderMonitor& monitor = {});
+// The same with another assembly of the frame's passes (the supersampled reference), with the
+// built-in shaders.
+RenderSummary render_to_capture(GpuDevice& gpu, const Scene& scene, const RenderSettings& settings,
+                                std::vector<PassDecl> passes, const std::filesystem::path& out, bool force,
+                                const RenderMonitor& monitor = {});
 
 }  // namespace nightcap

@@ -11,7 +11,7 @@
 
 namespace nightcap {
 
-// Frames before the jitter repeats: 16 points of the Halton (2, 3) sequence.
+// Frames before the jitter repeats: 32 points of the Halton (2, 3) sequence.
 constexpr uint32_t kJitterPeriod = 32;
 
 // Frame `frame_index`'s offset in pixels, inside (-0.5, 0.5)²: 0 for frame 0, so that a single

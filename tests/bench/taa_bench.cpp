@@ -28,14 +28,14 @@ void bench_taa(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats)
   const nc::Scene scene = nc::build_map({1, 16.0, nc::Shot::street});
   street_on_off(gpu, scene, width, height, repeats, "taa", "taa_on_off_ratio", "taa");
 
-  const nc::Scene still = test::frozen(scene);
+  const nc::Scene still = nc::frozen(scene);
   nc::RenderSettings settings;
   settings.width = 640;
   settings.height = 360;
   settings.pass_timing.reset();  // each pass timed alone on a CPU device
   const uint32_t frames = 32;
-  const std::vector<uint8_t> reference =
-      test::final_of_resolved(gpu, still, settings, frames - 1, test::supersampled_lit(gpu, still, settings, 16));
+  const std::vector<uint8_t> reference = test::final_of_resolved(
+      gpu, still, settings, frames - 1, nc::supersampled_lit(gpu, still, test::still_settings(settings, 1), 16));
   struct Variant {
     std::string key;
     double enabled = 1, history = 16, clip_still = 0, clip = kTaaClipVariance;

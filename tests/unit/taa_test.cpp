@@ -98,8 +98,8 @@ void expect_converges(GpuDevice& gpu, const char* name, const Scene& scene) {
   settings.width = 640;
   settings.height = 360;
   const uint32_t frames = 32;
-  const std::vector<uint8_t> supersampled =
-      final_of_resolved(gpu, scene, settings, frames - 1, supersampled_lit(gpu, scene, settings, 16));
+  const std::vector<uint8_t> supersampled = final_of_resolved(
+      gpu, scene, settings, frames - 1, supersampled_lit(gpu, scene, still_settings(settings, 1), 16));
   Renderer renderer(gpu, scene, still_settings(settings, frames));
   std::vector<uint8_t> previous, resolved;
   for (uint32_t k = 0; k < frames; ++k) {
