@@ -23,6 +23,8 @@ std::vector<std::string> frame_sinks() {
           "depth.pyramid",
           "depth.half",
           "stencil.half",
+          "normals.half",
+          "motion.half",
           "cull.stats",
           "cull.occlusion",
           "lights.clusters",
@@ -54,7 +56,7 @@ void add_scene_passes(std::vector<PassDecl>& passes) {
   add_stage(passes, "geometry",
             {depth_prepass_pass(), gbuffer_opaque_pass(), gbuffer_dynamic_pass(), decals_normal_copy_pass(),
              decals_mesh_pass(), decals_projected_pass(), depth_convert_pass(), motion_stencil_pass(),
-             normals_bfn_lut_pass(), normals_pack_pass(), depth_pyramid_pass()});
+             normals_bfn_lut_pass(), normals_pack_pass(), normals_half_pass(), depth_pyramid_pass()});
 }
 
 void add_lighting_passes(std::vector<PassDecl>& passes, FrameLighting lighting) {

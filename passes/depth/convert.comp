@@ -1,11 +1,11 @@
 #version 460
-// depth.convert: one invocation per half-resolution texel converts its 2×2 footprint of the
-// device depth to depth.linear and picks the footprint's nearest texel for depth.half and
-// stencil.half. Full sizes that are odd clamp the footprint: the last half column (row) covers
-// one full column (row), so every full texel is converted exactly once.
+// depth.convert: one invocation per half-resolution texel converts its footprint of the device
+// depth to depth.linear and takes depth.half and stencil.half from the footprint's nearest texel
+// (half_footprint.glsl). Every full texel is in exactly one footprint, so it is converted once.
 #include "../frame/half.glsl"
 #include "../frame/types.glsl"
 #include "convert.glsl.h"
+#include "half_footprint.glsl"
 
 layout(local_size_x = kDepthConvertGroupSide, local_size_y = kDepthConvertGroupSide) in;
 
@@ -27,24 +27,14 @@ void main() {
   ivec2 half_texel = ivec2(gl_GlobalInvocationID.xy);
   ivec2 full_size = textureSize(depth_map, 0);
   if (any(greaterThanEqual(half_texel, (full_size + 1) / 2))) return;
-  ivec2 first = 2 * half_texel, last = min(first + 1, full_size - 1);
-  // The nearest texel has the largest reversed-Z device depth; ties keep the first in row order,
-  // so the choice depends on the input alone (the CPU reference makes the same one).
-  ivec2 nearest = first;
-  float nearest_device = -1.0, nearest_linear = sky_depth;
+  ivec2 first, last;
+  half_footprint(half_texel, full_size, first, last);
   for (int y = first.y; y <= last.y; ++y)
-    for (int x = first.x; x <= last.x; ++x) {
-      ivec2 p = ivec2(x, y);
-      float device = texelFetch(depth_map, p, 0).r;
-      float linear = linear_of(device);
-      imageStore(linear_depth, p, vec4(linear));
-      if (device > nearest_device) {
-        nearest = p;
-        nearest_device = device;
-        nearest_linear = linear;
-      }
-    }
+    for (int x = first.x; x <= last.x; ++x)
+      imageStore(linear_depth, ivec2(x, y), vec4(linear_of(texelFetch(depth_map, ivec2(x, y), 0).r)));
+  ivec2 nearest = half_source_texel(depth_map, half_texel);
   // Metres fit a half up to 65504 m (2⁻¹¹ relative); sky and anything farther clamp there.
+  float nearest_linear = linear_of(texelFetch(depth_map, nearest, 0).r);
   imageStore(half_depth, half_texel, vec4(nearest_half(vec3(nearest_linear)).x));
   imageStore(half_stencil, half_texel, uvec4(texelFetch(stencil_map, nearest, 0).r));
 }

@@ -5,9 +5,10 @@
 // sky everywhere, which their clear values hold.
 //
 // A half texel takes both its depth and its stencil from one texel of its 2×2 footprint, the one
-// nearest to the camera: the pair then describes one surface, and thin foreground (hair,
-// foliage, poles) survives the downsample instead of the sky behind it. Averaging depths would
-// invent surfaces between silhouettes, and a min or max of stencil bits would invent classes.
+// nearest to the camera (depth/half_footprint.glsl, which normals.half follows too): the pair
+// then describes one surface, and thin foreground (hair, foliage, poles) survives the downsample
+// instead of the sky behind it. Averaging depths would invent surfaces between silhouettes, and a
+// min or max of stencil bits would invent classes.
 // A compute pass writes all three: the full and half outputs have different sizes, which one
 // render pass cannot draw into.
 #include <limits>

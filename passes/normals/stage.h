@@ -8,5 +8,6 @@ namespace nightcap {
 
 PassDecl normals_bfn_lut_pass();
 PassDecl normals_pack_pass();
+PassDecl normals_half_pass();
 
 }  // namespace nightcap
