@@ -76,10 +76,11 @@ const char* kLightOnly = R"({"asset": {"version": "2.0"}, "extensionsUsed": ["KH
 
 INSTANTIATE_TEST_SUITE_P(
     Scenes, EmptyScene,
-    ::testing::Values(Case{"nothing", kEmpty, {"depth.convert", "motion.stencil", "normals.pack", "normals.half", "depth.pyramid"}},
-                      Case{"light_only",
-                           kLightOnly,
-                           {"depth.convert", "motion.stencil", "normals.pack", "normals.half", "depth.pyramid", "lighting.tiled"}}),
+    ::testing::Values(
+        Case{"nothing", kEmpty, {"depth.convert", "motion.stencil", "normals.pack", "normals.half", "depth.pyramid"}},
+        Case{"light_only",
+             kLightOnly,
+             {"depth.convert", "motion.stencil", "normals.pack", "normals.half", "depth.pyramid", "lighting.tiled"}}),
     [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace NIGHTCAP_FILE_ID
