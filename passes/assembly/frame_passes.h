@@ -37,8 +37,8 @@ void add_post_passes(std::vector<PassDecl>& passes, const std::string& lit);
 std::vector<PassDecl> all_passes();
 
 // What the frame must produce: the displayed image, and the depth-summary and light-list
-// resources whose consumers (SSR, AO, fog) have not landed yet, so they are rendered and
-// recorded.
+// resources whose consumers (SSR, fog, AO's temporal pass) have not landed yet, so they are
+// rendered and recorded.
 std::vector<std::string> frame_sinks();
 
 }  // namespace nightcap

@@ -1,3 +1,4 @@
+#include "passes/ao/stage.h"
 #include "passes/assembly/frame_passes.h"
 #include "passes/cull/stage.h"
 #include "passes/decals/stage.h"
@@ -18,20 +19,11 @@
 namespace nightcap {
 
 std::vector<std::string> frame_sinks() {
-  return {"final.ldr",
-          "normals.packed",
-          "depth.pyramid",
-          "depth.half",
-          "stencil.half",
-          "normals.half",
-          "motion.half",
-          "cull.stats",
-          "cull.occlusion",
-          "lights.clusters",
-          "lights.cluster_indices",
-          "lights.cluster_stats",
-          "probes.plan",
-          "probes.array"};
+  return {
+      "final.ldr",   "normals.packed", "depth.pyramid",   "stencil.half",           "motion.half",
+      "cull.stats",  "cull.occlusion", "lights.clusters", "lights.cluster_indices", "lights.cluster_stats",
+      "probes.plan", "probes.array",
+  };
 }
 
 namespace {
@@ -60,6 +52,9 @@ void add_scene_passes(std::vector<PassDecl>& passes) {
 }
 
 void add_lighting_passes(std::vector<PassDecl>& passes, FrameLighting lighting) {
+  // Ambient occlusion at half resolution, from the depth, normal and motion the geometry stage
+  // summarised.
+  add_stage(passes, "ao", {ao_gtao_pass()});
   // The light lists and the sun's shadow mask are read by lighting alone.
   add_stage(passes, "lighting", {lights_cluster_pass(), shadow_sun_resolve_pass()});
   // The sky's LUTs and cube maps and the DFG table, which the composite's sky and image-based light

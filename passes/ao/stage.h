@@ -1,0 +1,11 @@
+// The constructors of the ambient-occlusion stage's passes, which the frame's assembly
+// (passes/assembly/registry.cpp) puts in the frame.
+#pragma once
+
+#include "passes/core/pass.h"
+
+namespace nightcap {
+
+PassDecl ao_gtao_pass();
+
+}  // namespace nightcap
