@@ -87,22 +87,23 @@ TEST(Check, EveryBlobIsReadAndHashed) {
   EXPECT_GT(damaged.size(), named_blobs(capture).size() * 9 / 10) << "empty resources are all that is left";
 }
 
-// normals.packed is written and read by no pass, and replay compares what it makes with the
-// recorded hashes: its blob is read by `check` alone.
+// stencil.half is written and read by no pass (until the half-resolution passes that read it
+// land), and replay compares what it makes with the recorded hashes: its blob is read by `check`
+// alone.
 TEST(Check, ACorruptBlobNoPassReadsIsNamedWhileReplayVerifies) {
   const fs::path capture = copy_of_city("unread");
   const Capture opened = Capture::open(capture);
   std::string writer;
   for (const PassRecord& p : opened.frame(0).passes) {
-    for (const ResourceRecord& r : p.inputs) ASSERT_NE(r.resource, "normals.packed") << p.name << " reads it";
+    for (const ResourceRecord& r : p.inputs) ASSERT_NE(r.resource, "stencil.half") << p.name << " reads it";
     for (const ResourceRecord& r : p.outputs)
-      if (r.resource == "normals.packed") writer = p.name;
+      if (r.resource == "stencil.half") writer = p.name;
   }
   ASSERT_FALSE(writer.empty());
-  const ResourceRecord& packed = record_of(opened, writer, "normals.packed", true);
-  std::vector<uint8_t> other(packed.raw_bytes(), 0);
+  const ResourceRecord& stencil = record_of(opened, writer, "stencil.half", true);
+  std::vector<uint8_t> other(stencil.raw_bytes(), 0);
   other[0] = 1;
-  write_image_blob(capture / packed.blob, *format_info(packed.format), packed.extent, other, {ExrCompression::zip});
+  write_image_blob(capture / stencil.blob, *format_info(stencil.format), stencil.extent, other, {ExrCompression::zip});
 
   const CliResult replay = run_cli("replay --verify " + quote(capture));
   EXPECT_EQ(replay.code, 0) << replay.err;
@@ -113,16 +114,15 @@ TEST(Check, ACorruptBlobNoPassReadsIsNamedWhileReplayVerifies) {
   const std::map<std::string, json> bad = bad_blobs(r);
   ASSERT_EQ(bad.size(), 1u) << r.out;
   const json& b = bad.begin()->second;
-  EXPECT_EQ(bad.begin()->first, packed.blob);
+  EXPECT_EQ(bad.begin()->first, stencil.blob);
   EXPECT_EQ(b.at("problem"), "hash_mismatch");
-  EXPECT_NE(b.at("detail").get<std::string>().find(packed.blob), std::string::npos) << b.dump();
-  EXPECT_EQ(b.at("references"),
-            (json{{{"frame", 0}, {"pass", writer}, {"role", "output"}, {"name", "normals.packed"}}}));
+  EXPECT_NE(b.at("detail").get<std::string>().find(stencil.blob), std::string::npos) << b.dump();
+  EXPECT_EQ(b.at("references"), (json{{{"frame", 0}, {"pass", writer}, {"role", "output"}, {"name", "stencil.half"}}}));
 
   const CliResult text = run_cli("check " + quote(capture));
   EXPECT_EQ(text.code, 2);
-  EXPECT_NE(text.out.find(packed.blob + ": hash_mismatch"), std::string::npos) << text.out;
-  EXPECT_NE(text.out.find("output normals.packed of " + writer + " (frame 0)"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find(stencil.blob + ": hash_mismatch"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("output stencil.half of " + writer + " (frame 0)"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find(": 1 bad"), std::string::npos) << text.out;
 }
 
