@@ -6,9 +6,9 @@
 // texel is its footprint's centre under the frame's jittered projection. A sample's weight falls
 // from 1 to 0 over the outer `falloff` share of the radius (Jimenez's and XeGTAO's falloff), and
 // the depth buffer is a height field: everything behind a visible surface is solid.
-// frame.md: skipped by settings only (ao.enabled; off by default until ao.filter and ao.temporal
-// land); skipped, ao.bent keeps its clear value, the zero vector and visibility 1, which occludes
-// nothing, as where nothing was drawn.
+// Skipped with ao.enabled=0 (frame.md: by settings only; off by default until ao.filter and
+// ao.temporal land) and when nothing was drawn; skipped, ao.bent keeps its clear value, the zero
+// vector and visibility 1, which occludes nothing.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -17,8 +17,6 @@
 #include "passes/ao/kinds.h"
 #include "passes/ao/stage.h"
 #include "passes/core/context.h"
-#include "passes/depth/kinds.h"
-#include "passes/normals/kinds.h"
 
 namespace nightcap {
 namespace {
