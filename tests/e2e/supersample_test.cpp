@@ -9,6 +9,7 @@
 #include "captures/capture.h"
 #include "compare/decoded_image.h"
 #include "tests/e2e/cli.h"
+#include "tests/e2e/inspect_script.h"
 
 namespace nightcap::test {
 namespace {
@@ -18,25 +19,14 @@ using nlohmann::json;
 
 const std::string kStill = "--city-block --size 160x90 --motion static --freeze";
 
-const PassRecord* find_pass(const FrameRecord& frame, const std::string& name) {
-  for (const PassRecord& pass : frame.passes)
-    if (pass.name == name) return &pass;
-  return nullptr;
-}
-
 // The decoded values of `resource` as `pass` of `frame` wrote it.
 std::vector<float> output_of(const Capture& capture, const FrameRecord& frame, const std::string& pass,
                              const std::string& resource) {
-  const PassRecord* record = find_pass(frame, pass);
-  if (!record) return {};
-  for (const ResourceRecord& o : record->outputs)
-    if (o.resource == resource) {
-      const std::vector<uint8_t> raw = capture.load(o);
-      const DecodedImage decoded(o, raw);
-      const std::span<const float> values = decoded.subresource(0, 0, 0);
-      return {values.begin(), values.end()};
-    }
-  return {};
+  const ResourceRecord& o = output_named(pass_named(frame, pass), resource);
+  const std::vector<uint8_t> raw = capture.load(o);
+  const DecodedImage decoded(o, raw);
+  const std::span<const float> values = decoded.subresource(0, 0, 0);
+  return {values.begin(), values.end()};
 }
 
 TEST(Supersample, TheReferenceCaptureHoldsTheMeanOfTheOffsetRendersInPlaceOfTaa) {
@@ -52,11 +42,10 @@ TEST(Supersample, TheReferenceCaptureHoldsTheMeanOfTheOffsetRendersInPlaceOfTaa)
 
   const Capture reference = Capture::open(ref), renders = Capture::open(samples);
   const FrameRecord& frame = reference.frame(3);
-  EXPECT_EQ(find_pass(frame, "taa"), nullptr);
-  const PassRecord* supersampled = find_pass(frame, "taa.supersampled");
-  ASSERT_NE(supersampled, nullptr);
-  EXPECT_EQ(supersampled->stage, "taa");
-  EXPECT_EQ(supersampled->params.at("samples"), 16.0);
+  EXPECT_THROW(pass_named(frame, "taa"), std::runtime_error);
+  const PassRecord& supersampled = pass_named(frame, "taa.supersampled");
+  EXPECT_EQ(supersampled.stage, "taa");
+  EXPECT_EQ(supersampled.params.at("samples"), 16.0);
   const std::vector<float> resolved = output_of(reference, frame, "taa.supersampled", "taa.resolved");
   ASSERT_EQ(resolved.size(), size_t(160) * 90 * 4);
   std::vector<double> mean(resolved.size(), 0.0);
