@@ -9,16 +9,19 @@
 // `sky` otherwise (no directional light, the sky switched off, or a frame without the sky's
 // passes). The sky's resources, frame.constants and frame.views are optional inputs, read together.
 // The indirect terms of frame.md join as optional inputs, each read when its pass is in the frame:
-// ao.bent's visibility (alpha, sampled bilinearly: AO may be half size) darkens the indirect terms,
-// as the material's own occlusion (gbuffer.occlusion) does; the reflection probes (probes.slots,
-// probes.array) take the specular's place of the sky's cube map inside their boxes: the two nearest
-// a point, each read along its parallax-corrected direction and weighted by how deep in its box the
-// point lies (probes/reflection.glsl), the sky making up the rest; the sky's diffuse light reaches
-// only where shadow.topdown finds nothing straight above (shadow/topdown.glsl); inside the GI
-// volume (gi.volume, gi.volume_data) the indirect diffuse is the volume's irradiance instead,
-// trilinear between its cells (gi/volume_lookup.glsl), mixed with the sky's over the volume's outer
-// half cell. SSR and fog are to join the same way, a read_optional and an `#ifdef
-// NC_BINDING_<name>` block in the shader each, with the passes that define their formats.
+// ao.bent's visibility (alpha, sampled bilinearly: AO may be half size) darkens the indirect
+// diffuse, as the material's own occlusion (gbuffer.occlusion) does, and its visibility cone about
+// the bent normal the indirect specular: by the share of the specular lobe's cone inside it
+// (ao/specular_occlusion.glsl), where the material's occlusion gives Lagarde's estimate; the
+// reflection probes (probes.slots, probes.array) take the specular's place of the sky's cube map
+// inside their boxes: the two nearest a point, each read along its parallax-corrected direction and
+// weighted by how deep in its box the point lies (probes/reflection.glsl), the sky making up the
+// rest; the sky's diffuse light reaches only where shadow.topdown finds nothing straight above
+// (shadow/topdown.glsl); inside the GI volume (gi.volume, gi.volume_data) the indirect diffuse is
+// the volume's irradiance instead, trilinear between its cells (gi/volume_lookup.glsl), mixed with
+// the sky's over the volume's outer half cell. SSR and fog are to join the same way, a
+// read_optional and an `#ifdef NC_BINDING_<name>` block in the shader each, with the passes that
+// define their formats.
 #include "passes/core/context.h"
 #include "passes/lighting/composite.glsl.h"
 #include "passes/lighting/shared_params.h"

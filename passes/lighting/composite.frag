@@ -106,6 +106,7 @@ vec3 through_air(vec3 radiance, vec3 position) {
 #ifdef NC_IMAGE_BASED
 #include "../sky/sh.glsl"
 #include "environment_light.glsl"
+#include "../ao/specular_occlusion.glsl"
 #ifdef NC_GI_VOLUME
 #include "../gi/volume_lookup.glsl"
 #endif
@@ -130,7 +131,7 @@ vec3 geometric_normal(ivec2 pixel, float depth, vec3 position) {
 // The sky's light reflected toward the camera at `pixel` (environment_light()), with the
 // surface's geometric normal from the depth of its neighbours.
 Indirect image_based(ivec2 pixel, float depth, vec3 position, vec3 albedo, float metallic, float roughness,
-                     float visibility) {
+                     float visibility, vec4 ao) {
   vec3 v = normalize(camera.eye.xyz - position);
   vec3 n = normalize(texelFetch(normal_map, pixel, 0).xyz * 2.0 - 1.0);
   vec3 r = dominant_direction(n, v, roughness);
@@ -166,8 +167,9 @@ Indirect image_based(ivec2 pixel, float depth, vec3 position, vec3 albedo, float
     irradiance_n = mix(irradiance_n, gathered, inside);
   }
 #endif
+  float ao_specular = cone_specular_occlusion(ao.xyz, ao.a, r, roughness);
   return environment_light(n, v, r, geometric_normal(pixel, depth, position), albedo, metallic, roughness, visibility,
-                           sky_source.y != 0u, prefiltered, irradiance_n);
+                           ao.a, ao_specular, sky_source.y != 0u, prefiltered, irradiance_n);
 }
 #endif
 
@@ -194,16 +196,19 @@ void main() {
   } else {
     vec4 material = texelFetch(material_map, pixel, 0);
     float metallic = material.r;
-    // The material's occlusion and the frame's AO both say how much indirect light arrives.
+    // The material's occlusion and the frame's AO both say how much indirect light arrives. ao:
+    // the bent normal (the zero vector: no cone) and the visibility.
     float visibility = texelFetch(occlusion_map, pixel, 0).r;
+    vec4 ao = vec4(0.0, 0.0, 0.0, 1.0);
 #ifdef NC_BINDING_ao
-    visibility *= textureLod(ao_map, in_uv, 0.0).a;
+    ao = textureLod(ao_map, in_uv, 0.0);
+    ao.xyz = ao.xyz * 2.0 - 1.0;
 #endif
     specular = texelFetch(specular_map, pixel, 0).rgb;
-    vec3 indirect_diffuse = ambient.rgb * albedo.rgb * (1.0 - metallic) * visibility;
+    vec3 indirect_diffuse = ambient.rgb * albedo.rgb * (1.0 - metallic) * (visibility * ao.a);
 #ifdef NC_IMAGE_BASED
     if (sky_source.x != 0u) {
-      Indirect sky_light = image_based(pixel, depth, position, albedo.rgb, metallic, material.g, visibility);
+      Indirect sky_light = image_based(pixel, depth, position, albedo.rgb, metallic, material.g, visibility, ao);
       indirect_diffuse += sky_light.diffuse;
       specular += sky_light.specular;
     }

@@ -31,9 +31,12 @@ vec3 dominant_direction(vec3 n, vec3 v, float roughness) {
 // prefiltered for `roughness` along r = dominant_direction(); `irradiance_n`, its irradiance
 // about n over π. Split sum with the project's DFG table, with `multiple_scattering` the
 // compensation of Fdez-Agüera (2019), and horizon occlusion: a reflection below the surface's
-// geometric plane (`geometric`, zero when unknown) is cut (Jimenez et al. 2016).
+// geometric plane (`geometric`, zero when unknown) is cut (Jimenez et al. 2016). `visibility`:
+// the material's occlusion; `ao_visibility` and `ao_specular`: the frame's AO on the diffuse and
+// on the specular (1 and 1 without it).
 Indirect environment_light(vec3 n, vec3 v, vec3 r, vec3 geometric, vec3 albedo, float metallic, float roughness,
-                           float visibility, bool multiple_scattering, vec3 prefiltered, vec3 irradiance_n) {
+                           float visibility, float ao_visibility, float ao_specular, bool multiple_scattering,
+                           vec3 prefiltered, vec3 irradiance_n) {
   float n_v = clamp(dot(n, v), 1e-4, 1.0);
   vec2 dfg_size = vec2(textureSize(dfg_lut, 0));
   vec2 dfg = textureLod(dfg_lut, vec2(table_coordinate(n_v, dfg_size.x), table_coordinate(roughness, dfg_size.y)), 0.0).rg;
@@ -45,11 +48,13 @@ Indirect environment_light(vec3 n, vec3 v, vec3 r, vec3 geometric, vec3 albedo, 
                   : single * fresnel_average * (1.0 - single_albedo) / (1.0 - (1.0 - single_albedo) * fresnel_average);
   if (dot(geometric, v) < 0.0) geometric = -geometric;  // the side the viewer sees
   float horizon = dot(geometric, geometric) > 0.0 ? clamp(1.0 + dot(r, geometric), 0.0, 1.0) : 1.0;
-  // Lagarde and de Rousiers (2014): the specular share of an ambient visibility.
+  // Lagarde and de Rousiers (2014): the specular share of the material's ambient visibility;
+  // the frame's AO gives its own (ao_specular, from its visibility cone).
   float specular_visibility =
-      clamp(pow(n_v + visibility, exp2(-16.0 * roughness - 1.0)) - 1.0 + visibility, 0.0, 1.0);
+      clamp(pow(n_v + visibility, exp2(-16.0 * roughness - 1.0)) - 1.0 + visibility, 0.0, 1.0) * ao_specular;
   Indirect result;
   result.specular = (single * prefiltered * horizon * horizon + multiple * irradiance_n) * specular_visibility;
-  result.diffuse = albedo * (1.0 - metallic) * (1.0 - single - multiple) * irradiance_n * visibility;
+  result.diffuse =
+      albedo * (1.0 - metallic) * (1.0 - single - multiple) * irradiance_n * (visibility * ao_visibility);
   return result;
 }

@@ -127,7 +127,7 @@ void main() {
   if (HAS_SKY != 0u) {
     vec3 r = dominant_direction(n, v, material.g);
     vec3 prefiltered = textureLod(specular_cube, r, material.g * float(kSkySpecularMips - 1u)).rgb;
-    Indirect sky_light = environment_light(n, v, r, vec3(0.0), albedo, metallic, material.g, visibility,
+    Indirect sky_light = environment_light(n, v, r, vec3(0.0), albedo, metallic, material.g, visibility, 1.0, 1.0,
                                            multiple_scattering != 0u, prefiltered,
                                            irradiance_over_pi(n) * topdown_sky_visibility(position, n));
     indirect_diffuse += sky_light.diffuse;

@@ -17,6 +17,7 @@
 #include <map>
 #include <random>
 
+#include "passes/ao/kinds.h"
 #include "passes/core/format.h"
 #include "passes/depth/kinds.h"
 #include "passes/frame/gpu_types.h"
@@ -150,8 +151,18 @@ class CompositeIbl : public GpuTest {
                {{"ambient", 0.0}, {"multiple_scattering", multiple_scattering ? 1.0 : 0.0}});
   }
 
-  // What the split sum gives at pixel i under radiance 1, in double from the decoded inputs.
+  // What the split sum gives at pixel i under radiance 1, in double from the decoded inputs: its
+  // diffuse and specular parts, and the specular lobe's dominant direction and roughness.
+  struct Parts {
+    dvec3 diffuse, specular, r;
+    double roughness;
+  };
   static dvec3 expected(const Frame& f, uint32_t x, uint32_t y, bool multiple_scattering, double* n_v_out = nullptr) {
+    const Parts p = expected_parts(f, x, y, multiple_scattering, n_v_out);
+    return p.diffuse + p.specular;
+  }
+  static Parts expected_parts(const Frame& f, uint32_t x, uint32_t y, bool multiple_scattering,
+                              double* n_v_out = nullptr) {
     const size_t i = size_t(y) * kSide + x;
     float a[4], n[4], m[4], depth;
     decode_texel(*format_info(VK_FORMAT_A2B10G10R10_UNORM_PACK32), 0, f.albedo, i, a);
@@ -173,7 +184,11 @@ class CompositeIbl : public GpuTest {
     const dvec3 multiple = multiple_scattering
                                ? single * average * (1.0 - single_albedo) / (1.0 - (1.0 - single_albedo) * average)
                                : dvec3(0.0);
-    return albedo * (1.0 - double(m[0])) * (1.0 - single - multiple) + single + multiple;
+    // Lagarde and de Rousiers' dominant direction (environment_light.glsl).
+    const double alpha = double(m[1]) * m[1], smoothness = 1.0 - alpha;
+    const dvec3 r =
+        glm::normalize(glm::mix(normal, glm::reflect(-v, normal), smoothness * (std::sqrt(smoothness) + alpha)));
+    return {albedo * (1.0 - double(m[0])) * (1.0 - single - multiple), single + multiple, r, double(m[1])};
   }
   // Pixels of the sphere whose 8 neighbours are on it too (the depth's normal is the sphere's).
   static bool inside(uint32_t x, uint32_t y) {
@@ -254,6 +269,83 @@ TEST_F(CompositeIbl, WhiteFurnace) {
       EXPECT_NEAR(without, predicted, 2e-3 * predicted) << "the split sum's single scattering";
       EXPECT_NEAR(with, 1.0, 0.02) << (metal ? "metal" : "dielectric") << " roughness " << step / 5.0;
     }
+}
+
+// The share of the specular lobe's cone (about r, half-angle `lobe`) inside the visibility cone
+// (about `bent`, half-angle `visible`), integrated numerically over the lobe's cap: on each ring
+// at angle t from r the visible arc is closed form, 2·acos((cos a − cos t cos d)/(sin t sin d)).
+double cone_inside(dvec3 r, double lobe, dvec3 bent, double visible) {
+  const double d = std::acos(std::clamp(glm::dot(r, bent), -1.0, 1.0)), lowest = std::cos(lobe);
+  const int rings = 4000;
+  double inside = 0;
+  for (int i = 0; i < rings; ++i) {
+    const double cos_t = lowest + (1.0 - lowest) * (i + 0.5) / rings, sin_t = std::sqrt(1.0 - cos_t * cos_t);
+    const double denominator = sin_t * std::sin(d);
+    const double x = denominator > 1e-12 ? (std::cos(visible) - cos_t * std::cos(d)) / denominator
+                                         : (cos_t * std::cos(d) >= std::cos(visible) ? -1.0 : 1.0);
+    inside += std::acos(std::clamp(x, -1.0, 1.0)) / M_PI;
+  }
+  return inside / rings;
+}
+
+// With ao.bent connected (one bent normal and visibility V everywhere): the diffuse part × V, and
+// the specular × the share of its lobe's cone inside the visibility cone (half-angle asin √V).
+// The lobe's cone (specular_occlusion.glsl) has its edge where GGX falls to half its peak,
+// doubled to reflected directions: cos²θh = (1 − √2α²)/(1 − α²), min(2θh, π/2). Roughness from
+// 0.2 (a narrower lobe makes the share a step of the float angle between the axes).
+// Bound: 2·10⁻³ of the sum, as above, plus 10⁻² of the specular part: the share changes by up to
+// 1/θ per radian of the angle between the axes, which the float view vector and acos move
+// (0.0065 measured).
+TEST_F(CompositeIbl, TheAoConeOccludesTheSpecularItDoesNotContain) {
+  std::mt19937 rng(5);
+  const Frame f = frame([&](uint32_t) {
+    return Material{{uint32_t(rng() % 1024), uint32_t(rng() % 1024), uint32_t(rng() % 1024)},
+                    uint8_t(rng() % 256),
+                    uint8_t(51 + rng() % 205)};
+  });
+  const dvec3 bent = glm::normalize(dvec3(0.3, 0.8, 0.5));
+  const uint8_t visibility_code = 153;
+  std::vector<uint8_t> ao;
+  uint8_t bent_codes[3];
+  for (int c = 0; c < 3; ++c) bent_codes[c] = uint8_t(std::lround((bent[c] * 0.5 + 0.5) * 255));
+  for (uint32_t i = 0; i < (kSide / 2) * (kSide / 2); ++i)
+    ao.insert(ao.end(), {bent_codes[0], bent_codes[1], bent_codes[2], visibility_code});
+  const dvec3 stored_bent = glm::normalize(dvec3(bent_codes[0], bent_codes[1], bent_codes[2]) / 255.0 * 2.0 - 1.0);
+  const double visibility = visibility_code / 255.0, visible = std::asin(std::sqrt(visibility));
+  const IsolatedRun result =
+      composite(f, true, {{"ao.bent", image(VK_FORMAT_R8G8B8A8_UNORM, kinds::colour, kSide / 2, kSide / 2, ao)}});
+  double worst = 0, least_share = 1, most_share = 0, worst_share = 0;
+  int checked = 0;
+  for (uint32_t y = 0; y < kSide; ++y)
+    for (uint32_t x = 0; x < kSide; ++x) {
+      double n_v;
+      if (!inside(x, y)) continue;
+      const Parts p = expected_parts(f, x, y, true, &n_v);
+      if (n_v < 0.3) continue;
+      const double alpha2 = std::pow(p.roughness, 4.0);
+      const double cos2 = (1.0 - std::sqrt(2.0) * alpha2) / (1.0 - alpha2);
+      const double lobe = cos2 <= 0 ? M_PI / 2 : std::min(2.0 * std::acos(std::sqrt(cos2)), M_PI / 2);
+      const double share = cone_inside(p.r, lobe, stored_bent, visible);
+      least_share = std::min(least_share, share);
+      most_share = std::max(most_share, share);
+      const dvec3 want = p.diffuse * visibility + p.specular * share;
+      const dvec3 got = lit_at(result, x, y);
+      for (int c = 0; c < 3; ++c) {
+        const double error = std::abs(got[c] - want[c]);
+        worst = std::max(worst, error / std::max(want[c], 1e-3));
+        if (p.specular[c] > 0.01)
+          worst_share = std::max(worst_share, std::max(0.0, error - 2e-3 * want[c]) / p.specular[c]);
+        ASSERT_LE(error, 2e-3 * want[c] + 0.01 * p.specular[c])
+            << "pixel " << x << "," << y << " channel " << c << ": got " << got[c] << ", expected " << want[c]
+            << " (specular share " << share << ")";
+      }
+      ++checked;
+    }
+  std::printf("AO cone: %d pixels, specular shares %.3f…%.3f, largest relative error %.3g, of the share %.4f\n",
+              checked, least_share, most_share, worst, worst_share);
+  EXPECT_GT(checked, 2000);
+  EXPECT_LT(least_share, 0.05);  // lobes outside the cone, inside it and across its edge
+  EXPECT_GT(most_share, 0.95);
 }
 
 // The aerial perspective over unlit surfaces (whose lit value is their albedo) at distances d from
