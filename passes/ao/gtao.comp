@@ -14,32 +14,14 @@
 layout(local_size_x = kGtaoGroupSide, local_size_y = kGtaoGroupSide) in;
 
 #include "../frame/camera.glsl"
+#include "half_view.glsl"
 layout(std140, set = 0, binding = NC_BINDING(frame_constants)) uniform FrameBlock { GpuFrameConstants frame; };
 layout(set = 0, binding = NC_BINDING(depth_half)) uniform sampler2D half_depth;
 layout(set = 0, binding = NC_BINDING(normals_half)) uniform sampler2D half_normals;
-layout(set = 0, binding = NC_BINDING(ao_bent), rgba8) uniform writeonly image2D bent_visibility;
+layout(set = 0, binding = NC_BINDING(ao_raw), rgba8) uniform writeonly image2D bent_visibility;
 layout(push_constant) uniform GtaoConstants { NC_BLOCK_MEMBERS(NC_GTAO_CONSTANTS_FIELDS) };
 
 const float HALF_PI = 1.57079632679490;
-
-// A depth that marks a surface: positive and below the half's largest value, which the sky
-// clamps to (NaN fails both tests).
-bool drawn(float depth) { return depth > 0.0 && depth < 65504.0; }
-
-// The view-space point at linear depth `depth` on the ray through full-resolution position
-// `pixel`, inverting the (jittered) projection: ndc.x = (P00 x + P20 z) / -z with z = -depth.
-vec3 view_point(vec2 pixel, float depth) {
-  vec2 ndc = pixel * camera.viewport.zw * 2.0 - 1.0;
-  return vec3(depth * (ndc.x + camera.projection[2][0]) / camera.projection[0][0],
-              depth * (ndc.y + camera.projection[2][1]) / camera.projection[1][1], -depth);
-}
-
-// The full-resolution centre of a half texel's footprint, where its depth is taken to lie.
-vec2 footprint_centre(ivec2 half_texel) {
-  ivec2 first, last;
-  half_footprint(half_texel, ivec2(camera.viewport.xy), first, last);
-  return vec2(first + last + 1) * 0.5;
-}
 
 // The view-space point of depth.half at `position` (half-resolution texel units, a texel's centre
 // at i + 0.5), false where nothing was drawn there. On the slice's line exactly: a texel's centre
@@ -86,7 +68,7 @@ void store(ivec2 texel, vec3 bent_world, float visibility) {
 }
 
 // Nothing to occlude: the zero vector's codes (128, as normals.packed stores it, not 0.5, which
-// devices may round either way) and visibility 1, ao.bent's clear value.
+// devices may round either way) and visibility 1, ao.raw's clear value.
 void store_nothing(ivec2 texel) { imageStore(bent_visibility, texel, vec4(vec3(128.0 / 255.0), 1.0)); }
 
 void main() {
@@ -94,9 +76,9 @@ void main() {
   ivec2 size = textureSize(half_depth, 0);
   if (any(greaterThanEqual(texel, size))) return;
   float depth = texelFetch(half_depth, texel, 0).r;
-  vec3 stored = texelFetch(half_normals, texel, 0).xyz * 2.0 - 1.0;  // the best-fit normal, unnormalised
+  vec3 stored = stored_vector(texelFetch(half_normals, texel, 0));  // the best-fit normal, unnormalised
   // Nothing drawn (the sky, a cleared target, a NaN depth): nothing to occlude.
-  if (!drawn(depth) || dot(stored, stored) < 1e-4) {
+  if (!drawn(depth) || !is_vector(stored)) {
     store_nothing(texel);
     return;
   }

@@ -7,5 +7,7 @@
 namespace nightcap {
 
 PassDecl ao_gtao_pass();
+PassDecl ao_filter_pass();
+PassDecl ao_temporal_pass();
 
 }  // namespace nightcap

@@ -54,7 +54,7 @@ void add_scene_passes(std::vector<PassDecl>& passes) {
 void add_lighting_passes(std::vector<PassDecl>& passes, FrameLighting lighting) {
   // Ambient occlusion at half resolution, from the depth, normal and motion the geometry stage
   // summarised.
-  add_stage(passes, "ao", {ao_gtao_pass()});
+  add_stage(passes, "ao", {ao_gtao_pass(), ao_filter_pass(), ao_temporal_pass()});
   // The light lists and the sun's shadow mask are read by lighting alone.
   add_stage(passes, "lighting", {lights_cluster_pass(), shadow_sun_resolve_pass()});
   // The sky's LUTs and cube maps and the DFG table, which the composite's sky and image-based light

@@ -107,9 +107,9 @@ PassDecl& PassDecl::as(std::string role) {
   return *this;
 }
 
-PassDecl& PassDecl::can_disable(std::string reason, std::string group, bool enabled_by_default) {
+PassDecl& PassDecl::can_disable(std::string reason, std::string group) {
   disabled_reason = std::move(reason);
-  ParamDecl enabled = ParamDecl::boolean("enabled", enabled_by_default, "0 skips the pass (" + disabled_reason + ")");
+  ParamDecl enabled = ParamDecl::boolean("enabled", true, "0 skips the pass (" + disabled_reason + ")");
   return param(group.empty() || group == name ? std::move(enabled) : std::move(enabled).shared_by(std::move(group)));
 }
 

@@ -214,10 +214,10 @@ struct PassDecl {
   // several passes share binds "draws", not "draws.depth.prepass"; bloom's levels read their
   // "source". A GLSL identifier.
   PassDecl& as(std::string role);
-  // A bool parameter `enabled` (default `enabled_by_default`): false skips the pass with `reason`,
-  // e.g. "fixed exposure". Passes that carry out one pass of frame.md in steps share one switch, a parameter
+  // A bool parameter `enabled` (default true): false skips the pass with `reason`, e.g. "fixed
+  // exposure". Passes that carry out one pass of frame.md in steps share one switch, a parameter
   // of `group` (bloom.level0…5: `--set bloom.enabled=0`).
-  PassDecl& can_disable(std::string reason, std::string group = "", bool enabled_by_default = true);
+  PassDecl& can_disable(std::string reason, std::string group = "");
   // Parameters (passes/core/params.h), read by PassContext::param_float, param_int and flag.
   PassDecl& param(ParamDecl decl);
   PassDecl& param_float(std::string param_name, double default_value, double min, double max, std::string help);

@@ -1,7 +1,9 @@
-// ao.gtao in the frame (`--set ao.enabled=1`, off by default until its filter and temporal pass
-// land): it runs, replays from its record bit for bit, `inspect pixel` decodes its visibility,
-// cone and bent normal, and the composite, which reads ao.bent, darkens where it occludes;
-// by default it is skipped as disabled and ao.bent reads unoccluded.
+// The AO chain in the city frame, on by default: ao.gtao → ao.filter → ao.temporal run; over
+// still frames each replays from its record (ao.temporal with its history, ao.history and
+// depth.half of the frame before) bit for bit; `inspect pixel` decodes the visibility, cone and
+// bent normal of ao.bent and the frames of ao.history; the composite, which reads ao.bent, differs
+// from a frame with `--set ao.enabled=0`, where all three are skipped as disabled and the G-buffer
+// is the same.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -24,26 +26,33 @@ const json* pass_in(const json& frame, const std::string& name) {
   return nullptr;
 }
 
-TEST(Ao, InTheCityFrameItRunsReplaysAndInspectDecodesIt) {
+const std::vector<std::string> kChain = {"ao.gtao", "ao.filter", "ao.temporal"};
+
+TEST(Ao, TheChainRunsReplaysWithItsHistoryAndInspectDecodesIt) {
   const fs::path dir = scratch("ao");
   const fs::path on = dir / "on";
-  CliResult r = run_cli("render --city-block --size 320x180 --set ao.enabled=1 -o " + quote(on));
+  CliResult r = run_cli("render --city-block --size 320x180 --frames 3 --motion static --freeze -o " + quote(on));
   ASSERT_EQ(r.code, 0) << r.err;
   r = run_cli("passes --json " + quote(on));
   ASSERT_EQ(r.code, 0) << r.err;
   const json listed = json::parse(r.out);
-  const json* gtao = pass_in(listed["frames"][0], "ao.gtao");
-  ASSERT_NE(gtao, nullptr);
-  EXPECT_EQ((*gtao)["status"], "ran");
+  for (const std::string& name : kChain) {
+    const json* pass = pass_in(listed["frames"][2], name);
+    ASSERT_NE(pass, nullptr) << name;
+    EXPECT_EQ((*pass)["status"], "ran") << name;
+  }
 
-  r = run_cli("replay --verify --pass ao.gtao --pass lighting.composite " + quote(on));
+  r = run_cli("replay --verify --pass ao.gtao --pass ao.filter --pass ao.temporal --pass lighting.composite " +
+              quote(on));
   EXPECT_EQ(r.code, 0) << r.out << r.err;
 
-  // A pixel of the street: its visibility, the cone that visibility gives and a unit bent normal.
-  const Inspected run = inspect(on, "goto ao.gtao --json; pixel 300 160 ao.bent --json");
+  // A pixel of the street in the third still frame: its visibility, the cone that visibility
+  // gives, a unit bent normal; the history averages the three frames.
+  const Inspected run = inspect(
+      on, "frame 2 --json; goto ao.temporal --json; pixel 300 160 ao.bent --json; pixel 300 160 ao.history --json");
   ASSERT_EQ(run.result.code, 0) << run.result.err;
-  ASSERT_EQ(run.objects.size(), 2u) << run.result.out;
-  const json& values = run.objects[1]["decoded"];
+  ASSERT_EQ(run.objects.size(), 4u) << run.result.out;
+  const json& values = run.objects[2]["decoded"];
   ASSERT_TRUE(values.contains("visibility")) << run.result.out;
   const double visibility = values["visibility"];
   EXPECT_GT(visibility, 0.0);
@@ -53,21 +62,25 @@ TEST(Ao, InTheCityFrameItRunsReplaysAndInspectDecodesIt) {
   double length = 0;
   for (const json& c : values["bent_normal"]) length += double(c) * double(c);
   EXPECT_NEAR(length, 1.0, 1e-6);
+  EXPECT_NEAR(double(run.objects[3]["decoded"]["frames"]), 3.0, 0.01) << run.result.out;
 
   const fs::path off = dir / "off";
-  r = run_cli("render --city-block --size 320x180 -o " + quote(off));
+  r = run_cli("render --city-block --size 320x180 --frames 3 --motion static --freeze --set ao.enabled=0 -o " +
+              quote(off));
   ASSERT_EQ(r.code, 0) << r.err;
   r = run_cli("passes --json " + quote(off));
   const json listed_off = json::parse(r.out);
-  const json* skipped = pass_in(listed_off["frames"][0], "ao.gtao");
-  ASSERT_NE(skipped, nullptr);
-  EXPECT_EQ((*skipped)["status"], "skipped");
+  for (const std::string& name : kChain) {
+    const json* skipped = pass_in(listed_off["frames"][2], name);
+    ASSERT_NE(skipped, nullptr) << name;
+    EXPECT_EQ((*skipped)["status"], "skipped") << name;
+  }
   // AO darkens the indirect light only where it occludes: the lit colour differs, the G-buffer
   // does not.
   r = run_cli("diff --json " + quote(off) + " " + quote(on));
   const json diff = json::parse(r.out);
   std::set<std::string> differing;
-  for (const json& pass : diff["frames"][0]["passes"])
+  for (const json& pass : diff["frames"][2]["passes"])
     if (pass["status"] != "identical") differing.insert(pass["name"]);
   EXPECT_TRUE(differing.count("lighting.composite")) << r.out;
   EXPECT_FALSE(differing.count("gbuffer.opaque")) << r.out;

@@ -44,6 +44,8 @@ const std::vector<std::string> kFramePasses = {"cull.main",
                                                "normals.half",
                                                "depth.pyramid",
                                                "ao.gtao",
+                                               "ao.filter",
+                                               "ao.temporal",
                                                "lights.cluster",
                                                "shadow.sun_resolve",
                                                "sky.atmosphere",
@@ -78,11 +80,9 @@ const std::vector<std::string> kFramePasses = {"cull.main",
 // The passes that run in frame `frame` of kCity: the city has no moving geometry and the camera
 // walks from frame 1 on, so motion.stencil is skipped in frame 0 only; its one reflection probe
 // is captured in frame 0 and stays valid, so frame 1 captures nothing (and the GI volume, walking
-// less than a cell, gathers nothing: it still runs, to carry the volume over). ao.gtao is off by
-// default (tests/e2e/ao_test.cpp renders it).
+// less than a cell, gathers nothing: it still runs, to carry the volume over).
 std::vector<std::string> passes_that_run(int frame) {
   std::vector<std::string> passes = kFramePasses;
-  std::erase(passes, "ao.gtao");
   if (frame == 0) std::erase(passes, "motion.stencil");
   if (frame > 0)
     for (const char* capture : {"probes.gbuffer", "probes.light", "probes.convert", "probes.irradiance"})

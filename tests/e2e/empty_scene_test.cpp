@@ -74,14 +74,17 @@ const char* kLightOnly = R"({"asset": {"version": "2.0"}, "extensionsUsed": ["KH
   "scene": 0, "scenes": [{"nodes": [0]}],
   "nodes": [{"translation": [0, 1, 0], "extensions": {"KHR_lights_punctual": {"light": 0}}}]})";
 
-INSTANTIATE_TEST_SUITE_P(
-    Scenes, EmptyScene,
-    ::testing::Values(
-        Case{"nothing", kEmpty, {"depth.convert", "motion.stencil", "normals.pack", "normals.half", "depth.pyramid"}},
-        Case{"light_only",
-             kLightOnly,
-             {"depth.convert", "motion.stencil", "normals.pack", "normals.half", "depth.pyramid", "lighting.tiled"}}),
-    [](const auto& info) { return std::string(info.param.name); });
+INSTANTIATE_TEST_SUITE_P(Scenes, EmptyScene,
+                         ::testing::Values(Case{"nothing",
+                                                kEmpty,
+                                                {"depth.convert", "motion.stencil", "normals.pack", "normals.half",
+                                                 "depth.pyramid", "ao.gtao", "ao.filter", "ao.temporal"}},
+                                           Case{"light_only",
+                                                kLightOnly,
+                                                {"depth.convert", "motion.stencil", "normals.pack", "normals.half",
+                                                 "depth.pyramid", "ao.gtao", "ao.filter", "ao.temporal",
+                                                 "lighting.tiled"}}),
+                         [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace NIGHTCAP_FILE_ID
 }  // namespace

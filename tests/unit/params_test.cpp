@@ -182,7 +182,6 @@ TEST_F(PassParams, EveryRegisteredPassRecordsWithTheParametersItDeclares) {
     settings.width = 128;
     settings.height = 72;
     settings.lighting = lighting;
-    settings.params["ao"]["enabled"] = 1.0;  // off by default until its temporal pass lands
     Renderer renderer(*gpu_, scene, settings);
     for (uint32_t k = 0; k < frames; ++k)
       for (const CompiledPass& pass : renderer.render_frame(k, false).graph.passes)

@@ -5,7 +5,7 @@
 // probe (its first). The same lights on both sides: the city's local lights, every one of them
 // (probes.cull's `lights` raised to all), and no sun (the capture reads the sun's shadow from
 // shadow.distant, the frame from its cascades: they differ at shadow edges by design); no decals
-// (the captures do not draw them). The frame's camera is the face's view (plan.cpp: a camera
+// and no ambient occlusion (the captures have neither). The frame's camera is the face's view (plan.cpp: a camera
 // facing the face), whose pixel (x, y) is the cube's texel (63 − x, y).
 // Bounds: the face's G-buffer (probes.gbuffer's targets) is the frame's at 99% of its texels,
 // bit for bit (the rest: where the projections, built one in float and one in double, round
@@ -62,6 +62,7 @@ TEST_F(ProbesCaptureTest, EachFaceIsWhatTheFramesOwnPassesRenderFromItsView) {
     settings.path.motion = CameraPath::Motion::still;
     settings.camera = camera;
     settings.params["probes.cull"]["lights"] = 256;
+    settings.params["ao"]["enabled"] = 0;  // the captures have no ambient occlusion
     Renderer renderer(*gpu_, scene, settings);
     const RenderedFrame frame = renderer.render_frame(0, true);
     const VersionData* lit = frame.execution.final_version("lighting.lit");
