@@ -79,7 +79,8 @@ int main(int argc, char** argv) {
                                              "probe_tradeoffs",
                                              "topdown",
                                              "gi",
-                                             "taa"};
+                                             "taa",
+                                             "ao"};
   app.add_option("--repeats", repeats, "frames per measurement (medians are reported)")->capture_default_str();
   app.add_option("--size", size, "output size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--device", device, "Vulkan device name (substring); default: lavapipe");
@@ -155,6 +156,7 @@ int main(int argc, char** argv) {
     if (wanted("topdown")) bench_topdown(gpu, width, height, int(repeats));
     if (wanted("gi")) bench_gi(gpu, width, height, int(repeats));
     if (wanted("taa")) bench_taa(gpu, width, height, int(repeats));
+    if (wanted("ao")) bench_ao(gpu, width, height, int(repeats));
     if (g_json) std::cout << nlohmann::json{{"figures", g_figures}}.dump(1) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "nightcap_bench: " << e.what() << "\n";

@@ -78,4 +78,7 @@ void bench_gi(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
 // taa_bench.cpp: TAA's cost in the street frame, and time against error for its settings.
 void bench_taa(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
 
+// ao_bench.cpp: the AO chain's cost in the street frame, and time against error for its settings.
+void bench_ao(GpuDevice& gpu, uint32_t width, uint32_t height, int repeats);
+
 }  // namespace nightcap::bench

@@ -7,7 +7,6 @@
 #include <set>
 
 #include "captures/capture.h"
-#include "compare/decoded_image.h"
 #include "reports/html.h"
 #include "tests/e2e/browser.h"
 #include "tests/e2e/cli.h"
@@ -48,15 +47,7 @@ std::string use_the_viewer(uint32_t x, uint32_t y) {
 // lighting.tiled's lighting.diffuse in frame 0 of `folder`, decoded.
 std::vector<float> diffuse_of(const fs::path& folder) {
   const Capture capture = Capture::open(folder);
-  for (const PassRecord& p : capture.frame(0).passes)
-    for (const ResourceRecord& o : p.outputs)
-      if (p.name == "lighting.tiled" && o.resource == "lighting.diffuse") {
-        const std::vector<uint8_t> raw = capture.load(o);
-        const DecodedImage decoded(o, raw);
-        const std::span<const float> values = decoded.subresource(0, 0, 0);
-        return {values.begin(), values.end()};
-      }
-  return {};
+  return decoded_output(capture, capture.frame(0), "lighting.tiled", "lighting.diffuse");
 }
 
 std::vector<double> numbers_after(const std::string& text, const std::string& label) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "captures/capture.h"
+#include "compare/decoded_image.h"
 #include "tests/e2e/cli.h"
 
 namespace nightcap::test {
@@ -86,6 +87,17 @@ inline const ResourceRecord& output_named(const PassRecord& pass, const std::str
   for (const ResourceRecord& r : pass.outputs)
     if (r.resource == name) return r;
   throw std::runtime_error(pass.name + " has no output " + name);
+}
+
+// The decoded values of mip 0, layer 0 of image `resource` as `pass` of `frame` wrote it: the
+// format's channels a texel (DecodedImage::subresource).
+inline std::vector<float> decoded_output(const Capture& capture, const FrameRecord& frame, const std::string& pass,
+                                         const std::string& resource) {
+  const ResourceRecord& o = output_named(pass_named(frame, pass), resource);
+  const std::vector<uint8_t> raw = capture.load(o);
+  const DecodedImage decoded(o, raw);
+  const std::span<const float> values = decoded.subresource(0, 0, 0);
+  return {values.begin(), values.end()};
 }
 
 }  // namespace nightcap::test

@@ -7,7 +7,6 @@
 #include <set>
 
 #include "captures/capture.h"
-#include "compare/decoded_image.h"
 #include "tests/e2e/cli.h"
 #include "tests/e2e/inspect_script.h"
 
@@ -18,16 +17,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 const std::string kStill = "--city-block --size 160x90 --motion static --freeze";
-
-// The decoded values of `resource` as `pass` of `frame` wrote it.
-std::vector<float> output_of(const Capture& capture, const FrameRecord& frame, const std::string& pass,
-                             const std::string& resource) {
-  const ResourceRecord& o = output_named(pass_named(frame, pass), resource);
-  const std::vector<uint8_t> raw = capture.load(o);
-  const DecodedImage decoded(o, raw);
-  const std::span<const float> values = decoded.subresource(0, 0, 0);
-  return {values.begin(), values.end()};
-}
 
 TEST(Supersample, TheReferenceCaptureHoldsTheMeanOfTheOffsetRendersInPlaceOfTaa) {
   const fs::path dir = scratch("supersample");
@@ -46,11 +35,11 @@ TEST(Supersample, TheReferenceCaptureHoldsTheMeanOfTheOffsetRendersInPlaceOfTaa)
   const PassRecord& supersampled = pass_named(frame, "taa.supersampled");
   EXPECT_EQ(supersampled.stage, "taa");
   EXPECT_EQ(supersampled.params.at("samples"), 16.0);
-  const std::vector<float> resolved = output_of(reference, frame, "taa.supersampled", "taa.resolved");
+  const std::vector<float> resolved = decoded_output(reference, frame, "taa.supersampled", "taa.resolved");
   ASSERT_EQ(resolved.size(), size_t(160) * 90 * 4);
   std::vector<double> mean(resolved.size(), 0.0);
   for (uint32_t k = 0; k < 16; ++k) {
-    const std::vector<float> lit = output_of(renders, renders.frame(k), "lighting.composite", "lighting.lit");
+    const std::vector<float> lit = decoded_output(renders, renders.frame(k), "lighting.composite", "lighting.lit");
     ASSERT_EQ(lit.size(), mean.size()) << "frame " << k;
     for (size_t i = 0; i < lit.size(); ++i) mean[i] += lit[i] / 16.0;
   }
