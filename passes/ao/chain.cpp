@@ -55,15 +55,15 @@ const KindRegistration kAoHistory({
 
 }  // namespace
 
+PassDecl ao_chain_pass(std::string name) {
+  return PassDecl(std::move(name), PassType::compute).can_disable("ambient occlusion disabled by settings", "ao");
+}
+
 ImageDecl ao_bent_image() {
   ImageDecl bent{VK_FORMAT_R8G8B8A8_UNORM, kinds::ao_bent};
   bent.size.mode = SizeRule::Mode::output_half;
   bent.clear.color = {{128.0f / 255.0f, 128.0f / 255.0f, 128.0f / 255.0f, 1.0f}};  // the zero vector, unoccluded
   return bent;
-}
-
-PassDecl ao_chain_pass(std::string name) {
-  return PassDecl(std::move(name), PassType::compute).can_disable("ambient occlusion disabled by settings", "ao");
 }
 
 ImageDecl ao_history_image() {

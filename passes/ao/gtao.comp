@@ -67,9 +67,7 @@ void store(ivec2 texel, vec3 bent_world, float visibility) {
   imageStore(bent_visibility, texel, vec4(bent_world * 0.5 + 0.5, visibility));
 }
 
-// Nothing to occlude: the zero vector's codes (128, as normals.packed stores it, not 0.5, which
-// devices may round either way) and visibility 1, ao.raw's clear value.
-void store_nothing(ivec2 texel) { imageStore(bent_visibility, texel, vec4(vec3(128.0 / 255.0), 1.0)); }
+void store_nothing(ivec2 texel) { imageStore(bent_visibility, texel, kNothingToOcclude); }
 
 void main() {
   ivec2 texel = ivec2(gl_GlobalInvocationID.xy);

@@ -31,6 +31,11 @@ vec2 half_position(vec2 pixel, ivec2 half_size) {
   return mix(pixel * 0.5, tail, greaterThan(pixel, before_last));
 }
 
+// What the chain stores where there is nothing to occlude, its images' clear value: the zero
+// vector's codes (128, as normals.packed stores it, not 0.5, which devices may round either way)
+// and visibility 1.
+const vec4 kNothingToOcclude = vec4(vec3(128.0 / 255.0), 1.0);
+
 // A world-space vector stored as 0.5·v + 0.5 in an 8-bit texel (normals.half, ao.bent), and
 // whether it is one: the zero vector (codes 128) marks a texel where nothing was drawn.
 vec3 stored_vector(vec4 texel) { return texel.xyz * 2.0 - 1.0; }

@@ -54,7 +54,7 @@ void main() {
   vec3 now_bent = stored_vector(now);
   // Nothing drawn: unoccluded, and no history.
   if (!drawn(depth) || !is_vector(now_bent)) {
-    imageStore(bent_visibility, texel, vec4(vec3(128.0 / 255.0), 1.0));
+    imageStore(bent_visibility, texel, kNothingToOcclude);
     imageStore(new_history, texel, vec4(0.0));
     return;
   }
