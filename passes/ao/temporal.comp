@@ -81,8 +81,10 @@ void main() {
     float was = texelFetch(previous_depth, at, 0).r;
     vec4 past = texelFetch(history, at, 0);
     float past_frames = length(past.xyz);
-    // No history there (frame 0, a camera cut, the sky), or another surface's.
-    if (!drawn(was) || abs(was - then) > tolerance || !(past_frames >= 0.5) || any(isnan(past))) continue;
+    // No history there (frame 0, a camera cut, the sky; NaN or Inf, which no frame writes), or another
+    // surface's.
+    if (!drawn(was) || abs(was - then) > tolerance || !(past_frames >= 0.5) || any(isnan(past)) || any(isinf(past)))
+      continue;
     kept += weight;
     frames += weight * past_frames;
     visibility += weight * past.a;

@@ -7,7 +7,8 @@
 //   motion.mask marks the footprint; kept where it agrees;
 // - a camera moved sideways by one half texel: each texel blends the history of the texel its
 //   surface came from (the next one to the right);
-// - NaN depths and NaN history, 1×1 and 7×5 outputs: finite, unoccluded where nothing was drawn.
+// - NaN depths, NaN and infinite histories, 1×1 and 7×5 outputs: finite, unoccluded where nothing
+//   was drawn.
 // Bound: the visibility within 1 code of the double-precision value (the 8-bit store rounds once;
 // the history's halves add under 0.1 code), the bent normal within 1° (codes 0.45° apart).
 #include <glm/gtc/matrix_transform.hpp>
@@ -240,6 +241,8 @@ TEST_F(AoTemporal, NonFiniteInputsAndTinyOutputsStayFinite) {
     std::memcpy(frame.previous_depth.data() + (size_t(14) * s.half_width() + x) * 2, &nan, 2);  // NaN before
     const uint16_t nan4[4] = {nan, nan, nan, nan};
     std::memcpy(frame.history.data() + (size_t(16) * s.half_width() + x) * 8, nan4, 8);  // a NaN history
+    const uint16_t inf4[4] = {0x7c00, 0x7c00, 0x7c00, 0x7c00};
+    std::memcpy(frame.history.data() + (size_t(17) * s.half_width() + x) * 8, inf4, 8);  // an infinite one
   }
   const Result out = temporal(s, frame);
   for (uint32_t x = 0; x < s.half_width(); ++x) EXPECT_EQ(out.bent[(size_t(12) * s.half_width() + x) * 4 + 3], 255);
