@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "compare/decoded_image.h"
+#include "passes/ao/stage.h"
 #include "passes/assembly/renderer.h"
 #include "passes/assembly/supersample.h"
 #include "passes/core/format.h"
@@ -62,7 +63,12 @@ void bench_ao(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) 
                                          {"slices3.steps4.filter1", 3, 4, 1}, {"slices3.steps4.filter2", 3, 4, 2},
                                          {"slices3.steps8.filter0", 3, 8, 0}, {"slices3.steps8.filter1", 3, 8, 1},
                                          {"slices3.steps8.filter2", 3, 8, 2}, {"slices6.steps8.filter1", 6, 8, 1}};
-  const std::string default_key = "slices2.steps8.filter1";
+  const auto default_of = [](const nc::PassDecl& pass, const std::string& param) {
+    return std::to_string(int(pass.find_param(param)->default_value));
+  };
+  const std::string default_key = "slices" + default_of(nc::ao_gtao_pass(), "slices") + ".steps" +
+                                  default_of(nc::ao_gtao_pass(), "steps") + ".filter" +
+                                  default_of(nc::ao_filter_pass(), "radius");
   struct Result {
     double ms, mean, rms, p99, degrees;
   };
