@@ -22,10 +22,6 @@ namespace nightcap::test {
 namespace {
 namespace NIGHTCAP_FILE_ID {
 
-glm::dvec3 decoded(const std::vector<uint8_t>& codes, size_t texel) {
-  return glm::dvec3(codes[texel * 4], codes[texel * 4 + 1], codes[texel * 4 + 2]) / 255.0 * 2.0 - 1.0;
-}
-
 // ao.raw: at each drawn texel a visibility in [0.2, 1] and a bent normal tilted up to ~35° from
 // the surface's normal, random; the clear value (codes 128, visibility 1) elsewhere.
 std::vector<uint8_t> random_raw(const Synthetic& s, uint32_t seed) {
@@ -106,10 +102,6 @@ Filtered reference(const Synthetic& s, const std::vector<uint8_t>& raw, uint32_t
       bent += weight * decoded(raw, at);
     }
   return {visibility / weights, glm::normalize(bent)};
-}
-
-double degrees_between(glm::dvec3 a, glm::dvec3 b) {
-  return glm::degrees(std::acos(std::clamp(glm::dot(glm::normalize(a), glm::normalize(b)), -1.0, 1.0)));
 }
 
 TEST_F(AoFilter, MatchesItsDefinitionAtACrease) {

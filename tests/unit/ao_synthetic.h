@@ -80,4 +80,13 @@ inline Synthetic cast(uint32_t width, uint32_t height, glm::dvec3 eye, glm::dvec
   return s;
 }
 
+// The vector an RGBA8 texel stores as 0.5·v + 0.5 (normals.half, ao.raw, ao.bent), texel `texel`.
+inline glm::dvec3 decoded(const std::vector<uint8_t>& codes, size_t texel) {
+  return glm::dvec3(codes[texel * 4], codes[texel * 4 + 1], codes[texel * 4 + 2]) / 255.0 * 2.0 - 1.0;
+}
+
+inline double degrees_between(glm::dvec3 a, glm::dvec3 b) {
+  return glm::degrees(std::acos(std::clamp(glm::dot(glm::normalize(a), glm::normalize(b)), -1.0, 1.0)));
+}
+
 }  // namespace nightcap::test

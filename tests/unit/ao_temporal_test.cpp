@@ -29,13 +29,6 @@ namespace nightcap::test {
 namespace {
 namespace NIGHTCAP_FILE_ID {
 
-glm::dvec3 decoded(const std::vector<uint8_t>& codes, size_t texel) {
-  return glm::dvec3(codes[texel * 4], codes[texel * 4 + 1], codes[texel * 4 + 2]) / 255.0 * 2.0 - 1.0;
-}
-double degrees_between(glm::dvec3 a, glm::dvec3 b) {
-  return glm::degrees(std::acos(std::clamp(glm::dot(glm::normalize(a), glm::normalize(b)), -1.0, 1.0)));
-}
-
 // A history texel: the bent normal, its frames (its length) and the visibility, as halves.
 void put_history(std::vector<uint8_t>& bytes, size_t texel, glm::dvec3 bent, double frames, double visibility) {
   const glm::dvec3 scaled = glm::normalize(bent) * frames;
