@@ -3,8 +3,9 @@
 // At half texels whose search radius lies on screen, from the point and normal the chain starts
 // from (depth.half and normals.half at the footprint's centre): 512 cosine-weighted directions
 // (16 × 32 strata), each marched in 64 steps out to the radius through depth.linear (full
-// resolution; 1/depth interpolated between the four texels around a position where they lie on
-// one plane, untwisted and within a factor of two, as ao.gtao does, the nearest texel elsewhere).
+// resolution; 1/depth interpolated between the four texels around a position where it runs on
+// across them as over a plane, untwisted and without a step that stands out from the texels
+// beyond, the nearest texel elsewhere).
 // The thickness rule is ao.gtao's: where the ray passes behind the depth buffer, the occluder is
 // the surface seen there, and it counts by that surface's distance d from the point, the ray
 // being visible by 1 − clamp((radius − d)/(falloff · radius), 0, 1) at the first such surface
@@ -54,13 +55,39 @@ struct AoFrame {
     const glm::dvec2 below = pixel - 0.5;
     const int x0 = std::clamp(int(std::floor(below.x)), 0, w - 2), y0 = std::clamp(int(std::floor(below.y)), 0, h - 2);
     const double fx = std::clamp(below.x - x0, 0.0, 1.0), fy = std::clamp(below.y - y0, 0.0, 1.0);
-    const double i00 = 1 / depth[size_t(y0) * w + x0], i10 = 1 / depth[size_t(y0) * w + x0 + 1];
-    const double i01 = 1 / depth[size_t(y0 + 1) * w + x0], i11 = 1 / depth[size_t(y0 + 1) * w + x0 + 1];
+    const double i00 = inverse_depth({x0, y0}), i10 = inverse_depth({x0 + 1, y0});
+    const double i01 = inverse_depth({x0, y0 + 1}), i11 = inverse_depth({x0 + 1, y0 + 1});
     const double largest = std::max({i00, i10, i01, i11}), smallest = std::min({i00, i10, i01, i11});
-    if (std::abs(i00 + i11 - i10 - i01) <= 0.01 * largest && largest <= 2 * smallest && smallest > 0)
-      return 1.0 / ((1 - fy) * ((1 - fx) * i00 + fx * i10) + fy * ((1 - fx) * i01 + fx * i11));
+    const bool one_plane = std::abs(i00 + i11 - i10 - i01) <= 0.01 * largest && largest <= 2 * smallest &&
+                           smallest > 0 && continues({x0, y0}, {1, 0}) && continues({x0, y0 + 1}, {1, 0}) &&
+                           continues({x0, y0}, {0, 1}) && continues({x0 + 1, y0}, {0, 1});
+    if (one_plane) return 1.0 / ((1 - fy) * ((1 - fx) * i00 + fx * i10) + fy * ((1 - fx) * i01 + fx * i11));
     const int nx = std::clamp(int(pixel.x), 0, w - 1), ny = std::clamp(int(pixel.y), 0, h - 1);
     return depth[size_t(ny) * w + nx];
+  }
+
+ private:
+  double inverse_depth(glm::ivec2 texel) const { return 1.0 / depth[size_t(texel.y) * width + texel.x]; }
+  bool inside(glm::ivec2 texel) const {
+    return texel.x >= 0 && texel.y >= 0 && texel.x < int(width) && texel.y < int(height);
+  }
+  // Whether 1/depth runs on across the gap from `texel` to texel + `step` as it does over a plane,
+  // where it changes by the same amount from texel to texel, rather than jumping at a silhouette:
+  // the change across the gap departs from the changes just before and after it (where the image
+  // has them) by at most a quarter of the largest. A silhouette parallel to the gap keeps the four
+  // texels around a position untwisted, and interpolating across it would raise a wall between
+  // the two surfaces that occludes what lies behind the nearer one.
+  bool continues(glm::ivec2 texel, glm::ivec2 step) const {
+    const glm::ivec2 next = texel + step;
+    const double across = inverse_depth(next) - inverse_depth(texel);
+    double largest = std::abs(across), departure = 0;
+    for (const auto& [from, to] : {std::pair{texel - step, texel}, std::pair{next, next + step}}) {
+      if (!inside(from) || !inside(to)) continue;
+      const double change = inverse_depth(to) - inverse_depth(from);
+      largest = std::max(largest, std::abs(change));
+      departure = std::max(departure, std::abs(across - change));
+    }
+    return departure <= 0.25 * largest + 1e-6 * inverse_depth(texel);
   }
 };
 
