@@ -60,6 +60,25 @@ bool surface_at(vec2 position, ivec2 size, out vec3 point) {
   return true;
 }
 
+// Of a slice whose projected normal lies at angle n from the view vector, the integrals from the
+// view vector to angle h (either side; h < 0 on the negative one) of the cosine-weighted arc,
+// ∫ cos(θ − n)|sin θ| dθ, and of its direction along the slice (x) and toward the viewer (y):
+// the visibility and bent normal of the arc between two horizons are differences of these.
+// The sines and cosines of h ± n, 2h − n and 3h − n come from those of h and n by the angle-sum
+// identities, sparing the shader's transcendentals.
+vec3 slice_arc(float h, float cos_h, float sin_h, float cos_n, float sin_n) {
+  float cos_2h = 2.0 * cos_h * cos_h - 1.0, sin_2h = 2.0 * sin_h * cos_h;
+  float cos_3h = cos_h * (4.0 * cos_h * cos_h - 3.0), sin_3h = sin_h * (3.0 - 4.0 * sin_h * sin_h);
+  float cos_2h_minus_n = cos_2h * cos_n + sin_2h * sin_n;
+  float sin_h_minus_n = sin_h * cos_n - cos_h * sin_n, sin_h_plus_n = sin_h * cos_n + cos_h * sin_n;
+  float cos_h_plus_n = cos_h * cos_n - sin_h * sin_n;
+  float sin_3h_minus_n = sin_3h * cos_n - cos_3h * sin_n, cos_3h_minus_n = cos_3h * cos_n + sin_3h * sin_n;
+  float arc = (2.0 * h * sin_n - cos_2h_minus_n + cos_n) * 0.25;
+  float along = (6.0 * sin_h_minus_n - sin_3h_minus_n - 3.0 * sin_h_plus_n + 8.0 * sin_n) / 12.0;
+  float toward = (4.0 * cos_n - cos_3h_minus_n - 3.0 * cos_h_plus_n) / 12.0;
+  return vec3(arc, along, toward);
+}
+
 // Interleaved gradient noise (Jimenez 2014) in [0, 1).
 float gradient_noise(vec2 p) { return fract(52.9829189 * fract(dot(p, vec2(0.06711056, 0.00583715)))); }
 
@@ -111,46 +130,45 @@ void main() {
     if (projected_length < 1e-6) continue;  // the slice's plane is the surface's own
     float cos_n = clamp(dot(projected_normal, view_dir) / projected_length, -1.0, 1.0);
     float n = sign(dot(ortho_direction, projected_normal)) * acos(cos_n);
-    // Each side's horizon starts at the surface's tangent, the lowest it can be.
-    float low_positive = cos(n + HALF_PI), low_negative = cos(n - HALF_PI);
-    float horizon_positive = low_positive, horizon_negative = low_negative;
-    for (int j = 0; j < steps; ++j) {
-      // Quadratic spacing: more samples near the pixel, where occluders matter most.
-      float t = (float(j) + step_noise) / float(steps);
-      float offset = max(t * t * screen_radius, 1.0);
-      for (int side = 0; side < 2; ++side) {
+    // Walking out from the pixel on either side, a sample above every nearer one is the first
+    // surface the directions between the previous highest horizon and its own pass behind: it
+    // hides that arc, by its weight (an occluder near the radius hides less of what lies behind
+    // it, as for the reference's rays). What no sample hides stays visible up to the tangent.
+    float sin_n = sin(n);
+    vec3 open = vec3(0.0), occluded = vec3(0.0);  // slice_arc's integrals, tangent to tangent and hidden
+    for (int side = 0; side < 2; ++side) {
+      float sign_of_side = side == 0 ? 1.0 : -1.0;
+      // The highest horizon so far, starting at the tangent (angle n ± π/2: cosine ∓ sin n, sine
+      // ± cos n), and slice_arc there.
+      float highest = -sign_of_side * sin_n;
+      vec3 arc_to_highest = slice_arc(n + sign_of_side * HALF_PI, highest, sign_of_side * cos_n, cos_n, sin_n);
+      open += arc_to_highest;
+      for (int j = 0; j < steps; ++j) {
+        // Quadratic spacing: more samples near the pixel, where occluders matter most.
+        float t = (float(j) + step_noise) / float(steps);
+        float offset = max(t * t * screen_radius, 1.0);
         vec3 sample_point;
-        if (!surface_at(centre + (side == 0 ? offset : -offset) * screen_direction, size, sample_point)) continue;
+        if (!surface_at(centre + sign_of_side * offset * screen_direction, size, sample_point)) continue;
         vec3 to_sample = sample_point - point;
         float distance = length(to_sample);
         if (distance < 1e-6) continue;
         float weight = clamp((radius - distance) / (falloff * radius), 0.0, 1.0);
         float cosine = dot(to_sample / distance, view_dir);
-        if (side == 0)
-          horizon_positive = max(horizon_positive, mix(low_positive, cosine, weight));
-        else
-          horizon_negative = max(horizon_negative, mix(low_negative, cosine, weight));
+        if (weight <= 0.0 || cosine <= highest) continue;
+        cosine = min(cosine, 1.0);
+        vec3 arc_to_sample = slice_arc(sign_of_side * acos(cosine), cosine, sign_of_side * sqrt(1.0 - cosine * cosine),
+                                       cos_n, sin_n);
+        occluded += weight * (arc_to_highest - arc_to_sample);
+        highest = cosine;
+        arc_to_highest = arc_to_sample;
       }
     }
-    // The horizons as angles from the view vector, kept within the hemisphere about n.
-    float h0 = -acos(clamp(horizon_negative, -1.0, 1.0)), h1 = acos(clamp(horizon_positive, -1.0, 1.0));
-    h0 = n + max(h0 - n, -HALF_PI);
-    h1 = n + min(h1 - n, HALF_PI);
-    float sin_n = sin(n);
-    // ∫ cos(θ - n)|sin θ| dθ from h0 to h1 (the cosine-weighted visible arc of the slice).
-    float arc0 = (cos_n + 2.0 * h0 * sin_n - cos(2.0 * h0 - n)) * 0.25;
-    float arc1 = (cos_n + 2.0 * h1 * sin_n - cos(2.0 * h1 - n)) * 0.25;
-    visibility += projected_length * (arc0 + arc1);
-    // The same arc with nothing in the way (h0, h1 = n ∓ π/2).
-    unoccluded += projected_length * (cos_n + n * sin_n);
-    // The arc's mean direction, in the slice's frame (along ortho_direction, along view_dir).
-    float along = (6.0 * sin(h0 - n) - sin(3.0 * h0 - n) + 6.0 * sin(h1 - n) - sin(3.0 * h1 - n) + 16.0 * sin_n -
-                   3.0 * (sin(h0 + n) + sin(h1 + n))) /
-                  12.0;
-    float toward = (-cos(3.0 * h0 - n) - cos(3.0 * h1 - n) + 8.0 * cos_n - 3.0 * (cos(h0 + n) + cos(h1 + n))) / 12.0;
+    vec3 visible = open - occluded;
+    visibility += projected_length * visible.x;
+    unoccluded += projected_length * open.x;
     // Less what the unoccluded arc gives (along 4/3 sin n, toward 2/3 cos n), so that, as for the
     // visibility, the slices' error cancels on an open surface (a control variate).
-    bent += projected_length * ((along - 4.0 / 3.0 * sin_n) * ortho_direction + (toward - 2.0 / 3.0 * cos_n) * view_dir);
+    bent += projected_length * ((visible.y - 4.0 / 3.0 * sin_n) * ortho_direction + (visible.z - 2.0 / 3.0 * cos_n) * view_dir);
   }
   // Over every angle φ, the unoccluded arcs average 1; over a few slices they do not, and their
   // ratio to it (rather than a plain mean that a clamp at 1 would bias) makes an open surface

@@ -4,8 +4,9 @@
 // half-angle asin(√a). Slice angles and step offsets follow interleaved gradient noise of the
 // pixel, shifted each frame, so that ao.temporal's history averages them; the position of a half
 // texel is its footprint's centre under the frame's jittered projection. A sample's weight falls
-// from 1 to 0 over the outer `falloff` share of the radius (Jimenez's and XeGTAO's falloff), and
-// the depth buffer is a height field: everything behind a visible surface is solid.
+// from 1 to 0 over the outer `falloff` share of the radius and scales the arc it hides (where
+// Jimenez and XeGTAO lower its horizon: docs/frame.md says why), and the depth buffer is a height
+// field: everything behind a visible surface is solid.
 // ao.filter and ao.temporal follow it (passes/ao/chain.h). Skipped with ao.enabled=0 (frame.md:
 // by settings only) and when nothing was drawn; skipped, ao.raw keeps its clear value, the zero
 // vector and visibility 1, which occludes nothing.

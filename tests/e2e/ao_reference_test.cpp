@@ -1,8 +1,9 @@
 // ao.bent after 8 still frames (ao.gtao → ao.filter → ao.temporal at their defaults) against Monte
 // Carlo ambient occlusion traced through the frame's depth buffer as a height field
 // (tests/reference/ao_reference.h), at 640×360 on the city block and the map's street shot.
-// Bound (accuracy.md): |visibility − Monte Carlo| mean ≤ 0.02 (the issue's), 99th percentile ≤ 0.2
-// (the issue asks 0.08, which the chain does not reach yet). Printed
+// Bound (accuracy.md): |visibility − Monte Carlo| mean ≤ 0.02 and 99th percentile ≤ 0.08 (the
+// issue's) on the city block; on the street the 99th percentile is held at 0.15, where the
+// chain does not reach 0.08 yet. Printed
 // beside it: ao.raw of the last frame; the angle between the bent normal and the Monte Carlo mean
 // unoccluded direction; and the same directions cast at the scene's triangles (SceneRays), what
 // a screen-space method cannot see, against both.
@@ -23,7 +24,8 @@ namespace NIGHTCAP_FILE_ID {
 namespace fs = std::filesystem;
 using reference::AoErrors;
 
-void expect_close_to_monte_carlo(const std::string& name, const std::string& scene, const Scene& geometry) {
+void expect_close_to_monte_carlo(const std::string& name, const std::string& scene, const Scene& geometry,
+                                 double percentile_99_bound) {
   const fs::path out = scratch("ao_reference") / name;
   const CliResult r =
       run_cli("render " + scene + " --size 640x360 --frames 8 --motion static --freeze -o " + quote(out));
@@ -74,17 +76,16 @@ void expect_close_to_monte_carlo(const std::string& name, const std::string& sce
       AoErrors::percentile(height_field_to_triangles.visibility, 0.99));
   ASSERT_GT(samples.size(), 500u);
   EXPECT_LE(AoErrors::mean(chain.visibility), 0.02);
-  // The issue's bound is 0.08: unmet (0.13 on the city block, 0.17 on the street, accuracy.md).
-  // This holds what there is.
-  EXPECT_LE(AoErrors::percentile(chain.visibility, 0.99), 0.2);
+  EXPECT_LE(AoErrors::percentile(chain.visibility, 0.99), percentile_99_bound);
 }
 
 TEST(AoReference, TheCityBlockIsWithinTheBoundOfMonteCarlo) {
-  expect_close_to_monte_carlo("city_block", "--city-block", build_city(1));
+  expect_close_to_monte_carlo("city_block", "--city-block", build_city(1), 0.08);
 }
 
 TEST(AoReference, TheMapsStreetShotIsWithinTheBoundOfMonteCarlo) {
-  expect_close_to_monte_carlo("street", "--shot street", build_map({1, 16.0, Shot::street}));
+  // The issue's 0.08 is unmet here (0.126, accuracy.md): this holds what there is.
+  expect_close_to_monte_carlo("street", "--shot street", build_map({1, 16.0, Shot::street}), 0.15);
 }
 
 }  // namespace NIGHTCAP_FILE_ID
