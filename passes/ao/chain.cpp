@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 
+#include "passes/ao/chain.glsl.h"
 #include "passes/ao/kinds.h"
 #include "passes/core/context.h"
 
@@ -62,7 +63,7 @@ PassDecl ao_chain_pass(std::string name) {
 ImageDecl ao_bent_image() {
   ImageDecl bent{VK_FORMAT_R8G8B8A8_UNORM, kinds::ao_bent};
   bent.size.mode = SizeRule::Mode::output_half;
-  bent.clear.color = {{128.0f / 255.0f, 128.0f / 255.0f, 128.0f / 255.0f, 1.0f}};  // the zero vector, unoccluded
+  bent.clear.color = {{kAoZeroComponent, kAoZeroComponent, kAoZeroComponent, 1.0f}};  // the zero vector, unoccluded
   return bent;
 }
 

@@ -130,10 +130,11 @@ void main() {
     if (projected_length < 1e-6) continue;  // the slice's plane is the surface's own
     float cos_n = clamp(dot(projected_normal, view_dir) / projected_length, -1.0, 1.0);
     float n = sign(dot(ortho_direction, projected_normal)) * acos(cos_n);
-    // Walking out from the pixel on either side, a sample above every nearer one is the first
-    // surface the directions between the previous highest horizon and its own pass behind: it
-    // hides that arc, by its weight (an occluder near the radius hides less of what lies behind
-    // it, as for the reference's rays). What no sample hides stays visible up to the tangent.
+    // Walking out from the pixel on either side, a sample within the radius above every nearer
+    // one is the first surface the directions between the previous highest horizon and its own
+    // pass behind: it hides that arc, by its weight (an occluder near the radius hides less of
+    // what lies behind it, as for the reference's rays). What no sample hides stays visible up
+    // to the tangent.
     float sin_n = sin(n);
     vec3 open = vec3(0.0), occluded = vec3(0.0);  // slice_arc's integrals, tangent to tangent and hidden
     for (int side = 0; side < 2; ++side) {

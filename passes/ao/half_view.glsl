@@ -2,6 +2,8 @@
 // drawn there, where its depth lies in view space and its normal. Include after
 // ../frame/camera.glsl (it reads `camera`) and ../depth/half_footprint.glsl.
 
+#include "chain.glsl.h"
+
 // A depth that marks a surface: positive and below the half's largest value, which the sky
 // clamps to (NaN fails both tests).
 bool drawn(float depth) { return depth > 0.0 && depth < 65504.0; }
@@ -31,10 +33,8 @@ vec2 half_position(vec2 pixel, ivec2 half_size) {
   return mix(pixel * 0.5, tail, greaterThan(pixel, before_last));
 }
 
-// What the chain stores where there is nothing to occlude, its images' clear value: the zero
-// vector's codes (128, as normals.packed stores it, not 0.5, which devices may round either way)
-// and visibility 1.
-const vec4 kNothingToOcclude = vec4(vec3(128.0 / 255.0), 1.0);
+// What the chain stores where there is nothing to occlude, its images' clear value (chain.glsl.h).
+const vec4 kNothingToOcclude = vec4(vec3(kAoZeroComponent), 1.0);
 
 // A world-space vector stored as 0.5·v + 0.5 in an 8-bit texel (normals.half, ao.bent), and
 // whether it is one: the zero vector (codes 128) marks a texel where nothing was drawn.

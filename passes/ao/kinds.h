@@ -1,4 +1,4 @@
-// The resource kinds of the ambient-occlusion passes (passes/core/resource_kind.h); passes/ao/bent.cpp
+// The resource kinds of the ambient-occlusion passes (passes/core/resource_kind.h); passes/ao/chain.cpp
 // registers how inspect and the report read them.
 #pragma once
 

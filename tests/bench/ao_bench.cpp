@@ -49,10 +49,7 @@ void bench_ao(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats) 
   street_on_off(gpu, scene, width, height, repeats, "ao", "ao_on_off_ratio", "ao");
 
   const nc::Scene still = nc::frozen(scene);
-  nc::RenderSettings settings;
-  settings.width = 640;
-  settings.height = 360;
-  settings.pass_timing.reset();  // each pass timed alone on a CPU device
+  const nc::RenderSettings settings = still_street_settings();
   const uint32_t frames = 8;
   struct Variant {
     std::string key;

@@ -113,6 +113,14 @@ void street_on_off(GpuDevice& gpu, const Scene& scene, uint32_t width, uint32_t 
   figure("frame_ms_street_" + key + "_off", cost.off_ms);
 }
 
+RenderSettings still_street_settings() {
+  RenderSettings settings;
+  settings.width = 640;
+  settings.height = 360;
+  settings.pass_timing.reset();
+  return settings;
+}
+
 double rgba16f_rms_difference(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, uint64_t texels) {
   double squares = 0;
   for (uint64_t t = 0; t < texels; ++t) {

@@ -60,6 +60,10 @@ OnOffMedians alternate_frames(GpuDevice& gpu, const Scene& scene, const RenderSe
 void street_on_off(GpuDevice& gpu, const Scene& scene, uint32_t width, uint32_t height, int repeats,
                    const std::string& group, const std::string& ratio_figure, const std::string& key);
 
+// The settings of a time-against-error table on the street shot (frozen, still camera): 640×360,
+// where the references are measured, each pass timed alone on a CPU device.
+RenderSettings still_street_settings();
+
 // The RMS over `texels` of the difference of two RGBA16F images (RGB only).
 double rgba16f_rms_difference(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, uint64_t texels);
 

@@ -29,10 +29,7 @@ void bench_taa(nc::GpuDevice& gpu, uint32_t width, uint32_t height, int repeats)
   street_on_off(gpu, scene, width, height, repeats, "taa", "taa_on_off_ratio", "taa");
 
   const nc::Scene still = nc::frozen(scene);
-  nc::RenderSettings settings;
-  settings.width = 640;
-  settings.height = 360;
-  settings.pass_timing.reset();  // each pass timed alone on a CPU device
+  const nc::RenderSettings settings = still_street_settings();
   const uint32_t frames = 32;
   const std::vector<uint8_t> reference = test::final_of_resolved(
       gpu, still, settings, frames - 1, nc::supersampled_lit(gpu, still, test::still_settings(settings, 1), 16));

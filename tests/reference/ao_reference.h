@@ -100,47 +100,58 @@ struct AoSample {
   glm::dvec3 point{0.0}, normal{0.0};
 };
 
-inline AoSample trace_ao(const AoFrame& f, uint32_t half_x, uint32_t half_y, glm::dvec3 point, glm::dvec3 normal_world,
-                         std::mt19937& random) {
-  const glm::dmat3 view_from_world(glm::dmat4(f.view.view));
-  const glm::dvec3 n = glm::normalize(view_from_world * normal_world);
+// Over the reference's 512 directions about unit normal `n` (cosine-weighted, one jittered within
+// each of 16 rings × 32 sectors, in a fixed order), the mean of `visibility_of(direction)` and the
+// mean unoccluded direction, the directions weighted by it (unnormalised).
+struct Hemisphere {
+  double visibility = 0;
+  glm::dvec3 direction{0.0};
+};
+template <class VisibilityOf>
+Hemisphere over_hemisphere(glm::dvec3 n, std::mt19937& random, VisibilityOf&& visibility_of) {
   const glm::dvec3 helper = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
   const glm::dvec3 tangent = glm::normalize(glm::cross(helper, n)), bitangent = glm::cross(n, tangent);
-  const glm::dvec2 centre = f.pixel_of(point);
   std::uniform_real_distribution<double> jitter(0.0, 1.0);
-  double visible = 0;
-  glm::dvec3 direction(0.0);
-  constexpr int kRings = 16, kSectors = 32, kSteps = 64;
+  constexpr int kRings = 16, kSectors = 32;
+  Hemisphere h;
   for (int i = 0; i < kRings; ++i)
     for (int j = 0; j < kSectors; ++j) {
       const double u = (i + jitter(random)) / kRings, phi = 2 * M_PI * (j + jitter(random)) / kSectors;
       const double s = std::sqrt(u);
       const glm::dvec3 ray = tangent * (s * std::cos(phi)) + bitangent * (s * std::sin(phi)) + n * std::sqrt(1 - u);
-      double ray_visibility = 1.0;
-      for (int k = 1; k <= kSteps; ++k) {
-        const double t = f.radius * k / kSteps;
-        const glm::dvec3 q = point + ray * t;
-        if (q.z >= -1e-3) break;  // behind the camera
-        const glm::dvec2 pixel = f.pixel_of(q);
-        if (pixel.x < 0 || pixel.y < 0 || pixel.x >= f.width || pixel.y >= f.height) break;
-        // Within one half texel of the point on screen nothing occludes it: ao.gtao's nearest
-        // sample is a half texel away, and the nearest texel's depth there is a step.
-        if (glm::length(pixel - centre) < 2.0) continue;
-        const double surface = f.depth_at(pixel);
-        if (-q.z <= surface * (1 + 1e-4)) continue;
-        // Behind the depth buffer: the occluder is the surface seen there, weighted by its distance.
-        const double weight = std::clamp(
-            (f.radius - glm::length(f.view_point(pixel, surface) - point)) / (f.falloff * f.radius), 0.0, 1.0);
-        if (weight > 0.0) {
-          ray_visibility = 1.0 - weight;
-          break;
-        }
-      }
-      visible += ray_visibility;
-      direction += ray_visibility * ray;
+      const double visibility = visibility_of(ray);
+      h.visibility += visibility;
+      h.direction += visibility * ray;
     }
-  return {half_x, half_y,      visible / (kRings * kSectors), glm::transpose(view_from_world) * direction,
-          point,  normal_world};
+  h.visibility /= kRings * kSectors;
+  return h;
+}
+
+inline AoSample trace_ao(const AoFrame& f, uint32_t half_x, uint32_t half_y, glm::dvec3 point, glm::dvec3 normal_world,
+                         std::mt19937& random) {
+  const glm::dmat3 view_from_world(glm::dmat4(f.view.view));
+  const glm::dvec2 centre = f.pixel_of(point);
+  const Hemisphere h = over_hemisphere(glm::normalize(view_from_world * normal_world), random, [&](glm::dvec3 ray) {
+    constexpr int kSteps = 64;
+    for (int k = 1; k <= kSteps; ++k) {
+      const glm::dvec3 q = point + ray * (f.radius * k / kSteps);
+      if (q.z >= -1e-3) break;  // behind the camera
+      const glm::dvec2 pixel = f.pixel_of(q);
+      if (pixel.x < 0 || pixel.y < 0 || pixel.x >= f.width || pixel.y >= f.height) break;
+      // Within one half texel of the point on screen nothing occludes it: ao.gtao's nearest
+      // sample is a half texel away, and the nearest texel's depth there is a step.
+      if (glm::length(pixel - centre) < 2.0) continue;
+      const double surface = f.depth_at(pixel);
+      if (-q.z <= surface * (1 + 1e-4)) continue;
+      // Behind the depth buffer: the occluder is the surface seen there, weighted by its distance;
+      // one beyond the radius hides nothing, and the ray goes on.
+      const double weight =
+          std::clamp((f.radius - glm::length(f.view_point(pixel, surface) - point)) / (f.falloff * f.radius), 0.0, 1.0);
+      if (weight > 0.0) return 1.0 - weight;
+    }
+    return 1.0;
+  });
+  return {half_x, half_y, h.visibility, glm::transpose(view_from_world) * h.direction, point, normal_world};
 }
 
 // The reference at every `stride`-th half texel (from 1, 1) where something was drawn and the
@@ -195,25 +206,13 @@ class SceneRays {
     const glm::dvec3 n = glm::normalize(sample.normal);
     const glm::dvec3 origin = world_from_view * sample.point + n * (0.01 + 0.002 * -sample.point.z);
     const std::vector<glm::dvec3> triangles = near(origin, f.radius);
-    const glm::dvec3 helper = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-    const glm::dvec3 tangent = glm::normalize(glm::cross(helper, n)), bitangent = glm::cross(n, tangent);
-    std::uniform_real_distribution<double> jitter(0.0, 1.0);
-    double visible = 0;
-    glm::dvec3 direction(0.0);
-    constexpr int kRings = 16, kSectors = 32;
-    for (int i = 0; i < kRings; ++i)
-      for (int j = 0; j < kSectors; ++j) {
-        const double u = (i + jitter(random)) / kRings, phi = 2 * M_PI * (j + jitter(random)) / kSectors;
-        const double s = std::sqrt(u);
-        const glm::dvec3 ray = tangent * (s * std::cos(phi)) + bitangent * (s * std::sin(phi)) + n * std::sqrt(1 - u);
-        double nearest = f.radius;
-        for (size_t t = 0; t < triangles.size(); t += 3)
-          nearest = std::min(nearest, hit(origin, ray, triangles[t], triangles[t + 1], triangles[t + 2]));
-        const double ray_visibility = 1.0 - std::clamp((f.radius - nearest) / (f.falloff * f.radius), 0.0, 1.0);
-        visible += ray_visibility;
-        direction += ray_visibility * ray;
-      }
-    return {sample.half_x, sample.half_y, visible / (kRings * kSectors), direction, sample.point, sample.normal};
+    const Hemisphere h = over_hemisphere(n, random, [&](glm::dvec3 ray) {
+      double nearest = f.radius;
+      for (size_t t = 0; t < triangles.size(); t += 3)
+        nearest = std::min(nearest, hit(origin, ray, triangles[t], triangles[t + 1], triangles[t + 2]));
+      return 1.0 - std::clamp((f.radius - nearest) / (f.falloff * f.radius), 0.0, 1.0);
+    });
+    return {sample.half_x, sample.half_y, h.visibility, h.direction, sample.point, sample.normal};
   }
 
  private:

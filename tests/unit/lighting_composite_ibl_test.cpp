@@ -157,10 +157,6 @@ class CompositeIbl : public GpuTest {
     dvec3 diffuse, specular, r;
     double roughness;
   };
-  static dvec3 expected(const Frame& f, uint32_t x, uint32_t y, bool multiple_scattering, double* n_v_out = nullptr) {
-    const Parts p = expected_parts(f, x, y, multiple_scattering, n_v_out);
-    return p.diffuse + p.specular;
-  }
   static Parts expected_parts(const Frame& f, uint32_t x, uint32_t y, bool multiple_scattering,
                               double* n_v_out = nullptr) {
     const size_t i = size_t(y) * kSide + x;
@@ -190,6 +186,23 @@ class CompositeIbl : public GpuTest {
         glm::normalize(glm::mix(normal, glm::reflect(-v, normal), smoothness * (std::sqrt(smoothness) + alpha)));
     return {albedo * (1.0 - double(m[0])) * (1.0 - single - multiple), single + multiple, r, double(m[1])};
   }
+  // check(x, y, parts) at every pixel of the sphere seen at n·v ≥ 0.3 (the split sum's domain,
+  // accuracy.md); how many there were.
+  template <class Check>
+  static int for_each_pixel_seen(const Frame& f, bool multiple_scattering, Check&& check) {
+    int checked = 0;
+    for (uint32_t y = 0; y < kSide; ++y)
+      for (uint32_t x = 0; x < kSide; ++x) {
+        double n_v;
+        if (!inside(x, y)) continue;
+        const Parts p = expected_parts(f, x, y, multiple_scattering, &n_v);
+        if (n_v < 0.3) continue;
+        check(x, y, p);
+        ++checked;
+        if (HasFatalFailure()) return checked;  // an ASSERT in `check` stops the loop, as in the test's own
+      }
+    return checked;
+  }
   // Pixels of the sphere whose 8 neighbours are on it too (the depth's normal is the sphere's).
   static bool inside(uint32_t x, uint32_t y) {
     for (int dy = -1; dy <= 1; ++dy)
@@ -218,22 +231,15 @@ TEST_F(CompositeIbl, IsTheSplitSumInDoublePerPixel) {
   for (const bool multiple : {true, false}) {
     const IsolatedRun result = composite(f, multiple);
     double worst = 0;
-    int checked = 0;
-    for (uint32_t y = 0; y < kSide; ++y)
-      for (uint32_t x = 0; x < kSide; ++x) {
-        double n_v;
-        if (!inside(x, y)) continue;
-        const dvec3 want = expected(f, x, y, multiple, &n_v);
-        if (n_v < 0.3) continue;
-        const dvec3 got = lit_at(result, x, y);
-        for (int c = 0; c < 3; ++c) {
-          const double relative = std::abs(got[c] - want[c]) / std::max(want[c], 1e-3);
-          worst = std::max(worst, relative);
-          ASSERT_LE(relative, 2e-3) << "pixel " << x << "," << y << " channel " << c << ": got " << got[c]
-                                    << ", expected " << want[c];
-        }
-        ++checked;
+    const int checked = for_each_pixel_seen(f, multiple, [&](uint32_t x, uint32_t y, const Parts& p) {
+      const dvec3 want = p.diffuse + p.specular, got = lit_at(result, x, y);
+      for (int c = 0; c < 3; ++c) {
+        const double relative = std::abs(got[c] - want[c]) / std::max(want[c], 1e-3);
+        worst = std::max(worst, relative);
+        ASSERT_LE(relative, 2e-3) << "pixel " << x << "," << y << " channel " << c << ": got " << got[c]
+                                  << ", expected " << want[c];
       }
+    });
     std::printf("composite image-based light (multiple scattering %s): %d pixels, largest relative error %.3g\n",
                 multiple ? "on" : "off", checked, worst);
     EXPECT_GT(checked, 2000);
@@ -248,19 +254,12 @@ TEST_F(CompositeIbl, WhiteFurnace) {
         return Material{{1023, 1023, 1023}, uint8_t(metal ? 255 : 0), roughness};
       });
       double with = 0, without = 0, predicted = 0;
-      int count = 0;
       const IsolatedRun compensated = composite(f, true), single = composite(f, false);
-      for (uint32_t y = 0; y < kSide; ++y)
-        for (uint32_t x = 0; x < kSide; ++x) {
-          double n_v;
-          if (!inside(x, y)) continue;
-          const double want = expected(f, x, y, false, &n_v).x;
-          if (n_v < 0.3) continue;
-          with += lit_at(compensated, x, y).x;
-          without += lit_at(single, x, y).x;
-          predicted += want;
-          ++count;
-        }
+      const int count = for_each_pixel_seen(f, false, [&](uint32_t x, uint32_t y, const Parts& p) {
+        with += lit_at(compensated, x, y).x;
+        without += lit_at(single, x, y).x;
+        predicted += p.diffuse.x + p.specular.x;
+      });
       with /= count;
       without /= count;
       predicted /= count;
@@ -315,32 +314,25 @@ TEST_F(CompositeIbl, TheAoConeOccludesTheSpecularItDoesNotContain) {
   const IsolatedRun result =
       composite(f, true, {{"ao.bent", image(VK_FORMAT_R8G8B8A8_UNORM, kinds::colour, kSide / 2, kSide / 2, ao)}});
   double worst = 0, least_share = 1, most_share = 0, worst_share = 0;
-  int checked = 0;
-  for (uint32_t y = 0; y < kSide; ++y)
-    for (uint32_t x = 0; x < kSide; ++x) {
-      double n_v;
-      if (!inside(x, y)) continue;
-      const Parts p = expected_parts(f, x, y, true, &n_v);
-      if (n_v < 0.3) continue;
-      const double alpha2 = std::pow(p.roughness, 4.0);
-      const double cos2 = (1.0 - std::sqrt(2.0) * alpha2) / (1.0 - alpha2);
-      const double lobe = cos2 <= 0 ? M_PI / 2 : std::min(2.0 * std::acos(std::sqrt(cos2)), M_PI / 2);
-      const double share = cone_inside(p.r, lobe, stored_bent, visible);
-      least_share = std::min(least_share, share);
-      most_share = std::max(most_share, share);
-      const dvec3 want = p.diffuse * visibility + p.specular * share;
-      const dvec3 got = lit_at(result, x, y);
-      for (int c = 0; c < 3; ++c) {
-        const double error = std::abs(got[c] - want[c]);
-        worst = std::max(worst, error / std::max(want[c], 1e-3));
-        if (p.specular[c] > 0.01)
-          worst_share = std::max(worst_share, std::max(0.0, error - 2e-3 * want[c]) / p.specular[c]);
-        ASSERT_LE(error, 2e-3 * want[c] + 0.01 * p.specular[c])
-            << "pixel " << x << "," << y << " channel " << c << ": got " << got[c] << ", expected " << want[c]
-            << " (specular share " << share << ")";
-      }
-      ++checked;
+  const int checked = for_each_pixel_seen(f, true, [&](uint32_t x, uint32_t y, const Parts& p) {
+    const double alpha2 = std::pow(p.roughness, 4.0);
+    const double cos2 = (1.0 - std::sqrt(2.0) * alpha2) / (1.0 - alpha2);
+    const double lobe = cos2 <= 0 ? M_PI / 2 : std::min(2.0 * std::acos(std::sqrt(cos2)), M_PI / 2);
+    const double share = cone_inside(p.r, lobe, stored_bent, visible);
+    least_share = std::min(least_share, share);
+    most_share = std::max(most_share, share);
+    const dvec3 want = p.diffuse * visibility + p.specular * share;
+    const dvec3 got = lit_at(result, x, y);
+    for (int c = 0; c < 3; ++c) {
+      const double error = std::abs(got[c] - want[c]);
+      worst = std::max(worst, error / std::max(want[c], 1e-3));
+      if (p.specular[c] > 0.01)
+        worst_share = std::max(worst_share, std::max(0.0, error - 2e-3 * want[c]) / p.specular[c]);
+      ASSERT_LE(error, 2e-3 * want[c] + 0.01 * p.specular[c])
+          << "pixel " << x << "," << y << " channel " << c << ": got " << got[c] << ", expected " << want[c]
+          << " (specular share " << share << ")";
     }
+  });
   std::printf("AO cone: %d pixels, specular shares %.3f…%.3f, largest relative error %.3g, of the share %.4f\n",
               checked, least_share, most_share, worst, worst_share);
   EXPECT_GT(checked, 2000);
