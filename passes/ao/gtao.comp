@@ -1,12 +1,12 @@
 #version 460
 // ao.gtao: ground-truth-based ambient occlusion (Jimenez et al. 2016) at half resolution, one
 // invocation per texel of depth.half. Each slice is a plane through the view vector at angle φ
-// on screen; along it, the steps on either side find the highest horizon (the largest cosine to
-// the view vector of the direction to a sample of depth.half), each sample weighted down to the
-// lowest horizon as its distance nears the radius; the cosine-weighted visible arc between the
-// two horizons, about the normal projected into the slice, is integrated in closed form, and so is
-// the mean direction of that arc (the bent normal). The visibility is the slices' visible arcs
-// over their unoccluded ones.
+// on screen; along it, the steps on either side raise the horizon (the largest cosine to the view
+// vector of the direction to a sample of depth.half), and each sample that raises it hides the
+// arc it adds, by its weight, which falls to 0 as its distance nears the radius. The
+// cosine-weighted arcs, about the normal projected into the slice, and their mean directions (the
+// bent normal) are integrated in closed form. The visibility is the slices' visible arcs over
+// their unoccluded ones.
 #include "../depth/half_footprint.glsl"
 #include "../frame/types.glsl"
 #include "gtao.glsl.h"
@@ -169,7 +169,8 @@ void main() {
     unoccluded += projected_length * open.x;
     // Less what the unoccluded arc gives (along 4/3 sin n, toward 2/3 cos n), so that, as for the
     // visibility, the slices' error cancels on an open surface (a control variate).
-    bent += projected_length * ((visible.y - 4.0 / 3.0 * sin_n) * ortho_direction + (visible.z - 2.0 / 3.0 * cos_n) * view_dir);
+    bent += projected_length *
+            ((visible.y - 4.0 / 3.0 * sin_n) * ortho_direction + (visible.z - 2.0 / 3.0 * cos_n) * view_dir);
   }
   // Over every angle φ, the unoccluded arcs average 1; over a few slices they do not, and their
   // ratio to it (rather than a plain mean that a clamp at 1 would bias) makes an open surface
