@@ -23,40 +23,47 @@ layout(push_constant) uniform GtaoConstants { NC_BLOCK_MEMBERS(NC_GTAO_CONSTANTS
 
 const float HALF_PI = 1.57079632679490;
 
-// The view-space point of depth.half at `position` (half-resolution texel units, a texel's centre
-// at i + 0.5), false where nothing was drawn there. On the slice's line exactly: a texel's centre
-// lies up to half a texel off it, and on a surface seen at a grazing angle that point would stand
-// above the surface's tangent in the slice and occlude it. Where the four texels around the
-// position lie on one plane (1/depth, linear on screen over a plane, untwisted across them, and
-// no step) the depth is interpolated so; elsewhere (an edge, a crease) the nearest texel's point
-// is taken, as XeGTAO does.
-bool surface_at(vec2 position, ivec2 size, out vec3 point) {
-  ivec2 nearest = ivec2(floor(position));
-  if (any(lessThan(nearest, ivec2(0))) || any(greaterThanEqual(nearest, size))) return false;
-  // The four texel centres around the position; within half a texel of the image's edge, the
-  // two nearest the edge and a weight outside [0, 1]: 1/depth extrapolates, exactly over a plane.
-  vec2 below = position - 0.5;
-  ivec2 first = clamp(ivec2(floor(below)), ivec2(0), max(size - 2, ivec2(0))), last = min(first + 1, size - 1);
-  vec2 f = below - vec2(first);
-  float d00 = texelFetch(half_depth, first, 0).r, d10 = texelFetch(half_depth, ivec2(last.x, first.y), 0).r;
-  float d01 = texelFetch(half_depth, ivec2(first.x, last.y), 0).r, d11 = texelFetch(half_depth, last, 0).r;
-  // An image one texel wide or high has no neighbour to interpolate toward.
-  if (all(greaterThan(size, ivec2(1))) && drawn(d00) && drawn(d10) && drawn(d01) && drawn(d11)) {
-    vec4 inverse = 1.0 / vec4(d00, d10, d01, d11);
-    float largest = max(max(inverse.x, inverse.y), max(inverse.z, inverse.w));
-    float smallest = min(min(inverse.x, inverse.y), min(inverse.z, inverse.w));
-    float twist = abs(inverse.x + inverse.w - inverse.y - inverse.z);
-    // A step between two surfaces is untwisted along its edge: the depths must also stay within
-    // a factor of two.
-    if (twist <= 0.01 * largest && largest <= 2.0 * smallest) {
-      float depth = 1.0 / mix(mix(inverse.x, inverse.y, f.x), mix(inverse.z, inverse.w, f.x), f.y);
-      point = view_point(position * 2.0, depth);
-      return true;
-    }
-  }
-  float depth = texelFetch(half_depth, nearest, 0).r;
+// The change of 1/depth per full-resolution pixel at `texel` (1/depth there: `at_texel`) along
+// `axis`, between footprint centres (the last texel of an odd size has its centre nearer): the
+// mean of the changes toward its two neighbours where they agree, as over a plane (1/depth is
+// linear on screen over a plane); the smaller where they do not, the larger being a silhouette;
+// the one there is at the image's edge or beside nothing drawn; 0 with neither.
+float inverse_depth_slope(ivec2 texel, ivec2 axis, float at_texel, ivec2 size) {
+  ivec2 next = texel + axis, previous = texel - axis;
+  float next_depth = all(lessThan(next, size)) ? texelFetch(half_depth, next, 0).r : 0.0;
+  float previous_depth = all(greaterThanEqual(previous, ivec2(0))) ? texelFetch(half_depth, previous, 0).r : 0.0;
+  bool has_next = drawn(next_depth), has_previous = drawn(previous_depth);
+  float centre = dot(footprint_centre(texel), vec2(axis));
+  float toward_next =
+      has_next ? (1.0 / next_depth - at_texel) / (dot(footprint_centre(next), vec2(axis)) - centre) : 0.0;
+  float from_previous =
+      has_previous ? (at_texel - 1.0 / previous_depth) / (centre - dot(footprint_centre(previous), vec2(axis))) : 0.0;
+  if (!has_next || !has_previous) return toward_next + from_previous;
+  // Within a quarter of the larger, or the half-float depths' rounding: one plane.
+  if (abs(toward_next - from_previous) <= 0.25 * max(abs(toward_next), abs(from_previous)) + 1e-3 * at_texel)
+    return 0.5 * (toward_next + from_previous);
+  return abs(toward_next) < abs(from_previous) ? toward_next : from_previous;
+}
+
+// The view-space point of depth.half at full-resolution position `pixel`, false where nothing
+// was drawn there: on the plane of the surface the texel it falls in shows (that texel's 1/depth
+// at its footprint's centre and its slope along each axis), evaluated at the position exactly.
+// A texel's centre lies up to half a texel off a slice's line, and on a surface seen at a grazing
+// angle that point would stand above the surface's tangent in the slice and occlude it.
+// Interpolating between the four texels around the position instead would raise a wall across a
+// silhouette between two surfaces, which hides what lies behind the nearer one.
+bool surface_at(vec2 pixel, ivec2 size, out vec3 point) {
+  if (any(lessThan(pixel, vec2(0.0))) || any(greaterThanEqual(pixel, camera.viewport.xy))) return false;
+  ivec2 texel = min(ivec2(floor(half_position(pixel, size))), size - 1);
+  float depth = texelFetch(half_depth, texel, 0).r;
   if (!drawn(depth)) return false;
-  point = view_point(footprint_centre(nearest), depth);
+  float at_texel = 1.0 / depth;
+  vec2 offset = pixel - footprint_centre(texel);
+  float inverse = at_texel + inverse_depth_slope(texel, ivec2(1, 0), at_texel, size) * offset.x +
+                  inverse_depth_slope(texel, ivec2(0, 1), at_texel, size) * offset.y;
+  // Half a texel along a slope steeper than the depth itself (a surface seen edge-on): the texel.
+  if (!(inverse > 0.5 * at_texel)) inverse = at_texel;
+  point = view_point(pixel, 1.0 / inverse);
   return true;
 }
 
@@ -115,7 +122,7 @@ void main() {
   float frame_offset = 5.588238 * float(frame.counts.y % 64u);
   float slice_noise = noise > 0.0 ? gradient_noise(vec2(texel) + frame_offset) : 0.0;
   float step_noise = noise > 0.0 ? gradient_noise(vec2(texel.y, texel.x) + 0.5 * frame_offset + 17.0) : 0.5;
-  vec2 centre = vec2(texel) + 0.5;
+  vec2 centre = footprint_centre(texel);  // full-resolution pixels, where `point` lies
   float visibility = 0.0, unoccluded = 0.0;
   vec3 bent = vec3(0.0);
   for (int s = 0; s < slices; ++s) {
@@ -149,7 +156,7 @@ void main() {
         float t = (float(j) + step_noise) / float(steps);
         float offset = max(t * t * screen_radius, 1.0);
         vec3 sample_point;
-        if (!surface_at(centre + sign_of_side * offset * screen_direction, size, sample_point)) continue;
+        if (!surface_at(centre + sign_of_side * 2.0 * offset * screen_direction, size, sample_point)) continue;
         vec3 to_sample = sample_point - point;
         float distance = length(to_sample);
         if (distance < 1e-6) continue;

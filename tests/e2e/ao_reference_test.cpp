@@ -84,7 +84,7 @@ TEST(AoReference, TheCityBlockIsWithinTheBoundOfMonteCarlo) {
 }
 
 TEST(AoReference, TheMapsStreetShotIsWithinTheBoundOfMonteCarlo) {
-  // The 0.08 is unmet here (0.126, accuracy.md): this holds what there is.
+  // The 0.08 is unmet here (0.123, accuracy.md): this holds what there is.
   expect_close_to_monte_carlo("street", "--shot street", build_map({1, 16.0, Shot::street}), 0.15);
 }
 
