@@ -1,12 +1,13 @@
 #version 460
 // ao.gtao: ground-truth-based ambient occlusion (Jimenez et al. 2016) at half resolution, one
 // invocation per texel of depth.half. Each slice is a plane through the view vector at angle φ
-// on screen; along it, the steps on either side raise the horizon (the largest cosine to the view
-// vector of the direction to a sample of depth.half), and each sample that raises it hides the
-// arc it adds, by its weight, which falls to 0 as its distance nears the radius. The
-// cosine-weighted arcs, about the normal projected into the slice, and their mean directions (the
-// bent normal) are integrated in closed form. The visibility is the slices' visible arcs over
-// their unoccluded ones.
+// on screen; along it, each step on either side samples depth.half, the front of a slab
+// `thickness` deep along its view ray (0: solid, as plain GTAO's height field), which hides the
+// arc between the directions to its front and its back; each direction is hidden by the first
+// sample that covers it, by that sample's weight, which falls to 0 as its distance nears the
+// radius. The cosine-weighted arcs, about the normal projected into the slice, and their mean
+// directions (the bent normal) are integrated in closed form. The visibility is the slices'
+// visible arcs over their unoccluded ones.
 #include "../depth/half_footprint.glsl"
 #include "../frame/types.glsl"
 #include "gtao.glsl.h"
@@ -20,20 +21,25 @@ layout(set = 0, binding = NC_BINDING(depth_half)) uniform sampler2D half_depth;
 layout(set = 0, binding = NC_BINDING(normals_half)) uniform sampler2D half_normals;
 layout(set = 0, binding = NC_BINDING(ao_raw), rgba8) uniform writeonly image2D bent_visibility;
 layout(push_constant) uniform GtaoConstants { NC_BLOCK_MEMBERS(NC_GTAO_CONSTANTS_FIELDS) };
+// Whether surfaces are `thickness` deep (thickness > 0), a variant of the pipeline: the slabs'
+// spans, compiled in where they are not needed, made the solid case 25% slower on lavapipe.
+layout(constant_id = 0) const bool SLABS = false;
 
 const float HALF_PI = 1.57079632679490;
+const float kEmptySpan = -2.0;  // below every cosine
 
-// The change of 1/depth per full-resolution pixel at `texel` (1/depth there: `at_texel`) along
-// `axis`, between footprint centres (the last texel of an odd size has its centre nearer): the
-// mean of the changes toward its two neighbours where they agree, as over a plane (1/depth is
-// linear on screen over a plane); the smaller where they do not, the larger being a silhouette;
-// the one there is at the image's edge or beside nothing drawn; 0 with neither.
-float inverse_depth_slope(ivec2 texel, ivec2 axis, float at_texel, ivec2 size) {
+// The change of 1/depth per full-resolution pixel at `texel` (1/depth there: `at_texel`; its
+// footprint's centre: `texel_centre`) along `axis`, between footprint centres (the last texel of
+// an odd size has its centre nearer): the mean of the changes toward its two neighbours where
+// they agree, as over a plane (1/depth is linear on screen over a plane); the smaller where they
+// do not, the larger being a silhouette; the one there is at the image's edge or beside nothing
+// drawn; 0 with neither.
+float inverse_depth_slope(ivec2 texel, vec2 texel_centre, ivec2 axis, float at_texel, ivec2 size) {
   ivec2 next = texel + axis, previous = texel - axis;
   float next_depth = all(lessThan(next, size)) ? texelFetch(half_depth, next, 0).r : 0.0;
   float previous_depth = all(greaterThanEqual(previous, ivec2(0))) ? texelFetch(half_depth, previous, 0).r : 0.0;
   bool has_next = drawn(next_depth), has_previous = drawn(previous_depth);
-  float centre = dot(footprint_centre(texel), vec2(axis));
+  float centre = dot(texel_centre, vec2(axis));
   float toward_next =
       has_next ? (1.0 / next_depth - at_texel) / (dot(footprint_centre(next), vec2(axis)) - centre) : 0.0;
   float from_previous =
@@ -58,9 +64,10 @@ bool surface_at(vec2 pixel, ivec2 size, out vec3 point) {
   float depth = texelFetch(half_depth, texel, 0).r;
   if (!drawn(depth)) return false;
   float at_texel = 1.0 / depth;
-  vec2 offset = pixel - footprint_centre(texel);
-  float inverse = at_texel + inverse_depth_slope(texel, ivec2(1, 0), at_texel, size) * offset.x +
-                  inverse_depth_slope(texel, ivec2(0, 1), at_texel, size) * offset.y;
+  vec2 texel_centre = footprint_centre(texel);
+  vec2 offset = pixel - texel_centre;
+  float inverse = at_texel + inverse_depth_slope(texel, texel_centre, ivec2(1, 0), at_texel, size) * offset.x +
+                  inverse_depth_slope(texel, texel_centre, ivec2(0, 1), at_texel, size) * offset.y;
   // Half a texel along a slope steeper than the depth itself (a surface seen edge-on): the texel.
   if (!(inverse > 0.5 * at_texel)) inverse = at_texel;
   point = view_point(pixel, 1.0 / inverse);
@@ -86,6 +93,11 @@ vec3 slice_arc(float h, float cos_h, float sin_h, float cos_n, float sin_n) {
   return vec3(arc, along, toward);
 }
 
+// slice_arc at angle `angle` (0 … π) from the view vector on side `side` (±1) of the slice.
+vec3 arc_on_side(float angle, float cos_angle, float side, float cos_n, float sin_n) {
+  return slice_arc(side * angle, cos_angle, side * sqrt(max(1.0 - cos_angle * cos_angle, 0.0)), cos_n, sin_n);
+}
+
 // Interleaved gradient noise (Jimenez 2014) in [0, 1).
 float gradient_noise(vec2 p) { return fract(52.9829189 * fract(dot(p, vec2(0.06711056, 0.00583715)))); }
 
@@ -94,6 +106,116 @@ void store(ivec2 texel, vec3 bent_world, float visibility) {
 }
 
 void store_nothing(ivec2 texel) { imageStore(bent_visibility, texel, kNothingToOcclude); }
+
+// A side of one slice as its steps walk it: from `centre` (full-resolution pixels, where `point`
+// lies) along `screen_direction`, out to `screen_radius` half pixels; the view vector; the cosine
+// and sine of the angle n from it to the normal projected into the slice.
+struct Walk {
+  vec2 centre, screen_direction;
+  vec3 point, view_dir;
+  float screen_radius, step_noise, side;  // side: 1 or −1
+  float cos_n, sin_n;
+  ivec2 size;
+};
+
+// The j-th sample of the walk: true, with its view-space point, the cosine of its direction to
+// the view vector and its weight, where it lies on a drawn surface within the radius.
+bool occluder(Walk w, int j, out vec3 sample_point, out float cosine, out float weight) {
+  // Quadratic spacing: more samples near the pixel, where occluders matter most.
+  float t = (float(j) + w.step_noise) / float(steps);
+  float offset = max(t * t * w.screen_radius, 1.0);
+  if (!surface_at(w.centre + w.side * 2.0 * offset * w.screen_direction, w.size, sample_point)) return false;
+  vec3 to_sample = sample_point - w.point;
+  float distance = length(to_sample);
+  if (distance < 1e-6) return false;
+  weight = clamp((radius - distance) / (falloff * radius), 0.0, 1.0);
+  cosine = min(dot(to_sample / distance, w.view_dir), 1.0);
+  return weight > 0.0;
+}
+
+// slice_arc at the direction of cosine `cosine` to the view vector on the walk's side.
+vec3 arc_at(Walk w, float cosine) { return arc_on_side(acos(cosine), cosine, w.side, w.cos_n, w.sin_n); }
+
+// What one side's samples hide (slice_arc's integrals, by their weights; `arc_to_tangent`: the
+// unoccluded side's) where everything behind a visible surface is solid: each sample above every
+// nearer one hides, by its weight, the directions between the previous highest horizon and its
+// own, the first surface they pass behind. Directions are held as their cosines to the view
+// vector, which fall from 1 there to ∓ sin n at the tangent.
+vec3 hidden_below_horizon(Walk w, vec3 arc_to_tangent) {
+  float horizon = -w.side * w.sin_n;
+  vec3 arc_to_horizon = arc_to_tangent, hidden = vec3(0.0);
+  for (int j = 0; j < steps; ++j) {
+    vec3 sample_point;
+    float cosine, weight;
+    if (!occluder(w, j, sample_point, cosine, weight) || cosine <= horizon) continue;
+    vec3 arc_to_sample = arc_at(w, cosine);
+    hidden += weight * (arc_to_horizon - arc_to_sample);
+    horizon = cosine;
+    arc_to_horizon = arc_to_sample;
+  }
+  return hidden;
+}
+
+// The same where each sample is the front of a slab `thickness` deep along its view ray, which
+// hides the directions between its front and its back: each direction is hidden by the first
+// sample that covers it, by that sample's weight, so a sample adds, by its weight, what its span
+// adds to the union of the spans before it. The slabs that reach the tangent make a horizon as
+// above; the spans above it are kept apart, in kGtaoSpanSlots slots (cosines from > to; an empty
+// slot's are below any cosine and meet nothing), with slice_arc at their ends.
+vec3 hidden_by_slabs(Walk w, vec3 arc_to_tangent) {
+  float horizon = -w.side * w.sin_n;
+  vec3 arc_to_horizon = arc_to_tangent, hidden = vec3(0.0);
+  float span_from[kGtaoSpanSlots], span_to[kGtaoSpanSlots];
+  vec3 arc_from[kGtaoSpanSlots], arc_to[kGtaoSpanSlots];
+  for (int i = 0; i < kGtaoSpanSlots; ++i) {
+    span_from[i] = kEmptySpan;
+    span_to[i] = kEmptySpan;
+  }
+  for (int j = 0; j < steps; ++j) {
+    vec3 sample_point;
+    float from, weight;
+    if (!occluder(w, j, sample_point, from, weight) || from <= horizon) continue;
+    vec3 back_point = sample_point * (1.0 + thickness / -sample_point.z);
+    float to = max(dot(normalize(back_point - w.point), w.view_dir), horizon);
+    bool reaches_horizon = to == horizon;
+    vec3 arc_at_from = arc_at(w, from);
+    vec3 arc_at_to = reaches_horizon ? arc_to_horizon : arc_at(w, to);
+    // Merge the span with those it meets.
+    vec3 merged_away = vec3(0.0);
+    for (int i = 0; i < kGtaoSpanSlots; ++i) {
+      if (span_to[i] > from || span_from[i] < to) continue;
+      merged_away += arc_to[i] - arc_from[i];
+      if (span_from[i] > from) {
+        from = span_from[i];
+        arc_at_from = arc_from[i];
+      }
+      if (span_to[i] < to) {
+        to = span_to[i];
+        arc_at_to = arc_to[i];
+      }
+      span_from[i] = kEmptySpan;
+      span_to[i] = kEmptySpan;
+    }
+    hidden += weight * (arc_at_to - arc_at_from - merged_away);
+    if (reaches_horizon) {
+      horizon = from;
+      arc_to_horizon = arc_at_from;
+      continue;
+    }
+    // Into an empty slot; with none left, into the last, whose span is then forgotten (which
+    // takes more than kGtaoSpanSlots disjoint spans on one side).
+    bool placed = false;
+    for (int i = 0; i < kGtaoSpanSlots; ++i) {
+      if (placed || !(span_from[i] == kEmptySpan || i == kGtaoSpanSlots - 1)) continue;
+      span_from[i] = from;
+      span_to[i] = to;
+      arc_from[i] = arc_at_from;
+      arc_to[i] = arc_at_to;
+      placed = true;
+    }
+  }
+  return hidden;
+}
 
 void main() {
   ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
@@ -108,7 +230,8 @@ void main() {
   }
   mat3 view_from_world = mat3(camera.view);
   vec3 normal = normalize(view_from_world * normalize(stored));
-  vec3 point = view_point(footprint_centre(texel), depth);
+  vec2 centre = footprint_centre(texel);  // full-resolution pixels
+  vec3 point = view_point(centre, depth);
   vec3 view_dir = normalize(-point);
 
   // The radius on screen, in half-resolution pixels: metres × pixels per metre at this depth.
@@ -122,7 +245,6 @@ void main() {
   float frame_offset = 5.588238 * float(frame.counts.y % 64u);
   float slice_noise = noise > 0.0 ? gradient_noise(vec2(texel) + frame_offset) : 0.0;
   float step_noise = noise > 0.0 ? gradient_noise(vec2(texel.y, texel.x) + 0.5 * frame_offset + 17.0) : 0.5;
-  vec2 centre = footprint_centre(texel);  // full-resolution pixels, where `point` lies
   float visibility = 0.0, unoccluded = 0.0;
   vec3 bent = vec3(0.0);
   for (int s = 0; s < slices; ++s) {
@@ -137,39 +259,21 @@ void main() {
     if (projected_length < 1e-6) continue;  // the slice's plane is the surface's own
     float cos_n = clamp(dot(projected_normal, view_dir) / projected_length, -1.0, 1.0);
     float n = sign(dot(ortho_direction, projected_normal)) * acos(cos_n);
-    // Walking out from the pixel on either side, a sample within the radius above every nearer
-    // one is the first surface the directions between the previous highest horizon and its own
-    // pass behind: it hides that arc, by its weight (an occluder near the radius hides less of
-    // what lies behind it, as for the reference's rays). What no sample hides stays visible up
-    // to the tangent.
+    // Walking out from the pixel on either side, each sample within the radius hides directions
+    // of the slice, by its weight (an occluder near the radius hides less of what lies behind it,
+    // as for the reference's rays). What no sample hides stays visible up to the tangent.
     float sin_n = sin(n);
     vec3 open = vec3(0.0), occluded = vec3(0.0);  // slice_arc's integrals, tangent to tangent and hidden
     for (int side = 0; side < 2; ++side) {
-      float sign_of_side = side == 0 ? 1.0 : -1.0;
-      // The highest horizon so far, starting at the tangent (angle n ± π/2: cosine ∓ sin n, sine
-      // ± cos n), and slice_arc there.
-      float highest = -sign_of_side * sin_n;
-      vec3 arc_to_highest = slice_arc(n + sign_of_side * HALF_PI, highest, sign_of_side * cos_n, cos_n, sin_n);
-      open += arc_to_highest;
-      for (int j = 0; j < steps; ++j) {
-        // Quadratic spacing: more samples near the pixel, where occluders matter most.
-        float t = (float(j) + step_noise) / float(steps);
-        float offset = max(t * t * screen_radius, 1.0);
-        vec3 sample_point;
-        if (!surface_at(centre + sign_of_side * 2.0 * offset * screen_direction, size, sample_point)) continue;
-        vec3 to_sample = sample_point - point;
-        float distance = length(to_sample);
-        if (distance < 1e-6) continue;
-        float weight = clamp((radius - distance) / (falloff * radius), 0.0, 1.0);
-        float cosine = dot(to_sample / distance, view_dir);
-        if (weight <= 0.0 || cosine <= highest) continue;
-        cosine = min(cosine, 1.0);
-        vec3 arc_to_sample = slice_arc(sign_of_side * acos(cosine), cosine, sign_of_side * sqrt(1.0 - cosine * cosine),
-                                       cos_n, sin_n);
-        occluded += weight * (arc_to_highest - arc_to_sample);
-        highest = cosine;
-        arc_to_highest = arc_to_sample;
-      }
+      Walk w = Walk(centre, screen_direction, point, view_dir, screen_radius, step_noise, side == 0 ? 1.0 : -1.0,
+                    cos_n, sin_n, size);
+      // On this side the tangent lies at π/2 ± n from the view vector, of cosine ∓ sin n.
+      vec3 arc_to_tangent = arc_on_side(HALF_PI + w.side * n, -w.side * sin_n, w.side, cos_n, sin_n);
+      open += arc_to_tangent;
+      if (SLABS)
+        occluded += hidden_by_slabs(w, arc_to_tangent);
+      else
+        occluded += hidden_below_horizon(w, arc_to_tangent);
     }
     vec3 visible = open - occluded;
     visibility += projected_length * visible.x;

@@ -6,7 +6,7 @@
 // texel is its footprint's centre under the frame's jittered projection. A sample's weight falls
 // from 1 to 0 over the outer `falloff` share of the radius and scales the arc it hides (where
 // Jimenez and XeGTAO lower its horizon: docs/frame.md says why), and the depth buffer is a height
-// field: everything behind a visible surface is solid.
+// field of slabs `thickness` deep (at the default, everything behind a visible surface is solid).
 // ao.filter and ao.temporal follow it (passes/ao/chain.h). Skipped with ao.enabled=0 (frame.md:
 // by settings only) and when nothing was drawn; skipped, ao.raw keeps its clear value, the zero
 // vector and visibility 1, which occludes nothing.
@@ -30,6 +30,10 @@ PassDecl ao_gtao_pass() {
                    "outer share of the radius over which an occluder's weight falls from 1 to 0")
       .param_float("max_pixels", 64.0, 1.0, 1024.0, "the most half-resolution pixels the search reaches")
       // The defaults are on the benchmark's front of time against error (docs/benchmark.md).
+      // Solid: slabs make the city's error against its triangles larger (docs/frame.md).
+      .param_float("thickness", 0.0, 0.0, 1000.0,
+                   "metres behind a visible surface that count as solid, the rest being open; 0: all of it "
+                   "(plain GTAO's horizon)")
       .param_int("slices", 2, 1, kGtaoMaxSlices, "directions searched per pixel")
       .param_int("steps", 8, 1, kGtaoMaxSteps, "horizon samples per side of each direction")
       .param_int("noise", 1, 0, 1,
@@ -38,11 +42,12 @@ PassDecl ao_gtao_pass() {
       .shader("ao/gtao.comp")
       .push_constants<GtaoConstants>()
       .run([](PassContext& ctx) {
-        ctx.bind_pipeline();
+        ctx.bind_pipeline({int32_t(ctx.param_float("thickness") > 0.0)});
         ctx.push_declared();
         ctx.push_constants(GtaoConstants{float(ctx.param_float("radius")), float(ctx.param_float("falloff")),
                                          float(ctx.param_float("max_pixels")), float(ctx.param_int("noise")),
-                                         int32_t(ctx.param_int("slices")), int32_t(ctx.param_int("steps"))});
+                                         float(ctx.param_float("thickness")), int32_t(ctx.param_int("slices")),
+                                         int32_t(ctx.param_int("steps"))});
         const ImageExtent half = ctx.desc("ao.raw").extent;
         vkCmdDispatch(ctx.cmd(), group_count(half.width, kGtaoGroupSide), group_count(half.height, kGtaoGroupSide), 1);
       });

@@ -10,6 +10,8 @@ NC_CONST(uint, kGtaoGroupSide, 8u)
 // The most slices and steps a pixel may take (the parameters' ranges).
 NC_CONST(int, kGtaoMaxSlices, 16)
 NC_CONST(int, kGtaoMaxSteps, 32)
+// The disjoint spans one side of a slice keeps above its horizon (docs/frame.md).
+NC_CONST(int, kGtaoSpanSlots, 8)
 
 #define NC_GTAO_CONSTANTS_FIELDS(F, A, P)                                                  \
   /* the world-space radius of the search, metres */                                       \
@@ -21,6 +23,8 @@ NC_CONST(int, kGtaoMaxSteps, 32)
   /* 1: the slices' angles and the steps' offsets follow interleaved gradient noise of the \
      pixel and the frame; 0: every pixel the same (fixed angles, mid-step offsets) */      \
   F(float, noise)                                                                          \
+  /* metres behind a visible surface that count as solid, the rest open; 0: all of it */   \
+  F(float, thickness)                                                                      \
   /* directions (slices) and horizon samples per side of each slice */                     \
   F(int, slices)                                                                           \
   F(int, steps)

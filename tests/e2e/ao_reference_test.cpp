@@ -43,6 +43,7 @@ void expect_close_to_monte_carlo(const std::string& name, const std::string& sce
   f.half_normals = decoded_output(capture, frame, "normals.half", "normals.half");
   f.radius = pass_named(frame, "ao.gtao").params.at("radius");
   f.falloff = pass_named(frame, "ao.gtao").params.at("falloff");
+  f.thickness = reference::AoFrame::slab_depth(pass_named(frame, "ao.gtao").params.at("thickness"));
   const std::vector<reference::AoSample> samples = reference::monte_carlo_ao(f);
   const AoErrors chain = reference::ao_errors(f, samples, decoded_output(capture, frame, "ao.temporal", "ao.bent"));
   const AoErrors raw = reference::ao_errors(f, samples, decoded_output(capture, frame, "ao.gtao", "ao.raw"));

@@ -1,9 +1,9 @@
 // The AO chain in the city frame, on by default: ao.gtao → ao.filter → ao.temporal run; over
 // still frames each replays from its record (ao.temporal with its history, ao.history and
-// depth.half of the frame before) bit for bit; `inspect pixel` decodes the visibility, cone and
-// bent normal of ao.bent and the frames of ao.history; the composite, which reads ao.bent, differs
-// from a frame with `--set ao.enabled=0`, where all three are skipped as disabled and the G-buffer
-// is the same.
+// depth.half of the frame before) bit for bit, and ao.gtao with slabs (a positive thickness)
+// too; `inspect pixel` decodes the visibility, cone and bent normal of ao.bent and the frames of
+// ao.history; the composite, which reads ao.bent, differs from a frame with `--set
+// ao.enabled=0`, where all three are skipped as disabled and the G-buffer is the same.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -44,6 +44,13 @@ TEST(Ao, TheChainRunsReplaysWithItsHistoryAndInspectDecodesIt) {
 
   r = run_cli("replay --verify --pass ao.gtao --pass ao.filter --pass ao.temporal --pass lighting.composite " +
               quote(on));
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  // ao.gtao's other pipeline, slabs of a positive thickness, replays bit for bit too.
+  const fs::path slabs = dir / "slabs";
+  r = run_cli("render --city-block --size 320x180 --frames 2 --motion static --freeze --set ao.gtao.thickness=0.5 -o " +
+              quote(slabs));
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run_cli("replay --verify --pass ao.gtao " + quote(slabs));
   EXPECT_EQ(r.code, 0) << r.out << r.err;
 
   // A pixel of the street in the third still frame: its visibility, the cone that visibility

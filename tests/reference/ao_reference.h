@@ -6,10 +6,11 @@
 // resolution; 1/depth interpolated between the four texels around a position where it runs on
 // across them as over a plane, untwisted and without a step that stands out from the texels
 // beyond, the nearest texel elsewhere).
-// The thickness rule is ao.gtao's: where the ray passes behind the depth buffer, the occluder is
-// the surface seen there, and it counts by that surface's distance d from the point, the ray
-// being visible by 1 − clamp((radius − d)/(falloff · radius), 0, 1) at the first such surface
-// within the radius (a surface farther away, in front of the point, hides nothing behind it);
+// The thickness rule is ao.gtao's: where the ray passes behind the depth buffer by at most
+// `thickness` (in depth), the occluder is the surface seen there, and it counts by that surface's
+// distance d from the point, the ray being visible by 1 − clamp((radius − d)/(falloff · radius),
+// 0, 1) at the first such surface within the radius (a surface farther away, in front of the
+// point, hides nothing behind it; farther behind a surface than `thickness`, the ray goes on);
 // nothing within a half texel (2 pixels) of the point on screen occludes it, as ao.gtao's nearest
 // sample is a half texel away; a ray that leaves the screen is visible. Rays cast at the scene's
 // triangles (SceneRays) measure what the depth buffer cannot show.
@@ -29,12 +30,15 @@
 namespace nightcap::reference {
 
 // What the reference reads of one frame: the camera's view, depth.linear (one float a texel),
-// depth.half (one), normals.half (four, 0…1) and ao.gtao's radius and falloff.
+// depth.half (one), normals.half (four, 0…1) and ao.gtao's radius, falloff and thickness.
 struct AoFrame {
   GpuView view{};
   uint32_t width = 0, height = 0;
   std::vector<float> depth, half_depth, half_normals;
-  double radius = 0, falloff = 0;
+  double radius = 0, falloff = 0, thickness = INFINITY;
+
+  // ao.gtao's `thickness` as the depth of its slabs: 0 means solid.
+  static double slab_depth(double thickness_param) { return thickness_param > 0 ? thickness_param : INFINITY; }
 
   uint32_t half_width() const { return (width + 1) / 2; }
   uint32_t half_height() const { return (height + 1) / 2; }
@@ -143,6 +147,7 @@ inline AoSample trace_ao(const AoFrame& f, uint32_t half_x, uint32_t half_y, glm
       if (glm::length(pixel - centre) < 2.0) continue;
       const double surface = f.depth_at(pixel);
       if (-q.z <= surface * (1 + 1e-4)) continue;
+      if (-q.z > surface + f.thickness) continue;  // behind the surface's slab: open
       // Behind the depth buffer: the occluder is the surface seen there, weighted by its distance;
       // one beyond the radius hides nothing, and the ray goes on.
       const double weight =

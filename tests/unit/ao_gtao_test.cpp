@@ -9,8 +9,13 @@
 //   the falloff's start (so 0.508 ± 0.008). The radius is 20 m and the search may reach 512
 //   pixels: the wall must be near against the radius, and on screen. The mean bent normal is
 //   within 5° on average (15° at most) of the half hemisphere's mean direction;
+// - a sphere of radius r over the street hides (r/D)²·cos α of a street point's cosine-weighted
+//   hemisphere, D being the distance to its centre and α its angle from the normal ((r/d)² below
+//   its centre, d its height), with the slabs as deep as r: with everything behind a surface
+//   solid the sphere would hide all that lies behind it. The radius and falloff keep the whole
+//   sphere at full weight; 16 slices × 32 steps, 640×360;
 // - the sky and bad depths: visibility exactly 1 (code 255) where nothing was drawn and where the
-//   depth is NaN, 0 or 65504.
+//   depth is NaN, 0 or 65504, with everything behind a surface solid and with slabs 0.5 m deep.
 // Bound (accuracy.md): over the texels of each case, mean |error| ≤ 0.02 and the largest ≤ 0.08.
 #include <cmath>
 #include <cstring>
@@ -64,6 +69,9 @@ class AoGtao : public GpuTest {
     return mean;
   }
 };
+
+// ao.gtao's two pipelines: everything behind a surface solid (the default), and slabs.
+constexpr double kSolidAndSlabs[] = {0.0, 0.5};
 
 struct Errors {
   double sum = 0, worst = 0;
@@ -137,6 +145,32 @@ TEST_F(AoGtao, APointAtTheFootOfAWallSeesHalfItsHemisphere) {
   EXPECT_LE(bend.worst, 15.0);
 }
 
+TEST_F(AoGtao, ASphereOverAPatchHidesTheCosineWeightedSolidAngleItSubtends) {
+  // A sphere of radius r, its centre d above the street, seen from 3 m up and 4 m away.
+  const double r = 0.4, d = 1.0;
+  const glm::dvec3 centre(0, d, -4);
+  const Synthetic s = cast(640, 360, {0, 3, 0}, {0, -3, -4}, {{{0, 1, 0}, 0.0}}, {{centre, r}});
+  // The sphere's farthest point is 1.52 m from a point within d/2 of the one below its centre,
+  // under the 2.475 m where the weight starts to fall.
+  const ParamValues params = {{"radius", 2.5}, {"falloff", 0.01}, {"thickness", r}, {"slices", 16}, {"steps", 32}};
+  const Mean mean = mean_of_frames(s, params);
+  Errors visibility;
+  for (size_t i = 0; i < s.hits.size(); ++i) {
+    if (!s.hits[i] || s.hits[i]->y > 1e-6) continue;
+    const glm::dvec3 to_centre = centre - *s.hits[i];
+    if (glm::length(glm::dvec2(to_centre.x, to_centre.z)) > 0.5 * d) continue;
+    const double distance = glm::length(to_centre);
+    visibility.add(mean.visibility[i] - (1 - r * r / (distance * distance) * (to_centre.y / distance)));
+  }
+  std::printf(
+      "sphere over a patch: %zu street texels within d/2 of the point below its centre (there 1 - (r/d)^2 = "
+      "%.2f): 8 frames' mean visibility, mean |error| %.4f, largest %.4f\n",
+      visibility.count, 1 - r * r / (d * d), visibility.mean(), visibility.worst);
+  ASSERT_GT(visibility.count, 100u);
+  EXPECT_LE(visibility.mean(), 0.02);
+  EXPECT_LE(visibility.worst, 0.08);
+}
+
 TEST_F(AoGtao, NothingDrawnAndNonFiniteDepthsOccludeNothing) {
   Synthetic s = cast(64, 36, {0, 1.7, 0}, {0, -0.4, -1}, {{{0, 1, 0}, 0.0}});
   // Half row 12: NaN, 0 and 65504 depths on the street.
@@ -145,36 +179,42 @@ TEST_F(AoGtao, NothingDrawnAndNonFiniteDepthsOccludeNothing) {
     const size_t i = size_t(12) * s.half_width() + x;
     std::memcpy(s.depth.data() + i * 2, &bad[x % 3], 2);
   }
-  const std::vector<uint8_t> out = resolve(s, {}, 0);
-  for (size_t i = 0; i < s.hits.size(); ++i) {
-    const bool row = i / s.half_width() == 12;
-    if (s.hits[i] && !row) continue;
-    EXPECT_EQ(out[i * 4 + 3], 255) << "half texel " << i;
+  for (const double thickness : kSolidAndSlabs) {
+    const std::vector<uint8_t> out = resolve(s, {{"thickness", thickness}}, 0);
+    for (size_t i = 0; i < s.hits.size(); ++i) {
+      const bool row = i / s.half_width() == 12;
+      if (s.hits[i] && !row) continue;
+      EXPECT_EQ(out[i * 4 + 3], 255) << "thickness " << thickness << ", half texel " << i;
+    }
+    for (size_t i = 0; i < out.size(); i += 4) EXPECT_GT(out[i + 3], 0) << "thickness " << thickness << ", " << i / 4;
   }
-  for (size_t i = 0; i < out.size(); i += 4) EXPECT_GT(out[i + 3], 0) << "half texel " << i / 4;
 }
 
 // Stress: outputs of 1×1 and 7×5 of a street, and a wall 1 m away below eye level in front of one
 // 1 km away (a depth discontinuity of 1 km): the far wall's samples lie beyond the near wall's
 // radius and the other way round, so every texel stays unoccluded; every visibility is in
 // [0, 1] by its format, so what is checked is that nothing is invented: at most 2% of occlusion
-// (allowed at the near wall's edge).
+// (allowed at the near wall's edge); with everything behind a surface solid and with slabs.
 TEST_F(AoGtao, TinyOutputsAndAKilometreDiscontinuityInventNoOcclusion) {
-  for (const auto& [width, height] : {std::pair{1u, 1u}, std::pair{7u, 5u}}) {
-    const Synthetic s = cast(width, height, {0, 1.7, 0}, {0, -1, -1}, {{{0, 1, 0}, 0.0}});
-    const std::vector<uint8_t> out = resolve(s, {}, 0);
-    for (size_t i = 0; i < s.hits.size(); ++i) EXPECT_EQ(out[i * 4 + 3], 255) << width << "x" << height << " " << i;
+  for (const double thickness : kSolidAndSlabs) {
+    const ParamValues params = {{"thickness", thickness}};
+    for (const auto& [width, height] : {std::pair{1u, 1u}, std::pair{7u, 5u}}) {
+      const Synthetic s = cast(width, height, {0, 1.7, 0}, {0, -1, -1}, {{{0, 1, 0}, 0.0}});
+      const std::vector<uint8_t> out = resolve(s, params, 0);
+      for (size_t i = 0; i < s.hits.size(); ++i)
+        EXPECT_EQ(out[i * 4 + 3], 255) << "thickness " << thickness << ", " << width << "x" << height << " " << i;
+    }
+    // Looking ahead: below eye level a wall 1 m away, above it another 1 km away.
+    const Synthetic s = cast(160, 90, {0, 1.7, 0}, {0, 0, -1}, {{{0, 0, 1}, -1.0, 1.7}, {{0, 0, 1}, -1000.0}});
+    const std::vector<uint8_t> out = resolve(s, params, 0);
+    size_t far = 0;
+    for (size_t i = 0; i < s.hits.size(); ++i) {
+      ASSERT_TRUE(s.hits[i]);
+      far += s.hits[i]->z < -999.0;
+      EXPECT_GE(out[i * 4 + 3], 250) << "thickness " << thickness << ", half texel " << i;
+    }
+    EXPECT_GT(far, 100u);
   }
-  // Looking ahead: below eye level a wall 1 m away, above it another 1 km away.
-  const Synthetic s = cast(160, 90, {0, 1.7, 0}, {0, 0, -1}, {{{0, 0, 1}, -1.0, 1.7}, {{0, 0, 1}, -1000.0}});
-  const std::vector<uint8_t> out = resolve(s, {}, 0);
-  size_t far = 0;
-  for (size_t i = 0; i < s.hits.size(); ++i) {
-    ASSERT_TRUE(s.hits[i]);
-    far += s.hits[i]->z < -999.0;
-    EXPECT_GE(out[i * 4 + 3], 250) << "half texel " << i;
-  }
-  EXPECT_GT(far, 100u);
 }
 
 }  // namespace NIGHTCAP_FILE_ID

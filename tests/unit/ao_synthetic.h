@@ -1,4 +1,5 @@
-// Half-resolution inputs of the ambient-occlusion passes ray-cast on the CPU from planes: each
+// Half-resolution inputs of the ambient-occlusion passes ray-cast on the CPU from planes and
+// spheres: each
 // half texel's depth (depth.half) and normal (normals.half) where the ray through its footprint's
 // centre meets the nearest plane, as ao.gtao places the texel, and the world point it hit.
 #pragma once
@@ -23,7 +24,12 @@ struct Plane {
   double top = INFINITY;  // nothing of it above this height
 };
 
-// A half-resolution frame of planes seen from `eye`, looking along `forward`.
+struct Sphere {
+  glm::dvec3 centre;
+  double radius;
+};
+
+// A half-resolution frame of planes and spheres seen from `eye`, looking along `forward`.
 struct Synthetic {
   uint32_t width, height;  // the output (full) size
   GpuView view{};
@@ -35,7 +41,7 @@ struct Synthetic {
 };
 
 inline Synthetic cast(uint32_t width, uint32_t height, glm::dvec3 eye, glm::dvec3 forward,
-                      const std::vector<Plane>& planes) {
+                      const std::vector<Plane>& planes, const std::vector<Sphere>& spheres = {}) {
   Synthetic s;
   s.width = width;
   s.height = height;
@@ -67,6 +73,18 @@ inline Synthetic cast(uint32_t width, uint32_t height, glm::dvec3 eye, glm::dvec
         if (t > 0 && t < nearest && facing < 0 && (eye + ray * t).y <= p.top) {
           nearest = t;
           normal = p.normal;
+        }
+      }
+      for (const Sphere& sphere : spheres) {
+        // |eye + t·ray − centre|² = radius²: the nearer root, where the ray enters.
+        const glm::dvec3 from_centre = eye - sphere.centre;
+        const double b = glm::dot(ray, from_centre);
+        const double discriminant = b * b - glm::dot(from_centre, from_centre) + sphere.radius * sphere.radius;
+        if (discriminant < 0) continue;
+        const double t = -b - std::sqrt(discriminant);
+        if (t > 0 && t < nearest) {
+          nearest = t;
+          normal = glm::normalize(eye + ray * t - sphere.centre);
         }
       }
       const bool hit = std::isfinite(nearest);
