@@ -42,16 +42,26 @@ const KindRegistration kAoBent({
     .draw = draw_visibility,
 });
 
+// The frames an ao.history texel averages: the length of its rgb.
+double history_frames(const TexelValues& t) {
+  return std::sqrt(t.raw[0] * t.raw[0] + t.raw[1] * t.raw[1] + t.raw[2] * t.raw[2]);
+}
+
 const KindRegistration kAoHistory({
     .kind = kinds::ao_history,
     .describe =
         [](const TexelValues& t, const KindFrame&, nlohmann::ordered_json& out) {
           describe_visibility(t.raw[3], out);
-          const double frames = std::sqrt(t.raw[0] * t.raw[0] + t.raw[1] * t.raw[1] + t.raw[2] * t.raw[2]);
-          out["frames"] = frames;
+          out["frames"] = history_frames(t);
           out["bent_normal"] = direction({t.raw[0], t.raw[1], t.raw[2]}, 0.5);
         },
-    .draw = draw_visibility,
+    // A texel of no frames (nothing drawn there) stores visibility 0, which is no value rather
+    // than full occlusion: white, as ao.bent shows nothing drawn.
+    .draw =
+        [](const TexelValues& t, const KindFrame& frame) {
+          return history_frames(t) < 0.5 ? TexelPicture{TexelPicture::Scale::display, {1.0, 1.0, 1.0}}
+                                         : draw_visibility(t, frame);
+        },
 });
 
 }  // namespace
