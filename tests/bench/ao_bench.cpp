@@ -1,5 +1,6 @@
-// ao: what the AO chain costs in the street frame, and time against error for its slices, steps
-// and filter against Monte Carlo AO through the depth buffer (tests/reference/ao_reference.h).
+// ao: what the AO chain costs in the street frame, and time against error for its slices, steps,
+// filter and the frame's size against Monte Carlo AO through the depth buffer
+// (tests/reference/ao_reference.h).
 #include <cmath>
 #include <cstring>
 #include <deque>

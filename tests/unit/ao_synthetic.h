@@ -1,7 +1,7 @@
 // Half-resolution inputs of the ambient-occlusion passes ray-cast on the CPU from planes and
-// spheres: each
-// half texel's depth (depth.half) and normal (normals.half) where the ray through its footprint's
-// centre meets the nearest plane, as ao.gtao places the texel, and the world point it hit.
+// spheres: each half texel's depth (depth.half) and normal (normals.half) where the ray through its
+// footprint's centre meets the nearest of them, as ao.gtao places the texel, and the world point
+// it hit.
 #pragma once
 
 #include <glm/glm.hpp>
