@@ -29,11 +29,11 @@ PassDecl ao_gtao_pass() {
       .param_float("falloff", 0.6, 0.01, 1.0,
                    "outer share of the radius over which an occluder's weight falls from 1 to 0")
       .param_float("max_pixels", 64.0, 1.0, 1024.0, "the most half-resolution pixels the search reaches")
-      // The defaults are on the benchmark's front of time against error (docs/benchmark.md).
       // Solid: slabs make the city's error against its triangles larger (docs/frame.md).
       .param_float("thickness", 0.0, 0.0, 1000.0,
                    "metres behind a visible surface that count as solid, the rest being open; 0: all of it "
                    "(plain GTAO's horizon)")
+      // The defaults are on the benchmark's front of time against error (docs/benchmark.md).
       .param_int("slices", 2, 1, kGtaoMaxSlices, "directions searched per pixel")
       .param_int("steps", 8, 1, kGtaoMaxSteps, "horizon samples per side of each direction")
       .param_int("noise", 1, 0, 1,
@@ -42,11 +42,12 @@ PassDecl ao_gtao_pass() {
       .shader("ao/gtao.comp")
       .push_constants<GtaoConstants>()
       .run([](PassContext& ctx) {
-        ctx.bind_pipeline({int32_t(ctx.param_float("thickness") > 0.0)});
+        const double thickness = ctx.param_float("thickness");
+        ctx.bind_pipeline({int32_t(thickness > 0.0)});  // the shader's SLABS
         ctx.push_declared();
         ctx.push_constants(GtaoConstants{float(ctx.param_float("radius")), float(ctx.param_float("falloff")),
                                          float(ctx.param_float("max_pixels")), float(ctx.param_int("noise")),
-                                         float(ctx.param_float("thickness")), int32_t(ctx.param_int("slices")),
+                                         float(thickness), int32_t(ctx.param_int("slices")),
                                          int32_t(ctx.param_int("steps"))});
         const ImageExtent half = ctx.desc("ao.raw").extent;
         vkCmdDispatch(ctx.cmd(), group_count(half.width, kGtaoGroupSide), group_count(half.height, kGtaoGroupSide), 1);
